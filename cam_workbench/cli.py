@@ -1,0 +1,82 @@
+"""``cam-workbench``: the command line.
+
+Every command reads a spec (TOML) or the built-in default, and writes its files
+atomically into an output folder.  Exit status: 0 success, 2 bad input or a cam
+that cannot be made (message names the field/rule or the cam angle; nothing is
+written), 3 a design check failed (``check``), 1 an internal error.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Sequence
+
+from generators.errors import CamError
+
+from .commands import COMMANDS
+
+EXIT_OK, EXIT_INTERNAL, EXIT_BAD_INPUT, EXIT_CHECK_FAILED = 0, 1, 2, 3
+
+DESCRIPTION = """\
+Exact plate cams from a follower-motion program: the pitch curve as a closed C² PH
+quintic spline, the profile as its exact rational offset (NURBS), STEP solids and
+design reports.
+
+Run a command with --help for its options; `cam-workbench spec` prints every spec
+field with its unit, default and rule.
+"""
+
+EPILOG = """\
+examples:
+  cam-workbench build                       # the built-in default cam into ./out
+  cam-workbench build cam.toml -o out/cam1  # your spec
+  cam-workbench build --set cam.base_radius=30 --set follower.roller_radius=6
+  cam-workbench spec --default > cam.toml   # a spec to start from
+
+exit status: 0 ok, 2 bad input or impossible geometry (nothing written),
+3 a design check failed, 1 internal error.
+"""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every registered command."""
+    from generators import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMANDS:
+        module.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``cam-workbench`` console script; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.run(args) or 0)
+    except CamError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - last-resort report, never a bare traceback
+        if args.debug:
+            raise
+        print(f"internal error: {type(exc).__name__}: {exc} (run with --debug for details)",
+              file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def run() -> None:
+    """Console-script wrapper."""
+    sys.exit(main())
+
+
+if __name__ == "__main__":
+    run()

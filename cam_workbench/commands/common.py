@@ -1,0 +1,56 @@
+"""Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, progress."""
+from __future__ import annotations
+
+import argparse
+from typing import Any, Callable
+
+from generators.errors import SpecError
+from generators.spec import CamSpec, default_spec, load_spec
+
+
+def add_spec_arguments(p: argparse.ArgumentParser) -> None:
+    """SPEC positional (optional: the built-in default) and repeatable ``--set FIELD=VALUE``."""
+    p.add_argument("spec", nargs="?", metavar="SPEC",
+                   help="cam spec (TOML); omitted: the built-in default (paper Table 1, case 2, 5 mm roller)")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
+                   help="override a spec field, e.g. --set cam.base_radius=30 or "
+                        "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
+
+
+def parse_value(text: str) -> Any:
+    """A ``--set`` value: true/false, integer, number, or text."""
+    low = text.strip().lower()
+    if low in ("true", "false"):
+        return low == "true"
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    return text.strip().strip('"')
+
+
+def spec_from_args(args: argparse.Namespace) -> CamSpec:
+    """The spec named on the command line (or the default) with ``--set`` overrides applied."""
+    spec = load_spec(args.spec) if args.spec else default_spec()
+    changes = {}
+    for item in args.overrides:
+        if "=" not in item:
+            raise SpecError(item, "--set needs FIELD=VALUE")
+        key, value = item.split("=", 1)
+        changes[key.strip()] = parse_value(value)
+    return spec.replace(**changes) if changes else spec
+
+
+def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:
+    """A rich progress display (context manager) and a callback for the tolerance search."""
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    prog = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
+                    transient=True)
+    task = prog.add_task(description, total=None)
+
+    def callback(m: int, dev: float) -> None:
+        prog.update(task, description=f"{description}: M = {m}, deviation {dev:.3g}")
+
+    return prog, callback

@@ -1,0 +1,20 @@
+"""``cam-workbench spec``: the spec reference (from the declarations) or the default spec."""
+from __future__ import annotations
+
+import argparse
+
+from generators.spec import default_spec, to_toml
+from generators.spec_doc import render
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("spec", help="print the spec reference or the default spec",
+                       description="Print every spec field with its unit, default and rule "
+                                   "(the same text as docs/spec.md), or the built-in default spec as TOML.")
+    p.add_argument("--default", action="store_true", help="print the built-in default spec as TOML")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    print(to_toml(default_spec()) if args.default else render(), end="")
+    return 0

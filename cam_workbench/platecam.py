@@ -1,0 +1,142 @@
+"""``PlateCam``: the parametric plate cam a CadQuery / build123d user touches.
+
+    >>> from cam_workbench import PlateCam
+    >>> cam = PlateCam("cam.toml")            # or PlateCam() for the built-in default
+    >>> cam.solid()                           # cadquery.Solid
+    >>> cam.workplane()                       # cadquery.Workplane
+    >>> cam.part()                            # build123d.Part
+    >>> cam.export_step("cam.step")
+
+The geometry is designed once (``generators.design_cam``) and the B-rep built once,
+lazily; CadQuery and build123d are imported only when their objects are asked for.
+"""
+from __future__ import annotations
+
+import os
+from functools import cached_property
+from pathlib import Path
+from typing import Any, Mapping
+
+from generators.cam_design import CamDesign, design_cam
+from generators.spec import CamSpec, default_spec, load_spec
+
+from . import occ_build
+
+
+class PlateCam:
+    """A plate cam built from a spec.
+
+    Args:
+        spec: a :class:`CamSpec`, a path to a TOML spec, TOML text, a dict in the spec's
+            structure, or None for the built-in default (the paper's Table 1, case 2).
+        **changes: dotted-path overrides applied to the spec, e.g.
+            ``PlateCam(**{"cam.base_radius": 30, "follower.roller_radius": 6})``.
+
+    Raises:
+        SpecError: bad input (the message names the field and the rule).
+        GeometryError: the cam cannot be made (undercut, self-intersection, bore), with the cam angle.
+    """
+
+    def __init__(self, spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
+                 **changes: Any):
+        if spec is None:
+            spec = default_spec()
+        elif not isinstance(spec, CamSpec):
+            spec = load_spec(spec)  # type: ignore[arg-type]
+        if changes:
+            spec = spec.replace(**changes)
+        self.spec: CamSpec = spec
+        self.design: CamDesign = design_cam(spec)
+
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike[str]) -> "PlateCam":
+        """Load a spec file."""
+        return cls(Path(path))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> "PlateCam":
+        return cls(data)
+
+    # ---- B-rep ------------------------------------------------------------------
+    @cached_property
+    def shape(self) -> Any:
+        """The cam as an OCP ``TopoDS_Solid`` (built once)."""
+        return occ_build.cam_solid(self.design)
+
+    def solid(self) -> Any:
+        """The cam as a ``cadquery.Solid``."""
+        import cadquery as cq
+
+        return cq.Solid(self.shape)
+
+    def workplane(self) -> Any:
+        """A ``cadquery.Workplane`` on the XY plane holding the cam solid."""
+        import cadquery as cq
+
+        return cq.Workplane("XY").newObject([self.solid()])
+
+    def part(self) -> Any:
+        """The cam as a ``build123d.Part``."""
+        import build123d as bd
+
+        return bd.Part([bd.Solid(self.shape)])
+
+    def profile_edge(self) -> Any:
+        """The exact profile as a ``cadquery.Edge`` (for sketches and further modelling)."""
+        import cadquery as cq
+
+        return cq.Edge(occ_build.nurbs_to_edge(self.design.profile_ccw()))
+
+    def pitch_edge(self) -> Any:
+        """The pitch curve as a ``cadquery.Edge`` (reference geometry)."""
+        import cadquery as cq
+
+        return cq.Edge(occ_build.nurbs_to_edge(self.design.pitch_nurbs))
+
+    # ---- outputs ----------------------------------------------------------------
+    def export_step(self, path: str | os.PathLike[str]) -> Path:
+        """Write the solid as STEP in the spec's units, atomically."""
+        from exporters.step import export_step
+
+        return export_step(self.shape, path, self.spec.units)
+
+    def report(self) -> dict[str, Any]:
+        """The numbers of ``report.json``."""
+        return self.design.summary()
+
+    @property
+    def area(self) -> float:
+        """Cross-section area (profile minus bore) by Green's theorem on the exact NURBS."""
+        return self.design.area
+
+    @property
+    def volume(self) -> float:
+        return self.design.volume
+
+    def is_valid(self) -> bool:
+        """OCCT's BRepCheck on the solid."""
+        return occ_build.is_valid(self.shape)
+
+    def __repr__(self) -> str:
+        s = self.spec
+        return (f"PlateCam(R_b={s.cam.base_radius:g} {s.units}, {s.follower.kind}, "
+                f"e={s.follower.offset:g}, M={self.design.pitch.M}, thickness={s.cam.thickness:g})")
+
+
+def plate_cam(spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
+              **changes: Any) -> Any:
+    """A ``cadquery.Workplane`` holding the cam solid: ``plate_cam("cam.toml").faces(">Z")…``."""
+    return PlateCam(spec, **changes).workplane()
+
+
+def register() -> None:
+    """Add ``Workplane.plateCam(spec, **changes)`` to CadQuery (explicit opt-in), which places
+    the cam on the current workplane's origin and orientation."""
+    import cadquery as cq
+
+    def _plate_cam(self: Any, spec: Any = None, **changes: Any) -> Any:
+        solid = PlateCam(spec, **changes).solid()
+        placed = solid.moved(self.plane.location)
+        return self.newObject([placed])
+
+    cq.Workplane.plateCam = _plate_cam  # type: ignore[attr-defined]

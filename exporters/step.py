@@ -1,0 +1,77 @@
+"""STEP export of a solid through OCP (OCCT's STEPControl_Writer), atomically.
+
+The model's numbers are in the spec's units; the file declares the same unit, so
+a CAD system reading it gets the right size (an inch cam stays 2.5 in, not 2.5 mm).
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from .atomic import atomic_path
+
+_OCC_UNIT = {"mm": "MM", "in": "INCH"}
+
+
+def _topods(shape: Any) -> Any:
+    """Accept a TopoDS_Shape, a cadquery Shape/Workplane or a build123d shape."""
+    if hasattr(shape, "val") and callable(shape.val):  # cq.Workplane
+        shape = shape.val()
+    return getattr(shape, "wrapped", shape)
+
+
+def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
+               product_name: str = "plate cam") -> None:
+    """Write ``shape`` to ``path`` (not atomic; see :func:`export_step`)."""
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.Interface import Interface_Static
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+
+    if units not in _OCC_UNIT:
+        raise ValueError(f"units must be 'mm' or 'in', got {units!r}")
+    Interface_Static.SetCVal_s("xstep.cascade.unit", _OCC_UNIT[units])
+    Interface_Static.SetCVal_s("write.step.unit", _OCC_UNIT[units])
+    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    Interface_Static.SetCVal_s("write.step.product.name", product_name)
+    _quiet_occt()
+    writer = STEPControl_Writer()
+    status = writer.Transfer(_topods(shape), STEPControl_AsIs)
+    if status != IFSelect_RetDone:
+        raise RuntimeError("OCCT could not transfer the shape to STEP")
+    if writer.Write(str(path)) != IFSelect_RetDone:
+        raise OSError(f"OCCT could not write {path}")
+    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+
+
+def _quiet_occt() -> None:
+    """Stop OCCT's translators printing transfer statistics on stdout."""
+    from OCP.Message import Message, Message_Gravity
+
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+
+
+def export_step(shape: Any, path: str | os.PathLike[str], units: str = "mm") -> Path:
+    """Write ``shape`` as STEP (AP214) to ``path`` atomically, declaring ``units`` ("mm"/"in")."""
+    with atomic_path(path) as tmp:
+        write_step(shape, tmp, units)
+    return Path(path)
+
+
+def read_step(path: str | os.PathLike[str], units: str = "mm") -> Any:
+    """Read a STEP file into one TopoDS_Shape, converted to ``units`` (for checks and tests)."""
+    from OCP.IFSelect import IFSelect_RetDone
+    from OCP.Interface import Interface_Static
+    from OCP.STEPControl import STEPControl_Reader
+
+    Interface_Static.SetCVal_s("xstep.cascade.unit", _OCC_UNIT[units])
+    _quiet_occt()
+    reader = STEPControl_Reader()
+    try:
+        if reader.ReadFile(str(path)) != IFSelect_RetDone:
+            raise OSError(f"cannot read STEP file {path}")
+        reader.TransferRoots()
+        return reader.OneShape()
+    finally:
+        Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")

@@ -1,0 +1,15 @@
+"""cam_workbench's mathematics: spec, motion laws, PH pitch curves, exact offsets, checks.
+
+Imports only numpy, scipy and the standard library (no CAD kernel, no file format
+beyond TOML), so it runs inside FreeCAD's own Python as well as beside CadQuery.
+"""
+from .cam_design import CamDesign, design_cam
+from .errors import CamError, GeometryError, SolveError, SpecError
+from .nurbs import NurbsCurve
+from .spec import CamSpec, default_spec, load_spec, to_toml
+
+__all__ = [
+    "CamDesign", "CamError", "CamSpec", "GeometryError", "NurbsCurve", "SolveError", "SpecError",
+    "default_spec", "design_cam", "load_spec", "to_toml",
+]
+__version__ = "0.1.0"

@@ -1,0 +1,203 @@
+"""From a spec to everything a solid, a drawing or a report needs: the one call the
+upper layers make (:func:`design_cam`).
+
+The result holds plain values: the solved PH pitch curve, the exact profile NURBS,
+and the numbers of ``report.json`` (units of the spec; angles in degrees).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from .extrema import refine_max
+from .follower import FollowerGeometry
+from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
+                              check_undercut, pitch_curvature_samples)
+from .motion import MotionProgram
+from .nurbs import NurbsCurve
+from .offsets import offset_nurbs, pitch_nurbs
+from .pitch import PitchCurve, build_pitch
+from .spec import CamSpec
+
+DESIGN_SAMPLES_PER_SEGMENT = 2001
+
+
+@dataclass(frozen=True)
+class CamDesign:
+    """A designed plate cam (no CAD kernel involved).
+
+    Attributes:
+        spec: the validated spec.
+        pitch: the solved PH pitch curve.
+        pitch_nurbs: the pitch curve as exact degree-5 NURBS.
+        profile: the cam profile as exact NURBS (degree-9 rational offset for a roller;
+            the pitch curve itself for a knife edge), traversed as the pitch curve is.
+        max_deviation: (value, cam angle [deg]) of |s_actual − s|.
+        min_profile_radius: smallest distance of the profile from the axis.
+    """
+
+    spec: CamSpec
+    pitch: PitchCurve
+    pitch_nurbs: NurbsCurve
+    profile: NurbsCurve
+    max_deviation: tuple[float, float]
+    min_profile_radius: float
+    curvature_samples: CurvatureSamples = field(repr=False)
+
+    @property
+    def program(self) -> MotionProgram:
+        return self.pitch.program
+
+    @property
+    def geometry(self) -> FollowerGeometry:
+        return self.pitch.geometry
+
+    def profile_ccw(self) -> NurbsCurve:
+        """The profile oriented counter-clockwise (positive area), as solid builders want it."""
+        return self.profile if self.profile.area() > 0 else self.profile.reversed()
+
+    @property
+    def profile_area(self) -> float:
+        """Area enclosed by the profile (Green's theorem on the exact NURBS)."""
+        return abs(self.profile.area())
+
+    @property
+    def area(self) -> float:
+        """Cross-section area: profile minus bore."""
+        r = self.spec.cam.bore_diameter / 2
+        return self.profile_area - np.pi * r * r
+
+    @property
+    def volume(self) -> float:
+        return self.area * self.spec.cam.thickness
+
+    def design_kinematics(self, samples_per_segment: int = DESIGN_SAMPLES_PER_SEGMENT):
+        """Dense angles [rad] and the motion's kinematics there (design intent)."""
+        th = self.program.dense_angles(samples_per_segment)
+        return th, self.program.evaluate(th)
+
+    def summary(self) -> dict[str, Any]:
+        """The numbers of ``report.json`` (without the ``files`` section)."""
+        spec = self.spec
+        geo = self.geometry
+        th, k = self.design_kinematics()
+        prog = self.program
+
+        def abs_phi(t: np.ndarray) -> np.ndarray:
+            return np.abs(geo.pressure_angle(prog.evaluate(t)))
+
+        def neg_convex(t: np.ndarray) -> np.ndarray:
+            rho_t = geo.pitch_radius_of_curvature(prog.evaluate(t))
+            return -np.where(rho_t > 0, rho_t, np.inf)
+
+        def neg_concave(t: np.ndarray) -> np.ndarray:
+            rho_t = geo.pitch_radius_of_curvature(prog.evaluate(t))
+            return -np.where(rho_t < 0, -rho_t, np.inf)
+
+        th_p, _ = refine_max(abs_phi, th, abs_phi(th))
+        phi_signed = float(np.rad2deg(geo.pressure_angle(prog.evaluate(np.array([th_p])))[0]))
+        th_c, neg_rc = refine_max(neg_convex, th, neg_convex(th))
+        _, neg_rcc = refine_max(neg_concave, th, neg_concave(th))
+        cs = self.curvature_samples
+        b_convex = np.where(cs.radius > 0, cs.radius, np.inf)
+        ib = int(np.argmin(b_convex))
+        b_concave = np.where(cs.radius < 0, -cs.radius, np.inf)
+        rr = spec.roller_radius
+        phi_b, at_b = self._as_built_pressure_angle()
+        omega = spec.cam.speed_rpm * 2 * np.pi / 60
+        maxima = self.program.maxima(omega)
+        curvature: dict[str, Any] = {
+            "min_pitch_radius": -neg_rc,
+            "min_profile_radius": -neg_rc - rr,
+            "at_deg": float(np.rad2deg(th_c) % 360.0),
+            "min_concave_pitch_radius": _finite_or_none(-neg_rcc),
+            "as_built": {
+                "min_pitch_radius": float(b_convex[ib]),
+                "min_profile_radius": float(b_convex[ib] - rr),
+                "at_deg": float(cs.cam_angle_deg[ib]),
+                "min_concave_pitch_radius": _finite_or_none(float(np.min(b_concave))),
+            },
+        }
+        return {
+            "units": spec.units,
+            "pitch": {
+                "representation": spec.pitch.representation,
+                "segments": self.pitch.M,
+                "max_deviation": self.max_deviation[0],
+                "max_deviation_at_deg": self.max_deviation[1],
+                "tolerance": spec.pitch.tolerance,
+                "newton_iterations": self.pitch.spline.iterations,
+                "newton_residual": self.pitch.spline.residual,
+                "closing_sign": self.pitch.spline.closing_sign,
+                "arc_length": self.pitch.spline.arc_length,
+            },
+            "pressure_angle": {
+                "max_deg": abs(phi_signed),
+                "signed_deg": phi_signed,
+                "at_deg": float(np.rad2deg(th_p) % 360.0),
+                "as_built": {"max_deg": phi_b, "at_deg": at_b},
+            },
+            "curvature": curvature,
+            "motion": {
+                "max_lift": spec.max_lift,
+                "max_velocity": maxima["velocity"],
+                "max_acceleration": maxima["acceleration"],
+                "max_jerk": maxima["jerk"],
+            },
+            "profile": {
+                "degree": self.profile.degree,
+                "poles": self.profile.n_poles,
+                "rational": self.profile.is_rational,
+                "min_radius": self.min_profile_radius,
+                "base_circle_radius": spec.cam.base_radius - rr,
+            },
+            "area": self.area,
+            "volume": self.volume,
+        }
+
+    def _as_built_pressure_angle(self) -> tuple[float, float]:
+        """Pressure angle of the built PH curve: the angle of its tangent, turned to the
+        follower frame, against the follower's normal direction."""
+        geo = self.geometry
+        seg = self.curvature_samples.seg
+        xi = self.curvature_samples.xi
+        ang = np.deg2rad(self.curvature_samples.cam_angle_deg)
+        tangent = np.exp(1j * geo.sense * ang) * self.pitch.spline.first_derivative(seg, xi)
+        phi = geo.sense * np.rad2deg(np.arctan(tangent.imag / tangent.real))
+        k = int(np.argmax(np.abs(phi)))
+        return float(abs(phi[k])), float(self.curvature_samples.cam_angle_deg[k])
+
+
+def _finite_or_none(v: float) -> float | None:
+    return v if np.isfinite(v) else None
+
+
+def profile_offset_distance(pitch: PitchCurve, roller_radius: float) -> float:
+    """Signed (left-positive) offset distance that moves the pitch curve inward by the roller radius."""
+    clockwise = pitch_nurbs(pitch.spline).area() < 0
+    return -roller_radius if clockwise else roller_radius
+
+
+def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
+    """Build the pitch curve and exact profile of ``spec`` and run the buildability checks.
+
+    Raises:
+        SpecError: bad input (already raised when the spec was loaded).
+        GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
+        SolveError: the PH spline did not converge.
+    """
+    pitch = build_pitch(spec, progress=progress)
+    cs = pitch_curvature_samples(pitch)
+    check_undercut(pitch, spec.roller_radius, cs)
+    pn = pitch_nurbs(pitch.spline)
+    if spec.roller_radius > 0:
+        profile = offset_nurbs(pitch.spline, profile_offset_distance(pitch, spec.roller_radius))
+    else:
+        profile = pn
+    check_self_intersection(profile, pitch)
+    rmin = check_bore(profile, pitch, spec.cam.bore_diameter)
+    dev = pitch.max_deviation()
+    return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile, max_deviation=dev,
+                     min_profile_radius=rmin, curvature_samples=cs)

@@ -1,0 +1,42 @@
+"""Error types shared by every layer.
+
+All user-facing errors derive from :class:`CamError`; the CLI turns them into a
+one-line message and exit status 2 (bad input or impossible geometry).
+"""
+from __future__ import annotations
+
+
+class CamError(Exception):
+    """Base class of every error the product reports to a user."""
+
+
+class SpecError(CamError, ValueError):
+    """A spec field breaks a rule.
+
+    Attributes:
+        field: dotted path of the offending field, e.g. ``motion[3].angle``.
+        rule: the rule, in words, e.g. ``spans sum to 350°, must be 360°``.
+    """
+
+    def __init__(self, field: str, rule: str):
+        self.field = field
+        self.rule = rule
+        super().__init__(f"{field}: {rule}")
+
+
+class GeometryError(CamError):
+    """A cam that cannot be made (undercut, self-intersection, bore through the profile).
+
+    Attributes:
+        kind: short machine-readable name ("undercut", "self_intersection", "bore", ...).
+        angle_deg: cam angle in degrees where the problem happens (None if global).
+    """
+
+    def __init__(self, kind: str, message: str, angle_deg: float | None = None):
+        self.kind = kind
+        self.angle_deg = angle_deg
+        super().__init__(message)
+
+
+class SolveError(CamError, RuntimeError):
+    """A numerical solve (PH spline Newton, follower-line root) did not converge."""

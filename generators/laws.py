@@ -1,0 +1,163 @@
+"""Normalised rise laws f(x), x ∈ [0, 1], f(0) = 0, f(1) = 1, in closed form with
+exact derivatives f', f'', f''' with respect to x (vectorised over x).
+
+A rise of height h over β radians starting at θ₀ is s = h·f((θ−θ₀)/β); a return is
+s = h·(1 − f(x)).  Derivatives with respect to θ are h·f⁽ⁿ⁾/βⁿ.
+
+Modified sine and modified trapezoid are built from their acceleration pieces
+(Norton, *Cam Design and Manufacturing Handbook*, §3); the constants here are the
+exact symbolic integrals (A = 4π²/(π+4) and 8π/(π+2)), which reproduce Norton's
+decimals 0.43990085, 0.0350062, 0.31505577 and 0.28004957.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+Array = np.ndarray
+LawFn = Callable[[Array], tuple[Array, Array, Array, Array]]
+
+_PI = np.pi
+_TWO_PI = 2 * np.pi
+
+
+def cycloidal(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Cycloidal: f = x − sin(2πx)/(2π) (paper Eq. 8 normalised)."""
+    a = _TWO_PI * x
+    return (x - np.sin(a) / _TWO_PI, 1 - np.cos(a), _TWO_PI * np.sin(a), _TWO_PI**2 * np.cos(a))
+
+
+def harmonic(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Simple harmonic: f = (1 − cos πx)/2."""
+    a = _PI * x
+    return ((1 - np.cos(a)) / 2, _PI / 2 * np.sin(a), _PI**2 / 2 * np.cos(a), -(_PI**3) / 2 * np.sin(a))
+
+
+def poly345(x: Array) -> tuple[Array, Array, Array, Array]:
+    """3-4-5 polynomial: f = 10x³ − 15x⁴ + 6x⁵."""
+    x2 = x * x
+    return (
+        x2 * x * (10 - 15 * x + 6 * x2),
+        x2 * (30 - 60 * x + 30 * x2),
+        x * (60 - 180 * x + 120 * x2),
+        60 - 360 * x + 360 * x2,
+    )
+
+
+def poly4567(x: Array) -> tuple[Array, Array, Array, Array]:
+    """4-5-6-7 polynomial: f = 35x⁴ − 84x⁵ + 70x⁶ − 20x⁷."""
+    x2 = x * x
+    x3 = x2 * x
+    return (
+        x3 * x * (35 - 84 * x + 70 * x2 - 20 * x3),
+        x3 * (140 - 420 * x + 420 * x2 - 140 * x3),
+        x2 * (420 - 1680 * x + 2100 * x2 - 840 * x3),
+        x * (840 - 5040 * x + 8400 * x2 - 4200 * x3),
+    )
+
+
+def _sine_ramp(x: Array, amp: float, offset: float) -> tuple[Array, Array, Array, Array]:
+    """A·(x/(4π) − sin(4πx)/(16π²)) + offset and derivatives: the 1/8-period sine
+    ramps shared by modified sine and modified trapezoid."""
+    k = 4 * _PI
+    s, c = np.sin(k * x), np.cos(k * x)
+    return (
+        amp * (x / k - s / k**2) + offset,
+        amp * (1 / k - c / k),
+        amp * s,
+        amp * k * c,
+    )
+
+
+def modified_sine(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Modified sine: sine acceleration pieces over [0,⅛], [⅛,⅞], [⅞,1]."""
+    x = np.asarray(x, dtype=float)
+    amp = 4 * _PI**2 / (_PI + 4)
+    out = [np.empty_like(x) for _ in range(4)]
+    m1 = x < 0.125
+    m3 = x > 0.875
+    m2 = ~(m1 | m3)
+    for m, off in ((m1, 0.0), (m3, 1.0 / _PI**2)):
+        if m.any():
+            vals = _sine_ramp(x[m], amp, amp * off)
+            for o, v in zip(out, vals):
+                o[m] = v
+    if m2.any():
+        xm = x[m2]
+        k = 4 * _PI / 3
+        a = k * xm + _PI / 3
+        s, c = np.sin(a), np.cos(a)
+        out[0][m2] = amp * (xm / (4 * _PI) - 9 * s / (16 * _PI**2) + 1 / (2 * _PI**2))
+        out[1][m2] = amp * (1 / (4 * _PI) - 9 * k * c / (16 * _PI**2))
+        out[2][m2] = amp * (9 * k**2 * s / (16 * _PI**2))
+        out[3][m2] = amp * (9 * k**3 * c / (16 * _PI**2))
+    return tuple(out)  # type: ignore[return-value]
+
+
+def modified_trapezoid(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Modified trapezoid: sine ramps of ⅛ joined by constant-acceleration pieces."""
+    x = np.asarray(x, dtype=float)
+    amp = 8 * _PI / (_PI + 2)
+    k = 4 * _PI
+    out = [np.empty_like(x) for _ in range(4)]
+    edges = np.array([0.125, 0.375, 0.625, 0.875])
+    piece = np.searchsorted(edges, x, side="right")
+    # piece 0 and 4: sine ramps
+    for idx, off in ((0, 0.0), (4, 0.125)):
+        m = piece == idx
+        if m.any():
+            vals = _sine_ramp(x[m], amp, amp * off)
+            for o, v in zip(out, vals):
+                o[m] = v
+    m = piece == 1  # constant +A
+    if m.any():
+        xm = x[m]
+        out[0][m] = amp * (xm**2 / 2 - xm / 8 + xm / k - 1 / k**2 + 1 / 128)
+        out[1][m] = amp * (xm - 1 / 8 + 1 / k)
+        out[2][m] = amp
+        out[3][m] = 0.0
+    m = piece == 2  # cosine from +A to −A
+    if m.any():
+        xm = x[m]
+        s, c = np.sin(k * xm), np.cos(k * xm)
+        out[0][m] = amp * (xm / k + xm / 4 + s / k**2 - 1 / 16)
+        out[1][m] = amp * (1 / k + 1 / 4 + c / k)
+        out[2][m] = amp * (-s)
+        out[3][m] = amp * (-k * c)
+    m = piece == 3  # constant −A
+    if m.any():
+        xm = x[m]
+        out[0][m] = amp * (-(xm**2) / 2 + xm / k + 7 * xm / 8 - 33 / 128 + 1 / k**2)
+        out[1][m] = amp * (-xm + 1 / k + 7 / 8)
+        out[2][m] = -amp
+        out[3][m] = 0.0
+    return tuple(out)  # type: ignore[return-value]
+
+
+LAW_FUNCTIONS: dict[str, LawFn] = {
+    "cycloidal": cycloidal,
+    "harmonic": harmonic,
+    "modified_sine": modified_sine,
+    "modified_trapezoid": modified_trapezoid,
+    "poly345": poly345,
+    "poly4567": poly4567,
+}
+
+#: Highest derivative that is continuous at the segment ends when joined to dwells
+#: (velocity = 1, acceleration = 2, jerk = 3); used by the tests and the docs.
+END_CONTINUITY: dict[str, int] = {
+    "cycloidal": 2,
+    "harmonic": 1,
+    "modified_sine": 2,
+    "modified_trapezoid": 2,
+    "poly345": 2,
+    "poly4567": 3,
+}
+
+
+def evaluate_law(name: str, x: Array) -> tuple[Array, Array, Array, Array]:
+    """f, f', f'', f''' of law ``name`` at normalised positions ``x`` ∈ [0, 1]."""
+    fn = LAW_FUNCTIONS[name]
+    x = np.asarray(x, dtype=float)
+    return tuple(np.broadcast_to(v, x.shape).astype(float) for v in fn(x))  # type: ignore[return-value]

@@ -1,0 +1,154 @@
+"""One declaration per spec parameter: unit, default, bounds, choices and a one-line doc.
+
+Every spec dataclass field is declared with :func:`param`.  The loader validates
+against these declarations, and the CLI help, the FreeCAD properties and
+``docs/spec.md`` are generated from them, so nothing is written twice.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import SpecError
+
+#: Unit kinds.  The concrete unit of a kind depends on the spec's ``units``.
+UNIT_NAMES: dict[str, dict[str, str]] = {
+    "length": {"mm": "mm", "in": "in"},
+    "angle": {"mm": "deg", "in": "deg"},
+    "speed": {"mm": "rpm", "in": "rpm"},
+    "force": {"mm": "N", "in": "lbf"},
+    "mass": {"mm": "kg", "in": "lbf·s²/in"},
+    "stiffness": {"mm": "N/mm", "in": "lbf/in"},
+    "stress": {"mm": "MPa", "in": "psi"},
+    "time": {"mm": "s", "in": "s"},
+    "feed": {"mm": "mm/min", "in": "in/min"},
+    "spindle": {"mm": "rpm", "in": "rpm"},
+    "density": {"mm": "kg/mm³", "in": "lb/in³"},
+    "": {"mm": "", "in": ""},
+}
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+REQUIRED: Any = _Required()
+
+
+@dataclass(frozen=True)
+class Param:
+    """Declaration of one spec field.
+
+    Attributes:
+        doc: one-line description (shown in CLI help, FreeCAD tooltips, docs).
+        kind: value type: "float", "int", "str", "bool", "floats" (list of floats).
+        unit: unit kind (a key of :data:`UNIT_NAMES`), "" for dimensionless.
+        default: default value, or :data:`REQUIRED`.
+        choices: allowed values for "str" fields.
+        gt, ge, lt, le: numeric bounds (exclusive / inclusive).
+        optional: the field may be absent (None) without a default.
+        group: FreeCAD property group.
+    """
+
+    doc: str
+    kind: str = "float"
+    unit: str = ""
+    default: Any = REQUIRED
+    choices: tuple[str, ...] | None = None
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    optional: bool = False
+    group: str = ""
+
+    def rule_text(self) -> str:
+        """The bounds/choices of this parameter in words (for docs)."""
+        parts = []
+        if self.choices:
+            parts.append("one of " + ", ".join(f'"{c}"' for c in self.choices))
+        for op, v in (("> ", self.gt), ("≥ ", self.ge), ("< ", self.lt), ("≤ ", self.le)):
+            if v is not None:
+                parts.append(f"{op}{_fmt(v)}")
+        return ", ".join(parts)
+
+    def check(self, path: str, value: Any) -> Any:
+        """Coerce and validate ``value`` for the field at ``path``; raise SpecError."""
+        if value is None:
+            if self.optional or self.default is None:
+                return None
+            raise SpecError(path, "is required")
+        k = self.kind
+        if k == "float":
+            value = _as_float(path, value)
+        elif k == "int":
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or (
+                isinstance(value, float) and not value.is_integer()
+            ):
+                raise SpecError(path, f"must be an integer, got {value!r}")
+            value = int(value)
+        elif k == "str":
+            if not isinstance(value, str):
+                raise SpecError(path, f"must be a string, got {value!r}")
+            if self.choices and value not in self.choices:
+                raise SpecError(
+                    path, f"must be one of {', '.join(repr(c) for c in self.choices)}, got {value!r}"
+                )
+        elif k == "bool":
+            if not isinstance(value, bool):
+                raise SpecError(path, f"must be true or false, got {value!r}")
+        elif k == "floats":
+            if not isinstance(value, (list, tuple)):
+                raise SpecError(path, f"must be a list of numbers, got {value!r}")
+            value = tuple(_as_float(f"{path}[{i}]", v) for i, v in enumerate(value))
+        if k in ("float", "int"):
+            self._check_bounds(path, value)
+        return value
+
+    def _check_bounds(self, path: str, v: float) -> None:
+        if self.gt is not None and not v > self.gt:
+            raise SpecError(path, f"must be > {_fmt(self.gt)}, got {_fmt(v)}")
+        if self.ge is not None and not v >= self.ge:
+            raise SpecError(path, f"must be ≥ {_fmt(self.ge)}, got {_fmt(v)}")
+        if self.lt is not None and not v < self.lt:
+            raise SpecError(path, f"must be < {_fmt(self.lt)}, got {_fmt(v)}")
+        if self.le is not None and not v <= self.le:
+            raise SpecError(path, f"must be ≤ {_fmt(self.le)}, got {_fmt(v)}")
+
+
+def _as_float(path: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SpecError(path, f"must be a number, got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise SpecError(path, f"must be a finite number, got {value!r}")
+    return v
+
+
+def _fmt(v: float) -> str:
+    return f"{v:g}"
+
+
+def param(doc: str, **kw: Any) -> Any:
+    """A dataclass field carrying its :class:`Param` declaration in ``metadata["param"]``."""
+    if kw.get("optional") and "default" not in kw:
+        kw["default"] = None
+    p = Param(doc=doc, **kw)
+    if p.default is REQUIRED:
+        return dataclasses.field(metadata={"param": p})
+    return dataclasses.field(default=p.default, metadata={"param": p})
+
+
+def params_of(cls: type) -> dict[str, Param]:
+    """The declared parameters of a spec dataclass, in declaration order."""
+    return {
+        f.name: f.metadata["param"] for f in dataclasses.fields(cls) if "param" in f.metadata
+    }
+
+
+def unit_name(kind: str, units: str) -> str:
+    """Concrete unit label of a unit kind for the spec's ``units`` ("mm" or "in")."""
+    return UNIT_NAMES.get(kind, {}).get(units, "")

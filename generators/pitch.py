@@ -1,0 +1,143 @@
+"""The PH pitch curve of a spec: junction angles and points (paper Eq. 9–11), the
+closed C² PH quintic spline through them, and its accuracy against the motion.
+
+Accuracy is the paper's measure: ``max_deviation`` = max over θ of
+|s_actual(θ) − s(θ)|, where s_actual comes from the follower line meeting the
+built curve (Eq. 13), sampled at least every 0.1° (default 0.02°, and at least
+8 samples per PH segment).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .errors import SpecError
+from .follower import FollowerGeometry
+from .follower_line import Contact, FollowerLineSolver
+from .motion import MotionProgram
+from .ph_spline import PHSpline, solve_closed_ph_spline
+from .spec import DEFAULT_SEGMENTS, CamSpec
+
+TWO_PI = 2.0 * np.pi
+DEFAULT_STEP_DEG = 0.02
+MAX_TOLERANCE_SEGMENTS = 20000
+
+
+def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:
+    """Junction cam angles θ_0 = 0 < θ_1 < … < θ_{M−1} [rad] (θ_M = 2π closes the curve).
+
+    Uniform (paper Eq. 11) with ``segments`` or ``pitch.segments``; otherwise per motion
+    segment from ``motion[].junctions`` (the paper's non-uniform case 3).
+    """
+    if segments is None and spec.motion[0].junctions is not None:
+        prog = MotionProgram.from_spec(spec)
+        parts = [prog.starts[k] + prog.spans[k] * np.arange(seg.junctions) / seg.junctions
+                 for k, seg in enumerate(spec.motion)]
+        return np.concatenate(parts)
+    m = segments or spec.pitch.segments or DEFAULT_SEGMENTS
+    return TWO_PI * np.arange(m) / m
+
+
+@dataclass(frozen=True)
+class PitchCurve:
+    """A solved PH pitch curve with everything needed to query it."""
+
+    spline: PHSpline
+    angles: np.ndarray            # junction angles [rad]
+    program: MotionProgram
+    geometry: FollowerGeometry
+
+    @property
+    def M(self) -> int:
+        return self.spline.M
+
+    def solver(self) -> FollowerLineSolver:
+        return FollowerLineSolver(self.spline, self.angles, self.geometry.offset, self.geometry.sense)
+
+    def contact(self, theta: np.ndarray) -> Contact:
+        """Eq. 13 solution at cam angles θ [rad]."""
+        return self.solver().solve(theta)
+
+    def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
+        """s_actual(θ): displacement the built curve gives the follower."""
+        return self.contact(theta).Y - self.geometry.s0
+
+    def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
+        """Number of equally spaced samples over 360°: every ``step_deg``, ≥ 8 per PH segment."""
+        return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
+
+    def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+        """(θ samples [rad], s_actual − s) over the cycle, at ``n`` equally spaced angles
+        (default from ``step_deg``)."""
+        n = n or self.deviation_count(step_deg)
+        th = TWO_PI * np.arange(n) / n
+        return th, self.actual_displacement(th) - self.program.s(th)
+
+    def max_deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
+                      ) -> tuple[float, float]:
+        """(max |s_actual − s|, cam angle in degrees where it occurs)."""
+        th, dev = self.deviation(step_deg, n)
+        k = int(np.argmax(np.abs(dev)))
+        return float(abs(dev[k])), float(np.rad2deg(th[k]))
+
+    def cam_angle_of_point(self, pts: np.ndarray) -> np.ndarray:
+        """Cam angle [deg, 0..360) at which a pitch point (complex, cam frame) is under the
+        follower: solve Re(e^{iδθ}p) = e with Im > 0 in closed form."""
+        g = self.geometry
+        r = np.abs(pts)
+        alpha = np.angle(pts)
+        target = np.arccos(np.clip(g.offset / r, -1.0, 1.0))
+        theta = g.sense * (target - alpha)
+        return np.mod(np.rad2deg(theta), 360.0)
+
+
+def build_pitch_for_segments(spec: CamSpec, segments: int | None = None) -> PitchCurve:
+    """The PH pitch curve with a given uniform M (or the spec's junctions)."""
+    angles = junction_angles(spec, segments)
+    prog = MotionProgram.from_spec(spec)
+    geo = FollowerGeometry.from_spec(spec)
+    q = geo.pitch_points(angles, prog.s(angles))
+    spline = solve_closed_ph_spline(q)
+    return PitchCurve(spline, angles, prog, geo)
+
+
+def segments_for_tolerance(
+    spec: CamSpec, tolerance: float, *, step_deg: float = DEFAULT_STEP_DEG,
+    progress: Callable[[int, float], None] | None = None,
+) -> tuple[PitchCurve, float, float]:
+    """Smallest uniform M ≥ 8 whose max deviation is ≤ ``tolerance``.
+
+    Deviation is not monotonic in M (junctions that fall on motion-segment boundaries
+    help), so every M is tried in increasing order; a coarse screen on every 5th of the
+    final samples (so its maximum can only be lower) rejects most M cheaply and only
+    survivors are checked on all samples.
+
+    Returns:
+        (pitch curve, its max deviation, cam angle [deg] of the max).
+
+    Raises:
+        SpecError: no M up to 20000 meets the tolerance.
+    """
+    for m in range(8, MAX_TOLERANCE_SEGMENTS + 1):
+        pc = build_pitch_for_segments(spec, m)
+        n_coarse = -(-pc.deviation_count(step_deg) // 5)
+        coarse, _ = pc.max_deviation(n=n_coarse)
+        if progress is not None:
+            progress(m, coarse)
+        if coarse > tolerance:
+            continue
+        dev, at = pc.max_deviation(n=5 * n_coarse)
+        if dev <= tolerance:
+            return pc, dev, at
+    raise SpecError("pitch.tolerance",
+                    f"no uniform segment count up to {MAX_TOLERANCE_SEGMENTS} reaches {tolerance:g}")
+
+
+def build_pitch(spec: CamSpec, progress: Callable[[int, float], None] | None = None) -> PitchCurve:
+    """The spec's PH pitch curve: by ``pitch.tolerance``, ``pitch.segments``, junctions, or M = 60."""
+    if spec.pitch.tolerance is not None:
+        return segments_for_tolerance(spec, spec.pitch.tolerance, progress=progress)[0]
+    return build_pitch_for_segments(spec)

@@ -1,0 +1,453 @@
+"""The cam spec: typed dataclasses, loading from TOML / dict / keywords, and validation.
+
+The field names and rules are the contract of ``shared/CAM_SPEC.md``; the project's
+own reference is ``docs/spec.md``, generated from the declarations below by
+``python -m generators.spec_doc``.
+
+Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rpm.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import SpecError
+from .params import REQUIRED, Param, param, params_of
+
+LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
+#: The laws implemented by :mod:`generators.laws` (closed forms).
+CLOSED_FORM_LAWS = LAWS[:-1]
+
+SPAN_TOL_DEG = 1e-9
+
+
+@dataclass(frozen=True, kw_only=True)
+class CamSection:
+    """`[cam]`: the cam body and its rotation."""
+
+    base_radius: float = param(
+        "Base radius R_b: radius of the circle traced by the follower point (knife tip or roller centre) at zero lift",
+        unit="length", gt=0, group="Cam",
+    )
+    thickness: float = param("Extrusion depth of the plate (solid from z = 0 to z = thickness)",
+                             unit="length", gt=0, group="Cam")
+    bore_diameter: float = param("Diameter of the central hole; 0 for a solid disc",
+                                 unit="length", ge=0, default=0.0, group="Cam")
+    direction: str = param("Rotation direction of the cam viewed from +Z",
+                           kind="str", choices=("ccw", "cw"), default="ccw", group="Cam")
+    speed_rpm: float = param("Constant angular speed of the cam", unit="speed", gt=0,
+                             default=60.0, group="Cam")
+
+
+@dataclass(frozen=True, kw_only=True)
+class FollowerSection:
+    """`[follower]`: a translating follower whose line of motion is parallel to +Y at x = offset."""
+
+    kind: str = param("Follower contact: a roller or a knife edge", kind="str",
+                      choices=("roller", "knife"), group="Follower")
+    offset: float = param("Follower offset e (signed): its line of motion is x = e",
+                          unit="length", default=0.0, group="Follower")
+    roller_radius: float = param("Roller radius (roller followers; ignored for a knife edge)",
+                                 unit="length", ge=0, default=0.0, group="Follower")
+
+
+@dataclass(frozen=True, kw_only=True)
+class MotionSegment:
+    """One `[[motion]]` entry: a dwell, rise or return over `angle` degrees of cam rotation."""
+
+    kind: str = param("Segment type", kind="str", choices=("dwell", "rise", "return"), group="Motion")
+    angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
+                         unit="angle", gt=0, group="Motion")
+    lift: float | None = param("Rise or fall height of the segment (rise/return only)",
+                               unit="length", gt=0, optional=True, group="Motion")
+    law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
+                            optional=True, group="Motion")
+    junctions: int | None = param(
+        "Number of PH segments spanning this motion segment (non-uniform junction spacing, "
+        "as the paper's case 3); when any segment has it, all must",
+        kind="int", ge=1, optional=True, group="Motion",
+    )
+
+
+@dataclass(frozen=True, kw_only=True)
+class PitchSection:
+    """`[pitch]`: how the pitch curve is represented."""
+
+    representation: str = param("Pitch curve representation: C² PH quintic spline or B-spline",
+                                kind="str", choices=("ph", "bspline"), default="ph", group="Pitch")
+    segments: int | None = param(
+        "Uniform junction count M over 360° (junction spacing 360°/M); default 60 when neither "
+        "segments, tolerance nor motion[].junctions is given",
+        kind="int", ge=8, optional=True, group="Pitch",
+    )
+    tolerance: float | None = param(
+        "Target max follower-displacement deviation: chooses the smallest uniform M that meets it; "
+        "exclusive with segments",
+        unit="length", gt=0, optional=True, group="Pitch",
+    )
+
+
+DEFAULT_SEGMENTS = 60
+
+#: Spec sections: TOML name → (dataclass, is an array of tables, required).  A new section
+#: is a dataclass declared with ``param`` fields, an entry here and a field of CamSpec.
+SECTIONS: dict[str, tuple[type, bool, bool]] = {
+    "cam": (CamSection, False, True),
+    "follower": (FollowerSection, False, True),
+    "motion": (MotionSegment, True, True),
+    "pitch": (PitchSection, False, False),
+}
+
+
+@dataclass(frozen=True, kw_only=True)
+class CamSpec:
+    """A complete, validated plate-cam description.  Build with :func:`load_spec`,
+    :meth:`from_dict`, :meth:`from_kwargs` or :func:`default_spec`."""
+
+    units: str = param("Length unit of the whole spec", kind="str", choices=("mm", "in"),
+                       default="mm", group="Cam")
+    cam: CamSection
+    follower: FollowerSection
+    motion: tuple[MotionSegment, ...]
+    pitch: PitchSection = field(default_factory=PitchSection)
+
+    # ---- construction -------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> "CamSpec":
+        """Build and validate a spec from the TOML structure as nested dicts/lists."""
+        if not isinstance(data, Mapping):
+            raise SpecError("spec", f"must be a table of sections, got {type(data).__name__}")
+        _reject_unknown("", data, {"units", *SECTIONS})
+        values: dict[str, Any] = {"units": params_of(CamSpec)["units"].check("units", data.get("units", "mm"))}
+        for name, (section_cls, is_list, required) in SECTIONS.items():
+            if name not in data:
+                if required:
+                    raise SpecError(name, "section is required")
+                continue
+            raw = data[name]
+            if is_list:
+                if not isinstance(raw, (list, tuple)) or not raw:
+                    raise SpecError(name, f"must be a non-empty list of [[{name}]] tables")
+                values[name] = tuple(_load_section(section_cls, m, f"{name}[{i}]") for i, m in enumerate(raw))
+            else:
+                values[name] = _load_section(section_cls, raw, name)
+        spec = cls(**values)
+        validate(spec)
+        return spec
+
+    @classmethod
+    def from_kwargs(cls, **sections: Any) -> "CamSpec":
+        """Same as :meth:`from_dict` with the top-level keys as keyword arguments."""
+        return cls.from_dict(sections)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The spec as the TOML structure (None-valued optional fields left out)."""
+        out: dict[str, Any] = {"units": self.units}
+        for f in dataclasses.fields(self):
+            if f.name == "units":
+                continue
+            v = getattr(self, f.name)
+            if isinstance(v, tuple):
+                out[f.name] = [_section_dict(s) for s in v]
+            else:
+                out[f.name] = _section_dict(v)
+        return out
+
+    def replace(self, **changes: Any) -> "CamSpec":
+        """A validated copy with dotted-path changes, e.g. ``replace(**{"cam.base_radius": 30})``
+        or ``replace(**{"motion[1].lift": 12})``."""
+        data = self.to_dict()
+        for path, value in changes.items():
+            _set_path(data, path, value)
+        return CamSpec.from_dict(data)
+
+    # ---- derived quantities ---------------------------------------------------------
+    @property
+    def is_roller(self) -> bool:
+        return self.follower.kind == "roller"
+
+    @property
+    def roller_radius(self) -> float:
+        """Roller radius, 0 for a knife edge."""
+        return self.follower.roller_radius if self.is_roller else 0.0
+
+    @property
+    def prime_offset(self) -> float:
+        """s₀ = √(R_b² − e²): distance along the follower line from the axis to the pitch point at zero lift."""
+        return math.sqrt(self.cam.base_radius**2 - self.follower.offset**2)
+
+    @property
+    def max_lift(self) -> float:
+        """Largest follower displacement of the program."""
+        level, top = 0.0, 0.0
+        for seg in self.motion:
+            if seg.kind == "rise":
+                level += seg.lift or 0.0
+            elif seg.kind == "return":
+                level -= seg.lift or 0.0
+            top = max(top, level)
+        return top
+
+
+def _section_dict(obj: Any) -> dict[str, Any]:
+    out = {}
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        if v is None:
+            continue
+        if dataclasses.is_dataclass(v):
+            v = _section_dict(v)
+        elif isinstance(v, tuple):
+            v = [(_section_dict(x) if dataclasses.is_dataclass(x) else
+                  (list(x) if isinstance(x, tuple) else x)) for x in v]
+        out[f.name] = v
+    return out
+
+
+def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
+    import re
+
+    parts = path.split(".")
+    node: Any = data
+    for i, part in enumerate(parts):
+        m = re.fullmatch(r"(\w+)(?:\[(\d+)\])?", part)
+        if not m:
+            raise SpecError(path, "is not a valid field path")
+        key, idx = m.group(1), m.group(2)
+        last = i == len(parts) - 1
+        if idx is not None:
+            node = node.setdefault(key, [])
+            k = int(idx)
+            if k >= len(node):
+                raise SpecError(path, f"index {k} is out of range (there are {len(node)})")
+            if last:
+                node[k] = value
+            else:
+                node = node[k]
+        elif last:
+            if value is None:
+                node.pop(key, None)
+            else:
+                node[key] = value
+        else:
+            node = node.setdefault(key, {})
+
+
+def _reject_unknown(prefix: str, data: Mapping[str, Any], known: set[str]) -> None:
+    for key in data:
+        if key not in known:
+            path = f"{prefix}.{key}" if prefix else str(key)
+            raise SpecError(path, f"unknown field (known fields: {', '.join(sorted(known))})")
+
+
+def _load_section(cls: type, data: Any, path: str) -> Any:
+    """Load one section table into its dataclass, checking every declared parameter."""
+    if not isinstance(data, Mapping):
+        raise SpecError(path, f"must be a table, got {data!r}")
+    decl = params_of(cls)
+    _reject_unknown(path, data, set(decl))
+    values = {}
+    for name, p in decl.items():
+        fpath = f"{path}.{name}"
+        if name in data:
+            values[name] = p.check(fpath, data[name])
+        elif p.default is REQUIRED:
+            raise SpecError(fpath, "is required")
+        elif p.optional:
+            values[name] = None
+    return cls(**values)
+
+
+# ---- cross-field validation ----------------------------------------------------------
+def validate(spec: CamSpec) -> None:
+    """Check every rule of CAM_SPEC.md that involves more than one field; raise SpecError."""
+    cam, fol = spec.cam, spec.follower
+    if fol.kind == "roller" and not fol.roller_radius > 0:
+        raise SpecError("follower.roller_radius", f"must be > 0 for a roller follower, got {fol.roller_radius:g}")
+    if not abs(fol.offset) < cam.base_radius:
+        raise SpecError("follower.offset",
+                        f"|offset| must be < cam.base_radius ({cam.base_radius:g}), got {fol.offset:g}")
+    if spec.is_roller and not cam.base_radius > fol.roller_radius:
+        raise SpecError("cam.base_radius",
+                        f"must be > follower.roller_radius ({fol.roller_radius:g}), got {cam.base_radius:g}")
+    r_surface = cam.base_radius - spec.roller_radius
+    if not cam.bore_diameter < 2 * r_surface:
+        raise SpecError("cam.bore_diameter",
+                        f"must be < 2 × smallest cam-surface radius (2 × {r_surface:g} = {2 * r_surface:g}), "
+                        f"got {cam.bore_diameter:g}")
+    _validate_motion(spec)
+    _validate_pitch(spec)
+
+
+def _validate_motion(spec: CamSpec) -> None:
+    total = 0.0
+    level = 0.0
+    lifts = []
+    for i, seg in enumerate(spec.motion):
+        p = f"motion[{i}]"
+        total += seg.angle
+        if seg.kind == "dwell":
+            if seg.lift is not None:
+                raise SpecError(f"{p}.lift", "must be absent for a dwell")
+            if seg.law is not None:
+                raise SpecError(f"{p}.law", "must be absent for a dwell")
+            continue
+        if seg.lift is None:
+            raise SpecError(f"{p}.lift", f"is required for a {seg.kind}")
+        if seg.law is None:
+            raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
+        if seg.law not in CLOSED_FORM_LAWS:
+            raise SpecError(f"{p}.law", f"law {seg.law!r} is not available in this version")
+        lifts.append(seg.lift)
+        level += seg.lift if seg.kind == "rise" else -seg.lift
+        scale = max(lifts)
+        if level < -1e-9 * scale:
+            raise SpecError(f"{p}.lift",
+                            f"the follower would go {-level:g} below zero lift (s must stay ≥ 0)")
+    if abs(total - 360.0) > SPAN_TOL_DEG:
+        last = len(spec.motion) - 1
+        raise SpecError(f"motion[{last}].angle", f"spans sum to {total:g}°, must be 360°")
+    if not lifts:
+        raise SpecError("motion", "needs at least one rise and one return")
+    if abs(level) > 1e-9 * max(lifts):
+        raise SpecError("motion",
+                        f"program does not close: total rise − total fall = {level:g}, must be 0")
+    has_j = [seg.junctions is not None for seg in spec.motion]
+    if any(has_j) and not all(has_j):
+        missing = has_j.index(False)
+        raise SpecError(f"motion[{missing}].junctions",
+                        "is required on every segment when any segment gives junctions")
+
+
+def _validate_pitch(spec: CamSpec) -> None:
+    pt = spec.pitch
+    if pt.segments is not None and pt.tolerance is not None:
+        raise SpecError("pitch.tolerance", "is exclusive with pitch.segments: give one of them")
+    if pt.representation == "bspline":
+        raise SpecError("pitch.representation", "'bspline' is not available in this version")
+    if spec.motion[0].junctions is not None:
+        total = sum(seg.junctions or 0 for seg in spec.motion)
+        if pt.tolerance is not None:
+            raise SpecError("pitch.tolerance", "is exclusive with motion[].junctions")
+        if pt.segments is not None and pt.segments != total:
+            raise SpecError("pitch.segments",
+                            f"is {pt.segments} but motion[].junctions sum to {total}: give one of them")
+        if total < 8:
+            raise SpecError("motion[].junctions", f"sum to {total}, must be ≥ 8")
+
+
+# ---- loading ---------------------------------------------------------------------
+def load_spec(source: str | Path | Mapping[str, Any]) -> CamSpec:
+    """Load a spec from a TOML file path, TOML text, or a dict.
+
+    Raises:
+        SpecError: a rule is broken; the message names the field and the rule.
+    """
+    if isinstance(source, Mapping):
+        return CamSpec.from_dict(source)
+    text: str
+    p = Path(source) if not (isinstance(source, str) and "\n" in source) else None
+    if p is not None:
+        try:
+            text = p.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise SpecError(str(source), "file not found") from None
+        except OSError as exc:
+            raise SpecError(str(source), f"cannot be read ({exc.strerror})") from None
+    else:
+        text = str(source)
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib  # type: ignore[no-redef]
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError(str(p) if p else "spec", f"is not valid TOML ({exc})") from None
+    return CamSpec.from_dict(data)
+
+
+def default_spec() -> CamSpec:
+    """The built-in default cam: the paper's Table 1, case 2 (e = 10 mm, M = 60), with a
+    5 mm roller, 10 mm thick, 10 mm bore (Jahanpour & Dolatabadi 2014)."""
+    return CamSpec.from_dict(DEFAULT_SPEC_DICT)
+
+
+DEFAULT_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"base_radius": math.sqrt(20.0**2 + 10.0**2), "thickness": 10.0, "bore_diameter": 10.0,
+            "direction": "ccw", "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "offset": 10.0, "roller_radius": 5.0},
+    "motion": [
+        {"kind": "dwell", "angle": 30.0},
+        {"kind": "rise", "angle": 120.0, "lift": 20.0, "law": "cycloidal"},
+        {"kind": "dwell", "angle": 60.0},
+        {"kind": "return", "angle": 120.0, "lift": 20.0, "law": "cycloidal"},
+        {"kind": "dwell", "angle": 30.0},
+    ],
+    "pitch": {"representation": "ph", "segments": 60},
+}
+
+
+def to_toml(spec: CamSpec) -> str:
+    """Serialise a spec as TOML text (readable by :func:`load_spec`)."""
+    return dict_to_toml(spec.to_dict())
+
+
+def dict_to_toml(data: Mapping[str, Any]) -> str:
+    """A small TOML writer for the spec's structure: scalars, lists, tables, arrays of tables."""
+    lines: list[str] = []
+    scalars = {k: v for k, v in data.items() if not isinstance(v, (Mapping, list)) or
+               (isinstance(v, list) and not (v and isinstance(v[0], Mapping)))}
+    for k, v in scalars.items():
+        lines.append(f"{k} = {_toml_value(v)}")
+    for k, v in data.items():
+        if k in scalars:
+            continue
+        if isinstance(v, Mapping):
+            lines.append("")
+            lines.append(f"[{k}]")
+            lines.extend(_toml_table_body(v, k))
+        else:
+            for item in v:
+                lines.append("")
+                lines.append(f"[[{k}]]")
+                lines.extend(_toml_table_body(item, k))
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def _toml_table_body(table: Mapping[str, Any], prefix: str) -> list[str]:
+    out, subs = [], []
+    for k, v in table.items():
+        if isinstance(v, Mapping):
+            subs.append((k, v))
+        else:
+            out.append(f"{k} = {_toml_value(v)}")
+    for k, v in subs:
+        out.append("")
+        out.append(f"[{prefix}.{k}]")
+        out.extend(_toml_table_body(v, f"{prefix}.{k}"))
+    return out
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v) if math.isfinite(v) else ("inf" if v > 0 else "-inf" if v < 0 else "nan")
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {v!r} as TOML")
+
+
+__all__ = [
+    "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "Param",
+    "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
+]

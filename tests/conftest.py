@@ -1,0 +1,57 @@
+"""Shared fixtures: specs of the paper's cases and a few built designs (built once)."""
+from __future__ import annotations
+
+import copy
+import math
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from generators.spec import DEFAULT_SPEC_DICT, CamSpec  # noqa: E402
+
+ARTIFACTS = ROOT / "test-artifacts"
+
+
+def paper_case_dict(case: int, knife: bool = True) -> dict:
+    """The paper's Table 1 cam: case 1 (e = 0, M = 60), 2 (e = 10, M = 60), 3 (e = 10, M = 64)."""
+    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    e = 0.0 if case == 1 else 10.0
+    d["cam"]["base_radius"] = math.hypot(20.0, e)  # h' = 20 mm (paper Eq. 7)
+    d["cam"]["bore_diameter"] = 0.0
+    d["follower"] = {"kind": "knife", "offset": e} if knife else {"kind": "roller", "offset": e, "roller_radius": 5.0}
+    if case == 3:
+        d["pitch"] = {"representation": "ph"}
+        for seg, j in zip(d["motion"], [6, 20, 12, 20, 6]):  # 5° in dwells, 6° in rise/return
+            seg["junctions"] = j
+    return d
+
+
+def paper_case(case: int, knife: bool = True) -> CamSpec:
+    return CamSpec.from_dict(paper_case_dict(case, knife))
+
+
+@pytest.fixture(scope="session")
+def artifacts() -> Path:
+    ARTIFACTS.mkdir(exist_ok=True)
+    return ARTIFACTS
+
+
+@pytest.fixture(scope="session")
+def default_design():
+    from generators import default_spec, design_cam
+
+    return design_cam(default_spec())
+
+
+def has_module(name: str) -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec(name) is not None
+
+
+requires_ocp = pytest.mark.skipif(not has_module("OCP"), reason="OCP (cadquery-ocp) is not installed")

@@ -1,0 +1,110 @@
+"""The command line: build writes STEP and report.json; bad input exits 2 with a message,
+no traceback, and writes nothing (no folder created, existing files untouched)."""
+import json
+import re
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from .conftest import ROOT, requires_ocp
+
+CLI = [sys.executable, "-m", "cam_workbench.cli"]
+
+
+def run(*args, cwd=None):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=cwd, env=env)
+
+
+@requires_ocp
+def test_build_default(tmp_path):
+    out = tmp_path / "out"
+    res = run("build", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    report = json.loads((out / "report.json").read_text())
+    for key in ("units", "pitch", "pressure_angle", "curvature", "area", "volume", "files"):
+        assert key in report
+    assert report["pitch"]["segments"] == 60 and report["pitch"]["representation"] == "ph"
+    assert report["pitch"]["max_deviation"] < 2e-4
+    assert report["files"]["step"] == "cam.step"
+    assert (out / "cam.step").read_text().startswith("ISO-10303-21")
+    assert report["solid"]["valid"] and report["solid"]["solids"] == 1
+    assert report["solid"]["cross_section_area"] == pytest.approx(report["area"], rel=1e-9)
+    assert report["volume"] == pytest.approx(report["area"] * 10.0)
+
+
+def test_help_reads_well():
+    res = run("--help")
+    assert res.returncode == 0 and "build" in res.stdout and "exit status" in res.stdout
+    res = run("build", "--help")
+    assert res.returncode == 0 and "--set" in res.stdout and "SPEC" in res.stdout
+
+
+def test_spec_command_prints_reference_and_default(tmp_path):
+    res = run("spec")
+    assert "cam.base_radius" in res.stdout or "`base_radius`" in res.stdout
+    res = run("spec", "--default")
+    p = tmp_path / "d.toml"
+    p.write_text(res.stdout)
+    from generators import default_spec, load_spec
+
+    assert load_spec(p) == default_spec()
+
+
+BAD = [
+    (["--set", "cam.base_radius=5"], "follower.offset"),
+    (["--set", "motion[4].angle=20"], "motion[4].angle: spans sum to 350°, must be 360°"),
+    (["--set", "cam.colour=red"], "cam.colour: unknown field"),
+    (["--set", "follower.roller_radius=25"], "cam.base_radius"),
+    (["--set", "cam.bore_diameter=35"], "cam.bore_diameter: must be < 2 × smallest cam-surface radius"),
+    # passes the spec rule (< 2·17.360680) but the built profile dips 0.04 µm inside the
+    # base circle in the dwell (PH interpolation), so the bore would cut it
+    (["--set", "cam.bore_diameter=34.72135"], "the bore (radius 17.3607) cuts the profile at cam angle"),
+]
+
+
+@pytest.mark.parametrize("args,message", BAD)
+def test_bad_input_exit_2_writes_nothing(tmp_path, args, message):
+    out = tmp_path / "out"
+    res = run("build", *args, "-o", str(out))
+    assert res.returncode == 2
+    assert message in res.stderr
+    assert "Traceback" not in res.stderr
+    assert not out.exists()
+
+
+def test_bad_input_leaves_existing_files_untouched(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "cam.step").write_text("previous")
+    (out / "report.json").write_text("{}")
+    bad = tmp_path / "bad.toml"
+    bad.write_text('units = "mm"\n[cam]\nbase_radius = 30\nthickness = 5\n[follower]\nkind = "knife"\n'
+                   '[[motion]]\nkind = "rise"\nangle = 180\nlift = 5\nlaw = "cycloidal"\n'
+                   '[[motion]]\nkind = "return"\nangle = 170\nlift = 5\nlaw = "cycloidal"\n')
+    res = run("build", str(bad), "-o", str(out))
+    assert res.returncode == 2 and "motion[1].angle: spans sum to 350°" in res.stderr
+    assert (out / "cam.step").read_text() == "previous"
+    assert (out / "report.json").read_text() == "{}"
+    assert sorted(p.name for p in out.iterdir()) == ["cam.step", "report.json"]
+
+
+def test_missing_spec_file(tmp_path):
+    res = run("build", str(tmp_path / "none.toml"), "-o", str(tmp_path / "o"))
+    assert res.returncode == 2 and "file not found" in res.stderr
+
+
+def test_undercut_reported_with_cam_angle(tmp_path):
+    """The default cam's smallest convex pitch radius is 21.06 mm, at the end of the rise
+    (≈111°–114°), so a 22 mm roller undercuts there."""
+    res = run("build", "--set", "follower.roller_radius=22", "--set", "cam.bore_diameter=0",
+              "-o", str(tmp_path / "o"))
+    assert res.returncode == 2
+    m = re.search(r"undercut at cam angle ([0-9.]+)°", res.stderr)
+    assert m, res.stderr
+    assert 105 < float(m.group(1)) < 120
+    assert "Traceback" not in res.stderr
+    assert not (tmp_path / "o").exists()

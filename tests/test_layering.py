@@ -1,0 +1,38 @@
+"""DESIGN.md's layering, checked: importing and running `generators` loads no CAD kernel,
+file-format or upper-layer module; `cam_workbench/freecad` never imports OCP/cadquery/build123d."""
+import re
+import subprocess
+import sys
+
+from .conftest import ROOT
+
+FORBIDDEN = ["OCP", "cadquery", "build123d", "FreeCAD", "Part", "ezdxf", "matplotlib",
+             "cam_workbench", "exporters", "rich", "tqdm"]
+
+
+def test_generators_imports_no_cad_or_file_format_module():
+    code = (
+        "import sys, generators\n"
+        "from generators import default_spec, design_cam\n"
+        "d = design_cam(default_spec()); d.summary()\n"
+        f"bad = [m for m in {FORBIDDEN!r} if m in sys.modules]\n"
+        "print(','.join(bad))\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == "", f"generators loaded: {res.stdout.strip()}"
+
+
+def test_no_upward_imports_in_source():
+    pattern = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP|FreeCAD|Part|ezdxf|matplotlib|"
+                         r"cam_workbench|exporters)\b", re.M)
+    for path in (ROOT / "generators").rglob("*.py"):
+        assert not pattern.search(path.read_text()), path
+    freecad = ROOT / "cam_workbench" / "freecad"
+    if freecad.exists():
+        bad = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP)\b", re.M)
+        for path in freecad.rglob("*.py"):
+            assert not bad.search(path.read_text()), path
+    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench|cadquery|build123d)\b", re.M)
+    for path in (ROOT / "exporters").rglob("*.py"):
+        assert not exp.search(path.read_text()), path
