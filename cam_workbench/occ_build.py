@@ -48,21 +48,6 @@ def nurbs_to_edge(curve: NurbsCurve, z: float = 0.0) -> Any:
     return mk.Edge()
 
 
-def bezier_pieces(curve: NurbsCurve) -> list[NurbsCurve]:
-    """Split a NURBS whose interior knots all have full multiplicity (= degree) into its
-    Bézier spans, exactly (the poles and weights are shared, nothing is refitted)."""
-    p = curve.degree
-    u, mult = curve.distinct_knots()
-    if not np.all(mult[1:-1] == p):
-        return [curve]
-    pieces = []
-    for k in range(len(u) - 1):
-        sl = slice(k * p, k * p + p + 1)
-        knots = np.concatenate([np.full(p + 1, u[k]), np.full(p + 1, u[k + 1])])
-        pieces.append(NurbsCurve(p, knots, curve.poles[sl], curve.weights[sl]))
-    return pieces
-
-
 def profile_wire(curve: NurbsCurve, z: float = 0.0) -> Any:
     """A closed wire of exact rational Bézier edges, one per knot span of ``curve``.
 
@@ -73,7 +58,7 @@ def profile_wire(curve: NurbsCurve, z: float = 0.0) -> Any:
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeWire
 
     mk = BRepBuilderAPI_MakeWire()
-    for piece in bezier_pieces(curve):
+    for piece in curve.bezier_pieces():
         mk.Add(nurbs_to_edge(piece, z))
     if not mk.IsDone():
         raise RuntimeError("OCCT could not join the profile edges into a wire")
