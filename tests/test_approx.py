@@ -1,0 +1,59 @@
+"""Lines and arcs within a tolerance of the exact profile (for G-code and spline-less DXF):
+two-sided distance measured densely, closed paths, tangent continuity of biarcs, and an exact
+circle reproduced by arcs of its own radius."""
+import numpy as np
+import pytest
+
+from generators.approx import fit_biarcs, flatten, max_distance, polyline_path
+from generators.nurbs import NurbsCurve
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-3, 1e-4])
+def test_biarcs_within_tolerance_and_tangent_continuous(default_design, tol):
+    curve = default_design.profile
+    path = fit_biarcs(curve, tol)
+    assert max_distance(path, curve) <= tol
+    assert abs(path.end[-1] - path.start[0]) < 1e-12
+    assert np.max(np.abs(path.end[:-1] - path.start[1:])) < 1e-12
+    arc = path.is_arc
+    assert np.allclose(np.abs(path.end - path.center)[arc], path.radius[arc], rtol=1e-9)
+    # tangent directions at every joint agree (G¹)
+    def tangent(z, c, ccw):
+        return 1j * (z - c) * np.where(ccw, 1, -1)
+    t_end = np.where(arc, tangent(path.end, path.center, path.ccw), path.end - path.start)
+    t_start = np.where(arc, tangent(path.start, path.center, path.ccw), path.end - path.start)
+    t_end, t_start = t_end / np.abs(t_end), t_start / np.abs(t_start)
+    assert np.max(np.abs(t_end - np.roll(t_start, -1))) < 1e-7
+    # arc length of the path converges to the curve's
+    length = default_design.profile.sample(400)[1]
+    poly = length[:, 0] + 1j * length[:, 1]
+    assert path.length == pytest.approx(np.sum(np.abs(np.diff(poly))), rel=5 * tol)
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-3, 1e-4])
+def test_polyline_within_tolerance(default_design, tol):
+    curve = default_design.profile
+    u, pts = flatten(curve, tol)
+    assert abs(pts[-1] - pts[0]) < 1e-12
+    assert max_distance(polyline_path(u, pts), curve) <= tol
+    assert np.all(np.diff(u) > 0)
+
+
+def test_fewer_elements_for_looser_tolerance(default_design):
+    c = default_design.profile
+    assert fit_biarcs(c, 1e-4).n > fit_biarcs(c, 1e-2).n / 2  # arcs come in pairs
+    assert len(flatten(c, 1e-4)[0]) > 4 * len(flatten(c, 1e-2)[0])
+
+
+def test_circle_is_reproduced_exactly_by_arcs():
+    # exact rational quadratic circle of radius 7 (4 spans)
+    w = np.sqrt(0.5)
+    poles = np.array([[7, 0], [7, 7], [0, 7], [-7, 7], [-7, 0], [-7, -7], [0, -7], [7, -7], [7, 0]], float)
+    weights = np.array([1, w, 1, w, 1, w, 1, w, 1])
+    knots = np.array([0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4], float)
+    circle = NurbsCurve(2, knots, poles, weights)
+    path = fit_biarcs(circle, 1e-6)
+    assert np.allclose(path.radius, 7.0, rtol=1e-12)
+    assert np.allclose(path.center, 0.0, atol=1e-11)
+    assert path.n == 8 and np.all(path.ccw)
+    assert path.length == pytest.approx(2 * np.pi * 7, rel=1e-12)
