@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from .conftest import ROOT, requires_ocp
+from .test_spec import RULES as SPEC_RULES
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 
@@ -108,3 +109,24 @@ def test_undercut_reported_with_cam_angle(tmp_path):
     assert 105 < float(m.group(1)) < 120
     assert "Traceback" not in res.stderr
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("rule", SPEC_RULES, ids=[r[0] for r in SPEC_RULES])
+def test_every_spec_rule_through_the_cli(tmp_path, capsys, rule):
+    """Each validation rule of test_spec.RULES, written as a TOML file and given to
+    `cam-workbench build`: exit 2, `field: rule` on stderr, no traceback, nothing written."""
+    from cam_workbench.cli import main
+    from generators.spec import dict_to_toml
+
+    from .test_spec import mutate
+
+    _, fn, field, words = rule
+    spec_path = tmp_path / "bad.toml"
+    spec_path.write_text(dict_to_toml(mutate(fn)))
+    out = tmp_path / "out"
+    rc = main(["build", str(spec_path), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert f"{field}:" in err and words in err
+    assert "Traceback" not in err
+    assert not out.exists()
