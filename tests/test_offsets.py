@@ -65,3 +65,21 @@ def test_offset_area_follows_steiner_formula(spline):
     for d in (1.0, 3.0, 5.0):
         inward = offset_nurbs(spline, -d)  # the pitch curve runs clockwise: right is inside
         assert abs(inward.area()) == pytest.approx(a0 - length * d + np.pi * d * d, rel=1e-12)
+
+
+def test_profile_radius_of_curvature_is_pitch_radius_minus_roller(default_design):
+    """Curvature of the offset NURBS itself (central differences of its own derivative) against
+    ρ_profile = ρ_pitch − r (offset-curve relation), at points away from the junctions."""
+    d = default_design
+    r = d.spec.roller_radius
+    u = (np.arange(d.pitch.M)[:, None] + np.linspace(0.1, 0.9, 9)[None, :]).ravel()
+    h = 1e-5
+    _, d1 = d.profile.evaluate_with_derivative(u)
+    _, d1p = d.profile.evaluate_with_derivative(u + h)
+    _, d1m = d.profile.evaluate_with_derivative(u - h)
+    d2 = (d1p - d1m) / (2 * h)
+    kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(d1[:, 0], d1[:, 1]) ** 3
+    seg = u.astype(int)
+    rho_pitch = -d.geometry.sense / d.pitch.spline.curvature(seg, u - seg)
+    rho_profile = -d.geometry.sense / kappa
+    assert np.allclose(rho_profile, rho_pitch - r, rtol=1e-6)
