@@ -263,7 +263,7 @@ def _centerlines(msp: Any, design: CamDesign, r_max: float, h: float) -> None:
     # the follower axis when the program starts (θ = 0): where the drawing's angles begin
     e = design.spec.follower.offset
     y0 = design.spec.prime_offset
-    msp.add_line((e, 0.6 * y0), (e, ext + 2 * h), dxfattribs=att)
+    msp.add_line((e, y0), (e, ext + 2 * h), dxfattribs=att)  # from the roller centre at zero lift
     sense = "CCW" if design.spec.cam.direction == "ccw" else "CW"
     _text(msp, f"FOLLOWER AXIS AT 0°, CAM TURNS {sense}", (e + 0.4 * h, ext + 1.2 * h), 0.7 * h,
           "CENTERLINES")
@@ -436,8 +436,8 @@ def export_dxf(design: CamDesign, path: str | os.PathLike[str], summary: dict[st
 
 
 def read_profile_path(path: str | os.PathLike[str], layer: str = "PROFILE") -> Path2D:
-    """The ARC/LINE/polyline entities of a layer as a :class:`Path2D`, chained in file order
-    (for checking spline-less drawings against the exact profile)."""
+    """The ARC/LINE/polyline entities of a layer as one head-to-tail :class:`Path2D` (for
+    checking spline-less drawings against the exact profile)."""
     import ezdxf
 
     doc = ezdxf.readfile(str(path))
@@ -447,7 +447,7 @@ def read_profile_path(path: str | os.PathLike[str], layer: str = "PROFILE") -> P
         if kind in ("LWPOLYLINE", "POLYLINE"):
             pts = [complex(p[0], p[1]) for p in (e.get_points("xy") if kind == "LWPOLYLINE"
                                                   else [v.dxf.location for v in e.vertices])]
-            if e.closed:
+            if (e.closed if kind == "LWPOLYLINE" else e.is_closed):
                 pts.append(pts[0])
             for a, b in zip(pts[:-1], pts[1:]):
                 starts.append(a), ends.append(b), centers.append(complex(np.nan, np.nan)), ccws.append(False)
@@ -463,9 +463,32 @@ def read_profile_path(path: str | os.PathLike[str], layer: str = "PROFILE") -> P
             ends.append(c + r * np.exp(1j * math.radians(e.dxf.end_angle)))
             centers.append(c)
             ccws.append(True)
-    n = len(starts)
+    return _chain(np.array(starts), np.array(ends), np.array(centers), np.array(ccws, bool))
+
+
+def _chain(start: np.ndarray, end: np.ndarray, center: np.ndarray, ccw: np.ndarray) -> Path2D:
+    """Order elements head to tail (DXF arcs always run counter-clockwise, so an arc that the
+    path traverses clockwise is read backwards and is turned round here)."""
+    n = len(start)
+    order, flip = [0], [False]
+    used = np.zeros(n, bool)
+    used[0] = True
+    tip = end[0]
+    for _ in range(n - 1):
+        d_start = np.where(used, np.inf, np.abs(start - tip))
+        d_end = np.where(used, np.inf, np.abs(end - tip))
+        i, j = int(np.argmin(d_start)), int(np.argmin(d_end))
+        k, rev = (i, False) if d_start[i] <= d_end[j] else (j, True)
+        used[k] = True
+        order.append(k)
+        flip.append(rev)
+        tip = start[k] if rev else end[k]
+    idx = np.array(order)
+    f = np.array(flip)
+    s0, e0 = start[idx], end[idx]
+    arc = ~np.isnan(center[idx].real)
     z = np.zeros(n)
-    return Path2D(np.array(starts), np.array(ends), np.array(centers), np.array(ccws, bool), z, z)
+    return Path2D(np.where(f, e0, s0), np.where(f, s0, e0), center[idx], np.where(f & arc, ~ccw[idx], ccw[idx]), z, z)
 
 
 __all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf",
