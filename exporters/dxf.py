@@ -338,11 +338,10 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
                 if design.profile.is_rational else
                 f"B-SPLINE, DEGREE {design.profile.degree}, {design.profile.n_poles} POLES (EXACT)")
     elif profile.curves == "arcs":
-        prof = (f"{profile.arcs} ARCS + {profile.lines} LINES, MAX ERROR {profile.max_error:.2e} {u} "
-                f"(TOL. {dr.chord_tolerance:g})")
+        parts = f"{profile.arcs} ARCS" + (f" + {profile.lines} LINES" if profile.lines else "")
+        prof = f"{parts}, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
     else:
-        prof = (f"POLYLINE, {profile.lines} SEGMENTS, MAX ERROR {profile.max_error:.2e} {u} "
-                f"(TOL. {dr.chord_tolerance:g})")
+        prof = f"{profile.lines} LINES, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
     pa = summary["pressure_angle"]
     cv = summary["curvature"]
     pt = summary["pitch"]
@@ -376,7 +375,7 @@ def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: 
     att = {"layer": "TITLE"}
     rows = title_rows(design, summary, profile)
     x0 = r_max + 5 * h
-    col = [x0, x0 + 17 * h, x0 + 46 * h]
+    col = [x0, x0 + 17 * h, x0 + 48 * h]
     row_h = 1.8 * h
     top = r_max + 2.5 * h
     y = top

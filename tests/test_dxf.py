@@ -12,6 +12,7 @@
 * layers, ``$INSUNITS``, DIMENSION measurements and the title block's motion table;
 * a PNG rendered by ezdxf's drawing add-on (matplotlib backend) is left in test-artifacts/.
 """
+import json
 import math
 import os
 import subprocess
@@ -380,3 +381,53 @@ def test_cli_dxf_help_reads_declarations():
     res = run("dxf", "--help")
     assert res.returncode == 0
     assert "{spline,arcs,polyline}" in res.stdout and "chord" in res.stdout
+
+
+FREECADCMD = __import__("shutil").which("freecadcmd")
+
+FREECAD_READ = """
+import json, FreeCAD, Import
+doc = FreeCAD.newDocument("d")
+Import.readDXF({path!r})
+doc.recompute()
+out = []
+for o in doc.Objects:
+    sh = getattr(o, "Shape", None)
+    if sh is None or sh.isNull():
+        continue
+    for e in sh.Edges:
+        c = e.Curve
+        if c.TypeId == "Part::GeomBSplineCurve":
+            out.append(dict(degree=c.Degree, poles=c.NbPoles, rational=c.isRational(),
+                            closed=e.isClosed(), length=e.Length))
+print("RESULT" + json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(FREECADCMD is None, reason="freecadcmd (Debian freecad-python3) is not installed")
+@pytest.mark.parametrize("name", ["spline", "spline_closed_flag"])
+def test_freecad_dxf_importer_reads_the_exact_splines(drawings, tmp_path, name):
+    """FreeCAD's own DXF importer (a real CAD reader, OCCT 7.6) gets the degree-9 rational profile
+    and the degree-5 pitch curve, closed, in mm ($INSUNITS), with the lengths the PH curve gives
+    exactly: pitch = its arc length, profile = arc length − 2π·roller radius (inward offset of
+    a closed convex-turning curve)."""
+    design, path, _ = drawings[name]
+    script = tmp_path / "read.py"
+    script.write_text(FREECAD_READ.format(path=str(path)))
+    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=300)
+    line = next((x for x in res.stdout.splitlines() if x.startswith("RESULT")), None)
+    assert line, res.stdout[-2000:] + res.stderr[-2000:]
+    curves = sorted(json.loads(line[6:]), key=lambda c: c["degree"])
+    assert [(c["degree"], c["rational"], c["closed"]) for c in curves] == [(5, False, True), (9, True, True)]
+    assert curves[1]["poles"] == design.profile.n_poles and curves[0]["poles"] == design.pitch_nurbs.n_poles
+    arc = design.pitch.spline.arc_length
+    assert curves[0]["length"] == pytest.approx(arc, rel=1e-9)
+    assert curves[1]["length"] == pytest.approx(arc - 2 * math.pi * design.spec.roller_radius, rel=1e-9)
+
+
+def test_platecam_export_dxf(tmp_path):
+    from cam_workbench import PlateCam
+
+    cam = PlateCam(**{"drawing.curves": "arcs"})
+    path = cam.export_dxf(tmp_path / "c.dxf")
+    assert max_distance(read_profile_path(path), cam.design.profile_ccw()) <= cam.spec.drawing.chord_tolerance
