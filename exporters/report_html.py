@@ -242,6 +242,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("solid: exact volume (Green's theorem × thickness)", "volume", f"{u}³", None),
         ("solid: OCCT cross-section area", "solid.cross_section_area", f"{u}²", None),
         ("solid: exact cross-section area", "area", f"{u}²", None),
+        ("solid: OCCT volume / exact − 1", "solid.volume_rel_diff", "", None),
+        ("solid: OCCT cross-section / exact − 1", "solid.area_rel_diff", "", None),
     ]
     acc_note = ('<p class="note">The profile is the exact rational offset of the PH pitch curve (degree '
                 '9 NURBS), so the only approximation in the geometry is the pitch curve\'s interpolation of '

@@ -168,7 +168,7 @@ def test_table_numbers_equal_report_json(built):
                 "motion.max_velocity", "motion.max_acceleration", "motion.max_jerk", "area", "volume",
                 "solid.kernel_volume", "solid.cross_section_area", "profile.max_radius",
                 "drawing.profile_max_error", "spec.cam.base_radius", "spec.motion.1.lift", "spec.motion.3.law",
-                "pitch.newton_residual"):
+                "pitch.newton_residual", "solid.volume_rel_diff", "solid.area_rel_diff"):
         assert key in seen, key
 
 

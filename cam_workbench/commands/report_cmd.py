@@ -76,7 +76,11 @@ def base_summary(design: CamDesign, shape: Any | None = None) -> dict[str, Any]:
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
     if shape is not None:
-        summary["solid"] = solid_summary(shape, design.spec.cam.thickness)
+        solid = solid_summary(shape, design.spec.cam.thickness)
+        # how far the kernel's integrals are from the exact (Green's theorem) numbers
+        solid["volume_rel_diff"] = solid["kernel_volume"] / summary["volume"] - 1.0
+        solid["area_rel_diff"] = solid["cross_section_area"] / summary["area"] - 1.0
+        summary["solid"] = solid
     return summary
 
 
