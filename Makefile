@@ -1,12 +1,12 @@
 # The two set-up commands of the README work on a fresh machine from nothing:
-#   make demo   venv → install → build the default cam into out/
+#   make demo   venv → install → build the default cam into out/ (STEP, DXF, report.html + plots)
 #   make test   system packages (as root) → venv → install → the whole test suite
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 # Debian packages the test suite drives for real (installed by `make test` when root).
-DEB_PACKAGES := freecad-python3 linuxcnc-uspace xvfb
+DEB_PACKAGES := freecad-python3 linuxcnc-uspace xvfb chromium
 
 .PHONY: demo test bench system-deps docs clean
 

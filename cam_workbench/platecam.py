@@ -100,6 +100,13 @@ class PlateCam:
 
         return export_step(self.shape, path, self.spec.units)
 
+    def export_dxf(self, path: str | os.PathLike[str]) -> Path:
+        """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
+        from exporters.dxf import export_dxf
+
+        export_dxf(self.design, path)
+        return Path(path)
+
     def report(self) -> dict[str, Any]:
         """The numbers of ``report.json``."""
         return self.design.summary()

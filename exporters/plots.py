@@ -1,19 +1,38 @@
 """Matplotlib figures of a designed cam (Agg backend, written atomically as PNG or SVG).
 
-Figures take plain results from ``generators`` (a :class:`CamDesign`) and never compute
-geometry themselves beyond sampling it.
+Figures take plain results from ``generators`` (a :class:`CamDesign`, arrays) and never
+compute geometry themselves beyond sampling it.  Angles on the axes are cam degrees
+from the program start; lengths are in the spec's units.
+
+=========================  =======================================================
+figure                     what it shows
+=========================  =======================================================
+:func:`cam_figure`         cam drawing beside s, v, a, j (the README picture)
+:func:`cam_drawing_figure` the cam with its pitch curve, circles and the follower
+:func:`kinematics_figure`  s, v, a, j over the cycle at the spec's speed
+:func:`pressure_angle_figure`  φ(θ) (thesis Eq. 3.4) and the built curve's φ
+:func:`curvature_figure`   radius of curvature of pitch curve and profile (Eq. 3.7)
+:func:`deviation_figure`   interpolation error s_actual − s (paper Fig. 5/7)
+:func:`series_figure`      any θ-series (contact force, Hertz stress …) with limits
+:func:`convergence_figure` an optimiser's objective and constraint violation
+=========================  =======================================================
 """
 from __future__ import annotations
 
+import io
 import os
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
 from generators.cam_design import CamDesign
 
 from .atomic import atomic_path
+
+SERIES_COLORS = ("#2e7d32", "#c0392b", "#6a1b9a", "#1f3b5c")
+COLORS = {"profile": "#1f3b5c", "pitch": "#c0392b", "follower": "#8a6212", "s": "#1f3b5c",
+          "v": "#2e7d32", "a": "#c0392b", "j": "#6a1b9a", "built": "#e67e22", "limit": "#b03a2e"}
 
 
 def _plt() -> Any:
@@ -34,27 +53,74 @@ def save_figure(fig: Any, path: str | os.PathLike[str], dpi: int = 150) -> Path:
     return target
 
 
-def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
-    """Drawing of the cam (profile, pitch curve, base and prime circles, bore, the follower at
-    ``follower_angle_deg`` of cam rotation) beside its s, v, a, j diagrams over one turn."""
-    plt = _plt()
+def figure_bytes(fig: Any, fmt: str, dpi: int = 150) -> bytes:
+    """The figure as PNG or SVG bytes (SVG text keeps glyphs as paths: no font files needed)."""
+    import matplotlib
+
+    buf = io.BytesIO()
+    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "cam_workbench"}):
+        fig.savefig(buf, format=fmt, dpi=dpi, bbox_inches="tight", metadata=_metadata(fmt))
+    return buf.getvalue()
+
+
+def close(fig: Any) -> None:
+    _plt().close(fig)
+
+
+def _metadata(fmt: str) -> dict[str, Any]:
+    # no creation dates: the same design gives the same files
+    if fmt == "svg":
+        return {"Date": None, "Creator": "cam_workbench"}
+    if fmt == "png":
+        return {"Software": "cam_workbench"}
+    return {}
+
+
+def _segment_marks(ax: Any, design: CamDesign, labels: bool = False) -> None:
+    """Thin vertical lines at the motion-segment boundaries (and their kinds on top)."""
+    prog = design.program
+    b = np.rad2deg(prog.boundaries)
+    for x in b[1:-1]:
+        ax.axvline(x, color="0.75", lw=0.6, zorder=0)
+    if labels:
+        for k, kind in enumerate(prog.kinds):
+            ax.text(0.5 * (b[k] + b[k + 1]), 1.02, kind, transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize=7, color="0.35")
+
+
+def _angle_axis(ax: Any, last: bool = True) -> None:
+    ax.set_xlim(0, 360)
+    ax.set_xticks(np.arange(0, 361, 30))
+    ax.grid(alpha=0.25)
+    ax.tick_params(labelsize=7)
+    if last:
+        ax.set_xlabel("cam angle θ [deg]", fontsize=8)
+    else:
+        ax.tick_params(labelbottom=False)
+
+
+# ---- the cam -----------------------------------------------------------------------------
+def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> None:
+    """The cam in its own frame: profile (filled), pitch curve, prime and base circles, bore,
+    and the follower drawn where it is at ``follower_angle_deg`` of cam rotation."""
     spec = design.spec
     u = spec.units
-    fig, (ax, axk) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1, 1.25]})
     _, prof = design.profile.sample(32)
     _, pitch = design.pitch_nurbs.sample(32)
     ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label="cam (exact NURBS profile)")
-    ax.plot(prof[:, 0], prof[:, 1], color="#1f3b5c", lw=1.2, zorder=2)
-    ax.plot(pitch[:, 0], pitch[:, 1], "--", color="#c0392b", lw=0.9, zorder=7,
+    ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
+    ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
             label="pitch curve (PH quintic spline)")
     t = np.linspace(0, 2 * np.pi, 400)
     rb = spec.cam.base_radius
     ax.plot(rb * np.cos(t), rb * np.sin(t), ":", color="0.45", lw=0.8, label="prime circle")
+    if spec.roller_radius > 0:
+        r0 = rb - spec.roller_radius
+        ax.plot(r0 * np.cos(t), r0 * np.sin(t), "-.", color="0.6", lw=0.6, label="base circle")
     if spec.cam.bore_diameter > 0:
         rbore = spec.cam.bore_diameter / 2
         ax.fill(rbore * np.cos(t), rbore * np.sin(t), color="white", zorder=3)
-        ax.plot(rbore * np.cos(t), rbore * np.sin(t), color="#1f3b5c", lw=1.0, zorder=4)
-    # the follower drawn in the cam frame at the chosen cam angle
+        ax.plot(rbore * np.cos(t), rbore * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=4)
     th = np.deg2rad(follower_angle_deg)
     geo = design.geometry
     s = design.program.s(np.array([th]))[0]
@@ -63,11 +129,11 @@ def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
     r = spec.roller_radius
     if r > 0:
         ax.fill(p.real + r * np.cos(t), p.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=5)
-        ax.plot(p.real + r * np.cos(t), p.imag + r * np.sin(t), color="#8a6212", lw=1.0, zorder=6)
+        ax.plot(p.real + r * np.cos(t), p.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=6)
     stem = np.array([p, p + axis_dir * (spec.max_lift + 2 * max(r, 0.1 * rb))])
-    ax.plot(stem.real, stem.imag, color="#8a6212", lw=3, zorder=6, solid_capstyle="round",
+    ax.plot(stem.real, stem.imag, color=COLORS["follower"], lw=3, zorder=6, solid_capstyle="round",
             label=f"follower at θ = {follower_angle_deg:g}°")
-    ax.plot([p.real], [p.imag], "o", color="#c0392b", ms=3, zorder=8)
+    ax.plot([p.real], [p.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
     ax.set_title(f"plate cam, {spec.follower.kind} follower, e = {spec.follower.offset:g} {u}, "
@@ -77,18 +143,38 @@ def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
     ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
     ax.grid(alpha=0.2)
 
-    th_all = np.linspace(0, 2 * np.pi, 3601)
-    k = design.program.evaluate(th_all)
+
+def cam_drawing_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
+    """The cam with the follower (see :func:`draw_cam`)."""
+    fig, ax = _plt().subplots(figsize=(6.5, 6.5))
+    draw_cam(ax, design, follower_angle_deg)
+    return fig
+
+
+def _kinematic_series(design: CamDesign, n: int = 3601) -> tuple[np.ndarray, list[tuple[np.ndarray, str, str]]]:
+    spec = design.spec
+    u = spec.units
+    th = np.linspace(0, 2 * np.pi, n)
+    k = design.program.evaluate(th)
     omega = spec.cam.speed_rpm * 2 * np.pi / 60
-    deg = np.rad2deg(th_all)
-    series = [(k.s, f"s [{u}]"), (k.ds * omega, f"v [{u}/s]"), (k.d2s * omega**2, f"a [{u}/s²]"),
-              (k.d3s * omega**3, f"j [{u}/s³]")]
+    return np.rad2deg(th), [(k.s, f"s [{u}]", "s"), (k.ds * omega, f"v [{u}/s]", "v"),
+                            (k.d2s * omega**2, f"a [{u}/s²]", "a"), (k.d3s * omega**3, f"j [{u}/s³]", "j")]
+
+
+def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
+    """Drawing of the cam (profile, pitch curve, base and prime circles, bore, the follower at
+    ``follower_angle_deg`` of cam rotation) beside its s, v, a, j diagrams over one turn."""
+    plt = _plt()
+    spec = design.spec
+    fig, (ax, axk) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1, 1.25]})
+    draw_cam(ax, design, follower_angle_deg)
+    deg, series = _kinematic_series(design)
     axk.remove()
     gs = ax.get_gridspec()
     sub = gs[1].subgridspec(4, 1, hspace=0.08)
-    for i, (y, label) in enumerate(series):
+    for i, (y, label, key) in enumerate(series):
         a = fig.add_subplot(sub[i])
-        a.plot(deg, y, color=["#1f3b5c", "#2e7d32", "#c0392b", "#6a1b9a"][i], lw=1.0)
+        a.plot(deg, y, color=COLORS[key], lw=1.0)
         a.set_ylabel(label, fontsize=8)
         a.grid(alpha=0.25)
         a.set_xlim(0, 360)
@@ -100,4 +186,179 @@ def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
         a.tick_params(labelsize=7)
         if i == 0:
             a.set_title(f"follower motion at {spec.cam.speed_rpm:g} rpm", fontsize=9)
+    return fig
+
+
+# ---- curves over the cycle -----------------------------------------------------------------
+def kinematics_figure(design: CamDesign) -> Any:
+    """Displacement, velocity, acceleration and jerk of the follower over one turn at the
+    spec's speed (design intent, closed-form laws), with the motion segments marked."""
+    plt = _plt()
+    deg, series = _kinematic_series(design)
+    fig, axes = plt.subplots(4, 1, figsize=(9, 7.5), sharex=True)
+    for i, (ax, (y, label, key)) in enumerate(zip(axes, series)):
+        _segment_marks(ax, design, labels=i == 0)
+        ax.plot(deg, y, color=COLORS[key], lw=1.1)
+        ax.set_ylabel(label, fontsize=8)
+        k = int(np.argmax(np.abs(y)))
+        ax.plot([deg[k]], [y[k]], "o", ms=3, color=COLORS[key])
+        ax.annotate(f"max |{key}| = {abs(y[k]):.4g}", (deg[k], y[k]), xytext=(6, -4 if y[k] > 0 else 4),
+                    textcoords="offset points", fontsize=7, va="top" if y[k] > 0 else "bottom")
+        _angle_axis(ax, last=i == 3)
+    fig.suptitle(f"follower motion at {design.spec.cam.speed_rpm:g} rpm", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def pressure_angle_figure(design: CamDesign, limit_deg: float | None = None) -> Any:
+    """Pressure angle φ(θ) of the design (thesis Eq. 3.4) and of the built PH curve
+    (samples), with its maximum and, when given, the allowed limit ±limit_deg."""
+    plt = _plt()
+    th = np.linspace(0, 2 * np.pi, 3601)
+    phi = np.rad2deg(design.geometry.pressure_angle(design.program.evaluate(th)))
+    at, phi_b = design.as_built_pressure_angles()
+    order = np.argsort(at)
+    fig, ax = plt.subplots(figsize=(9, 3.6))
+    _segment_marks(ax, design, labels=True)
+    ax.plot(np.rad2deg(th), phi, color=COLORS["s"], lw=1.4, label="design (thesis Eq. 3.4)", zorder=2)
+    ax.plot(at[order][::24], phi_b[order][::24], "o", ms=2.6, mfc="none", mew=0.7, color=COLORS["built"],
+            label="built PH curve (samples)", zorder=3)
+    k = int(np.argmax(np.abs(phi)))
+    ax.plot([np.rad2deg(th[k])], [phi[k]], "o", color=COLORS["a"], ms=4)
+    right = np.rad2deg(th[k]) > 240
+    ax.annotate(f"max |φ| = {abs(phi[k]):.2f}° at {np.rad2deg(th[k]):.1f}°", (np.rad2deg(th[k]), phi[k]),
+                xytext=(-8 if right else 8, 0), textcoords="offset points", fontsize=8, va="center",
+                ha="right" if right else "left")
+    if limit_deg is not None:
+        for sgn in (1, -1):
+            ax.axhline(sgn * limit_deg, color=COLORS["limit"], ls="--", lw=0.9)
+        ax.text(2, limit_deg, f" limit ±{limit_deg:g}°", color=COLORS["limit"], fontsize=7, va="bottom")
+    ax.set_ylabel("pressure angle φ [deg]", fontsize=8)
+    ax.legend(fontsize=7, loc="lower left")
+    _angle_axis(ax)
+    fig.tight_layout()
+    return fig
+
+
+def curvature_figure(design: CamDesign) -> Any:
+    """Signed radius of curvature (+ convex) of the pitch curve (thesis Eq. 3.7) and of the
+    profile (ρ − roller radius), with the built PH curve's samples; the axis is clipped
+    where the curve straightens (|ρ| → ∞)."""
+    plt = _plt()
+    spec = design.spec
+    u = spec.units
+    rr = spec.roller_radius
+    th = np.linspace(0, 2 * np.pi, 3601)
+    rho = design.geometry.pitch_radius_of_curvature(design.program.evaluate(th))
+    cs = design.curvature_samples
+    order = np.argsort(cs.cam_angle_deg)
+    convex = rho[rho > 0]
+    concave = -rho[rho < 0]
+    top = 3.0 * spec.cam.base_radius
+    if convex.size:
+        top = max(top, 1.3 * float(np.min(convex)) + rr)
+    if concave.size:
+        top = max(top, 1.3 * float(np.min(concave)) + rr)
+    fig, ax = plt.subplots(figsize=(9, 3.8))
+    _segment_marks(ax, design, labels=True)
+    deg = np.rad2deg(th)
+    # outside ±top the curve is nearly straight: leave gaps instead of drawing ±∞ jumps
+    def cut(r: np.ndarray) -> np.ndarray:
+        return np.where(np.abs(r) <= top, r, np.nan)
+
+    ax.plot(deg, cut(rho), color=COLORS["pitch"], lw=1.3, label="pitch curve (Eq. 3.7)", zorder=2)
+    if rr > 0:
+        # offsetting inward by r shrinks convex radii and grows concave ones: ρ − r either way
+        ax.plot(deg, cut(rho - rr), color=COLORS["profile"], lw=1.3, label="profile (ρ − roller radius)",
+                zorder=2)
+    ax.plot(cs.cam_angle_deg[order][::12], cut(cs.radius[order][::12]), "o", ms=2.4, mfc="none", mew=0.6,
+            color="0.35", label="built PH curve (samples)", zorder=3)
+    if rr > 0:
+        ax.axhline(rr, color=COLORS["limit"], ls="--", lw=0.9)
+        ax.text(2, rr, f" roller radius {rr:g} (undercut below)", color=COLORS["limit"], fontsize=7,
+                va="bottom")
+    ax.axhline(0, color="0.3", lw=0.6)
+    if convex.size:
+        k = int(np.argmin(np.where(rho > 0, rho, np.inf)))
+        ax.plot([deg[k]], [rho[k]], "o", ms=4, color=COLORS["pitch"])
+        ax.annotate(f"min convex ρ = {rho[k]:.4g} {u} at {deg[k]:.1f}°", (deg[k], rho[k]),
+                    xytext=(8, -10), textcoords="offset points", fontsize=8)
+    ax.set_ylim(-top, top)
+    ax.set_ylabel(f"radius of curvature [{u}]  (+ convex)", fontsize=8)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    _angle_axis(ax)
+    fig.tight_layout()
+    return fig
+
+
+def _small_length_scale(units: str) -> tuple[float, str]:
+    return (1e3, "µm") if units == "mm" else (1e6, "µin")
+
+
+def deviation_figure(design: CamDesign) -> Any:
+    """Interpolation error s_actual(θ) − s(θ) of the built PH pitch curve (paper Eq. 13,
+    as the paper's Figs. 5 and 7), with the PH junction angles marked."""
+    plt = _plt()
+    th, dev = design.pitch.deviation()
+    scale, unit = _small_length_scale(design.spec.units)
+    deg = np.rad2deg(th)
+    fig, ax = plt.subplots(figsize=(9, 3.4))
+    _segment_marks(ax, design, labels=True)
+    ax.plot(deg, dev * scale, color=COLORS["s"], lw=0.8)
+    k = int(np.argmax(np.abs(dev)))
+    ax.plot([deg[k]], [dev[k] * scale], "o", ms=4, color=COLORS["a"])
+    ax.annotate(f"max |s_actual − s| = {abs(dev[k]) * scale:.4g} {unit} at {deg[k]:.2f}°",
+                (deg[k], dev[k] * scale), xytext=(8, 0), textcoords="offset points", fontsize=8, va="center")
+    j = np.rad2deg(design.pitch.angles)
+    ax.plot(j, np.zeros_like(j), "|", color="0.4", ms=5, label=f"junctions (M = {design.pitch.M})")
+    ax.set_ylabel(f"s_actual − s [{unit}]", fontsize=8)
+    ax.legend(fontsize=7, loc="lower left")
+    _angle_axis(ax)
+    fig.tight_layout()
+    return fig
+
+
+def series_figure(panels: Sequence[tuple[np.ndarray, np.ndarray, str, float | None, str | None]],
+                  design: CamDesign | None = None) -> Any:
+    """Stacked θ-series, one panel each: (θ [deg], values, y label, limit or None, limit kind
+    "max"/"min" or None) — e.g. contact force and Hertz stress with their allowed values."""
+    plt = _plt()
+    n = len(panels)
+    fig, axes = plt.subplots(n, 1, figsize=(9, 2.6 * n + 0.6), sharex=True, squeeze=False)
+    for i, (ax, (deg, y, label, limit, kind)) in enumerate(zip(axes[:, 0], panels)):
+        if design is not None:
+            _segment_marks(ax, design, labels=i == 0)
+        ax.plot(deg, y, color=SERIES_COLORS[i % len(SERIES_COLORS)], lw=1.1)
+        if limit is not None:
+            ax.axhline(limit, color=COLORS["limit"], ls="--", lw=0.9)
+            ax.text(2, limit, f" {kind or 'limit'} {limit:.4g}", color=COLORS["limit"], fontsize=7,
+                    va="bottom")
+        ax.set_ylabel(label, fontsize=8)
+        _angle_axis(ax, last=i == n - 1)
+    fig.tight_layout()
+    return fig
+
+
+def convergence_figure(iterations: np.ndarray, objective: np.ndarray, objective_label: str,
+                       violation: np.ndarray | None = None) -> Any:
+    """An optimiser's history: objective per iteration and, when given, the largest
+    constraint violation (log scale; ≤ 0 shown at the bottom as satisfied)."""
+    plt = _plt()
+    rows = 2 if violation is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(9, 2.6 * rows + 0.4), sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    ax.plot(iterations, objective, "-o", ms=2.5, lw=1.0, color=COLORS["s"])
+    ax.set_ylabel(objective_label, fontsize=8)
+    ax.grid(alpha=0.25)
+    ax.tick_params(labelsize=7)
+    if violation is not None:
+        ax2 = axes[1, 0]
+        v = np.asarray(violation, dtype=float)
+        floor = 1e-12
+        ax2.semilogy(iterations, np.maximum(v, floor), "-o", ms=2.5, lw=1.0, color=COLORS["a"])
+        ax2.set_ylabel("max constraint violation", fontsize=8)
+        ax2.grid(alpha=0.25)
+        ax2.tick_params(labelsize=7)
+    axes[-1, 0].set_xlabel("iteration", fontsize=8)
+    fig.tight_layout()
     return fig

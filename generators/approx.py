@@ -228,13 +228,20 @@ def polyline_path(params: np.ndarray, pts: np.ndarray) -> Path2D:
 
 def _distance_to_polyline(x: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Distance of points x to a dense polyline: nearest vertex by k-d tree, then the two
-    adjacent segments (error ~h²κ/8 for vertex spacing h)."""
+    adjacent segments (error ~h²κ/8 for vertex spacing h).  A closed polyline (last vertex
+    = first) wraps round, so points near the seam see the segments on both sides of it."""
     from scipy.spatial import cKDTree
 
+    closed = len(poly) > 2 and abs(poly[-1] - poly[0]) <= 1e-12 * np.max(np.abs(poly))
+    if closed:
+        poly = poly[:-1]
+    n = len(poly)
     tree = cKDTree(np.column_stack([poly.real, poly.imag]))
     _, k = tree.query(np.column_stack([x.real, x.imag]))
-    lo = np.clip(k - 1, 0, len(poly) - 1)
-    hi = np.clip(k + 1, 0, len(poly) - 1)
+    if closed:
+        lo, hi = (k - 1) % n, (k + 1) % n
+    else:
+        lo, hi = np.clip(k - 1, 0, n - 1), np.clip(k + 1, 0, n - 1)
     d1 = _point_segment_distance(x, poly[lo], poly[k])
     d2 = _point_segment_distance(x, poly[k], poly[hi])
     return np.minimum(d1, d2)

@@ -73,6 +73,26 @@ class CamDesign:
     def volume(self) -> float:
         return self.area * self.spec.cam.thickness
 
+    def max_profile_radius(self, per_span: int = 64) -> tuple[float, complex, float]:
+        """Largest distance of the profile from the axis [length]: (radius, the profile point
+        as x + iy, the cam angle [deg] at which the follower touches that point).
+
+        Sampled on every knot span, then refined by golden section (not sampling-limited)."""
+        prof = self.profile
+
+        def radius(u: np.ndarray) -> np.ndarray:
+            p = prof.evaluate(u)
+            return np.hypot(p[:, 0], p[:, 1])
+
+        u, pts = prof.sample(per_span)
+        u_max, r_max = refine_max(radius, u, np.hypot(pts[:, 0], pts[:, 1]))
+        p = prof.evaluate(np.array([u_max]))[0]
+        # profile and pitch curve share the parameter: knot span k is PH segment k
+        seg = min(int(u_max), self.pitch.M - 1)
+        pitch_pt = self.pitch.spline.point(np.array([seg]), np.array([u_max - seg]))
+        at = float(self.pitch.cam_angle_of_point(pitch_pt)[0])
+        return float(r_max), complex(p[0], p[1]), at
+
     def design_kinematics(self, samples_per_segment: int = DESIGN_SAMPLES_PER_SEGMENT):
         """Dense angles [rad] and the motion's kinematics there (design intent)."""
         th = self.program.dense_angles(samples_per_segment)
@@ -108,6 +128,7 @@ class CamDesign:
         phi_b, at_b = self._as_built_pressure_angle()
         omega = spec.cam.speed_rpm * 2 * np.pi / 60
         maxima = self.program.maxima(omega)
+        r_max, _, r_max_at = self.max_profile_radius()
         curvature: dict[str, Any] = {
             "min_pitch_radius": -neg_rc,
             "min_profile_radius": -neg_rc - rr,
@@ -151,23 +172,29 @@ class CamDesign:
                 "poles": self.profile.n_poles,
                 "rational": self.profile.is_rational,
                 "min_radius": self.min_profile_radius,
+                "max_radius": r_max,
+                "max_radius_at_deg": r_max_at,
                 "base_circle_radius": spec.cam.base_radius - rr,
             },
             "area": self.area,
             "volume": self.volume,
         }
 
-    def _as_built_pressure_angle(self) -> tuple[float, float]:
-        """Pressure angle of the built PH curve: the angle of its tangent, turned to the
-        follower frame, against the follower's normal direction."""
+    def as_built_pressure_angles(self) -> tuple[np.ndarray, np.ndarray]:
+        """Pressure angle of the built PH curve at the curvature samples: (cam angle [deg],
+        signed φ [deg]) — the angle of its tangent, turned to the follower frame, against
+        the follower's normal direction."""
         geo = self.geometry
-        seg = self.curvature_samples.seg
-        xi = self.curvature_samples.xi
-        ang = np.deg2rad(self.curvature_samples.cam_angle_deg)
-        tangent = np.exp(1j * geo.sense * ang) * self.pitch.spline.first_derivative(seg, xi)
+        cs = self.curvature_samples
+        ang = np.deg2rad(cs.cam_angle_deg)
+        tangent = np.exp(1j * geo.sense * ang) * self.pitch.spline.first_derivative(cs.seg, cs.xi)
         phi = geo.sense * np.rad2deg(np.arctan(tangent.imag / tangent.real))
+        return cs.cam_angle_deg, phi
+
+    def _as_built_pressure_angle(self) -> tuple[float, float]:
+        at, phi = self.as_built_pressure_angles()
         k = int(np.argmax(np.abs(phi)))
-        return float(abs(phi[k])), float(self.curvature_samples.cam_angle_deg[k])
+        return float(abs(phi[k])), float(at[k])
 
 
 def _finite_or_none(v: float) -> float | None:

@@ -92,6 +92,43 @@ class PitchSection:
 
 DEFAULT_SEGMENTS = 60
 
+#: DXF versions the drawing can be written as (ezdxf's names); R12 has no SPLINE entity.
+DXF_VERSIONS = ("R12", "R2000", "R2004", "R2007", "R2010", "R2013", "R2018")
+
+
+@dataclass(frozen=True, kw_only=True)
+class DrawingSection:
+    """`[drawing]`: the DXF manufacturing drawing (cam.dxf) and the report's title."""
+
+    curves: str = param(
+        "How the profile and pitch curve are written: exact rational SPLINE, tangent arcs "
+        "(biarcs, ARC/LINE entities) or a closed polyline, for machines that cannot read splines",
+        kind="str", choices=("spline", "arcs", "polyline"), default="spline", group="Drawing")
+    chord_tolerance: float = param(
+        "Largest distance of the arcs or polyline from the exact profile (curves = arcs/polyline)",
+        unit="length", gt=0, default=0.001, group="Drawing")
+    dxf_version: str = param(
+        "DXF version of cam.dxf; R12 (for old CAM software) needs curves = arcs or polyline",
+        kind="str", choices=DXF_VERSIONS, default="R2010", group="Drawing")
+    title: str = param("Drawing and report title", kind="str", default="Plate cam", group="Drawing")
+    part_number: str = param("Part or drawing number in the title block", kind="str", default="",
+                             group="Drawing")
+    author: str = param("Drawn by (title block)", kind="str", default="", group="Drawing")
+    material: str = param("Material and treatment note in the title block, e.g. \"AISI 1045, 50 HRC\"",
+                          kind="str", default="", group="Drawing")
+    title_block: bool = param("Draw the title block with the key parameters and the motion table",
+                              kind="bool", default=True, group="Drawing")
+    dimensions: bool = param("Draw dimensions: bore diameter, base-circle radius, largest radius, "
+                             "thickness note", kind="bool", default=True, group="Drawing")
+    text_height: float | None = param(
+        "Height of the drawing's text and arrows; default: the largest profile diameter / 36",
+        unit="length", gt=0, optional=True, group="Drawing")
+    spline_closed_flag: bool = param(
+        "Set the DXF 'closed' bit on the profile SPLINE (AutoCAD's habit for closed clamped "
+        "splines); off by default because CadQuery's DXF importer reads that bit as 'periodic' "
+        "and drops the spline. The curve is closed either way (first pole = last pole)",
+        kind="bool", default=False, group="Drawing")
+
 #: Spec sections: TOML name → (dataclass, is an array of tables, required).  A new section
 #: is a dataclass declared with ``param`` fields, an entry here and a field of CamSpec.
 SECTIONS: dict[str, tuple[type, bool, bool]] = {
@@ -99,6 +136,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "follower": (FollowerSection, False, True),
     "motion": (MotionSegment, True, True),
     "pitch": (PitchSection, False, False),
+    "drawing": (DrawingSection, False, False),
 }
 
 
@@ -113,6 +151,7 @@ class CamSpec:
     follower: FollowerSection
     motion: tuple[MotionSegment, ...]
     pitch: PitchSection = field(default_factory=PitchSection)
+    drawing: DrawingSection = field(default_factory=DrawingSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -280,6 +319,7 @@ def validate(spec: CamSpec) -> None:
                         f"got {cam.bore_diameter:g}")
     _validate_motion(spec)
     _validate_pitch(spec)
+    _validate_drawing(spec)
 
 
 def _validate_motion(spec: CamSpec) -> None:
@@ -337,6 +377,13 @@ def _validate_pitch(spec: CamSpec) -> None:
                             f"is {pt.segments} but motion[].junctions sum to {total}: give one of them")
         if total < 8:
             raise SpecError("motion[].junctions", f"sum to {total}, must be ≥ 8")
+
+
+def _validate_drawing(spec: CamSpec) -> None:
+    dr = spec.drawing
+    if dr.dxf_version == "R12" and dr.curves == "spline":
+        raise SpecError("drawing.dxf_version",
+                        "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
 
 
 # ---- loading ---------------------------------------------------------------------
@@ -448,6 +495,6 @@ def _toml_value(v: Any) -> str:
 
 
 __all__ = [
-    "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "Param",
+    "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "DrawingSection", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
 ]

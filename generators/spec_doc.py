@@ -28,6 +28,8 @@ def _default_text(p: Param) -> str:
         return "required"
     if isinstance(p.default, str):
         return f'"{p.default}"'
+    if isinstance(p.default, bool):
+        return "true" if p.default else "false"
     return f"{p.default:g}" if isinstance(p.default, float) else str(p.default)
 
 
@@ -76,6 +78,7 @@ reference, including the fields added since.
 - All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
 - `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`.
 - `pitch.segments` and `pitch.tolerance` are exclusive; with neither (and no junctions) M = {M}.
+- `drawing.dxf_version = "R12"` needs `drawing.curves` = "arcs" or "polyline" (R12 has no SPLINE).
 - Unknown fields are errors (a typo is never silently ignored).
 - A cam that cannot be made is an error naming the cam angle: undercut (roller radius ≥ the
   smallest convex radius of curvature of the pitch curve), a profile that crosses itself,

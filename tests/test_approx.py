@@ -57,3 +57,14 @@ def test_circle_is_reproduced_exactly_by_arcs():
     assert np.allclose(path.center, 0.0, atol=1e-11)
     assert path.n == 8 and np.all(path.ccw)
     assert path.length == pytest.approx(2 * np.pi * 7, rel=1e-12)
+
+
+def test_distance_is_measured_right_at_the_seam(default_design):
+    """A fine polyline (1e-5) has many vertices within one curve-sample spacing of the seam;
+    the measured distance must not see a phantom gap there (it did before the closed
+    polyline wrapped round: 1.8e-3 reported for a 8e-6 polyline)."""
+    c = default_design.profile
+    u, pts = flatten(c, 1e-5)
+    d = max_distance(polyline_path(u, pts), c)
+    assert d <= 1e-5
+    assert d == pytest.approx(max_distance(polyline_path(u, pts), c, samples_per_span=2000), rel=0.05)

@@ -1,24 +1,28 @@
-"""``cam-workbench build``: the solid as STEP and the design numbers as report.json."""
+"""``cam-workbench build``: the solid as STEP, the drawing as DXF, the design numbers as
+report.json and the report as report.html with its plots (one OutputSet: all or nothing)."""
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
 from exporters.atomic import OutputSet
-from exporters.report_json import report_json_text
+from exporters.dxf import build_dxf
 from exporters.step import write_step
 from generators.cam_design import design_cam
 from generators.errors import GeometryError
 
 from .. import occ_build
 from .common import add_spec_arguments, progress_reporter, spec_from_args
+from .dxf_cmd import describe as describe_dxf
+from .report_cmd import add_report_files, base_summary, plot_count, plot_progress, solid_summary  # noqa: F401
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "build", help="build the cam: cam.step and report.json",
+        "build", help="build the cam: cam.step, cam.dxf, report.json, report.html and plots",
         description="Design the cam (PH pitch curve, exact profile, buildability checks) and write "
-                    "cam.step (the solid, in the spec's units) and report.json into the output folder. "
+                    "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
+                    "report.json, report.html and the report's plots (plot_*.png) into the output folder. "
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
@@ -38,32 +42,26 @@ def run(args: argparse.Namespace) -> int:
     shape = occ_build.cam_solid(design)
     if not occ_build.is_valid(shape) or occ_build.count_solids(shape) != 1:
         raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
-    summary = design.summary()
-    summary["solid"] = solid_summary(shape, design.spec.cam.thickness)
+    summary = base_summary(design, shape)
+    doc, dxf_info = build_dxf(design, summary)
+    summary["drawing"] = dxf_info.summary()
     out = Path(args.output)
-    files = {"step": "cam.step", "report": "report.json"}
-    with OutputSet(out) as o:
+    files = {"step": "cam.step", "dxf": "cam.dxf"}
+    prog, cb = plot_progress(plot_count(design, summary))
+    with prog, OutputSet(out) as o:
         o.add(files["step"], lambda p: write_step(shape, p, spec.units))
-        o.add_text(files["report"], report_json_text(summary, files))
-    _print_summary(summary, out)
+        o.add(files["dxf"], lambda p: doc.saveas(str(p)))
+        report = add_report_files(o, design, summary, files, progress=cb)
+    _print_summary(report, out)
     return 0
-
-
-def solid_summary(shape: object, thickness: float) -> dict[str, float | int | bool]:
-    """What the kernel says about the built solid (a cross-check of the exact numbers)."""
-    face = occ_build.planar_face_at(shape, thickness)
-    return {
-        "valid": occ_build.is_valid(shape),
-        "solids": occ_build.count_solids(shape),
-        "kernel_volume": occ_build.kernel_volume(shape),
-        "cross_section_area": occ_build.face_area(face),
-    }
 
 
 def _print_summary(s: dict, out: Path) -> None:
     u = s["units"]
     p = s["pitch"]
-    print(f"cam written to {out}/: cam.step, report.json")
+    f = s["files"]
+    print(f"cam written to {out}/: {f['step']}, {f['dxf']}, {f['report']}, {f['html']}, "
+          f"{len(f['plots'])} plots")
     print(f"  pitch: PH quintic spline, M = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
           f" at {p['max_deviation_at_deg']:.2f}°")
     print(f"  pressure angle: max {s['pressure_angle']['max_deg']:.2f}° at {s['pressure_angle']['at_deg']:.2f}°")
@@ -71,3 +69,4 @@ def _print_summary(s: dict, out: Path) -> None:
     print(f"  curvature: min pitch radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
     print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³")
+    print("  DXF " + describe_dxf(s["drawing"], u))

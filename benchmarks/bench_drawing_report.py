@@ -1,0 +1,78 @@
+"""DXF and report benchmarks: the exact SPLINE against the arcs and polyline a spline-less
+machine needs (entities, file size, write time, measured error — ratios to the spline),
+and the time to draw the report.  Prints Markdown tables.
+
+    .venv/bin/python benchmarks/bench_drawing_report.py
+"""
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from exporters.dxf import write_dxf  # noqa: E402
+from exporters.report_html import render_report  # noqa: E402
+from generators import default_spec, design_cam  # noqa: E402
+
+
+def best_of(fn, repeat: int = 3) -> float:
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def bench_dxf() -> list[str]:
+    rows = ["| M | curves | tolerance [mm] | PROFILE entities / segments | max error [mm] | file [kB] "
+            "| size / spline | write [ms] | time / spline |", "|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for m in (60, 240):
+            base = default_spec().replace(**{"pitch.segments": m})
+            ref_size = ref_time = None
+            for curves, tol in (("spline", None), ("arcs", 1e-3), ("arcs", 1e-5), ("polyline", 1e-3),
+                                ("polyline", 1e-5)):
+                changes = {"drawing.curves": curves}
+                if tol is not None:
+                    changes["drawing.chord_tolerance"] = tol
+                design = design_cam(base.replace(**changes))
+                summary = design.summary()
+                path = Path(tmp) / f"{m}_{curves}_{tol}.dxf"
+                infos = []
+                t = best_of(lambda: infos.append(write_dxf(design, path, summary)))
+                info = infos[-1]
+                size = path.stat().st_size / 1024
+                if curves == "spline":
+                    ref_size, ref_time = size, t
+                n = info.profile.entities if curves != "polyline" else info.profile.lines
+                rows.append(f"| {m} | {curves} | {tol if tol else 'exact'} | {n} | {info.profile.max_error:.2e} "
+                            f"| {size:.0f} | {size / ref_size:.2f}× | {1e3 * t:.0f} | {t / ref_time:.2f}× |")
+    return rows
+
+
+def bench_report() -> list[str]:
+    rows = ["| M | design [ms] | summary [ms] | report: 5 figures as SVG + PNG [ms] | HTML [kB] |",
+            "|---:|---:|---:|---:|---:|"]
+    for m in (60, 240):
+        spec = default_spec().replace(**{"pitch.segments": m})
+        t_design = best_of(lambda: design_cam(spec), 3)
+        design = design_cam(spec)
+        t_sum = best_of(lambda: design.summary(), 3)
+        report = {**design.summary(), "spec": spec.to_dict()}
+        out = []
+        t_rep = best_of(lambda: out.append(render_report(design, report)), 2)
+        rows.append(f"| {m} | {1e3 * t_design:.0f} | {1e3 * t_sum:.0f} | {1e3 * t_rep:.0f} "
+                    f"| {len(out[-1][0].encode()) / 1024:.0f} |")
+    return rows
+
+
+if __name__ == "__main__":
+    design_cam(default_spec())  # warm-up: imports and caches
+    print("### DXF: exact spline vs arcs and polyline (default cam)\n")
+    print("\n".join(bench_dxf()))
+    print("\n### Report (default cam)\n")
+    print("\n".join(bench_report()))

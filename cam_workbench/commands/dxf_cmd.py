@@ -1,0 +1,74 @@
+"""``cam-workbench dxf``: the manufacturing drawing (cam.dxf) alone."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from exporters.atomic import OutputSet
+from exporters.dxf import write_dxf
+from generators.cam_design import design_cam
+from generators.params import params_of
+from generators.spec import DrawingSection
+
+from .common import add_spec_arguments, spec_from_args
+
+_DECL = params_of(DrawingSection)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "dxf", help="write the DXF drawing: exact spline, or arcs/polyline within a tolerance",
+        description="Design the cam and write its manufacturing drawing as DXF: the profile as the "
+                    "exact rational SPLINE (layer PROFILE), or as arcs or a polyline within "
+                    "drawing.chord_tolerance for machines that cannot read splines; the pitch curve, "
+                    "base and prime circles, bore, centre lines, dimensions and a title block with the "
+                    "motion table. The spec's [drawing] section sets the defaults.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("--curves", choices=_DECL["curves"].choices, default=None,
+                   help=f"{_DECL['curves'].doc} (default: the spec's drawing.curves)")
+    p.add_argument("--tolerance", type=float, default=None, metavar="TOL",
+                   help=f"{_DECL['chord_tolerance'].doc}, in the spec's units "
+                        "(default: the spec's drawing.chord_tolerance)")
+    p.add_argument("--dxf-version", choices=_DECL["dxf_version"].choices, default=None,
+                   help=f"{_DECL['dxf_version'].doc} (default: the spec's drawing.dxf_version)")
+    p.add_argument("-o", "--output", default="out", metavar="OUT",
+                   help="a .dxf file name, or a folder to write cam.dxf into (default: out)")
+    p.set_defaults(run=run)
+
+
+def output_file(arg: str) -> Path:
+    """``-o`` names the file when it ends in .dxf, otherwise the folder for cam.dxf."""
+    out = Path(arg)
+    return out if out.suffix.lower() == ".dxf" else out / "cam.dxf"
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = spec_from_args(args)
+    changes = {}
+    if args.curves is not None:
+        changes["drawing.curves"] = args.curves
+    if args.tolerance is not None:
+        changes["drawing.chord_tolerance"] = args.tolerance
+    if args.dxf_version is not None:
+        changes["drawing.dxf_version"] = args.dxf_version
+    if changes:
+        spec = spec.replace(**changes)
+    design = design_cam(spec)
+    target = output_file(args.output)
+    infos = []
+    with OutputSet(target.parent) as out:
+        out.add(target.name, lambda p: infos.append(write_dxf(design, p)))
+    print(f"drawing written to {target}")
+    print("  " + describe(infos[0].summary(), spec.units))
+    return 0
+
+
+def describe(d: dict, units: str) -> str:
+    """One line on how the profile went into the DXF (for the CLI)."""
+    if d["curves"] == "spline":
+        return f"PROFILE: exact rational SPLINE ({d['file_version']})"
+    kind = (f"{d['profile_arcs']} arcs + {d['profile_lines']} lines" if d["curves"] == "arcs"
+            else f"closed polyline of {d['profile_lines']} segments")
+    return (f"PROFILE: {kind}, max distance from the exact profile {d['profile_max_error']:.3g} {units} "
+            f"(tolerance {d['chord_tolerance']:g} {units}, {d['file_version']})")

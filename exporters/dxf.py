@@ -1,0 +1,494 @@
+"""DXF manufacturing drawing of a plate cam (ezdxf), written atomically.
+
+Model space, drawn 1:1 in the spec's units (``$INSUNITS`` says which):
+
+========================  ==============================================================
+layer                     content
+========================  ==============================================================
+PROFILE                   the cam profile: the exact rational SPLINE (degree, knots,
+                          control points and weights copied from the NURBS data), or —
+                          ``drawing.curves`` = "arcs" / "polyline" — tangent biarcs
+                          (ARC/LINE) or one closed polyline within ``chord_tolerance``
+PITCH                     the pitch curve (degree-5 polynomial SPLINE, or approximated
+                          like the profile so a spline-less file has no SPLINE at all)
+BASE_CIRCLE, PRIME_CIRCLE radius R_b − roller radius and R_b
+BORE                      the central hole
+CENTERLINES               axes through the rotation centre, the follower axis at θ = 0
+DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R; rendered by
+                          ezdxf's dimension machinery) and the thickness/profile note
+TITLE                     the title block: key parameters and the motion table, a border
+========================  ==============================================================
+
+The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
+boundaries are in CAM.  Arcs and polylines come from :mod:`generators.approx`; their
+distance from the exact profile is measured two-sided (``max_distance``) and returned.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from generators import __version__
+from generators.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
+from generators.cam_design import CamDesign
+from generators.nurbs import NurbsCurve
+
+from .atomic import atomic_path
+
+#: layer → (ACI colour, linetype, lineweight [1/100 mm]); -3 = default lineweight
+LAYERS: dict[str, tuple[int, str, int]] = {
+    "PROFILE": (7, "Continuous", 50),
+    "PITCH": (1, "DASHED", 18),
+    "BASE_CIRCLE": (8, "DASHED2", 18),
+    "PRIME_CIRCLE": (5, "PHANTOM", 18),
+    "BORE": (7, "Continuous", 50),
+    "CENTERLINES": (4, "CENTER", 18),
+    "DIMENSIONS": (3, "Continuous", 18),
+    "TITLE": (7, "Continuous", 25),
+}
+
+_INSUNITS = {"mm": 4, "in": 1}
+_DECIMALS = {"mm": 3, "in": 4}
+
+
+@dataclass(frozen=True)
+class CurveExport:
+    """How one curve went into the file."""
+
+    layer: str
+    curves: str               # "spline", "arcs" or "polyline"
+    entities: int             # DXF entities written for it
+    arcs: int                 # ARC entities (arcs mode)
+    lines: int                # LINE entities or polyline segments
+    max_error: float          # two-sided distance from the exact curve; 0 for the spline itself
+    min_arc_radius: float | None
+
+
+@dataclass(frozen=True)
+class DxfInfo:
+    """What :func:`write_dxf` wrote (the ``drawing`` section of report.json)."""
+
+    version: str
+    units: str
+    insunits: int | None
+    curves: str
+    chord_tolerance: float | None
+    profile: CurveExport
+    pitch: CurveExport
+    text_height: float
+
+    def summary(self) -> dict[str, Any]:
+        p = self.profile
+        return {
+            "file_version": self.version,
+            "insunits": self.insunits,
+            "curves": self.curves,
+            "chord_tolerance": self.chord_tolerance,
+            "profile_entities": p.entities,
+            "profile_arcs": p.arcs,
+            "profile_lines": p.lines,
+            "profile_max_error": p.max_error,
+            "profile_min_arc_radius": p.min_arc_radius,
+            "pitch_max_error": self.pitch.max_error,
+            "exact": self.curves == "spline",
+        }
+
+
+def _fmt(v: float, units: str) -> str:
+    d = _DECIMALS[units]
+    text = f"{v:.{d}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def default_text_height(design: CamDesign) -> float:
+    """Text and arrow height when ``drawing.text_height`` is not given: largest profile
+    diameter / 36 (2 mm on a 72 mm cam), rounded to 2 significant digits."""
+    r_max = design.max_profile_radius()[0]
+    h = 2 * r_max / 36
+    return float(f"{h:.2g}")
+
+
+# ---- curves ----------------------------------------------------------------------------
+def approximate(curve: NurbsCurve, curves: str, tol: float) -> Path2D:
+    """The lines/arcs of ``curve`` for the "arcs" or "polyline" options (within ``tol``)."""
+    if curves == "arcs":
+        return fit_biarcs(curve, tol)
+    if curves == "polyline":
+        u, pts = flatten(curve, tol)
+        return polyline_path(u, pts)
+    raise ValueError(f"curves must be 'arcs' or 'polyline', got {curves!r}")
+
+
+def add_nurbs_spline(msp: Any, curve: NurbsCurve, layer: str, closed_flag: bool = False) -> Any:
+    """A SPLINE entity with exactly the degree, knots, control points and weights of ``curve``.
+
+    Flags: planar, rational when the weights differ, closed only on request (the curve
+    itself is closed when its first and last poles coincide: a clamped knot vector)."""
+    sp = msp.add_spline(dxfattribs={"layer": layer})
+    sp.dxf.degree = int(curve.degree)
+    sp.control_points = [(float(x), float(y), 0.0) for x, y in curve.poles.tolist()]
+    sp.knots = [float(k) for k in curve.knots.tolist()]
+    flags = sp.PLANAR
+    if curve.is_rational:
+        sp.weights = [float(w) for w in curve.weights.tolist()]
+        flags |= sp.RATIONAL
+    if closed_flag:
+        flags |= sp.CLOSED
+    sp.dxf.flags = flags
+    return sp
+
+
+def add_path(msp: Any, path: Path2D, layer: str, curves: str, r12: bool) -> tuple[int, int, int]:
+    """Write a :class:`Path2D` as ARC/LINE entities ("arcs") or one closed polyline
+    ("polyline"); returns (entities, arcs, lines)."""
+    attribs = {"layer": layer}
+    if curves == "polyline":
+        pts = [(float(z.real), float(z.imag)) for z in path.start]
+        if r12:
+            msp.add_polyline2d(pts, close=True, dxfattribs=attribs)
+        else:
+            msp.add_lwpolyline(pts, close=True, dxfattribs=attribs)
+        return 1, 0, path.n
+    arcs = lines = 0
+    is_arc = path.is_arc
+    radius = path.radius
+    for k in range(path.n):  # one DXF entity per element: entity creation is per element anyway
+        a, b = path.start[k], path.end[k]
+        if is_arc[k]:
+            c = path.center[k]
+            a0 = math.degrees(math.atan2((a - c).imag, (a - c).real))
+            a1 = math.degrees(math.atan2((b - c).imag, (b - c).real))
+            if not path.ccw[k]:  # DXF arcs run counter-clockwise from start to end angle
+                a0, a1 = a1, a0
+            msp.add_arc((float(c.real), float(c.imag)), float(radius[k]), a0, a1, dxfattribs=attribs)
+            arcs += 1
+        else:
+            msp.add_line((float(a.real), float(a.imag)), (float(b.real), float(b.imag)), dxfattribs=attribs)
+            lines += 1
+    return arcs + lines, arcs, lines
+
+
+def _export_curve(msp: Any, curve: NurbsCurve, layer: str, curves: str, tol: float,
+                  r12: bool, closed_flag: bool) -> CurveExport:
+    if curves == "spline":
+        add_nurbs_spline(msp, curve, layer, closed_flag)
+        return CurveExport(layer, curves, 1, 0, 0, 0.0, None)
+    path = approximate(curve, curves, tol)
+    n, arcs, lines = add_path(msp, path, layer, curves, r12)
+    err = max_distance(path, curve)
+    rmin = float(np.min(path.radius[path.is_arc])) if arcs else None
+    return CurveExport(layer, curves, n, arcs, lines, err, rmin)
+
+
+# ---- the drawing -----------------------------------------------------------------------
+def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple[Any, DxfInfo]:
+    """The ezdxf document of the drawing and what went into it (nothing written yet).
+
+    ``summary`` is ``design.summary()`` (computed when not given): the title block
+    quotes its numbers."""
+    import ezdxf
+
+    spec = design.spec
+    dr = spec.drawing
+    units = spec.units
+    s = summary if summary is not None else design.summary()
+    r12 = dr.dxf_version == "R12"
+    doc = _new_document(dr.dxf_version, _INSUNITS[units])
+    h = dr.text_height or default_text_height(design)
+    doc.header["$LTSCALE"] = h
+    doc.header["$LUPREC"] = _DECIMALS[units]
+    for name, (color, linetype, lw) in LAYERS.items():
+        layer = doc.layers.add(name, color=color, linetype=linetype)
+        if not r12:
+            layer.dxf.lineweight = lw
+    msp = doc.modelspace()
+
+    rr = spec.roller_radius
+    rb = spec.cam.base_radius
+    r_max, p_max, _ = design.max_profile_radius()
+    tol = dr.chord_tolerance
+    profile = _export_curve(msp, design.profile_ccw(), "PROFILE", dr.curves, tol, r12,
+                            dr.spline_closed_flag)
+    pitch_ccw = design.pitch_nurbs if design.pitch_nurbs.area() > 0 else design.pitch_nurbs.reversed()
+    pitch = _export_curve(msp, pitch_ccw, "PITCH", dr.curves, tol, r12, False)
+    msp.add_circle((0, 0), rb - rr, dxfattribs={"layer": "BASE_CIRCLE"})
+    if rr > 0:
+        msp.add_circle((0, 0), rb, dxfattribs={"layer": "PRIME_CIRCLE"})
+    r_bore = spec.cam.bore_diameter / 2
+    if r_bore > 0:
+        msp.add_circle((0, 0), r_bore, dxfattribs={"layer": "BORE"})
+    _centerlines(msp, design, r_max, h)
+    if dr.dimensions:
+        _dimensions(msp, design, r_max, p_max, h, units)
+    if dr.title_block:
+        _title_block(msp, design, s, profile, r_max, h)
+    try:
+        from ezdxf import zoom
+
+        zoom.extents(msp, factor=1.05)
+    except Exception:  # noqa: BLE001 - the initial view is a convenience only
+        pass
+    info = DxfInfo(dr.dxf_version, units, None if r12 else _INSUNITS[units], dr.curves,
+                   None if dr.curves == "spline" else tol, profile, pitch, h)
+    return doc, info
+
+
+def _new_document(version: str, insunits: int) -> Any:
+    """A new ezdxf document with the standard linetypes, text and dimension styles.
+    R12 files cannot carry $INSUNITS (the title block states the units instead)."""
+    import logging
+
+    import ezdxf
+
+    log = logging.getLogger("ezdxf")
+    level = log.level
+    if version == "R12":
+        log.setLevel(logging.ERROR)  # ezdxf warns that R12 drops $INSUNITS: known, stated
+    try:
+        return ezdxf.new(version, setup=True, units=insunits)
+    finally:
+        log.setLevel(level)
+
+
+def _centerlines(msp: Any, design: CamDesign, r_max: float, h: float) -> None:
+    ext = r_max + 2.5 * h
+    att = {"layer": "CENTERLINES"}
+    msp.add_line((-ext, 0), (ext, 0), dxfattribs=att)
+    msp.add_line((0, -ext), (0, ext), dxfattribs=att)
+    # the follower axis when the program starts (θ = 0): where the drawing's angles begin
+    e = design.spec.follower.offset
+    y0 = design.spec.prime_offset
+    msp.add_line((e, y0), (e, ext + 2 * h), dxfattribs=att)  # from the roller centre at zero lift
+    sense = "CCW" if design.spec.cam.direction == "ccw" else "CW"
+    _text(msp, f"FOLLOWER AXIS AT 0°, CAM TURNS {sense}", (e + 0.4 * h, ext + 1.2 * h), 0.7 * h,
+          "CENTERLINES")
+
+
+def _dim_override(h: float, units: str) -> dict[str, Any]:
+    return {"dimtxt": h, "dimasz": h, "dimgap": 0.3 * h, "dimexe": 0.5 * h, "dimexo": 0.5 * h,
+            "dimdec": _DECIMALS[units], "dimzin": 8, "dimtxsty": "Standard", "dimclrd": 3,
+            "dimclre": 3, "dimclrt": 3, "dimlfac": 1.0, "dimtih": 1, "dimtoh": 1}
+
+
+def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: float, units: str) -> None:
+    spec = design.spec
+    att = {"layer": "DIMENSIONS"}
+    ov = _dim_override(h, units)
+    max_ang = math.degrees(math.atan2(p_max.imag, p_max.real))
+    # base circle: dimensioned where the profile lies on it (lowest point of the profile)
+    _, pts = design.profile.sample(32)
+    k = int(np.argmin(np.hypot(pts[:, 0], pts[:, 1])))
+    base_ang = math.degrees(math.atan2(pts[k, 1], pts[k, 0]))
+    r_base = spec.cam.base_radius - spec.roller_radius
+    r_bore = spec.cam.bore_diameter / 2
+    if r_bore > 0:
+        ang = base_ang + 135.0
+        loc = (1.6 * r_bore + 3 * h) * np.exp(1j * math.radians(ang))
+        msp.add_diameter_dim((0, 0), radius=r_bore, angle=ang, location=(loc.real, loc.imag),
+                             override=ov, dxfattribs=att).render()
+    loc = (r_base + 4 * h) * np.exp(1j * math.radians(base_ang))
+    msp.add_radius_dim((0, 0), radius=r_base, angle=base_ang, location=(loc.real, loc.imag),
+                       text="<> BASE CIRCLE", override=ov, dxfattribs=att).render()
+    loc = (r_max + 4 * h) * np.exp(1j * math.radians(max_ang))
+    msp.add_radius_dim((0, 0), radius=r_max, location=(loc.real, loc.imag),
+                       text="<> MAX", override=ov, dxfattribs=att).render()
+    u = spec.units
+    note = [f"THICKNESS {_fmt(spec.cam.thickness, u)} {u}",
+            f"PRIME CIRCLE R{_fmt(spec.cam.base_radius, u)} (ROLLER CENTRE AT ZERO LIFT)"
+            if spec.roller_radius > 0 else "KNIFE-EDGE FOLLOWER: PROFILE = PITCH CURVE"]
+    for i, line in enumerate(note):
+        _text(msp, line, (-r_max - 2.5 * h, -r_max - (6.0 + 1.6 * i) * h), h, "DIMENSIONS")
+
+
+def _text(msp: Any, text: str, at: tuple[float, float], height: float, layer: str) -> Any:
+    t = msp.add_text(text, height=height, dxfattribs={"layer": layer, "style": "Standard"})
+    t.set_placement(at)
+    return t
+
+
+def _motion_rows(design: CamDesign) -> list[list[str]]:
+    u = design.spec.units
+    rows = []
+    start = 0.0
+    for i, seg in enumerate(design.spec.motion):
+        end = start + seg.angle
+        rows.append([str(i), seg.kind.upper(), f"{start:g}", f"{end:g}",
+                     _fmt(seg.lift, u) if seg.lift is not None else "-",
+                     (seg.law or "-").upper()])
+        start = end
+    return rows
+
+
+def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport) -> list[tuple[str, str]]:
+    """(label, value) rows of the title block (also used by tests)."""
+    spec = design.spec
+    dr = spec.drawing
+    u = spec.units
+    f = lambda v: _fmt(v, u)  # noqa: E731
+    fol = spec.follower
+    follower = (f"ROLLER Ø{f(2 * fol.roller_radius)}" if spec.is_roller else "KNIFE EDGE")
+    follower += f", OFFSET {f(fol.offset)}"
+    if profile.curves == "spline":
+        prof = (f"RATIONAL B-SPLINE, DEGREE {design.profile.degree}, {design.profile.n_poles} POLES (EXACT)"
+                if design.profile.is_rational else
+                f"B-SPLINE, DEGREE {design.profile.degree}, {design.profile.n_poles} POLES (EXACT)")
+    elif profile.curves == "arcs":
+        parts = f"{profile.arcs} ARCS" + (f" + {profile.lines} LINES" if profile.lines else "")
+        prof = f"{parts}, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
+    else:
+        prof = f"{profile.lines} LINES, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
+    pa = summary["pressure_angle"]
+    cv = summary["curvature"]
+    pt = summary["pitch"]
+    rows = [
+        ("PART NO.", dr.part_number or "-"),
+        ("MATERIAL", dr.material or "-"),
+        ("THICKNESS", f"{f(spec.cam.thickness)} {u}"),
+        ("UNITS / SCALE", f"{u} / 1:1"),
+        ("DRAWN BY", dr.author or "-"),
+        ("FOLLOWER", follower),
+        ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(spec.cam.base_radius - spec.roller_radius)})"),
+        ("BORE", f"Ø{f(spec.cam.bore_diameter)}" if spec.cam.bore_diameter > 0 else "NONE"),
+        ("ROTATION", f"{spec.cam.direction.upper()}, {spec.cam.speed_rpm:g} RPM"),
+        ("PITCH CURVE", f"C2 PH QUINTIC SPLINE, M = {pt['segments']}"),
+        ("PROFILE", prof),
+        ("MAX FOLLOWER DEVIATION", f"{pt['max_deviation']:.3e} {u} AT {pt['max_deviation_at_deg']:.2f}°"),
+        ("MAX PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°"),
+        ("MIN PROFILE RADIUS OF CURV.", f"{f(cv['min_profile_radius'])} AT {cv['at_deg']:.2f}°"),
+        ("LARGEST RADIUS", f"{f(summary['profile']['max_radius'])}"),
+        ("AREA / VOLUME", f"{summary['area']:.6g} {u}2 / {summary['volume']:.6g} {u}3"),
+        ("SOFTWARE", f"cam_workbench {__version__}"),
+    ]
+    return rows
+
+
+MOTION_HEADER = ["#", "KIND", "FROM °", "TO °", "LIFT", "LAW"]
+
+
+def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: CurveExport,
+                 r_max: float, h: float) -> None:
+    att = {"layer": "TITLE"}
+    rows = title_rows(design, summary, profile)
+    x0 = r_max + 5 * h
+    col = [x0, x0 + 17 * h, x0 + 48 * h]
+    row_h = 1.8 * h
+    top = r_max + 2.5 * h
+    y = top
+    _text(msp, design.spec.drawing.title.upper(), (col[0] + 0.5 * h, y - 1.9 * h), 1.4 * h, "TITLE")
+    y -= 2.6 * h
+    msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
+    for label, value in rows:
+        _text(msp, label, (col[0] + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE")
+        _text(msp, value, (col[1] + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE")
+        y -= row_h
+        msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
+    msp.add_line((col[1], top - 2.6 * h), (col[1], y), dxfattribs=att)
+    # motion table
+    y -= 0.8 * h
+    _text(msp, "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)", (col[0] + 0.5 * h, y - 1.35 * h),
+          0.8 * h, "TITLE")
+    y -= row_h
+    msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
+    widths = np.array([2.5, 5.5, 5.5, 5.5, 5.5, 14.0]) * h
+    xs = col[0] + np.concatenate([[0.0], np.cumsum(widths)])
+    table_top = y
+    for cells in [MOTION_HEADER, *_motion_rows(design)]:
+        for x, cell in zip(xs, cells):
+            _text(msp, cell, (float(x) + 0.4 * h, y - 1.35 * h), 0.8 * h, "TITLE")
+        y -= row_h
+        msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
+    for x in xs[1:-1]:
+        msp.add_line((float(x), table_top), (float(x), y), dxfattribs=att)
+    # outer border of the title block and of the sheet
+    for a, b in (((col[0], top), (col[2], top)), ((col[0], top), (col[0], y)), ((col[2], top), (col[2], y))):
+        msp.add_line(a, b, dxfattribs=att)
+    left, right = -r_max - 4 * h, col[2] + 2 * h
+    bottom = min(y, -r_max - 8.5 * h) - 2 * h
+    upper = top + 4 * h
+    frame = [(left, bottom), (right, bottom), (right, upper), (left, upper)]
+    if msp.doc.dxfversion == "AC1009":  # R12 has no LWPOLYLINE
+        msp.add_polyline2d(frame, close=True, dxfattribs=att)
+    else:
+        msp.add_lwpolyline(frame, close=True, dxfattribs=att)
+
+
+# ---- writing ---------------------------------------------------------------------------
+def write_dxf(design: CamDesign, path: str | os.PathLike[str], summary: dict[str, Any] | None = None
+              ) -> DxfInfo:
+    """Write the drawing to ``path`` (not atomic: use :func:`export_dxf` or an OutputSet)."""
+    doc, info = build_dxf(design, summary)
+    doc.saveas(str(path))
+    return info
+
+
+def export_dxf(design: CamDesign, path: str | os.PathLike[str], summary: dict[str, Any] | None = None
+               ) -> DxfInfo:
+    """Write the drawing to ``path`` atomically (temporary file, then rename)."""
+    with atomic_path(path) as tmp:
+        info = write_dxf(design, tmp, summary)
+    return info
+
+
+def read_profile_path(path: str | os.PathLike[str], layer: str = "PROFILE") -> Path2D:
+    """The ARC/LINE/polyline entities of a layer as one head-to-tail :class:`Path2D` (for
+    checking spline-less drawings against the exact profile)."""
+    import ezdxf
+
+    doc = ezdxf.readfile(str(path))
+    starts, ends, centers, ccws = [], [], [], []
+    for e in doc.modelspace().query(f'*[layer=="{layer}"]'):
+        kind = e.dxftype()
+        if kind in ("LWPOLYLINE", "POLYLINE"):
+            pts = [complex(p[0], p[1]) for p in (e.get_points("xy") if kind == "LWPOLYLINE"
+                                                  else [v.dxf.location for v in e.vertices])]
+            if (e.closed if kind == "LWPOLYLINE" else e.is_closed):
+                pts.append(pts[0])
+            for a, b in zip(pts[:-1], pts[1:]):
+                starts.append(a), ends.append(b), centers.append(complex(np.nan, np.nan)), ccws.append(False)
+        elif kind == "LINE":
+            starts.append(complex(e.dxf.start.x, e.dxf.start.y))
+            ends.append(complex(e.dxf.end.x, e.dxf.end.y))
+            centers.append(complex(np.nan, np.nan))
+            ccws.append(False)
+        elif kind == "ARC":
+            c = complex(e.dxf.center.x, e.dxf.center.y)
+            r = e.dxf.radius
+            starts.append(c + r * np.exp(1j * math.radians(e.dxf.start_angle)))
+            ends.append(c + r * np.exp(1j * math.radians(e.dxf.end_angle)))
+            centers.append(c)
+            ccws.append(True)
+    return _chain(np.array(starts), np.array(ends), np.array(centers), np.array(ccws, bool))
+
+
+def _chain(start: np.ndarray, end: np.ndarray, center: np.ndarray, ccw: np.ndarray) -> Path2D:
+    """Order elements head to tail (DXF arcs always run counter-clockwise, so an arc that the
+    path traverses clockwise is read backwards and is turned round here)."""
+    n = len(start)
+    order, flip = [0], [False]
+    used = np.zeros(n, bool)
+    used[0] = True
+    tip = end[0]
+    for _ in range(n - 1):
+        d_start = np.where(used, np.inf, np.abs(start - tip))
+        d_end = np.where(used, np.inf, np.abs(end - tip))
+        i, j = int(np.argmin(d_start)), int(np.argmin(d_end))
+        k, rev = (i, False) if d_start[i] <= d_end[j] else (j, True)
+        used[k] = True
+        order.append(k)
+        flip.append(rev)
+        tip = start[k] if rev else end[k]
+    idx = np.array(order)
+    f = np.array(flip)
+    s0, e0 = start[idx], end[idx]
+    arc = ~np.isnan(center[idx].real)
+    z = np.zeros(n)
+    return Path2D(np.where(f, e0, s0), np.where(f, s0, e0), center[idx], np.where(f & arc, ~ccw[idx], ccw[idx]), z, z)
+
+
+__all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf",
+           "add_nurbs_spline", "approximate", "read_profile_path", "title_rows", "default_text_height"]

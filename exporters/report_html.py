@@ -1,0 +1,522 @@
+"""``report.html``: the design report as one self-contained file (inline SVG plots, inline
+CSS, no scripts, nothing loaded from elsewhere), plus the same plots as PNG files.
+
+Every number in a table is the value of ``report.json`` at the path in the cell's
+``data-key`` (``data-value`` holds it exactly, the text shows it to 6 digits), so the
+page and the JSON cannot disagree.
+
+Sections appear when their data is present:
+
+==============================  ============================================================
+always                          the cam drawing with the follower, key numbers, the spec and
+                                motion table, s/v/a/j, pressure angle, radius of curvature,
+                                interpolation error and the accuracy figures
+``report["drawing"]``           the DXF: how the profile was written and its measured error
+``report["checks"]``            design-check table with pass/fail.  A mapping name →
+                                ``{"value", "limit", "at_deg", "passed", "unit", "kind",
+                                "label"}`` (or a list of such dicts with ``"name"``); only
+                                ``value`` and ``passed`` are required
+``series["contact_force"]``,    contact force and Hertz stress over the cycle (figure): a
+``series["contact_stress"]``    :class:`Series` each (arrays are not put in report.json)
+``report["optimise"]``          optimiser: its scalar entries as a table and, when
+                                ``"history"`` is a list of ``{"iteration", "objective",
+                                "max_violation"}``, the convergence figure
+==============================  ============================================================
+"""
+from __future__ import annotations
+
+import html
+import math
+import re
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from generators import __version__
+from generators.cam_design import CamDesign
+from generators.params import params_of, unit_name
+from generators.spec import SECTIONS, CamSpec, to_toml
+
+from . import plots
+
+
+@dataclass(frozen=True)
+class Series:
+    """A quantity over the cam cycle for the report (e.g. contact force).
+
+    Attributes:
+        theta_deg: cam angles [deg].
+        values: the quantity at those angles.
+        label: what it is ("contact force").
+        unit: its unit ("N").
+        limit: allowed value drawn as a line, or None.
+        limit_kind: "max" or "min" (how the limit bounds the values).
+    """
+
+    theta_deg: np.ndarray
+    values: np.ndarray
+    label: str
+    unit: str
+    limit: float | None = None
+    limit_kind: str | None = None
+
+
+@dataclass(frozen=True)
+class Plot:
+    """One figure of the report: its key (file ``plot_<key>.png``, element ``fig-<key>``)."""
+
+    key: str
+    title: str
+    caption: str
+    make: Callable[[], Any]
+
+    @property
+    def png_name(self) -> str:
+        return f"plot_{self.key}.png"
+
+
+FORCE_STRESS_KEYS = ("contact_force", "contact_stress")
+
+
+def report_plots(design: CamDesign, report: Mapping[str, Any],
+                 series: Mapping[str, Series] | None = None) -> list[Plot]:
+    """The figures this report will have, in order (optional ones only with their data)."""
+    series = series or {}
+    u = design.spec.units
+    limit = _check_limit(report, "pressure_angle")
+    small = "µm" if u == "mm" else "µin"
+    out = [
+        Plot("cam", "The cam and its follower",
+             "The exact profile (filled), the pitch curve traced by the roller centre (dashed), the prime "
+             "and base circles and the bore; the follower is drawn where it stands at 75° of cam rotation.",
+             lambda: plots.cam_drawing_figure(design)),
+        Plot("kinematics", "Follower motion",
+             f"Displacement, velocity, acceleration and jerk at {design.spec.cam.speed_rpm:g} rpm from the "
+             "closed-form motion laws (design intent); grey lines separate the motion segments.",
+             lambda: plots.kinematics_figure(design)),
+        Plot("pressure_angle", "Pressure angle",
+             "φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4) over the cycle, and the pressure angle of the "
+             "built PH pitch curve at its curvature samples (they lie on the design curve).",
+             lambda: plots.pressure_angle_figure(design, limit)),
+        Plot("curvature", "Radius of curvature",
+             "Signed radius of curvature, positive where convex: pitch curve (thesis Eq. 3.7) and profile "
+             "(ρ − roller radius); dots: the built PH curve. The profile undercuts where the convex pitch "
+             "radius falls below the roller radius. The axis is clipped where the curve straightens.",
+             lambda: plots.curvature_figure(design)),
+        Plot("deviation", "Interpolation error",
+             f"s_actual − s [{small}]: the follower displacement the built C² PH quintic pitch curve gives "
+             "(follower line meeting the curve, paper Eq. 13) minus the design displacement, every "
+             f"{360 / design.pitch.deviation_count():.3g}°; ticks: PH junctions.",
+             lambda: plots.deviation_figure(design)),
+    ]
+    panels = [series[k] for k in FORCE_STRESS_KEYS if k in series]
+    if panels:
+        out.append(Plot(
+            "force_stress", "Contact force and stress",
+            "Over the cycle: " + "; ".join(f"{p.label} [{p.unit}]" for p in panels) +
+            ". Dashed: the allowed value.",
+            lambda: plots.series_figure(
+                [(p.theta_deg, p.values, f"{p.label} [{p.unit}]", p.limit, p.limit_kind) for p in panels],
+                design)))
+    hist = _history(report)
+    if hist is not None:
+        it, obj, viol = hist
+        name = str(report["optimise"].get("objective", "objective"))
+        out.append(Plot("convergence", "Optimiser convergence",
+                        f"Objective ({name}) per iteration" +
+                        (" and the largest constraint violation." if viol is not None else "."),
+                        lambda: plots.convergence_figure(it, obj, name, viol)))
+    return out
+
+
+def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[str, Series] | None = None,
+                  *, progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
+    """The HTML text and the PNG files ({name: bytes}) of the report.
+
+    Args:
+        design: the designed cam (for the plots).
+        report: the report.json content (as written: parse the JSON text, so the HTML
+            shows exactly what the file holds).
+        series: optional θ-series (see the module docstring).
+        progress: called with each figure's title before it is drawn.
+    """
+    figures: dict[str, str] = {}
+    pngs: dict[str, bytes] = {}
+    plot_list = report_plots(design, report, series)
+    for p in plot_list:
+        if progress is not None:
+            progress(p.title)
+        fig = p.make()
+        try:
+            figures[p.key] = _inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), p.key)
+            pngs[p.png_name] = plots.figure_bytes(fig, "png", dpi=130)
+        finally:
+            plots.close(fig)
+    return _page(design, report, plot_list, figures), pngs
+
+
+# ---- page ----------------------------------------------------------------------------------
+CSS = """
+body{font-family:"DejaVu Sans",Helvetica,Arial,sans-serif;color:#1c2833;margin:0;background:#f4f6f8}
+main{max-width:1120px;margin:0 auto;padding:24px 32px;background:#fff}
+h1{margin:0 0 4px;font-size:26px}h2{margin:34px 0 10px;font-size:19px;border-bottom:2px solid #1f3b5c;
+padding-bottom:3px}h3{font-size:15px;margin:18px 0 6px}
+.sub{color:#566573;margin:0 0 14px}
+nav{font-size:13px;margin:8px 0 0;line-height:1.8}nav a{color:#1f3b5c;margin-right:12px}
+table{border-collapse:collapse;font-size:13px;margin:6px 0 12px}
+th,td{border:1px solid #d5d8dc;padding:3px 8px;text-align:left;vertical-align:top}
+th{background:#eaf0f6}tr:nth-child(even) td{background:#fafbfc}
+td.num{text-align:right;font-family:"DejaVu Sans Mono",Menlo,monospace;white-space:nowrap}
+td.pass{background:#d5f5e3 !important;color:#145a32;font-weight:bold}
+td.fail{background:#fadbd8 !important;color:#78281f;font-weight:bold}
+.grid{display:grid;grid-template-columns:1.15fr 1fr;gap:24px;align-items:start}
+figure{margin:8px 0 18px}figcaption{font-size:12.5px;color:#424949;margin-top:2px}
+svg.plot{width:100%;height:auto;display:block}
+pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overflow-x:auto}
+.verdict{display:inline-block;padding:4px 10px;border-radius:4px;font-weight:bold}
+.verdict.pass{background:#d5f5e3;color:#145a32}.verdict.fail{background:#fadbd8;color:#78281f}
+.note{font-size:12.5px;color:#566573}
+"""
+
+
+def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot],
+          figures: Mapping[str, str]) -> str:
+    spec = design.spec
+    dr = spec.drawing
+    u = report.get("units", spec.units)
+    fig = {p.key: _figure(p, figures[p.key]) for p in plot_list}
+    sections: list[tuple[str, str, str]] = []  # (id, title, body)
+
+    key_rows = [
+        ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
+        ("base circle radius (R_b − roller)", "profile.base_circle_radius", u, None),
+        ("smallest profile radius (built)", "profile.min_radius", u, None),
+        ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
+        ("follower offset e", "spec.follower.offset", u, None),
+        ("roller radius", "spec.follower.roller_radius", u, None),
+        ("bore diameter", "spec.cam.bore_diameter", u, None),
+        ("thickness", "spec.cam.thickness", u, None),
+        ("cross-section area (profile − bore)", "area", f"{u}²", None),
+        ("volume", "volume", f"{u}³", None),
+        ("max pressure angle", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
+        ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
+        ("max follower deviation", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
+    ]
+    sections.append(("cam", "The cam", f'<div class="grid"><div>{fig["cam"]}</div><div>'
+                     f'{_quantity_table(report, key_rows)}{_verdict(report)}</div></div>'))
+    sections.append(("spec", "Specification", _spec_section(spec, report)))
+    motion_rows = [
+        ("largest lift", "motion.max_lift", u, None),
+        ("max |velocity|", "motion.max_velocity", f"{u}/s", None),
+        ("max |acceleration|", "motion.max_acceleration", f"{u}/s²", None),
+        ("max |jerk|", "motion.max_jerk", f"{u}/s³", None),
+    ]
+    sections.append(("motion", "Follower motion", fig["kinematics"] + _quantity_table(report, motion_rows)))
+    pa_rows = [
+        ("max |φ| (design, Eq. 3.4)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
+        ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
+        ("max |φ| (built PH curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
+    ]
+    sections.append(("pressure", "Pressure angle", fig["pressure_angle"] + _quantity_table(report, pa_rows)))
+    cv_rows = [
+        ("min convex pitch radius (design, Eq. 3.7)", "curvature.min_pitch_radius", u, "curvature.at_deg"),
+        ("min convex profile radius (design)", "curvature.min_profile_radius", u, "curvature.at_deg"),
+        ("min concave pitch radius (design)", "curvature.min_concave_pitch_radius", u, None),
+        ("min convex pitch radius (built)", "curvature.as_built.min_pitch_radius", u, "curvature.as_built.at_deg"),
+        ("min convex profile radius (built)", "curvature.as_built.min_profile_radius", u,
+         "curvature.as_built.at_deg"),
+        ("min concave pitch radius (built)", "curvature.as_built.min_concave_pitch_radius", u, None),
+    ]
+    sections.append(("curvature", "Radius of curvature", fig["curvature"] + _quantity_table(report, cv_rows)))
+    acc_rows = [
+        ("max |s_actual − s|", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
+        ("target deviation (pitch.tolerance)", "pitch.tolerance", u, None),
+        ("PH segments M", "pitch.segments", "", None),
+        ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
+        ("Newton residual (relative)", "pitch.newton_residual", "", None),
+        ("pitch-curve arc length (exact, PH)", "pitch.arc_length", u, None),
+        ("profile NURBS degree", "profile.degree", "", None),
+        ("profile poles", "profile.poles", "", None),
+        ("solid: OCCT volume", "solid.kernel_volume", f"{u}³", None),
+        ("solid: exact volume (Green's theorem × thickness)", "volume", f"{u}³", None),
+        ("solid: OCCT cross-section area", "solid.cross_section_area", f"{u}²", None),
+        ("solid: exact cross-section area", "area", f"{u}²", None),
+        ("solid: OCCT volume / exact − 1", "solid.volume_rel_diff", "", None),
+        ("solid: OCCT cross-section / exact − 1", "solid.area_rel_diff", "", None),
+    ]
+    acc_note = ('<p class="note">The profile is the exact rational offset of the PH pitch curve (degree '
+                '9 NURBS), so the only approximation in the geometry is the pitch curve\'s interpolation of '
+                'the motion, measured above. OCCT\'s numbers are an independent check of the built solid.</p>')
+    sections.append(("accuracy", "Interpolation error and accuracy",
+                     fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
+    if "force_stress" in fig:
+        sections.append(("force", "Contact force and stress", fig["force_stress"]))
+    if isinstance(report.get("checks"), (Mapping, list)):
+        sections.append(("checks", "Design checks", _checks_section(report)))
+    if isinstance(report.get("optimise"), Mapping):
+        body = _scalars_table(report, "optimise", exclude=("history",))
+        sections.append(("optimise", "Optimiser", fig.get("convergence", "") + body))
+    if isinstance(report.get("drawing"), Mapping):
+        sections.append(("drawing", "Manufacturing drawing (DXF)", _drawing_section(report)))
+    if isinstance(report.get("files"), Mapping):
+        sections.append(("files", "Files", _files_section(report)))
+
+    title = html.escape(dr.title)
+    sub = [f"{spec.follower.kind} follower", f"{len(spec.motion)} motion segments",
+           f"C² PH quintic pitch curve, M = {design.pitch.M}", f"units {u}"]
+    ident = [f"part {html.escape(dr.part_number)}" if dr.part_number else "",
+             f"material {html.escape(dr.material)}" if dr.material else "",
+             f"by {html.escape(dr.author)}" if dr.author else ""]
+    nav = "".join(f'<a href="#{sid}">{html.escape(t)}</a>' for sid, t, _ in sections)
+    body = "\n".join(f'<section id="{sid}"><h2>{html.escape(t)}</h2>\n{b}\n</section>' for sid, t, b in sections)
+    return (
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+        f"<title>{title} — cam design report</title>\n"
+        '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f"<style>{CSS}</style>\n</head>\n<body>\n<main>\n"
+        f"<h1>{title}</h1>\n<p class=\"sub\">{html.escape(' · '.join(sub))}"
+        f"{' · ' + ' · '.join(x for x in ident if x) if any(ident) else ''}"
+        f" · made by cam_workbench {html.escape(__version__)}</p>\n"
+        f"<nav>{nav}</nav>\n{body}\n</main>\n</body>\n</html>\n"
+    )
+
+
+def _figure(p: Plot, svg: str) -> str:
+    return (f'<figure id="fig-{p.key}" data-png="{p.png_name}">{svg}'
+            f"<figcaption>{html.escape(p.caption)}</figcaption></figure>")
+
+
+# ---- numbers -------------------------------------------------------------------------------
+def lookup(report: Mapping[str, Any], key: str) -> Any:
+    """The value at a dotted path (list indices as numbers): ``spec.motion.1.lift``."""
+    node: Any = report
+    for part in key.split("."):
+        if isinstance(node, list):
+            node = node[int(part)]
+        elif isinstance(node, Mapping) and part in node:
+            node = node[part]
+        else:
+            raise KeyError(key)
+    return node
+
+
+def _has(report: Mapping[str, Any], key: str) -> bool:
+    try:
+        lookup(report, key)
+        return True
+    except (KeyError, IndexError, ValueError):
+        return False
+
+
+def format_number(v: Any) -> str:
+    """How a number is shown: 6 significant digits (integers and booleans as they are)."""
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            return str(v)
+        return f"{v:.6g}"
+    return html.escape(str(v))
+
+
+def _num_cell(report: Mapping[str, Any], key: str) -> str:
+    v = lookup(report, key)
+    if isinstance(v, str):
+        return f'<td data-key="{key}">{html.escape(v)}</td>'
+    data = "null" if v is None else ("true" if v is True else "false" if v is False else repr(v))
+    return f'<td class="num" data-key="{key}" data-value="{data}">{format_number(v)}</td>'
+
+
+def _quantity_table(report: Mapping[str, Any], rows: Iterable[tuple[str, str, str, str | None]]) -> str:
+    """Rows (label, key, unit, key of the cam angle or None); rows whose key is absent are left out."""
+    out = ['<table class="q"><tr><th>quantity</th><th>value</th><th>unit</th><th>at cam angle [deg]</th></tr>']
+    for label, key, unit, at in rows:
+        if not _has(report, key):
+            continue
+        at_cell = _num_cell(report, at) if at and _has(report, at) else "<td></td>"
+        out.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, key)}<td>{html.escape(unit)}</td>"
+                   f"{at_cell}</tr>")
+    out.append("</table>")
+    return "".join(out)
+
+
+def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[str] = ()) -> str:
+    """Every scalar of ``report[section]`` (nested dicts flattened) as key/value rows."""
+    rows = []
+
+    def walk(node: Any, path: str) -> None:
+        if isinstance(node, Mapping):
+            for k, v in node.items():
+                if path == section and k in exclude:
+                    continue
+                walk(v, f"{path}.{k}")
+        elif not isinstance(node, list):
+            label = path[len(section) + 1:].replace("_", " ")
+            rows.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, path)}</tr>")
+
+    walk(report[section], section)
+    return '<table class="kv"><tr><th>item</th><th>value</th></tr>' + "".join(rows) + "</table>"
+
+
+def _check_limit(report: Mapping[str, Any], name: str) -> float | None:
+    checks = report.get("checks")
+    if isinstance(checks, Mapping) and isinstance(checks.get(name), Mapping):
+        lim = checks[name].get("limit")
+        return float(lim) if isinstance(lim, (int, float)) and not isinstance(lim, bool) else None
+    return None
+
+
+def _check_items(checks: Any) -> list[tuple[str, str, Mapping[str, Any]]]:
+    """(name, key prefix, check dict) for a mapping or a list of checks."""
+    if isinstance(checks, Mapping):
+        return [(str(k), f"checks.{k}", v) for k, v in checks.items() if isinstance(v, Mapping)]
+    return [(str(c.get("name", i)), f"checks.{i}", c) for i, c in enumerate(checks) if isinstance(c, Mapping)]
+
+
+def _passed(c: Mapping[str, Any]) -> bool | None:
+    for k in ("passed", "pass", "ok"):
+        if isinstance(c.get(k), bool):
+            return c[k]
+    return None
+
+
+def _checks_section(report: Mapping[str, Any]) -> str:
+    items = _check_items(report["checks"])
+    out = [_verdict(report),
+           '<table class="checks"><tr><th>check</th><th>value</th><th>limit</th><th>unit</th>'
+           "<th>at cam angle [deg]</th><th>result</th></tr>"]
+    for name, prefix, c in items:
+        label = html.escape(str(c.get("label", name.replace("_", " "))))
+        kind = c.get("kind")
+        if kind in ("max", "min"):
+            label += f" ({'≤' if kind == 'max' else '≥'} limit)"
+        cells = [_num_cell(report, f"{prefix}.{f}") if f in c else "<td></td>"
+                 for f in ("value", "limit")]
+        unit = html.escape(str(c.get("unit", "")))
+        at = _num_cell(report, f"{prefix}.at_deg") if "at_deg" in c else "<td></td>"
+        ok = _passed(c)
+        result = ('<td class="pass">PASS</td>' if ok else '<td class="fail">FAIL</td>' if ok is False
+                  else "<td>—</td>")
+        out.append(f"<tr><td>{label}</td>{cells[0]}{cells[1]}<td>{unit}</td>{at}{result}</tr>")
+    out.append("</table>")
+    return "".join(out)
+
+
+def _verdict(report: Mapping[str, Any]) -> str:
+    checks = report.get("checks")
+    if not isinstance(checks, (Mapping, list)):
+        return ""
+    results = [_passed(c) for _, _, c in _check_items(checks)]
+    failed = sum(1 for r in results if r is False)
+    if failed:
+        return f'<p><span class="verdict fail">{failed} of {len(results)} design checks failed</span></p>'
+    return f'<p><span class="verdict pass">all {len(results)} design checks passed</span></p>'
+
+
+def _spec_section(spec: CamSpec, report: Mapping[str, Any]) -> str:
+    """Tables of every spec field (values from report["spec"]), the motion table, the TOML."""
+    out = []
+    if "spec" in report:
+        units = spec.units
+        rows = [("units", "spec.units", "")]
+        for name, (cls, is_list, _req) in SECTIONS.items():
+            if is_list:
+                continue
+            for field, p in params_of(cls).items():
+                if _has(report, f"spec.{name}.{field}"):
+                    rows.append((f"{name}.{field}", f"spec.{name}.{field}", unit_name(p.unit, units)))
+        out.append('<table class="spec"><tr><th>field</th><th>value</th><th>unit</th></tr>')
+        for label, key, unit in rows:
+            out.append(f"<tr><td><code>{html.escape(label)}</code></td>{_num_cell(report, key)}"
+                       f"<td>{html.escape(unit)}</td></tr>")
+        out.append("</table>")
+        motion = report["spec"].get("motion", [])
+        out.append("<h3>Motion program</h3>")
+        out.append('<table class="motion"><tr><th>#</th><th>kind</th><th>from [deg]</th><th>span [deg]</th>'
+                   f"<th>lift [{html.escape(units)}]</th><th>law</th><th>junctions</th></tr>")
+        start = 0.0
+        for i, seg in enumerate(motion):
+            cells = []
+            for f in ("angle", "lift", "law", "junctions"):
+                key = f"spec.motion.{i}.{f}"
+                cells.append(_num_cell(report, key) if _has(report, key) else "<td>—</td>")
+            out.append(f"<tr><td>{i}</td><td>{html.escape(str(seg.get('kind')))}</td>"
+                       f'<td class="num">{start:g}</td>{"".join(cells)}</tr>')
+            start += float(seg.get("angle", 0.0))
+        out.append("</table>")
+    out.append("<details><summary>The spec as TOML</summary><pre>" + html.escape(to_toml(spec)) +
+               "</pre></details>")
+    return "".join(out)
+
+
+DRAWING_LABELS = {
+    "file_version": "DXF version", "insunits": "$INSUNITS (4 = mm, 1 = inch)",
+    "curves": "profile written as", "chord_tolerance": "chord tolerance",
+    "profile_entities": "PROFILE entities", "profile_arcs": "PROFILE arcs", "profile_lines": "PROFILE lines",
+    "profile_max_error": "PROFILE max distance from the exact curve (two-sided, measured)",
+    "profile_min_arc_radius": "smallest arc radius", "pitch_max_error": "PITCH max distance from the exact curve",
+    "exact": "exact (the NURBS data itself)",
+}
+
+
+def _drawing_section(report: Mapping[str, Any]) -> str:
+    d = report["drawing"]
+    out = ['<table class="kv"><tr><th>item</th><th>value</th></tr>']
+    for k in d:
+        out.append(f"<tr><td>{html.escape(DRAWING_LABELS.get(k, k.replace('_', ' ')))}</td>"
+                   f"{_num_cell(report, f'drawing.{k}')}</tr>")
+    out.append("</table>")
+    out.append('<p class="note">Layers: PROFILE, PITCH, BASE_CIRCLE, PRIME_CIRCLE, BORE, CENTERLINES, '
+               "DIMENSIONS, TITLE (title block with the motion table). The SPLINE on PROFILE carries the "
+               "degree, knots, control points and weights of the exact NURBS profile.</p>")
+    return "".join(out)
+
+
+def _files_section(report: Mapping[str, Any]) -> str:
+    out = ["<table><tr><th>file</th><th>content</th></tr>"]
+    for k, v in report["files"].items():
+        names = v if isinstance(v, list) else [v]
+        for n in names:
+            out.append(f"<tr><td><code>{html.escape(str(n))}</code></td><td>{html.escape(k)}</td></tr>")
+    out.append("</table>")
+    return "".join(out)
+
+
+def _history(report: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray | None] | None:
+    opt = report.get("optimise")
+    if not isinstance(opt, Mapping) or not isinstance(opt.get("history"), list) or not opt["history"]:
+        return None
+    h = [x for x in opt["history"] if isinstance(x, Mapping) and isinstance(x.get("objective"), (int, float))]
+    if not h:
+        return None
+    it = np.array([x.get("iteration", i) for i, x in enumerate(h)], dtype=float)
+    obj = np.array([x["objective"] for x in h], dtype=float)
+    viol = None
+    if all(isinstance(x.get("max_violation"), (int, float)) for x in h):
+        viol = np.array([x["max_violation"] for x in h], dtype=float)
+    return it, obj, viol
+
+
+# ---- SVG -----------------------------------------------------------------------------------
+_ID = re.compile(r'id="([^"]+)"')
+_REF = re.compile(r'(id="|url\(#|href="#)([^"\)]+)')
+
+
+def _inline_svg(svg: str, prefix: str) -> str:
+    """Matplotlib's SVG made fit for inlining: no XML prolog, scalable, and its ids made
+    unique per figure (several figures define the same glyph and clip ids)."""
+    svg = svg[svg.index("<svg"):]
+    ids = set(_ID.findall(svg))
+
+    def scoped(m: re.Match) -> str:
+        return m.group(1) + (f"{prefix}-{m.group(2)}" if m.group(2) in ids else m.group(2))
+
+    svg = _REF.sub(scoped, svg)
+    head_end = svg.index(">")
+    head = re.sub(r'\s(width|height)="[^"]*"', "", svg[:head_end])
+    return head + ' class="plot" role="img"' + svg[head_end:]

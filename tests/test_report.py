@@ -1,0 +1,274 @@
+"""report.html: one self-contained file that parses, holds every plot (inline SVG, and the PNG
+beside it), shows exactly report.json's numbers in its tables, grows the optional sections
+only when their data is there, and renders in a real browser (headless Chromium) — the
+screenshot is left in test-artifacts/ to be looked at."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+from html.parser import HTMLParser
+
+import numpy as np
+import pytest
+
+from exporters.report_html import Series, lookup, render_report, report_plots
+from generators import default_spec, design_cam
+
+from .conftest import ROOT, requires_ocp
+
+CLI = [sys.executable, "-m", "cam_workbench.cli"]
+VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
+
+
+def run(*args):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([*CLI, *args], capture_output=True, text=True, env=env)
+
+
+class Page(HTMLParser):
+    """A strict-enough parse: balanced tags, and what the tests look at."""
+
+    def __init__(self):
+        super().__init__(convert_charrefs=True)
+        self.stack: list[str] = []
+        self.errors: list[str] = []
+        self.cells: list[tuple[dict, str]] = []      # (attrs, text) of td[data-key]
+        self.figures: dict[str, int] = {}             # figure id → number of <svg> inside
+        self.ids: list[str] = []
+        self.resources: list[str] = []                # attributes that would load something
+        self.tags: set[str] = set()
+        self._cell: dict | None = None
+        self._text: list[str] = []
+        self._figure: str | None = None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        self.tags.add(tag)
+        if "id" in a:
+            self.ids.append(a["id"])
+        for k in ("src", "href", "xlink:href", "data", "poster", "srcset"):
+            v = a.get(k)
+            if v is not None and not v.startswith("#"):
+                self.resources.append(f"{tag} {k}={v[:60]}")
+        if "url(" in (a.get("style") or "") and "url(#" not in a["style"]:
+            self.resources.append(f"{tag} style url")
+        if tag == "figure":
+            self._figure = a.get("id")
+            self.figures[self._figure] = 0
+        if tag == "svg" and self._figure:
+            self.figures[self._figure] += 1
+        if tag == "td" and "data-key" in a:
+            self._cell, self._text = a, []
+        if tag not in VOID:
+            self.stack.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.tags.add(tag)
+        a = dict(attrs)
+        if "id" in a:
+            self.ids.append(a["id"])
+
+    def handle_endtag(self, tag):
+        if tag in VOID:
+            return
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"unexpected </{tag}> (open: {self.stack[-3:]})")
+            return
+        self.stack.pop()
+        if tag == "td" and self._cell is not None:
+            self.cells.append((self._cell, "".join(self._text).strip()))
+            self._cell = None
+        if tag == "figure":
+            self._figure = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._text.append(data)
+
+
+def parse(text: str) -> Page:
+    page = Page()
+    page.feed(text)
+    page.close()
+    return page
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """`cam-workbench build` of the default cam (what `make demo` does)."""
+    out = tmp_path_factory.mktemp("demo") / "out"
+    res = run("build", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    return out
+
+
+pytestmark = requires_ocp
+
+
+def test_build_writes_every_file(built):
+    report = json.loads((built / "report.json").read_text())
+    files = report["files"]
+    assert files["dxf"] == "cam.dxf" and files["html"] == "report.html" and files["report"] == "report.json"
+    expected = {"cam.step", "cam.dxf", "report.json", "report.html", *files["plots"]}
+    assert {p.name for p in built.iterdir()} == expected
+    assert {"plot_cam.png", "plot_kinematics.png", "plot_pressure_angle.png", "plot_curvature.png",
+            "plot_deviation.png"} <= set(files["plots"])
+    for name in files["plots"]:
+        data = (built / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    assert report["drawing"]["curves"] == "spline" and report["drawing"]["exact"] is True
+    assert report["spec"]["cam"]["base_radius"] == pytest.approx(22.360679775)
+
+
+def test_html_parses_and_is_self_contained(built):
+    text = (built / "report.html").read_text(encoding="utf-8")
+    page = parse(text)
+    assert not page.errors, page.errors[:5]
+    assert page.stack == [], page.stack
+    assert text.startswith("<!DOCTYPE html>")
+    assert not page.resources, page.resources[:5]
+    assert not {"script", "link", "img", "iframe", "object"} & page.tags
+    assert "@import" not in text
+    assert len(page.ids) == len(set(page.ids)), "ids must be unique across the inlined SVGs"
+
+
+def test_every_plot_is_in_the_page(built):
+    report = json.loads((built / "report.json").read_text())
+    page = parse((built / "report.html").read_text(encoding="utf-8"))
+    for name in report["files"]["plots"]:
+        key = name[len("plot_"):-len(".png")]
+        assert page.figures.get(f"fig-{key}") == 1, (key, page.figures)
+    for section in ("cam", "spec", "motion", "pressure", "curvature", "accuracy", "drawing", "files"):
+        assert section in page.ids
+
+
+def test_table_numbers_equal_report_json(built):
+    report = json.loads((built / "report.json").read_text())
+    page = parse((built / "report.html").read_text(encoding="utf-8"))
+    seen = set()
+    assert len(page.cells) > 60
+    for attrs, text in page.cells:
+        key = attrs["data-key"]
+        value = lookup(report, key)
+        seen.add(key)
+        if "data-value" not in attrs:  # text cells
+            assert text == value, key
+            continue
+        raw = attrs["data-value"]
+        if value is None:
+            assert raw == "null" and text == "—", key
+        elif isinstance(value, bool):
+            assert raw == ("true" if value else "false") and text == ("yes" if value else "no"), key
+        else:
+            assert float(raw) == value, key                      # exactly the JSON number
+            assert float(text) == pytest.approx(value, rel=5e-6, abs=0), key   # shown to 6 digits
+    for key in ("pitch.max_deviation", "pitch.max_deviation_at_deg", "pressure_angle.max_deg",
+                "pressure_angle.as_built.max_deg", "curvature.min_pitch_radius", "curvature.min_profile_radius",
+                "motion.max_velocity", "motion.max_acceleration", "motion.max_jerk", "area", "volume",
+                "solid.kernel_volume", "solid.cross_section_area", "profile.max_radius",
+                "drawing.profile_max_error", "spec.cam.base_radius", "spec.motion.1.lift", "spec.motion.3.law",
+                "pitch.newton_residual", "solid.volume_rel_diff", "solid.area_rel_diff"):
+        assert key in seen, key
+
+
+def _fake_extras():
+    """Hand-written check results and optimiser history in the formats the report documents
+    (these exercise the renderer only; the product never invents them)."""
+    checks = {
+        "pressure_angle": {"value": 46.2, "limit": 30.0, "at_deg": 282.8, "passed": False, "unit": "deg",
+                           "kind": "max", "label": "pressure angle"},
+        "contact_stress": {"value": 812.5, "limit": 1100.0, "at_deg": 111.2, "passed": True, "unit": "MPa",
+                           "kind": "max"},
+        "separation": {"value": 35.0, "limit": 0.0, "passed": True, "unit": "N", "kind": "min"},
+    }
+    history = [{"iteration": i, "objective": 2400.0 - 30 * i + i * i, "max_violation": 10.0 ** (-i)}
+               for i in range(12)]
+    return checks, {"objective": "area", "evaluations": 57, "history": history}
+
+
+def test_optional_sections_only_with_their_data(tmp_path):
+    design = design_cam(default_spec())
+    report = json.loads(json.dumps({**design.summary(), "spec": design.spec.to_dict()}))
+    base_keys = [p.key for p in report_plots(design, report)]
+    assert base_keys == ["cam", "kinematics", "pressure_angle", "curvature", "deviation"]
+    text, pngs = render_report(design, report)
+    page = parse(text)
+    for absent in ("checks", "optimise", "force", "drawing"):
+        assert absent not in page.ids
+    assert sorted(pngs) == sorted(f"plot_{k}.png" for k in base_keys)
+
+    checks, optimise = _fake_extras()
+    report2 = dict(report, checks=checks, optimise=optimise)
+    th = np.linspace(0, 360, 721)
+    series = {"contact_force": Series(th, 100 + 20 * np.sin(np.deg2rad(th)), "contact force", "N", 150.0, "max"),
+              "contact_stress": Series(th, 700 + 100 * np.cos(np.deg2rad(th)), "Hertz stress", "MPa", 1100.0, "max")}
+    text2, pngs2 = render_report(design, report2, series)
+    page2 = parse(text2)
+    assert not page2.errors
+    for present in ("checks", "optimise", "force", "fig-force_stress", "fig-convergence"):
+        assert present in page2.ids
+    assert "plot_force_stress.png" in pngs2 and "plot_convergence.png" in pngs2
+    assert text2.count('class="fail">FAIL') == 1 and text2.count('class="pass">PASS') == 2
+    assert "1 of 3 design checks failed" in text2
+    for attrs, cell in page2.cells:
+        if attrs["data-key"].startswith(("checks.", "optimise.")) and "data-value" in attrs:
+            assert float(attrs["data-value"]) == lookup(report2, attrs["data-key"])
+    assert "optimise.evaluations" in {a["data-key"] for a, _ in page2.cells}
+    (tmp_path / "r.html").write_text(text2)
+
+
+def test_report_command_and_bad_input(tmp_path):
+    out = tmp_path / "rep"
+    res = run("report", "--set", "drawing.title=Indexing cam", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    names = {p.name for p in out.iterdir()}
+    assert {"report.html", "report.json", "plot_deviation.png"} <= names and "cam.step" not in names
+    assert "<h1>Indexing cam</h1>" in (out / "report.html").read_text()
+    bad = run("report", "--set", "cam.thickness=0", "-o", str(tmp_path / "bad"))
+    assert bad.returncode == 2 and "cam.thickness: must be > 0" in bad.stderr
+    assert not (tmp_path / "bad").exists()
+
+
+def test_inch_report_units(tmp_path):
+    res = run("report", "--set", "units=in", "--set", "cam.thickness=0.5", "--set", "cam.base_radius=2.0",
+              "--set", "follower.offset=0.3", "--set", "follower.roller_radius=0.25",
+              "--set", "cam.bore_diameter=0.5", "--set", "motion[1].lift=0.8", "--set", "motion[3].lift=0.8",
+              "-o", str(tmp_path / "in"))
+    assert res.returncode == 0, res.stderr
+    text = (tmp_path / "in" / "report.html").read_text()
+    assert "in/s²" in text and "µin" in text and "mm/s" not in text
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Debian package chromium is not installed (make test installs it as root)")
+def test_renders_in_headless_chromium(built, artifacts, tmp_path):
+    shot = artifacts / "report.png"
+    if shot.exists():
+        shot.unlink()
+    base = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+    uri = (built / "report.html").resolve().as_uri()
+    cmd = [*base, f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}", "--window-size=1280,4000",
+           "--hide-scrollbars", uri]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr[-2000:]
+    import matplotlib.pyplot as plt
+
+    img = plt.imread(shot)
+    assert img.shape[:2] == (4000, 1280)
+    rgb = img[..., :3]
+    assert rgb.std() > 0.1                                    # a page, not a blank
+    # the page's white <main> column is there and drawn on (plots, tables: dark pixels)
+    main = rgb[:, 200:1080]
+    assert (main.mean(axis=2) < 0.4).mean() > 0.01
+    # the DOM Chromium built has every figure with its SVG
+    dom = subprocess.run([*base, f"--user-data-dir={tmp_path / 'profile2'}", "--dump-dom", uri],
+                         capture_output=True, text=True, timeout=120)
+    assert dom.returncode == 0
+    report = json.loads((built / "report.json").read_text())
+    for name in report["files"]["plots"]:
+        assert f'id="fig-{name[5:-4]}"' in dom.stdout
+    assert dom.stdout.count("<svg") >= len(report["files"]["plots"])
