@@ -544,3 +544,53 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
     dev = design_cam(default_spec()).max_deviation[0]
     assert r["max_dev"] == pytest.approx(dev, rel=0.05)
     assert png.stat().st_size > 20_000
+
+
+LATER_SECTION = """
+from dataclasses import dataclass
+from generators.params import param
+from generators import spec as S
+
+@dataclass(frozen=True, kw_only=True)
+class Extra:
+    '''`[extra]`: a section declared after the workbench was written.'''
+    gain: float = param("A required gain", gt=0, group="Extra")
+    clearance: float | None = param("A clearance that may be zero", unit="length", ge=0,
+                                    optional=True, group="Extra")
+    points: tuple = param("Lengths", kind="floats", unit="length", default=(), group="Extra")
+
+S.SECTIONS["extra"] = (Extra, False, False)
+import FreeCAD
+from cam_workbench.freecad.feature import create
+from cam_workbench.freecad import properties as P
+doc = FreeCAD.newDocument("later")
+cam = create(doc)
+RESULT["props"] = sorted((n, cam.getGroupOfProperty(n), cam.getTypeIdOfProperty(n))
+                         for n in cam.PropertiesList if n.startswith("Extra"))
+RESULT["off"] = "extra" in P.spec_dict(cam)
+cam.ExtraEnabled = True
+cam.ExtraGain = 2.5
+RESULT["on_absent"] = P.spec_dict(cam)["extra"]
+cam.ExtraClearanceEnabled = True
+cam.ExtraPoints = [25.4, 50.8]
+cam.Units = "in"
+RESULT["on"] = P.spec_dict(cam)["extra"]
+"""
+
+
+def test_a_section_declared_later_becomes_properties_in_freecad(tmp_path, fc_home):
+    """A section declared after the fact (as [checks], [machining] will be) becomes grouped
+    properties of a new feature; an optional section with a required field is switched by
+    ``<Section>Enabled``, an optional field that may be 0 by ``<Property>Enabled``; list
+    lengths convert to the spec's units."""
+    r = run_freecadcmd(LATER_SECTION, tmp_path, fc_home).check().result
+    assert [tuple(p) for p in r["props"]] == [
+        ("ExtraClearance", "Extra", "App::PropertyLength"),
+        ("ExtraClearanceEnabled", "Extra", "App::PropertyBool"),
+        ("ExtraEnabled", "Extra", "App::PropertyBool"),
+        ("ExtraGain", "Extra", "App::PropertyFloatConstraint"),
+        ("ExtraPoints", "Extra", "App::PropertyFloatList"),
+    ]
+    assert r["off"] is False
+    assert r["on_absent"] == {"gain": 2.5, "points": []}
+    assert r["on"] == {"gain": 2.5, "clearance": 0.0, "points": [1.0, 2.0]}

@@ -17,7 +17,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "remove it. The Mod folder is asked from every FreeCAD found (freecadcmd on "
                     "PATH, or --freecad), so FreeCAD 0.20, 1.0 and 1.1's versioned folders are "
                     "all right; restart FreeCAD afterwards.")
-    actions = p.add_subparsers(dest="action", metavar="ACTION", required=True)
+    actions = p.add_subparsers(dest="action", metavar="{install,uninstall}", required=True)
     for name, help_text in (("install", "add the workbench to FreeCAD (again: replaces our own copy)"),
                             ("uninstall", "remove the workbench from FreeCAD")):
         a = actions.add_parser(name, help=help_text, description=help_text)

@@ -9,8 +9,10 @@ Modules (each imported only when needed, so FreeCAD's start-up stays cheap):
 - :mod:`.properties` — spec fields ↔ FreeCAD properties, generated from the spec declarations.
 - :mod:`.part_build` — neutral NURBS data → ``Part`` edges, faces and the cam solid.
 - :mod:`.feature` — the ``PlateCam`` feature, its reference geometry and :func:`create`.
-- :mod:`.view_providers`, :mod:`.motion_editor`, :mod:`.check_design`, :mod:`.plots`,
-  :mod:`.step_export`, :mod:`.commands`, :mod:`.workbench` — the GUI side.
+- :mod:`.motion_editor`, :mod:`.check_design`, :mod:`.plots`, :mod:`.step_export`,
+  :mod:`.spec_io` — what the commands do (each usable headless; Qt only in the dialogs).
+- :mod:`.view_providers`, :mod:`.commands` — the GUI side; ``mod/InitGui.py`` defines the
+  workbench itself (FreeCAD executes it at start-up, so it imports nothing of ours).
 - :mod:`.install` — registering the workbench in a user's FreeCAD ``Mod`` folder (CLI side).
 
 Headless use (``freecadcmd``)::

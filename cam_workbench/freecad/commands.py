@@ -187,13 +187,22 @@ class ExportSpec(Command):
             return
         from PySide import QtGui
 
+        from generators.errors import SpecError
+
+        from .properties import describe_field
         from .spec_io import export_spec
 
         name, _f = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export spec",
                                                      f"{cam.Label}.toml", "Cam spec (*.toml)")
-        if name:
+        if not name:
+            return
+        try:
             out = export_spec(cam, name)
-            FreeCAD.Console.PrintMessage(f"{cam.Label}: spec written to {out}\n")
+        except SpecError as exc:
+            FreeCAD.Console.PrintError(f"{cam.Label}: spec not written: "
+                                       f"{describe_field(exc.field)}: {exc.rule}\n")
+            return
+        FreeCAD.Console.PrintMessage(f"{cam.Label}: spec written to {out}\n")
 
 
 #: Command name → command class, in menu order.

@@ -42,7 +42,7 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
 
     d = kinematics_data(design)
     u = design.spec.units
-    fig = Figure(figsize=(8.5, 10.5), dpi=100)
+    fig = Figure(figsize=(8.5, 10.5), dpi=100, layout="constrained")  # re-laid out on resize
     axes = fig.subplots(6, 1, sharex=True)
     panels = [
         ("s", f"s [{u}]", "displacement"),
@@ -70,7 +70,6 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
     spec = design.spec
     fig.suptitle(title or f"Follower kinematics at {spec.cam.speed_rpm:g} rpm "
                           f"({spec.follower.kind}, e = {spec.follower.offset:g} {u})", fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.97))
     return fig
 
 
@@ -123,7 +122,8 @@ def show_plots(obj: Any) -> Any:
     canvas = FigureCanvasQTAgg(fig)
     layout.addWidget(NavigationToolbar2QT(canvas, dlg))
     layout.addWidget(canvas)
-    dlg.resize(900, 1000)
+    avail = QtGui.QGuiApplication.primaryScreen().availableGeometry()
+    dlg.resize(min(900, avail.width() - 40), min(1000, avail.height() - 60))
     dlg.show()
     _DIALOGS.append(dlg)
     dlg.finished.connect(lambda *_: _DIALOGS.remove(dlg) if dlg in _DIALOGS else None)
