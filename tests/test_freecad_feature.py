@@ -54,9 +54,9 @@ for key, cam in cams.items():
         "degrees": sorted({c.Degree for c in curves}),
         "holes": len(bottom[0].Wires) - 1,
         "junctions": cam.JunctionCount, "area": cam.CrossSectionArea.Value,
-        "children": sorted(o.Kind for o in cam.InList),
-        "pitch_edges": [len(o.Shape.Edges) for o in cam.InList if o.Kind == "pitch curve"][0],
-        "base_circle_radius": [o.Shape.Edges[0].Curve.Radius for o in cam.InList if o.Kind == "base circle"][0],
+        "children": sorted(o.Kind for o in cam.References),
+        "pitch_edges": [len(o.Shape.Edges) for o in cam.References if o.Kind == "pitch curve"][0],
+        "base_circle_radius": [o.Shape.Edges[0].Curve.Radius for o in cam.References if o.Kind == "base circle"][0],
     }
 RESULT["forbidden_modules"] = [m for m in ("OCP", "cadquery", "build123d") if m in sys.modules]
 """
@@ -139,6 +139,16 @@ doc.recompute()
 RESULT["v_inch"] = cam.Shape.Volume
 RESULT["spec_inch"] = P.spec_dict(cam)
 RESULT["area_inch"] = cam.CrossSectionArea.Value
+cam.CamBaseRadius = 30.0
+cam.Placement = FreeCAD.Placement(FreeCAD.Vector(100, 0, 0), FreeCAD.Rotation())
+doc.recompute()
+base = [o for o in cam.References if o.Kind == "base circle"][0]
+pitch = [o for o in cam.References if o.Kind == "pitch curve"][0]
+RESULT["base_radius_after"] = base.Shape.Edges[0].Curve.Radius
+RESULT["base_center_x"] = base.Shape.BoundBox.Center.x
+RESULT["cam_bbox_xmin"] = cam.Shape.BoundBox.XMin
+RESULT["states"] = [o.State for o in doc.Objects]
+RESULT["second_recompute"] = doc.recompute()
 """
 
 
@@ -163,6 +173,11 @@ def test_change_properties_and_recompute(tmp_path, fc_home):
     assert r["spec_inch"]["cam"]["thickness"] == pytest.approx(12.5 / 25.4, rel=1e-15)
     assert r["spec_inch"]["motion"][1]["lift"] == pytest.approx(20 / 25.4, rel=1e-15)
     assert r["spec_inch"]["cam"]["speed_rpm"] == 60.0  # not a length: unchanged
+    # the reference curves follow the cam in one recompute, and the document settles
+    assert r["base_radius_after"] == pytest.approx(30.0, rel=1e-12)
+    assert r["base_center_x"] == pytest.approx(100.0, abs=1e-9)
+    assert r["cam_bbox_xmin"] > 50.0
+    assert r["states"] == [["Up-to-date"]] * 3 and r["second_recompute"] == 0
 
 
 SAVE = """
@@ -188,7 +203,7 @@ doc.recompute()
 RESULT["status"] = cam.Status
 RESULT["volume"] = cam.Shape.Volume
 RESULT["valid"] = cam.Shape.isValid()
-RESULT["children_valid"] = [o.Shape.isValid() and not o.Shape.isNull() for o in cam.InList]
+RESULT["children_valid"] = [o.Shape.isValid() and not o.Shape.isNull() for o in cam.References]
 cam.CamThickness = 9.0
 doc.recompute()
 RESULT["volume_9"] = cam.Shape.Volume

@@ -5,7 +5,8 @@ activated (and did not load numpy/scipy/generators at start-up), a cam is create
 toolbar command, the motion editor opens from the command, is edited and applied with its
 OK button (one undo step), refuses a bad program (and stays open) and is cancelled; Check
 design and the kinematics plots open their dialogs; STEP is exported through the file
-dialog (the suggested name accepted).  The report view must hold no Python error.  Screenshots are saved to
+dialog (the suggested name accepted); deleting the cam takes its reference curves along
+without a warning.  The report view must hold no Python error.  Screenshots are saved to
 ``test-artifacts/`` for a person to look at.
 """
 from __future__ import annotations
@@ -167,13 +168,27 @@ def export_step():
 
 def after_export():
     R["step_written"] = os.path.exists(STEP_PATH) and os.path.getsize(STEP_PATH) > 1000
+
+def delete_cam():
+    def watch():
+        w = QtGui.QApplication.activeModalWidget()
+        R["delete_modal"] = w.text() if w is not None and hasattr(w, "text") else None
+        if w is not None:
+            w.close()
+    QtCore.QTimer.singleShot(1000, watch)
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("PlateCam"))
+    FreeCADGui.runCommand("Std_Delete")
+
+def after_delete():
+    R["after_delete"] = [o.Name for o in FreeCAD.ActiveDocument.Objects]
     R["report"] = report_text()
 
 steps = [(activate, 500), (new_cam, 1000), (open_editor, 1500), (screenshot_editor, 200),
          (edit_and_ok, 1500), (after_ok, 200), (bad_open, 1500), (bad_program, 1500), (after_bad, 1000),
          (after_cancel, 1500), (select_cam, 1000), (screenshot_model, 200), (check_design, 2000),
          (check_dialog, 1000), (check_shot, 200), (plots, 3000), (plot_dialog, 1500), (plot_shot, 200),
-         (export_step, 3000), (after_export, 200)]
+         (export_step, 3000), (after_export, 200), (delete_cam, 1500), (after_delete, 200)]
 """
 
 
@@ -204,6 +219,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["check_dialog"] == 1 and r["check_rows"] > 15 and r["check_fail"] == []
     assert r["plot_dialog"] == 1
     assert r["file_dialog"] == "QFileDialog" and r["step_written"]
+    assert r.get("delete_modal") is None and r["after_delete"] == []  # children go with the cam
     report = r["report"]
     assert "PlateCam: motion program not applied: row 5, angle: spans sum to 355°" in report
     assert "Traceback" not in report and "Traceback" not in run.console

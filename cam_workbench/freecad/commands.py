@@ -33,8 +33,10 @@ def target_cam() -> Any:
     for obj in FreeCADGui.Selection.getSelection():
         if is_plate_cam(obj):
             return obj
-        if type(getattr(obj, "Proxy", None)).__name__ == REFERENCE_CLASS and obj.Cam is not None:
-            return obj.Cam
+        if type(getattr(obj, "Proxy", None)).__name__ == REFERENCE_CLASS:
+            cams = [o for o in obj.InList if is_plate_cam(o)]
+            if cams:
+                return cams[0]
     cams = plate_cams(FreeCAD.ActiveDocument)
     if len(cams) == 1:
         return cams[0]

@@ -58,6 +58,11 @@ def _ensure_bookkeeping(obj: Any) -> list[str]:
                         "Schema version of this feature (cam_workbench)", _PROP_READONLY)
         obj.Version = 0
         added.append("Version")
+    if _REFERENCES not in obj.PropertiesList:
+        obj.addProperty("App::PropertyLinkList", _REFERENCES, "Base",
+                        "Reference curves of this cam (pitch curve, base circle)")
+        obj.setEditorMode(_REFERENCES, 2)
+        added.append(_REFERENCES)
     for name, (ptype, doc) in RESULT_PROPERTIES.items():
         if name not in obj.PropertiesList:
             obj.addProperty(ptype, name, _RESULT_GROUP, doc, _PROP_READONLY | _PROP_OUTPUT)
@@ -122,6 +127,8 @@ class PlateCamFeature:
         shape.Placement = obj.Placement
         obj.Shape = shape
         self.design, self.scale = design, scale
+        for ref in references_of(obj):
+            update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
         obj.JunctionCount = int(design.pitch.M)
         obj.MaxDeviation = float(design.max_deviation[0]) * scale
@@ -134,17 +141,6 @@ class PlateCamFeature:
     def onDocumentRestored(self, obj: Any) -> None:
         self.design, self.scale = None, 1.0
         upgrade(obj)
-
-    def current_design(self, obj: Any) -> tuple[Any, float] | None:
-        """(design, scale) of the last good build, or a fresh one; None if the spec is bad."""
-        if getattr(self, "design", None) is not None:
-            return self.design, self.scale
-        try:
-            design, scale, _shape = build(obj, solid=False)
-        except CamError:
-            return None
-        self.design, self.scale = design, scale
-        return design, scale
 
     # Proxy state: nothing to save (everything is in properties).  FreeCAD 0.20 calls
     # __getstate__/__setstate__, FreeCAD 1.x dumps/loads.
@@ -190,43 +186,33 @@ REFERENCE_KINDS = {
     "pitch curve": "Pitch curve: the path of the follower point (exact PH quintic segments)",
     "base circle": "Base circle R_b: traced by the follower point at zero lift",
 }
+_REFERENCES = "References"
 
 
 class PlateCamReference:
-    """Proxy of a reference curve of a cam (pitch curve or base circle), a child of the cam."""
+    """Proxy of a reference curve of a cam (pitch curve or base circle).
 
-    def __init__(self, obj: Any, cam: Any, kind: str):
+    The cam links its reference curves (``PlateCam.References``) and sets their shapes in its
+    own ``execute``; their ``Shape`` and ``Placement`` have FreeCAD's *Output* status, so this
+    does not touch them (no recompute loop).  The link points from the cam to the curves, so
+    deleting the cam does not warn about them — its view provider deletes them with it."""
+
+    def __init__(self, obj: Any, kind: str):
         obj.Proxy = self
-        obj.addProperty("App::PropertyLink", "Cam", "Reference", "The plate cam this curve belongs to")
         obj.addProperty("App::PropertyEnumeration", "Kind", "Reference", "Which reference curve")
         obj.addProperty("App::PropertyInteger", "Version", "Base",
                         "Schema version of this feature (cam_workbench)", _PROP_READONLY)
         obj.Kind = list(REFERENCE_KINDS)
         obj.Kind = kind
-        obj.Cam = cam
         obj.Version = VERSION
-        obj.setEditorMode("Placement", 1)  # follows the cam
+        _output_status(obj)
 
     def execute(self, obj: Any) -> None:
-        from . import part_build
-
-        cam = obj.Cam
-        if cam is None or not hasattr(cam.Proxy, "current_design"):
-            return
-        got = cam.Proxy.current_design(cam)
-        if got is None:  # the cam reported its error; keep the last good curve
-            return
-        design, scale = got
-        if obj.Kind == "pitch curve":
-            wire = part_build.pitch_wire(design, scale)
-        else:
-            wire = part_build.base_circle_wire(design, scale)
-        wire.Placement = cam.Placement
-        obj.Shape = wire
+        return None  # the cam sets the shape (update_reference)
 
     def onDocumentRestored(self, obj: Any) -> None:
-        if "Version" in obj.PropertiesList:
-            obj.Version = VERSION
+        _output_status(obj)
+        obj.Version = VERSION
 
     def dumps(self) -> None:
         return None
@@ -240,9 +226,35 @@ class PlateCamReference:
         return None
 
 
+def _output_status(obj: Any) -> None:
+    for name in ("Shape", "Placement"):
+        if "Output" not in obj.getPropertyStatus(name):
+            obj.setPropertyStatus(name, "Output")
+    obj.setEditorMode("Placement", 1)  # follows the cam
+
+
+def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> None:
+    """Set a reference curve's shape from the cam's design (called by the cam's execute)."""
+    from . import part_build
+
+    if ref.Kind == "pitch curve":
+        wire = part_build.pitch_wire(design, scale)
+    else:
+        wire = part_build.base_circle_wire(design, scale)
+    wire.Placement = placement
+    ref.Shape = wire
+
+
 def references_of(cam: Any) -> list[Any]:
     """The reference-curve children of a cam."""
-    return [o for o in cam.InList if isinstance(getattr(o, "Proxy", None), PlateCamReference)]
+    links = getattr(cam, _REFERENCES, None) or []
+    return [o for o in links if isinstance(getattr(o, "Proxy", None), PlateCamReference)]
+
+
+def cam_of(ref: Any) -> Any:
+    """The cam a reference curve belongs to (None if it was deleted)."""
+    cams = [o for o in ref.InList if is_plate_cam(o)]
+    return cams[0] if cams else None
 
 
 def is_plate_cam(obj: Any) -> bool:
@@ -287,9 +299,10 @@ def create(doc: Any = None, spec: Any = None, name: str = "PlateCam", reference:
     if reference:
         for kind, label in (("pitch curve", "PitchCurve"), ("base circle", "BaseCircle")):
             ref = doc.addObject("Part::FeaturePython", f"{name}{label}")
-            PlateCamReference(ref, obj, kind)
+            PlateCamReference(ref, kind)
             ref.Label = f"{obj.Label} {kind}"
             refs.append(ref)
+        obj.References = refs
     if FreeCAD.GuiUp:
         from . import view_providers
 
