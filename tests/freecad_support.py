@@ -114,19 +114,30 @@ def run_freecad_gui(body: str, tmp: Path, home: Path, timeout: float = 600,
                     screen: str = "1400x900x24") -> FreeCADRun:
     """Run ``body`` inside the real FreeCAD GUI under Xvfb.  ``body`` defines ``steps``, a list
     of functions run one after another from Qt's event loop (``(function, delay_ms)`` pairs);
-    the application quits after the last one.  The console log goes to ``tmp/freecad.log``."""
+    a step raising ``NotYet`` (its widget has not appeared) is retried every 250 ms for up to
+    20 s; the application quits after the last one.  The console log goes to ``tmp/freecad.log``."""
     tmp.mkdir(parents=True, exist_ok=True)
     script, result = tmp / "gui_script.py", tmp / "gui_result.json"
     result.unlink(missing_ok=True)
     driver = f"""
 from PySide import QtCore, QtGui
 import FreeCAD, FreeCADGui
+
+class NotYet(Exception):
+    pass  # raised by a step whose widget has not appeared yet: the step is retried
+
 {textwrap.dedent(body)}
-def _camwb_run(i=0):
+def _camwb_run(i=0, tries=0):
     try:
         if i < len(steps):
             fn, delay = steps[i]
-            fn()
+            try:
+                fn()
+            except NotYet:
+                if tries < 80:  # up to 20 s for a slow machine
+                    QtCore.QTimer.singleShot(250, lambda: _camwb_run(i, tries + 1))
+                    return
+                raise
             QtCore.QTimer.singleShot(delay, lambda: _camwb_run(i + 1))
             return
         RESULT['_done'] = True

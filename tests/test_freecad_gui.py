@@ -42,11 +42,14 @@ def button(text):
         for b in box.buttons():
             if b.isVisible() and b.text().replace("&", "") == text:
                 return b
-    raise LookupError(text)
+    raise NotYet(text)
 
 def panel():
     vobj = FreeCADGui.ActiveDocument.getInEdit()
-    return vobj.Proxy.panel if vobj is not None else None
+    p = vobj.Proxy.panel if vobj is not None else None
+    if p is None or not p.form.isVisible():
+        raise NotYet("motion editor")
+    return p
 
 def activate():
     mw.resize(1400, 900)
@@ -70,6 +73,8 @@ def new_cam():
 
 def open_editor():
     FreeCADGui.runCommand("CamWorkbench_EditMotion")
+
+def editor_state():
     p = panel()
     R["editor_open"] = bool(FreeCADGui.Control.activeDialog()) and p is not None
     R["editor_rows"] = p.table.rowCount()
@@ -80,12 +85,13 @@ def screenshot_editor():
 
 def edit_and_ok():
     p = panel()
+    ok = button("OK")
     col = [f for f, _ in p.cols].index("lift")
     p.table.item(1, col).setText("15")
     p.table.item(3, col).setText("15")
     R["edited_status"] = p.status.text()
     state["undo_before"] = FreeCAD.ActiveDocument.UndoCount
-    button("OK").click()
+    ok.click()
 
 def after_ok():
     doc = FreeCAD.ActiveDocument
@@ -99,10 +105,11 @@ def bad_open():
 
 def bad_program():
     p = panel()
+    ok = button("OK")
     col = [f for f, _ in p.cols].index("angle")
     p.table.item(0, col).setText("25")
     R["bad_status"] = p.status.text()
-    button("OK").click()
+    ok.click()
 
 def after_bad():
     R["bad_still_open"] = bool(FreeCADGui.Control.activeDialog())
@@ -132,6 +139,8 @@ def check_design():
 
 def check_dialog():
     d = [w for w in QtGui.QApplication.topLevelWidgets() if w.isVisible() and w.windowTitle().startswith("Check design")]
+    if not d:
+        raise NotYet("check dialog")
     R["check_dialog"] = len(d)
     if d:
         t = d[0].findChild(QtGui.QTableWidget)
@@ -149,6 +158,8 @@ def plots():
 
 def plot_dialog():
     d = [w for w in QtGui.QApplication.topLevelWidgets() if w.isVisible() and w.windowTitle().startswith("Kinematics")]
+    if not d:
+        raise NotYet("plots")
     R["plot_dialog"] = len(d)
     if d:
         d[0].move(250, 0)
@@ -184,7 +195,7 @@ def after_delete():
     R["after_delete"] = [o.Name for o in FreeCAD.ActiveDocument.Objects]
     R["report"] = report_text()
 
-steps = [(activate, 500), (new_cam, 1000), (open_editor, 1500), (screenshot_editor, 200),
+steps = [(activate, 500), (new_cam, 1000), (open_editor, 500), (editor_state, 1000), (screenshot_editor, 200),
          (edit_and_ok, 1500), (after_ok, 200), (bad_open, 1500), (bad_program, 1500), (after_bad, 1000),
          (after_cancel, 1500), (select_cam, 1000), (screenshot_model, 200), (check_design, 2000),
          (check_dialog, 1000), (check_shot, 200), (plots, 3000), (plot_dialog, 1500), (plot_shot, 200),
