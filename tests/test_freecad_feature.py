@@ -609,3 +609,30 @@ def test_a_section_declared_later_becomes_properties_in_freecad(tmp_path, fc_hom
     assert r["off"] is False
     assert r["on_absent"] == {"gain": 2.5, "points": []}
     assert r["on"] == {"gain": 2.5, "clearance": 0.0, "points": [1.0, 2.0]}
+
+
+FIRST_BUILD_FAILS = """
+import FreeCAD
+from cam_workbench.freecad.feature import create
+doc = FreeCAD.newDocument("first")
+cam = create(doc, SPEC)
+doc.recompute()
+RESULT["status"] = cam.Status
+RESULT["null"] = cam.Shape.isNull()
+RESULT["objects"] = [o.Name for o in doc.Objects]
+"""
+
+
+def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
+    """A valid spec whose cam cannot be made (undercut) reports the cam angle and says there
+    is no shape yet; the document keeps the feature so the user can fix it."""
+    spec = copy.deepcopy(DEFAULT_SPEC_DICT)
+    spec["cam"]["bore_diameter"] = 0.0
+    spec["follower"]["roller_radius"] = 21.5
+    run = run_freecadcmd(f"SPEC = {spec!r}\n" + FIRST_BUILD_FAILS, tmp_path, fc_home).check()
+    r = run.result
+    assert r["status"].startswith("error: the cam cannot be made: undercut at cam angle")
+    assert r["null"] is True
+    assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
+    assert "PlateCam: the cam cannot be made: undercut at cam angle 114.00°" in run.console
+    assert "no shape yet." in run.console and "Traceback" not in run.console

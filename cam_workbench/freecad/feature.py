@@ -135,7 +135,8 @@ class PlateCamFeature:
         obj.CrossSectionArea = float(design.area) * scale * scale
 
     def _fail(self, obj: Any, text: str) -> None:
-        _console().PrintError(f"{obj.Label}: {text}. The last good shape is kept.\n")
+        kept = "no shape yet" if obj.Shape.isNull() else "The last good shape is kept"
+        _console().PrintError(f"{obj.Label}: {text}. {kept}.\n")
         obj.Status = f"error: {text}"
 
     def onDocumentRestored(self, obj: Any) -> None:
