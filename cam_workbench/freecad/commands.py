@@ -1,0 +1,242 @@
+"""The workbench's commands and its menu/toolbar layout.
+
+Importing this module is cheap (FreeCAD, FreeCADGui, os): every command imports what it
+needs (numpy, scipy, generators, matplotlib) only when it runs.  A new command is a
+:class:`Command` subclass registered in :data:`COMMANDS` and placed in :data:`LAYOUT`.
+"""
+from __future__ import annotations
+
+import os
+import traceback
+from typing import Any
+
+import FreeCAD
+import FreeCADGui
+
+ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
+PROXY_CLASS = "PlateCamFeature"
+REFERENCE_CLASS = "PlateCamReference"
+
+
+def is_plate_cam(obj: Any) -> bool:
+    """Cheap test (no import of the feature module)."""
+    return type(getattr(obj, "Proxy", None)).__name__ == PROXY_CLASS
+
+
+def plate_cams(doc: Any) -> list[Any]:
+    return [o for o in doc.Objects if is_plate_cam(o)] if doc is not None else []
+
+
+def target_cam() -> Any:
+    """The plate cam a command acts on: the selected one (or the cam of a selected reference
+    curve), else the only cam of the active document; None (with a message) otherwise."""
+    for obj in FreeCADGui.Selection.getSelection():
+        if is_plate_cam(obj):
+            return obj
+        if type(getattr(obj, "Proxy", None)).__name__ == REFERENCE_CLASS:
+            cams = [o for o in obj.InList if is_plate_cam(o)]
+            if cams:
+                return cams[0]
+    cams = plate_cams(FreeCAD.ActiveDocument)
+    if len(cams) == 1:
+        return cams[0]
+    FreeCAD.Console.PrintError("Select a plate cam first" + (" (the document has several)" if cams
+                                                              else " (the document has none)") + "\n")
+    return None
+
+
+class Command:
+    """Base: resources from class attributes; ``run()`` does the work; errors are reported
+    in the report view as one line (the traceback goes to the log only)."""
+
+    menu_text = ""
+    tooltip = ""
+    icon = "CamWorkbench.svg"
+    needs_cam = True
+
+    def GetResources(self) -> dict[str, str]:
+        return {"Pixmap": os.path.join(ICON_DIR, self.icon), "MenuText": self.menu_text,
+                "ToolTip": self.tooltip}
+
+    def IsActive(self) -> bool:
+        doc = FreeCAD.ActiveDocument
+        if not self.needs_cam:
+            return True
+        return doc is not None and any(is_plate_cam(o) for o in doc.Objects)
+
+    def Activated(self) -> None:
+        try:
+            self.run()
+        except Exception as exc:  # noqa: BLE001 - one clear line, not a traceback
+            FreeCAD.Console.PrintLog(traceback.format_exc())
+            FreeCAD.Console.PrintError(f"{self.menu_text}: {type(exc).__name__}: {exc}\n")
+
+    def run(self) -> None:
+        raise NotImplementedError
+
+
+class NewPlateCam(Command):
+    menu_text = "New plate cam"
+    tooltip = ("Add a parametric plate cam (the built-in default: the paper's Table 1 case 2 with "
+               "a 5 mm roller); edit its properties and its motion program")
+    icon = "PlateCam.svg"
+    needs_cam = False
+
+    def run(self) -> None:
+        doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
+        doc.openTransaction("New plate cam")
+        FreeCADGui.doCommand("from cam_workbench.freecad.feature import create")
+        FreeCADGui.doCommand(f"create(App.getDocument({doc.Name!r}))")
+        FreeCADGui.doCommand(f"App.getDocument({doc.Name!r}).recompute()")
+        doc.commitTransaction()
+        _fit_view()
+
+
+class NewPlateCamFromSpec(Command):
+    menu_text = "New plate cam from spec…"
+    tooltip = "Add a plate cam from a spec file (TOML, as the cam-workbench CLI reads)"
+    icon = "PlateCamFromSpec.svg"
+    needs_cam = False
+
+    def run(self) -> None:
+        from PySide import QtGui
+
+        name, _f = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Cam spec", "",
+                                                     "Cam spec (*.toml)")
+        if not name:
+            return
+        from generators.errors import SpecError
+
+        from generators.spec import load_spec
+
+        try:
+            load_spec(name)
+        except SpecError as exc:
+            FreeCAD.Console.PrintError(f"{name}: {exc}\n")
+            QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), "Cam spec", str(exc))
+            return
+        doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
+        doc.openTransaction("New plate cam")
+        FreeCADGui.doCommand("from cam_workbench.freecad.feature import create")
+        FreeCADGui.doCommand(f"create(App.getDocument({doc.Name!r}), {name!r})")
+        FreeCADGui.doCommand(f"App.getDocument({doc.Name!r}).recompute()")
+        doc.commitTransaction()
+        _fit_view()
+
+
+class EditMotion(Command):
+    menu_text = "Edit motion program"
+    tooltip = "Edit the cam's motion segments (dwell / rise / return) in a table; also a double-click on the cam"
+    icon = "EditMotion.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .motion_editor import open_editor
+
+            open_editor(cam)
+
+
+class CheckDesign(Command):
+    menu_text = "Check design"
+    tooltip = ("Design checks of the cam: undercut, self-intersection, bore, pitch-curve deviation, "
+               "pressure angle, curvature, kinematics maxima, FreeCAD's solid check")
+    icon = "CheckDesign.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .check_design import show_report
+
+            show_report(cam)
+
+
+class ShowPlots(Command):
+    menu_text = "Show kinematics plots"
+    tooltip = ("Plot displacement, velocity, acceleration, jerk and pressure angle against cam angle, "
+               "and the displacement error of the built pitch curve")
+    icon = "Plots.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .plots import show_plots
+
+            show_plots(cam)
+
+
+class ExportStep(Command):
+    menu_text = "Export STEP…"
+    tooltip = "Write the cam solid as a STEP file (FreeCAD's own exporter, millimetres)"
+    icon = "ExportStep.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .step_export import export_step_dialog
+
+            export_step_dialog(cam)
+
+
+class ExportSpec(Command):
+    menu_text = "Export spec (TOML)…"
+    tooltip = "Write the cam's spec as TOML, for the cam-workbench command line and the Python API"
+    icon = "ExportSpec.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is None:
+            return
+        from PySide import QtGui
+
+        from generators.errors import SpecError
+
+        from .properties import describe_field
+        from .spec_io import export_spec
+
+        name, _f = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export spec",
+                                                     f"{cam.Label}.toml", "Cam spec (*.toml)")
+        if not name:
+            return
+        try:
+            out = export_spec(cam, name)
+        except SpecError as exc:
+            FreeCAD.Console.PrintError(f"{cam.Label}: spec not written: "
+                                       f"{describe_field(exc.field)}: {exc.rule}\n")
+            return
+        FreeCAD.Console.PrintMessage(f"{cam.Label}: spec written to {out}\n")
+
+
+#: Command name → command class, in menu order.
+COMMANDS: dict[str, type[Command]] = {
+    "CamWorkbench_NewPlateCam": NewPlateCam,
+    "CamWorkbench_NewPlateCamFromSpec": NewPlateCamFromSpec,
+    "CamWorkbench_EditMotion": EditMotion,
+    "CamWorkbench_CheckDesign": CheckDesign,
+    "CamWorkbench_ShowPlots": ShowPlots,
+    "CamWorkbench_ExportStep": ExportStep,
+    "CamWorkbench_ExportSpec": ExportSpec,
+}
+#: Menu layout ("Separator" between groups): create, edit, check, export.
+LAYOUT = ["CamWorkbench_NewPlateCam", "CamWorkbench_NewPlateCamFromSpec", "Separator",
+          "CamWorkbench_EditMotion", "Separator",
+          "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
+          "CamWorkbench_ExportStep", "CamWorkbench_ExportSpec"]
+#: Toolbar: the everyday commands.
+TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_CheckDesign",
+           "CamWorkbench_ShowPlots", "CamWorkbench_ExportStep"]
+
+
+def register() -> None:
+    """Register every command with FreeCAD (idempotent)."""
+    known = set(FreeCADGui.listCommands())
+    for name, cls in COMMANDS.items():
+        if name not in known:
+            FreeCADGui.addCommand(name, cls())
+
+
+def _fit_view() -> None:
+    gdoc = FreeCADGui.ActiveDocument
+    if gdoc is not None and gdoc.ActiveView is not None and hasattr(gdoc.ActiveView, "viewIsometric"):
+        gdoc.ActiveView.viewIsometric()
+        gdoc.ActiveView.fitAll()

@@ -1,0 +1,46 @@
+# cam_workbench: FreeCAD runs this file at GUI start-up.  It defines the workbench without
+# importing the package (start-up stays cheap); commands load when the workbench is first
+# activated.  FreeCAD executes this file with exec(), so names defined here are not visible
+# inside the class: everything the methods need is imported in them.
+import importlib.util
+import os
+
+import FreeCAD
+import FreeCADGui
+
+
+class CamWorkbench(FreeCADGui.Workbench):
+    """Exact plate cams: PH quintic pitch curves, rational offset profiles, design checks."""
+
+    MenuText = "Plate Cam"
+    ToolTip = ("Exact plate cams: C² PH quintic pitch curves, exact rational (NURBS) profiles, "
+               "design checks, STEP export")
+    Icon = ""
+
+    def Initialize(self):
+        from cam_workbench.freecad import commands
+
+        commands.register()
+        self.appendToolbar("Plate cam", commands.TOOLBAR)
+        self.appendMenu("Plate cam", commands.LAYOUT)
+
+    def Activated(self):
+        return None
+
+    def Deactivated(self):
+        return None
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+_cam_spec = importlib.util.find_spec("cam_workbench")  # finds the package without importing it
+if _cam_spec is None or not _cam_spec.submodule_search_locations:
+    FreeCAD.Console.PrintError(
+        "Plate Cam workbench: the cam_workbench package is not on FreeCAD's Python path "
+        "(was the checkout moved or the package uninstalled?). Run `cam-workbench freecad install` "
+        "again.\n")
+else:
+    CamWorkbench.Icon = os.path.join(list(_cam_spec.submodule_search_locations)[0], "freecad",
+                                     "icons", "CamWorkbench.svg")
+    FreeCADGui.addWorkbench(CamWorkbench())

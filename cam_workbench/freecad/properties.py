@@ -1,0 +1,505 @@
+"""Spec fields ↔ FreeCAD properties, generated from the one spec declaration.
+
+Every declared spec field (``generators.params.params_of`` over ``generators.spec.SECTIONS``)
+becomes one property of the feature; its type, group, tooltip, unit and bounds come from
+the field's :class:`~generators.params.Param`, nothing is written twice.  A field added to
+the spec later appears on new features and is added to old ones when they are restored.
+
+Naming: ``cam.base_radius`` → ``CamBaseRadius``; top-level ``units`` → ``Units``; a field of
+an array-of-tables section (``motion[i].lift``) is one list property per field
+(``MotionLift``), one entry per row ("parallel lists").
+
+Units: lengths are FreeCAD quantities (stored in mm, FreeCAD's internal unit; list
+properties hold plain numbers in mm).  The spec's ``units`` only chooses the unit of the
+spec that is handed to ``generators`` (and of reports and exports): switching ``Units``
+never changes the geometry.  Angles are degrees.  Other unit kinds (speed, force, …) have
+no FreeCAD quantity here and are plain numbers in the spec's units (tooltip says which).
+
+Absent optional values (``None``): a number whose bounds exclude 0 stores 0, a string
+stores "", a list of numbers stores nothing; any other optional field gets a companion
+boolean ``<Property>Enabled``.  An optional section with required fields gets a boolean
+``<Section>Enabled``.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any, Iterator
+
+from generators.errors import SpecError
+from generators.params import REQUIRED, Param, params_of, unit_name
+from generators.spec import SECTIONS, CamSpec, default_spec
+
+MM_PER_INCH = 25.4
+#: Property type of a non-list field by value kind (float fields are refined by unit).
+_LIST_TYPES = {"float": "App::PropertyFloatList", "int": "App::PropertyIntegerList",
+               "str": "App::PropertyStringList", "bool": "App::PropertyBoolList",
+               "floats": "App::PropertyStringList"}
+_INT_MAX = 2**31 - 1
+_FLOAT_MAX = 1e300
+#: Marks a field that is not optional (so it needs no "absent" representation).
+_NOT_OPTIONAL = object()
+
+
+def camel(name: str) -> str:
+    """``base_radius`` → ``BaseRadius``."""
+    return "".join(part[:1].upper() + part[1:] for part in name.split("_"))
+
+
+def _is_optional(p: Param) -> bool:
+    return p.optional or (p.default is None)
+
+
+def _nonnegative(p: Param) -> bool:
+    return (p.ge is not None and p.ge >= 0) or (p.gt is not None and p.gt >= 0)
+
+
+def _absent_value(p: Param, is_list: bool) -> Any:
+    """The stored value meaning "absent" (None) for an optional field, None when the field
+    needs a companion flag, or ``_NOT_OPTIONAL``."""
+    if not _is_optional(p):
+        return _NOT_OPTIONAL
+    if p.kind in ("float", "int"):
+        zero_invalid = (p.gt is not None and p.gt >= 0) or (p.ge is not None and p.ge > 0)
+        return (0.0 if p.kind == "float" else 0) if zero_invalid else None
+    if p.kind == "str":
+        return "" if not (p.choices and "" in p.choices) else None
+    if p.kind == "floats":
+        return "" if is_list else ()
+    return None
+
+
+@dataclass(frozen=True)
+class FieldProperty:
+    """One spec field and the FreeCAD property that holds it."""
+
+    section: str          # "" for top-level fields of CamSpec
+    field: str
+    param: Param
+    is_list: bool         # a field of an array-of-tables section: one list entry per row
+    name: str             # property name
+    group: str            # property group
+    type: str             # FreeCAD property type
+    absent: Any           # stored value meaning None, None if a flag is needed, or _NOT_OPTIONAL
+
+    @property
+    def path(self) -> str:
+        """Spec path, e.g. ``cam.base_radius`` or ``motion[].lift``."""
+        if not self.section:
+            return self.field
+        return f"{self.section}[].{self.field}" if self.is_list else f"{self.section}.{self.field}"
+
+    @property
+    def flag(self) -> str | None:
+        """Companion boolean (list) property marking the value as given, if one is needed."""
+        return f"{self.name}Enabled" if self.absent is None else None
+
+    @property
+    def is_length(self) -> bool:
+        return self.param.unit == "length" and self.param.kind in ("float", "floats")
+
+    def tooltip(self) -> str:
+        p = self.param
+        mm, inch = unit_name(p.unit, "mm"), unit_name(p.unit, "in")
+        if self.is_length:
+            unit = "length (stored in mm; converted to the spec's Units)"
+        elif mm != inch:
+            unit = f"{mm} for mm specs, {inch} for inch specs"
+        else:
+            unit = mm
+        parts = [p.doc + "."]
+        facts = [f"spec field {self.path}"]
+        if unit:
+            facts.append(f"unit: {unit}")
+        if p.rule_text():
+            facts.append(f"rule: {p.rule_text()}")
+        if self.absent is not _NOT_OPTIONAL and self.absent is not None:
+            facts.append(f"{_absent_text(self.absent)} = not given")
+        if self.is_list:
+            facts.append("one entry per row; edit with the motion editor")
+        parts.append("(" + "; ".join(facts) + ")")
+        return " ".join(parts)
+
+
+def _absent_text(v: Any) -> str:
+    return '""' if v == "" else "empty" if v == () else str(v)
+
+
+def _scalar_type(p: Param) -> str:
+    if p.kind == "float":
+        if p.unit == "length":
+            return "App::PropertyLength" if _nonnegative(p) else "App::PropertyDistance"
+        if p.unit == "angle":
+            return "App::PropertyAngle"
+        if any(b is not None for b in (p.gt, p.ge, p.lt, p.le)):
+            return "App::PropertyFloatConstraint"
+        return "App::PropertyFloat"
+    if p.kind == "int":
+        return "App::PropertyIntegerConstraint"
+    if p.kind == "str":
+        return "App::PropertyEnumeration" if p.choices else "App::PropertyString"
+    if p.kind == "bool":
+        return "App::PropertyBool"
+    if p.kind == "floats":
+        return "App::PropertyFloatList"
+    raise TypeError(f"no FreeCAD property type for spec kind {p.kind!r}")
+
+
+def field_properties() -> list[FieldProperty]:
+    """Every spec field with its property, in declaration order (top level first)."""
+    out = []
+    for name, p in params_of(CamSpec).items():
+        out.append(FieldProperty("", name, p, False, camel(name), p.group or "Cam",
+                                 _scalar_type(p), _absent_value(p, False)))
+    for section, (cls, is_list, _required) in SECTIONS.items():
+        for name, p in params_of(cls).items():
+            ptype = _LIST_TYPES[p.kind] if is_list else _scalar_type(p)
+            out.append(FieldProperty(section, name, p, is_list, camel(section) + camel(name),
+                                     p.group or camel(section), ptype, _absent_value(p, is_list)))
+    names = [f.name for f in out]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise RuntimeError(f"spec fields map to the same FreeCAD property: {sorted(dup)}")
+    return out
+
+
+def section_flag(section: str) -> str | None:
+    """``<Section>Enabled`` for an optional section with required fields, else None."""
+    cls, is_list, required = SECTIONS[section]
+    if required or is_list:
+        return None
+    if any(p.default is REQUIRED for p in params_of(cls).values()):
+        return camel(section) + "Enabled"
+    return None
+
+
+def list_sections() -> list[str]:
+    return [s for s, (_c, is_list, _r) in SECTIONS.items() if is_list]
+
+
+def properties_of_section(section: str) -> list[FieldProperty]:
+    return [f for f in field_properties() if f.section == section]
+
+
+# ---- adding properties -----------------------------------------------------------------
+def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[str]:
+    """Add every spec property (and flag) that ``obj`` lacks; return the names added.
+
+    Args:
+        initial: spec dict giving the values of a new feature (e.g. ``default_spec().to_dict()``).
+            None when upgrading an old feature: a field the old file did not have takes the
+            value the spec gives an absent field (its declared default), so the cam is unchanged.
+    """
+    added: list[str] = []
+    existing = set(obj.PropertiesList)
+    rows_now = {s: _current_rows(obj, s) for s in list_sections()}
+    for fp in field_properties():
+        if fp.name not in existing:
+            obj.addProperty(fp.type, fp.name, fp.group, fp.tooltip())
+            added.append(fp.name)
+            if fp.is_list:
+                n = rows_now[fp.section]
+                rows = _initial_rows(fp.section, initial, n)
+                _set_list(obj, fp, [r.get(fp.field) for r in rows], _scale_of(initial))
+                obj.setEditorMode(fp.name, 1)  # read-only in the editor: use the motion editor
+            else:
+                _init_scalar(obj, fp, _initial_value(fp, initial), _scale_of(initial))
+        if fp.flag and fp.flag not in existing:
+            ptype = "App::PropertyBoolList" if fp.is_list else "App::PropertyBool"
+            obj.addProperty(ptype, fp.flag, fp.group, f"{fp.name} is given (else the spec leaves "
+                                                        f"{fp.path} out)")
+            added.append(fp.flag)
+            if fp.is_list:
+                obj.setEditorMode(fp.flag, 1)
+                rows = _initial_rows(fp.section, initial, rows_now[fp.section])
+                setattr(obj, fp.flag, [r.get(fp.field) is not None for r in rows])
+            else:
+                setattr(obj, fp.flag, _initial_value(fp, initial) is not None)
+    for section in SECTIONS:
+        flag = section_flag(section)
+        if flag and flag not in existing:
+            obj.addProperty("App::PropertyBool", flag, camel(section),
+                            f"Include the [{section}] section in the spec")
+            setattr(obj, flag, bool(initial and section in initial))
+            added.append(flag)
+    return added
+
+
+def _scale_of(data: dict[str, Any] | None) -> float:
+    return MM_PER_INCH if data and data.get("units") == "in" else 1.0
+
+
+def _current_rows(obj: Any, section: str) -> int | None:
+    for fp in properties_of_section(section):
+        if fp.name in obj.PropertiesList:
+            return len(getattr(obj, fp.name))
+    return None
+
+
+def _initial_rows(section: str, initial: dict[str, Any] | None, n_now: int | None) -> list[dict]:
+    if n_now is not None:  # the section exists: a new field gets its default on every row
+        return [{} for _ in range(n_now)]
+    data = initial if initial is not None else default_spec().to_dict()
+    return [dict(r) for r in data.get(section, [])]
+
+
+def _initial_value(fp: FieldProperty, initial: dict[str, Any] | None) -> Any:
+    if initial is not None:
+        table = initial if not fp.section else initial.get(fp.section, {})
+        if fp.field in table:
+            return table[fp.field]
+    p = fp.param
+    if p.default is REQUIRED:
+        if initial is None and fp.section and fp.section in default_spec().to_dict():
+            # a required field new to an old file: there is no value that keeps the cam as it
+            # was; take the default spec's so the document still builds
+            return default_spec().to_dict()[fp.section].get(fp.field)
+        return None
+    return p.default
+
+
+def _init_scalar(obj: Any, fp: FieldProperty, value: Any, scale: float) -> None:
+    p = fp.param
+    if fp.type == "App::PropertyEnumeration":
+        choices = list(p.choices or ())
+        if fp.absent == "":
+            choices = [""] + choices
+        setattr(obj, fp.name, choices)
+    elif fp.type == "App::PropertyIntegerConstraint":
+        lo = 0 if fp.absent == 0 else int(p.ge if p.ge is not None else
+                                          (p.gt + 1 if p.gt is not None else -_INT_MAX))
+        hi = int(p.le if p.le is not None else (p.lt - 1 if p.lt is not None else _INT_MAX))
+        v = _stored_scalar(fp, value, scale)
+        setattr(obj, fp.name, (int(min(max(v, lo), hi)), lo, hi, 1))
+        return
+    elif fp.type == "App::PropertyFloatConstraint":
+        lo = 0.0 if fp.absent == 0 else float(p.ge if p.ge is not None else
+                                              (p.gt if p.gt is not None else -_FLOAT_MAX))
+        hi = float(p.le if p.le is not None else (p.lt if p.lt is not None else _FLOAT_MAX))
+        v = _stored_scalar(fp, value, scale)
+        setattr(obj, fp.name, (float(min(max(v, lo), hi)), lo, hi, 1.0))
+        return
+    setattr(obj, fp.name, _stored_scalar(fp, value, scale))
+
+
+# ---- spec values ↔ stored values -----------------------------------------------------------
+def _zero(fp: FieldProperty) -> Any:
+    k = fp.param.kind
+    if k == "str":
+        return fp.param.choices[0] if fp.param.choices else ""
+    return {"float": 0.0, "int": 0, "bool": False, "floats": ()}[k]
+
+
+def _stored_scalar(fp: FieldProperty, value: Any, scale: float) -> Any:
+    if value is None:
+        return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
+    if fp.is_length:
+        if fp.param.kind == "floats":
+            return [float(v) * scale for v in value]
+        return float(value) * scale
+    if fp.param.kind == "floats":
+        return [float(v) for v in value]
+    return value
+
+
+def _stored_item(fp: FieldProperty, value: Any, scale: float) -> Any:
+    if value is None:
+        return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
+    k = fp.param.kind
+    if k == "floats":
+        f = scale if fp.is_length else 1.0
+        return ", ".join(repr(float(v) * f) for v in value)
+    if k == "float":
+        return float(value) * (scale if fp.is_length else 1.0)
+    return value
+
+
+def _set_list(obj: Any, fp: FieldProperty, values: list[Any], scale: float) -> None:
+    setattr(obj, fp.name, [_stored_item(fp, v, scale) for v in values])
+
+
+def _from_mm(v: float, scale: float) -> float:
+    """A stored millimetre value in spec units.  For inches the division by 25.4 is rounded
+    to 15 significant digits so that typed decimals come back exactly (x·25.4/25.4 can be
+    off by one ulp); the change is below 1e-15 relative."""
+    return v if scale == 1.0 else float(f"{v / scale:.15g}")
+
+
+def _read_scalar(obj: Any, fp: FieldProperty, scale: float) -> Any:
+    raw = getattr(obj, fp.name)
+    if fp.flag and not getattr(obj, fp.flag):
+        return None
+    if hasattr(raw, "Value"):  # a FreeCAD Quantity (length, angle)
+        raw = float(raw.Value)
+    if fp.param.kind == "floats":
+        raw = tuple(float(v) for v in raw)
+    if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
+        return None
+    if fp.is_length:
+        return tuple(_from_mm(v, scale) for v in raw) if fp.param.kind == "floats" else _from_mm(raw, scale)
+    return raw
+
+
+def _read_item(fp: FieldProperty, raw: Any, given: bool, scale: float, path: str) -> Any:
+    if not given:
+        return None
+    if fp.param.kind == "floats":
+        text = str(raw).strip()
+        if not text:
+            return None if fp.absent == "" else ()
+        try:
+            vals = tuple(float(t) for t in text.split(","))
+        except ValueError:
+            raise SpecError(path, f"must be numbers separated by commas, got {text!r}") from None
+        return tuple(_from_mm(v, scale) for v in vals) if fp.is_length else vals
+    if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
+        return None
+    if fp.param.kind == "float":
+        raw = float(raw)
+        return _from_mm(raw, scale) if fp.is_length else raw
+    return raw
+
+
+def read_rows(obj: Any, section: str, scale: float | None = None) -> list[dict[str, Any]]:
+    """The rows of an array-of-tables section as spec dicts (values in the spec's units,
+    absent optional values left out).
+
+    Raises:
+        SpecError: the parallel lists have different lengths.
+    """
+    if scale is None:
+        scale = units_scale(obj)
+    fps = properties_of_section(section)
+    lengths = {fp.name: len(getattr(obj, fp.name)) for fp in fps}
+    lengths.update({fp.flag: len(getattr(obj, fp.flag)) for fp in fps if fp.flag})
+    n = lengths[fps[0].name]
+    for name, m in lengths.items():
+        if m != n:
+            raise SpecError(section, f"the {camel(section)} lists disagree: {name} has {m} entries, "
+                                     f"{fps[0].name} has {n}")
+    rows: list[dict[str, Any]] = [{} for _ in range(n)]
+    for fp in fps:
+        values = list(getattr(obj, fp.name))
+        given = list(getattr(obj, fp.flag)) if fp.flag else [True] * n
+        for i in range(n):
+            v = _read_item(fp, values[i], given[i], scale, f"{section}[{i}].{fp.field}")
+            if v is not None:
+                rows[i][fp.field] = v
+    return rows
+
+
+def write_rows(obj: Any, section: str, rows: list[dict[str, Any]], scale: float | None = None) -> None:
+    """Store the rows of an array-of-tables section (spec dicts, values in spec units)."""
+    if scale is None:
+        scale = units_scale(obj)
+    for fp in properties_of_section(section):
+        _set_list(obj, fp, [r.get(fp.field) for r in rows], scale)
+        if fp.flag:
+            setattr(obj, fp.flag, [r.get(fp.field) is not None for r in rows])
+
+
+def units_scale(obj: Any) -> float:
+    """mm per spec length unit for the feature's current ``Units``."""
+    return MM_PER_INCH if getattr(obj, "Units", "mm") == "in" else 1.0
+
+
+def spec_dict(obj: Any) -> dict[str, Any]:
+    """The spec held by the feature's properties, as the TOML structure (not yet validated)."""
+    scale = units_scale(obj)
+    data: dict[str, Any] = {}
+    for fp in field_properties():
+        if fp.section == "":
+            v = _read_scalar(obj, fp, scale)
+            if v is not None:
+                data[fp.field] = v
+    for section, (_cls, is_list, _required) in SECTIONS.items():
+        flag = section_flag(section)
+        if flag and not getattr(obj, flag):
+            continue
+        if is_list:
+            data[section] = read_rows(obj, section, scale)
+            continue
+        table = {}
+        for fp in properties_of_section(section):
+            v = _read_scalar(obj, fp, scale)
+            if v is not None:
+                table[fp.field] = v
+        data[section] = table
+    return data
+
+
+def spec_of(obj: Any) -> CamSpec:
+    """The validated spec of the feature.
+
+    Raises:
+        SpecError: a property breaks a rule (the field is the spec path).
+    """
+    return CamSpec.from_dict(spec_dict(obj))
+
+
+def write_spec(obj: Any, spec: CamSpec | dict[str, Any]) -> None:
+    """Set every spec property of ``obj`` from a spec (or its dict)."""
+    data = spec.to_dict() if isinstance(spec, CamSpec) else spec
+    scale = _scale_of(data)
+    by_section: dict[str, list[FieldProperty]] = {}
+    for fp in field_properties():
+        by_section.setdefault(fp.section, []).append(fp)
+    for fp in by_section.pop(""):
+        _write_scalar(obj, fp, data.get(fp.field), scale)
+    for section, fps in by_section.items():
+        flag = section_flag(section)
+        if flag:
+            setattr(obj, flag, section in data)
+        if SECTIONS[section][1]:
+            write_rows(obj, section, list(data.get(section, [])), scale)
+            continue
+        table = data.get(section, {})
+        for fp in fps:
+            value = table.get(fp.field)
+            if value is None and not _is_optional(fp.param) and fp.param.default is not REQUIRED:
+                value = fp.param.default
+            _write_scalar(obj, fp, value, scale)
+
+
+def _write_scalar(obj: Any, fp: FieldProperty, value: Any, scale: float) -> None:
+    if fp.flag:
+        setattr(obj, fp.flag, value is not None)
+    stored = _stored_scalar(fp, value, scale)
+    setattr(obj, fp.name, stored)
+
+
+# ---- messages ------------------------------------------------------------------------------
+_PATH = re.compile(r"^(\w+)(?:\[(\d*)\])?(?:\.(\w+))?$")
+
+
+def describe_field(path: str) -> str:
+    """A spec path as the user sees it in FreeCAD: ``motion[3].angle`` →
+    ``MotionAngle[3] (motion[3].angle)``; unknown paths are returned unchanged."""
+    m = _PATH.match(path)
+    if not m:
+        return path
+    head, index, field = m.group(1), m.group(2), m.group(3)
+    for fp in field_properties():
+        if (fp.section == "" and field is None and fp.field == head) or \
+                (fp.section == head and fp.field == field):
+            suffix = f"[{index}]" if index else ""
+            return f"{fp.name}{suffix} ({path})"
+    if head in SECTIONS and field is None:
+        return f"{camel(head)} ({path})"
+    return path
+
+
+def iter_property_names() -> Iterator[str]:
+    """Every property (and flag) name this module manages."""
+    for fp in field_properties():
+        yield fp.name
+        if fp.flag:
+            yield fp.flag
+    for section in SECTIONS:
+        if section_flag(section):
+            yield section_flag(section)  # type: ignore[misc]
+
+
+__all__ = ["FieldProperty", "MM_PER_INCH", "camel", "describe_field", "ensure_properties",
+           "field_properties", "iter_property_names", "read_rows", "spec_dict", "spec_of",
+           "units_scale", "write_rows", "write_spec"]

@@ -1,0 +1,54 @@
+"""The feature's spec as a TOML file (for the ``cam-workbench`` CLI and the Python API)."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from exporters.atomic import write_text_atomic
+from generators.errors import SpecError
+from generators.spec import to_toml
+
+from . import properties as props
+
+
+def export_spec(obj: Any, path: str | os.PathLike[str]) -> Path:
+    """Write the feature's (validated) spec as TOML, atomically.
+
+    Raises:
+        SpecError: a property breaks a rule (nothing is written).
+    """
+    return write_text_atomic(path, to_toml(props.spec_of(obj)))
+
+
+# ---- FreeCAD import hooks (registered by Init.py: File > Open / Import of a *.toml spec) ----
+def open(filename: str) -> Any:  # noqa: A001 - FreeCAD's importer protocol
+    """Open a spec file as a new document holding one plate cam (no document on a bad spec)."""
+    import FreeCAD
+
+    from generators.spec import load_spec
+
+    try:
+        load_spec(filename)
+    except SpecError as exc:
+        FreeCAD.Console.PrintError(f"{filename}: {exc}\n")
+        return None
+    name = "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "PlateCam"
+    doc = FreeCAD.newDocument(name)
+    return insert(filename, doc.Name)
+
+
+def insert(filename: str, docname: str) -> Any:
+    """Add a plate cam built from a spec file to the document ``docname``."""
+    import FreeCAD
+
+    from .feature import create
+
+    doc = FreeCAD.getDocument(docname)
+    try:
+        obj = create(doc, Path(filename))
+    except SpecError as exc:
+        FreeCAD.Console.PrintError(f"{filename}: {exc}\n")
+        return None
+    doc.recompute()
+    return obj

@@ -1,0 +1,160 @@
+"""Driving the real FreeCAD from pytest: ``freecadcmd`` (headless) and the GUI under Xvfb.
+
+Each run gets its own HOME, so FreeCAD's user settings and Mod folder are those of the
+test, never the developer's.  The workbench is installed into that HOME by the real
+``cam-workbench freecad install`` (fixture ``fc_home``): FreeCAD (Debian's 0.20.2 with its
+security patch, and newer) only lets a document restore proxies from modules of FreeCAD
+or of installed addons, so a checkout merely put on ``sys.path`` would not reopen files.  A script reports back by filling the dict ``RESULT``, which
+is written as JSON when it ends (also when it raises: ``RESULT["_traceback"]``).  The
+console output (FreeCAD's report view in headless mode) is captured for assertions.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from .conftest import ROOT
+
+FREECADCMD = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+FREECAD_GUI = shutil.which("freecad") or shutil.which("FreeCAD")
+XVFB_RUN = shutil.which("xvfb-run")
+
+requires_freecadcmd = pytest.mark.skipif(
+    FREECADCMD is None, reason="freecadcmd is not installed (Debian package freecad-python3)")
+requires_freecad_gui = pytest.mark.skipif(
+    FREECAD_GUI is None or XVFB_RUN is None,
+    reason="the FreeCAD GUI under Xvfb needs the Debian packages freecad and xvfb")
+
+
+@dataclass
+class FreeCADRun:
+    result: dict[str, Any]
+    stdout: str
+    stderr: str
+    returncode: int
+
+    @property
+    def console(self) -> str:
+        return self.stdout + self.stderr
+
+    def check(self) -> "FreeCADRun":
+        assert "_traceback" not in self.result, self.result["_traceback"] + "\n" + self.console[-3000:]
+        assert self.result.get("_done"), f"script did not finish:\n{self.console[-3000:]}"
+        return self
+
+
+_PRELUDE = """\
+import json, sys, traceback
+RESULT = {{}}
+def _camwb_write():
+    with open({result!r}, "w") as f:
+        json.dump(RESULT, f, indent=1, default=str)
+"""
+
+
+def _wrap(body: str, result: Path, add_root: bool) -> str:
+    prelude = _PRELUDE.format(result=str(result))
+    if add_root:
+        prelude += f"sys.path.insert(0, {str(ROOT)!r})\n"
+    return (prelude + "try:\n" + textwrap.indent(textwrap.dedent(body), "    ") +
+            "\n    RESULT['_done'] = True\nexcept BaseException:\n"
+            "    RESULT['_traceback'] = traceback.format_exc()\n_camwb_write()\n")
+
+
+def fc_env(home: Path) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("XDG_", "PYTHON", "VIRTUAL_ENV"))}
+    env["HOME"] = str(home)
+    env["QTWEBENGINE_DISABLE_SANDBOX"] = "1"  # the Start page's web view refuses root otherwise
+    return env
+
+
+def install_workbench(home: Path, *extra: str) -> subprocess.CompletedProcess:
+    """``cam-workbench freecad install`` for a user whose HOME is ``home`` (asks freecadcmd)."""
+    home.mkdir(parents=True, exist_ok=True)
+    return subprocess.run([sys.executable, "-m", "cam_workbench.cli", "freecad", "install", *extra],
+                          capture_output=True, text=True, env=fc_env(home), cwd=ROOT, timeout=600,
+                          stdin=subprocess.DEVNULL)
+
+
+@pytest.fixture(scope="session")
+def fc_home(tmp_path_factory) -> Path:
+    """A HOME whose FreeCAD has the workbench installed (shared by the FreeCAD tests)."""
+    if FREECADCMD is None:
+        pytest.skip("freecadcmd is not installed (Debian package freecad-python3)")
+    home = tmp_path_factory.mktemp("freecad_home")
+    res = install_workbench(home, "--no-verify")
+    assert res.returncode == 0, res.stdout + res.stderr
+    return home
+
+
+def run_freecadcmd(body: str, tmp: Path, home: Path, add_root: bool = False,
+                   timeout: float = 600) -> FreeCADRun:
+    """Run ``body`` (Python) in a fresh ``freecadcmd`` as the user ``home``; ``add_root`` puts
+    this checkout on sys.path too (for a FreeCAD without the workbench installed)."""
+    tmp.mkdir(parents=True, exist_ok=True)
+    script, result = tmp / "fc_script.py", tmp / "fc_result.json"
+    result.unlink(missing_ok=True)
+    script.write_text(_wrap(body, result, add_root), encoding="utf-8")
+    proc = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=timeout,
+                          env=fc_env(home), cwd=tmp, stdin=subprocess.DEVNULL)
+    data = json.loads(result.read_text()) if result.exists() else {}
+    return FreeCADRun(data, proc.stdout, proc.stderr, proc.returncode)
+
+
+def run_freecad_gui(body: str, tmp: Path, home: Path, timeout: float = 600,
+                    screen: str = "1400x900x24") -> FreeCADRun:
+    """Run ``body`` inside the real FreeCAD GUI under Xvfb.  ``body`` defines ``steps``, a list
+    of functions run one after another from Qt's event loop (``(function, delay_ms)`` pairs);
+    a step raising ``NotYet`` (its widget has not appeared) is retried every 250 ms for up to
+    20 s; the application quits after the last one.  The console log goes to ``tmp/freecad.log``."""
+    tmp.mkdir(parents=True, exist_ok=True)
+    script, result = tmp / "gui_script.py", tmp / "gui_result.json"
+    result.unlink(missing_ok=True)
+    driver = f"""
+from PySide import QtCore, QtGui
+import FreeCAD, FreeCADGui
+
+class NotYet(Exception):
+    pass  # raised by a step whose widget has not appeared yet: the step is retried
+
+{textwrap.dedent(body)}
+def _camwb_run(i=0, tries=0):
+    try:
+        if i < len(steps):
+            fn, delay = steps[i]
+            try:
+                fn()
+            except NotYet:
+                if tries < 80:  # up to 20 s for a slow machine
+                    QtCore.QTimer.singleShot(250, lambda: _camwb_run(i, tries + 1))
+                    return
+                raise
+            QtCore.QTimer.singleShot(delay, lambda: _camwb_run(i + 1))
+            return
+        RESULT['_done'] = True
+    except BaseException:
+        RESULT['_traceback'] = traceback.format_exc()
+    _camwb_write()
+    try:
+        FreeCADGui.Control.closeDialog()
+        for _d in list(FreeCAD.listDocuments()):
+            FreeCAD.closeDocument(_d)
+    finally:
+        QtGui.QApplication.instance().quit()
+QtCore.QTimer.singleShot(1000, _camwb_run)
+"""
+    script.write_text(_PRELUDE.format(result=str(result)) + driver, encoding="utf-8")
+    cmd = [XVFB_RUN, "-a", "-s", f"-screen 0 {screen}", FREECAD_GUI, str(script)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=fc_env(home),
+                          cwd=tmp, stdin=subprocess.DEVNULL)
+    data = json.loads(result.read_text()) if result.exists() else {}
+    return FreeCADRun(data, proc.stdout, proc.stderr, proc.returncode)
