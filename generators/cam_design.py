@@ -11,6 +11,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .cam_area import area_summary
+from .design_checks import run_checks
 from .extrema import refine_max
 from .follower import FollowerGeometry
 from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
@@ -155,6 +157,14 @@ class CamDesign:
             },
             "area": self.area,
             "volume": self.volume,
+            "areas": {
+                # design intent (motion + follower), thesis Eq. 4.21–4.27 and exact
+                **area_summary(spec, self.program),
+                # the built profile (exact NURBS, Green's theorem)
+                "built_profile": self.profile_area,
+                "built_cross_section": self.area,
+            },
+            "checks": run_checks(spec, program=self.program).to_dict(),
         }
 
     def _as_built_pressure_angle(self) -> tuple[float, float]:
