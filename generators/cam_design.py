@@ -21,7 +21,7 @@ from .motion import MotionProgram
 from .nurbs import NurbsCurve
 from .offsets import offset_nurbs, pitch_nurbs
 from .pitch import PitchCurve, build_pitch
-from .spec import CamSpec
+from .spec import CamSpec, spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
 
@@ -124,6 +124,7 @@ class CamDesign:
         }
         return {
             "units": spec.units,
+            "spec_digest": spec_digest(spec),
             "pitch": {
                 "representation": spec.pitch.representation,
                 "segments": self.pitch.M,

@@ -379,6 +379,8 @@ def _extremes(st: CamState, model: StateModel, refine: bool, lab: dict[str, str]
         ("reduced_acceleration", lambda s: s.kin.d2s, lab["reduced_acceleration"], 1.0),
         ("reduced_jerk", lambda s: s.kin.d3s, lab["reduced_jerk"], 1.0),
     ]
+    if not model.has_load:
+        items = [it for it in items if it[0] not in ("force", "contact_stress")]
     for name, pick, unit, scale in items:
         vals = pick(st)
         if not np.any(np.isfinite(vals)):

@@ -560,4 +560,12 @@ __all__ = [
     "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "MaterialSection",
     "ChecksSection", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
+    "spec_digest",
 ]
+
+
+def spec_digest(spec: CamSpec) -> str:
+    """SHA-256 of the spec's canonical TOML: names the spec a report was made from."""
+    import hashlib
+
+    return hashlib.sha256(to_toml(spec).encode("utf-8")).hexdigest()

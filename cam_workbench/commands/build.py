@@ -70,4 +70,8 @@ def _print_summary(s: dict, out: Path) -> None:
     c = s["curvature"]
     print(f"  curvature: min pitch radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
-    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³")
+    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³ "
+          f"(thesis Eq. 4.21 area inside the pitch curve: {s['areas']['thesis_eq_4_21']:.6g} {u}²)")
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else
+                                 f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
