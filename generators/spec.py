@@ -565,7 +565,10 @@ __all__ = [
 
 
 def spec_digest(spec: CamSpec) -> str:
-    """SHA-256 of the spec's canonical TOML: names the spec a report was made from."""
+    """SHA-256 of the spec's canonical TOML without ``[checks]`` (how to check, not what):
+    names the cam a report was made from."""
     import hashlib
 
-    return hashlib.sha256(to_toml(spec).encode("utf-8")).hexdigest()
+    data = spec.to_dict()
+    data.pop("checks", None)
+    return hashlib.sha256(dict_to_toml(data).encode("utf-8")).hexdigest()
