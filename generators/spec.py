@@ -171,7 +171,7 @@ class ChecksSection:
     """`[checks]`: limits and sampling of the design checks (thesis Ch. 3 and §5.3)."""
 
     max_pressure_angle: float = param(
-        "Largest allowed |pressure angle| (thesis Eq. 3.4, 5.5; designers often allow 30°)",
+        "Largest allowed magnitude of the pressure angle (thesis Eq. 3.4, 5.5; designers often allow 30°)",
         unit="angle", gt=0, lt=90, default=30.0, group="Checks")
     undercut_factor: float = param(
         "Safety factor on the roller radius: the convex pitch radius of curvature must be ≥ "
