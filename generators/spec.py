@@ -435,8 +435,8 @@ def _validate_pitch(spec: CamSpec) -> None:
     pt = spec.pitch
     if pt.segments is not None and pt.tolerance is not None:
         raise SpecError("pitch.tolerance", "is exclusive with pitch.segments: give one of them")
-    if pt.representation == "bspline":
-        raise SpecError("pitch.representation", "'bspline' is not available in this version")
+    if pt.representation == "bspline" and spec.motion[0].junctions is not None:
+        raise SpecError("motion[0].junctions", 'sets PH junctions; not used with pitch.representation = "bspline"')
     if spec.motion[0].junctions is not None:
         total = sum(seg.junctions or 0 for seg in spec.motion)
         if pt.tolerance is not None:

@@ -36,14 +36,23 @@ def run(args: argparse.Namespace) -> int:
     else:
         design = design_cam(spec)
     shape = occ_build.cam_solid(design)
-    if not occ_build.is_valid(shape) or occ_build.count_solids(shape) != 1:
-        raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
+    # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
+    # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
+    step_shape = shape if design.bspline is None else occ_build.cam_solid(design, exact_offset=False)
+    for s in {id(shape): shape, id(step_shape): step_shape}.values():
+        if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
+            raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     summary = design.summary()
     summary["solid"] = solid_summary(shape, design.spec.cam.thickness)
+    if design.bspline is not None:
+        summary["solid"]["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
+        summary["solid"]["step_profile"] = "fitted offset B-spline (profile.max_error)"
+        summary["solid"]["step_cross_section_area"] = occ_build.face_area(
+            occ_build.planar_face_at(step_shape, design.spec.cam.thickness))
     out = Path(args.output)
     files = {"step": "cam.step", "report": "report.json"}
     with OutputSet(out) as o:
-        o.add(files["step"], lambda p: write_step(shape, p, spec.units))
+        o.add(files["step"], lambda p: write_step(step_shape, p, spec.units))
         o.add_text(files["report"], report_json_text(summary, files))
     _print_summary(summary, out)
     return 0
@@ -64,8 +73,10 @@ def _print_summary(s: dict, out: Path) -> None:
     u = s["units"]
     p = s["pitch"]
     print(f"cam written to {out}/: cam.step, report.json")
-    print(f"  pitch: PH quintic spline, M = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
-          f" at {p['max_deviation_at_deg']:.2f}°")
+    kind = ("PH quintic spline, M" if p["representation"] == "ph"
+            else f"periodic B-spline (degree {p['degree']}), knot spans")
+    print(f"  pitch: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
+          f" at {p['max_deviation_at_deg']:.2f}°; profile within {s['profile']['max_error']:.3g} {u} of the true one")
     print(f"  pressure angle: max {s['pressure_angle']['max_deg']:.2f}° at {s['pressure_angle']['at_deg']:.2f}°")
     c = s["curvature"]
     print(f"  curvature: min pitch radius {c['min_pitch_radius']:.4g} {u}, "
