@@ -20,6 +20,7 @@ Neutral curves (:class:`~generators.nurbs.NurbsCurve`) are parametrised by v = �
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -77,10 +78,36 @@ class PeriodicBSpline:
         return idx, ders
 
     def evaluate(self, u: np.ndarray, nder: int = 0) -> list[np.ndarray]:
-        """[C(u), C′(u), …] up to ``nder`` derivatives (complex), vectorised."""
-        idx, ders = self.basis(np.atleast_1d(u), nder)
-        c = self.poles[idx]
-        return [np.einsum("nj,nj->n", ders[:, d, :], c) for d in range(nder + 1)]
+        """[C(u), C′(u), …] up to ``nder`` derivatives (complex), vectorised: Horner on the
+        per-span polynomials of :attr:`_power_form`."""
+        u = np.mod(np.atleast_1d(np.asarray(u, dtype=float)) - self.breaks[0], self.period) + self.breaks[0]
+        b = self.breaks
+        k = np.clip(np.searchsorted(b, u, side="right") - 1, 0, self.n_spans - 1)
+        h = b[k + 1] - b[k]
+        t = (u - b[k]) / h
+        coeffs = self._power_form[k]                       # (len, p+1), lowest power first
+        out = []
+        for d in range(nder + 1):
+            c = coeffs[:, d:]
+            if d:
+                c = c * _falling(np.arange(d, self.degree + 1), d)[None, :]
+            val = c[:, -1].copy()
+            for j in range(c.shape[1] - 2, -1, -1):
+                val = val * t + c[:, j]
+            out.append(val / h**d)
+        return out
+
+    @cached_property
+    def _power_form(self) -> np.ndarray:
+        """(N, p+1) complex monomial coefficients of each span in t = (u − b_k)/(b_{k+1} − b_k):
+        the Taylor coefficients C^(d)(b_k)·h_k^d/d! from the basis derivatives at b_k."""
+        from math import factorial
+
+        p = self.degree
+        idx, ders = self.basis(self.breaks[:-1], p)
+        taylor = np.einsum("ndj,nj->nd", ders, self.poles[idx])            # C^(d)(b_k)
+        h = np.diff(self.breaks)[:, None] ** np.arange(p + 1)[None, :]
+        return taylor * h / np.array([factorial(d) for d in range(p + 1)])[None, :]
 
     def to_nurbs(self, scale: float = 1.0) -> NurbsCurve:
         """The same closed curve as a clamped (non-periodic) NURBS on [0, period]·scale —
@@ -98,6 +125,14 @@ class PeriodicBSpline:
         kv = knots[first:last]
         poles = ctrl[first:first + len(kv) - p - 1]
         return NurbsCurve(p, kv * scale, np.column_stack([poles.real, poles.imag]), np.ones(len(poles)))
+
+
+def _falling(n: np.ndarray, d: int) -> np.ndarray:
+    """n (n − 1) … (n − d + 1)."""
+    out = np.ones_like(n, dtype=float)
+    for i in range(d):
+        out = out * (n - i)
+    return out
 
 
 def insert_knot(knots: np.ndarray, ctrl: np.ndarray, p: int, u: float) -> tuple[np.ndarray, np.ndarray]:
