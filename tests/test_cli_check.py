@@ -89,3 +89,11 @@ def test_help_lists_check():
     assert "check" in res.stdout
     res = run("check", "--help")
     assert res.returncode == 0 and "exit status" in res.stdout and "--sampling" in res.stdout
+
+
+def test_set_accepts_lists(tmp_path):
+    out = tmp_path / "out"
+    res = run("check", EX5, "--set", "motion[0].control_y=[0.0772, 0.6242, 0.95]", "-o", str(out))
+    assert res.returncode in (0, 3), res.stderr
+    res = run("check", EX5, "--set", "motion[0].control_y=[0.1, 0.6", "-o", str(out / "x"))
+    assert res.returncode == 2 and "motion[0].control_y: '[0.1, 0.6' is not a valid list" in res.stderr
