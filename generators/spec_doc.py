@@ -74,7 +74,9 @@ reference, including the fields added since.
 - `follower.roller_radius` > 0 for a roller.
 - `motion[].lift` and `motion[].law` are required for rise/return and absent for dwell.
 - All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
-- `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`.
+- `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`; PH only
+  (`pitch.representation = "bspline"` places its knots itself: `pitch.segments` spans shared among the
+  motion segments in proportion, segment boundaries as knots, or the fewest meeting `pitch.tolerance`).
 - `pitch.segments` and `pitch.tolerance` are exclusive; with neither (and no junctions) M = {M}.
 - `law = "bspline"` needs `control_x` and `control_y`; `order`, `control_*` are only allowed with it;
   θ(u) must increase (the offending control point is named); fixed control lifts must sit at the

@@ -62,6 +62,9 @@ RULES = [
     ("relative_frame_names_degrees", lambda d: (rise(d).pop("control_frame"),
                                                 rise(d).update(control_x=[20, 25, 30, 70, 35, 110, 120, 130, 148])),
      "motion[0].control_x[4]", "control point P5 (35°) is not after P4 (70°)"),
+    ("junctions_with_bspline_pitch", lambda d: ([m.update(junctions=10) for m in d["motion"]],
+                                                d.update(pitch={"representation": "bspline"})),
+     "motion[0].junctions", 'not used with pitch.representation = "bspline"'),
     # follower load, material and checks sections
     ("mass_negative", lambda d: d["follower"].update(mass=-0.01), "follower.mass", "must be ≥ 0"),
     ("preload_negative", lambda d: d["follower"].update(preload=-1.0), "follower.preload", "must be ≥ 0"),
