@@ -122,16 +122,17 @@ class MotionSegment:
 class PitchSection:
     """`[pitch]`: how the pitch curve is represented."""
 
-    representation: str = param("Pitch curve representation: C² PH quintic spline or B-spline",
+    representation: str = param("Pitch curve representation: C² PH quintic spline (exact rational "
+                                "offset) or a periodic quintic B-spline fitted to it (kernel offset curve)",
                                 kind="str", choices=("ph", "bspline"), default="ph", group="Pitch")
     segments: int | None = param(
-        "Uniform junction count M over 360° (junction spacing 360°/M); default 60 when neither "
-        "segments, tolerance nor motion[].junctions is given",
+        "Uniform junction count M over 360° (junction spacing 360°/M; for a B-spline pitch: its "
+        "knot spans); default 60 when neither segments, tolerance nor motion[].junctions is given",
         kind="int", ge=8, optional=True, group="Pitch",
     )
     tolerance: float | None = param(
-        "Target max follower-displacement deviation: chooses the smallest uniform M that meets it; "
-        "exclusive with segments",
+        "Target max follower-displacement deviation: chooses the smallest uniform M (B-spline: "
+        "span count) that meets it; exclusive with segments",
         unit="length", gt=0, optional=True, group="Pitch",
     )
 
