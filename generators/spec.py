@@ -123,7 +123,7 @@ class PitchSection:
     """`[pitch]`: how the pitch curve is represented."""
 
     representation: str = param("Pitch curve representation: C² PH quintic spline (exact rational "
-                                "offset) or a periodic quintic B-spline fitted to it (kernel offset curve)",
+                                "offset) or a periodic quintic B-spline fitted to the true pitch curve (kernel offset curve)",
                                 kind="str", choices=("ph", "bspline"), default="ph", group="Pitch")
     segments: int | None = param(
         "Uniform junction count M over 360° (junction spacing 360°/M; for a B-spline pitch: its "
