@@ -32,6 +32,7 @@ examples:
   cam-workbench build cam.toml -o out/cam1  # your spec
   cam-workbench build --set cam.base_radius=30 --set follower.roller_radius=6
   cam-workbench spec --default > cam.toml   # a spec to start from
+  cam-workbench check cam.toml -o out/cam1  # design checks: table + report.json, exit 3 on a failure
 
 exit status: 0 ok, 2 bad input or impossible geometry (nothing written),
 3 a design check failed, 1 internal error.

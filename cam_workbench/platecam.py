@@ -98,7 +98,16 @@ class PlateCam:
         """Write the solid as STEP in the spec's units, atomically."""
         from exporters.step import export_step
 
-        return export_step(self.shape, path, self.spec.units)
+        return export_step(self.step_shape, path, self.spec.units)
+
+    @cached_property
+    def step_shape(self) -> Any:
+        """The solid written to STEP: :attr:`shape`, except for ``pitch.representation =
+        "bspline"``, whose kernel solid has exact offset curves that OCCT's STEP writer cannot
+        write — there the profile is the fitted offset B-spline (its error is in the report)."""
+        if self.design.bspline is None:
+            return self.shape
+        return occ_build.cam_solid(self.design, exact_offset=False)
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""

@@ -30,6 +30,9 @@ def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
 
     if units not in _OCC_UNIT:
         raise ValueError(f"units must be 'mm' or 'in', got {units!r}")
+    if has_offset_curves(_topods(shape)):
+        raise ValueError("the shape has offset-curve edges, which OCCT's STEP writer cannot map "
+                         "(it silently writes an empty model): export a B-spline approximation")
     Interface_Static.SetCVal_s("xstep.cascade.unit", _OCC_UNIT[units])
     Interface_Static.SetCVal_s("write.step.unit", _OCC_UNIT[units])
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
@@ -42,6 +45,22 @@ def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
     if writer.Write(str(path)) != IFSelect_RetDone:
         raise OSError(f"OCCT could not write {path}")
     Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+
+
+def has_offset_curves(shape: Any) -> bool:
+    """True when an edge of ``shape`` lies on an offset curve (``GeomAbs_OffsetCurve``)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GeomAbs import GeomAbs_OffsetCurve
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    ex = TopExp_Explorer(shape, TopAbs_EDGE)
+    while ex.More():
+        if BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current())).GetType() == GeomAbs_OffsetCurve:
+            return True
+        ex.Next()
+    return False
 
 
 def _quiet_occt() -> None:

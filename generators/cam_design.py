@@ -11,6 +11,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .cam_area import area_summary
+from .design_checks import run_checks
 from .extrema import refine_max
 from .follower import FollowerGeometry
 from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
@@ -19,9 +21,14 @@ from .motion import MotionProgram
 from .nurbs import NurbsCurve
 from .offsets import offset_nurbs, pitch_nurbs
 from .pitch import PitchCurve, build_pitch
-from .spec import CamSpec
+from .pitch_bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
+                            fit_offset, profile_errors)
+from .spec import CamSpec, spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
+#: knot spans of the fitted offset B-spline per span of the fitted pitch B-spline: with 2 its
+#: error is ~1 % of the exact offset's (1 span per span: up to 1.7× the exact offset's error)
+OFFSET_REFINE = 2
 
 
 @dataclass(frozen=True)
@@ -45,6 +52,8 @@ class CamDesign:
     max_deviation: tuple[float, float]
     min_profile_radius: float
     curvature_samples: CurvatureSamples = field(repr=False)
+    #: pitch.representation = "bspline": the fitted curves and their errors (else None)
+    bspline: "BSplineProfile | None" = field(default=None, repr=False)
 
     @property
     def program(self) -> MotionProgram:
@@ -128,7 +137,6 @@ class CamDesign:
         phi_b, at_b = self._as_built_pressure_angle()
         omega = spec.cam.speed_rpm * 2 * np.pi / 60
         maxima = self.program.maxima(omega)
-        r_max, _, r_max_at = self.max_profile_radius()
         curvature: dict[str, Any] = {
             "min_pitch_radius": -neg_rc,
             "min_profile_radius": -neg_rc - rr,
@@ -143,6 +151,7 @@ class CamDesign:
         }
         return {
             "units": spec.units,
+            "spec_digest": spec_digest(spec),
             "pitch": {
                 "representation": spec.pitch.representation,
                 "segments": self.pitch.M,
@@ -153,6 +162,9 @@ class CamDesign:
                 "newton_residual": self.pitch.spline.residual,
                 "closing_sign": self.pitch.spline.closing_sign,
                 "arc_length": self.pitch.spline.arc_length,
+                **({"degree": self.bspline.pitch_curve.degree, "poles": self.pitch_nurbs.n_poles,
+                    "periodic_poles": self.bspline.pitch_curve.n_spans}
+                   if self.bspline is not None else {}),
             },
             "pressure_angle": {
                 "max_deg": abs(phi_signed),
@@ -167,18 +179,44 @@ class CamDesign:
                 "max_acceleration": maxima["acceleration"],
                 "max_jerk": maxima["jerk"],
             },
-            "profile": {
-                "degree": self.profile.degree,
-                "poles": self.profile.n_poles,
-                "rational": self.profile.is_rational,
-                "min_radius": self.min_profile_radius,
-                "max_radius": r_max,
-                "max_radius_at_deg": r_max_at,
-                "base_circle_radius": spec.cam.base_radius - rr,
-            },
+            "profile": self._profile_summary(),
             "area": self.area,
             "volume": self.volume,
+            "areas": {
+                # design intent (motion + follower), thesis Eq. 4.21–4.27 and exact
+                **area_summary(spec, self.program),
+                # the built profile (exact NURBS, Green's theorem)
+                "built_profile": self.profile_area,
+                "built_cross_section": self.area,
+            },
+            "checks": run_checks(spec, program=self.program).to_dict(),
         }
+
+    def _profile_summary(self) -> dict[str, Any]:
+        rr = self.spec.roller_radius
+        r_max, _, r_max_at = self.max_profile_radius()
+        err, at = built_profile_error(self.profile, self.pitch, rr)
+        out: dict[str, Any] = {
+            "degree": self.profile.degree,
+            "poles": self.profile.n_poles,
+            "rational": self.profile.is_rational,
+            "min_radius": self.min_profile_radius,
+            "max_radius": r_max,
+            "max_radius_at_deg": r_max_at,
+            "base_circle_radius": self.spec.cam.base_radius - rr,
+            # distance of the built profile from the true one (the roller offset of the design pitch curve)
+            "max_error": err,
+            "max_error_at_deg": at,
+        }
+        if self.bspline is not None:
+            e = self.bspline.errors
+            out["kernel_offset"] = {
+                "description": "exact offset of the fitted pitch B-spline (OCCT Geom_OffsetCurve)",
+                "distance": self.bspline.offset_distance,
+                "max_error": e.exact_offset, "max_error_at_deg": e.exact_offset_at_deg,
+            }
+            out["fitted_vs_kernel_offset"] = e.fitted_vs_exact_offset
+        return out
 
     def as_built_pressure_angles(self) -> tuple[np.ndarray, np.ndarray]:
         """Pressure angle of the built PH curve at the curvature samples: (cam angle [deg],
@@ -207,6 +245,35 @@ def profile_offset_distance(pitch: PitchCurve, roller_radius: float) -> float:
     return -roller_radius if clockwise else roller_radius
 
 
+@dataclass(frozen=True)
+class BSplineProfile:
+    """What a ``pitch.representation = "bspline"`` design adds: the fitted periodic pitch curve,
+    the signed offset distance a kernel applies to it for the exact roller offset, the fitted
+    offset B-spline (``CamDesign.profile``), and their measured errors."""
+
+    pitch_curve: PeriodicBSpline
+    offset_distance: float
+    profile_curve: PeriodicBSpline
+    errors: ProfileErrors
+
+
+def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
+    pitch = build_bspline_pitch(spec, progress)
+    cs = pitch_curvature_samples(pitch)
+    check_undercut(pitch, spec.roller_radius, cs)
+    pn = pitch.to_nurbs()
+    rr = spec.roller_radius
+    inward = -pitch.geometry.sense * rr
+    fit = fit_offset(pitch.curve, inward, refine=OFFSET_REFINE) if rr > 0 else pitch.curve
+    profile = fit.to_nurbs(pitch.parameter_scale) if rr > 0 else pn
+    check_self_intersection(profile, pitch)
+    rmin = check_bore(profile, pitch, spec.cam.bore_diameter)
+    errors = profile_errors(pitch, fit, rr, inward)
+    return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile,  # type: ignore[arg-type]
+                     max_deviation=pitch.max_deviation(), min_profile_radius=rmin,
+                     curvature_samples=cs, bspline=BSplineProfile(pitch.curve, inward, fit, errors))
+
+
 def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
     """Build the pitch curve and exact profile of ``spec`` and run the buildability checks.
 
@@ -215,6 +282,8 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
         GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
         SolveError: the PH spline did not converge.
     """
+    if spec.pitch.representation == "bspline":
+        return _design_bspline(spec, progress)
     pitch = build_pitch(spec, progress=progress)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bspline_law import BSplineLift, lift_from_segment
 from .laws import evaluate_law
 from .spec import CamSpec, MotionSegment
 
@@ -41,6 +42,8 @@ class MotionProgram:
     lifts: np.ndarray    # (n,) signed lift: +h rise, −h return, 0 dwell
     laws: tuple[str | None, ...]
     kinds: tuple[str, ...]
+    #: per segment: the B-spline lift of a law = "bspline" segment (thesis §2.6), else None
+    curves: tuple[BSplineLift | None, ...] = ()
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "MotionProgram":
@@ -58,8 +61,12 @@ class MotionProgram:
             for s in segments
         ])
         levels = np.concatenate([[0.0], np.cumsum(signed)[:-1]])
+        curves = tuple(
+            lift_from_segment(s, f"motion[{k}]", float(starts[k]), float(spans[k]))
+            if s.law == "bspline" else None
+            for k, s in enumerate(segments))
         return cls(starts, spans, levels, signed, tuple(s.law for s in segments),
-                   tuple(s.kind for s in segments))
+                   tuple(s.kind for s in segments), curves)
 
     @property
     def boundaries(self) -> np.ndarray:
@@ -71,11 +78,19 @@ class MotionProgram:
         t = np.mod(theta, TWO_PI)
         return np.clip(np.searchsorted(self.starts, t, side="right") - 1, 0, len(self.starts) - 1)
 
-    def evaluate(self, theta: np.ndarray | float) -> Kinematics:
-        """s, s', s'', s''' at cam angles ``theta`` [rad] (any shape), exactly (closed forms)."""
+    def evaluate(self, theta: np.ndarray | float, segment: np.ndarray | None = None) -> Kinematics:
+        """s, s', s'', s''' at cam angles ``theta`` [rad] (any shape), exactly: closed forms, or the
+        B-spline law's parametric formulas (thesis Eq. 2.37–2.39) at the inverted θ(u).
+
+        ``segment`` (same shape, optional) evaluates each θ with that motion segment's law —
+        the one-sided value at a segment end, where a law's jerk (or a harmonic's
+        acceleration) jumps; by default the segment containing θ is used."""
         theta = np.asarray(theta, dtype=float)
         t = np.mod(theta, TWO_PI)
-        idx = self.segment_of(t)
+        idx = self.segment_of(t) if segment is None else np.asarray(segment)
+        if segment is not None:
+            # θ = 2π at the end of the last segment must not wrap to 0
+            t = np.where((idx == len(self.starts) - 1) & (t < self.starts[-1]), t + TWO_PI, t)
         s = self.levels[idx].astype(float).copy()
         ds = np.zeros_like(t)
         d2s = np.zeros_like(t)
@@ -87,9 +102,19 @@ class MotionProgram:
             if not m.any():
                 continue
             beta = self.spans[k]
+            h = self.lifts[k]  # signed: a return is s = level − h·f
+            curve = self.curves[k] if self.curves else None
+            if curve is not None:
+                # y runs 0 → 1 on a rise, 1 → 0 on a return: f = y or 1 − y; derivatives per rad
+                y, y1, y2, y3 = curve.evaluate(np.clip(t[m] - self.starts[k], 0.0, beta))
+                sign = 1.0 if h > 0 else -1.0
+                s[m] += h * (y if h > 0 else 1.0 - y)
+                ds[m] = sign * h * y1
+                d2s[m] = sign * h * y2
+                d3s[m] = sign * h * y3
+                continue
             x = np.clip((t[m] - self.starts[k]) / beta, 0.0, 1.0)
             f, f1, f2, f3 = evaluate_law(law, x)
-            h = self.lifts[k]  # signed: a return is s = level − h·f
             s[m] += h * f
             ds[m] = h * f1 / beta
             d2s[m] = h * f2 / beta**2

@@ -18,8 +18,11 @@ from .errors import SpecError
 from .params import REQUIRED, Param, param, params_of
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
-#: The laws implemented by :mod:`generators.laws` (closed forms).
+#: The laws implemented by :mod:`generators.laws` (closed forms); "bspline" is the thesis'
+#: parametric B-spline (:mod:`generators.bspline_law`), shaped by control points.
 CLOSED_FORM_LAWS = LAWS[:-1]
+#: Motion-segment fields that only a law = "bspline" segment may have.
+BSPLINE_FIELDS = ("order", "control_x", "control_y", "control_frame", "control_start")
 
 SPAN_TOL_DEG = 1e-9
 
@@ -52,6 +55,19 @@ class FollowerSection:
                           unit="length", default=0.0, group="Follower")
     roller_radius: float = param("Roller radius (roller followers; ignored for a knife edge)",
                                  unit="length", ge=0, default=0.0, group="Follower")
+    roller_width: float | None = param(
+        "Roller width in contact with the cam; the Hertz contact length is the smaller of this "
+        "and cam.thickness (default: cam.thickness)",
+        unit="length", gt=0, optional=True, group="Follower")
+    mass: float = param(
+        "Mass M_f of the follower train moving with the follower (thesis Eq. 3.5; the thesis' "
+        "\"0.02 slugs\" is 0.02 lbf·s²/in)", unit="mass", ge=0, default=0.0, group="Follower")
+    preload: float = param(
+        "Force P_L pressing the follower onto the cam at zero lift (spring preload, load, "
+        "friction: thesis Eq. 3.5)", unit="force", ge=0, default=0.0, group="Follower")
+    spring_rate: float = param(
+        "Return-spring rate k: the load is P_L + k·s at lift s (0: constant load, as the thesis)",
+        unit="stiffness", ge=0, default=0.0, group="Follower")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -70,24 +86,107 @@ class MotionSegment:
         "as the paper's case 3); when any segment has it, all must",
         kind="int", ge=1, optional=True, group="Motion",
     )
+    # ---- law = "bspline" (thesis §2.5–2.7) ----
+    order: int | None = param(
+        "B-spline order k (degree k − 1) of a law = \"bspline\" segment; the first and last k − 1 "
+        "control points sit at the end levels, so derivatives 1 … k − 2 vanish at both ends; "
+        "default 5 (the thesis: zero velocity, acceleration and jerk)",
+        kind="int", ge=3, le=10, optional=True, group="Motion",
+    )
+    control_x: tuple[float, ...] | None = param(
+        "Cam angles of the B-spline's interior control points P1 … P(n−1) in control_frame "
+        "(P0 and Pn sit at the segment's start and end, so there are n + 1 = len + 2 points); "
+        "must increase so that θ(u) increases (thesis B(k): the rise's or return's P_ix)",
+        kind="floats", optional=True, group="Motion",
+    )
+    control_y: tuple[float, ...] | None = param(
+        "Normalised lifts of the control points (a rise goes 0 → 1, a return 1 → 0): either only "
+        "the free ones P(k−1) … P(n−k+1) (thesis: P4, P5, P6), or all interior points P1 … P(n−1), "
+        "whose fixed entries must then be at the end levels",
+        kind="floats", optional=True, group="Motion",
+    )
+    control_frame: str | None = param(
+        "Frame of control_x: \"relative_deg\" = degrees from the segment start (default); "
+        "\"absolute_rad\" = radians of absolute cam angle, as the thesis lists them",
+        kind="str", choices=("relative_deg", "absolute_rad"), optional=True, group="Motion",
+    )
+    control_start: float | None = param(
+        "With control_frame = \"absolute_rad\": the segment's start as an absolute cam angle in the "
+        "control points' frame; default its start in this program (the sum of the spans before "
+        "it). For designs whose cycle starts elsewhere (thesis Examples 4 and 6 start at −20°)",
+        unit="angle", optional=True, group="Motion",
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
 class PitchSection:
     """`[pitch]`: how the pitch curve is represented."""
 
-    representation: str = param("Pitch curve representation: C² PH quintic spline or B-spline",
+    representation: str = param("Pitch curve representation: C² PH quintic spline (exact rational "
+                                "offset) or a periodic quintic B-spline fitted to the true pitch curve (kernel offset curve)",
                                 kind="str", choices=("ph", "bspline"), default="ph", group="Pitch")
     segments: int | None = param(
-        "Uniform junction count M over 360° (junction spacing 360°/M); default 60 when neither "
-        "segments, tolerance nor motion[].junctions is given",
+        "Uniform junction count M over 360° (junction spacing 360°/M; for a B-spline pitch: its "
+        "knot spans); default 60 when neither segments, tolerance nor motion[].junctions is given",
         kind="int", ge=8, optional=True, group="Pitch",
     )
     tolerance: float | None = param(
-        "Target max follower-displacement deviation: chooses the smallest uniform M that meets it; "
-        "exclusive with segments",
+        "Target max follower-displacement deviation: chooses the smallest uniform M (B-spline: "
+        "span count) that meets it; exclusive with segments",
         unit="length", gt=0, optional=True, group="Pitch",
     )
+
+
+#: Young's modulus used when [material] gives none: steel, the thesis' 29×10⁶ psi (Ch. 7,
+#: SAE 1010) = 199 948 MPa, in the spec's stress unit.
+STEEL_MODULUS = {"in": 29.0e6, "mm": 29.0e6 * 6.894757293168361e-3}
+
+
+@dataclass(frozen=True, kw_only=True)
+class MaterialSection:
+    """`[material]`: elastic constants of cam and follower for the Hertz contact stress (thesis Eq. 3.6)."""
+
+    cam_modulus: float | None = param(
+        "Young's modulus E_c of the cam (default: steel, 29×10⁶ psi = 199 948 MPa)",
+        unit="stress", gt=0, optional=True, group="Material")
+    cam_poisson: float = param("Poisson's ratio ν_c of the cam (thesis: 0.29, SAE 1010)",
+                               ge=0, lt=0.5, default=0.29, group="Material")
+    follower_modulus: float | None = param(
+        "Young's modulus E_f of the roller (default: steel, 29×10⁶ psi = 199 948 MPa)",
+        unit="stress", gt=0, optional=True, group="Material")
+    follower_poisson: float = param("Poisson's ratio ν_f of the roller", ge=0, lt=0.5,
+                                    default=0.29, group="Material")
+    allowable_stress: float | None = param(
+        "Allowable Hertz contact stress S_d (thesis Eq. 5.13; its examples: 250 000 psi); "
+        "absent: the stress is reported but not limited",
+        unit="stress", gt=0, optional=True, group="Material")
+
+    def modulus(self, which: str, units: str) -> float:
+        """E of "cam" or "follower" in the spec's stress unit (steel when not given)."""
+        v = self.cam_modulus if which == "cam" else self.follower_modulus
+        return STEEL_MODULUS[units] if v is None else v
+
+
+@dataclass(frozen=True, kw_only=True)
+class ChecksSection:
+    """`[checks]`: limits and sampling of the design checks (thesis Ch. 3 and §5.3)."""
+
+    max_pressure_angle: float = param(
+        "Largest allowed magnitude of the pressure angle (thesis Eq. 3.4, 5.5; designers often allow 30°)",
+        unit="angle", gt=0, lt=90, default=30.0, group="Checks")
+    undercut_factor: float = param(
+        "Safety factor on the roller radius: the convex pitch radius of curvature must be ≥ "
+        "factor × roller radius (thesis Eq. 5.7 uses 1.5)", ge=1, default=1.5, group="Checks")
+    min_force: float = param(
+        "The driving force (thesis Eq. 3.5) must stay above this; 0 = no separation",
+        unit="force", default=0.0, group="Checks")
+    sampling: str = param(
+        "\"dense\": `samples` equally spaced cam angles per rise/return (ends included) and "
+        "refined extrema; \"thesis71\": the thesis' 71 nodes per rise/return (70 equal "
+        "intervals of the B-spline parameter u; of θ for closed-form laws), no refinement",
+        kind="str", choices=("dense", "thesis71"), default="dense", group="Checks")
+    samples: int = param("Samples per rise or return in dense sampling (ends included)",
+                         kind="int", ge=11, default=1001, group="Checks")
 
 
 DEFAULT_SEGMENTS = 60
@@ -136,6 +235,8 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "follower": (FollowerSection, False, True),
     "motion": (MotionSegment, True, True),
     "pitch": (PitchSection, False, False),
+    "material": (MaterialSection, False, False),
+    "checks": (ChecksSection, False, False),
     "drawing": (DrawingSection, False, False),
 }
 
@@ -151,6 +252,8 @@ class CamSpec:
     follower: FollowerSection
     motion: tuple[MotionSegment, ...]
     pitch: PitchSection = field(default_factory=PitchSection)
+    material: MaterialSection = field(default_factory=MaterialSection)
+    checks: ChecksSection = field(default_factory=ChecksSection)
     drawing: DrawingSection = field(default_factory=DrawingSection)
 
     # ---- construction -------------------------------------------------------------
@@ -328,7 +431,12 @@ def _validate_motion(spec: CamSpec) -> None:
     lifts = []
     for i, seg in enumerate(spec.motion):
         p = f"motion[{i}]"
+        start_deg = total
         total += seg.angle
+        if seg.law != "bspline":
+            for name in BSPLINE_FIELDS:
+                if getattr(seg, name) is not None:
+                    raise SpecError(f"{p}.{name}", 'must be absent unless law = "bspline"')
         if seg.kind == "dwell":
             if seg.lift is not None:
                 raise SpecError(f"{p}.lift", "must be absent for a dwell")
@@ -339,8 +447,10 @@ def _validate_motion(spec: CamSpec) -> None:
             raise SpecError(f"{p}.lift", f"is required for a {seg.kind}")
         if seg.law is None:
             raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
-        if seg.law not in CLOSED_FORM_LAWS:
-            raise SpecError(f"{p}.law", f"law {seg.law!r} is not available in this version")
+        if seg.law == "bspline":
+            from .bspline_law import lift_from_segment
+
+            lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
         lifts.append(seg.lift)
         level += seg.lift if seg.kind == "rise" else -seg.lift
         scale = max(lifts)
@@ -366,8 +476,8 @@ def _validate_pitch(spec: CamSpec) -> None:
     pt = spec.pitch
     if pt.segments is not None and pt.tolerance is not None:
         raise SpecError("pitch.tolerance", "is exclusive with pitch.segments: give one of them")
-    if pt.representation == "bspline":
-        raise SpecError("pitch.representation", "'bspline' is not available in this version")
+    if pt.representation == "bspline" and spec.motion[0].junctions is not None:
+        raise SpecError("motion[0].junctions", 'sets PH junctions; not used with pitch.representation = "bspline"')
     if spec.motion[0].junctions is not None:
         total = sum(seg.junctions or 0 for seg in spec.motion)
         if pt.tolerance is not None:
@@ -495,6 +605,18 @@ def _toml_value(v: Any) -> str:
 
 
 __all__ = [
-    "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "DrawingSection", "Param",
+    "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "MaterialSection",
+    "ChecksSection", "DrawingSection", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
+    "spec_digest",
 ]
+
+
+def spec_digest(spec: CamSpec) -> str:
+    """SHA-256 of the spec's canonical TOML without ``[checks]`` (how to check, not what):
+    names the cam a report was made from."""
+    import hashlib
+
+    data = spec.to_dict()
+    data.pop("checks", None)
+    return hashlib.sha256(dict_to_toml(data).encode("utf-8")).hexdigest()

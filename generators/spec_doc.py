@@ -76,8 +76,13 @@ reference, including the fields added since.
 - `follower.roller_radius` > 0 for a roller.
 - `motion[].lift` and `motion[].law` are required for rise/return and absent for dwell.
 - All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
-- `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`.
+- `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`; PH only
+  (`pitch.representation = "bspline"` places its knots itself: `pitch.segments` spans shared among the
+  motion segments in proportion, segment boundaries as knots, or the fewest meeting `pitch.tolerance`).
 - `pitch.segments` and `pitch.tolerance` are exclusive; with neither (and no junctions) M = {M}.
+- `law = "bspline"` needs `control_x` and `control_y`; `order`, `control_*` are only allowed with it;
+  θ(u) must increase (the offending control point is named); fixed control lifts must sit at the
+  end levels; `control_start` only with `control_frame = "absolute_rad"` (see below).
 - `drawing.dxf_version = "R12"` needs `drawing.curves` = "arcs" or "polyline" (R12 has no SPLINE).
 - Unknown fields are errors (a typo is never silently ignored).
 - A cam that cannot be made is an error naming the cam angle: undercut (roller radius ≥ the
@@ -86,6 +91,58 @@ reference, including the fields added since.
 
 Errors read `field: rule`, e.g. `motion[4].angle: spans sum to 350°, must be 360°`; the
 CLI exits with status 2 and writes nothing.
+"""
+
+
+BSPLINE_AND_CHECKS = """## The B-spline lift law (thesis §2.5–2.7)
+
+A rise or return with `law = "bspline"` is the parametric B-spline θ(u) = Σ P_ix N_i,k(u),
+y(u) = Σ P_iy N_i,k(u) of order k (`order`, default 5) with n + 1 control points and uniform
+clamped knots (thesis Eq. 2.12); the follower displacement is level + lift·y on a rise (y: 0 → 1)
+and the same with y: 1 → 0 on a return.  P0 and Pn sit at the segment's ends; the first and last
+k − 1 control points sit at the end levels (thesis §2.7), so s′ … s^(k−2) vanish at both ends (for
+k = 5: velocity, acceleration and jerk).  `control_x` lists P1 … P(n−1), any number of them (at
+least 2k − 4); `control_y` lists the free lifts P(k−1) … P(n−k+1), or all of P1 … P(n−1).
+s′, s″, s‴ come exactly from thesis Eq. 2.37–2.39 at the u where θ(u) = θ.
+
+The thesis' design variables copy in verbatim (radians of absolute cam angle; Example 5's rise,
+B(3) … B(14)); the same rise in degrees from the segment start needs no `control_frame`:
+
+```toml
+[[motion]]
+kind = "rise"
+angle = 150.0
+lift = 1.0
+law = "bspline"
+control_frame = "absolute_rad"
+control_x = [0.3772, 0.4424, 0.5148, 1.2282, 1.5945, 1.9231, 2.1345, 2.2648, 2.5848]
+control_y = [0.0772, 0.6242, 0.9094]
+# the same in degrees from the segment start:
+# control_x = [21.612, 25.348, 29.496, 70.371, 91.358, 110.186, 122.298, 129.763, 148.098]
+```
+
+A design whose cycle starts elsewhere (the thesis' Examples 4 and 6 start at −20°) gives each
+segment's start in its own frame with `control_start` (degrees).
+
+## Design checks (`cam-workbench check`, report.json `checks`)
+
+Evaluated on the design intent at `checks.samples` equally spaced cam angles per rise/return
+(segment ends included, extrema refined), or at the thesis' 71 nodes (`sampling = "thesis71"`);
+every check reports its extreme, the cam angle, the limit and pass / fail / skipped:
+
+| check | quantity | passes when |
+|---|---|---|
+| `pressure_angle` | φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4) | max abs(φ) ≤ `checks.max_pressure_angle` |
+| `separation` | F = (P_L + k·s + M_f·s″ω²)/cos φ (Eq. 3.5, plus the spring rate k) | min F > `checks.min_force` |
+| `oscillation` | s′ in the direction of travel inside every rise/return (§3.3) | min ≥ 0 |
+| `contact_stress` | S² = F(1/r_f + 1/r_c)/(π t Δ), Δ = Σ(1 − ν²)/E; r_c the cam surface's signed radius, so convex and concave contact (Eq. 3.6) | max S ≤ `material.allowable_stress` |
+| `curvature` | smallest convex pitch radius of curvature ρ (Eq. 3.7) | ≥ `checks.undercut_factor` × roller radius (Eq. 5.7) |
+| `undercut` | ρ − r_f, the cam surface's radius, and the roller envelope crossing itself | > 0, no crossing |
+
+Units: N, kg, mm and MPa in a mm spec (M_f·s″ω² is kg·mm/s² = 10⁻³ N), lbf, lbf·s²/in, in and
+psi in an inch spec (the thesis' "0.02 slugs" is 0.02 lbf·s²/in).  Separation and stress are
+skipped when the follower has no load (`preload`, `mass`, `spring_rate` all 0); stress is skipped
+for a knife edge.  `cam-workbench check` exits with status 3 when a check fails.
 """
 
 
@@ -98,6 +155,7 @@ def render() -> str:
         out.append(f"## `{name}`\n")
         out.append(intro + "\n")
         out.append(_table(field_rows(cls)))
+    out.append(BSPLINE_AND_CHECKS)
     out.append("## The built-in default\n")
     out.append("`cam-workbench build` with no spec builds this (the paper's Table 1, case 2, "
                "with a 5 mm roller):\n")

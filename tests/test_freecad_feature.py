@@ -315,7 +315,7 @@ def test_bad_values_keep_last_good_shape_and_report(tmp_path, fc_home):
         "undercut": "PlateCam: the cam cannot be made:",
         "lists": "PlateCam: Motion (motion): the Motion lists disagree: MotionLift has 4 entries, MotionKind has 5",
         "offset": "PlateCam: FollowerOffset (follower.offset): |offset| must be < cam.base_radius",
-        "law": "PlateCam: MotionLaw[1] (motion[1].law): law 'bspline' is not available in this version",
+        "law": 'PlateCam: MotionControlX[1] (motion[1].control_x): is required for law = "bspline"',
     }
     for label, line in expected.items():
         res = r[label]

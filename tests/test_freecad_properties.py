@@ -58,7 +58,8 @@ def test_absent_values():
     assert fps["motion[].lift"].absent == 0.0
     assert fps["motion[].law"].absent == ""
     assert "0 = not given" in fps["pitch.segments"].tooltip()
-    assert [f.flag for f in fps.values() if f.flag] == []
+    # only optional fields for which 0 is a meaningful value need an "Enabled" flag
+    assert [f.flag for f in fps.values() if f.flag] == ["MotionControlStartEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [

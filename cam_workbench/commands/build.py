@@ -40,16 +40,25 @@ def run(args: argparse.Namespace) -> int:
     else:
         design = design_cam(spec)
     shape = occ_build.cam_solid(design)
-    if not occ_build.is_valid(shape) or occ_build.count_solids(shape) != 1:
-        raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
+    # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
+    # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
+    step_shape = shape if design.bspline is None else occ_build.cam_solid(design, exact_offset=False)
+    for s in {id(shape): shape, id(step_shape): step_shape}.values():
+        if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
+            raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     summary = base_summary(design, shape)
+    if design.bspline is not None:
+        summary["solid"]["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
+        summary["solid"]["step_profile"] = "fitted offset B-spline (profile.max_error)"
+        summary["solid"]["step_cross_section_area"] = occ_build.face_area(
+            occ_build.planar_face_at(step_shape, design.spec.cam.thickness))
     doc, dxf_info = build_dxf(design, summary)
     summary["drawing"] = dxf_info.summary()
     out = Path(args.output)
     files = {"step": "cam.step", "dxf": "cam.dxf"}
     prog, cb = plot_progress(plot_count(design, summary))
     with prog, OutputSet(out) as o:
-        o.add(files["step"], lambda p: write_step(shape, p, spec.units))
+        o.add(files["step"], lambda p: write_step(step_shape, p, spec.units))
         o.add(files["dxf"], lambda p: doc.saveas(str(p)))
         report = add_report_files(o, design, summary, files, progress=cb)
     _print_summary(report, out)
@@ -62,11 +71,17 @@ def _print_summary(s: dict, out: Path) -> None:
     f = s["files"]
     print(f"cam written to {out}/: {f['step']}, {f['dxf']}, {f['report']}, {f['html']}, "
           f"{len(f['plots'])} plots")
-    print(f"  pitch: PH quintic spline, M = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
-          f" at {p['max_deviation_at_deg']:.2f}°")
+    kind = ("PH quintic spline, M" if p["representation"] == "ph"
+            else f"periodic B-spline (degree {p['degree']}), knot spans")
+    print(f"  pitch: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
+          f" at {p['max_deviation_at_deg']:.2f}°; profile within {s['profile']['max_error']:.3g} {u} of the true one")
     print(f"  pressure angle: max {s['pressure_angle']['max_deg']:.2f}° at {s['pressure_angle']['at_deg']:.2f}°")
     c = s["curvature"]
     print(f"  curvature: min pitch radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
-    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³")
+    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³ "
+          f"(thesis Eq. 4.21 area inside the pitch curve: {s['areas']['thesis_eq_4_21']:.6g} {u}²)")
     print("  DXF " + describe_dxf(s["drawing"], u))
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else
+                                 f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))

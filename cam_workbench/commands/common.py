@@ -17,11 +17,20 @@ def add_spec_arguments(p: argparse.ArgumentParser) -> None:
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
 
 
-def parse_value(text: str) -> Any:
-    """A ``--set`` value: true/false, integer, number, or text."""
+def parse_value(text: str, field: str = "--set") -> Any:
+    """A ``--set`` value: true/false, a [list], integer, number, or text."""
     low = text.strip().lower()
     if low in ("true", "false"):
         return low == "true"
+    if low.startswith("["):            # a list, e.g. --set "motion[1].control_y=[0.1, 0.6, 0.9]"
+        try:
+            import tomllib
+        except ModuleNotFoundError:  # Python 3.10
+            import tomli as tomllib  # type: ignore[no-redef]
+        try:
+            return tomllib.loads(f"v = {text.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            raise SpecError(field, f"{text!r} is not a valid list (write it as in TOML: [1.0, 2.5])") from None
     for conv in (int, float):
         try:
             return conv(text)
@@ -38,7 +47,7 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
         if "=" not in item:
             raise SpecError(item, "--set needs FIELD=VALUE")
         key, value = item.split("=", 1)
-        changes[key.strip()] = parse_value(value)
+        changes[key.strip()] = parse_value(value, key.strip())
     return spec.replace(**changes) if changes else spec
 
 

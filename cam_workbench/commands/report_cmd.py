@@ -7,6 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from exporters.atomic import OutputSet
 from exporters.report_html import Series, render_report, report_plots
 from exporters.report_json import report_json_text
@@ -46,12 +48,25 @@ def solid_summary(shape: object, thickness: float) -> dict[str, float | int | bo
 
 
 def optional_series(design: CamDesign, report: dict[str, Any]) -> dict[str, Series]:
-    """θ-series for the report's optional "Contact force and stress" figure.
+    """θ-series for the report's "Contact force and stress" figure: the driving force
+    (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
+    spec gives the follower a load (preload, spring or mass); otherwise nothing."""
+    from generators.design_checks import StateModel, check_samples
+    from generators.params import unit_name
 
-    Plug-in point for the design checks (issue 4): return ``{"contact_force": Series(...),
-    "contact_stress": Series(...)}`` from their generators when the spec asks for them.
-    Nothing is invented here: without that data the section is left out."""
-    return {}
+    spec = design.spec
+    model = StateModel(spec, design.program)
+    if not model.has_load:
+        return {}
+    cs = check_samples(design.program, "dense", spec.checks.samples)
+    st = model.state(cs.theta, cs.segment)
+    deg = np.rad2deg(cs.theta)
+    out = {"contact_force": Series(deg, st.force, "driving force F (thesis Eq. 3.5)",
+                                   unit_name("force", spec.units), spec.checks.min_force, "min")}
+    if spec.is_roller:
+        out["contact_stress"] = Series(deg, st.stress, "Hertz contact stress (thesis Eq. 3.6)",
+                                       unit_name("stress", spec.units), spec.material.allowable_stress, "max")
+    return out
 
 
 def add_report_files(out: OutputSet, design: CamDesign, summary: dict[str, Any], files: dict[str, Any],

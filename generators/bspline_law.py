@@ -1,0 +1,343 @@
+"""B-spline lift curves (thesis §2.5–2.7): a rise or return as the parametric B-spline
+
+    θ(u) = Σ P_ix N_i,k(u),   y(u) = Σ P_iy N_i,k(u)            (thesis Eq. 2.28–2.29)
+
+of order k (degree k − 1) with n + 1 control points and the uniform clamped knots of
+thesis Eq. 2.12, u ∈ [0, n − k + 2].  θ is in radians measured from the segment start
+here (the spec also accepts the thesis' absolute angles, :mod:`generators.spec`); y is the
+normalised lift (a rise runs 0 → 1, a return 1 → 0; the follower displacement is
+level + L·y for a rise).
+
+Boundary conditions (thesis §2.7): P₀ and P_n sit at the segment ends, and the first and
+last k − 1 control points share the end level, which makes dy/dθ … d^(k−2)y/dθ^(k−2)
+vanish at both ends (for the thesis' k = 5: velocity, acceleration and jerk).
+
+Derivatives with respect to θ are exact (thesis Eq. 2.37–2.39); θ(u) is inverted by
+vectorised Newton iteration kept inside a bracket (bisection when Newton leaves it),
+which converges for every polygon whose control θ increase (then θ'(u) > 0).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+#: Default order k (degree k − 1) and control-point count, as in the thesis (§2.7, §2.8).
+DEFAULT_ORDER = 5
+DEFAULT_POINTS = 11
+
+
+def clamped_uniform_knots(n_points: int, order: int) -> np.ndarray:
+    """Thesis Eq. 2.12: t_i = 0 (i < k), i − k + 1 (k ≤ i ≤ n), n − k + 2 (i > n), 0 ≤ i ≤ n + k."""
+    n, k = n_points - 1, order
+    i = np.arange(n + k + 1)
+    return np.where(i < k, 0.0, np.where(i > n, float(n - k + 2), (i - k + 1).astype(float)))
+
+
+def fixed_end_points(order: int) -> int:
+    """Control points at each end that share the end level (thesis §2.7: 4 for k = 5),
+    so that derivatives 1 … k − 2 vanish there."""
+    return order - 1
+
+
+def find_span(knots: np.ndarray, degree: int, u: np.ndarray) -> np.ndarray:
+    """Knot span index i with t_i ≤ u < t_{i+1} (the last non-empty span at the right end)."""
+    n = len(knots) - degree - 2
+    return np.clip(np.searchsorted(knots, u, side="right") - 1, degree, n)
+
+
+def basis_derivatives(knots: np.ndarray, degree: int, u: np.ndarray, nder: int
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Non-zero B-spline basis functions and their derivatives at many parameters.
+
+    Piegl & Tiller, *The NURBS Book*, A2.3, vectorised over ``u``.
+
+    Returns:
+        span (N,): the knot span of each u; the non-zero functions are N_{span−p … span}.
+        ders (N, nder + 1, p + 1): ders[:, d, j] = d^d/du^d N_{span−p+j, p}(u).
+    """
+    p = degree
+    u = np.atleast_1d(np.asarray(u, dtype=float))
+    m = u.shape[0]
+    span = find_span(knots, p, u)
+    ndu = np.zeros((m, p + 1, p + 1))
+    ndu[:, 0, 0] = 1.0
+    left = np.zeros((m, p + 1))
+    right = np.zeros((m, p + 1))
+    for j in range(1, p + 1):
+        left[:, j] = u - knots[span + 1 - j]
+        right[:, j] = knots[span + j] - u
+        saved = np.zeros(m)
+        for r in range(j):
+            ndu[:, j, r] = right[:, r + 1] + left[:, j - r]
+            temp = ndu[:, r, j - 1] / ndu[:, j, r]
+            ndu[:, r, j] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        ndu[:, j, j] = saved
+    nd = min(nder, p)
+    ders = np.zeros((m, nder + 1, p + 1))
+    ders[:, 0, :] = ndu[:, :, p]
+    for r in range(p + 1):
+        a = np.zeros((m, 2, p + 1))
+        a[:, 0, 0] = 1.0
+        s1, s2 = 0, 1
+        for k in range(1, nd + 1):
+            d = np.zeros(m)
+            rk, pk = r - k, p - k
+            if r >= k:
+                a[:, s2, 0] = a[:, s1, 0] / ndu[:, pk + 1, rk]
+                d = a[:, s2, 0] * ndu[:, rk, pk]
+            j1 = 1 if rk >= -1 else -rk
+            j2 = k - 1 if r - 1 <= pk else p - r
+            for j in range(j1, j2 + 1):
+                a[:, s2, j] = (a[:, s1, j] - a[:, s1, j - 1]) / ndu[:, pk + 1, rk + j]
+                d = d + a[:, s2, j] * ndu[:, rk + j, pk]
+            if r <= pk:
+                a[:, s2, k] = -a[:, s1, k - 1] / ndu[:, pk + 1, r]
+                d = d + a[:, s2, k] * ndu[:, r, pk]
+            ders[:, k, r] = d
+            s1, s2 = s2, s1
+    fac = float(p)
+    for k in range(1, nd + 1):
+        ders[:, k, :] *= fac
+        fac *= p - k
+    return span, ders
+
+
+def basis_matrix(knots: np.ndarray, degree: int, n_points: int, u: np.ndarray, der: int = 0
+                 ) -> np.ndarray:
+    """Dense (len(u), n_points) matrix of d^der/du^der N_i(u) — the sensitivity of a
+    B-spline's value (or derivative) to each control coordinate (thesis Ch. 6)."""
+    span, ders = basis_derivatives(knots, degree, u, der)
+    out = np.zeros((span.shape[0], n_points))
+    cols = span[:, None] - degree + np.arange(degree + 1)[None, :]
+    np.put_along_axis(out, cols, ders[:, der, :], axis=1)
+    return out
+
+
+@dataclass(frozen=True)
+class BSplineLift:
+    """One rise or return as a parametric B-spline (θ(u), y(u)).
+
+    Attributes:
+        order: k (degree k − 1).
+        x: (n+1,) control-point cam angles [rad] from the segment start; x[0] = 0, x[-1] = span.
+        y: (n+1,) control-point normalised lifts.
+    """
+
+    order: int
+    x: np.ndarray
+    y: np.ndarray
+    knots: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "x", np.asarray(self.x, dtype=float))
+        object.__setattr__(self, "y", np.asarray(self.y, dtype=float))
+        object.__setattr__(self, "knots", clamped_uniform_knots(len(self.x), self.order))
+
+    @property
+    def degree(self) -> int:
+        return self.order - 1
+
+    @property
+    def n_points(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def span(self) -> float:
+        """Segment span [rad]."""
+        return float(self.x[-1] - self.x[0])
+
+    @property
+    def u_max(self) -> float:
+        """Parameter range end n − k + 2 (thesis §2.5)."""
+        return float(self.knots[-1])
+
+    # ---- parametric evaluation -----------------------------------------------------
+    def parametric(self, u: np.ndarray, nder: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """(θ^(d)(u), y^(d)(u)) for d = 0..nder, each of shape (nder + 1, len(u))
+        (thesis Eq. 2.28–2.36 with L = 1)."""
+        span, ders = basis_derivatives(self.knots, self.degree, u, nder)
+        idx = span[:, None] - self.degree + np.arange(self.degree + 1)[None, :]
+        th = np.einsum("ndj,nj->dn", ders, self.x[idx])
+        yy = np.einsum("ndj,nj->dn", ders, self.y[idx])
+        return th, yy
+
+    @cached_property
+    def _table(self) -> tuple[np.ndarray, np.ndarray]:
+        """θ on a grid of 32 parameters per knot span (starting guesses and brackets)."""
+        u = np.linspace(0.0, self.u_max, 32 * int(round(self.u_max)) + 1)
+        return u, self.parametric(u, 0)[0][0]
+
+    def u_of_theta(self, theta: np.ndarray, tol: float = 1e-15, max_iter: int = 100) -> np.ndarray:
+        """Solve θ(u) = θ for u, vectorised: Newton from a tabulated guess, kept inside the
+        table's bracket (bisection whenever a Newton step would leave it).  θ is clipped to
+        the segment [x₀, x_n]."""
+        theta = np.clip(np.atleast_1d(np.asarray(theta, dtype=float)), self.x[0], self.x[-1])
+        ut, tt = self._table
+        j = np.clip(np.searchsorted(tt, theta, side="right"), 1, len(tt) - 1)
+        lo, hi = ut[j - 1].copy(), ut[j].copy()
+        tlo, thi = tt[j - 1], tt[j]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            frac = np.where(thi > tlo, (theta - tlo) / (thi - tlo), 0.5)
+        u = lo + np.clip(frac, 0.0, 1.0) * (hi - lo)
+        scale = max(abs(self.span), 1.0)
+        active = np.ones(theta.shape, dtype=bool)
+        for _ in range(max_iter):
+            idx = np.flatnonzero(active)
+            ua = u[idx]
+            th, _ = self.parametric(ua, 1)
+            g = th[0] - theta[idx]
+            # keep the bracket: θ increasing, so g > 0 means the root is below u
+            hi[idx] = np.where(g > 0, ua, hi[idx])
+            lo[idx] = np.where(g <= 0, ua, lo[idx])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                un = ua - g / th[1]
+            bad = ~np.isfinite(un) | (un < lo[idx]) | (un > hi[idx])
+            un = np.where(bad, 0.5 * (lo[idx] + hi[idx]), un)
+            hit = np.abs(g) <= 2 * np.finfo(float).eps * scale
+            un = np.where(hit, ua, un)
+            done = hit | (np.abs(un - ua) <= tol * self.u_max)
+            u[idx] = un
+            active[idx[done]] = False
+            if not active.any():
+                break
+        return u
+
+    def evaluate(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """y and dy/dθ, d²y/dθ², d³y/dθ³ [per rad] at cam angles ``theta`` [rad, from the
+        segment start] — thesis Eq. 2.37–2.39 at the parameter u solving θ(u) = θ."""
+        theta = np.asarray(theta, dtype=float)
+        u = self.u_of_theta(theta.ravel())
+        return tuple(v.reshape(theta.shape) for v in self.derivatives_at(u))  # type: ignore[return-value]
+
+    def derivatives_at(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(y, y', y'', y''') with respect to θ at parameters u (thesis Eq. 2.37–2.39)."""
+        th, yy = self.parametric(np.atleast_1d(u), 3)
+        t1, t2, t3 = th[1], th[2], th[3]
+        y1, y2, y3 = yy[1], yy[2], yy[3]
+        d1 = y1 / t1                                                        # Eq. 2.37
+        d2 = (t1 * y2 - y1 * t2) / t1**3                                    # Eq. 2.38
+        d3 = (t1 * (t1 * y3 - y1 * t3) - 3 * t2 * (t1 * y2 - y1 * t2)) / t1**5  # Eq. 2.39
+        return yy[0], d1, d2, d3
+
+    def theta_at(self, u: np.ndarray) -> np.ndarray:
+        """θ(u) [rad from the segment start]."""
+        return self.parametric(np.atleast_1d(u), 0)[0][0]
+
+    def node_parameters(self, count: int) -> np.ndarray:
+        """``count`` equally spaced parameters over [0, n − k + 2] (the thesis' check nodes,
+        §5.3: 70 equal intervals per rise or return)."""
+        return np.linspace(0.0, self.u_max, count)
+
+    def theta_derivative_coefficients(self) -> np.ndarray:
+        """Control coefficients of θ'(u) (a B-spline of order k − 1):
+        c_i = (k − 1)(x_{i+1} − x_i)/(t_{i+k} − t_{i+1}).  All positive ⇒ θ increasing."""
+        k = self.order
+        t = self.knots
+        n = self.n_points
+        return (k - 1) * np.diff(self.x) / (t[k:n + k - 1] - t[1:n])
+
+
+# ---- from a spec segment --------------------------------------------------------------
+_FRAME_UNIT = {"relative_deg": "°", "absolute_rad": " rad"}
+
+
+def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSplineLift:
+    """The :class:`BSplineLift` of a ``law = "bspline"`` motion segment, checking its control
+    polygon; raises :class:`~generators.errors.SpecError` naming the field and control point.
+
+    Args:
+        seg: the motion segment (``order``, ``control_x``, ``control_y``, ``control_frame``,
+            ``control_start``, ``kind``).
+        path: the segment's field path, e.g. ``motion[1]``.
+        start: the segment's start in the program [rad].
+        span: the segment's span [rad].
+    """
+    from .errors import SpecError
+
+    k = seg.order or DEFAULT_ORDER
+    if seg.control_x is None:
+        raise SpecError(f"{path}.control_x", 'is required for law = "bspline" '
+                        "(the cam angles of the interior control points P1 … P(n−1))")
+    if seg.control_y is None:
+        raise SpecError(f"{path}.control_y", 'is required for law = "bspline" '
+                        f"(the normalised lifts of the free control points P{k - 1} … P(n−{k - 1}))")
+    nfix = fixed_end_points(k)
+    cx = np.asarray(seg.control_x, dtype=float)
+    cy = np.asarray(seg.control_y, dtype=float)
+    n = cx.shape[0] + 1                      # control points P0 … Pn
+    if n + 1 < 2 * nfix:
+        raise SpecError(f"{path}.control_x",
+                        f"has {cx.shape[0]} interior control points; order {k} needs at least "
+                        f"{2 * nfix - 2} (k − 1 = {nfix} control points sit at each end level)")
+    frame = seg.control_frame or "relative_deg"
+    if seg.control_start is not None and frame != "absolute_rad":
+        raise SpecError(f"{path}.control_start", 'is only used with control_frame = "absolute_rad"')
+    if frame == "relative_deg":
+        origin_user = 0.0
+        xr = np.deg2rad(cx)
+        to_user = np.rad2deg
+    else:
+        origin_user = np.deg2rad(seg.control_start) if seg.control_start is not None else start
+        xr = cx - origin_user
+        to_user = lambda v: v + origin_user  # noqa: E731
+    x = np.concatenate([[0.0], xr, [span]])
+    y_start, y_end = (0.0, 1.0) if seg.kind == "rise" else (1.0, 0.0)
+    n_free = n + 1 - 2 * nfix
+    if cy.shape[0] == n_free:
+        y = np.concatenate([np.full(nfix, y_start), cy, np.full(nfix, y_end)])
+    elif cy.shape[0] == n - 1:
+        y = np.concatenate([[y_start], cy, [y_end]])
+        for i in list(range(1, nfix)) + list(range(n - nfix + 1, n)):
+            want = y_start if i < nfix else y_end
+            if abs(y[i] - want) > 1e-9:
+                end = "first" if i < nfix else "last"
+                raise SpecError(
+                    f"{path}.control_y[{i - 1}]",
+                    f"control point P{i} must be at y = {want:g}: the {end} k − 1 = {nfix} control "
+                    f"points of a {seg.kind} sit at its {'start' if i < nfix else 'end'} level so that "
+                    f"velocity … derivative {k - 2} vanish there (got {y[i]:g})")
+    else:
+        raise SpecError(
+            f"{path}.control_y",
+            f"has {cy.shape[0]} values; with {n + 1} control points of order {k} give the "
+            f"{n_free} free lifts (P{nfix} … P{n - nfix}) or all {n - 1} interior ones (P1 … P{n - 1})")
+    lift = BSplineLift(k, x, y)
+    _check_theta_increasing(lift, f"{path}.control_x", frame, to_user)
+    return lift
+
+
+def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -> None:
+    """θ(u) must increase: exact when every control θ increases (θ'(u) is then a positive
+    combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
+    control point of the non-increasing step nearest to its minimum is named."""
+    from .errors import SpecError
+
+    c = lift.theta_derivative_coefficients()
+    if np.all(c > 0):
+        return
+    u = np.linspace(0.0, lift.u_max, 64 * int(round(lift.u_max)) + 1)
+    th, _ = lift.parametric(u, 1)
+    jmin = int(np.argmin(th[1]))
+    if th[1][jmin] > 0:
+        return
+    # coefficients of θ' whose B-splines (order k − 1, knots t[1:-1]) are non-zero at u*
+    span = int(find_span(lift.knots, lift.degree, np.array([u[jmin]]))[0])
+    cand = np.arange(max(span - lift.degree, 0), min(span, len(c) - 1) + 1)
+    i = int(cand[np.argmin(c[cand])]) if cand.size else int(np.argmin(c))
+    n = lift.n_points - 1
+    unit = _FRAME_UNIT[frame]
+    xs = to_user(lift.x)
+    if i + 1 < n:        # P(i+1) is a listed point: control_x[i]
+        field, msg = f"{path}[{i}]", (f"θ(u) must increase, but control point P{i + 1} "
+                                      f"({xs[i + 1]:g}{unit}) is not after P{i} ({xs[i]:g}{unit})")
+        if i == 0:
+            msg += " — P0 is the segment start"
+    else:                # the last listed point passes the segment end Pn
+        field, msg = f"{path}[{i - 1}]", (f"θ(u) must increase, but control point P{i} "
+                                          f"({xs[i]:g}{unit}) is not before the segment end "
+                                          f"P{n} ({xs[n]:g}{unit})")
+    raise SpecError(field, msg)

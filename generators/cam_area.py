@@ -1,0 +1,102 @@
+"""Cam cross-section areas from the motion (design intent), next to the built profile's.
+
+* :func:`thesis_area` — the thesis' cost function (Eq. 4.21–4.27):
+  A = Σ ∫ ½ r² dθ with r = R₀ + s(θ) (Eq. 4.5): ½R₀²θ_b for the bottom dwell (Eq. 4.25),
+  ½(R₀ + L)²θ_t for the top dwell (Eq. 4.24) and ∫ ½ r(u)² θ′(u) du over each B-spline rise
+  and return (Eq. 4.26–4.27).  R₀ + s is the distance of the follower point (the roller
+  centre) from the axis when e = 0, so this is the area inside the pitch (prime) curve — not
+  inside the cam profile, which lies a roller radius further in.
+* :func:`pitch_area` — the exact area inside the pitch curve P(θ) = Rot(−δθ)(e, s₀ + s):
+  ½∮ Im(P̄ dP) = ½∫ (e² + (s₀ + s)²) dθ (the ∫ e s′ dθ term vanishes over a closed cycle),
+  equal to :func:`thesis_area` for e = 0.
+* :func:`pitch_length` — ∫ |P′| dθ = ∫ √((s₀ + s)² + (s′ − e)²) dθ.
+* :func:`profile_area` — the area inside the true roller profile (the pitch curve offset
+  inward by r_f): A_pitch − r_f·L_pitch + π r_f² (Steiner's formula for the inner parallel
+  curve of a simple closed curve, valid while the offset is not undercut).
+
+Integrals are Gauss–Legendre per motion segment; on a B-spline segment they run over the
+parameter u per knot span, where ½ r² θ′ is a polynomial and the rule is exact.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from .follower import FollowerGeometry
+from .motion import MotionProgram
+from .spec import CamSpec
+
+GAUSS_CLOSED_FORM = 64     # nodes per closed-form motion segment (smooth integrands)
+GAUSS_PER_KNOT_SPAN = 16   # nodes per B-spline knot span (exact for degree ≤ 31)
+
+
+def _integrate(program: MotionProgram, integrand: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+               ) -> float:
+    """∫₀^{2π} integrand(θ, s, s′) dθ, segment by segment."""
+    total = 0.0
+    for k in range(len(program.starts)):
+        a, beta = program.starts[k], program.spans[k]
+        seg_idx = None
+        curve = program.curves[k] if program.curves else None
+        if curve is not None:
+            xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_KNOT_SPAN)
+            br = np.unique(curve.knots)
+            lo, hi = br[:-1], br[1:]
+            u = (0.5 * (hi - lo)[:, None] * (xg[None, :] + 1) + lo[:, None]).ravel()
+            w = (0.5 * (hi - lo)[:, None] * wg[None, :]).ravel()
+            th_u, _ = curve.parametric(u, 1)
+            theta = a + th_u[0]
+            seg_idx = np.full(theta.shape, k)
+            kin = program.evaluate(theta, seg_idx)
+            total += float(np.sum(integrand(theta, kin.s, kin.ds) * th_u[1] * w))
+            continue
+        n = GAUSS_CLOSED_FORM if program.laws[k] is not None else 2
+        xg, wg = np.polynomial.legendre.leggauss(n)
+        theta = a + 0.5 * beta * (xg + 1)
+        kin = program.evaluate(theta, np.full(theta.shape, k))
+        total += float(np.sum(integrand(theta, kin.s, kin.ds) * 0.5 * beta * wg))
+    return total
+
+
+def thesis_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
+    """Thesis Eq. 4.21–4.27: ∮ ½ (R₀ + s(θ))² dθ [length²] (the area inside the prime curve
+    for e = 0; the thesis uses it whatever e is)."""
+    program = program or MotionProgram.from_spec(spec)
+    r0 = spec.cam.base_radius
+    return _integrate(program, lambda th, s, ds: 0.5 * (r0 + s) ** 2)
+
+
+def pitch_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
+    """Exact area inside the design pitch curve: ½∫ (e² + (s₀ + s)²) dθ [length²]."""
+    program = program or MotionProgram.from_spec(spec)
+    geo = FollowerGeometry.from_spec(spec)
+    return _integrate(program, lambda th, s, ds: 0.5 * (geo.offset**2 + (geo.s0 + s) ** 2))
+
+
+def pitch_length(spec: CamSpec, program: MotionProgram | None = None) -> float:
+    """Arc length of the design pitch curve: ∫ √((s₀ + s)² + (s′ − e)²) dθ [length]."""
+    program = program or MotionProgram.from_spec(spec)
+    geo = FollowerGeometry.from_spec(spec)
+    e = geo.effective_offset
+    return _integrate(program, lambda th, s, ds: np.sqrt((geo.s0 + s) ** 2 + (ds - e) ** 2))
+
+
+def profile_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
+    """Area inside the true cam profile (no bore): A_pitch − r_f·L_pitch + π r_f²."""
+    program = program or MotionProgram.from_spec(spec)
+    rr = spec.roller_radius
+    return pitch_area(spec, program) - rr * pitch_length(spec, program) + np.pi * rr * rr
+
+
+def area_summary(spec: CamSpec, program: MotionProgram | None = None) -> dict[str, float]:
+    """The design-intent areas of report.json (length²)."""
+    program = program or MotionProgram.from_spec(spec)
+    bore = spec.cam.bore_diameter / 2
+    prof = profile_area(spec, program)
+    return {
+        "thesis_eq_4_21": thesis_area(spec, program),
+        "pitch_curve": pitch_area(spec, program),
+        "profile": prof,
+        "cross_section": prof - np.pi * bore * bore,
+    }

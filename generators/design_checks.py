@@ -1,0 +1,466 @@
+"""Design checks of a translating roller (or knife) follower cam (thesis Ch. 3, §5.3).
+
+Everything is evaluated on the design intent — the motion program s(θ) and the follower
+geometry — vectorised over sample angles:
+
+=================  ==========================================================  ============
+check              quantity                                                    passes when
+=================  ==========================================================  ============
+pressure_angle     φ = atan((s′ − e)/(s₀ + s))  (thesis Eq. 3.4)               max |φ| ≤ limit
+separation         F = (P_L + k·s + M_f·s″ω²)/cos φ  (Eq. 3.5, with a spring)  min F > limit
+oscillation        s′ in the direction of travel (rise ↑, return ↓) (§3.3)     min ≥ 0
+contact_stress     S² = F(1/r_f + 1/ρ_c)/(π t Δ), Δ = Σ(1 − ν²)/E  (Eq. 3.6)  max S ≤ S_d
+curvature          convex pitch radius ρ (Eq. 3.7) ≥ factor · r_f  (Eq. 5.7)   min ≥ limit
+undercut           convex profile radius ρ − r_f > 0 and the roller envelope    min > 0
+                   does not cross itself
+=================  ==========================================================  ============
+
+ρ_c = ρ − r_f is the cam surface's signed radius of curvature (+ convex, − concave), so the
+same Eq. 3.6 covers convex and concave contact (the thesis put the pitch radius ρ there;
+:func:`hertz_stress` takes whichever radius it is given).
+
+Units are the spec's: lengths mm or in, force N or lbf, mass kg or lbf·s²/in, stress MPa
+or psi.  M_f·s″ω² is kg·mm/s² = 10⁻³ N in a mm spec and lbf·s²/in · in/s² = lbf in an
+inch spec (the thesis' convention), so a mm spec and its inch equivalent give the same
+physical forces and stresses.
+
+For an optimiser, :func:`constraint_arrays` gives every constraint as a normalised array
+g ≤ 0 over all sample points (thesis Eq. 5.2–5.13 in a smooth form).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from .follower import FollowerGeometry
+from .motion import Kinematics, MotionProgram
+from .spec import CamSpec
+
+TWO_PI = 2.0 * np.pi
+THESIS_NODES = 71
+
+#: Newtons per (mass unit × length unit / s²): kg·mm/s² = 1e-3 N; lbf·s²/in · in/s² = 1 lbf.
+MASS_FORCE_FACTOR = {"mm": 1e-3, "in": 1.0}
+UNIT_LABELS = {
+    "mm": {"length": "mm", "force": "N", "stress": "MPa", "reduced_velocity": "mm/rad",
+           "reduced_acceleration": "mm/rad²", "reduced_jerk": "mm/rad³"},
+    "in": {"length": "in", "force": "lbf", "stress": "psi", "reduced_velocity": "in/rad",
+           "reduced_acceleration": "in/rad²", "reduced_jerk": "in/rad³"},
+}
+
+
+# ---- sample angles ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class CheckSamples:
+    """Cam angles where the checks are evaluated, each tagged with its motion segment
+    (segment ends are evaluated one-sidedly with their own segment's law)."""
+
+    theta: np.ndarray        # [rad], within [0, 2π]
+    segment: np.ndarray      # motion segment index of each sample
+    is_end: np.ndarray       # True at the first and last sample of a segment
+
+
+def check_samples(program: MotionProgram, sampling: str = "dense", samples: int = 1001) -> CheckSamples:
+    """Sample angles: per rise/return ``samples`` equally spaced θ (dense) or the thesis' 71
+    nodes (70 equal intervals of the B-spline parameter u, thesis §5.3; of θ for a closed-form
+    law); per dwell its two ends (every quantity is constant there)."""
+    th, seg, end = [], [], []
+    for k in range(len(program.starts)):
+        a, b = program.starts[k], program.starts[k] + program.spans[k]
+        curve = program.curves[k] if program.curves else None
+        if program.laws[k] is None:
+            t = np.array([a, b])
+        elif sampling == "thesis71":
+            if curve is not None:
+                t = a + curve.theta_at(curve.node_parameters(THESIS_NODES))
+                t[0], t[-1] = a, b
+            else:
+                t = np.linspace(a, b, THESIS_NODES)
+        else:
+            t = np.linspace(a, b, samples)
+        e = np.zeros(t.shape, dtype=bool)
+        e[0] = e[-1] = True
+        th.append(t)
+        seg.append(np.full(t.shape, k))
+        end.append(e)
+    return CheckSamples(np.concatenate(th), np.concatenate(seg), np.concatenate(end))
+
+
+# ---- the physics, vectorised ------------------------------------------------------------
+def hertz_stress(force: np.ndarray, roller_radius: float, cam_radius: np.ndarray, length: float,
+                 e_cam: float, nu_cam: float, e_roller: float, nu_roller: float) -> np.ndarray:
+    """Largest Hertz contact pressure of two parallel cylinders (thesis Eq. 3.6):
+
+        S² = F (r_c + r_f) / (π t r_f r_c Δ) = F (1/r_f + 1/r_c) / (π t Δ),
+        Δ = (1 − ν_c²)/E_c + (1 − ν_f²)/E_f,
+
+    with r_c signed (+ convex cam surface, − concave: the roller sits in a hollow of radius
+    |r_c| > r_f) and r_c = ±inf for a flat.  Where F ≤ 0 (no contact) the stress is 0; where
+    1/r_f + 1/r_c ≤ 0 (the roller is larger than a concave hollow: undercut) it is inf."""
+    force = np.asarray(force, dtype=float)
+    with np.errstate(divide="ignore"):
+        k_rel = 1.0 / roller_radius + 1.0 / np.asarray(cam_radius, dtype=float)
+    delta = (1 - nu_cam**2) / e_cam + (1 - nu_roller**2) / e_roller
+    with np.errstate(invalid="ignore"):
+        s2 = np.maximum(force, 0.0) * k_rel / (np.pi * length * delta)
+        return np.where(k_rel > 0, np.sqrt(np.maximum(s2, 0.0)), np.inf)
+
+
+@dataclass(frozen=True)
+class CamState:
+    """Every checked quantity at a set of cam angles (arrays of equal length)."""
+
+    theta: np.ndarray
+    segment: np.ndarray
+    kin: Kinematics
+    pressure_angle: np.ndarray     # φ [rad], signed
+    force: np.ndarray              # F, force unit
+    pitch_radius: np.ndarray       # ρ of the pitch curve (Eq. 3.7), + convex
+    profile_radius: np.ndarray     # ρ − r_f: the cam surface, + convex
+    stress: np.ndarray             # Hertz S, stress unit
+    travel_velocity: np.ndarray    # s′ in the segment's direction of travel (+ for rise/return)
+
+
+class StateModel:
+    """The spec's numbers the checks need, and :meth:`state` that evaluates them at any θ."""
+
+    def __init__(self, spec: CamSpec, program: MotionProgram | None = None):
+        self.spec = spec
+        self.program = program or MotionProgram.from_spec(spec)
+        self.geometry = FollowerGeometry.from_spec(spec)
+        self.omega = spec.cam.speed_rpm * TWO_PI / 60.0
+        fol = spec.follower
+        self.mass_force = fol.mass * MASS_FORCE_FACTOR[spec.units]
+        self.contact_length = min(spec.cam.thickness, fol.roller_width or spec.cam.thickness)
+        mat = spec.material
+        self.moduli = (mat.modulus("cam", spec.units), mat.cam_poisson,
+                       mat.modulus("follower", spec.units), mat.follower_poisson)
+        self.direction = np.sign(self.program.lifts)
+
+    @property
+    def has_load(self) -> bool:
+        f = self.spec.follower
+        return f.preload > 0 or f.mass > 0 or f.spring_rate > 0
+
+    def state(self, theta: np.ndarray, segment: np.ndarray | None = None) -> CamState:
+        theta = np.asarray(theta, dtype=float)
+        seg = self.program.segment_of(theta) if segment is None else np.asarray(segment)
+        k = self.program.evaluate(theta, seg)
+        geo = self.geometry
+        fol = self.spec.follower
+        phi = geo.pressure_angle(k)
+        force = (fol.preload + fol.spring_rate * k.s + self.mass_force * k.d2s * self.omega**2) / np.cos(phi)
+        rho = geo.pitch_radius_of_curvature(k)
+        rr = self.spec.roller_radius
+        prof = rho - rr
+        if self.spec.is_roller:
+            stress = hertz_stress(force, rr, prof, self.contact_length, *self.moduli)
+        else:
+            stress = np.full(theta.shape, np.nan)
+        return CamState(theta, seg, k, phi, force, rho, prof, stress, k.ds * self.direction[seg])
+
+
+# ---- results -------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class CheckResult:
+    """One design check: the extreme value, where it occurs, the limit and the verdict."""
+
+    name: str
+    description: str
+    kind: str                  # "max" or "min": which extreme is checked
+    value: float | None
+    at_deg: float | None
+    limit: float | None
+    unit: str
+    status: str                # "pass", "fail" or "skipped"
+    note: str = ""
+
+    @property
+    def passed(self) -> bool:
+        return self.status != "fail"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"description": self.description, "kind": self.kind, "value": self.value,
+                "at_deg": self.at_deg, "limit": self.limit, "unit": self.unit,
+                "status": self.status, "passed": self.passed, "note": self.note}
+
+
+@dataclass(frozen=True)
+class DesignChecks:
+    """All check results, plus the extremes of force, stress and reduced motion (the thesis'
+    "Maximum Values" tables) and how they were sampled."""
+
+    results: tuple[CheckResult, ...]
+    extremes: dict[str, dict[str, float]]
+    sampling: str
+    samples: int
+    units: str
+    state: CamState = field(repr=False)
+
+    @property
+    def passed(self) -> bool:
+        return all(r.passed for r in self.results)
+
+    @property
+    def failed(self) -> list[str]:
+        return [r.name for r in self.results if r.status == "fail"]
+
+    def __getitem__(self, name: str) -> CheckResult:
+        for r in self.results:
+            if r.name == name:
+                return r
+        raise KeyError(name)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``checks`` section of report.json."""
+        return {
+            "passed": self.passed,
+            "failed": self.failed,
+            "sampling": self.sampling,
+            "samples_per_segment": self.samples,
+            "points": int(self.state.theta.shape[0]),
+            "results": {r.name: r.to_dict() for r in self.results},
+            "extremes": self.extremes,
+        }
+
+
+def _deg(theta: float) -> float:
+    d = float(np.rad2deg(theta)) % 360.0
+    return 0.0 if abs(d - 360.0) < 1e-9 else d
+
+
+def _extreme(values: np.ndarray, st: CamState, model: StateModel, pick: Callable[[CamState], np.ndarray],
+             refine: bool, mask: np.ndarray | None = None) -> tuple[float, float, int]:
+    """(max of ``values`` over the samples (optionally masked), θ [rad] where it occurs, its
+    motion segment), refined by golden section inside that segment when ``refine``
+    (``pick`` gives the same quantity from a :class:`CamState`)."""
+    v = np.where(mask, values, -np.inf) if mask is not None else values
+    v = np.where(np.isnan(v), -np.inf, v)
+    j = int(np.argmax(v))
+    seg = int(st.segment[j])
+    if not np.isfinite(v[j]) or not refine:
+        return float(v[j]), float(st.theta[j]), seg
+    in_seg = st.segment == seg
+    if mask is not None:
+        in_seg &= mask
+    if np.count_nonzero(in_seg) < 3:
+        return float(v[j]), float(st.theta[j]), seg
+
+    def f(t: np.ndarray) -> np.ndarray:
+        out = pick(model.state(t, np.full(t.shape, seg)))
+        return np.where(np.isnan(out), -np.inf, out)
+
+    x, val = refine_max_zoom(f, st.theta[in_seg], v[in_seg])
+    return float(val), float(x), seg
+
+
+def refine_max_zoom(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, values: np.ndarray,
+                    rounds: int = 4, points: int = 33) -> tuple[float, float]:
+    """(x*, f(x*)) maximising ``f`` between the neighbours of the best sample: ``rounds``
+    vectorised re-samplings with ``points`` points each, every round zooming onto the
+    neighbours of its best point (the interval shrinks 16× per round; one call of ``f``
+    per round, which matters when f inverts a B-spline)."""
+    k = int(np.argmax(values))
+    best_x, best_v = float(x[k]), float(values[k])
+    lo, hi = x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)]
+    for _ in range(rounds):
+        t = np.linspace(lo, hi, points)
+        v = f(t)
+        j = int(np.argmax(v))
+        if v[j] > best_v:
+            best_x, best_v = float(t[j]), float(v[j])
+        lo, hi = t[max(j - 1, 0)], t[min(j + 1, points - 1)]
+    return best_x, best_v
+
+
+def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | None = None,
+               program: MotionProgram | None = None) -> DesignChecks:
+    """Evaluate every design check of ``spec`` (``[checks]`` gives the limits and sampling;
+    ``sampling``/``samples`` override it)."""
+    cfg = spec.checks
+    sampling = sampling or cfg.sampling
+    samples = samples or cfg.samples
+    refine = sampling == "dense"
+    model = StateModel(spec, program)
+    cs = check_samples(model.program, sampling, samples)
+    st = model.state(cs.theta, cs.segment)
+    u = spec.units
+    lab = UNIT_LABELS[u]
+    results: list[CheckResult] = []
+    moving = np.array([model.program.laws[s] is not None for s in st.segment])
+
+    # pressure angle (Eq. 3.4, 5.5)
+    v, t, sg = _extreme(np.abs(st.pressure_angle), st, model, lambda s: np.abs(s.pressure_angle), refine)
+    phi_deg = float(np.rad2deg(v))
+    signed = float(np.rad2deg(model.state(np.array([t]), np.array([sg])).pressure_angle[0]))
+    results.append(CheckResult(
+        "pressure_angle", "largest |pressure angle| (thesis Eq. 3.4)", "max", phi_deg, _deg(t),
+        cfg.max_pressure_angle, "deg", "pass" if phi_deg <= cfg.max_pressure_angle else "fail",
+        f"signed {signed:.4g}°"))
+
+    # separation (Eq. 3.5, 5.10)
+    if model.has_load:
+        v, t, _ = _extreme(-st.force, st, model, lambda s: -s.force, refine)
+        fmin = -v
+        results.append(CheckResult(
+            "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
+            fmin, _deg(t), cfg.min_force, lab["force"], "pass" if fmin > cfg.min_force else "fail"))
+    else:
+        results.append(CheckResult(
+            "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
+            None, None, cfg.min_force, lab["force"], "skipped",
+            "follower.preload, mass and spring_rate are all 0: no load to check"))
+
+    # oscillation (§3.3, Eq. 5.2/5.4): interior of every rise/return
+    interior = moving & ~cs.is_end
+    if interior.any():
+        v, t, _ = _extreme(-st.travel_velocity, st, model, lambda s: -s.travel_velocity, refine, interior)
+        vmin = -v
+        tol = 1e-12 * max(1.0, float(np.max(np.abs(st.kin.ds))))
+        results.append(CheckResult(
+            "oscillation", "smallest reduced velocity in the direction of travel (rise ↑, return ↓)",
+            "min", vmin, _deg(t), 0.0, lab["reduced_velocity"], "pass" if vmin >= -tol else "fail"))
+
+    # contact stress (Eq. 3.6, 5.13)
+    if spec.is_roller and model.has_load:
+        v, t, _ = _extreme(st.stress, st, model, lambda s: s.stress, refine)
+        lim = spec.material.allowable_stress
+        status = "pass" if lim is None or v <= lim else "fail"
+        results.append(CheckResult(
+            "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
+            "max", v, _deg(t), lim, lab["stress"], status,
+            "" if lim is not None else "material.allowable_stress not given: not limited"))
+    else:
+        results.append(CheckResult(
+            "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
+            "max", None, None, spec.material.allowable_stress, lab["stress"], "skipped",
+            "knife-edge follower" if not spec.is_roller else "no follower load given"))
+
+    # curvature with the safety factor (Eq. 3.7, 5.7) and the true undercut
+    rr = spec.roller_radius
+    convex = st.pitch_radius > 0
+    v, t, _ = _extreme(-np.where(convex, st.pitch_radius, np.inf), st, model,
+                    lambda s: -np.where(s.pitch_radius > 0, s.pitch_radius, np.inf), refine)
+    rho_min = -v
+    lim = cfg.undercut_factor * rr
+    results.append(CheckResult(
+        "curvature", f"smallest convex pitch radius of curvature (thesis Eq. 3.7) ≥ "
+        f"{cfg.undercut_factor:g} × roller radius", "min", _finite(rho_min), _deg(t), lim,
+        lab["length"], "pass" if rho_min >= lim else "fail"))
+    if spec.is_roller:
+        crossing = envelope_crossing(model, cs)
+        ok = rho_min - rr > 0 and crossing is None
+        note = "" if crossing is None else f"the roller envelope crosses itself near {crossing:.2f}°"
+        results.append(CheckResult(
+            "undercut", "smallest convex cam-surface radius of curvature ρ − r_f (the roller envelope)",
+            "min", _finite(rho_min - rr), _deg(t) if crossing is None else crossing, 0.0,
+            lab["length"], "pass" if ok else "fail", note))
+
+    extremes = _extremes(st, model, refine, lab)
+    return DesignChecks(tuple(results), extremes, sampling, samples if sampling == "dense" else THESIS_NODES,
+                        u, st)
+
+
+def _finite(v: float) -> float | None:
+    return float(v) if np.isfinite(v) else None
+
+
+def _extremes(st: CamState, model: StateModel, refine: bool, lab: dict[str, str]) -> dict[str, dict[str, Any]]:
+    """Largest |value| (reported signed) of force, pressure angle, stress and the reduced
+    velocity, acceleration and jerk — the thesis' "Maximum Values" table."""
+    out: dict[str, dict[str, Any]] = {}
+    items: list[tuple[str, Callable[[CamState], np.ndarray], str, float]] = [
+        ("force", lambda s: s.force, lab["force"], 1.0),
+        ("pressure_angle", lambda s: s.pressure_angle, "deg", float(np.rad2deg(1.0))),
+        ("contact_stress", lambda s: s.stress, lab["stress"], 1.0),
+        ("reduced_velocity", lambda s: s.kin.ds, lab["reduced_velocity"], 1.0),
+        ("reduced_acceleration", lambda s: s.kin.d2s, lab["reduced_acceleration"], 1.0),
+        ("reduced_jerk", lambda s: s.kin.d3s, lab["reduced_jerk"], 1.0),
+    ]
+    if not model.has_load:
+        items = [it for it in items if it[0] not in ("force", "contact_stress")]
+    for name, pick, unit, scale in items:
+        vals = pick(st)
+        if not np.any(np.isfinite(vals)):
+            continue
+        mag = np.where(np.isfinite(vals), np.abs(vals), -np.inf)
+        _, t, sg = _extreme(mag, st, model, lambda s, p=pick: np.abs(p(s)), refine)
+        val = float(pick(model.state(np.array([t]), np.array([sg])))[0])
+        out[name] = {"value": val * scale, "at_deg": _deg(t), "unit": unit}
+    rho = st.pitch_radius
+    if np.any(rho < 0):
+        j = int(np.argmax(np.where(rho < 0, rho, -np.inf)))
+        out["min_concave_pitch_radius"] = {"value": float(-rho[j]), "at_deg": _deg(st.theta[j]),
+                                           "unit": lab["length"]}
+    return out
+
+
+def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 2001) -> float | None:
+    """Cam angle [deg] where the roller envelope (the design-intent profile, pitch point
+    moved by r_f along the inward normal) crosses itself, or None.  A profile whose polar
+    angle is monotonic cannot cross itself; otherwise every pair of edges of the sampled
+    polygon is tested."""
+    from .geometry_checks import _segments_intersect
+
+    prog = model.program
+    th = np.concatenate([prog.starts[k] + prog.spans[k] * np.linspace(0, 1, per_segment if prog.laws[k] else 64,
+                                                                        endpoint=False)
+                         for k in range(len(prog.starts))])
+    pts = envelope_points(model, th)
+    dang = np.angle(np.roll(pts, -1) / pts)
+    if np.all(dang > 0) or np.all(dang < 0):
+        return None
+    hit = _segments_intersect(pts, np.roll(pts, -1))
+    return None if hit is None else _deg(th[hit[0]])
+
+
+def envelope_points(model: StateModel, theta: np.ndarray) -> np.ndarray:
+    """Design-intent cam profile points (complex, cam frame): the pitch point P(θ) moved by
+    the roller radius along the pitch curve's normal towards the cam."""
+    geo = model.geometry
+    k = model.program.evaluate(theta)
+    p = geo.pitch_points(theta, k.s)
+    d = np.exp(-1j * geo.sense * theta) * (geo.sense * (geo.s0 + k.s) - 1j * geo.sense * geo.offset + 1j * k.ds)
+    # a ccw cam's pitch curve runs clockwise (the cam on its right), a cw cam's counter-clockwise
+    inward = -1j * geo.sense * d / np.abs(d)
+    return p + model.spec.roller_radius * inward
+
+
+# ---- constraint arrays for an optimiser ------------------------------------------------------
+@dataclass(frozen=True)
+class ConstraintArrays:
+    """Normalised constraints g ≤ 0 (feasible) at every sample point: the thesis' Eq. 5.2–5.13
+    written smoothly (curvature as κ = 1/ρ, which passes through 0 at inflections)."""
+
+    theta: np.ndarray
+    g: dict[str, np.ndarray]
+
+    def max_violation(self) -> float:
+        return max(float(np.max(v)) for v in self.g.values())
+
+
+def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
+                      model: StateModel | None = None) -> ConstraintArrays:
+    """Every constraint as an array over the sample points (default: the spec's sampling)."""
+    model = model or StateModel(spec)
+    cs = samples or check_samples(model.program, spec.checks.sampling, spec.checks.samples)
+    st = model.state(cs.theta, cs.segment)
+    cfg = spec.checks
+    rr = spec.roller_radius
+    moving = np.array([model.program.laws[s] is not None for s in st.segment]) & ~cs.is_end
+    seg_scale = np.abs(model.program.lifts[st.segment]) / model.program.spans[st.segment]
+    g: dict[str, np.ndarray] = {}
+    g["oscillation"] = np.where(moving, -st.travel_velocity / np.where(moving, seg_scale, 1.0), -1.0)  # Eq. 5.2, 5.4
+    g["pressure_angle"] = (st.pressure_angle / np.deg2rad(cfg.max_pressure_angle)) ** 2 - 1.0  # Eq. 5.5
+    kappa = 1.0 / st.pitch_radius
+    if rr > 0:
+        g["curvature"] = kappa * cfg.undercut_factor * rr - 1.0                            # Eq. 5.7
+        g["undercut"] = kappa * rr - 1.0
+    if model.has_load:
+        scale = max(spec.follower.preload, 1e-12)
+        g["separation"] = (cfg.min_force - st.force) / scale                               # Eq. 5.10
+        if spec.is_roller and spec.material.allowable_stress:
+            g["contact_stress"] = (st.stress / spec.material.allowable_stress) ** 2 - 1.0   # Eq. 5.13
+    return ConstraintArrays(cs.theta, g)
