@@ -26,6 +26,8 @@ def _default_text(p: Param) -> str:
         return "—"
     if p.default is dataclasses.MISSING or repr(p.default) == "REQUIRED":
         return "required"
+    if isinstance(p.default, bool):
+        return "true" if p.default else "false"
     if isinstance(p.default, str):
         return f'"{p.default}"'
     return f"{p.default:g}" if isinstance(p.default, float) else str(p.default)
@@ -76,6 +78,12 @@ reference, including the fields added since.
 - All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
 - `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`.
 - `pitch.segments` and `pitch.tolerance` are exclusive; with neither (and no junctions) M = {M}.
+- `machining.sample_period`: at most 1° of cam rotation per command at the rotary speed
+  (`machining.rotary_speed_rpm`, default `cam.speed_rpm`), at most 10⁷ commands per turn.
+- `machining.chord_tolerance` < 1% of `cam.base_radius`.
+- `machining.tool_radius` < the smallest concave radius of curvature of the profile, else the
+  tool gouges (an error naming the cam angle); the lead arcs must not cut the contour; the
+  XC blocks must stay within `chord_tolerance` of the exact tool-centre path.
 - Unknown fields are errors (a typo is never silently ignored).
 - A cam that cannot be made is an error naming the cam angle: undercut (roller radius ≥ the
   smallest convex radius of curvature of the pitch curve), a profile that crosses itself,

@@ -205,15 +205,19 @@ def contour_path(design: CamDesign, plan: MachiningPlan) -> ContourPath:
     ccw = bool((np.conj(-1j * outward) * tangent).real > 0)
     start, end = centre - r * tangent, centre + r * tangent
     lead_in, lead_out = _arc(start, entry, centre, ccw), _arc(entry, end, centre, ccw)
-    _check_leads(curve, centre, r, entry, start, end, ccw)
+    check_lead_arcs(curve, centre, r, entry, ccw)
     return ContourPath(curve=curve, loop=path, lead_in=lead_in, lead_out=lead_out,
                        entry_angle_deg=float(np.rad2deg(design.pitch.angles[k])), clockwise=clockwise,
                        max_distance=dist, tolerance=tol, z_levels=plan.z_levels)
 
 
-def _check_leads(curve: NurbsCurve, centre: complex, r: float, entry: complex, start: complex,
-                 end: complex, ccw: bool) -> None:
-    """The lead arcs must stay outside the tool-centre path (else they cut into the cam)."""
+def check_lead_arcs(curve: NurbsCurve, centre: complex, r: float, entry: complex, ccw: bool) -> None:
+    """The lead arcs (quarter circles of radius ``r`` about ``centre`` on both sides of the
+    entry point) must stay outside the closed tool-centre path, else they cut into the cam.
+
+    Raises:
+        SpecError: ``machining.lead_radius``.
+    """
     a_entry = np.angle(entry - centre)
     sgn = 1.0 if ccw else -1.0
     phi = np.deg2rad(np.linspace(2.0, 90.0, 45))
