@@ -92,3 +92,21 @@ def test_gcode_help_lists_the_modes():
     for word in ("xy", "xc", "csv", "G93", "chord_tolerance"):
         assert word in res.stdout
     assert np.all([w in run("--help").stdout for w in ("build", "gcode", "spec")])
+
+
+def test_readme_machining_commands_run(tmp_path):
+    """The `cam-workbench gcode` lines of the README's machining section run as written."""
+    import re
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = text.split("## Machining:", 1)[1].split("\n## ", 1)[0]
+    lines = [ln.split("#")[0].strip() for ln in section.splitlines() if ln.startswith("cam-workbench gcode")]
+    assert len(lines) == 3
+    (tmp_path / "cam.toml").write_text(run("spec", "--default").stdout)
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    for line in lines:
+        cmd = re.sub(r"^cam-workbench", f"{sys.executable} -m cam_workbench.cli", line)
+        res = subprocess.run(cmd, shell=True, cwd=tmp_path, capture_output=True, text=True, env=env)
+        assert res.returncode == 0, (line, res.stderr)
+    assert (tmp_path / "cam_xy.nc").exists() and (tmp_path / "cam_xc.nc").exists()
+    assert (tmp_path / "commands.csv").read_text().startswith("k,t_s,")

@@ -203,3 +203,16 @@ def test_report_section(accuracy):
         assert key in s
     assert s["differencing"] == "backward" and set(s["schemes"]) == {"backward", "central"}
     assert s["jerk"]["desired_max"] == pytest.approx(21318.3, abs=0.1)
+
+
+@pytest.mark.parametrize("case", [1, 2])
+def test_paper_tolerance_chooses_the_papers_m(case):
+    """ε_all = 0.2 µm (paper §4.2): pitch.tolerance (the contract's dense deviation) picks
+    M = 60, the paper's choice, and the interpolated commands of that M meet it too; M = 59
+    misses it by 5× (junctions off the motion boundaries)."""
+    from generators.pitch import segments_for_tolerance
+
+    pc, dev, _ = segments_for_tolerance(paper_case(case), 2e-4)
+    assert pc.M == 60 and dev <= 2e-4
+    assert interpolator_accuracy(pc, 60.0, 1e-3).max_deviation[0] <= 2e-4
+    assert build_pitch_for_segments(paper_case(case), 59).max_deviation()[0] > 1e-3
