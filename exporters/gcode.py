@@ -8,7 +8,7 @@ Two programs, both from exact geometry made in ``generators.toolpath``:
   command, so each block takes the sample period Δt (F = 1/Δt in 1/min).
 
 Every program starts with a header (units G21/G20, G90, G17, G40, G49, G80, G94, work
-offset, G64 path tolerance, tool change, tool-length offset, spindle) and comments with the
+offset, G64 P path-blending tolerance = 10 % of the chord tolerance, tool change, tool-length offset, spindle) and comments with the
 cam's parameters, and ends with M5/M30.  Coordinates are tool-centre coordinates (no
 cutter compensation): 4 decimals in mm, 5 in inches; C in degrees with 4 decimals.
 
@@ -27,7 +27,7 @@ from generators import __version__
 from generators.approx import Path2D
 from generators.cam_design import CamDesign
 from generators.machining import MachiningPlan
-from generators.toolpath import ContourPath, RotaryPath
+from generators.toolpath import BLEND_SHARE, ContourPath, RotaryPath
 
 from .atomic import write_text_atomic
 
@@ -98,7 +98,7 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
 def _header(w: _Writer, plan: MachiningPlan) -> None:
     w.block(f"{_UNITS_WORD[plan.units]} G90 G17 G40 G49 G80 G94 G91.1")
     w.block(plan.work_offset)
-    w.block(f"G64 P{fmt(plan.chord_tolerance / 2, _DECIMALS[plan.units])}")
+    w.block(f"G64 P{fmt(BLEND_SHARE * plan.chord_tolerance, _DECIMALS[plan.units] + 1)}")
     w.block(f"T{plan.tool_number} M6")
     w.block(f"G43 H{plan.tool_number}")
     w.block(f"S{fmt(plan.spindle_rpm, 1)} M3")
@@ -107,7 +107,7 @@ def _header(w: _Writer, plan: MachiningPlan) -> None:
 
 
 def _footer(w: _Writer, plan: MachiningPlan) -> None:
-    w.block(f"G0 Z{fmt(plan.safe_height, _DECIMALS[plan.units])}")
+    """After the last pass (which ends at the safe height): coolant and spindle off, end."""
     if plan.coolant:
         w.block("M9")
     w.block("M5")

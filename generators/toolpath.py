@@ -47,9 +47,11 @@ from .ph_spline import PHSpline
 from .pitch import PitchCurve
 
 TWO_PI = 2.0 * np.pi
-#: Fit the contour to this fraction of the chord tolerance: what is left covers the
-#: rounding of the G-code's coordinates (4 decimals in mm, 5 in inches).
-FIT_MARGIN = 0.9
+#: Fit the contour to this fraction of the chord tolerance; of the rest, BLEND_SHARE goes to
+#: the controller's path blending (LinuxCNC G64 P) and the remainder covers the rounding of
+#: the G-code's coordinates (4 decimals in mm, 5 in inches).
+FIT_MARGIN = 0.85
+BLEND_SHARE = 0.1
 #: Arcs whose sagitta is below this fraction of the tolerance are emitted as lines.
 FLAT_ARC = 0.05
 
