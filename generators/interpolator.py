@@ -38,6 +38,8 @@ SCHEMES = ("backward", "central")
 #: The scheme reported as the actual kinematics: backward differences are what a
 #: controller can compute from past commands, and they reproduce the paper's Table 2.
 DEFAULT_SCHEME = "backward"
+#: Steps above this many degrees per command get a warning in the report.
+COARSE_STEP_DEG = 1.0
 CHUNK = 1 << 15   # commands per vectorised solve (keeps the working set in cache)
 MAX_COMMANDS = 50_000_000
 
@@ -316,7 +318,12 @@ class InterpolatorAccuracy:
             "max_deviation": dev,
             "max_deviation_at_deg": at,
             "differencing": scheme,
+            "warning": None,
         }
+        if c.step_deg > COARSE_STEP_DEG:
+            out["warning"] = (f"{c.step_deg:.4g}° of cam rotation per command: the commands and their finite "
+                              "differences do not resolve the motion; use a shorter machining.sample_period "
+                              "or a lower machining.rotary_speed_rpm")
         mx = self.maxima(scheme)
         for name in ("velocity", "acceleration", "jerk"):
             value, where = mx[name]

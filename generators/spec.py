@@ -93,8 +93,7 @@ class PitchSection:
 DEFAULT_SEGMENTS = 60
 
 WORK_OFFSETS = ("G54", "G55", "G56", "G57", "G58", "G59")
-#: Largest cam rotation per interpolator command [deg] and most commands per revolution.
-MAX_COMMAND_STEP_DEG = 1.0
+#: Most interpolator commands per revolution (memory bound).
 MAX_COMMANDS_PER_REV = 10_000_000
 
 
@@ -408,10 +407,8 @@ def _validate_machining(spec: CamSpec) -> None:
     mc = spec.machining
     rpm = mc.rotary_speed_rpm if mc.rotary_speed_rpm is not None else spec.cam.speed_rpm
     step = 360.0 * rpm / 60.0 * mc.sample_period
-    if step > MAX_COMMAND_STEP_DEG:
-        raise SpecError("machining.sample_period",
-                        f"turns the cam {step:.4g}° per command at {rpm:g} rpm; must be ≤ "
-                        f"{MAX_COMMAND_STEP_DEG:g}° (use a shorter period or a lower rotary speed)")
+    # (a coarse step is not an error here: it only matters for the XC program, whose
+    # blocks are checked against machining.chord_tolerance when it is made)
     if 360.0 / step > MAX_COMMANDS_PER_REV:
         raise SpecError("machining.sample_period",
                         f"gives {360.0 / step:.4g} commands per revolution at {rpm:g} rpm; must be ≤ "

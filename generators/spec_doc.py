@@ -78,8 +78,8 @@ reference, including the fields added since.
 - All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
 - `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`.
 - `pitch.segments` and `pitch.tolerance` are exclusive; with neither (and no junctions) M = {M}.
-- `machining.sample_period`: at most 1° of cam rotation per command at the rotary speed
-  (`machining.rotary_speed_rpm`, default `cam.speed_rpm`), at most 10⁷ commands per turn.
+- `machining.sample_period`: at most 10⁷ commands per turn at the rotary speed
+  (`machining.rotary_speed_rpm`, default `cam.speed_rpm`).
 - `machining.chord_tolerance` < 1% of `cam.base_radius`.
 - `machining.tool_radius` < the smallest concave radius of curvature of the profile, else the
   tool gouges (an error naming the cam angle); the lead arcs must not cut the contour; the

@@ -65,7 +65,7 @@ def test_gcode_command_to_file_with_spec_and_overrides(tmp_path):
 
 BAD = [
     (["--set", "machining.tool_radius=70"], "would gouge the profile at cam angle"),
-    (["--set", "machining.sample_period=0.01"], "machining.sample_period: turns the cam 3.6° per command"),
+    (["--set", "machining.sample_period=1e-10"], "machining.sample_period: gives 1e+10 commands per revolution"),
     (["--set", "machining.contour=spline"], "machining.contour: must be one of"),
     (["--set", "machining.chord_tolerance=0.00001", "--set", "machining.sample_period=0.0025",
       "--set", "machining.program=xc"], "machining.sample_period: X–C blocks"),

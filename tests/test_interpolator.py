@@ -216,3 +216,10 @@ def test_paper_tolerance_chooses_the_papers_m(case):
     assert pc.M == 60 and dev <= 2e-4
     assert interpolator_accuracy(pc, 60.0, 1e-3).max_deviation[0] <= 2e-4
     assert build_pitch_for_segments(paper_case(case), 59).max_deviation()[0] > 1e-3
+
+
+def test_coarse_steps_are_flagged_in_the_report():
+    pc = build_pitch_for_segments(paper_case(2))
+    assert interpolator_accuracy(pc, 60.0, 1e-3).summary()["warning"] is None
+    w = interpolator_accuracy(pc, 3000.0, 1e-3).summary()["warning"]
+    assert w.startswith("18° of cam rotation per command")

@@ -82,5 +82,7 @@ def _print_summary(s: dict, out: Path) -> None:
     print(f"  interpolator: {it['commands']} commands (Δt = {it['sample_period']:g} s), max deviation "
           f"{it['max_deviation']:.3g} {u}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "
           f"j {it['jerk']['max']:.5g} ({it['differencing']} differences)")
+    if it.get("warning"):
+        print(f"  warning: {it['warning']}")
     m = s["machining"]
     print(f"  cam.nc: {m['program']} program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")
