@@ -63,7 +63,7 @@ def deviation_figure(acc: InterpolatorAccuracy, units: str = "mm",
     ax.set_title(f"follower displacement error of the interpolated commands "
                  f"(Δt = {c.sample_period * 1e3:g} ms, {c.speed_rpm:g} rpm)", fontsize=10)
     ax.grid(alpha=0.25)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return fig
 
 
@@ -85,7 +85,7 @@ def kinematics_figure(acc: InterpolatorAccuracy, program: MotionProgram, units: 
         ("a", f"a [{units}/s²]", k.d2s * w**2, np.rad2deg(fd.a_theta), fd.a),
         ("j", f"j [{units}/s³]", k.d3s * w**3, np.rad2deg(fd.j_theta), fd.j),
     ]
-    fig, axes = plt.subplots(4, 1, figsize=(9, 9), sharex=True)
+    fig, axes = plt.subplots(4, 1, figsize=(12, 9), sharex=True)
     mx = acc.maxima(scheme)
     names = {"v": "velocity", "a": "acceleration", "j": "jerk"}
     for ax, (key, label, exact, x_cmd, y_cmd) in zip(axes, rows):
@@ -101,8 +101,7 @@ def kinematics_figure(acc: InterpolatorAccuracy, program: MotionProgram, units: 
                     label=f"{other[0]} differences, max {np.max(np.abs(alt.j)):.5g}")
         ax.set_ylabel(label)
         ax.grid(alpha=0.25)
-        # the middle of the turn is a dwell for the usual programs: keep the legend there
-        ax.legend(fontsize=7, loc="lower center" if key == "s" else "upper center", framealpha=0.85)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     axes[-1].set_xlim(0, 360)
     axes[-1].set_xticks(np.arange(0, 361, 30))
     axes[-1].set_xlabel("cam angle θ [deg]")
