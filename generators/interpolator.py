@@ -137,6 +137,8 @@ class RotationalInterpolator:
                              f"(cam angle {np.rad2deg(ang[k]):.4f}°): Eq. 13 has no simple root there")
         self._m0 = geo.sense * (rot0 * q0).imag / d0 * self._h    # dξ/du at u = 0 (u = (θ−θ_i)/h_i)
         self._m1 = geo.sense * (rot1 * q1).imag / d1 * self._h    # dξ/du at u = 1
+        # junction coordinates at both ends of every segment, for the bracket check
+        self._ends = np.stack([q0.real, q0.imag, q1.real, q1.imag])
 
     def initial_guess(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(segment, ξ) starting values: cubic Hermite interpolation of ξ(θ) between the
@@ -178,13 +180,15 @@ class RotationalInterpolator:
         return Contact(seg=seg, xi=xi, point=pts, Y=y, iterations=iterations)
 
     def _check_bracketed(self, theta: np.ndarray, seg: np.ndarray) -> None:
-        """Eq. 13's residual must change sign over the segment (its ends are junctions)."""
-        sp = self.pitch.spline
-        rot = np.exp(1j * self.pitch.geometry.sense * np.mod(theta, TWO_PI))
-        e = self.pitch.geometry.offset
-        g0 = (rot * sp.junctions[seg]).real - e
-        g1 = (rot * sp.junctions[(seg + 1) % sp.M]).real - e
-        scale = 1e-12 * (np.abs(sp.junctions[seg]) + abs(e))
+        """Eq. 13's residual must change sign over the segment (its ends are junctions):
+        Re(e^{iδθ}q) − e = x cos θ − δ y sin θ − e at both ends."""
+        geo = self.pitch.geometry
+        c, s = np.cos(theta), geo.sense * np.sin(theta)
+        x0, y0, x1, y1 = self._ends[:, seg]
+        e = geo.offset
+        g0 = x0 * c - y0 * s - e
+        g1 = x1 * c - y1 * s - e
+        scale = 1e-12 * (np.abs(x0) + np.abs(y0) + abs(e))
         bad = (g0 * g1 > 0) & (np.abs(g0) > scale) & (np.abs(g1) > scale)
         if bad.any():
             k = int(np.argmax(bad))
