@@ -256,3 +256,13 @@ def max_distance(path: Path2D, curve: NurbsCurve, samples_per_span: int = 400) -
     n_spans = len(_initial_breaks(curve)) - 1
     ppts = path.sample(max(16, samples_per_span * n_spans // max(path.n, 1)))
     return float(max(_distance_to_polyline(ppts, c).max(), _distance_to_polyline(c, ppts).max()))
+
+
+def polyline_curve_distance(points: np.ndarray, curve: NurbsCurve, samples_per_span: int = 400) -> float:
+    """Two-sided check of a dense polyline (complex points in order) against a curve: the
+    larger of the max distance from the points to the curve and from dense curve samples
+    to the polyline (for paths that are neither lines nor arcs, e.g. X–C blocks seen in
+    the cam frame)."""
+    _, cpts = curve.sample(samples_per_span)
+    c = cpts[:, 0] + 1j * cpts[:, 1]
+    return float(max(_distance_to_polyline(points, c).max(), _distance_to_polyline(c, points).max()))

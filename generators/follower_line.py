@@ -71,6 +71,7 @@ class FollowerLineSolver:
         self.sense = int(sense)
         self._pc = power_coeffs(spline.ctrl)                  # r(ξ), degree 5
         self._dpc = self._pc[:, 1:] * np.arange(1, 6)        # r'(ξ), degree 4
+        self._size = np.max(np.abs(spline.ctrl), axis=1)     # bound of |r(ξ)| on each segment
 
     def segment_of(self, theta: np.ndarray) -> np.ndarray:
         """PH segment whose junction angles bracket θ (θ taken modulo 2π)."""
@@ -115,15 +116,18 @@ class FollowerLineSolver:
 
     def _newton(self, seg: np.ndarray, xi: np.ndarray, rot: np.ndarray, tol: float, max_iter: int
                 ) -> tuple[np.ndarray, int]:
-        pc = self._pc[seg]
-        dpc = self._dpc[seg]
+        # Turning the segment by θ makes Eq. 13 a real quintic in ξ: its coefficients
+        # a_j = Re(e^{iδθ} c_j) are formed once, then each Newton step (Eq. 14) is two
+        # real Horner evaluations, rows contiguous (6, N).
+        a = (rot * self._pc[seg].T).real
+        da = a[1:] * np.arange(1, 6)[:, None]
         e = self.offset
+        floor = 16 * np.finfo(float).eps * (self._size[seg] + abs(e))
         active = np.ones(xi.shape, dtype=bool)
         it = 0
         for it in range(1, max_iter + 1):
-            r = horner(pc, xi)
-            g = (rot * r).real - e                      # paper Eq. 13 residual
-            dg = (rot * horner(dpc, xi)).real           # paper Eq. 14 denominator
+            g = _horner_rows(a, xi) - e                 # paper Eq. 13 residual
+            dg = _horner_rows(da, xi)                   # paper Eq. 14 denominator
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = np.where(active, g / dg, 0.0)
             if not np.all(np.isfinite(step)):
@@ -132,7 +136,6 @@ class FollowerLineSolver:
             step = np.clip(step, -0.5, 0.5)
             xi = xi - step
             # converged: step below tol, or residual at the rounding floor of |r|
-            floor = 16 * np.finfo(float).eps * (np.abs(r) + abs(e))
             active = (np.abs(step) > tol) & (np.abs(g) > floor)
             if not active.any():
                 break
@@ -140,3 +143,12 @@ class FollowerLineSolver:
             bad = int(np.argmax(active))
             raise SolveError(f"Eq. 13 Newton iteration did not converge in PH segment {int(seg[bad])}")
         return xi, it
+
+
+def _horner_rows(coeffs: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Evaluate polynomials stored as rows of coefficients (n+1, N), lowest first, at x (N,)."""
+    out = coeffs[-1].copy()
+    for k in range(coeffs.shape[0] - 2, -1, -1):
+        out *= x
+        out += coeffs[k]
+    return out

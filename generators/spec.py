@@ -228,6 +228,68 @@ class DrawingSection:
         "and drops the spline. The curve is closed either way (first pole = last pole)",
         kind="bool", default=False, group="Drawing")
 
+
+WORK_OFFSETS = ("G54", "G55", "G56", "G57", "G58", "G59")
+#: Most interpolator commands per revolution (memory bound).
+MAX_COMMANDS_PER_REV = 10_000_000
+
+
+@dataclass(frozen=True, kw_only=True)
+class MachiningSection:
+    """`[machining]`: how the cam is cut — tool, feeds, passes, the interpolator's sample period and the G-code dialect."""
+
+    tool_radius: float | None = param(
+        "Cutter (or grinding-wheel) radius. Default: the roller radius (the tool centre then runs on the "
+        "pitch curve); for a knife edge base_radius/10 or half the smallest concave profile radius, "
+        "whichever is smaller", unit="length", gt=0, optional=True, group="Machining")
+    tool_number: int = param("Tool number: T word, tool change M6 and length offset G43 H",
+                             kind="int", ge=1, default=1, group="Machining")
+    spindle_rpm: float = param("Tool spindle speed (S word), clockwise (M3)", unit="spindle", gt=0,
+                               default=3000.0, group="Machining")
+    feed_rate: float | None = param("Contour feed rate of the XY program; default 300 mm/min (12 in/min)",
+                                    unit="feed", gt=0, optional=True, group="Machining")
+    plunge_rate: float | None = param("Feed rate of plunges and of the XC radial infeed; default feed_rate/3",
+                                      unit="feed", gt=0, optional=True, group="Machining")
+    sample_period: float = param(
+        "Interpolator sample period Δt: one command (one G93 block of the XC program) per Δt (paper: 1 ms)",
+        unit="time", gt=0, default=0.001, group="Machining")
+    rotary_speed_rpm: float | None = param(
+        "Cam speed on the machine's C axis while the interpolator's commands run (XC program, command "
+        "table, interpolator report); default cam.speed_rpm", unit="speed", gt=0, optional=True,
+        group="Machining")
+    depth: float | None = param("Total cutting depth below the top face (Z = 0); default cam.thickness",
+                                unit="length", gt=0, optional=True, group="Machining")
+    passes: int = param("Number of equal depth passes", kind="int", ge=1, le=1000, default=1,
+                        group="Machining")
+    safe_height: float | None = param("Clearance height above the top face for rapid moves; "
+                                      "default 5 mm (0.2 in)", unit="length", gt=0, optional=True,
+                                      group="Machining")
+    chord_tolerance: float | None = param(
+        "Largest distance of the emitted arcs/lines (and of the XC blocks) from the exact tool-centre "
+        "path; default 0.005 mm (0.0002 in)", unit="length", gt=0, optional=True, group="Machining")
+    contour: str = param("XY contour moves: G02/G03 biarcs or G01 chords", kind="str",
+                         choices=("arcs", "lines"), default="arcs", group="Machining")
+    lead_radius: float | None = param(
+        "Radius of the tangent lead-in/lead-out arcs (XY) and length of the radial approach (XC); "
+        "default the tool radius", unit="length", gt=0, optional=True, group="Machining")
+    milling: str = param("Outside contour milled climb or conventional (spindle clockwise, M3)", kind="str",
+                         choices=("climb", "conventional"), default="climb", group="Machining")
+    rotary_line: str = param(
+        "XC program: the tool centre moves on the follower's own line (machine Y = −offset, C = cam "
+        "angle) or on a line through the C axis (two-axis X–C machines)", kind="str",
+        choices=("follower", "axis"), default="follower", group="Machining")
+    work_offset: str = param("Work coordinate system: origin on the cam axis, Z = 0 on the top face",
+                             kind="str", choices=WORK_OFFSETS, default="G54", group="Machining")
+    line_numbers: bool = param("Number the blocks (N10, N20, …)", kind="bool", default=False,
+                               group="Machining")
+    coolant: bool = param("Flood coolant (M8) while cutting", kind="bool", default=False, group="Machining")
+    program: str = param("Program that `build` writes to cam.nc: XY contour milling or XC rotary",
+                         kind="str", choices=("xy", "xc"), default="xy", group="Machining")
+    dialect: str = param("G-code dialect of cam.nc", kind="str", choices=("linuxcnc",),
+                         default="linuxcnc", group="Machining")
+
+
+
 #: Spec sections: TOML name → (dataclass, is an array of tables, required).  A new section
 #: is a dataclass declared with ``param`` fields, an entry here and a field of CamSpec.
 SECTIONS: dict[str, tuple[type, bool, bool]] = {
@@ -238,6 +300,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "material": (MaterialSection, False, False),
     "checks": (ChecksSection, False, False),
     "drawing": (DrawingSection, False, False),
+    "machining": (MachiningSection, False, False),
 }
 
 
@@ -255,6 +318,7 @@ class CamSpec:
     material: MaterialSection = field(default_factory=MaterialSection)
     checks: ChecksSection = field(default_factory=ChecksSection)
     drawing: DrawingSection = field(default_factory=DrawingSection)
+    machining: MachiningSection = field(default_factory=MachiningSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -423,6 +487,7 @@ def validate(spec: CamSpec) -> None:
     _validate_motion(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
+    _validate_machining(spec)
 
 
 def _validate_motion(spec: CamSpec) -> None:
@@ -494,6 +559,22 @@ def _validate_drawing(spec: CamSpec) -> None:
     if dr.dxf_version == "R12" and dr.curves == "spline":
         raise SpecError("drawing.dxf_version",
                         "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
+
+
+def _validate_machining(spec: CamSpec) -> None:
+    mc = spec.machining
+    rpm = mc.rotary_speed_rpm if mc.rotary_speed_rpm is not None else spec.cam.speed_rpm
+    step = 360.0 * rpm / 60.0 * mc.sample_period
+    # (a coarse step is not an error here: it only matters for the XC program, whose
+    # blocks are checked against machining.chord_tolerance when it is made)
+    if 360.0 / step > MAX_COMMANDS_PER_REV:
+        raise SpecError("machining.sample_period",
+                        f"gives {360.0 / step:.4g} commands per revolution at {rpm:g} rpm; must be ≤ "
+                        f"{MAX_COMMANDS_PER_REV:g}")
+    if mc.chord_tolerance is not None and not mc.chord_tolerance < spec.cam.base_radius / 100:
+        raise SpecError("machining.chord_tolerance",
+                        f"must be < 1% of cam.base_radius ({spec.cam.base_radius / 100:g}), "
+                        f"got {mc.chord_tolerance:g}")
 
 
 # ---- loading ---------------------------------------------------------------------
@@ -606,7 +687,7 @@ def _toml_value(v: Any) -> str:
 
 __all__ = [
     "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "MaterialSection",
-    "ChecksSection", "DrawingSection", "Param",
+    "ChecksSection", "MachiningSection", "DrawingSection", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
     "spec_digest",
 ]

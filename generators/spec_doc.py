@@ -26,6 +26,8 @@ def _default_text(p: Param) -> str:
         return "—"
     if p.default is dataclasses.MISSING or repr(p.default) == "REQUIRED":
         return "required"
+    if isinstance(p.default, bool):
+        return "true" if p.default else "false"
     if isinstance(p.default, str):
         return f'"{p.default}"'
     if isinstance(p.default, bool):
@@ -84,6 +86,12 @@ reference, including the fields added since.
   θ(u) must increase (the offending control point is named); fixed control lifts must sit at the
   end levels; `control_start` only with `control_frame = "absolute_rad"` (see below).
 - `drawing.dxf_version = "R12"` needs `drawing.curves` = "arcs" or "polyline" (R12 has no SPLINE).
+- `machining.sample_period`: at most 10⁷ commands per turn at the rotary speed
+  (`machining.rotary_speed_rpm`, default `cam.speed_rpm`).
+- `machining.chord_tolerance` < 1% of `cam.base_radius`.
+- `machining.tool_radius` < the smallest concave radius of curvature of the profile, else the
+  tool gouges (an error naming the cam angle); the lead arcs must not cut the contour; the
+  XC blocks must stay within `chord_tolerance` of the exact tool-centre path.
 - Unknown fields are errors (a typo is never silently ignored).
 - A cam that cannot be made is an error naming the cam angle: undercut (roller radius ≥ the
   smallest convex radius of curvature of the pitch curve), a profile that crosses itself,

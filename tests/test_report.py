@@ -110,8 +110,11 @@ def test_build_writes_every_file(built):
     report = json.loads((built / "report.json").read_text())
     files = report["files"]
     assert files["dxf"] == "cam.dxf" and files["html"] == "report.html" and files["report"] == "report.json"
-    expected = {"cam.step", "cam.dxf", "report.json", "report.html", *files["plots"]}
-    assert {p.name for p in built.iterdir()} == expected
+    listed = {v for v in files.values() if isinstance(v, str)}
+    listed |= {x for v in files.values() if isinstance(v, list) for x in v}
+    assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv",
+            *files["plots"]} <= listed
+    assert {p.name for p in built.iterdir()} == listed  # report.json lists exactly what was written
     assert {"plot_cam.png", "plot_kinematics.png", "plot_pressure_angle.png", "plot_curvature.png",
             "plot_deviation.png"} <= set(files["plots"])
     for name in files["plots"]:

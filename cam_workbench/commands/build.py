@@ -7,6 +7,7 @@ from pathlib import Path
 
 from exporters.atomic import OutputSet
 from exporters.dxf import build_dxf
+from exporters.machining_outputs import machining_outputs
 from exporters.step import write_step
 from generators.cam_design import design_cam
 from generators.errors import GeometryError
@@ -14,14 +15,15 @@ from generators.errors import GeometryError
 from .. import occ_build
 from .common import add_spec_arguments, progress_reporter, spec_from_args
 from .dxf_cmd import describe as describe_dxf
-from .report_cmd import add_report_files, base_summary, plot_count, plot_progress, solid_summary  # noqa: F401
+from .report_cmd import add_report_files, base_summary, plot_count, plot_progress, solid_summary  # noqa: F401 (re-export)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "build", help="build the cam: cam.step, cam.dxf, report.json, report.html and plots",
-        description="Design the cam (PH pitch curve, exact profile, buildability checks) and write "
+        "build", help="build the cam: cam.step, cam.dxf, cam.nc, commands.csv, report.json, report.html, plots",
+        description="Design the cam (PH pitch curve, exact profile, design checks) and write "
                     "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
+                    "cam.nc (machining.program: xy or xc), commands.csv (the interpolator's commands), "
                     "report.json, report.html and the report's plots (plot_*.png) into the output folder. "
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -52,14 +54,18 @@ def run(args: argparse.Namespace) -> int:
         summary["solid"]["step_profile"] = "fitted offset B-spline (profile.max_error)"
         summary["solid"]["step_cross_section_area"] = occ_build.face_area(
             occ_build.planar_face_at(step_shape, design.spec.cam.thickness))
+    machining = machining_outputs(design)   # computed before anything is written
+    summary["interpolator"] = machining.interpolator_summary
+    summary["machining"] = machining.machining_summary
     doc, dxf_info = build_dxf(design, summary)
     summary["drawing"] = dxf_info.summary()
     out = Path(args.output)
-    files = {"step": "cam.step", "dxf": "cam.dxf"}
+    files = {"step": "cam.step", "dxf": "cam.dxf", **machining.files}
     prog, cb = plot_progress(plot_count(design, summary))
     with prog, OutputSet(out) as o:
         o.add(files["step"], lambda p: write_step(step_shape, p, spec.units))
         o.add(files["dxf"], lambda p: doc.saveas(str(p)))
+        machining.write(o)
         report = add_report_files(o, design, summary, files, progress=cb)
     _print_summary(report, out)
     return 0
@@ -69,7 +75,7 @@ def _print_summary(s: dict, out: Path) -> None:
     u = s["units"]
     p = s["pitch"]
     f = s["files"]
-    print(f"cam written to {out}/: {f['step']}, {f['dxf']}, {f['report']}, {f['html']}, "
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
           f"{len(f['plots'])} plots")
     kind = ("PH quintic spline, M" if p["representation"] == "ph"
             else f"periodic B-spline (degree {p['degree']}), knot spans")
@@ -85,3 +91,11 @@ def _print_summary(s: dict, out: Path) -> None:
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
                                  f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
+    it = s["interpolator"]
+    print(f"  interpolator: {it['commands']} commands (Δt = {it['sample_period']:g} s), max deviation "
+          f"{it['max_deviation']:.3g} {u}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "
+          f"j {it['jerk']['max']:.5g} ({it['differencing']} differences)")
+    if it.get("warning"):
+        print(f"  warning: {it['warning']}")
+    m = s["machining"]
+    print(f"  cam.nc: {m['program']} program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")

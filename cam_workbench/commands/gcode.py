@@ -1,0 +1,62 @@
+"""``cam-workbench gcode``: one machining program of a cam — XY contour milling, XC rotary
+(G93 inverse time) or the interpolator's raw command table (CSV)."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from exporters.atomic import write_text_atomic
+from exporters.commands_csv import commands_csv_text
+from exporters.gcode import contour_program, rotary_program
+from generators.cam_design import design_cam
+from generators.interpolator import interpolate
+from generators.machining import machining_plan
+from generators.toolpath import contour_path, rotary_path
+
+from .common import add_spec_arguments, progress_reporter, spec_from_args
+
+MODES = ("xy", "xc", "csv")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "gcode", help="write one machining program: XY contour, XC rotary or the command table",
+        description="Design the cam and write one machining program for it ([machining] section of the "
+                    "spec: tool, feeds, passes, sample period; `cam-workbench spec` lists the fields):\n"
+                    "  xy   contour milling: the exact tool-centre path as G02/G03 biarcs or G01 chords\n"
+                    "       within machining.chord_tolerance, tangent lead arcs, depth passes\n"
+                    "  xc   rotary: C axis + X, one G93 inverse-time block per interpolator command\n"
+                    "       (each block takes machining.sample_period)\n"
+                    "  csv  the rotational interpolator's raw commands (paper Eq. 15) as CSV\n"
+                    "Nothing is written if the spec is bad or the cam cannot be made or cut.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("--mode", choices=MODES, default="xy", help="program to write (default: xy)")
+    p.add_argument("-o", "--output", metavar="OUT",
+                   help="output file (written atomically); omitted: standard output")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = spec_from_args(args)
+    if spec.pitch.tolerance is not None:
+        prog, cb = progress_reporter("choosing M for pitch.tolerance")
+        with prog:
+            design = design_cam(spec, progress=cb)
+    else:
+        design = design_cam(spec)
+    plan = machining_plan(design)
+    if args.mode == "xy":
+        text = contour_program(design, plan, contour_path(design, plan))
+    elif args.mode == "xc":
+        text = rotary_program(design, plan, rotary_path(design, plan))
+    else:
+        cmds = interpolate(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
+        text = commands_csv_text(cmds, spec.units)
+    if args.output:
+        write_text_atomic(Path(args.output), text)
+        print(f"{args.mode} program written to {args.output}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    return 0

@@ -1,0 +1,227 @@
+"""G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
+
+Two programs, both from exact geometry made in ``generators.toolpath``:
+
+* ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
+  roller radius) as G02/G03 biarcs or G01 chords, tangent lead arcs, depth passes;
+* ``xc`` — rotary: the cam on a C axis, one G93 inverse-time block per interpolator
+  command, so each block takes the sample period Δt (F = 1/Δt in 1/min).
+
+Every program starts with a header (units G21/G20, G90, G17, G40, G49, G80, G94, work
+offset, G64 P path-blending tolerance = 10 % of the chord tolerance, tool change, tool-length offset, spindle) and comments with the
+cam's parameters, and ends with M5/M30.  Coordinates are tool-centre coordinates (no
+cutter compensation): 4 decimals in mm, 5 in inches; C in degrees with 4 decimals.
+
+Dialect "linuxcnc" only.  A Fanuc program would differ in: an ``O`` program number after
+the leading ``%``; no ``G64 P`` (Fanuc's G64 takes no tolerance; use G05.1/AI contour
+control instead); ``G91.1`` does not exist (I/J are always incremental); comments limited
+to upper case; G93 is an option on many Fanuc controls.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable
+
+from generators import __version__
+from generators.approx import Path2D
+from generators.cam_design import CamDesign
+from generators.machining import MachiningPlan
+from generators.toolpath import BLEND_SHARE, ContourPath, RotaryPath
+
+from .atomic import write_text_atomic
+
+MODES = ("xy", "xc")
+_DECIMALS = {"mm": 4, "in": 5}
+_UNITS_WORD = {"mm": "G21", "in": "G20"}
+
+
+def fmt(value: float, decimals: int) -> str:
+    """A G-code number: fixed decimals, trailing zeros and a negative zero removed."""
+    text = f"{value:.{decimals}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+class _Writer:
+    """Collects blocks; numbers them when asked (N10, N20, …)."""
+
+    def __init__(self, numbered: bool):
+        self.lines: list[str] = ["%"]
+        self.numbered = numbered
+        self.n = 0
+
+    def block(self, text: str) -> None:
+        if self.numbered:
+            self.n += 10
+            text = f"N{self.n} {text}"
+        self.lines.append(text)
+
+    def comment(self, text: str) -> None:
+        self.block(f"({_comment_text(text)})")
+
+    def text(self) -> str:
+        return "\n".join(self.lines + ["%"]) + "\n"
+
+
+def _comment_text(text: str) -> str:
+    """ASCII without parentheses (LinuxCNC ends a comment at the first ')')."""
+    repl = {"°": " deg", "≤": "<=", "≥": ">=", "−": "-", "×": "x", "Δ": "d", "θ": "theta", "µ": "u",
+            "(": "[", ")": "]", "–": "-", "²": "^2", "³": "^3"}
+    out = "".join(repl.get(ch, ch) for ch in text)
+    out = out.encode("ascii", "replace").decode("ascii")
+    # (MSG, (DEBUG, (PRINT, (LOG, (PROBE… are LinuxCNC commands, not comments
+    if out.split(",")[0].strip().upper() in ("MSG", "DEBUG", "PRINT", "LOG", "LOGOPEN", "LOGAPPEND",
+                                             "LOGCLOSE", "PROBEOPEN", "PROBECLOSE", "ABORT"):
+        out = "- " + out
+    return out
+
+
+def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str) -> None:
+    spec = design.spec
+    u = spec.units
+    fol = spec.follower
+    w.comment(f"cam_workbench {__version__}: plate cam, {mode_text}")
+    follower = (f"roller r = {fol.roller_radius:g} {u}" if spec.is_roller else "knife edge")
+    w.comment(f"cam: base radius {spec.cam.base_radius:.6g} {u}, thickness {spec.cam.thickness:g} {u}, "
+              f"{spec.cam.direction}, {follower}, offset e = {fol.offset:g} {u}")
+    motion = " / ".join(
+        f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {u} {m.law}" if m.lift is not None else "")
+        for m in spec.motion)
+    w.comment(f"motion: {motion}")
+    w.comment(f"pitch: C2 PH quintic spline, M = {design.pitch.M} segments, max follower deviation "
+              f"{design.max_deviation[0]:.3g} {u}")
+    w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; tool centre = pitch curve offset "
+              f"outward by {plan.centre_offset:g} {u}; no cutter compensation")
+    w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
+
+
+def _header(w: _Writer, plan: MachiningPlan) -> None:
+    w.block(f"{_UNITS_WORD[plan.units]} G90 G17 G40 G49 G80 G94 G91.1")
+    w.block(plan.work_offset)
+    w.block(f"G64 P{fmt(BLEND_SHARE * plan.chord_tolerance, _DECIMALS[plan.units] + 1)}")
+    w.block(f"T{plan.tool_number} M6")
+    w.block(f"G43 H{plan.tool_number}")
+    w.block(f"S{fmt(plan.spindle_rpm, 1)} M3")
+    if plan.coolant:
+        w.block("M8")
+
+
+def _footer(w: _Writer, plan: MachiningPlan) -> None:
+    """After the last pass (which ends at the safe height): coolant and spindle off, end."""
+    if plan.coolant:
+        w.block("M9")
+    w.block("M5")
+    w.block("M30")
+
+
+def _move(path: Path2D, i: int, d: int) -> str:
+    """One G1/G2/G3 block for element ``i`` (I, J incremental from its start)."""
+    end = path.end[i]
+    xy = f"X{fmt(end.real, d)} Y{fmt(end.imag, d)}"
+    if not path.is_arc[i]:
+        return f"G1 {xy}"
+    ij = path.center[i] - path.start[i]
+    return f"{'G3' if path.ccw[i] else 'G2'} {xy} I{fmt(ij.real, d)} J{fmt(ij.imag, d)}"
+
+
+def _moves(path: Path2D, d: int) -> Iterable[str]:
+    for i in range(path.n):
+        yield _move(path, i, d)
+
+
+def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath) -> str:
+    """The XY contour-milling program (text)."""
+    u = plan.units
+    d = _DECIMALS[u]
+    w = _Writer(plan.line_numbers)
+    _cam_comments(w, design, plan, "XY contour milling")
+    kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
+    w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], "
+              f"max distance from the exact tool-centre path {path.max_distance:.3g} {u}, tolerance "
+              f"{path.tolerance:g} {u}")
+    w.comment(f"{plan.milling} milling, {'clockwise' if path.clockwise else 'counter-clockwise'}, "
+              f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
+              f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
+    _header(w, plan)
+    safe = fmt(plan.safe_height, d)
+    start = path.lead_in.start[0]
+    w.block(f"G0 Z{safe}")
+    for p, z in enumerate(path.z_levels, start=1):
+        w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
+        w.block(f"G0 X{fmt(start.real, d)} Y{fmt(start.imag, d)}")
+        w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.comment("lead-in")
+        w.block(_move(path.lead_in, 0, d) + f" F{fmt(plan.feed_rate, 3)}")
+        w.comment("contour")
+        for line in _moves(path.loop, d):
+            w.block(line)
+        w.comment("lead-out")
+        w.block(_move(path.lead_out, 0, d))
+        w.block(f"G0 Z{safe}")
+    _footer(w, plan)
+    return w.text()
+
+
+def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath) -> str:
+    """The XC rotary program (text): G93 inverse-time blocks, one per interpolator command."""
+    u = plan.units
+    d = _DECIMALS[u]
+    w = _Writer(plan.line_numbers)
+    _cam_comments(w, design, plan, "XC rotary machining")
+    cmds = path.commands
+    w.comment(f"interpolator: {cmds.n} commands per revolution, dt = {plan.sample_period:g} s, "
+              f"{plan.rotary_speed_rpm:g} rpm, {cmds.step_deg:.4g} deg per block; blocks within "
+              f"{path.max_deviation:.3g} {u} of the exact tool-centre path")
+    line = "the follower line" if plan.rotary_line == "follower" else "a line through the C axis"
+    w.comment(f"machine: X along {line} [away from the C axis], Y = {fmt(path.y, d)}, "
+              "C positive = cam counter-clockwise seen from +Z; at C0 the cam's +Y lies along +X")
+    if path.from_commands:
+        w.comment("tool radius = roller radius: X = s0 + s_actual, the follower's own position")
+    w.comment(f"G93 inverse time: F = 1/block time [1/min] so each block takes dt; "
+              f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
+    _header(w, plan)
+    safe = fmt(plan.safe_height, d)
+    x_out = path.x[0] + plan.lead_radius
+    w.block(f"G0 Z{safe}")
+    y_word = f" Y{fmt(path.y, d)}" if plan.rotary_line == "follower" else ""
+    w.block(f"G0 X{fmt(x_out, d)}{y_word} C0")
+    f_block = 60.0 / path.durations
+    sense = 1.0 if cmds.sense > 0 else -1.0
+    xs = [fmt(v, d) for v in path.x]
+    f_words = [fmt(v, 3) for v in f_block]
+    for p, z in enumerate(path.z_levels, start=1):
+        c0 = sense * 360.0 * (p - 1)
+        cs = [fmt(c0 + v, 4) for v in path.c_deg]
+        w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
+        w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.comment("infeed")
+        w.block(f"G1 X{xs[0]}")
+        w.comment("revolution")
+        w.block("G93")
+        for k in range(path.n_blocks):
+            w.block(f"G1 X{xs[k + 1]} C{cs[k + 1]} F{f_words[k]}")
+        w.block("G94")
+        w.comment("retract")
+        w.block(f"G1 X{fmt(x_out, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.block(f"G0 Z{safe}")
+    _footer(w, plan)
+    return w.text()
+
+
+def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None) -> str:
+    """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if omitted)."""
+    from generators.machining import machining_plan
+    from generators.toolpath import contour_path, rotary_path
+
+    plan = plan or machining_plan(design)
+    if mode == "xy":
+        return contour_program(design, plan, contour_path(design, plan))
+    if mode == "xc":
+        return rotary_program(design, plan, rotary_path(design, plan))
+    raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
+
+
+def export_gcode(design: CamDesign, path: str | os.PathLike[str], mode: str = "xy",
+                 plan: MachiningPlan | None = None) -> Path:
+    """Write the ``mode`` program to ``path`` atomically."""
+    return write_text_atomic(path, gcode_text(design, mode, plan))
