@@ -18,6 +18,9 @@ always                          the cam drawing with the follower, key numbers, 
                                 ``value`` and ``passed`` are required
 ``series["contact_force"]``,    contact force and Hertz stress over the cycle (figure): a
 ``series["contact_stress"]``    :class:`Series` each (arrays are not put in report.json)
+``report["interpolator"]``      the rotational interpolator's commands (paper §3.2): the
+                                follower motion they give (finite differences at Δt) against
+                                the design, their deviation, and the maxima as in Table 2
 ``report["optimise"]``          optimiser: its scalar entries as a table and, when
                                 ``"history"`` is a list of ``{"iteration", "objective",
                                 "max_violation"}``, the convergence figure
@@ -38,7 +41,7 @@ from generators.cam_design import CamDesign
 from generators.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
 
-from . import plots
+from . import interpolator_plots, plots
 
 
 @dataclass(frozen=True)
@@ -119,6 +122,29 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             lambda: plots.series_figure(
                 [(p.theta_deg, p.values, f"{p.label} [{p.unit}]", p.limit, p.limit_kind) for p in panels],
                 design)))
+    it_rep = report.get("interpolator")
+    if isinstance(it_rep, Mapping):
+        acc_cache: dict[str, Any] = {}
+
+        def accuracy() -> Any:
+            if "acc" not in acc_cache:
+                from generators.interpolator import interpolator_accuracy
+
+                acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
+                                                         float(it_rep["sample_period"]))
+            return acc_cache["acc"]
+
+        out.append(Plot(
+            "interpolator_kinematics", "Follower motion from the machining commands",
+            f"s, v, a and j the follower gets from the interpolator's commands (every "
+            f"{float(it_rep['step_deg']):.3g}°, finite differences at Δt = {float(it_rep['sample_period']):g} s, "
+            f"{it_rep.get('differencing', 'backward')} differences as the paper's Figs. 4 and 6) over the "
+            "exact curves of the motion laws.",
+            lambda: interpolator_plots.kinematics_figure(accuracy(), design.program, u)))
+        out.append(Plot(
+            "interpolator_deviation", "Displacement error at the commands",
+            f"s_actual − s [{small}] at every command (paper Figs. 5, 7, 8); it vanishes at the PH junctions.",
+            lambda: interpolator_plots.deviation_figure(accuracy(), u, junction_angles=design.pitch.angles)))
     hist = _history(report)
     if hist is not None:
         it, obj, viol = hist
@@ -252,6 +278,29 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
                      fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
     if "force_stress" in fig:
         sections.append(("force", "Contact force and stress", fig["force_stress"]))
+    if "interpolator_kinematics" in fig:
+        ip_rows = [
+            ("cam speed", "interpolator.speed_rpm", "rpm", None),
+            ("sample period Δt", "interpolator.sample_period", "s", None),
+            ("cam rotation per command", "interpolator.step_deg", "deg", None),
+            ("commands per revolution", "interpolator.commands", "", None),
+            ("max |s_actual − s| at the commands", "interpolator.max_deviation", u,
+             "interpolator.max_deviation_at_deg"),
+            ("max |v| from the commands", "interpolator.velocity.max", f"{u}/s", "interpolator.velocity.at_deg"),
+            ("max |v| desired", "interpolator.velocity.desired_max", f"{u}/s", None),
+            ("max |a| from the commands", "interpolator.acceleration.max", f"{u}/s²",
+             "interpolator.acceleration.at_deg"),
+            ("max |a| desired", "interpolator.acceleration.desired_max", f"{u}/s²", None),
+            ("increase of max |a| [%]", "interpolator.acceleration.increase_percent", "%", None),
+            ("max |j| from the commands", "interpolator.jerk.max", f"{u}/s³", "interpolator.jerk.at_deg"),
+            ("max |j| desired", "interpolator.jerk.desired_max", f"{u}/s³", None),
+            ("increase of max |j| [%]", "interpolator.jerk.increase_percent", "%", None),
+        ]
+        note = report["interpolator"].get("warning")
+        warn = f'<p class="note"><b>warning:</b> {html.escape(str(note))}</p>' if note else ""
+        sections.append(("interpolator", "Machining commands (rotational PH interpolator)",
+                         fig["interpolator_kinematics"] + _quantity_table(report, ip_rows) +
+                         fig["interpolator_deviation"] + warn))
     if isinstance(report.get("checks"), (Mapping, list)):
         sections.append(("checks", "Design checks", _checks_section(report)))
     if isinstance(report.get("optimise"), Mapping):

@@ -27,7 +27,7 @@ def test_build_writes_machining_files_and_report(tmp_path):
     assert res.returncode == 0, res.stderr
     names = sorted(p.name for p in out.iterdir())
     assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv",
-            "interpolator_deviation.png", "interpolator_kinematics.png"} <= set(names)
+            "plot_interpolator_deviation.png", "plot_interpolator_kinematics.png"} <= set(names)
     report = json.loads((out / "report.json").read_text())
     listed = [v for v in report["files"].values() if isinstance(v, str)]
     listed += [x for v in report["files"].values() if isinstance(v, list) for x in v]
@@ -44,7 +44,7 @@ def test_build_writes_machining_files_and_report(tmp_path):
     assert nc.startswith("%\n") and nc.endswith("M30\n%\n") and "G93" in nc
     rows = (out / "commands.csv").read_text().splitlines()
     assert len(rows) == 1001
-    for png in ("interpolator_deviation.png", "interpolator_kinematics.png"):
+    for png in ("plot_interpolator_deviation.png", "plot_interpolator_kinematics.png"):
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

@@ -276,3 +276,21 @@ def test_renders_in_headless_chromium(built, artifacts, tmp_path):
     for name in report["files"]["plots"]:
         assert f'id="fig-{name[5:-4]}"' in dom.stdout
     assert dom.stdout.count("<svg") >= len(report["files"]["plots"])
+
+
+def test_interpolator_section_matches_report_json(built):
+    """build's report.html has the rotational-interpolator section (paper Table 2 quantities)
+    with the numbers of report.json and both interpolator figures."""
+    report = json.loads((built / "report.json").read_text())
+    page = parse((built / "report.html").read_text())
+    assert "interpolator" in page.ids
+    assert "fig-interpolator_kinematics" in page.ids and "fig-interpolator_deviation" in page.ids
+    it = report["interpolator"]
+    cells = {a["data-key"]: a.get("data-value") for a, _ in page.cells}
+    for key in ("interpolator.max_deviation", "interpolator.acceleration.max", "interpolator.jerk.max"):
+        value = key.split(".")
+        expect = it
+        for part in value[1:]:
+            expect = expect[part]
+        assert float(cells[key]) == expect
+    assert "plot_interpolator_kinematics.png" in report["files"]["plots"]

@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
         summary["solid"]["step_profile"] = "fitted offset B-spline (profile.max_error)"
         summary["solid"]["step_cross_section_area"] = occ_build.face_area(
             occ_build.planar_face_at(step_shape, design.spec.cam.thickness))
-    machining = machining_outputs(design)   # computed before anything is written
+    # computed before anything is written; its plots come with the report (report.html + PNG)
+    machining = machining_outputs(design, plots=False)
     summary["interpolator"] = machining.interpolator_summary
     summary["machining"] = machining.machining_summary
     doc, dxf_info = build_dxf(design, summary)
