@@ -6,25 +6,16 @@ and the time to draw the report.  Prints Markdown tables.
 """
 from __future__ import annotations
 
-import sys
 import tempfile
-import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
 from exporters.dxf import write_dxf  # noqa: E402
 from exporters.report_html import render_report  # noqa: E402
 from generators import default_spec, design_cam  # noqa: E402
 
 
-def best_of(fn, repeat: int = 3) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def bench_dxf() -> list[str]:

@@ -5,7 +5,6 @@ memory per junction, and solid + STEP build time.  Prints a Markdown table with 
 """
 from __future__ import annotations
 
-import sys
 import tempfile
 import time
 import tracemalloc
@@ -13,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
 from generators.follower import FollowerGeometry  # noqa: E402
 from generators.motion import MotionProgram  # noqa: E402
@@ -21,13 +20,6 @@ from generators.ph_spline import solve_closed_ph_spline  # noqa: E402
 from generators.spec import default_spec  # noqa: E402
 
 
-def best_of(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def junctions(m: int) -> np.ndarray:

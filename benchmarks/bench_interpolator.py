@@ -8,13 +8,10 @@ scheme), and the time to make each machining program.  Prints Markdown tables wi
 from __future__ import annotations
 
 import cmath
-import sys
-import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
 from exporters.commands_csv import commands_csv_text  # noqa: E402
 from exporters.gcode import contour_program, rotary_program  # noqa: E402
@@ -26,13 +23,6 @@ from generators.spec import default_spec  # noqa: E402
 from generators.toolpath import contour_path, rotary_path  # noqa: E402
 
 
-def best_of(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def python_loop(pitch, theta: np.ndarray) -> np.ndarray:

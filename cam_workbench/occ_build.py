@@ -15,18 +15,16 @@ from generators.nurbs import NurbsCurve
 from generators.pitch_bspline import bezier_form
 
 
-def nurbs_to_geom(curve: NurbsCurve, z: float = 0.0) -> Any:
-    """A ``Geom_BSplineCurve`` with exactly the poles, weights, knots and degree of ``curve``."""
-    from OCP.Geom import Geom_BSplineCurve
-    from OCP.gp import gp_Pnt
-    from OCP.TColgp import TColgp_Array1OfPnt
+def _occ_arrays(curve: NurbsCurve, pole_array: Any, point: Any) -> tuple[Any, Any, Any, Any]:
+    """OCCT arrays (poles, weights, distinct knots, multiplicities) of ``curve``; ``point(x, y)``
+    makes one pole (gp_Pnt or gp_Pnt2d)."""
     from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
 
     n = curve.n_poles
-    poles = TColgp_Array1OfPnt(1, n)
+    poles = pole_array(1, n)
     weights = TColStd_Array1OfReal(1, n)
     for i, ((x, y), w) in enumerate(zip(curve.poles.tolist(), curve.weights.tolist()), start=1):
-        poles.SetValue(i, gp_Pnt(x, y, z))
+        poles.SetValue(i, point(x, y))
         weights.SetValue(i, w)
     u, mult = curve.distinct_knots()
     knots = TColStd_Array1OfReal(1, len(u))
@@ -34,6 +32,16 @@ def nurbs_to_geom(curve: NurbsCurve, z: float = 0.0) -> Any:
     for i, (k, m) in enumerate(zip(u.tolist(), mult.tolist()), start=1):
         knots.SetValue(i, k)
         mults.SetValue(i, int(m))
+    return poles, weights, knots, mults
+
+
+def nurbs_to_geom(curve: NurbsCurve, z: float = 0.0) -> Any:
+    """A ``Geom_BSplineCurve`` with exactly the poles, weights, knots and degree of ``curve``."""
+    from OCP.Geom import Geom_BSplineCurve
+    from OCP.gp import gp_Pnt
+    from OCP.TColgp import TColgp_Array1OfPnt
+
+    poles, weights, knots, mults = _occ_arrays(curve, TColgp_Array1OfPnt, lambda x, y: gp_Pnt(x, y, z))
     if curve.is_rational:
         return Geom_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
     return Geom_BSplineCurve(poles, knots, mults, curve.degree, False)
@@ -100,20 +108,8 @@ def nurbs_to_geom2d(curve: NurbsCurve) -> Any:
     from OCP.Geom2d import Geom2d_BSplineCurve
     from OCP.gp import gp_Pnt2d
     from OCP.TColgp import TColgp_Array1OfPnt2d
-    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
 
-    n = curve.n_poles
-    poles = TColgp_Array1OfPnt2d(1, n)
-    weights = TColStd_Array1OfReal(1, n)
-    for i, ((x, y), w) in enumerate(zip(curve.poles.tolist(), curve.weights.tolist()), start=1):
-        poles.SetValue(i, gp_Pnt2d(x, y))
-        weights.SetValue(i, w)
-    u, mult = curve.distinct_knots()
-    knots = TColStd_Array1OfReal(1, len(u))
-    mults = TColStd_Array1OfInteger(1, len(u))
-    for i, (k, m) in enumerate(zip(u.tolist(), mult.tolist()), start=1):
-        knots.SetValue(i, k)
-        mults.SetValue(i, int(m))
+    poles, weights, knots, mults = _occ_arrays(curve, TColgp_Array1OfPnt2d, gp_Pnt2d)
     if curve.is_rational:
         return Geom2d_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
     return Geom2d_BSplineCurve(poles, knots, mults, curve.degree, False)

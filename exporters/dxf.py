@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -191,7 +190,6 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
 
     ``summary`` is ``design.summary()`` (computed when not given): the title block
     quotes its numbers."""
-    import ezdxf
 
     spec = design.spec
     dr = spec.drawing

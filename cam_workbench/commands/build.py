@@ -9,13 +9,12 @@ from exporters.atomic import OutputSet
 from exporters.dxf import build_dxf
 from exporters.machining_outputs import machining_outputs
 from exporters.step import write_step
-from generators.cam_design import design_cam
 from generators.errors import GeometryError
 
 from .. import occ_build
-from .common import add_spec_arguments, progress_reporter, spec_from_args
+from .common import add_spec_arguments, design_for, spec_from_args
 from .dxf_cmd import describe as describe_dxf
-from .report_cmd import add_report_files, base_summary, plot_count, plot_progress, solid_summary  # noqa: F401 (re-export)
+from .report_cmd import add_report_files, base_summary, plot_count, plot_progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,12 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    if spec.pitch.tolerance is not None:
-        prog, cb = progress_reporter("choosing M for pitch.tolerance")
-        with prog:
-            design = design_cam(spec, progress=cb)
-    else:
-        design = design_cam(spec)
+    design = design_for(spec)
     shape = occ_build.cam_solid(design)
     # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
     # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)

@@ -2,10 +2,13 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
 from generators.spec import CamSpec, default_spec, load_spec
+
+if TYPE_CHECKING:
+    from generators.cam_design import CamDesign
 
 
 def add_spec_arguments(p: argparse.ArgumentParser) -> None:
@@ -49,6 +52,17 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
         key, value = item.split("=", 1)
         changes[key.strip()] = parse_value(value, key.strip())
     return spec.replace(**changes) if changes else spec
+
+
+def design_for(spec: CamSpec) -> "CamDesign":
+    """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M."""
+    from generators.cam_design import design_cam
+
+    if spec.pitch.tolerance is None:
+        return design_cam(spec)
+    prog, cb = progress_reporter("choosing M for pitch.tolerance")
+    with prog:
+        return design_cam(spec, progress=cb)
 
 
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:

@@ -6,11 +6,10 @@ from pathlib import Path
 
 from exporters.atomic import OutputSet
 from exporters.dxf import write_dxf
-from generators.cam_design import design_cam
 from generators.params import params_of
 from generators.spec import DrawingSection
 
-from .common import add_spec_arguments, spec_from_args
+from .common import add_spec_arguments, design_for, spec_from_args
 
 _DECL = params_of(DrawingSection)
 
@@ -54,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
         changes["drawing.dxf_version"] = args.dxf_version
     if changes:
         spec = spec.replace(**changes)
-    design = design_cam(spec)
+    design = design_for(spec)
     target = output_file(args.output)
     infos = []
     with OutputSet(target.parent) as out:

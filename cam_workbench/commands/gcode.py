@@ -9,12 +9,11 @@ from pathlib import Path
 from exporters.atomic import write_text_atomic
 from exporters.commands_csv import commands_csv_text
 from exporters.gcode import contour_program, rotary_program
-from generators.cam_design import design_cam
 from generators.interpolator import interpolate
 from generators.machining import machining_plan
 from generators.toolpath import contour_path, rotary_path
 
-from .common import add_spec_arguments, progress_reporter, spec_from_args
+from .common import add_spec_arguments, design_for, spec_from_args
 
 MODES = ("xy", "xc", "csv")
 
@@ -40,12 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    if spec.pitch.tolerance is not None:
-        prog, cb = progress_reporter("choosing M for pitch.tolerance")
-        with prog:
-            design = design_cam(spec, progress=cb)
-    else:
-        design = design_cam(spec)
+    design = design_for(spec)
     plan = machining_plan(design)
     if args.mode == "xy":
         text = contour_program(design, plan, contour_path(design, plan))

@@ -12,11 +12,11 @@ import numpy as np
 from exporters.atomic import OutputSet
 from exporters.report_html import Series, render_report, report_plots
 from exporters.report_json import report_json_text
-from generators.cam_design import CamDesign, design_cam
+from generators.cam_design import CamDesign
 from generators.errors import GeometryError
 
 from .. import occ_build
-from .common import add_spec_arguments, spec_from_args
+from .common import add_spec_arguments, design_for, spec_from_args
 
 HTML_NAME = "report.html"
 JSON_NAME = "report.json"
@@ -124,7 +124,7 @@ def plot_progress(total: int) -> tuple[Any, Any]:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    design = design_cam(spec)
+    design = design_for(spec)
     shape = occ_build.cam_solid(design)
     if not occ_build.is_valid(shape) or occ_build.count_solids(shape) != 1:
         raise GeometryError("kernel", "OCCT reports the cam solid as invalid")

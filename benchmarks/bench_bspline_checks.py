@@ -1,7 +1,7 @@
 """Speed of the B-spline lift law's θ(u) inversion and of the design checks, as ratios against
 naive per-sample methods (scipy brentq on scipy's BSpline; a Python loop over samples).
 
-    .venv/bin/python benchmarks/bspline_law_and_checks.py
+    .venv/bin/python benchmarks/bench_bspline_checks.py
 """
 from __future__ import annotations
 

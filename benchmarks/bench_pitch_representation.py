@@ -1,7 +1,7 @@
 """PH quintic vs periodic B-spline pitch curves (pitch.representation): poles, STEP size, profile
 error against the true profile, and build time (design + kernel solid + STEP), with ratios.
 
-    .venv/bin/python benchmarks/pitch_representation.py
+    .venv/bin/python benchmarks/bench_pitch_representation.py
 """
 from __future__ import annotations
 
