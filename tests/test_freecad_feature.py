@@ -219,7 +219,7 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
     assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 1
+    assert r["version"] == 2
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
@@ -264,7 +264,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 1
+    assert res["version"] == 2
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -496,6 +496,8 @@ cam = create(doc)
 doc.recompute()
 rep = design_report(cam)
 RESULT["ok"] = rep.ok
+RESULT["failed"] = rep.failed_checks
+RESULT["buildable"] = rep.buildable
 RESULT["rows"] = rep.rows
 cam.FollowerRollerRadius = 21.5
 cam.CamBoreDiameter = 0.0
@@ -508,12 +510,13 @@ RESULT["bad"] = [design_report(cam).ok, design_report(cam).error]
 
 
 def test_check_design_report(tmp_path, fc_home):
-    """Check design reports pass for the default cam with its numbers (compared with the
-    summary computed here), the undercut with its cam angle, and a bad field by name."""
+    """Check design reports the default cam buildable with its numbers (compared with the
+    summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
+    case 2 cam), the undercut with its cam angle, and a bad field by name."""
     from generators import default_spec, design_cam
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
-    assert r["ok"] is True
+    assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
     rows = {(g, item): (value, status) for g, item, value, status in r["rows"]}
     s = design_cam(default_spec()).summary()
     assert rows[("Pitch curve", "PH quintic segments M")][0] == "60"

@@ -225,10 +225,11 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
 _GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
 
 
-def _table(headers: list[str], rows: list[list[str]], status_col: int | None = None) -> Any:
+def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | None = None) -> Any:
     from PySide import QtGui
 
     table = QtGui.QTableWidget(len(rows), len(headers))
+    table.setObjectName(name)
     table.setHorizontalHeaderLabels(headers)
     table.verticalHeader().setVisible(False)
     colours = {"pass": _GREEN, "fail": _RED, "FAIL": _RED, "skipped": _AMBER}
@@ -244,6 +245,7 @@ def _table(headers: list[str], rows: list[list[str]], status_col: int | None = N
     table.resizeColumnsToContents()
     table.horizontalHeader().setStretchLastSection(True)
     table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+    table.verticalHeader().setDefaultSectionSize(table.fontMetrics().height() + 8)
     return table
 
 
@@ -272,13 +274,13 @@ def show_report(obj: Any) -> DesignReport:
     else:
         cl.addWidget(QtGui.QLabel(f"Design checks (thesis Ch. 3), {report.sampling}; limits from the "
                                   "Checks, Material and Follower properties:"))
-        checks = _table(["check", "value", "at cam angle", "limit", "status", "note"],
+        checks = _table("checks", ["check", "value", "at cam angle", "limit", "status", "note"],
                         [c.cells() for c in report.checks], status_col=4)
         for r, c in enumerate(report.checks):
             checks.item(r, 0).setToolTip(c.description)
         cl.addWidget(checks, 3)
         cl.addWidget(QtGui.QLabel("Extremes (largest magnitude, signed — the thesis' maximum values):"))
-        cl.addWidget(_table(["quantity", "value", "at cam angle"],
+        cl.addWidget(_table("extremes", ["quantity", "value", "at cam angle"],
                             [[n.replace("_", " "), fmt_value(v, u), f"{a:.3f}°"]
                              for n, v, a, u in report.extremes]), 2)
     tabs.addTab(checks_page, "Design checks")
@@ -289,14 +291,14 @@ def show_report(obj: Any) -> DesignReport:
         err.setWordWrap(True)
         err.setStyleSheet(f"color: {_RED}")
         bl.addWidget(err)
-    bl.addWidget(_table(["group", "check / quantity", "value", "status"],
+    bl.addWidget(_table("buildability", ["group", "check / quantity", "value", "status"],
                         [list(r) for r in report.rows], status_col=3))
     tabs.addTab(build_page, "Buildability and geometry")
     layout.addWidget(tabs)
     close = QtGui.QPushButton("Close")
     close.clicked.connect(dlg.accept)
     layout.addWidget(close)
-    dlg.resize(900, 620)
+    dlg.resize(900, 660)
     dlg.setModal(False)
     dlg.show()
     _DIALOGS.append(dlg)

@@ -70,6 +70,7 @@ class ExportDialog:
         self.values.verticalHeader().setVisible(False)
         self.values.horizontalHeader().setStretchLastSection(True)
         self.values.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self.values.verticalHeader().setDefaultSectionSize(self.values.fontMetrics().height() + 8)
         layout.addWidget(self.values, 1)
         row = QtGui.QHBoxLayout()
         self.path_label = QtGui.QLabel()
@@ -118,8 +119,9 @@ class ExportDialog:
         for r, (name, value) in enumerate(rows):
             self.values.setItem(r, 0, QtGui.QTableWidgetItem(name))
             self.values.setItem(r, 1, QtGui.QTableWidgetItem(value))
-        self.values.resizeColumnsToContents()
-        self.values.horizontalHeader().setStretchLastSection(True)
+        header = self.values.horizontalHeader()
+        header.setSectionResizeMode(0, QtGui.QHeaderView.ResizeToContents)
+        header.setSectionResizeMode(1, QtGui.QHeaderView.Stretch)
 
     def browse(self) -> None:
         from PySide import QtGui

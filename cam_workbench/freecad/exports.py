@@ -66,15 +66,17 @@ KINDS: dict[str, ExportKind] = {k.key: k for k in (
                "title block"),
     ExportKind("gcode_xy", "Export G-code (XY contour)", ("gcode", "--mode", "xy"), ".nc",
                "G-code (*.nc *.ngc *.tap)", "{label}_xy.nc",
-               "XY contour milling: the exact tool-centre path as G02/G03 biarcs or G01 chords"),
+               "milling the outside contour: the exact tool-centre path as G02/G03 biarcs or G01 "
+               "chords, tangent lead arcs, depth passes"),
     ExportKind("gcode_xc", "Export G-code (XC rotary)", ("gcode", "--mode", "xc"), ".nc",
                "G-code (*.nc *.ngc *.tap)", "{label}_xc.nc",
-               "XC rotary: C axis + X, one G93 inverse-time block per interpolator command"),
+               "C axis + X: one G93 inverse-time block per command of the rotational interpolator"),
     ExportKind("csv", "Export command table (CSV)", ("gcode", "--mode", "csv"), ".csv",
                "Command table (*.csv)", "{label}_commands.csv",
                "the rotational interpolator's raw commands (paper Eq. 15), one row per sample period"),
     ExportKind("report", "Design report (HTML)", ("report",), "", "", "{label}_report",
-               "report.html (self-contained), report.json and the plots as PNG, into a folder"),
+               "the design report: report.html (self-contained), report.json and the plots as PNG, "
+               "into a folder"),
 )}
 
 
