@@ -76,7 +76,7 @@ class DesignReport:
             return f"not checked: {self.checks_error}"
         parts = []
         if self.failed_checks:
-            parts.append("design checks failed: " + ", ".join(self.failed_checks))
+            parts.append("design checks failed: " + ", ".join(n.replace("_", " ") for n in self.failed_checks))
         if self.error:
             parts.append(self.error)
         elif not self.buildable:

@@ -8,8 +8,8 @@ FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — README "FreeCAD workbenc
 - the DXF needs ezdxf, which FreeCAD does not bring (Debian's ``python3-ezdxf`` 0.18.1 does
   write the same entities, but the SPLINE poles differ from the CLI's by up to 2.5e-14 mm,
   because FreeCAD's numpy/scipy solve the PH spline with other round-off);
-- the command table (full double precision) differs from the CLI's by up to 1e-13 relative for
-  the same reason; only the G-code (4 decimals) came out byte-identical.
+- the command table (full double precision) differs from the CLI's by up to 1.1e-13 mm (3e-14
+  in ξ) for the same reason; only the G-code (4 decimals) came out byte-identical.
 
 So each export runs the ``cam-workbench`` command line of the installation the workbench was
 installed from, with the feature's spec as a TOML file: the files are the CLI's own, written
