@@ -347,7 +347,8 @@ for key, d in json.loads(SPECS).items():
 
 def test_spec_round_trip_through_properties(tmp_path, fc_home):
     """spec → properties → spec is the identity (also for optional fields: junctions per
-    segment, tolerance instead of segments, a knife follower, inches)."""
+    segment, tolerance instead of segments, a knife follower, inches; forces, stresses, feeds,
+    masses and spring rates stored in FreeCAD's units; bools; B-spline control points)."""
     tol = copy.deepcopy(DEFAULT_SPEC_DICT)
     tol["pitch"] = {"representation": "ph", "tolerance": 1e-3}
     inch = copy.deepcopy(DEFAULT_SPEC_DICT)
@@ -357,8 +358,19 @@ def test_spec_round_trip_through_properties(tmp_path, fc_home):
     for seg in inch["motion"]:
         if "lift" in seg:
             seg["lift"] = 0.5
+    from generators.spec import load_spec
+
+    from .conftest import ROOT
+
+    ex5 = load_spec(ROOT / "tests/fixtures/thesis_ex5_final.toml").to_dict()  # inch, loads, B-spline law
+    loaded = copy.deepcopy(DEFAULT_SPEC_DICT)
+    loaded["follower"].update(preload=47.3, mass=0.123456789012345678, spring_rate=1.7, roller_width=6.5)
+    loaded["material"] = {"allowable_stress": 812.5, "cam_modulus": 206000.0}
+    loaded["machining"] = {"feed_rate": 437.0, "plunge_rate": 120.0, "coolant": True, "passes": 3}
+    loaded["checks"] = {"min_force": -2.5, "sampling": "thesis71"}
+    loaded["drawing"] = {"title": "Cam 7", "title_block": False, "curves": "arcs"}
     specs = {"case3": paper_case_dict(3, knife=False), "case1_knife": paper_case_dict(1),
-             "tolerance": tol, "inch": inch}
+             "tolerance": tol, "inch": inch, "ex5": ex5, "loaded": loaded}
     r = run_freecadcmd(f"SPECS = {json.dumps(json.dumps(specs))}\n" + ROUNDTRIP, tmp_path, fc_home).check().result
     for key in specs:
         assert r[key] is True, key

@@ -40,7 +40,8 @@ doc.recompute()
 for o in doc.Objects:
     if o.Name in RESULT:
         RESULT[o.Name].update(status=o.Status, volume=o.Shape.Volume, valid=o.Shape.isValid(),
-                              spec=P.spec_dict(o), tip=o.getDocumentationOfProperty("FollowerPreload"))
+                              spec=P.spec_dict(o), tip=o.getDocumentationOfProperty("FollowerPreload"),
+                              tip_thickness=o.getDocumentationOfProperty("CamThickness"))
 doc.save()
 FreeCAD.closeDocument(doc.Name)
 FreeCAD.Console.PrintMessage("=== reopened\\n")
@@ -90,6 +91,8 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
     assert "MachiningFeedRate" in first and "Traceback" not in first + second
     assert r["again"]["version"] == 2 and _same(r["again"]["spec"], expected)
     assert "upgraded" not in second  # saved by version 2: nothing to do
+    # tooltips are stored in the document: the old wording is replaced by the current one
+    assert 'a FreeCAD quantity (type e.g. "12 in")' in r["tip_thickness"]
 
 
 @requires_ocp

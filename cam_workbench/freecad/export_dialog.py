@@ -11,7 +11,6 @@ dialog and printed to the report view.
 from __future__ import annotations
 
 import threading
-from pathlib import Path
 from typing import Any
 
 from . import exports
@@ -192,7 +191,7 @@ class ExportDialog:
             return
         assert result is not None
         self.result = result
-        where = result.path if exports.KINDS[self.kind].suffix else Path(result.path)
+        where = result.path
         files = "" if len(result.files) == 1 else " (" + ", ".join(result.files) + ")"
         self.status.setStyleSheet(f"color: {_GREEN}")
         self.status.setText(f"Written: {where}{files}")

@@ -202,7 +202,7 @@ class MotionEditorPanel:
     selected B-spline segment, its control points; live validation."""
 
     def __init__(self, obj: Any):
-        from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
+        from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
 
         self.obj = obj
         self.units = getattr(obj, "Units", "mm")
@@ -259,7 +259,6 @@ class MotionEditorPanel:
         if self.table.rowCount():
             self.table.setCurrentCell(first, 0)
         self.show_points()
-        _ = QtCore  # imported for the Qt enums used by the point table
 
     def _header(self, field: str, p: Any) -> str:
         unit = "°" if p.unit == "angle" else unit_name(p.unit, self.units)
