@@ -219,7 +219,7 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
     assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 1
+    assert r["version"] == 2
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
@@ -264,7 +264,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 1
+    assert res["version"] == 2
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -347,7 +347,8 @@ for key, d in json.loads(SPECS).items():
 
 def test_spec_round_trip_through_properties(tmp_path, fc_home):
     """spec → properties → spec is the identity (also for optional fields: junctions per
-    segment, tolerance instead of segments, a knife follower, inches)."""
+    segment, tolerance instead of segments, a knife follower, inches; forces, stresses, feeds,
+    masses and spring rates stored in FreeCAD's units; bools; B-spline control points)."""
     tol = copy.deepcopy(DEFAULT_SPEC_DICT)
     tol["pitch"] = {"representation": "ph", "tolerance": 1e-3}
     inch = copy.deepcopy(DEFAULT_SPEC_DICT)
@@ -357,8 +358,19 @@ def test_spec_round_trip_through_properties(tmp_path, fc_home):
     for seg in inch["motion"]:
         if "lift" in seg:
             seg["lift"] = 0.5
+    from generators.spec import load_spec
+
+    from .conftest import ROOT
+
+    ex5 = load_spec(ROOT / "tests/fixtures/thesis_ex5_final.toml").to_dict()  # inch, loads, B-spline law
+    loaded = copy.deepcopy(DEFAULT_SPEC_DICT)
+    loaded["follower"].update(preload=47.3, mass=0.123456789012345678, spring_rate=1.7, roller_width=6.5)
+    loaded["material"] = {"allowable_stress": 812.5, "cam_modulus": 206000.0}
+    loaded["machining"] = {"feed_rate": 437.0, "plunge_rate": 120.0, "coolant": True, "passes": 3}
+    loaded["checks"] = {"min_force": -2.5, "sampling": "thesis71"}
+    loaded["drawing"] = {"title": "Cam 7", "title_block": False, "curves": "arcs"}
     specs = {"case3": paper_case_dict(3, knife=False), "case1_knife": paper_case_dict(1),
-             "tolerance": tol, "inch": inch}
+             "tolerance": tol, "inch": inch, "ex5": ex5, "loaded": loaded}
     r = run_freecadcmd(f"SPECS = {json.dumps(json.dumps(specs))}\n" + ROUNDTRIP, tmp_path, fc_home).check().result
     for key in specs:
         assert r[key] is True, key
@@ -496,6 +508,8 @@ cam = create(doc)
 doc.recompute()
 rep = design_report(cam)
 RESULT["ok"] = rep.ok
+RESULT["failed"] = rep.failed_checks
+RESULT["buildable"] = rep.buildable
 RESULT["rows"] = rep.rows
 cam.FollowerRollerRadius = 21.5
 cam.CamBoreDiameter = 0.0
@@ -508,12 +522,13 @@ RESULT["bad"] = [design_report(cam).ok, design_report(cam).error]
 
 
 def test_check_design_report(tmp_path, fc_home):
-    """Check design reports pass for the default cam with its numbers (compared with the
-    summary computed here), the undercut with its cam angle, and a bad field by name."""
+    """Check design reports the default cam buildable with its numbers (compared with the
+    summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
+    case 2 cam), the undercut with its cam angle, and a bad field by name."""
     from generators import default_spec, design_cam
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
-    assert r["ok"] is True
+    assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
     rows = {(g, item): (value, status) for g, item, value, status in r["rows"]}
     s = design_cam(default_spec()).summary()
     assert rows[("Pitch curve", "PH quintic segments M")][0] == "60"

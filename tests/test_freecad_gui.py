@@ -140,9 +140,10 @@ def check_dialog():
         raise NotYet("check dialog")
     R["check_dialog"] = len(d)
     if d:
-        t = d[0].findChild(QtGui.QTableWidget)
-        R["check_rows"] = t.rowCount()
-        R["check_fail"] = [t.item(r, 1).text() for r in range(t.rowCount()) if t.item(r, 3).text() == "FAIL"]
+        tables = d[0].findChildren(QtGui.QTableWidget)
+        t = d[0].findChild(QtGui.QTableWidget, "checks")
+        R["check_rows"] = sum(x.rowCount() for x in tables)
+        R["check_fail"] = [t.item(r, 0).text() for r in range(t.rowCount()) if t.item(r, 4).text() == "fail"]
         d[0].move(40, 40)
         state["check"] = d[0]
 
@@ -210,7 +211,8 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert "CamWorkbench" in r["workbenches"]
     assert r["active"] == "CamWorkbench" and r["menu"]
     assert r["toolbar"] == ["New plate cam", "Edit motion program", "Check design",
-                            "Show kinematics plots", "Export STEP…"]
+                            "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
+                            "Design report (HTML)…"]
     new = r["new"]
     assert new["status"] == "ok" and new["valid"] and new["volume"] > 0
     assert new["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
@@ -224,7 +226,8 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["bad_status"] == "row 5, angle: spans sum to 355°, must be 360°"
     assert r["bad_still_open"] is True
     assert r["after_cancel"] == {"dialog": False, "angles": [30.0, 120.0, 60.0, 120.0, 30.0]}
-    assert r["check_dialog"] == 1 and r["check_rows"] > 15 and r["check_fail"] == []
+    # the paper's case-2 cam exceeds the default 30° pressure-angle limit (46.24°)
+    assert r["check_dialog"] == 1 and r["check_rows"] > 15 and r["check_fail"] == ["pressure angle"]
     assert r["plot_dialog"] == 1
     assert r["file_dialog"] == "QFileDialog" and r["step_written"]
     assert r.get("delete_modal") is None and r["after_delete"] == []  # children go with the cam

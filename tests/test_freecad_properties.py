@@ -100,3 +100,148 @@ def test_a_field_declared_later_becomes_a_property(monkeypatch):
     assert "N/mm for mm specs, lbf/in for inch specs" in rate.tooltip()
     assert props.section_flag("checks") == "ChecksEnabled"
     assert "ChecksEnabled" in set(props.iter_property_names())
+
+
+# ---- round two: units of the new sections, list-of-floats fields, the control-point editor ----
+@pytest.mark.parametrize("path, ptype, group", [
+    ("follower.preload", "App::PropertyForce", "Follower"),
+    ("follower.mass", "App::PropertyFloatConstraint", "Follower"),          # stored in kg
+    ("follower.spring_rate", "App::PropertyFloatConstraint", "Follower"),   # stored in N/mm
+    ("follower.roller_width", "App::PropertyLength", "Follower"),
+    ("material.allowable_stress", "App::PropertyPressure", "Material"),
+    ("material.cam_poisson", "App::PropertyFloatConstraint", "Material"),
+    ("checks.min_force", "App::PropertyForce", "Checks"),
+    ("checks.max_pressure_angle", "App::PropertyAngle", "Checks"),
+    ("checks.sampling", "App::PropertyEnumeration", "Checks"),
+    ("machining.feed_rate", "App::PropertySpeed", "Machining"),
+    ("machining.sample_period", "App::PropertyFloatConstraint", "Machining"),
+    ("machining.coolant", "App::PropertyBool", "Machining"),
+    ("machining.passes", "App::PropertyIntegerConstraint", "Machining"),
+    ("drawing.title_block", "App::PropertyBool", "Drawing"),
+    ("drawing.title", "App::PropertyString", "Drawing"),
+    ("motion[].control_x", "App::PropertyStringList", "Motion"),
+    ("motion[].control_y", "App::PropertyStringList", "Motion"),
+    ("motion[].order", "App::PropertyIntegerList", "Motion"),
+    ("motion[].control_frame", "App::PropertyStringList", "Motion"),
+    ("motion[].control_start", "App::PropertyFloatList", "Motion"),
+])
+def test_new_sections_types_and_groups(path, ptype, group):
+    fp = {f.path: f for f in props.field_properties()}[path]
+    assert (fp.type, fp.group) == (ptype, group)
+
+
+def test_storage_factors_are_the_defined_conversions():
+    """Stored value per spec unit, against the definitions (NIST SP 811): 1 in = 25.4 mm,
+    1 lbf = 4.4482216152605 N, 1 psi = 6894.757293168 Pa, 1 lbf·s²/in = 175.1268352 kg;
+    FreeCAD's internal units are mm, mN (kg·mm/s²), kPa (kg/(mm·s²)), mm/s."""
+    fps = {f.path: f for f in props.field_properties()}
+    assert fps["follower.preload"].factor("mm") == 1000.0               # N → mN
+    assert fps["follower.preload"].factor("in") == pytest.approx(4448.2216152605, rel=1e-15)
+    assert fps["material.allowable_stress"].factor("mm") == 1000.0      # MPa → kPa
+    assert fps["material.allowable_stress"].factor("in") == pytest.approx(6.894757293168, rel=1e-12)
+    assert fps["follower.mass"].factor("in") == pytest.approx(175.1268352464764, rel=1e-12)
+    assert fps["follower.spring_rate"].factor("in") == pytest.approx(4.4482216152605 / 25.4, rel=1e-15)
+    assert fps["machining.feed_rate"].factor("mm") == pytest.approx(1 / 60)   # mm/min → mm/s
+    assert fps["machining.feed_rate"].factor("in") == pytest.approx(25.4 / 60)
+    assert fps["cam.base_radius"].factor("in") == 25.4
+    for same in ("cam.speed_rpm", "machining.sample_period", "material.cam_poisson", "motion[].angle",
+                 "motion[].control_x"):
+        assert fps[same].factor("in") == fps[same].factor("mm") == 1.0, same
+    tip = fps["follower.preload"].tooltip()
+    assert "a FreeCAD quantity" in tip and "N for mm specs, lbf for inch specs" in tip
+    assert "mass in kg" in fps["follower.mass"].tooltip()
+    assert "numbers separated by commas" in fps["motion[].control_x"].tooltip()
+
+
+@pytest.mark.parametrize("value", [340.0, 0.02, 250000.0, 12.7, 0.1 + 0.2, 1.0 / 3.0, 29.0e6, 1e-7])
+@pytest.mark.parametrize("factor", [25.4, 4448.2216152605, 6.894757293168361, 1000.0, 1 / 60])
+def test_unscale_returns_the_spec_value(value, factor):
+    """Stored = value × factor; unscale gives the value back exactly (typed decimals and
+    arbitrary doubles alike)."""
+    assert props.unscale(value * factor, factor) == value
+
+
+def test_parse_floats_names_the_entry():
+    from generators.errors import SpecError
+
+    assert props.parse_floats("0.3772, 0.4424 0.5148;1", "motion[0].control_x") == (0.3772, 0.4424, 0.5148, 1.0)
+    with pytest.raises(SpecError) as e:
+        props.parse_floats("0.1, abc", "motion[2].control_x")
+    assert str(e.value) == "motion[2].control_x[1]: must be a number, got 'abc'"
+    assert props.format_floats((0.1, 2.0)) == "0.1, 2.0"
+
+
+EX5_RISE = {"kind": "rise", "angle": 150.0, "lift": 1.0, "law": "bspline", "control_frame": "absolute_rad",
+            "control_x": (0.3772, 0.4424, 0.5148, 1.2282, 1.5945, 1.9231, 2.1345, 2.2648, 2.5848),
+            "control_y": (0.0772, 0.6242, 0.9094)}
+
+
+def test_control_point_table_of_a_bspline_segment():
+    """The thesis' Example 5 rise (order 5, 11 points): P1…P9 with x as given, the free lifts
+    P4…P6 and the fixed end levels 0 (P1–P3) and 1 (P7–P9); writing the table back keeps the
+    free-only format; the all-interior format is kept too."""
+    from cam_workbench.freecad import motion_editor as M
+
+    pts = M.control_points(EX5_RISE)
+    assert [p.index for p in pts] == list(range(1, 10))
+    assert [p.fixed for p in pts] == [True] * 3 + [False] * 3 + [True] * 3
+    assert [p.y for p in pts] == [0.0] * 3 + [0.0772, 0.6242, 0.9094] + [1.0] * 3
+    xs, ys = [p.x for p in pts], [p.y for p in pts]
+    assert M.points_to_fields(EX5_RISE, xs, ys) == {"control_x": EX5_RISE["control_x"],
+                                                   "control_y": EX5_RISE["control_y"]}
+    ys[4] = 0.6
+    xs.insert(5, 1.7)
+    ys.insert(5, 0.7)  # one more point: 4 free lifts P4…P7
+    assert M.points_to_fields(EX5_RISE, xs, ys)["control_y"] == (0.0772, 0.6, 0.7, 0.9094)
+    full = dict(EX5_RISE, control_y=(0.0, 0.0, 0.0, 0.0772, 0.6242, 0.9094, 1.0, 1.0, 1.0))
+    pts = M.control_points(full)
+    assert M.points_to_fields(full, [p.x for p in pts], [p.y for p in pts])["control_y"] == full["control_y"]
+    ret = M.control_points(dict(EX5_RISE, kind="return"))
+    assert [p.y for p in ret][:3] == [1.0] * 3 and [p.y for p in ret][-3:] == [0.0] * 3
+
+
+def test_default_polygon_is_a_valid_rise_and_return():
+    from cam_workbench.freecad import motion_editor as M
+    from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+
+    data = {**DEFAULT_SPEC_DICT, "motion": [dict(r) for r in DEFAULT_SPEC_DICT["motion"]]}
+    for i in (1, 3):
+        data["motion"][i]["law"] = "bspline"
+        data["motion"][i].update(M.default_polygon(data["motion"][i]))
+    spec = CamSpec.from_dict(data)
+    assert spec.motion[1].control_x[0] == pytest.approx(12.0) and spec.motion[3].control_y == (0.75, 0.5, 0.25)
+
+
+@pytest.mark.parametrize("field, rows, text", [
+    ("motion[0].control_x[3]", None, "row 1, control_x[3] (P4): must be a number"),
+    ("motion[0].control_y[1]", [EX5_RISE], "row 1, control_y[1] (P5): must be a number"),
+    ("motion[2].angle", None, "row 3, angle: must be a number"),
+])
+def test_row_messages_name_row_field_and_point(field, rows, text):
+    from cam_workbench.freecad import motion_editor as M
+    from generators.errors import SpecError
+
+    assert M.row_message(SpecError(field, "must be a number"), rows) == text
+
+
+def test_validation_names_a_bad_control_point():
+    """A control point that is not a number, or that breaks the B-spline rules, is named by
+    row, field and point — the messages the editor shows."""
+    from cam_workbench.freecad import motion_editor as M
+    from generators.errors import SpecError
+    from generators.spec import CamSpec, load_spec
+
+    from .conftest import ROOT
+
+    data = load_spec(ROOT / "tests/fixtures/thesis_ex5_final.toml").to_dict()
+    rows = data["motion"]
+    bad = [dict(r) for r in rows]
+    bad[0]["control_x"] = list(bad[0]["control_x"])
+    bad[0]["control_x"][4] = "abc"
+    with pytest.raises(SpecError) as e:
+        CamSpec.from_dict({**data, "motion": bad})
+    assert M.row_message(e.value, bad) == "row 1, control_x[4] (P5): must be a number, got 'abc'"
+    bad[0]["control_x"][4] = 0.2  # P5 before P4: θ(u) must increase
+    with pytest.raises(SpecError) as e:
+        CamSpec.from_dict({**data, "motion": bad})
+    assert M.row_message(e.value, bad).startswith("row 1, control_x")

@@ -1,9 +1,19 @@
-"""Check design: the buildability checks and the design numbers of a ``PlateCam`` feature.
+"""Check design: the design checks, their extremes and the buildability of a ``PlateCam``.
 
-What exists today: ``generators.design_cam`` (undercut, self-intersection and bore checks,
-which raise with the cam angle) and ``CamDesign.summary()`` (the numbers of report.json),
-plus FreeCAD's own verdict on the built solid.  :func:`design_report` is headless; the
-dialog (:func:`show_report`) only renders it.
+Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, so FreeCAD's
+own Python runs them):
+
+- the **design checks** of ``generators.design_checks.run_checks`` (thesis Ch. 3: pressure
+  angle, separation, oscillation, Hertz contact stress, curvature with the undercut factor,
+  the roller envelope), with the limits and sampling of the feature's ``[checks]``,
+  ``[material]`` and follower load properties: value, cam angle, limit, pass/fail — the
+  table ``cam-workbench check`` prints;
+- the **extremes** (the thesis' "Maximum Values": force, pressure angle, stress, reduced
+  velocity, acceleration and jerk, signed, with their cam angles);
+- the **buildability** checks of ``design_cam`` (undercut, self-intersection, bore, which
+  raise with the cam angle), the design numbers, and FreeCAD's own verdict on the solid.
+
+:func:`design_report` is headless; :func:`show_report` renders it in a dialog.
 """
 from __future__ import annotations
 
@@ -14,45 +24,144 @@ from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
 
+#: Comparison shown before a limit, by check (the CLI's wording).
+_LIMIT_OP = {"oscillation": "≥", "curvature": "≥", "undercut": ">", "separation": ">"}
+
+
+@dataclass(frozen=True)
+class CheckRow:
+    """One design check (``generators.design_checks.CheckResult``) as the table shows it."""
+
+    name: str
+    description: str
+    kind: str                 # "max" or "min"
+    value: float | None
+    at_deg: float | None
+    limit: float | None
+    unit: str
+    status: str               # "pass", "fail", "skipped"
+    note: str
+
+    def cells(self) -> list[str]:
+        op = _LIMIT_OP.get(self.name, "≤" if self.kind == "max" else "≥")
+        return [self.name.replace("_", " "), fmt_value(self.value, self.unit),
+                "—" if self.at_deg is None else f"{self.at_deg:.3f}°",
+                "—" if self.limit is None else f"{op} {fmt_value(self.limit, self.unit)}",
+                self.status, self.note]
+
 
 @dataclass
 class DesignReport:
-    """Rows of (group, item, value, status); status is "pass", "FAIL" or "" (information)."""
+    """Everything Check design shows.  ``rows`` are (group, item, value, status) of the
+    buildability checks and design numbers; status "pass", "FAIL" or "" (information)."""
 
     ok: bool
     error: str | None = None
     rows: list[tuple[str, str, str, str]] = field(default_factory=list)
+    checks: list[CheckRow] = field(default_factory=list)
+    extremes: list[tuple[str, float, float, str]] = field(default_factory=list)  # name, value, at_deg, unit
+    sampling: str = ""
+    checks_error: str | None = None
+
+    @property
+    def failed_checks(self) -> list[str]:
+        return [c.name for c in self.checks if c.status == "fail"]
+
+    @property
+    def buildable(self) -> bool:
+        return self.error is None and all(r[3] != "FAIL" for r in self.rows)
+
+    def verdict(self) -> str:
+        if self.checks_error:
+            return f"not checked: {self.checks_error}"
+        parts = []
+        if self.failed_checks:
+            parts.append("design checks failed: " + ", ".join(n.replace("_", " ") for n in self.failed_checks))
+        if self.error:
+            parts.append(self.error)
+        elif not self.buildable:
+            parts.append("buildability check failed")
+        return "; ".join(parts) if parts else "all checks pass"
 
     def text(self) -> str:
-        lines = [f"{'PASS' if self.ok else 'FAIL'}" + (f": {self.error}" if self.error else "")]
+        lines = [self.verdict()]
+        if self.checks:
+            lines.append(f"  design checks ({self.sampling}):")
+            for c in self.checks:
+                cells = c.cells()
+                lines.append(f"    {cells[0]:<15} {cells[1]:>16} at {cells[2]:>9}  limit {cells[3]:<16} "
+                             f"{cells[4]}" + (f" ({cells[5]})" if cells[5] and c.status != "pass" else ""))
+        if self.extremes:
+            lines.append("  extremes: " + "; ".join(f"{n.replace('_', ' ')} {fmt_value(v, u)} at {a:.3f}°"
+                                                    for n, v, a, u in self.extremes))
         for group, item, value, status in self.rows:
-            lines.append(f"  {group:<15} {item:<34} {value:<28} {status}")
+            lines.append(f"  {group:<15} {item:<38} {value:<30} {status}")
         return "\n".join(lines)
 
 
-def _deg(v: float | None) -> str:
-    return "—" if v is None else f"{v:.3f}°"
+def fmt_value(v: float | None, unit: str) -> str:
+    """A check value with its unit, as ``cam-workbench check`` prints it."""
+    if v is None:
+        return "—"
+    if unit == "deg":
+        return f"{v:.3f}°"
+    a = abs(v)
+    text = f"{v:.4g}" if (a >= 1e5 or (a < 1e-3 and a != 0)) else f"{v:.4f}".rstrip("0").rstrip(".")
+    return f"{text} {unit}"
+
+
+def _sampling_text(checks: Any) -> str:
+    if checks.sampling == "thesis71":
+        return "the thesis' 71 nodes per rise/return"
+    return f"{checks.samples} samples per rise/return, refined extrema"
 
 
 def design_report(obj: Any) -> DesignReport:
-    """Design the feature's cam and collect the checks and numbers (no shape is changed)."""
-    from generators.cam_design import design_cam
-
+    """Run the design checks and design the feature's cam (no shape is changed)."""
     try:
         spec = props.spec_of(obj)
     except SpecError as exc:
-        return DesignReport(False, f"{props.describe_field(exc.field)}: {exc.rule}")
+        msg = f"{props.describe_field(exc.field)}: {exc.rule}"
+        return DesignReport(False, msg, checks_error=msg)
+    report = DesignReport(True)
+    _add_checks(report, spec)
+    _add_buildability(report, obj, spec)
+    report.ok = report.checks_error is None and not report.failed_checks and report.buildable
+    return report
+
+
+def _add_checks(report: DesignReport, spec: Any) -> None:
+    from generators.design_checks import run_checks
+
+    try:
+        checks = run_checks(spec)
+    except CamError as exc:
+        report.checks_error = str(exc)
+        return
+    report.sampling = _sampling_text(checks)
+    report.checks = [CheckRow(r.name, r.description, r.kind, r.value, r.at_deg, r.limit, r.unit,
+                              r.status, r.note) for r in checks.results]
+    report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
+                       for name, e in checks.extremes.items()]
+
+
+def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
+    from generators.cam_design import design_cam
+
     try:
         design = design_cam(spec)
     except GeometryError as exc:
         where = f" at cam angle {exc.angle_deg:.2f}°" if exc.angle_deg is not None else ""
-        return DesignReport(False, f"the cam cannot be made ({exc.kind}{where}): {exc}",
-                            [("Buildability", exc.kind.replace("_", " "), str(exc), "FAIL")])
+        report.error = f"the cam cannot be made ({exc.kind}{where}): {exc}"
+        report.rows.append(("Buildability", exc.kind.replace("_", " "), str(exc), "FAIL"))
+        return
     except CamError as exc:
-        return DesignReport(False, f"the cam cannot be made: {exc}")
+        report.error = f"the cam cannot be made: {exc}"
+        return
     s = design.summary()
     u = s["units"]
-    rows: list[tuple[str, str, str, str]] = [
+    rows = report.rows
+    rows += [
         ("Buildability", "undercut (roller vs. convex curvature)", "none", "pass"),
         ("Buildability", "profile self-intersection", "none", "pass"),
         ("Buildability", "bore inside the profile",
@@ -60,7 +169,8 @@ def design_report(obj: Any) -> DesignReport:
     ]
     p = s["pitch"]
     rows += [
-        ("Pitch curve", "PH quintic segments M", str(p["segments"]), ""),
+        ("Pitch curve", "PH quintic segments M" if p.get("representation", "ph") == "ph"
+         else "B-spline knot spans", str(p["segments"]), ""),
         ("Pitch curve", "max follower deviation",
          f"{p['max_deviation']:.3g} {u} at {p['max_deviation_at_deg']:.2f}°",
          "" if p["tolerance"] is None else ("pass" if p["max_deviation"] <= p["tolerance"] else "FAIL")),
@@ -94,8 +204,6 @@ def design_report(obj: Any) -> DesignReport:
         ("Profile", "volume", f"{s['volume']:.8g} {u}³", ""),
     ]
     rows += _kernel_rows(obj, design)
-    ok = all(r[3] != "FAIL" for r in rows)
-    return DesignReport(ok, None, rows)
 
 
 def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
@@ -113,39 +221,84 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
     ]
 
 
+# ---- the dialog (GUI only) ------------------------------------------------------------------
+_GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
+
+
+def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | None = None) -> Any:
+    from PySide import QtGui
+
+    table = QtGui.QTableWidget(len(rows), len(headers))
+    table.setObjectName(name)
+    table.setHorizontalHeaderLabels(headers)
+    table.verticalHeader().setVisible(False)
+    colours = {"pass": _GREEN, "fail": _RED, "FAIL": _RED, "skipped": _AMBER}
+    for r, row in enumerate(rows):
+        for c, text in enumerate(row):
+            item = QtGui.QTableWidgetItem(text)
+            if c == status_col and text in colours:
+                item.setForeground(QtGui.QBrush(QtGui.QColor(colours[text])))
+                font = item.font()
+                font.setBold(True)
+                item.setFont(font)
+            table.setItem(r, c, item)
+    table.resizeColumnsToContents()
+    table.horizontalHeader().setStretchLastSection(True)
+    table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+    table.verticalHeader().setDefaultSectionSize(table.fontMetrics().height() + 8)
+    return table
+
+
 def show_report(obj: Any) -> DesignReport:
-    """Print the report to the report view and show it in a dialog."""
+    """Print the report to the report view and show it in a (non-modal) dialog."""
     import FreeCAD
     import FreeCADGui
     from PySide import QtGui
 
     report = design_report(obj)
-    (FreeCAD.Console.PrintMessage if report.ok else FreeCAD.Console.PrintError)(
-        f"{obj.Label}: check design: {report.text()}\n")
+    out = FreeCAD.Console.PrintMessage if report.ok else FreeCAD.Console.PrintWarning
+    out(f"{obj.Label}: check design: {report.text()}\n")
     dlg = QtGui.QDialog(FreeCADGui.getMainWindow())
+    dlg.setObjectName("CamWorkbenchCheckDesign")
     dlg.setWindowTitle(f"Check design — {obj.Label}")
     layout = QtGui.QVBoxLayout(dlg)
-    head = QtGui.QLabel(("All checks pass" if report.ok else "Check FAILED") +
-                        (f": {report.error}" if report.error else ""))
+    head = QtGui.QLabel(report.verdict())
     head.setWordWrap(True)
-    head.setStyleSheet("font-weight: bold; color: " + ("#1a7f37" if report.ok else "#c62828"))
+    head.setStyleSheet("font-weight: bold; color: " + (_GREEN if report.ok else _RED))
     layout.addWidget(head)
-    table = QtGui.QTableWidget(len(report.rows), 4)
-    table.setHorizontalHeaderLabels(["Group", "Check / quantity", "Value", "Status"])
-    for r, row in enumerate(report.rows):
-        for c, text in enumerate(row):
-            table.setItem(r, c, QtGui.QTableWidgetItem(text))
-    table.resizeColumnsToContents()
-    table.horizontalHeader().setStretchLastSection(True)
-    layout.addWidget(table)
-    note = QtGui.QLabel("Limits on pressure angle, curvature, force and stress come with the "
-                        "[checks] section of the spec (not in this version).")
-    note.setWordWrap(True)
-    layout.addWidget(note)
+    tabs = QtGui.QTabWidget()
+    checks_page = QtGui.QWidget()
+    cl = QtGui.QVBoxLayout(checks_page)
+    if report.checks_error:
+        cl.addWidget(QtGui.QLabel(f"The design checks could not run: {report.checks_error}"))
+    else:
+        cl.addWidget(QtGui.QLabel(f"Design checks (thesis Ch. 3), {report.sampling}; limits from the "
+                                  "Checks, Material and Follower properties:"))
+        checks = _table("checks", ["check", "value", "at cam angle", "limit", "status", "note"],
+                        [c.cells() for c in report.checks], status_col=4)
+        for r, c in enumerate(report.checks):
+            checks.item(r, 0).setToolTip(c.description)
+        cl.addWidget(checks, 3)
+        cl.addWidget(QtGui.QLabel("Extremes (largest magnitude, signed — the thesis' maximum values):"))
+        cl.addWidget(_table("extremes", ["quantity", "value", "at cam angle"],
+                            [[n.replace("_", " "), fmt_value(v, u), f"{a:.3f}°"]
+                             for n, v, a, u in report.extremes]), 2)
+    tabs.addTab(checks_page, "Design checks")
+    build_page = QtGui.QWidget()
+    bl = QtGui.QVBoxLayout(build_page)
+    if report.error:
+        err = QtGui.QLabel(report.error)
+        err.setWordWrap(True)
+        err.setStyleSheet(f"color: {_RED}")
+        bl.addWidget(err)
+    bl.addWidget(_table("buildability", ["group", "check / quantity", "value", "status"],
+                        [list(r) for r in report.rows], status_col=3))
+    tabs.addTab(build_page, "Buildability and geometry")
+    layout.addWidget(tabs)
     close = QtGui.QPushButton("Close")
     close.clicked.connect(dlg.accept)
     layout.addWidget(close)
-    dlg.resize(820, 560)
+    dlg.resize(900, 660)
     dlg.setModal(False)
     dlg.show()
     _DIALOGS.append(dlg)

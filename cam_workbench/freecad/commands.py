@@ -139,8 +139,9 @@ class EditMotion(Command):
 
 class CheckDesign(Command):
     menu_text = "Check design"
-    tooltip = ("Design checks of the cam: undercut, self-intersection, bore, pitch-curve deviation, "
-               "pressure angle, curvature, kinematics maxima, FreeCAD's solid check")
+    tooltip = ("Design checks of the cam (thesis Ch. 3): pressure angle, separation, oscillation, "
+               "contact stress, curvature and undercut — value, cam angle, limit, pass/fail — the "
+               "extremes, and the buildability checks and FreeCAD's solid check")
     icon = "CheckDesign.svg"
 
     def run(self) -> None:
@@ -207,6 +208,51 @@ class ExportSpec(Command):
         FreeCAD.Console.PrintMessage(f"{cam.Label}: spec written to {out}\n")
 
 
+class _Export(Command):
+    """Opens the export dialog of :data:`group` (``export_dialog.GROUPS``)."""
+
+    group = ""
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .export_dialog import open_export_dialog
+
+            open_export_dialog(cam, self.group)
+
+
+class ExportDxf(_Export):
+    menu_text = "Export DXF…"
+    tooltip = ("Write the manufacturing drawing as DXF: the exact rational profile SPLINE (or arcs / a "
+               "polyline, Drawing properties), pitch curve, circles, dimensions, title block")
+    icon = "ExportDxf.svg"
+    group = "dxf"
+
+
+class ExportGcode(_Export):
+    menu_text = "Export G-code…"
+    tooltip = ("Write a machining program: XY contour milling or XC rotary (C axis + X, G93), with the "
+               "Machining properties (tool, feeds, passes, sample period)")
+    icon = "ExportGcode.svg"
+    group = "gcode"
+
+
+class ExportCommandTable(_Export):
+    menu_text = "Export command table (CSV)…"
+    tooltip = ("Write the rotational interpolator's commands (paper Eq. 15) as CSV: time, cam angle, "
+               "command point, follower displacement, one row per sample period")
+    icon = "ExportCsv.svg"
+    group = "csv"
+
+
+class DesignReport(_Export):
+    menu_text = "Design report (HTML)…"
+    tooltip = ("Write the design report into a folder: report.html (self-contained: spec, plots of "
+               "motion, pressure angle, curvature, interpolation error, design checks), report.json, PNGs")
+    icon = "DesignReport.svg"
+    group = "report"
+
+
 #: Command name → command class, in menu order.
 COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_NewPlateCam": NewPlateCam,
@@ -215,16 +261,23 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_CheckDesign": CheckDesign,
     "CamWorkbench_ShowPlots": ShowPlots,
     "CamWorkbench_ExportStep": ExportStep,
+    "CamWorkbench_ExportDxf": ExportDxf,
+    "CamWorkbench_ExportGcode": ExportGcode,
+    "CamWorkbench_ExportCommandTable": ExportCommandTable,
+    "CamWorkbench_DesignReport": DesignReport,
     "CamWorkbench_ExportSpec": ExportSpec,
 }
 #: Menu layout ("Separator" between groups): create, edit, check, export.
 LAYOUT = ["CamWorkbench_NewPlateCam", "CamWorkbench_NewPlateCamFromSpec", "Separator",
           "CamWorkbench_EditMotion", "Separator",
           "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
-          "CamWorkbench_ExportStep", "CamWorkbench_ExportSpec"]
+          "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
+          "CamWorkbench_ExportCommandTable", "Separator",
+          "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]
 #: Toolbar: the everyday commands.
 TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_CheckDesign",
-           "CamWorkbench_ShowPlots", "CamWorkbench_ExportStep"]
+           "CamWorkbench_ShowPlots", "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf",
+           "CamWorkbench_ExportGcode", "CamWorkbench_DesignReport"]
 
 
 def register() -> None:

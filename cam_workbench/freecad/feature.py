@@ -24,11 +24,14 @@ from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
 
-#: Schema version of the features written by this code.
-VERSION = 1
-#: Migrations of a feature from version v to v + 1 (run in order on restore).  Fields added
-#: to the spec need none: :func:`properties.ensure_properties` adds them.
-MIGRATIONS: dict[int, Callable[[Any], None]] = {}
+#: Schema version of the features written by this code.  1: issue 6 round one (forces,
+#: stresses, feeds, masses, spring rates as plain numbers in the spec's units); 2: those as
+#: FreeCAD quantities / fixed storage units (:data:`properties.UNIT_STORAGE`).
+VERSION = 2
+#: Migrations of a feature from version v to v + 1, run in order on restore BEFORE the
+#: properties of newer fields are added (so a migration only sees what the file had).
+#: Fields added to the spec need none: :func:`properties.ensure_properties` adds them.
+MIGRATIONS: dict[int, Callable[[Any], Any]] = {1: props.migrate_plain_numbers}
 
 #: Read-only output properties: name → (type, tooltip).
 RESULT_PROPERTIES = {
@@ -73,20 +76,27 @@ def _ensure_bookkeeping(obj: Any) -> list[str]:
 def upgrade(obj: Any) -> list[str]:
     """Bring a feature restored from a file up to :data:`VERSION`; return the properties added."""
     added = _ensure_bookkeeping(obj)
-    added += props.ensure_properties(obj, None)
     version = int(obj.Version)
     if version > VERSION:
+        added += props.ensure_properties(obj, None)
         _console().PrintWarning(
             f"{obj.Label}: saved by a newer cam_workbench (feature version {version} > {VERSION}); "
             "properties this version does not know are ignored\n")
         return added
+    converted: list[str] = []
     for v in range(version, VERSION):
         if v in MIGRATIONS:
-            MIGRATIONS[v](obj)
+            converted += MIGRATIONS[v](obj) or []
+    added += props.ensure_properties(obj, None)
+    if version < VERSION:
+        props.refresh_tooltips(obj)
     obj.Version = VERSION
-    if added:
+    if added or converted:
+        what = [f"added {', '.join(added)}"] if added else []
+        what += [f"{len(converted)} force, stress, feed, mass and spring-rate properties now in "
+                 f"fixed units, the spec unchanged"] if converted else []
         _console().PrintMessage(f"{obj.Label}: upgraded from feature version {version} "
-                                f"(added {', '.join(added)})\n")
+                                f"({'; '.join(what)})\n")
     return added
 
 

@@ -9,11 +9,15 @@ Naming: ``cam.base_radius`` → ``CamBaseRadius``; top-level ``units`` → ``Uni
 an array-of-tables section (``motion[i].lift``) is one list property per field
 (``MotionLift``), one entry per row ("parallel lists").
 
-Units: lengths are FreeCAD quantities (stored in mm, FreeCAD's internal unit; list
-properties hold plain numbers in mm).  The spec's ``units`` only chooses the unit of the
-spec that is handed to ``generators`` (and of reports and exports): switching ``Units``
-never changes the geometry.  Angles are degrees.  Other unit kinds (speed, force, …) have
-no FreeCAD quantity here and are plain numbers in the spec's units (tooltip says which).
+Units: every dimensional value is stored in ONE fixed unit, whatever the spec's ``units``
+(:data:`UNIT_STORAGE`): lengths, forces, stresses and feeds are FreeCAD quantities
+(``App::PropertyLength``/``Distance``, ``Force``, ``Pressure``, ``Speed``: FreeCAD's internal
+mm, mN, kPa, mm/s; type "340 lbf" or "250 ksi" and FreeCAD converts), angles are degrees,
+masses kg and spring rates N/mm (FreeCAD 0.20 has no property type for these; the tooltip
+says so).  List properties hold plain numbers in the same storage units.  The spec's
+``units`` only chooses the unit of the spec that is handed to ``generators`` (and of reports
+and exports): switching ``Units`` never changes the cam.  Unit kinds that are the same in both
+unit systems (rpm, seconds) are plain numbers.
 
 Absent optional values (``None``): a number whose bounds exclude 0 stores 0, a string
 stores "", a list of numbers stores nothing; any other optional field gets a companion
@@ -22,6 +26,7 @@ boolean ``<Property>Enabled``.  An optional section with required fields gets a 
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any, Iterator
@@ -31,6 +36,19 @@ from generators.params import REQUIRED, Param, params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, default_spec
 
 MM_PER_INCH = 25.4
+#: 1 lbf in N (exact by definition: 0.45359237 kg × 9.80665 m/s²).
+LBF_N = 4.4482216152605
+#: Unit kind → (FreeCAD property type, "" = plain number (lengths: chosen by the bounds),
+#: storage unit, stored value per unit of a mm spec, per unit of an inch spec).
+UNIT_STORAGE: dict[str, tuple[str, str, float, float]] = {
+    "length": ("", "mm", 1.0, MM_PER_INCH),
+    "force": ("App::PropertyForce", "mN", 1e3, LBF_N * 1e3),                      # N, lbf
+    "stress": ("App::PropertyPressure", "kPa", 1e3, LBF_N / MM_PER_INCH**2 * 1e3),  # MPa, psi
+    "feed": ("App::PropertySpeed", "mm/s", 1.0 / 60.0, MM_PER_INCH / 60.0),        # mm/min, in/min
+    "mass": ("", "kg", 1.0, LBF_N / (MM_PER_INCH * 1e-3)),                         # kg, lbf·s²/in
+    "stiffness": ("", "N/mm", 1.0, LBF_N / MM_PER_INCH),                           # N/mm, lbf/in
+    "density": ("", "kg/mm³", 1.0, 0.45359237 / MM_PER_INCH**3),                   # kg/mm³, lb/in³
+}
 #: Property type of a non-list field by value kind (float fields are refined by unit).
 _LIST_TYPES = {"float": "App::PropertyFloatList", "int": "App::PropertyIntegerList",
                "str": "App::PropertyStringList", "bool": "App::PropertyBoolList",
@@ -98,15 +116,40 @@ class FieldProperty:
     def is_length(self) -> bool:
         return self.param.unit == "length" and self.param.kind in ("float", "floats")
 
-    def tooltip(self) -> str:
+    @property
+    def is_quantity(self) -> bool:
+        """Held as a FreeCAD quantity (read through ``.Value``)."""
+        return self.type in _QUANTITY_TYPES
+
+    def factor(self, units: str) -> float:
+        """Stored value per unit of the spec's ``units`` ("mm" or "in"); 1 for values stored as
+        the spec gives them."""
+        if self.param.kind not in ("float", "floats") or self.param.unit not in UNIT_STORAGE:
+            return 1.0
+        _type, _store, mm, inch = UNIT_STORAGE[self.param.unit]
+        return inch if units == "in" else mm
+
+    def unit_text(self) -> str:
+        """How the value is stored and what the spec gets (for the tooltip)."""
         p = self.param
         mm, inch = unit_name(p.unit, "mm"), unit_name(p.unit, "in")
-        if self.is_length:
-            unit = "length (stored in mm; converted to the spec's Units)"
-        elif mm != inch:
-            unit = f"{mm} for mm specs, {inch} for inch specs"
-        else:
-            unit = mm
+        if p.kind in ("float", "floats") and p.unit in UNIT_STORAGE:
+            kind = p.unit
+            conv = f"{mm} for mm specs, {inch} for inch specs"
+            if self.is_quantity or (self.is_length and not self.is_list):
+                return (f"{kind}, a FreeCAD quantity (type e.g. \"12 {inch}\"); the spec gets "
+                        f"{conv}")
+            store = UNIT_STORAGE[kind][1]
+            return f"{kind} in {store}; the spec gets {conv}"
+        if mm != inch:
+            return f"{mm} for mm specs, {inch} for inch specs"
+        if p.unit == "angle":
+            return "degrees"
+        return mm
+
+    def tooltip(self) -> str:
+        p = self.param
+        unit = self.unit_text()
         parts = [p.doc + "."]
         facts = [f"spec field {self.path}"]
         if unit:
@@ -117,8 +160,14 @@ class FieldProperty:
             facts.append(f"{_absent_text(self.absent)} = not given")
         if self.is_list:
             facts.append("one entry per row; edit with the motion editor")
+            if p.kind == "floats":
+                facts.append("numbers separated by commas")
         parts.append("(" + "; ".join(facts) + ")")
         return " ".join(parts)
+
+
+_QUANTITY_TYPES = {"App::PropertyLength", "App::PropertyDistance", "App::PropertyAngle",
+                   "App::PropertyForce", "App::PropertyPressure", "App::PropertySpeed"}
 
 
 def _absent_text(v: Any) -> str:
@@ -131,6 +180,8 @@ def _scalar_type(p: Param) -> str:
             return "App::PropertyLength" if _nonnegative(p) else "App::PropertyDistance"
         if p.unit == "angle":
             return "App::PropertyAngle"
+        if p.unit in UNIT_STORAGE and UNIT_STORAGE[p.unit][0]:
+            return UNIT_STORAGE[p.unit][0]
         if any(b is not None for b in (p.gt, p.ge, p.lt, p.le)):
             return "App::PropertyFloatConstraint"
         return "App::PropertyFloat"
@@ -200,10 +251,10 @@ def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[s
             if fp.is_list:
                 n = rows_now[fp.section]
                 rows = _initial_rows(fp.section, initial, n)
-                _set_list(obj, fp, [r.get(fp.field) for r in rows], _scale_of(initial))
+                _set_list(obj, fp, [r.get(fp.field) for r in rows], _units_of(initial))
                 obj.setEditorMode(fp.name, 1)  # read-only in the editor: use the motion editor
             else:
-                _init_scalar(obj, fp, _initial_value(fp, initial), _scale_of(initial))
+                _init_scalar(obj, fp, _initial_value(fp, initial), _units_of(initial))
         if fp.flag and fp.flag not in existing:
             ptype = "App::PropertyBoolList" if fp.is_list else "App::PropertyBool"
             obj.addProperty(ptype, fp.flag, fp.group, f"{fp.name} is given (else the spec leaves "
@@ -225,8 +276,8 @@ def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[s
     return added
 
 
-def _scale_of(data: dict[str, Any] | None) -> float:
-    return MM_PER_INCH if data and data.get("units") == "in" else 1.0
+def _units_of(data: dict[str, Any] | None) -> str:
+    return "in" if data and data.get("units") == "in" else "mm"
 
 
 def _current_rows(obj: Any, section: str) -> int | None:
@@ -258,7 +309,7 @@ def _initial_value(fp: FieldProperty, initial: dict[str, Any] | None) -> Any:
     return p.default
 
 
-def _init_scalar(obj: Any, fp: FieldProperty, value: Any, scale: float) -> None:
+def _init_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
     p = fp.param
     if fp.type == "App::PropertyEnumeration":
         choices = list(p.choices or ())
@@ -269,17 +320,26 @@ def _init_scalar(obj: Any, fp: FieldProperty, value: Any, scale: float) -> None:
         lo = 0 if fp.absent == 0 else int(p.ge if p.ge is not None else
                                           (p.gt + 1 if p.gt is not None else -_INT_MAX))
         hi = int(p.le if p.le is not None else (p.lt - 1 if p.lt is not None else _INT_MAX))
-        v = _stored_scalar(fp, value, scale)
+        v = _stored_scalar(fp, value, units)
         setattr(obj, fp.name, (int(min(max(v, lo), hi)), lo, hi, 1))
         return
     elif fp.type == "App::PropertyFloatConstraint":
-        lo = 0.0 if fp.absent == 0 else float(p.ge if p.ge is not None else
-                                              (p.gt if p.gt is not None else -_FLOAT_MAX))
-        hi = float(p.le if p.le is not None else (p.lt if p.lt is not None else _FLOAT_MAX))
-        v = _stored_scalar(fp, value, scale)
+        lo = 0.0 if fp.absent == 0 else _stored_bound(fp, p.ge if p.ge is not None else p.gt, -_FLOAT_MAX)
+        hi = _stored_bound(fp, p.le if p.le is not None else p.lt, _FLOAT_MAX)
+        v = _stored_scalar(fp, value, units)
         setattr(obj, fp.name, (float(min(max(v, lo), hi)), lo, hi, 1.0))
         return
-    setattr(obj, fp.name, _stored_scalar(fp, value, scale))
+    setattr(obj, fp.name, _stored_scalar(fp, value, units))
+
+
+def _stored_bound(fp: FieldProperty, bound: float | None, none: float) -> float:
+    """A spec bound as a bound of the stored value: 0 and unit-free bounds carry over; a
+    bound of a converted unit depends on ``Units``, so the spec's validation enforces it."""
+    if bound is None:
+        return none
+    if bound == 0 or fp.factor("mm") == fp.factor("in") == 1.0:
+        return float(bound)
+    return none
 
 
 # ---- spec values ↔ stored values -----------------------------------------------------------
@@ -290,85 +350,120 @@ def _zero(fp: FieldProperty) -> Any:
     return {"float": 0.0, "int": 0, "bool": False, "floats": ()}[k]
 
 
-def _stored_scalar(fp: FieldProperty, value: Any, scale: float) -> Any:
+def _stored_scalar(fp: FieldProperty, value: Any, units: str) -> Any:
     if value is None:
         return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
-    if fp.is_length:
-        if fp.param.kind == "floats":
-            return [float(v) * scale for v in value]
-        return float(value) * scale
+    f = fp.factor(units)
     if fp.param.kind == "floats":
-        return [float(v) for v in value]
+        return [float(v) * f for v in value]
+    if fp.param.kind == "float":
+        return float(value) * f
     return value
 
 
-def _stored_item(fp: FieldProperty, value: Any, scale: float) -> Any:
+def _stored_item(fp: FieldProperty, value: Any, units: str) -> Any:
     if value is None:
         return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
     k = fp.param.kind
+    f = fp.factor(units)
     if k == "floats":
-        f = scale if fp.is_length else 1.0
         return ", ".join(repr(float(v) * f) for v in value)
     if k == "float":
-        return float(value) * (scale if fp.is_length else 1.0)
+        return float(value) * f
     return value
 
 
-def _set_list(obj: Any, fp: FieldProperty, values: list[Any], scale: float) -> None:
-    setattr(obj, fp.name, [_stored_item(fp, v, scale) for v in values])
+def _set_list(obj: Any, fp: FieldProperty, values: list[Any], units: str) -> None:
+    setattr(obj, fp.name, [_stored_item(fp, v, units) for v in values])
 
 
-def _from_mm(v: float, scale: float) -> float:
-    """A stored millimetre value in spec units.  For inches the division by 25.4 is rounded
-    to 15 significant digits so that typed decimals come back exactly (x·25.4/25.4 can be
-    off by one ulp); the change is below 1e-15 relative."""
-    return v if scale == 1.0 else float(f"{v / scale:.15g}")
+def unscale(stored: float, factor: float) -> float:
+    """The spec value whose stored value (value × ``factor``) is ``stored``.
+
+    Among the doubles nearest to stored/factor that map back to ``stored`` exactly, the one
+    with the shortest decimal form, so that a typed 12.7 (or 340 lbf) comes back as 12.7; when
+    none does (a value typed in FreeCAD in another unit), stored/factor rounded to 15
+    significant digits (a change below 1e-15 relative)."""
+    if factor == 1.0:
+        return stored
+    y = stored / factor
+    short = float(f"{y:.15g}")
+    cands = {c for c in (short, y, math.nextafter(y, -math.inf), math.nextafter(y, math.inf))
+             if c * factor == stored}
+    if not cands:
+        return short
+    return min(cands, key=lambda c: (len(repr(c)), abs(c - y)))
 
 
-def _read_scalar(obj: Any, fp: FieldProperty, scale: float) -> Any:
+def _value(raw: Any) -> Any:
+    return float(raw.Value) if hasattr(raw, "Value") else raw  # a FreeCAD Quantity
+
+
+def _read_scalar(obj: Any, fp: FieldProperty, units: str) -> Any:
     raw = getattr(obj, fp.name)
     if fp.flag and not getattr(obj, fp.flag):
         return None
-    if hasattr(raw, "Value"):  # a FreeCAD Quantity (length, angle)
-        raw = float(raw.Value)
+    raw = _value(raw)
     if fp.param.kind == "floats":
         raw = tuple(float(v) for v in raw)
     if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
         return None
-    if fp.is_length:
-        return tuple(_from_mm(v, scale) for v in raw) if fp.param.kind == "floats" else _from_mm(raw, scale)
+    f = fp.factor(units)
+    if fp.param.kind == "floats":
+        return tuple(unscale(v, f) for v in raw)
+    if fp.param.kind == "float":
+        return unscale(float(raw), f)
     return raw
 
 
-def _read_item(fp: FieldProperty, raw: Any, given: bool, scale: float, path: str) -> Any:
+def parse_floats(text: str, path: str) -> tuple[float, ...]:
+    """"0.3772, 0.4424, …" → floats (commas or spaces between them).
+
+    Raises:
+        SpecError: an entry is not a number (named by its index, e.g. ``control_x[2]``)."""
+    items = [t for t in re.split(r"[,;\s]+", text.strip()) if t]
+    out = []
+    for i, t in enumerate(items):
+        try:
+            v = float(t)
+        except ValueError:
+            raise SpecError(f"{path}[{i}]", f"must be a number, got {t!r}") from None
+        if not math.isfinite(v):
+            raise SpecError(f"{path}[{i}]", f"must be a finite number, got {t!r}")
+        out.append(v)
+    return tuple(out)
+
+
+def format_floats(values: Any) -> str:
+    """Floats as the comma-separated text of a list property entry (shortest exact form)."""
+    return ", ".join(repr(float(v)) for v in values)
+
+
+def _read_item(fp: FieldProperty, raw: Any, given: bool, units: str, path: str) -> Any:
     if not given:
         return None
+    f = fp.factor(units)
     if fp.param.kind == "floats":
         text = str(raw).strip()
         if not text:
             return None if fp.absent == "" else ()
-        try:
-            vals = tuple(float(t) for t in text.split(","))
-        except ValueError:
-            raise SpecError(path, f"must be numbers separated by commas, got {text!r}") from None
-        return tuple(_from_mm(v, scale) for v in vals) if fp.is_length else vals
+        return tuple(unscale(v, f) for v in parse_floats(text, path))
     if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
         return None
     if fp.param.kind == "float":
-        raw = float(raw)
-        return _from_mm(raw, scale) if fp.is_length else raw
+        return unscale(float(raw), f)
     return raw
 
 
-def read_rows(obj: Any, section: str, scale: float | None = None) -> list[dict[str, Any]]:
+def read_rows(obj: Any, section: str, units: str | None = None) -> list[dict[str, Any]]:
     """The rows of an array-of-tables section as spec dicts (values in the spec's units,
     absent optional values left out).
 
     Raises:
-        SpecError: the parallel lists have different lengths.
+        SpecError: the parallel lists have different lengths, or a list entry is not a number.
     """
-    if scale is None:
-        scale = units_scale(obj)
+    if units is None:
+        units = units_of(obj)
     fps = properties_of_section(section)
     lengths = {fp.name: len(getattr(obj, fp.name)) for fp in fps}
     lengths.update({fp.flag: len(getattr(obj, fp.flag)) for fp in fps if fp.flag})
@@ -382,34 +477,39 @@ def read_rows(obj: Any, section: str, scale: float | None = None) -> list[dict[s
         values = list(getattr(obj, fp.name))
         given = list(getattr(obj, fp.flag)) if fp.flag else [True] * n
         for i in range(n):
-            v = _read_item(fp, values[i], given[i], scale, f"{section}[{i}].{fp.field}")
+            v = _read_item(fp, values[i], given[i], units, f"{section}[{i}].{fp.field}")
             if v is not None:
                 rows[i][fp.field] = v
     return rows
 
 
-def write_rows(obj: Any, section: str, rows: list[dict[str, Any]], scale: float | None = None) -> None:
+def write_rows(obj: Any, section: str, rows: list[dict[str, Any]], units: str | None = None) -> None:
     """Store the rows of an array-of-tables section (spec dicts, values in spec units)."""
-    if scale is None:
-        scale = units_scale(obj)
+    if units is None:
+        units = units_of(obj)
     for fp in properties_of_section(section):
-        _set_list(obj, fp, [r.get(fp.field) for r in rows], scale)
+        _set_list(obj, fp, [r.get(fp.field) for r in rows], units)
         if fp.flag:
             setattr(obj, fp.flag, [r.get(fp.field) is not None for r in rows])
 
 
+def units_of(obj: Any) -> str:
+    """The feature's spec units, "mm" or "in"."""
+    return "in" if getattr(obj, "Units", "mm") == "in" else "mm"
+
+
 def units_scale(obj: Any) -> float:
     """mm per spec length unit for the feature's current ``Units``."""
-    return MM_PER_INCH if getattr(obj, "Units", "mm") == "in" else 1.0
+    return MM_PER_INCH if units_of(obj) == "in" else 1.0
 
 
 def spec_dict(obj: Any) -> dict[str, Any]:
     """The spec held by the feature's properties, as the TOML structure (not yet validated)."""
-    scale = units_scale(obj)
+    units = units_of(obj)
     data: dict[str, Any] = {}
     for fp in field_properties():
         if fp.section == "":
-            v = _read_scalar(obj, fp, scale)
+            v = _read_scalar(obj, fp, units)
             if v is not None:
                 data[fp.field] = v
     for section, (_cls, is_list, _required) in SECTIONS.items():
@@ -417,11 +517,11 @@ def spec_dict(obj: Any) -> dict[str, Any]:
         if flag and not getattr(obj, flag):
             continue
         if is_list:
-            data[section] = read_rows(obj, section, scale)
+            data[section] = read_rows(obj, section, units)
             continue
         table = {}
         for fp in properties_of_section(section):
-            v = _read_scalar(obj, fp, scale)
+            v = _read_scalar(obj, fp, units)
             if v is not None:
                 table[fp.field] = v
         data[section] = table
@@ -440,32 +540,75 @@ def spec_of(obj: Any) -> CamSpec:
 def write_spec(obj: Any, spec: CamSpec | dict[str, Any]) -> None:
     """Set every spec property of ``obj`` from a spec (or its dict)."""
     data = spec.to_dict() if isinstance(spec, CamSpec) else spec
-    scale = _scale_of(data)
+    units = _units_of(data)
     by_section: dict[str, list[FieldProperty]] = {}
     for fp in field_properties():
         by_section.setdefault(fp.section, []).append(fp)
     for fp in by_section.pop(""):
-        _write_scalar(obj, fp, data.get(fp.field), scale)
+        _write_scalar(obj, fp, data.get(fp.field), units)
     for section, fps in by_section.items():
         flag = section_flag(section)
         if flag:
             setattr(obj, flag, section in data)
         if SECTIONS[section][1]:
-            write_rows(obj, section, list(data.get(section, [])), scale)
+            write_rows(obj, section, list(data.get(section, [])), units)
             continue
         table = data.get(section, {})
         for fp in fps:
             value = table.get(fp.field)
             if value is None and not _is_optional(fp.param) and fp.param.default is not REQUIRED:
                 value = fp.param.default
-            _write_scalar(obj, fp, value, scale)
+            _write_scalar(obj, fp, value, units)
 
 
-def _write_scalar(obj: Any, fp: FieldProperty, value: Any, scale: float) -> None:
+def _write_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
     if fp.flag:
         setattr(obj, fp.flag, value is not None)
-    stored = _stored_scalar(fp, value, scale)
+    stored = _stored_scalar(fp, value, units)
     setattr(obj, fp.name, stored)
+
+
+# ---- documents of feature version 1 -----------------------------------------------------------
+#: Unit kinds that version 1 kept as plain numbers in the spec's units.
+_V1_PLAIN_KINDS = ("force", "stress", "feed", "mass", "stiffness", "density")
+
+
+def migrate_plain_numbers(obj: Any) -> list[str]:
+    """Feature version 1 → 2: forces, stresses, feeds (plain numbers in the spec's units then)
+    become FreeCAD quantities, masses and spring rates are stored in kg and N/mm; the values
+    are converted with the document's ``Units`` so the spec is unchanged.  Returns the
+    properties converted.  Properties the file does not have are left to
+    :func:`ensure_properties`."""
+    units = units_of(obj)
+    existing = set(obj.PropertiesList)
+    done = []
+    for fp in field_properties():
+        if fp.name not in existing or fp.param.unit not in _V1_PLAIN_KINDS:
+            continue
+        old = getattr(obj, fp.name)
+        f = fp.factor(units)
+        if fp.is_list:
+            setattr(obj, fp.name, [float(v) * f for v in old])  # FloatList: same type
+        else:
+            old = float(_value(old))
+            if obj.getTypeIdOfProperty(fp.name) != fp.type:
+                mode = obj.getEditorMode(fp.name)
+                obj.removeProperty(fp.name)
+                obj.addProperty(fp.type, fp.name, fp.group, fp.tooltip())
+                if mode:
+                    obj.setEditorMode(fp.name, mode)
+            setattr(obj, fp.name, old * f)
+        done.append(fp.name)
+    return done
+
+
+def refresh_tooltips(obj: Any) -> None:
+    """Set every spec property's tooltip to the current declaration's (they are stored in the
+    document and would otherwise keep an older wording)."""
+    existing = set(obj.PropertiesList)
+    for fp in field_properties():
+        if fp.name in existing and hasattr(obj, "setDocumentationOfProperty"):
+            obj.setDocumentationOfProperty(fp.name, fp.tooltip())
 
 
 # ---- messages ------------------------------------------------------------------------------
@@ -500,6 +643,7 @@ def iter_property_names() -> Iterator[str]:
             yield section_flag(section)  # type: ignore[misc]
 
 
-__all__ = ["FieldProperty", "MM_PER_INCH", "camel", "describe_field", "ensure_properties",
-           "field_properties", "iter_property_names", "read_rows", "spec_dict", "spec_of",
-           "units_scale", "write_rows", "write_spec"]
+__all__ = ["FieldProperty", "LBF_N", "MM_PER_INCH", "UNIT_STORAGE", "camel", "describe_field",
+           "ensure_properties", "field_properties", "format_floats", "iter_property_names",
+           "migrate_plain_numbers", "parse_floats", "read_rows", "refresh_tooltips", "spec_dict",
+           "spec_of", "unscale", "units_of", "units_scale", "write_rows", "write_spec"]

@@ -14,7 +14,7 @@ class CamWorkbench(FreeCADGui.Workbench):
 
     MenuText = "Plate Cam"
     ToolTip = ("Exact plate cams: C² PH quintic pitch curves, exact rational (NURBS) profiles, "
-               "design checks, STEP export")
+               "design checks, STEP, DXF and G-code export")
     Icon = ""
 
     def Initialize(self):

@@ -1,0 +1,291 @@
+"""DXF, G-code, command-table and design-report exports from FreeCAD, made by the CLI.
+
+FreeCAD's own Python cannot make all of these files as the CLI does (measured on Debian's
+FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — README "FreeCAD workbench"):
+
+- the design report checks the solid with OCP's kernel (never imported inside FreeCAD) and
+  draws with the virtual environment's matplotlib;
+- the DXF needs ezdxf, which FreeCAD does not bring (Debian's ``python3-ezdxf`` 0.18.1 does
+  write the same entities, but the SPLINE poles differ from the CLI's by up to 2.5e-14 mm,
+  because FreeCAD's numpy/scipy solve the PH spline with other round-off);
+- the command table (full double precision) differs from the CLI's by up to 1.1e-13 mm (3e-14
+  in ξ) for the same reason; only the G-code (4 decimals) came out byte-identical.
+
+So each export runs the ``cam-workbench`` command line of the installation the workbench was
+installed from, with the feature's spec as a TOML file: the files are the CLI's own, written
+atomically by it (nothing is written when it fails), and its message is shown on failure
+(exit 2: bad input or a cam that cannot be made or cut, naming the field or the cam angle).
+Which CLI (:func:`find_cli`): ``$CAM_WORKBENCH_CLI``, the FreeCAD parameter
+``BaseApp/Preferences/Mod/CamWorkbench/CliPath``, the Python recorded by ``cam-workbench
+freecad install`` (its marker file), ``cam-workbench`` on PATH.
+"""
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from generators.errors import CamError, SpecError
+
+from . import properties as props
+
+ENV_CLI = "CAM_WORKBENCH_CLI"
+PARAM_PATH = "User parameter:BaseApp/Preferences/Mod/CamWorkbench"
+MARKER = ".cam-workbench-install.json"   # written by install.install_into
+TIMEOUT_S = 900.0
+
+
+class ExportError(CamError):
+    """An export could not be made; the message says why (the CLI's own message when it ran)."""
+
+
+@dataclass(frozen=True)
+class ExportKind:
+    """One export: the CLI arguments, what it writes and how the file dialog offers it."""
+
+    key: str
+    title: str
+    args: tuple[str, ...]          # after the spec path
+    suffix: str                    # of the output file; "" = the output is a folder
+    file_filter: str
+    default_name: str              # suggested file (or folder) name, from the cam's label
+    description: str
+
+
+KINDS: dict[str, ExportKind] = {k.key: k for k in (
+    ExportKind("dxf", "Export DXF", ("dxf",), ".dxf", "DXF drawing (*.dxf)", "{label}.dxf",
+               "the manufacturing drawing: the profile as the exact rational SPLINE (or arcs / a "
+               "polyline within the Drawing tolerance), pitch curve, circles, bore, dimensions, "
+               "title block"),
+    ExportKind("gcode_xy", "Export G-code (XY contour)", ("gcode", "--mode", "xy"), ".nc",
+               "G-code (*.nc *.ngc *.tap)", "{label}_xy.nc",
+               "milling the outside contour: the exact tool-centre path as G02/G03 biarcs or G01 "
+               "chords, tangent lead arcs, depth passes"),
+    ExportKind("gcode_xc", "Export G-code (XC rotary)", ("gcode", "--mode", "xc"), ".nc",
+               "G-code (*.nc *.ngc *.tap)", "{label}_xc.nc",
+               "C axis + X: one G93 inverse-time block per command of the rotational interpolator"),
+    ExportKind("csv", "Export command table (CSV)", ("gcode", "--mode", "csv"), ".csv",
+               "Command table (*.csv)", "{label}_commands.csv",
+               "the rotational interpolator's raw commands (paper Eq. 15), one row per sample period"),
+    ExportKind("report", "Design report (HTML)", ("report",), "", "", "{label}_report",
+               "the design report: report.html (self-contained), report.json and the plots as PNG, "
+               "into a folder"),
+)}
+
+
+@dataclass(frozen=True)
+class Cli:
+    """How to start the command line: an argv prefix and where it was found."""
+
+    argv: tuple[str, ...]
+    source: str
+
+
+@dataclass(frozen=True)
+class ExportResult:
+    path: Path                     # the file, or the folder for the report
+    files: tuple[str, ...]         # what was written (names)
+    message: str                   # the CLI's own summary
+    argv: tuple[str, ...]
+
+
+def _python_cli(python: str) -> tuple[str, ...]:
+    return (python, "-m", "cam_workbench.cli")
+
+
+def _as_cli(value: str, source: str) -> Cli:
+    """A configured path: a ``cam-workbench`` executable, or a Python that has the package."""
+    path = Path(value).expanduser()
+    if not path.exists():
+        raise ExportError(f"{source} names {value}, which does not exist")
+    if re.match(r"python[\d.]*(\.exe)?$", path.name):
+        return Cli(_python_cli(str(path)), source)
+    return Cli((str(path),), source)
+
+
+def _marker_files() -> list[Path]:
+    import cam_workbench
+
+    seen, out = set(), []
+    candidates = [Path(cam_workbench.__file__).parent.parent] + [Path(p) for p in sys.path if p]
+    for folder in candidates:
+        m = folder / MARKER
+        if m not in seen and m.is_file():
+            seen.add(m)
+            out.append(m)
+    return out
+
+
+def find_cli() -> Cli:
+    """The ``cam-workbench`` command line to run.
+
+    Raises:
+        ExportError: none found (the message says how to provide one).
+    """
+    env = os.environ.get(ENV_CLI)
+    if env:
+        return _as_cli(env, f"${ENV_CLI}")
+    try:
+        import FreeCAD
+
+        configured = FreeCAD.ParamGet(PARAM_PATH).GetString("CliPath", "")
+    except ImportError:
+        configured = ""
+    if configured:
+        return _as_cli(configured, "the FreeCAD parameter CamWorkbench/CliPath")
+    for marker in _marker_files():
+        try:
+            python = json.loads(marker.read_text(encoding="utf-8")).get("installed_with", "")
+        except (OSError, ValueError):
+            continue
+        if python and Path(python).exists():
+            return Cli(_python_cli(python), f"the installation recorded in {marker}")
+    exe = shutil.which("cam-workbench")
+    if exe:
+        return Cli((exe,), "cam-workbench on PATH")
+    raise ExportError(
+        "this export needs the cam-workbench command line (with CadQuery and ezdxf), and none was "
+        "found: install the package (`make demo`, or pip install into a virtual environment) and run "
+        f"`cam-workbench freecad install` from it, or set ${ENV_CLI} to its cam-workbench executable")
+
+
+def _cli_env() -> dict[str, str]:
+    """FreeCAD's environment without what would make another Python pick FreeCAD's modules."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONHOME", "PYTHONPATH", "PYTHONSTARTUP", "PYTHONEXECUTABLE")}
+    if "APPDIR" in env or "APPIMAGE" in env:  # FreeCAD's AppImage: its libraries are not ours
+        env.pop("LD_LIBRARY_PATH", None)
+    env["PYTHONIOENCODING"] = "utf-8"
+    env["COLUMNS"] = "200"  # rich wraps the CLI's messages at the terminal width
+    return env
+
+
+_CLI_ERROR = re.compile(r"^error: ([A-Za-z_][\w.\[\]]*): (.*)$", re.S)
+
+
+def cli_message(text: str) -> str:
+    """The CLI's error line with the spec field shown as the property that holds it:
+    ``error: machining.sample_period: …`` → ``MachiningSamplePeriod (machining.sample_period): …``."""
+    text = text.strip()
+    m = _CLI_ERROR.match(text)
+    if m:
+        shown = props.describe_field(m.group(1))
+        return f"{shown}: {m.group(2).strip()}"
+    return text[7:] if text.startswith("error: ") else text
+
+
+def command_line(kind: str, spec_path: str | os.PathLike[str], target: str | os.PathLike[str],
+                 cli: Cli | None = None) -> list[str]:
+    """The argv that makes ``kind`` from a spec file into ``target``."""
+    k = KINDS[kind]
+    cli = cli or find_cli()
+    return [*cli.argv, k.args[0], str(spec_path), *k.args[1:], "-o", str(target)]
+
+
+def target_path(kind: str, target: str | os.PathLike[str]) -> Path:
+    """The output path as the CLI will use it (a file gets the kind's suffix if it has none
+    that the CLI accepts)."""
+    k = KINDS[kind]
+    p = Path(target).expanduser()
+    if k.suffix == ".dxf" and p.suffix.lower() != ".dxf":
+        p = p.with_name(p.name + ".dxf")  # the CLI takes -o without .dxf as a folder
+    elif k.suffix and not p.suffix:
+        p = p.with_name(p.name + k.suffix)
+    return p
+
+
+def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None = None,
+           timeout: float = TIMEOUT_S) -> ExportResult:
+    """Make the ``kind`` export (a key of :data:`KINDS`) of the feature ``obj`` into
+    ``target`` (a file; a folder for the report) with the CLI; used by the GUI and headless.
+
+    Raises:
+        ExportError: a property breaks a rule, no CLI, or the CLI refused (its message); no file
+            is written or changed then.
+    """
+    if kind not in KINDS:
+        raise ExportError(f"unknown export {kind!r}; one of {', '.join(KINDS)}")
+    try:
+        spec = props.spec_of(obj)
+    except SpecError as exc:
+        raise ExportError(f"{props.describe_field(exc.field)}: {exc.rule}") from None
+    from generators.spec import to_toml
+
+    cli = cli or find_cli()
+    out = target_path(kind, target)
+    with tempfile.TemporaryDirectory(prefix="camwb_export_") as tmp:
+        spec_file = Path(tmp) / "spec.toml"
+        spec_file.write_text(to_toml(spec), encoding="utf-8")
+        argv = command_line(kind, spec_file, out, cli)
+        try:
+            res = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, cwd=tmp,
+                                 env=_cli_env(), stdin=subprocess.DEVNULL, encoding="utf-8",
+                                 errors="replace")
+        except FileNotFoundError:
+            raise ExportError(f"cannot start the command line {argv[0]} (from {cli.source})") from None
+        except subprocess.TimeoutExpired:
+            raise ExportError(f"the command line did not finish within {timeout:g} s") from None
+    said = (res.stdout + "\n" + res.stderr).strip()
+    if res.returncode == 2:
+        raise ExportError(cli_message(res.stderr or res.stdout))
+    if res.returncode != 0:
+        tail = " | ".join(said.splitlines()[-4:])
+        raise ExportError(f"the command line failed (exit {res.returncode}, {cli.source}): {tail}")
+    if kind == "report":
+        try:
+            listed = json.loads((out / "report.json").read_text(encoding="utf-8"))["files"]
+        except (OSError, ValueError, KeyError):
+            raise ExportError(f"the command line reported success but {out}/report.json is "
+                              "missing or unreadable") from None
+        files = (listed["html"], listed["report"], *listed.get("plots", []))
+    else:
+        if not out.is_file():
+            raise ExportError(f"the command line reported success but {out} is missing")
+        files = (out.name,)
+    return ExportResult(out, files, said, tuple(argv))
+
+
+def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
+    """(property, value) pairs the export dialog shows: the values the command line gets, in
+    the spec's units ("default" where the property leaves the field to the spec's default)."""
+    from generators.params import unit_name
+
+    sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
+                "csv": ("machining",), "report": ("checks", "material")}[kind]
+    only = {"csv": ("rotary_speed_rpm", "sample_period")}.get(kind)
+    data = props.spec_dict(obj)
+    units = props.units_of(obj)
+    rows = [("Units", units)]
+    for fp in props.field_properties():
+        if fp.section not in sections or (only and fp.field not in only):
+            continue
+        if fp.section == "machining" and fp.field in ("program", "dialect"):
+            continue
+        value = data.get(fp.section, {}).get(fp.field)
+        if value is None:
+            text = "default"
+        elif isinstance(value, float):
+            text = f"{value:.10g} {unit_name(fp.param.unit, units)}".strip()
+        else:
+            text = str(value)
+        rows.append((fp.name, text))
+    return rows
+
+
+def suggested(obj: Any, kind: str) -> Path:
+    """Where the dialog proposes to write: beside the document (else the working folder)."""
+    folder = os.path.dirname(obj.Document.FileName or "") or os.getcwd()
+    label = re.sub(r"[^\w.-]+", "_", obj.Label) or "PlateCam"
+    return Path(folder) / KINDS[kind].default_name.format(label=label)
+
+
+__all__ = ["Cli", "ExportError", "ExportKind", "ExportResult", "KINDS", "cli_message", "command_line",
+           "export", "find_cli", "suggested", "summary_rows", "target_path"]
+
