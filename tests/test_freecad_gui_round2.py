@@ -211,7 +211,9 @@ def report_written():
     d = export_dialog()
     if d.running or d.result is None and d.error is None:
         raise NotYet("report export")
-    R["report"] = {{"status": d.status.text(), "files": sorted(os.listdir(os.path.join(OUT, "ex5_report")))}}
+    folder = os.path.join(OUT, "ex5_report")
+    R["report"] = {{"status": d.status.text(), "error": str(d.error) if d.error is not None else None,
+                   "files": sorted(os.listdir(folder)) if os.path.isdir(folder) else None}}
     shot("freecad_gui_export_report.png")
     d.dialog.close()
 
@@ -270,7 +272,7 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["dxf"]["exists"] and "DrawingCurves" in r["dxf_rows"] and r["dxf"]["status"].startswith("Written:")
     assert r["csv"]["exists"] and r["csv"]["status"].startswith("Written:")
     assert r["report_label"] == "Folder:"
-    assert r["report"]["status"].startswith(f"Written: {out / 'ex5_report'} (report.html, report.json")
+    assert r["report"]["status"].startswith(f"Written: {out / 'ex5_report'} (report.html, report.json"), r["report"]
     assert "report.html" in r["report"]["files"] and "plot_force_stress.png" in r["report"]["files"]
     report = r["report_view"]
     assert "Traceback" not in report and "Traceback" not in run.console
