@@ -270,12 +270,17 @@ class Tracker:
         self.best_any: tuple[float, float, np.ndarray] | None = None  # (violation, F, p)
         self.cancelled = False
 
+    def new_objective(self) -> None:
+        """Forget the best points (a new phase minimises another objective)."""
+        self.best_feasible = None
+        self.best_any = None
+
     def record(self, p: np.ndarray, f_phys: float, viol: float) -> None:
         self.evaluations += 1
         self.history.append({"iteration": self.evaluations, "objective": f_phys if math.isfinite(f_phys) else None,
                              "max_violation": viol, "phase": self.phase})
         if math.isfinite(f_phys):
-            if viol <= FEASIBLE_TOL and (self.best_feasible is None or f_phys < self.best_feasible[0]):
+            if viol <= -1e-8 and (self.best_feasible is None or f_phys < self.best_feasible[0]):
                 self.best_feasible = (f_phys, p.copy())
             if self.best_any is None or (max(viol, 0), f_phys) < (max(self.best_any[0], 0), self.best_any[1]):
                 self.best_any = (viol, f_phys, p.copy())
@@ -376,6 +381,7 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
     z = np.clip(z0, lo, hi)
     rp = opt_cfg.penalty
     msg = ""
+    stall = 10 * prob.n
     used0 = tracker.evaluations
     base_phase = tracker.phase
     for k in range(opt_cfg.penalty_rounds):
@@ -384,18 +390,32 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
             break
         tracker.phase = f"{base_phase} r_p={rp:g}"
 
-        def omega(zz: np.ndarray, grad: np.ndarray, rp=rp) -> float:
+        best: list[Any] = [math.inf, 0, z]   # best Ω of the round, evaluations since, its point
+
+        def omega(zz: np.ndarray, grad: np.ndarray, rp=rp, best=best) -> float:
             fs, _df, g, _j, fp, viol = prob.evaluate(zz, False)
             tracker.record(prob.p_of(zz), fp, viol)
             pen = float(np.sum(np.maximum(g, 0.0) ** 2))               # Eq. 5.15
             base = fs if math.isfinite(fs) else 10.0
-            return base + rp * pen                                       # Eq. 5.14
+            val = base + rp * pen                                        # Eq. 5.14
+            if val < best[0]:
+                gain = best[0] - val > 1e-7 * abs(val) or not math.isfinite(best[0])
+                best[0], best[2] = val, zz.copy()
+                if gain:
+                    best[1] = 0
+            else:
+                best[1] += 1
+                if best[1] > stall:
+                    raise _Stalled()
+            return val
 
         o = nlopt.opt(nlopt.LN_BOBYQA, prob.n)
         o.set_lower_bounds(lo)
         o.set_upper_bounds(hi)
         o.set_min_objective(omega)
-        o.set_xtol_rel(opt_cfg.xtol_rel)
+        # the times jump by whole turns: tolerances near the rounding of the path make no sense
+        o.set_xtol_rel(max(opt_cfg.xtol_rel, 1e-5))
+        o.set_ftol_rel(max(opt_cfg.ftol_rel, 1e-7))
         o.set_maxeval(int(left))
         o.set_initial_step(np.full(prob.n, 0.02 if k == 0 else 0.005))
         try:
@@ -403,6 +423,9 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
             msg = NLOPT_RESULTS.get(o.last_optimize_result(), "")
         except nlopt.RoundoffLimited:
             msg = "roundoff limited"
+        except _Stalled:
+            msg = f"no gain in {stall} evaluations"
+            z = best[2]
         g = prob.evaluate(z, False)[2]
         if k >= 1 and float(np.max(g)) <= 0.0:
             break
@@ -477,6 +500,9 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
                 z0 = solve_local(prob, z0, "isres", cfg.max_evaluations)
             z = solve_local(prob, z0, local_algo, cfg.max_evaluations)
             p = _polish(space, prob.p_of(z))
+            bf = tracker.best_feasible
+            if bf is not None and bf[0] < _objective_value(o, space, p) * (1 - 1e-12):
+                p = _polish(space, bf[1])          # derivative-free runs end near, not at, their best
             details["windows"] = windows
             if not final or run_checks(space.spec_at(p)).passed:
                 break
@@ -492,6 +518,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             if algo == "auto":
                 sur = make_objective(SURROGATE[cfg.objective], model)
                 p = solve_phase(sur, "slsqp", p, f"slsqp on {sur.name}", final=False)
+                tracker.new_objective()
                 if space.b_index is not None:
                     tracker.phase = "orientation scan"
                     p = _orientation_scan(obj, space, model, p, tracker)
@@ -598,7 +625,10 @@ def _orientation_scan(obj: Objective, space: DesignSpace, model: SmoothModel, p:
     """The blank orientation at 1° steps over a quarter turn (the thesis' path repeats after 90°)."""
     best = (math.inf, p)
     b0 = p[space.b_index]
-    viol = -1.0
+    cons = model.window_max(p, tuple((f, 1.0) for f in model.families), False)[0]
+    viol = float(np.max(cons)) if cons.size else -1.0        # the orientation changes no check
+    if space.linear_A.shape[0]:
+        viol = max(viol, float(np.max(space.linear_values(p))))
     for d in np.arange(-45.0, 45.0, 1.0):
         q = p.copy()
         q[space.b_index] = np.clip(b0 + math.radians(d), space.lower[space.b_index], space.upper[space.b_index])
