@@ -28,8 +28,9 @@ the thesis' path lengths to 1e-3 in and its turn counts to 0.2–4 % (README).
 
 Turns are counted as the moves of the closed path (collinear consecutive moves merged): every
 move ends in a turn.  Curves are tabulated at ``samples`` equal steps of each segment's
-parameter (u of a B-spline lift, θ otherwise) and inverted by linear interpolation inside the
-monotonic sections; 4 000 samples per segment move no turn and S by < 1e-9 against 40 000.
+parameter (u of a B-spline lift, θ otherwise) and inverted inside the
+monotonic sections, by cubic Hermite interpolation (values and derivatives); 2 000 and 40 000
+samples per segment give the same turns and S within 1e-4 (tests).
 
 **The G-code contour time** (:func:`contour_time`): cutting length / feed plus a per-block time
 for the XY program of :mod:`generators.toolpath` (lead arcs, contour, plunges; rapids excluded).
@@ -88,7 +89,8 @@ class StaircasePath:
 def polar_tables(program: MotionProgram, base_radius: float, samples: int = DEFAULT_SAMPLES
                  ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     """Per motion segment: (θ, dθ/dt, r, dr/dt) at ``samples`` equal steps of its parameter t
-    (u of a B-spline lift, θ otherwise), r = R_b + s (thesis Eq. 4.5–4.6)."""
+    (u of a B-spline lift, θ otherwise), r = R_b + s (thesis Eq. 4.5–4.6).  The step is
+    (t_end − t_start)/(samples − 1): u_max or the span over samples − 1."""
     out = []
     for k in range(len(program.starts)):
         a, beta = program.starts[k], program.spans[k]
@@ -111,16 +113,50 @@ def polar_tables(program: MotionProgram, base_radius: float, samples: int = DEFA
     return out
 
 
-def _interp(keys: Sequence[float], values: Sequence[float], v: float) -> float:
-    """Linear interpolation of ``values`` at ``v`` on increasing ``keys`` (clamped)."""
-    k = bisect_left(keys, v)
-    if k <= 0:
-        return values[0]
-    if k >= len(keys):
-        return values[-1]
-    k0, k1 = keys[k - 1], keys[k]
-    w = (v - k0) / (k1 - k0) if k1 > k0 else 1.0
-    return values[k - 1] + w * (values[k] - values[k - 1])
+class _Hermite:
+    """Cubic Hermite interpolation of a tabulated curve (values and derivatives at equal
+    parameter steps h) — inverse of one coordinate, then the others at that parameter; the error
+    is O(h⁴), so the corners sit on the curve to ~1e-12 of its size with 4 000 samples."""
+
+    def __init__(self, key: np.ndarray, dkey: np.ndarray, h: float):
+        self.key = key.tolist()
+        self.mono = np.maximum.accumulate(key).tolist()     # for the bracketing search only
+        self.dkey = dkey.tolist()
+        self.h = h
+
+    def solve(self, v: float) -> tuple[int, float] | None:
+        """(interval k, fraction s) with key(k + s) = v, or None beyond the table."""
+        mono = self.mono
+        k = bisect_left(mono, v)
+        if k >= len(mono):
+            return None
+        if k == 0:
+            return 0, 0.0
+        k0 = k - 1
+        x0, x1 = self.key[k0], self.key[k0 + 1]
+        d0, d1 = self.dkey[k0] * self.h, self.dkey[k0 + 1] * self.h
+        t = (v - x0) / (x1 - x0) if x1 != x0 else 1.0
+        t = min(max(t, 0.0), 1.0)
+        for _ in range(4):                              # Newton on the cubic
+            t2, t3 = t * t, t * t * t
+            f = (2 * t3 - 3 * t2 + 1) * x0 + (t3 - 2 * t2 + t) * d0 + (-2 * t3 + 3 * t2) * x1 + (t3 - t2) * d1 - v
+            df = (6 * t2 - 6 * t) * x0 + (3 * t2 - 4 * t + 1) * d0 + (-6 * t2 + 6 * t) * x1 + (3 * t2 - 2 * t) * d1
+            if df == 0.0:
+                break
+            t_new = min(max(t - f / df, 0.0), 1.0)
+            if abs(t_new - t) < 1e-15:
+                t = t_new
+                break
+            t = t_new
+        return k0, t
+
+    @staticmethod
+    def value(vals: list[float], dvals: list[float], h: float, k: int, t: float) -> float:
+        if k + 1 >= len(vals):
+            return vals[-1]
+        t2, t3 = t * t, t * t * t
+        return ((2 * t3 - 3 * t2 + 1) * vals[k] + (t3 - 2 * t2 + t) * dvals[k] * h
+                + (-2 * t3 + 3 * t2) * vals[k + 1] + (t3 - t2) * dvals[k + 1] * h)
 
 
 class _Moves:
@@ -145,19 +181,29 @@ def staircase_moves(program: MotionProgram, base_radius: float, orientation: flo
                     samples: int = DEFAULT_SAMPLES) -> tuple[np.ndarray, int, float]:
     """The thesis' tool path (module docstring) as (vertices, turns, length); ``orientation`` [rad]."""
     moves: _Moves | None = None
-    for theta, dth, r, dr in polar_tables(program, base_radius, samples):
+    value = _Hermite.value
+    for k, (theta, dth, r, dr) in enumerate(polar_tables(program, base_radius, samples)):
+        curve = program.curves[k] if program.curves else None
+        h = (curve.u_max if curve is not None else program.spans[k]) / (samples - 1)
         al = orientation + theta
         c, s = np.cos(al), np.sin(al)
         x, y = r * c, r * s
         dx = dr * c - r * s * dth
         dy = dr * s + r * c * dth
-        xo, yo = (r + tolerance) * c, (r + tolerance) * s
+        ro = r + tolerance
+        xo, yo = ro * c, ro * s
+        dxo = dr * c - ro * s * dth
+        dyo = dr * s + ro * c * dth
         if moves is None:
             moves = _Moves(complex(x[0], y[0]))
         crit = {0, len(x) - 1}
-        for d in (dx, dy):
+        for d, coord in ((dx, x), (dy, y)):
             sg = np.sign(d)
-            crit.update((np.nonzero(sg[1:] * sg[:-1] < 0)[0] + 1).tolist())
+            for i in (np.nonzero(sg[1:] * sg[:-1] < 0)[0] + 1).tolist():
+                # the extremum lies between samples i − 1 and i: cut at the more extreme one, so
+                # that the coordinate is monotonic on the samples of both sections
+                up = sg[i - 1] > 0
+                crit.add(i - 1 if (coord[i - 1] >= coord[i]) == up else i)
         cuts = sorted(crit)
         px, py = float(x[0]), float(y[0])
         for a, b in zip(cuts[:-1], cuts[1:]):
@@ -166,26 +212,33 @@ def staircase_moves(program: MotionProgram, base_radius: float, orientation: flo
             x_first = sx * sy > 0            # dY/dX > 0: along X first (Fig. 4.3a), else Y first
             sl = slice(a, b + 1)
             if x_first:
-                p, q, po, qo, sp, sq, ap, aq = x[sl], y[sl], xo[sl], yo[sl], sx, sy, 0, 1
+                ap, aq, sp, sq = 0, 1, sx, sy
+                p, dp, q, dq, po, dpo, qo, dqo = x, dx, y, dy, xo, dxo, yo, dyo
                 cp, cq = px, py
             else:
-                p, q, po, qo, sp, sq, ap, aq = y[sl], x[sl], yo[sl], xo[sl], sy, sx, 1, 0
+                ap, aq, sp, sq = 1, 0, sy, sx
+                p, dp, q, dq, po, dpo, qo, dqo = y, dy, x, dx, yo, dyo, xo, dxo
                 cp, cq = py, px
             # sign-flipped so that the curve's coordinates increase along the section
-            pk = np.maximum.accumulate(sp * p).tolist()
-            qk = np.maximum.accumulate(sq * q).tolist()
-            qv = (sq * q).tolist()
-            pov = (sp * po).tolist()
-            qok = np.maximum.accumulate(sq * qo).tolist()
+            curve_p = _Hermite(sp * p[sl], sp * dp[sl], h)
+            off_q = _Hermite(sq * qo[sl], sq * dqo[sl], h)
+            qv, dqv = (sq * q[sl]).tolist(), (sq * dq[sl]).tolist()
+            pov, dpov = (sp * po[sl]).tolist(), (sp * dpo[sl]).tolist()
             cp, cq = sp * cp, sq * cq
-            p_end, q_end = pk[-1], qk[-1]
-            while cq <= qok[-1]:
-                # Eq. 4.4 / 4.17: the offset curve at the current secondary coordinate …
-                p1 = _interp(qok, pov, cq)
+            p_end, q_end = sp * float(p[b]), sq * float(q[b])
+            while True:
+                # Eq. 4.4 / 4.17: where the ε-offset curve reaches the current secondary coordinate …
+                hit = off_q.solve(cq)
+                if hit is None:
+                    break
+                p1 = value(pov, dpov, h, *hit)
                 if p1 >= p_end:
                     break
                 # … Eq. 4.7 / 4.18: back onto the curve along the other axis
-                q1 = _interp(pk, qv, p1)
+                back = curve_p.solve(p1)
+                if back is None:
+                    break
+                q1 = value(qv, dqv, h, *back)
                 if q1 <= cq:
                     break
                 moves.add(ap, sp * (p1 - cp))

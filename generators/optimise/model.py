@@ -482,7 +482,29 @@ class SmoothModel:
                 off = np.clip(np.nan_to_num(off), -1.0, 1.0)
                 interior = (j > 0) & (j < per_window)
                 t_star = np.where(interior, grid[rows, jm] + off * h, grid[rows, j])
-                picks.append((t_star, grid[rows, j]))
+                picks.append((t_star, grid[rows, j], h, grid[:, 0], grid[:, -1]))
+            # a second parabola on t* ± h/4 (the first vertex is good to O(h³))
+            t_mid = np.concatenate([pk[0] for pk in picks])
+            dt = np.concatenate([pk[2] for pk in picks]) / 4
+            lo_b = np.concatenate([pk[3] for pk in picks])
+            hi_b = np.concatenate([pk[4] for pk in picks])
+            t_lo, t_hi = np.maximum(t_mid - dt, lo_b), np.minimum(t_mid + dt, hi_b)
+            kin3 = self.kinematics(sn, np.concatenate([t_lo, t_mid, t_hi]), p, False)
+            loc3 = self.local(r, e, kin3.s, kin3.v, kin3.a)
+            nw = t_mid.size
+            refined = []
+            for c, (name, fac) in enumerate(channels):
+                g3 = (fac * np.broadcast_to(loc3[name][0], (3 * nw,))).real
+                sl = slice(c * windows, (c + 1) * windows)
+                g0, g1, g2 = g3[:nw][sl], g3[nw:2 * nw][sl], g3[2 * nw:][sl]
+                a0, a1, a2 = t_lo[sl], t_mid[sl], t_hi[sl]
+                full = (a2 - a1 > 0) & (a1 - a0 > 0) & np.isclose(a2 - a1, a1 - a0)
+                den = g0 - 2 * g1 + g2
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    off = np.where(full & (den < 0), 0.5 * (g0 - g2) / den, 0.0)
+                off = np.clip(np.nan_to_num(off), -1.0, 1.0)
+                refined.append((a1 + off * (a2 - a1), picks[c][1]))
+            picks = refined
             # the maximisers, all channels at once; keep the better of vertex and best sample
             t_all = np.concatenate([np.concatenate([a, b]) for a, b in picks])
             kin2 = self.kinematics(sn, t_all, p, grad)
