@@ -348,8 +348,9 @@ class OptimiseSection:
         unit="length", gt=0, optional=True, group="Optimise")
     base_radius_max: float | None = param("Upper bound of cam.base_radius (default: twice the initial)",
                                           unit="length", gt=0, optional=True, group="Optimise")
-    offset_max: float | None = param("Bound of |follower.offset| (default: half the base-radius lower bound)",
-                                     unit="length", ge=0, optional=True, group="Optimise")
+    offset_max: float | None = param("Bound of |follower.offset| (default: half the base-radius lower bound; "
+                                     "to keep e fixed, leave offset out of variables)",
+                                     unit="length", gt=0, optional=True, group="Optimise")
     control_gap: float = param(
         "Smallest angle between consecutive control-point angles of a B-spline rise/return (keeps θ(u) "
         "increasing: thesis §2.7)", unit="angle", gt=0, default=0.5, group="Optimise")

@@ -284,11 +284,11 @@ class Tracker:
                 self.best_feasible = (f_phys, p.copy())
             if self.best_any is None or (max(viol, 0), f_phys) < (max(self.best_any[0], 0), self.best_any[1]):
                 self.best_any = (viol, f_phys, p.copy())
-        stop = self.cancel is not None and self.cancel.is_set()
+        stop = False
         if self.progress is not None:
             best = self.best_feasible[0] if self.best_feasible else None
-            ans = self.progress(Progress(self.evaluations, self.budget, self.phase, f_phys, viol, best))
-            stop = stop or ans is False
+            stop = self.progress(Progress(self.evaluations, self.budget, self.phase, f_phys, viol, best)) is False
+        stop = stop or (self.cancel is not None and self.cancel.is_set())
         if stop:
             self.cancelled = True
             raise Cancelled()
@@ -326,7 +326,9 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
 
     def f(z: np.ndarray, grad: np.ndarray) -> float:
         fs, df, g, _j, fp, viol = prob.evaluate(z, needs_grad and grad.size > 0)
-        key = (bool(np.max(g) > FEASIBLE_TOL), fs if math.isfinite(fs) else math.inf)
+        gmax = float(np.max(g))
+        # feasible points by objective; infeasible ones by their violation
+        key = (True, gmax) if gmax > FEASIBLE_TOL else (False, fs if math.isfinite(fs) else math.inf)
         if not seen or key < seen[0][0]:
             seen[:] = [(key, z.copy())]
         tracker.record(prob.p_of(z), fp, viol)
@@ -366,8 +368,10 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
     except _Stalled:
         msg = f"no gain of ftol_rel in {stall} evaluations (best point of the run kept)"
         z = seen[0][1]
-    if seen and seen[0][0] < (bool(np.max(prob.evaluate(np.asarray(z, float), False)[2]) > FEASIBLE_TOL),
-                              prob.evaluate(np.asarray(z, float), False)[0]):
+    fz, _d, gz, _j, _p, _v = prob.evaluate(np.asarray(z, float), False)
+    gz_max = float(np.max(gz))
+    end_key = (True, gz_max) if gz_max > FEASIBLE_TOL else (False, fz)
+    if seen and seen[0][0] < end_key:
         z = seen[0][1]
     return np.asarray(z, dtype=float), f"{algo}: {msg}"
 
