@@ -97,8 +97,7 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     from rich.console import Console
 
     con = Console()
-    u = result.spec.units
-    unit = report["optimise"]["objective_unit"].replace("length", u)
+    unit = report["optimise"]["objective_unit"]
     red = report["optimise"]["reduction_percent"]
     con.print(f"{result.objective}: {result.initial_value:.6g} → {result.value:.6g} {unit}"
               + (f" ({-red:+.2f} %)" if red is not None else "")

@@ -133,7 +133,7 @@ class OptimiseResult:
         out: dict[str, Any] = {
             "objective": self.objective,
             "objective_description": DESCRIPTIONS[self.objective],
-            "objective_unit": UNITS[self.objective],
+            "objective_unit": UNITS[self.objective].replace("length", self.spec.units),
             "algorithm": self.algorithm,
             "status": self.status,
             "message": self.message,
