@@ -2,19 +2,20 @@
 g ≤ 0 at nodes, and the smooth objectives, each with its exact gradient (design sensitivity
 analysis, thesis Ch. 6, derived afresh — the thesis' printed formulas have typos).
 
-Nodes.  Each B-spline rise/return is sampled at fixed parameters u (the thesis' choice, §5.3,
-with ``optimise.samples`` nodes instead of its 71); then every checked quantity is an explicit
-function of the control points, and its sensitivity is the chain
+Sampling.  Each B-spline rise/return is sampled at fixed parameters u (the thesis' choice, §5.3);
+then every checked quantity is an explicit function of the control points, and its sensitivity is
+the chain
 
     control coordinates → θ^(d)(u) = Σ P_ix N_i^(d)(u), y^(d)(u) = Σ P_iy N_i^(d)(u)
       → s, s′ = L y′_u/θ′_u, s″ = L (θ′ y″ − y′ θ″)/θ′³            (thesis Eq. 2.37–2.38)
       → φ, ρ (as κ = 1/ρ), F, S                                     (Eq. 3.4–3.7)
       → g                                                           (Eq. 5.5–5.13)
 
-with ∂/∂P of N^(d)(u) = the basis matrices (:func:`generators.bspline_law.basis_matrix`).
-Other laws and fixed segments are sampled at fixed θ; dwells at one point.  The nodes move in θ
-as θ(u) changes, but cover each segment densely; the dense re-check (:meth:`SmoothModel.scan`)
-finds the maxima between them and the driver adds those parameters as nodes.
+with ∂/∂P of N^(d)(u) = the basis matrices.  Other laws are sampled at fixed θ, dwells at one
+point.  :meth:`SmoothModel.constraints` evaluates at fixed nodes (the tests' complex-step
+reference); the solver sees :meth:`SmoothModel.window_max`: the largest value of every check in
+each of ``optimise.windows`` equal parameter windows, refined between the samples, so that the
+constraints are the dense maxima and not values at nodes.
 
 Constraints (normalised as :func:`generators.design_checks.constraint_arrays`):
 
@@ -148,25 +149,7 @@ class SmoothModel:
             return self.rr > 0 and self.has_load and bool(self.allowable)
         return True
 
-    # ---- nodes ----------------------------------------------------------------------------
-    @property
-    def node_count(self) -> int:
-        return int(sum(sn.params.shape[0] for sn in self.segments))
-
-    def add_nodes(self, segment: int, params: np.ndarray) -> int:
-        """Add sample parameters to segment ``segment`` (its motion index); returns how many were new."""
-        sn = self.segments[segment]
-        if sn.kind == "dwell" or params.size == 0:
-            return 0
-        old = sn.params
-        tol = 1e-12 * max(1.0, float(old[-1]))
-        new = [t for t in np.atleast_1d(params) if np.min(np.abs(old - t)) > tol]
-        if not new:
-            return 0
-        sn.params = np.unique(np.concatenate([old, new]))
-        sn.cache.clear()
-        return len(new)
-
+    # ---- parameters --------------------------------------------------------------------------
     def _gauss_params(self, sn: SegmentNodes) -> tuple[np.ndarray, np.ndarray]:
         """Gauss parameters and weights (in the segment's parameter) for the integrals."""
         prog = self.program
@@ -365,10 +348,6 @@ class SmoothModel:
             return start + basis_matrix(curve.knots, curve.degree, curve.n_points, params, 0) @ x
         return start + params
 
-    def moving_mask(self) -> np.ndarray:
-        """Nodes inside a rise/return (not dwells)."""
-        return np.concatenate([np.full(sn.params.shape[0], sn.kind != "dwell") for sn in self.segments])
-
     # ---- objectives -----------------------------------------------------------------------
     def integral(self, p: np.ndarray, which: str, grad: bool = True) -> tuple[Any, np.ndarray | None]:
         """Closed-curve integrals over 0…2π with their gradients:
@@ -524,57 +503,3 @@ class SmoothModel:
         vals = np.concatenate([np.concatenate(v) for v in vals_out])
         jac = np.vstack([np.vstack(j) for j in jac_out]) if grad else None
         return vals, jac
-
-    # ---- dense scan for the exchange of nodes -------------------------------------------------
-    def scan(self, p: np.ndarray, per_node: int = 8, families: tuple[str, ...] | None = None,
-             threshold: float = -1e-3, extra: Any = None) -> dict[str, Any]:
-        """Evaluate every family densely (``per_node`` × the nodes, then a zoom onto every local
-        maximum above ``threshold``): returns {"max": {family: (value, θ [rad])}, "params":
-        {segment: parameters of the maxima}}.  ``extra(r, e, kin) → {name: values}`` adds
-        families (the epigraph of a peak objective)."""
-        families = tuple(self.families) if families is None else families
-        r, e = self.design_scalars(p)
-        best: dict[str, tuple[float, float]] = {}
-        params: dict[int, list[float]] = {}
-        for sn in self.segments:
-            if sn.kind == "dwell":
-                t = sn.params
-            else:
-                end = sn.params[-1]
-                t = np.linspace(0.0, end, per_node * (sn.params.shape[0] - 1) + 1)
-
-            def values(tt: np.ndarray, sn=sn) -> dict[str, np.ndarray]:
-                kin = self.kinematics(sn, tt, p, False)
-                loc = self.local(r, e, kin.s, kin.v, kin.a)
-                out = {f: np.broadcast_to(loc[f][0], tt.shape) for f in families}
-                if extra is not None:
-                    out.update(extra(r, e, kin))
-                return out
-
-            vals = values(t)
-            for f, g in vals.items():
-                g = np.asarray(g, dtype=float)
-                if sn.kind == "dwell":
-                    cand = [0]
-                else:
-                    inner = np.nonzero((g[1:-1] >= g[:-2]) & (g[1:-1] >= g[2:]))[0] + 1
-                    cand = sorted(set(inner.tolist()) | {0, g.shape[0] - 1})
-                for j in cand:
-                    if g[j] < threshold and g[j] < best.get(f, (-np.inf, 0))[0]:
-                        continue
-                    tj, gj = float(t[j]), float(g[j])
-                    if sn.kind != "dwell" and 0 < j < g.shape[0] - 1:
-                        lo, hi = t[j - 1], t[j + 1]
-                        for _ in range(5):
-                            tt = np.linspace(lo, hi, 17)
-                            gg = np.asarray(values(tt)[f], dtype=float)
-                            i = int(np.argmax(gg))
-                            if gg[i] > gj:
-                                tj, gj = float(tt[i]), float(gg[i])
-                            lo, hi = tt[max(i - 1, 0)], tt[min(i + 1, 16)]
-                    if gj >= threshold:
-                        params.setdefault(self.segments.index(sn), []).append(tj)
-                    if gj > best.get(f, (-np.inf, 0.0))[0]:
-                        th = float(self.theta_at(sn, np.array([tj]), p)[0])
-                        best[f] = (gj, th)
-        return {"max": best, "params": {k: np.array(v) for k, v in params.items()}}

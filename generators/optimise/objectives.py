@@ -123,24 +123,3 @@ def _peak_value(model: SmoothModel, which: str) -> Callable[[np.ndarray, bool], 
         return float(np.max(np.concatenate([np.broadcast_to(v, (np.size(v),)) for v in vals]))), None
 
     return f
-
-
-def peak_rows(model: SmoothModel, objective: Objective, p: np.ndarray, grad: bool
-              ) -> tuple[np.ndarray, np.ndarray | None]:
-    """The epigraph's q at every node (|q| ≤ t is imposed as ±q ≤ t) and dq/dp."""
-    r, e = model.design_scalars(p)
-    vals, jacs = [], []
-    for sn in model.segments:
-        kin = model.kinematics(sn, sn.params, p, grad, key="nodes")
-        if objective.name == "peak_acceleration":
-            vals.append(np.broadcast_to(kin.a, kin.s.shape))
-            if grad:
-                jacs.append(kin.da)
-        else:
-            loc = model.local(r, e, kin.s, kin.v, kin.a)["phi"]
-            c = np.rad2deg(1.0)
-            vals.append(np.broadcast_to(c * loc[0], kin.s.shape))
-            if grad:
-                jacs.append(c * model._chain(loc, kin))
-    q = np.concatenate(vals)
-    return q, (np.vstack(jacs) if grad else None)

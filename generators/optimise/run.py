@@ -1,7 +1,7 @@
 """The optimiser: :func:`optimise` (thesis Ch. 5–7 with nlopt).
 
 Problem (thesis Eq. 5.1–5.13): minimise an objective over the design vector of
-:mod:`~generators.optimise.space` subject to every design check at the nodes of
+:mod:`~generators.optimise.space` subject to every design check as the window maxima of
 :mod:`~generators.optimise.model` (g ≤ −margin), the linear polygon constraints, and bounds.
 The solver sees scaled variables z ∈ [0, 1] and the objective divided by its initial value.
 
@@ -17,12 +17,12 @@ Algorithms (``optimise.algorithm``, nlopt imported lazily — ``import generator
   size stand-in, then (for machining_time) a 1° scan of the blank orientation over a quarter turn,
   then BOBYQA with the exterior penalty on the true time.
 
-After each solve the constraints are re-checked densely (8 samples per node interval, maxima
-zoomed); the parameters of the maxima within 10 × margin of active become nodes and the solve is
-repeated (at most ``refine_rounds`` times) — a node-exchange method that makes the dense check,
-not the node set, decide feasibility.  ``multistart`` adds local runs from random designs
-(seeded); the best feasible result wins.  The result is checked once more by the independent
-:func:`generators.design_checks.run_checks` (dense, θ-sampled, refined extrema).
+Constraints are the largest value of every check in each parameter window of every rise/return
+(:meth:`~generators.optimise.model.SmoothModel.window_max`), so the solver works on the dense maxima.
+After a solve, the independent :func:`generators.design_checks.run_checks` (θ-sampled, refined
+extrema) re-checks the design; while it fails, the solve is repeated with twice the windows (at most
+``refine_rounds`` times).  ``multistart`` adds local runs from random designs (seeded); the best
+feasible result wins.
 
 Cancelling (for GUIs): pass ``progress`` returning False, or a ``threading.Event`` as
 ``cancel``; both are looked at after every evaluation (a few ms apart), and the run stops with
