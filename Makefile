@@ -6,7 +6,7 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 # Debian packages the test suite drives for real (installed by `make test` when root).
-DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium
+DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt
 
 .PHONY: demo test bench system-deps docs clean
 

@@ -349,6 +349,12 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
         "curvature", f"smallest convex pitch radius of curvature (thesis Eq. 3.7) ≥ "
         f"{cfg.undercut_factor:g} × roller radius", "min", _finite(rho_min), _deg(t), lim,
         lab["length"], "pass" if rho_min >= lim else "fail"))
+    if cfg.convex:
+        v, t, _ = _extreme(-1.0 / st.pitch_radius, st, model, lambda s: -1.0 / s.pitch_radius, refine)
+        kmin = -v
+        results.append(CheckResult(
+            "convexity", "smallest pitch-curve curvature κ = 1/ρ (checks.convex: thesis Eq. 5.7 with signed ρ)",
+            "min", kmin, _deg(t), 0.0, "1/" + lab["length"], "pass" if kmin >= 0 else "fail"))
     if spec.is_roller:
         crossing = envelope_crossing(model, cs)
         ok = rho_min - rr > 0 and crossing is None
@@ -458,6 +464,8 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
     if rr > 0:
         g["curvature"] = kappa * cfg.undercut_factor * rr - 1.0                            # Eq. 5.7
         g["undercut"] = kappa * rr - 1.0
+    if cfg.convex:
+        g["convexity"] = -kappa * spec.cam.base_radius                                    # Eq. 5.7, signed ρ
     if model.has_load:
         scale = max(spec.follower.preload, 1e-12)
         g["separation"] = (cfg.min_force - st.force) / scale                               # Eq. 5.10

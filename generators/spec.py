@@ -180,6 +180,10 @@ class ChecksSection:
     min_force: float = param(
         "The driving force (thesis Eq. 3.5) must stay above this; 0 = no separation",
         unit="force", default=0.0, group="Checks")
+    convex: bool = param(
+        "The pitch curve must be convex everywhere (curvature κ = 1/ρ ≥ 0): the thesis' Eq. 5.7–5.8 "
+        "read with the signed radius of curvature, whose concave parts violate 1.5·r_f − ρ ≤ 0",
+        kind="bool", default=False, group="Checks")
     sampling: str = param(
         "\"dense\": `samples` equally spaced cam angles per rise/return (ends included) and "
         "refined extrema; \"thesis71\": the thesis' 71 nodes per rise/return (70 equal "
@@ -290,6 +294,84 @@ class MachiningSection:
 
 
 
+#: Objectives of the optimiser (thesis Ch. 5): the thesis' cam area (Eq. 4.21, inside the pitch
+#: curve), the true profile cross-section, the thesis' cutting time (Eq. 4.4–4.20), the time of the
+#: project's own XY G-code contour, and the largest |s″| or |φ| (smoothest cam).
+OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acceleration",
+              "peak_pressure_angle")
+OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
+#: Names that ``optimise.variables`` may list.
+OPTIMISE_VARIABLES = ("base_radius", "offset", "control_x", "control_y", "control_points", "orientation")
+
+
+@dataclass(frozen=True, kw_only=True)
+class OptimiseSection:
+    """`[optimise]`: what `cam-workbench optimise` minimises, over which design variables, and how (thesis Ch. 5–7)."""
+
+    objective: str = param(
+        "Cost function: \"area\" = thesis Eq. 4.21 (½∮(R_b + s)² dθ, the area inside the pitch curve for "
+        "e = 0); \"profile_area\" = the true cam cross-section inside the roller profile; "
+        "\"machining_time\" = the thesis' cutting time (Eq. 4.4–4.20); \"gcode_time\" = the time of this "
+        "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|",
+        kind="str", choices=OBJECTIVES, default="area", group="Optimise")
+    variables: str = param(
+        "Design variables, comma-separated: base_radius, offset, control_x, control_y (control_points = "
+        "both: every free control coordinate of each B-spline rise/return), orientation (the blank on the "
+        "NC table; machining_time only); \"auto\" = base_radius, offset, control_points (+ orientation "
+        "for machining_time)", kind="str", default="auto", group="Optimise")
+    algorithm: str = param(
+        "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
+        "and gcode_time SLSQP on a smooth size surrogate, then BOBYQA with the thesis' exterior penalty "
+        "(Eq. 5.14–5.15); slsqp/mma/ccsaq (gradient), cobyla (derivative-free, constraints), bobyqa "
+        "(derivative-free, exterior penalty), isres (global, seeded)",
+        kind="str", choices=OPTIMISE_ALGORITHMS, default="auto", group="Optimise")
+    multistart: int = param("Extra local runs from random starting designs (seeded); the best feasible "
+                            "result wins", kind="int", ge=0, le=1000, default=0, group="Optimise")
+    seed: int = param("Seed of the random starts and of ISRES", kind="int", ge=0, default=1, group="Optimise")
+    max_evaluations: int = param("Most objective evaluations of one solver run", kind="int", ge=10,
+                                 default=3000, group="Optimise")
+    xtol_rel: float = param("Stop when a step changes every scaled variable by less than this (relative)",
+                            gt=0, lt=1, default=1e-7, group="Optimise")
+    ftol_rel: float = param("Stop when a step changes the objective by less than this (relative)",
+                            gt=0, lt=1, default=1e-10, group="Optimise")
+    constraint_margin: float = param(
+        "Every normalised constraint g ≤ 0 (thesis Eq. 5.2–5.13) is imposed as g ≤ −margin, so the result "
+        "passes the dense checks strictly", ge=0, lt=0.1, default=1e-4, group="Optimise")
+    windows: int = param(
+        "Each rise/return is split into this many equal windows of its parameter (u of a B-spline, θ "
+        "otherwise); the largest value of every check in a window, found on 13 samples and refined, is one "
+        "constraint (dwells: one each)", kind="int", ge=4, le=2000, default=80, group="Optimise")
+    refine_rounds: int = param("Re-solves with twice the windows while the final dense check still fails",
+                               kind="int", ge=0, le=8, default=2, group="Optimise")
+    base_radius_min: float | None = param(
+        "Lower bound of cam.base_radius (default: half the initial, at least roller radius + bore radius)",
+        unit="length", gt=0, optional=True, group="Optimise")
+    base_radius_max: float | None = param("Upper bound of cam.base_radius (default: twice the initial)",
+                                          unit="length", gt=0, optional=True, group="Optimise")
+    offset_max: float | None = param("Bound of |follower.offset| (default: half the base-radius lower bound; "
+                                     "to keep e fixed, leave offset out of variables)",
+                                     unit="length", gt=0, optional=True, group="Optimise")
+    control_gap: float = param(
+        "Smallest angle between consecutive control-point angles of a B-spline rise/return (keeps θ(u) "
+        "increasing: thesis §2.7)", unit="angle", gt=0, default=0.5, group="Optimise")
+    penalty: float = param("Initial exterior-penalty multiplier r_p (thesis Eq. 5.14; ×10 per round)",
+                           gt=0, default=10.0, group="Optimise")
+    penalty_rounds: int = param("Rounds of the exterior-penalty method (bobyqa)", kind="int", ge=1, le=20,
+                                default=6, group="Optimise")
+    machining_tolerance: float | None = param(
+        "ε of the thesis' cutting-time model: the axis-parallel tool path stays within ε outside the "
+        "curve (thesis Eq. 4.4, 4.17; its examples 0.01 in); default 0.01 in / 0.25 mm",
+        unit="length", gt=0, optional=True, group="Optimise")
+    turn_time: float = param("Time per turn of the thesis' tool path (thesis Eq. 4.20: 0.4 s)", unit="time",
+                             ge=0, default=0.4, group="Optimise")
+    blank_orientation: float = param(
+        "Blank orientation on the NC table for the thesis' cutting time: angle from the machine's +X axis to "
+        "the cam's θ = 0 line (thesis B(3))", unit="angle", default=0.0, group="Optimise")
+    block_time: float = param("Time added per motion block of the G-code contour (acceleration, block "
+                              "processing) for objective gcode_time", unit="time", ge=0, default=0.05,
+                              group="Optimise")
+
+
 #: Spec sections: TOML name → (dataclass, is an array of tables, required).  A new section
 #: is a dataclass declared with ``param`` fields, an entry here and a field of CamSpec.
 SECTIONS: dict[str, tuple[type, bool, bool]] = {
@@ -301,6 +383,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "checks": (ChecksSection, False, False),
     "drawing": (DrawingSection, False, False),
     "machining": (MachiningSection, False, False),
+    "optimise": (OptimiseSection, False, False),
 }
 
 
@@ -319,6 +402,7 @@ class CamSpec:
     checks: ChecksSection = field(default_factory=ChecksSection)
     drawing: DrawingSection = field(default_factory=DrawingSection)
     machining: MachiningSection = field(default_factory=MachiningSection)
+    optimise: OptimiseSection = field(default_factory=OptimiseSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -488,6 +572,7 @@ def validate(spec: CamSpec) -> None:
     _validate_pitch(spec)
     _validate_drawing(spec)
     _validate_machining(spec)
+    _validate_optimise(spec)
 
 
 def _validate_motion(spec: CamSpec) -> None:
@@ -575,6 +660,57 @@ def _validate_machining(spec: CamSpec) -> None:
         raise SpecError("machining.chord_tolerance",
                         f"must be < 1% of cam.base_radius ({spec.cam.base_radius / 100:g}), "
                         f"got {mc.chord_tolerance:g}")
+
+
+def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
+    """The design-variable kinds of ``optimise.variables`` resolved ("auto" and "control_points"
+    expanded), in the order base_radius, offset, control_x, control_y, orientation."""
+    opt = spec.optimise
+    text = opt.variables.strip()
+    has_bspline = any(seg.law == "bspline" for seg in spec.motion)
+    if text == "auto":
+        names = {"base_radius", "offset"}
+        if has_bspline:
+            names |= {"control_x", "control_y"}
+        if opt.objective == "machining_time":
+            names.add("orientation")
+    else:
+        names = set()
+        for tok in text.replace(";", ",").split(","):
+            tok = tok.strip()
+            if not tok:
+                continue
+            if tok not in OPTIMISE_VARIABLES:
+                raise SpecError("optimise.variables",
+                                f"unknown design variable {tok!r} (known: auto, {', '.join(OPTIMISE_VARIABLES)})")
+            names |= {"control_x", "control_y"} if tok == "control_points" else {tok}
+    return tuple(n for n in ("base_radius", "offset", "control_x", "control_y", "orientation") if n in names)
+
+
+def _validate_optimise(spec: CamSpec) -> None:
+    opt = spec.optimise
+    names = optimise_variables(spec)
+    if not names:
+        raise SpecError("optimise.variables", "names no design variable")
+    if ("control_x" in names or "control_y" in names) and not any(seg.law == "bspline" for seg in spec.motion):
+        raise SpecError("optimise.variables",
+                        'control points need a law = "bspline" rise or return (other laws have none)')
+    if "orientation" in names and opt.objective != "machining_time":
+        raise SpecError("optimise.variables",
+                        "orientation only changes objective = \"machining_time\" (the thesis' cutting time)")
+    lo = opt.base_radius_min
+    hi = opt.base_radius_max
+    if lo is not None and hi is not None and not lo < hi:
+        raise SpecError("optimise.base_radius_max", f"must be > optimise.base_radius_min ({lo:g}), got {hi:g}")
+    if lo is not None and spec.is_roller and not lo > spec.follower.roller_radius:
+        raise SpecError("optimise.base_radius_min",
+                        f"must be > follower.roller_radius ({spec.follower.roller_radius:g}), got {lo:g}")
+    if opt.offset_max is not None and lo is not None and not opt.offset_max < lo:
+        raise SpecError("optimise.offset_max", f"must be < optimise.base_radius_min ({lo:g}), got {opt.offset_max:g}")
+    if opt.algorithm in ("slsqp", "mma", "ccsaq") and opt.objective in ("machining_time", "gcode_time"):
+        raise SpecError("optimise.algorithm",
+                        f"{opt.algorithm} needs gradients, but {opt.objective} is discontinuous (whole turns/"
+                        "blocks): use auto, bobyqa, cobyla or isres")
 
 
 # ---- loading ---------------------------------------------------------------------
@@ -687,17 +823,19 @@ def _toml_value(v: Any) -> str:
 
 __all__ = [
     "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "MaterialSection",
-    "ChecksSection", "MachiningSection", "DrawingSection", "Param",
+    "ChecksSection", "MachiningSection", "DrawingSection", "OptimiseSection", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
     "spec_digest",
 ]
 
 
 def spec_digest(spec: CamSpec) -> str:
-    """SHA-256 of the spec's canonical TOML without ``[checks]`` (how to check, not what):
+    """SHA-256 of the spec's canonical TOML without ``[checks]`` and ``[optimise]`` (how to check
+    or optimise, not what):
     names the cam a report was made from."""
     import hashlib
 
     data = spec.to_dict()
     data.pop("checks", None)
+    data.pop("optimise", None)
     return hashlib.sha256(dict_to_toml(data).encode("utf-8")).hexdigest()

@@ -146,11 +146,45 @@ every check reports its extreme, the cam angle, the limit and pass / fail / skip
 | `contact_stress` | S² = F(1/r_f + 1/r_c)/(π t Δ), Δ = Σ(1 − ν²)/E; r_c the cam surface's signed radius, so convex and concave contact (Eq. 3.6) | max S ≤ `material.allowable_stress` |
 | `curvature` | smallest convex pitch radius of curvature ρ (Eq. 3.7) | ≥ `checks.undercut_factor` × roller radius (Eq. 5.7) |
 | `undercut` | ρ − r_f, the cam surface's radius, and the roller envelope crossing itself | > 0, no crossing |
+| `convexity` (with `checks.convex`) | smallest pitch curvature κ = 1/ρ (thesis Eq. 5.7 read with signed ρ) | ≥ 0 |
 
 Units: N, kg, mm and MPa in a mm spec (M_f·s″ω² is kg·mm/s² = 10⁻³ N), lbf, lbf·s²/in, in and
 psi in an inch spec (the thesis' "0.02 slugs" is 0.02 lbf·s²/in).  Separation and stress are
 skipped when the follower has no load (`preload`, `mass`, `spring_rate` all 0); stress is skipped
 for a knife edge.  `cam-workbench check` exits with status 3 when a check fails.
+"""
+
+
+OPTIMISE = """## The optimiser (`cam-workbench optimise`, thesis Ch. 5–7)
+
+Minimises `optimise.objective` over `optimise.variables` with every design check as a constraint:
+
+| objective | value |
+|---|---|
+| `area` | thesis Eq. 4.21–4.27: ½∮(R_b + s)² dθ — the area inside the pitch curve when e = 0 (the thesis' formula whatever e is) |
+| `profile_area` | the true cam cross-section: the area inside the roller profile, A_pitch − r_f·L_pitch + π r_f² |
+| `machining_time` | thesis Eq. 4.4–4.20: S/feed + `turn_time` × turns of the variable-step axis-parallel path within `machining_tolerance` outside r = R_b + s, blank at `blank_orientation`; feed = `machining.feed_rate` |
+| `gcode_time` | the XY G-code contour of `[machining]`: cutting length/feed + plunges + `block_time` per block |
+| `peak_acceleration` | largest abs(s″) (per rad²) |
+| `peak_pressure_angle` | largest abs(φ) |
+
+Design variables (thesis Eq. 5.1): `base_radius`, `offset`, `control_x` and `control_y` (or
+`control_points`: the free control coordinates of every `law = "bspline"` rise/return — P1x … P(n−1)x
+and the lifts the boundary conditions leave free), `orientation` (machining_time only).  Bounds:
+`base_radius_min`/`base_radius_max` (default half and twice the initial), abs(offset) ≤ `offset_max`
+(default half the lower base-radius bound), control angles inside the segment with consecutive ones
+at least `control_gap` apart (θ(u) increasing), lifts in [0, 1] and monotonic (the oscillation check,
+exact by the convex-hull property).  The solver sees every variable scaled to [0, 1].
+
+Constraints: pressure angle, curvature (≥ `undercut_factor` × roller radius), convexity (with
+`checks.convex`), separation (force > `checks.min_force`) and contact stress, each as the largest value
+in every one of `windows` equal parameter windows per rise/return (found on 13 samples and refined),
+with `constraint_margin` to spare.  Gradients are exact (design sensitivity analysis through the
+B-spline basis; checked against complex-step derivatives in the tests).  `algorithm = "auto"`: SLSQP
+for smooth objectives; for the machining times SLSQP on a smooth size stand-in, a scan of the blank
+orientation and BOBYQA on the thesis' exterior penalty function (Eq. 5.14–5.15).  The result is
+re-checked densely (`cam-workbench check`'s checks); when that fails, the solve is repeated with twice
+the windows (`refine_rounds`), and a result that still fails is reported as such (exit status 3).
 """
 
 
@@ -164,6 +198,7 @@ def render() -> str:
         out.append(intro + "\n")
         out.append(_table(field_rows(cls)))
     out.append(BSPLINE_AND_CHECKS)
+    out.append(OPTIMISE)
     out.append("## The built-in default\n")
     out.append("`cam-workbench build` with no spec builds this (the paper's Table 1, case 2, "
                "with a 5 mm roller):\n")

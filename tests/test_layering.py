@@ -7,12 +7,14 @@ import sys
 from .conftest import ROOT
 
 FORBIDDEN = ["OCP", "cadquery", "build123d", "FreeCAD", "Part", "ezdxf", "matplotlib",
-             "cam_workbench", "exporters", "rich", "tqdm"]
+             "cam_workbench", "exporters", "rich", "tqdm", "nlopt"]
+#: The only module allowed to import nlopt (lazily, inside the functions that run a solver).
+NLOPT_ALLOWED = ("generators/optimise/run.py",)
 
 
 def test_generators_imports_no_cad_or_file_format_module():
     code = (
-        "import sys, generators\n"
+        "import sys, generators, generators.optimise\n"
         "from generators import default_spec, design_cam\n"
         "d = design_cam(default_spec()); d.summary()\n"
         f"bad = [m for m in {FORBIDDEN!r} if m in sys.modules]\n"
@@ -36,3 +38,19 @@ def test_no_upward_imports_in_source():
     exp = re.compile(r"^\s*(import|from)\s+(cam_workbench|cadquery|build123d)\b", re.M)
     for path in (ROOT / "exporters").rglob("*.py"):
         assert not exp.search(path.read_text()), path
+
+
+def test_only_the_optimiser_imports_nlopt():
+    """nlopt is allowed in the optimiser's solver module only, and there only lazily (inside a
+    function), so that `import generators` works on Pythons without it."""
+    any_import = re.compile(r"^\s*(import|from)\s+nlopt\b", re.M)
+    top_level = re.compile(r"^(import|from)\s+nlopt\b", re.M)
+    for path in ROOT.rglob("*.py"):
+        rel = path.relative_to(ROOT).as_posix()
+        if rel.startswith((".venv/", "tests/")):
+            continue
+        text = path.read_text(encoding="utf-8")
+        if rel in NLOPT_ALLOWED:
+            assert any_import.search(text) and not top_level.search(text), rel
+        else:
+            assert not any_import.search(text), f"{rel} imports nlopt"

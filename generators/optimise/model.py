@@ -1,0 +1,505 @@
+"""The smooth part of the optimisation problem: every design check as normalised constraints
+g ≤ 0 at nodes, and the smooth objectives, each with its exact gradient (design sensitivity
+analysis, thesis Ch. 6, derived afresh — the thesis' printed formulas have typos).
+
+Sampling.  Each B-spline rise/return is sampled at fixed parameters u (the thesis' choice, §5.3);
+then every checked quantity is an explicit function of the control points, and its sensitivity is
+the chain
+
+    control coordinates → θ^(d)(u) = Σ P_ix N_i^(d)(u), y^(d)(u) = Σ P_iy N_i^(d)(u)
+      → s, s′ = L y′_u/θ′_u, s″ = L (θ′ y″ − y′ θ″)/θ′³            (thesis Eq. 2.37–2.38)
+      → φ, ρ (as κ = 1/ρ), F, S                                     (Eq. 3.4–3.7)
+      → g                                                           (Eq. 5.5–5.13)
+
+with ∂/∂P of N^(d)(u) = the basis matrices.  Other laws are sampled at fixed θ, dwells at one
+point.  :meth:`SmoothModel.constraints` evaluates at fixed nodes (the tests' complex-step
+reference); the solver sees :meth:`SmoothModel.window_max`: the largest value of every check in
+each of ``optimise.windows`` equal parameter windows, refined between the samples, so that the
+constraints are the dense maxima and not values at nodes.
+
+Constraints (normalised as :func:`generators.design_checks.constraint_arrays`):
+
+=================  ====================================================
+pressure_angle     (φ/φ_max)² − 1                       (Eq. 5.5)
+curvature          f·r_f·κ − 1, κ = 1/ρ (smooth through inflections)   (Eq. 5.7)
+convexity          −κ·R_b (``checks.convex``: Eq. 5.7 with signed ρ)
+separation         (F_min − F)/P_L                      (Eq. 5.10)
+contact_stress     S²/S_d² − 1                          (Eq. 5.13)
+=================  ====================================================
+
+S² = F (1/r_f + 1/(ρ − r_f))/(π t Δ) = F / (π t Δ r_f (1 − r_f κ)); for r_f κ above 0.9
+(far outside the curvature constraint's feasible region) the factor 1/(1 − r_f κ) is continued
+linearly so that an infeasible iterate never divides by zero.
+
+Every value is computed with operations that accept complex numbers, so the tests check the
+analytic gradients against complex-step derivatives (exact to rounding).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..bspline_law import basis_derivatives, basis_matrix
+from ..design_checks import MASS_FORCE_FACTOR, TWO_PI
+from ..laws import evaluate_law
+from .space import DesignSpace
+
+FAMILIES = ("pressure_angle", "curvature", "convexity", "separation", "contact_stress")
+#: Gauss–Legendre nodes per knot span (B-spline) or per segment (other laws) for the integrals.
+GAUSS_PER_SPAN = 16
+GAUSS_PER_SEGMENT = 64
+_STRESS_KNEE = 0.9
+
+
+def basis_matrices(knots: np.ndarray, degree: int, n_points: int, u: np.ndarray, nder: int
+                   ) -> tuple[np.ndarray, ...]:
+    """(N, N′, …, N^(nder)) as dense (len(u), n_points) matrices from one evaluation of the
+    basis functions (the sensitivities of θ^(d)(u), y^(d)(u) to each control coordinate)."""
+    span, ders = basis_derivatives(knots, degree, u, nder)
+    cols = span[:, None] - degree + np.arange(degree + 1)[None, :]
+    out = []
+    for d in range(nder + 1):
+        m = np.zeros((span.shape[0], n_points))
+        np.put_along_axis(m, cols, ders[:, d, :], axis=1)
+        out.append(m)
+    return tuple(out)
+
+
+@dataclass
+class SegmentNodes:
+    """Sample parameters of one motion segment: u (B-spline) or θ − start (others)."""
+
+    index: int
+    kind: str                 # "bspline", "law", "dwell"
+    params: np.ndarray
+    block: Any = None         # LiftBlock for a varied B-spline segment
+    cache: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Kin:
+    """s, s′, s″ and θ′(t) at nodes with their derivatives with respect to p (rows × n)."""
+
+    s: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    t1: np.ndarray
+    ds: np.ndarray | None
+    dv: np.ndarray | None
+    da: np.ndarray | None
+    dt1: np.ndarray | None
+
+
+class SmoothModel:
+    """Constraints and smooth objectives of a :class:`DesignSpace` at any design p."""
+
+    def __init__(self, space: DesignSpace, samples: int | None = None):
+        """``samples``: fixed nodes per rise/return for :meth:`constraints` (tests, reports)."""
+        self.space = space
+        spec = space.spec
+        self.spec = spec
+        prog = space.program
+        self.program = prog
+        samples = samples or 201
+        fol = spec.follower
+        cfg = spec.checks
+        self.sense = 1.0 if spec.cam.direction == "ccw" else -1.0
+        self.rr = spec.roller_radius
+        self.factor = cfg.undercut_factor
+        self.phi_max = np.deg2rad(cfg.max_pressure_angle)
+        self.omega = spec.cam.speed_rpm * TWO_PI / 60.0
+        self.inertia = fol.mass * MASS_FORCE_FACTOR[spec.units] * self.omega**2
+        self.preload = fol.preload
+        self.spring = fol.spring_rate
+        self.min_force = cfg.min_force
+        self.has_load = fol.preload > 0 or fol.mass > 0 or fol.spring_rate > 0
+        self.force_scale = max(fol.preload, 1e-12) if fol.preload > 0 else max(
+            self.inertia * float(np.max(np.abs(prog.lifts))), 1e-12)
+        mat = spec.material
+        delta = ((1 - mat.cam_poisson**2) / mat.modulus("cam", spec.units)
+                 + (1 - mat.follower_poisson**2) / mat.modulus("follower", spec.units))
+        length = min(spec.cam.thickness, fol.roller_width or spec.cam.thickness)
+        self.stress_c = 1.0 / (np.pi * length * delta)
+        self.allowable = mat.allowable_stress
+        self.length_ref = spec.cam.base_radius     # κ·R_b: the convexity constraint made dimensionless
+        self.families = [f for f in FAMILIES if self._family_active(f)]
+        blocks = {b.motion_index: b for b in space.blocks}
+        self.segments: list[SegmentNodes] = []
+        for k in range(len(prog.starts)):
+            curve = prog.curves[k] if prog.curves else None
+            if prog.laws[k] is None:
+                self.segments.append(SegmentNodes(k, "dwell", np.array([0.0])))
+            elif curve is not None:
+                self.segments.append(SegmentNodes(k, "bspline", np.linspace(0.0, curve.u_max, samples),
+                                                  blocks.get(k)))
+            else:
+                self.segments.append(SegmentNodes(k, "law", np.linspace(0.0, prog.spans[k], samples)))
+        self._gauss = [self._gauss_params(sn) for sn in self.segments]
+
+    def _family_active(self, name: str) -> bool:
+        if name == "curvature":
+            return self.rr > 0
+        if name == "convexity":
+            return self.spec.checks.convex
+        if name == "separation":
+            return self.has_load
+        if name == "contact_stress":
+            return self.rr > 0 and self.has_load and bool(self.allowable)
+        return True
+
+    # ---- parameters --------------------------------------------------------------------------
+    def _gauss_params(self, sn: SegmentNodes) -> tuple[np.ndarray, np.ndarray]:
+        """Gauss parameters and weights (in the segment's parameter) for the integrals."""
+        prog = self.program
+        if sn.kind == "dwell":
+            return np.array([0.0]), np.array([prog.spans[sn.index]])
+        if sn.kind == "bspline":
+            curve = prog.curves[sn.index]
+            xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_SPAN)
+            br = np.unique(curve.knots)
+            lo, hi = br[:-1], br[1:]
+            t = (0.5 * (hi - lo)[:, None] * (xg[None, :] + 1) + lo[:, None]).ravel()
+            w = (0.5 * (hi - lo)[:, None] * wg[None, :]).ravel()
+            return t, w
+        beta = prog.spans[sn.index]
+        xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_SEGMENT)
+        return 0.5 * beta * (xg + 1), 0.5 * beta * wg
+
+    # ---- kinematics at parameters -----------------------------------------------------------
+    def kinematics(self, sn: SegmentNodes, params: np.ndarray, p: np.ndarray, grad: bool,
+                   key: str | None = None) -> Kin:
+        """s, s′, s″, θ′ at ``params`` of segment ``sn`` for design ``p`` (with d/dp when ``grad``);
+        ``key`` caches the basis matrices of a fixed parameter set."""
+        prog = self.program
+        k = sn.index
+        m = params.shape[0]
+        nv = self.space.n
+        dtype = np.result_type(p.dtype, float)
+        zeros = (lambda: np.zeros((m, nv), dtype=dtype)) if grad else (lambda: None)
+        if sn.kind == "dwell":
+            one = np.ones(m, dtype=dtype)
+            return Kin(prog.levels[k] * one, 0 * one, 0 * one, one, zeros(), zeros(), zeros(), zeros())
+        if sn.kind == "law":
+            cache = sn.cache.get(key) if key else None
+            if cache is None:
+                f, f1, f2, _ = evaluate_law(prog.laws[k], params / prog.spans[k])
+                beta, h = prog.spans[k], prog.lifts[k]
+                cache = (prog.levels[k] + h * f, h * f1 / beta, h * f2 / beta**2)
+                if key:
+                    sn.cache[key] = cache
+            s, v, a = (c.astype(dtype) for c in cache)
+            return Kin(s, v, a, np.ones(m, dtype=dtype), zeros(), zeros(), zeros(), zeros())
+        curve = prog.curves[k]
+        bm = sn.cache.get(key) if key else None
+        if bm is None:
+            bm = basis_matrices(curve.knots, curve.degree, curve.n_points, params, 2)
+            if key:
+                sn.cache[key] = bm
+        b0, b1, b2 = bm
+        blk = sn.block
+        if blk is not None:
+            x, y = blk.arrays(p)
+        else:
+            x, y = curve.x.astype(dtype), curve.y.astype(dtype)
+        lift = abs(prog.lifts[k])
+        base = prog.levels[k] if prog.lifts[k] > 0 else prog.levels[k] - lift
+        t1, t2 = b1 @ x, b2 @ x
+        y0, y1, y2 = b0 @ y, b1 @ y, b2 @ y
+        n2 = t1 * y2 - y1 * t2
+        s = base + lift * y0
+        v = lift * y1 / t1                                   # thesis Eq. 2.37
+        a = lift * n2 / t1**3                                # thesis Eq. 2.38
+        if not grad:
+            return Kin(s, v, a, t1, None, None, None, None)
+        ds, dv, da, dt1 = zeros(), zeros(), zeros(), zeros()
+        if blk is not None and blk.x_cols.size:
+            b1i, b2i = b1[:, 1:-1], b2[:, 1:-1]
+            cols = blk.x_cols
+            dt1[:, cols] = b1i
+            dv[:, cols] = -lift * (y1 / t1**2)[:, None] * b1i
+            da[:, cols] = lift * (((y2 / t1**3) - 3 * n2 / t1**4)[:, None] * b1i - (y1 / t1**3)[:, None] * b2i)
+        if blk is not None and blk.y_cols.size:
+            fr = blk.y_free
+            cols = blk.y_cols
+            ds[:, cols] = lift * b0[:, fr]
+            dv[:, cols] = lift * b1[:, fr] / t1[:, None]
+            da[:, cols] = lift * (t1[:, None] * b2[:, fr] - t2[:, None] * b1[:, fr]) / (t1**3)[:, None]
+        return Kin(s, v, a, t1, ds, dv, da, dt1)
+
+    # ---- the checks at nodes ------------------------------------------------------------------
+    def local(self, r: Any, e: Any, s: np.ndarray, v: np.ndarray, a: np.ndarray
+              ) -> dict[str, tuple[np.ndarray, ...]]:
+        """Every constraint family and the pressure angle at points with (s, s′, s″), as
+        (g, ∂g/∂R, ∂g/∂e, ∂g/∂s, ∂g/∂s′, ∂g/∂s″) — e is the spec's offset (the effective one is
+        δe, δ = −1 for a cw cam)."""
+        sg = self.sense
+        s0 = (r * r - e * e) ** 0.5
+        y_r, y_e = r / s0, -e / s0                  # ∂Y/∂R, ∂Y/∂e (Y = s₀ + s)
+        ee = sg * e
+        yy = s0 + s
+        w = v - ee
+        q = yy * yy + w * w
+        sq = q ** 0.5
+        phi = np.arctan(w / yy)                     # Y > 0
+        ph_y, ph_w = -w / q, yy / q
+        out: dict[str, tuple[np.ndarray, ...]] = {}
+        zero = 0.0 * s
+
+        def pack(g_: Any, g_y: Any, g_w: Any, g_v_extra: Any, g_a: Any, g_ee_extra: Any = 0.0, g_s_extra: Any = 0.0):
+            # from partials in (Y, w, v|w, a, e_eff|w, s|Y) to (R, e, s, v, a)
+            return (g_, g_y * y_r, g_y * y_e + sg * (-g_w + g_ee_extra), g_y + g_s_extra, g_w + g_v_extra, g_a)
+
+        out["phi"] = pack(phi, ph_y, ph_w, zero, zero)
+        out["a"] = (a, zero, zero, zero, zero, zero + 1.0)
+        gp = 2 * phi / self.phi_max**2
+        out["pressure_angle"] = pack((phi / self.phi_max) ** 2 - 1.0, gp * ph_y, gp * ph_w, zero, zero)
+        if {"curvature", "convexity", "contact_stress"} & set(self.families):
+            # κ = D/N, D = Y² + w(w + v) − Y s″, N = q^{3/2}  (thesis Eq. 3.7, inverted)
+            dd = yy * yy + w * (w + v) - yy * a
+            nn = q * sq
+            kap = dd / nn
+            k_y = ((2 * yy - a) - kap * 3 * yy * sq) / nn
+            k_w = ((2 * w + v) - kap * 3 * w * sq) / nn
+            k_v = w / nn
+            k_a = -yy / nn
+            if "curvature" in self.families:
+                c = self.factor * self.rr
+                out["curvature"] = pack(c * kap - 1.0, c * k_y, c * k_w, c * k_v, c * k_a)
+            if "convexity" in self.families:
+                c = -self.length_ref
+                out["convexity"] = pack(c * kap, c * k_y, c * k_w, c * k_v, c * k_a)
+        if self.has_load:
+            cph = np.cos(phi)
+            qf = self.preload + self.spring * s + self.inertia * a
+            force = qf / cph
+            f_ph = force * np.tan(phi)
+            f_y, f_w = f_ph * ph_y, f_ph * ph_w
+            f_a = self.inertia / cph
+            f_s = self.spring / cph
+            fs = self.force_scale
+            out["separation"] = pack((self.min_force - force) / fs, -f_y / fs, -f_w / fs, zero, -f_a / fs,
+                                     0.0, -f_s / fs)
+            if "contact_stress" in self.families:
+                rr = self.rr
+                xk = rr * kap
+                knee = _STRESS_KNEE
+                lin = xk.real > knee if np.iscomplexobj(xk) else xk > knee
+                hh = np.where(lin, (1 / (1 - knee) + (xk - knee) / (1 - knee) ** 2) / rr, 1 / (rr * (1 - xk)))
+                h_k = np.where(lin, 1 / (rr * (1 - knee) ** 2), 1 / (rr * (1 - xk) ** 2)) * rr
+                cst = self.stress_c / self.allowable**2
+                g = cst * force * hh - 1.0
+                out["contact_stress"] = pack(g, cst * (f_y * hh + force * h_k * k_y),
+                                             cst * (f_w * hh + force * h_k * k_w), cst * force * h_k * k_v,
+                                             cst * (f_a * hh + force * h_k * k_a), 0.0, cst * f_s * hh)
+        return out
+
+    def design_scalars(self, p: np.ndarray) -> tuple[Any, Any]:
+        return self.space.base_radius(p), self.space.offset(p)
+
+    def constraints(self, p: np.ndarray, grad: bool = True, families: tuple[str, ...] | None = None
+                    ) -> dict[str, tuple[np.ndarray, np.ndarray | None]]:
+        """Each family's values at every node (segments in order) and, with ``grad``, its
+        Jacobian (nodes × n)."""
+        families = families or tuple(self.families)
+        r, e = self.design_scalars(p)
+        parts: dict[str, list] = {f: [] for f in families}
+        for sn in self.segments:
+            kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
+            loc = self.local(r, e, kin.s, kin.v, kin.a)
+            for f in families:
+                g = loc[f]
+                parts[f].append((g[0], self._chain(g, kin) if grad else None))
+        out = {}
+        for f in families:
+            vals = np.concatenate([np.broadcast_to(x[0], (x[0].shape[0],)) for x in parts[f]])
+            jac = np.vstack([x[1] for x in parts[f]]) if grad else None
+            out[f] = (vals, jac)
+        return out
+
+    def _chain(self, g: tuple, kin: Kin) -> np.ndarray:
+        """d g/dp from the local partials and the kinematic sensitivities."""
+        m = kin.s.shape[0]
+
+        def col(x: Any) -> np.ndarray:
+            return np.broadcast_to(x, (m,))[:, None]
+
+        jac = col(g[3]) * kin.ds + col(g[4]) * kin.dv + col(g[5]) * kin.da
+        sp = self.space
+        if sp.r_index is not None:
+            jac[:, sp.r_index] += np.broadcast_to(g[1], (m,))
+        if sp.e_index is not None:
+            jac[:, sp.e_index] += np.broadcast_to(g[2], (m,))
+        return jac
+
+    def node_thetas(self, p: np.ndarray) -> np.ndarray:
+        """Cam angles [rad] of the nodes at design p (segments in order)."""
+        out = []
+        for sn in self.segments:
+            out.append(self.theta_at(sn, sn.params, p))
+        return np.concatenate(out)
+
+    def theta_at(self, sn: SegmentNodes, params: np.ndarray, p: np.ndarray) -> np.ndarray:
+        start = self.program.starts[sn.index]
+        if sn.kind == "bspline":
+            curve = self.program.curves[sn.index]
+            x = sn.block.arrays(np.asarray(p, dtype=float))[0] if sn.block is not None else curve.x
+            return start + basis_matrix(curve.knots, curve.degree, curve.n_points, params, 0) @ x
+        return start + params
+
+    # ---- objectives -----------------------------------------------------------------------
+    def integral(self, p: np.ndarray, which: str, grad: bool = True) -> tuple[Any, np.ndarray | None]:
+        """Closed-curve integrals over 0…2π with their gradients:
+
+        * ``thesis_area``: ½∮(R_b + s)² dθ (thesis Eq. 4.21–4.27; exact: ½ r² θ′ is a polynomial
+          in u on each knot span);
+        * ``pitch_area``: ½∮(e² + (s₀ + s)²) dθ (the area inside the pitch curve);
+        * ``pitch_length``: ∮ √((s₀ + s)² + (s′ − δe)²) dθ;
+        * ``thesis_length``: ∮ √((R_b + s)² + s′²) dθ (the length of the thesis' machining curve).
+        """
+        r, e = self.design_scalars(p)
+        sg = self.sense
+        total = 0.0
+        gsum = np.zeros(self.space.n, dtype=np.result_type(p.dtype, float)) if grad else None
+        sp = self.space
+        for sn, (t, w) in zip(self.segments, self._gauss):
+            kin = self.kinematics(sn, t, p, grad, key="gauss")
+            if which == "thesis_area":
+                rad = r + kin.s
+                f = 0.5 * rad * rad * kin.t1
+                if grad:
+                    fr = rad * kin.t1
+                    d = (fr[:, None] * kin.ds + (0.5 * rad * rad)[:, None] * kin.dt1)
+                    gr, ge = fr, 0.0 * fr
+            elif which in ("pitch_area", "pitch_length", "thesis_length"):
+                if which == "thesis_length":
+                    yy, y_r, y_e, ee = r + kin.s, 1.0, 0.0, 0.0 * e
+                else:
+                    s0 = (r * r - e * e) ** 0.5
+                    yy, y_r, y_e, ee = s0 + kin.s, r / s0, -e / s0, sg * e
+                if which == "pitch_area":
+                    f = 0.5 * (e * e + yy * yy) * kin.t1
+                    if grad:
+                        fy = yy * kin.t1
+                        d = fy[:, None] * kin.ds + (0.5 * (e * e + yy * yy))[:, None] * kin.dt1
+                        gr, ge = fy * y_r, (e + yy * y_e) * kin.t1
+                else:
+                    ww = kin.v - ee
+                    root = (yy * yy + ww * ww) ** 0.5
+                    f = root * kin.t1
+                    if grad:
+                        fy = yy / root * kin.t1
+                        fw = ww / root * kin.t1
+                        d = fy[:, None] * kin.ds + fw[:, None] * kin.dv + root[:, None] * kin.dt1
+                        gr = fy * y_r
+                        ge = fy * y_e - fw * (sg if which != "thesis_length" else 0.0)
+            else:
+                raise ValueError(which)
+            total = total + np.sum(w * f)
+            if grad:
+                gseg = (w[:, None] * d).sum(axis=0)
+                if sp.r_index is not None:
+                    gseg[sp.r_index] += np.sum(w * gr)
+                if sp.e_index is not None:
+                    gseg[sp.e_index] += np.sum(w * ge)
+                gsum = gsum + gseg
+        return total, gsum
+
+    def profile_area(self, p: np.ndarray, grad: bool = True) -> tuple[Any, np.ndarray | None]:
+        """Area inside the roller profile: A_pitch − r_f·L_pitch + π r_f² (Steiner)."""
+        a, ga = self.integral(p, "pitch_area", grad)
+        length, gl = self.integral(p, "pitch_length", grad)
+        rr = self.rr
+        return a - rr * length + np.pi * rr * rr, (ga - rr * gl) if grad else None
+
+    # ---- constraints as window maxima (the solver's view) ------------------------------------
+    def window_max(self, p: np.ndarray, channels: tuple[tuple[str, float], ...], grad: bool = True,
+                   windows: int = 40, per_window: int = 12) -> tuple[np.ndarray, np.ndarray | None]:
+        """The largest value of each channel (``(name, factor)``: factor × the local quantity
+        ``name`` of :meth:`local`) in every window of every rise/return — ``windows`` equal
+        parameter windows per segment, each sampled at ``per_window`` + 1 points and its maximum
+        refined by the vertex of the parabola through the best sample and its neighbours — and at
+        every dwell.  The gradient of a window's maximum is the partial derivative at the
+        maximiser (envelope theorem: d/dp max_u g(u, p) = ∂g/∂p at u*).
+
+        Returns (values (rows,), Jacobian (rows × n)); rows ordered channel-major."""
+        r, e = self.design_scalars(p)
+        vals_out: list[list[np.ndarray]] = [[] for _ in channels]
+        jac_out: list[list[np.ndarray]] = [[] for _ in channels]
+        for sn in self.segments:
+            if sn.kind == "dwell":
+                kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
+                loc = self.local(r, e, kin.s, kin.v, kin.a)
+                for c, (name, fac) in enumerate(channels):
+                    g = loc[name]
+                    vals_out[c].append(fac * np.broadcast_to(g[0], (1,)))
+                    if grad:
+                        jac_out[c].append(fac * self._chain(g, kin))
+                continue
+            end = float(sn.params[-1])
+            key = f"grid{windows}x{per_window}"
+            grid = sn.cache.get(key + "t")
+            if grid is None:
+                edges = np.linspace(0.0, end, windows + 1)
+                frac = np.linspace(0.0, 1.0, per_window + 1)
+                grid = (edges[:-1, None] + (edges[1:] - edges[:-1])[:, None] * frac[None, :])
+                sn.cache[key + "t"] = grid
+            kin = self.kinematics(sn, grid.ravel(), p, False, key=key)
+            loc = self.local(r, e, kin.s, kin.v, kin.a)
+            h = grid[:, 1] - grid[:, 0]
+            rows = np.arange(windows)
+            picks = []
+            for name, fac in channels:
+                g = (fac * np.broadcast_to(loc[name][0], kin.s.shape)).reshape(grid.shape).real
+                j = np.argmax(g, axis=1)
+                jm = np.clip(j, 1, per_window - 1)
+                g0, g1, g2 = g[rows, jm - 1], g[rows, jm], g[rows, jm + 1]
+                den = g0 - 2 * g1 + g2
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    off = np.where(den < 0, 0.5 * (g0 - g2) / den, 0.0)
+                off = np.clip(np.nan_to_num(off), -1.0, 1.0)
+                interior = (j > 0) & (j < per_window)
+                t_star = np.where(interior, grid[rows, jm] + off * h, grid[rows, j])
+                picks.append((t_star, grid[rows, j], h, grid[:, 0], grid[:, -1]))
+            # a second parabola on t* ± h/4 (the first vertex is good to O(h³))
+            t_mid = np.concatenate([pk[0] for pk in picks])
+            dt = np.concatenate([pk[2] for pk in picks]) / 4
+            lo_b = np.concatenate([pk[3] for pk in picks])
+            hi_b = np.concatenate([pk[4] for pk in picks])
+            t_lo, t_hi = np.maximum(t_mid - dt, lo_b), np.minimum(t_mid + dt, hi_b)
+            kin3 = self.kinematics(sn, np.concatenate([t_lo, t_mid, t_hi]), p, False)
+            loc3 = self.local(r, e, kin3.s, kin3.v, kin3.a)
+            nw = t_mid.size
+            refined = []
+            for c, (name, fac) in enumerate(channels):
+                g3 = (fac * np.broadcast_to(loc3[name][0], (3 * nw,))).real
+                sl = slice(c * windows, (c + 1) * windows)
+                g0, g1, g2 = g3[:nw][sl], g3[nw:2 * nw][sl], g3[2 * nw:][sl]
+                a0, a1, a2 = t_lo[sl], t_mid[sl], t_hi[sl]
+                full = (a2 - a1 > 0) & (a1 - a0 > 0) & np.isclose(a2 - a1, a1 - a0)
+                den = g0 - 2 * g1 + g2
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    off = np.where(full & (den < 0), 0.5 * (g0 - g2) / den, 0.0)
+                off = np.clip(np.nan_to_num(off), -1.0, 1.0)
+                refined.append((a1 + off * (a2 - a1), picks[c][1]))
+            picks = refined
+            # the maximisers, all channels at once; keep the better of vertex and best sample
+            t_all = np.concatenate([np.concatenate([a, b]) for a, b in picks])
+            kin2 = self.kinematics(sn, t_all, p, grad)
+            loc2 = self.local(r, e, kin2.s, kin2.v, kin2.a)
+            m2 = kin2.s.shape[0]
+            for c, (name, fac) in enumerate(channels):
+                g = loc2[name]
+                v = (fac * np.broadcast_to(g[0], (m2,)))[2 * c * windows:2 * (c + 1) * windows]
+                take = np.where(v[:windows].real >= v[windows:].real, rows, rows + windows)
+                vals_out[c].append(v[take])
+                if grad:
+                    idx = 2 * c * windows + take
+                    g_sub = tuple(np.broadcast_to(x, (m2,))[idx] for x in g)
+                    kin_sub = Kin(*(None if f is None else f[idx] for f in
+                                    (kin2.s, kin2.v, kin2.a, kin2.t1, kin2.ds, kin2.dv, kin2.da, kin2.dt1)))
+                    jac_out[c].append(fac * self._chain(g_sub, kin_sub))
+        vals = np.concatenate([np.concatenate(v) for v in vals_out])
+        jac = np.vstack([np.vstack(j) for j in jac_out]) if grad else None
+        return vals, jac

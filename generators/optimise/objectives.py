@@ -1,0 +1,125 @@
+"""Objectives (thesis §5.2) on a :class:`~generators.optimise.space.DesignSpace`.
+
+Smooth ones return exact gradients (:class:`~generators.optimise.model.SmoothModel`); the
+machining times are piecewise constant in whole turns/blocks and return values only.
+
+==================  ========================================================  ==========
+objective           value                                                     gradient
+==================  ========================================================  ==========
+area                ½∮(R_b + s)² dθ, thesis Eq. 4.21–4.27 (inside the pitch   exact
+                    curve when e = 0; the thesis' formula whatever e is)
+profile_area        area inside the roller profile, A_pitch − r_f L + π r_f²  exact
+peak_acceleration   max |s″| over the nodes (epigraph: min t, ±s″/ref ≤ t)     exact
+peak_pressure_angle max |φ| (epigraph)                                        exact
+machining_time      thesis Eq. 4.20 on its staircase path                     none
+gcode_time          the XY contour program's time (:func:`contour_time`)      none
+==================  ========================================================  ==========
+
+Smooth stand-ins used to reach a small feasible design before a machining time is polished
+(``algorithm = "auto"``): the length of the thesis' curve r = R_b + s (machining_time) and the
+pitch curve's length (gcode_time: the tool-centre path is its offset).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from ..cutting_time import staircase_moves
+from ..errors import CamError
+from .model import SmoothModel
+
+SMOOTH = ("area", "profile_area", "peak_acceleration", "peak_pressure_angle", "thesis_length", "pitch_length")
+PEAK = ("peak_acceleration", "peak_pressure_angle")
+TIME = ("machining_time", "gcode_time")
+SURROGATE = {"machining_time": "thesis_length", "gcode_time": "pitch_length"}
+
+DESCRIPTIONS = {
+    "area": "cam area, thesis Eq. 4.21-4.27: 1/2 int (R_b + s)^2 dtheta (inside the pitch curve for e = 0)",
+    "profile_area": "area inside the roller profile (true cam cross-section without the bore)",
+    "machining_time": "thesis cutting time, Eq. 4.20: S/feed + turn time x turns of its staircase path",
+    "gcode_time": "time of the XY G-code contour: length/feed + block time x blocks",
+    "peak_acceleration": "largest |s''| (reduced acceleration, per rad^2)",
+    "peak_pressure_angle": "largest |pressure angle| [deg]",
+    "thesis_length": "length of the thesis' machining curve r = R_b + s (smooth stand-in for machining_time)",
+    "pitch_length": "pitch-curve length (smooth stand-in for gcode_time)",
+}
+UNITS = {"area": "length²", "profile_area": "length²", "machining_time": "s", "gcode_time": "s",
+         "peak_acceleration": "length/rad²", "peak_pressure_angle": "deg", "thesis_length": "length",
+         "pitch_length": "length"}
+
+
+@dataclass
+class Objective:
+    """One objective: ``value(p, grad)`` → (F, dF/dp or None) in physical units."""
+
+    name: str
+    model: SmoothModel
+    value: Callable[[np.ndarray, bool], tuple[float, np.ndarray | None]]
+    smooth: bool
+    peak: Callable[[Any, Any, Any], np.ndarray] | None = None   # (r, e, kin) → q, for the epigraph
+
+    @property
+    def description(self) -> str:
+        return DESCRIPTIONS[self.name]
+
+
+def make_objective(name: str, model: SmoothModel) -> Objective:
+    """The objective ``name`` on ``model``'s design space."""
+    sp = model.space
+    spec = model.spec
+    if name == "area":
+        return Objective(name, model, lambda p, g: model.integral(p, "thesis_area", g), True)
+    if name in ("thesis_length", "pitch_length"):
+        return Objective(name, model, lambda p, g: model.integral(p, name, g), True)
+    if name == "profile_area":
+        return Objective(name, model, lambda p, g: model.profile_area(p, g), True)
+    if name == "peak_acceleration":
+        return Objective(name, model, _peak_value(model, "a"), True, peak=lambda r, e, kin: kin.a)
+    if name == "peak_pressure_angle":
+        return Objective(name, model, _peak_value(model, "phi"), True,
+                         peak=lambda r, e, kin: np.rad2deg(model.local(r, e, kin.s, kin.v, kin.a)["phi"][0]))
+    if name == "machining_time":
+        opt = spec.optimise
+        from ..cutting_time import DEFAULT_TOLERANCE
+
+        eps = opt.machining_tolerance or DEFAULT_TOLERANCE[spec.units]
+        per_min = spec.machining.feed_rate if spec.machining.feed_rate is not None else {"in": 12.0, "mm": 300.0}[spec.units]
+        feed = per_min / 60.0
+
+        def mtime(p: np.ndarray, grad: bool) -> tuple[float, None]:
+            prog = sp.program_at(p)
+            _, turns, length = staircase_moves(prog, float(sp.base_radius(p)), sp.orientation(p), eps, 2000)
+            return length / feed + opt.turn_time * turns, None
+
+        return Objective(name, model, mtime, False)
+    if name == "gcode_time":
+        from ..cam_design import design_cam
+        from ..cutting_time import contour_time
+
+        def gtime(p: np.ndarray, grad: bool) -> tuple[float, None]:
+            try:
+                return contour_time(design_cam(sp.spec_at(p))).time, None
+            except CamError:
+                return float("nan"), None
+
+        return Objective(name, model, gtime, False)
+    raise ValueError(f"unknown objective {name!r}")
+
+
+def _peak_value(model: SmoothModel, which: str) -> Callable[[np.ndarray, bool], tuple[float, None]]:
+    """max |q| over the nodes (the reported value; the solver minimises its epigraph)."""
+
+    def f(p: np.ndarray, grad: bool) -> tuple[float, None]:
+        r, e = model.design_scalars(p)
+        vals = []
+        for sn in model.segments:
+            kin = model.kinematics(sn, sn.params, p, False, key="nodes")
+            if which == "a":
+                vals.append(np.abs(kin.a))
+            else:
+                vals.append(np.abs(np.rad2deg(model.local(r, e, kin.s, kin.v, kin.a)["phi"][0])))
+        return float(np.max(np.concatenate([np.broadcast_to(v, (np.size(v),)) for v in vals]))), None
+
+    return f

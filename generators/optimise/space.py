@@ -1,0 +1,246 @@
+"""The design variables of the optimiser (thesis §5.1, Eq. 5.1): base radius, follower offset,
+the free control-point coordinates of each B-spline rise/return, and the blank's orientation —
+their bounds, their scaling, the linear constraints that keep a control polygon valid, and the
+way back to a spec.
+
+Physical vector p (spec units, radians):
+
+    [R_b] [e] [for each B-spline rise/return: P1x … P(n−1)x, P(k−1)y … P(n−k+1)y] [b]
+
+control x are cam angles from the segment start (P0 = 0 and Pn = the span are fixed), control y
+the normalised lifts whose first and last k − 1 sit at the end levels (thesis §2.7: those are
+fixed by the boundary conditions, as the thesis' B(k) list).  The solver sees
+
+    z = (p − lower) / (upper − lower) ∈ [0, 1]
+
+so that every variable has the same magnitude.  Linear constraints A·p ≤ c (normalised, so a
+unit of violation is comparable with the other constraints):
+
+* ordering (θ(u) increasing, thesis §2.7): x_{i+1} − x_i ≥ ``optimise.control_gap``;
+* monotonic lift (oscillation, thesis §3.3, Eq. 5.2–5.4): y_{i+1} ≥ y_i on a rise, ≤ on a
+  return.  y(u) is then a combination of non-negative B-splines of the polygon's differences,
+  so s′ keeps its sign everywhere (the convex-hull property): a sufficient condition, exact
+  between any nodes, that every thesis design (initial and final) satisfies.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..bspline_law import BSplineLift, fixed_end_points
+from ..motion import MotionProgram
+from ..spec import CamSpec, optimise_variables
+
+
+@dataclass(frozen=True)
+class LiftBlock:
+    """One B-spline rise/return and where its free coordinates sit in p."""
+
+    motion_index: int
+    kind: str                  # "rise" or "return"
+    order: int
+    x: np.ndarray              # (n+1,) initial control angles from the segment start [rad]
+    y: np.ndarray              # (n+1,) initial normalised lifts
+    x_cols: np.ndarray         # positions in p of x[1 … n−1] (empty if not varied)
+    y_free: np.ndarray         # indices into y of the free lifts k−1 … n−k+1
+    y_cols: np.ndarray         # positions in p of y[y_free] (empty if not varied)
+
+    @property
+    def n_points(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def span(self) -> float:
+        return float(self.x[-1])
+
+    def arrays(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The full control x and y (n+1 each) at design ``p`` (any dtype: complex for tests)."""
+        x = self.x.astype(p.dtype)
+        y = self.y.astype(p.dtype)
+        if self.x_cols.size:
+            x[1:-1] = p[self.x_cols]
+        if self.y_cols.size:
+            y[self.y_free] = p[self.y_cols]
+        return x, y
+
+
+class DesignSpace:
+    """The design vector of a spec (see the module docstring)."""
+
+    def __init__(self, spec: CamSpec, program: MotionProgram | None = None):
+        self.spec = spec
+        self.program = program or MotionProgram.from_spec(spec)
+        self.kinds = optimise_variables(spec)
+        opt = spec.optimise
+        labels: list[str] = []
+        p0: list[float] = []
+        lo: list[float] = []
+        hi: list[float] = []
+        r0 = spec.cam.base_radius
+        rr = spec.roller_radius
+        bore = spec.cam.bore_diameter / 2
+        r_lo = opt.base_radius_min if opt.base_radius_min is not None else max(0.5 * r0, 1.05 * (rr + bore) + 1e-9)
+        r_hi = opt.base_radius_max if opt.base_radius_max is not None else 2.0 * r0
+        self.r_index = self.e_index = self.b_index = None
+        if "base_radius" in self.kinds:
+            self.r_index = len(p0)
+            labels.append("cam.base_radius")
+            p0.append(r0), lo.append(r_lo), hi.append(max(r_hi, r_lo * 1.01))
+        e_max = opt.offset_max if opt.offset_max is not None else 0.5 * (r_lo if "base_radius" in self.kinds else r0)
+        if "offset" in self.kinds:
+            self.e_index = len(p0)
+            labels.append("follower.offset")
+            p0.append(spec.follower.offset), lo.append(-e_max), hi.append(e_max)
+        gap = math.radians(opt.control_gap)
+        blocks: list[LiftBlock] = []
+        for k, curve in enumerate(self.program.curves):
+            if curve is None:
+                continue
+            n = curve.n_points - 1
+            nfix = fixed_end_points(curve.order)
+            y_free = np.arange(nfix, n - nfix + 1)
+            xc = np.array([], dtype=int)
+            yc = np.array([], dtype=int)
+            if "control_x" in self.kinds:
+                xc = np.arange(len(p0), len(p0) + n - 1)
+                for i in range(1, n):
+                    labels.append(f"motion[{k}].P{i}x")
+                    p0.append(float(curve.x[i])), lo.append(gap), hi.append(curve.span - gap)
+            if "control_y" in self.kinds:
+                yc = np.arange(len(p0), len(p0) + y_free.size)
+                for i in y_free:
+                    labels.append(f"motion[{k}].P{i}y")
+                    p0.append(float(curve.y[i])), lo.append(0.0), hi.append(1.0)
+            kind = "rise" if self.program.lifts[k] > 0 else "return"
+            blocks.append(LiftBlock(k, kind, curve.order, curve.x.copy(), curve.y.copy(), xc, y_free, yc))
+        if "orientation" in self.kinds:
+            self.b_index = len(p0)
+            b0 = math.radians(opt.blank_orientation)
+            labels.append("optimise.blank_orientation")
+            # the thesis' path is the same after a quarter turn of the blank: ±90° covers every case
+            p0.append(b0), lo.append(b0 - math.pi / 2), hi.append(b0 + math.pi / 2)
+        self.blocks = tuple(blocks)
+        self.labels = tuple(labels)
+        self.lower = np.array(lo, dtype=float)
+        self.upper = np.array(hi, dtype=float)
+        self.p0 = np.clip(np.array(p0, dtype=float), self.lower, self.upper)
+        self.scale = self.upper - self.lower
+        self.gap = gap
+        self.linear_A, self.linear_c = self._linear_constraints()
+
+    # ---- sizes and scaling ----------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return int(self.p0.shape[0])
+
+    def to_z(self, p: np.ndarray) -> np.ndarray:
+        return (p - self.lower) / self.scale
+
+    def to_p(self, z: np.ndarray) -> np.ndarray:
+        return self.lower + self.scale * z
+
+    @property
+    def varies_shape(self) -> bool:
+        """True when some control point is a variable."""
+        return any(b.x_cols.size or b.y_cols.size for b in self.blocks)
+
+    # ---- the design at p ----------------------------------------------------------------------
+    def base_radius(self, p: np.ndarray) -> Any:
+        return p[self.r_index] if self.r_index is not None else self.spec.cam.base_radius
+
+    def offset(self, p: np.ndarray) -> Any:
+        return p[self.e_index] if self.e_index is not None else self.spec.follower.offset
+
+    def orientation(self, p: np.ndarray) -> float:
+        return float(p[self.b_index]) if self.b_index is not None else math.radians(self.spec.optimise.blank_orientation)
+
+    def program_at(self, p: np.ndarray) -> MotionProgram:
+        """The motion program of design ``p`` (new B-spline lifts; spans and lifts unchanged)."""
+        curves = list(self.program.curves)
+        for blk in self.blocks:
+            x, y = blk.arrays(np.asarray(p, dtype=float))
+            curves[blk.motion_index] = BSplineLift(blk.order, x, y)
+        prog = self.program
+        return MotionProgram(prog.starts, prog.spans, prog.levels, prog.lifts, prog.laws, prog.kinds, tuple(curves))
+
+    def spec_at(self, p: np.ndarray) -> CamSpec:
+        """The spec of design ``p``: control points written in each segment's own control_frame
+        (and control_y in its own form: free lifts only, or all interior ones)."""
+        p = np.asarray(p, dtype=float)
+        changes: dict[str, Any] = {}
+        if self.r_index is not None:
+            changes["cam.base_radius"] = float(p[self.r_index])
+        if self.e_index is not None:
+            changes["follower.offset"] = float(p[self.e_index])
+        if self.b_index is not None:
+            deg = math.degrees(p[self.b_index]) % 90.0
+            changes["optimise.blank_orientation"] = float(deg)
+        for blk in self.blocks:
+            seg = self.spec.motion[blk.motion_index]
+            x, y = blk.arrays(p)
+            k = blk.motion_index
+            if blk.x_cols.size:
+                if (seg.control_frame or "relative_deg") == "relative_deg":
+                    cx = np.degrees(x[1:-1])
+                else:
+                    origin = (math.radians(seg.control_start) if seg.control_start is not None
+                              else float(self.program.starts[k]))
+                    cx = x[1:-1] + origin
+                changes[f"motion[{k}].control_x"] = [float(v) for v in cx]
+            if blk.y_cols.size:
+                n = blk.n_points - 1
+                full = seg.control_y is not None and len(seg.control_y) == n - 1
+                cy = y[1:-1] if full else y[blk.y_free]
+                changes[f"motion[{k}].control_y"] = [float(v) for v in cy]
+        return self.spec.replace(**changes) if changes else self.spec
+
+    # ---- linear constraints -----------------------------------------------------------------
+    def _linear_constraints(self) -> tuple[np.ndarray, np.ndarray]:
+        rows: list[np.ndarray] = []
+        rhs: list[float] = []
+        for blk in self.blocks:
+            n = blk.n_points - 1
+            if blk.x_cols.size:
+                scale = blk.span / n
+                col = {i: int(blk.x_cols[i - 1]) for i in range(1, n)}
+                for i in range(n):                      # x_i − x_{i+1} ≤ −gap
+                    a = np.zeros(self.n)
+                    c = -self.gap
+                    if i in col:
+                        a[col[i]] += 1.0
+                    else:
+                        c -= blk.x[i]
+                    if i + 1 in col:
+                        a[col[i + 1]] -= 1.0
+                    else:
+                        c += blk.x[i + 1]
+                    rows.append(a / scale)
+                    rhs.append(c / scale)
+            if blk.y_cols.size:
+                sgn = 1.0 if blk.kind == "rise" else -1.0
+                col = {int(i): int(c) for i, c in zip(blk.y_free, blk.y_cols)}
+                for i in range(n):                      # sgn·(y_i − y_{i+1}) ≤ 0
+                    if i not in col and i + 1 not in col:
+                        continue
+                    a = np.zeros(self.n)
+                    c = 0.0
+                    if i in col:
+                        a[col[i]] += sgn
+                    else:
+                        c -= sgn * blk.y[i]
+                    if i + 1 in col:
+                        a[col[i + 1]] -= sgn
+                    else:
+                        c += sgn * blk.y[i + 1]
+                    rows.append(a)
+                    rhs.append(c)
+        if not rows:
+            return np.zeros((0, self.n)), np.zeros(0)
+        return np.array(rows), np.array(rhs)
+
+    def linear_values(self, p: np.ndarray) -> np.ndarray:
+        """A·p − c (≤ 0 when the polygons are valid)."""
+        return self.linear_A @ p - self.linear_c

@@ -1,0 +1,73 @@
+"""``cam-workbench optimise``: the optimised spec, report.json's optimise section (the shape the
+HTML report draws its convergence figure from), report.html, exit statuses 0 / 2 / 3."""
+import json
+from html.parser import HTMLParser
+
+import pytest
+
+from generators import load_spec
+from generators.cam_area import thesis_area
+
+from .conftest import ROOT, requires_ocp
+from .test_cli import run
+
+EX5 = str(ROOT / "tests" / "fixtures" / "thesis_ex5_initial.toml")
+
+
+class _Ids(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.ids = set()
+
+    def handle_starttag(self, tag, attrs):
+        d = dict(attrs)
+        if "id" in d:
+            self.ids.add(d["id"])
+
+
+@requires_ocp
+def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
+    out = tmp_path / "opt"
+    res = run("optimise", EX5, "--set", "checks.convex=true", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    names = {p.name for p in out.iterdir()}
+    assert {"optimised.toml", "report.json", "report.html", "plot_convergence.png", "plot_cam.png"} <= names
+    spec = load_spec(out / "optimised.toml")
+    rep = json.loads((out / "report.json").read_text())
+    opt = rep["optimise"]
+    assert opt["objective"] == "area" and opt["feasible"] is True and opt["status"] == "converged"
+    assert opt["final_value"] == pytest.approx(thesis_area(spec), rel=1e-12)
+    assert opt["final_value"] < 55.48 < opt["initial_value"]
+    assert rep["areas"]["thesis_eq_4_21"] == pytest.approx(opt["final_value"], rel=1e-9)
+    hist = opt["history"]
+    assert hist and all({"iteration", "objective", "max_violation"} <= set(h) for h in hist)
+    assert rep["checks"]["passed"] is True
+    assert rep["files"]["spec"] == "optimised.toml"
+    page = _Ids()
+    page.feed((out / "report.html").read_text())
+    assert {"optimise", "fig-convergence", "checks"} <= page.ids
+    assert "area: 78.1477 → 21.3" in res.stdout and "every design check passes" in res.stdout
+
+
+def test_bad_settings_exit_2_and_write_nothing(tmp_path):
+    out = tmp_path / "never"
+    res = run("optimise", EX5, "--variables", "radius", "-o", str(out))
+    assert res.returncode == 2
+    assert "optimise.variables: unknown design variable 'radius'" in res.stderr
+    assert "Traceback" not in res.stderr and not out.exists()
+    res = run("optimise", "--objective", "machining_time", "--algorithm", "slsqp", "-o", str(out))
+    assert res.returncode == 2 and "optimise.algorithm" in res.stderr and not out.exists()
+
+
+@requires_ocp
+def test_infeasible_result_exit_3_with_the_report(tmp_path):
+    """R_b capped below what a 30° pressure angle needs (42.8 mm): the best design still fails;
+    the files are written and say so, the exit status is 3."""
+    out = tmp_path / "inf"
+    res = run("optimise", "--variables", "base_radius", "--set", "optimise.base_radius_max=35", "-o", str(out))
+    assert res.returncode == 3, res.stderr
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["optimise"]["feasible"] is False and "pressure_angle" in rep["optimise"]["failed_checks"]
+    assert rep["optimise"]["status"] == "infeasible"
+    assert load_spec(out / "optimised.toml").cam.base_radius == pytest.approx(35.0)
+    assert "FAILS the dense check: pressure_angle" in res.stdout
