@@ -235,12 +235,56 @@ def replaced():
     R["replaced"] = {{"status": job.result.status if job.result else job.error, "editor": editor is not None,
                      "spec": spec_text() == state["spec0"]}}
     editor.reject()
+
+def reopen():
+    FreeCADGui.runCommand("CamWorkbench_Optimise")
+
+def failing_result():
+    p = panel()
+    p.start()
+    p.cancel()                                          # at once: the start design, which fails separation
+
+def answer_no():
+    p = panel()
+    if p.running or p.result is None:
+        raise NotYet("the cancelled run")
+    R["failing"] = {{"feasible": p.result.feasible, "evaluations": p.result.evaluations,
+                    "apply_text": p.apply_button.text(), "verdict": p.verdict.text()}}
+    state["undo2"] = FreeCAD.ActiveDocument.UndoCount
+    _answer("No")
+    p.apply_button.click()
+    R["after_no"] = {{"status": p.status.text(), "spec": spec_text() == state["spec0"],
+                     "undo": FreeCAD.ActiveDocument.UndoCount - state["undo2"],
+                     "dialog": bool(FreeCADGui.Control.activeDialog())}}
+
+def answer_yes():
+    p = panel()
+    _answer("Yes")
+    p.apply_button.click()
+
+def after_yes():
+    doc = FreeCAD.ActiveDocument
+    cam = doc.getObject("Ex5")
+    R["after_yes"] = {{"dialog": bool(FreeCADGui.Control.activeDialog()), "undo": doc.UndoCount - state["undo2"],
+                      "names": doc.UndoNames[:1], "status": cam.Status, "question": state.get("question")}}
+    doc.undo()
     R["report_view"] = report_text()
+
+def _answer(which):
+    def press():
+        w = QtGui.QApplication.activeModalWidget()
+        if isinstance(w, QtGui.QMessageBox):
+            state["question"] = [w.windowTitle(), w.text()]
+            for b in w.buttons():
+                if b.text().replace("&", "") == which:
+                    b.click()
+    QtCore.QTimer.singleShot(700, press)
 
 steps = [(activate, 500), (new_cam, 1000), (open_panel, 500), (panel_state, 300), (start_long, 200),
          (watch, 200), (cancel, 100), (cancelled, 300), (start_short, 200), (finished, 500), (plot_shot, 300),
          (apply, 800), (applied, 800), (applied_shot, 800), (undone, 800), (close_while_running, 300), (closed, 800),
-         (replaced_while_running, 800), (replaced, 500)]
+         (replaced_while_running, 800), (replaced, 500), (reopen, 500), (failing_result, 300), (answer_no, 500),
+         (answer_yes, 1000), (after_yes, 300)]
 """
 
 
@@ -327,6 +371,14 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["closed"] == {"dialog": False, "panel": True, "status": "cancelled", "spec": True, "undo": 0}
     # another task panel replacing the optimiser's (no Close): its run is cancelled as well
     assert r["replaced"] == {"status": "cancelled", "editor": True, "spec": True}
+    # a failing result (cancelled at once: the start design) is applied only after a Yes
+    f = r["failing"]
+    assert f["feasible"] is False and f["evaluations"] <= 3 and f["apply_text"] == "Apply anyway…"
+    assert "FAILS the dense re-check (separation)" in f["verdict"]
+    assert r["after_no"] == {"status": "Not applied.", "spec": True, "undo": 0, "dialog": True}
+    y = r["after_yes"]
+    assert y["dialog"] is False and y["undo"] == 1 and y["names"] == ["Optimise cam"] and y["status"] == "ok"
+    assert y["question"][0] == "Apply a failing design?" and "(separation)" in y["question"][1]
     report = r["report_view"]
     assert "Traceback" not in report and "Traceback" not in run.console
     bad = [line for line in report.splitlines() if "Error" in line or "error" in line]

@@ -70,6 +70,9 @@ def test_every_section_is_a_property_group_with_units(props_run):
     assert units["MachiningFeedRate"] == "Velocity" and units["MachiningToolRadius"] == "Length"
     assert units["ChecksMaxPressureAngle"] == "Angle" and units["DrawingChordTolerance"] == "Length"
     assert got["DrawingTitleBlock"][1] == "App::PropertyBool" and got["MachiningCoolant"][1] == "App::PropertyBool"
+    # [optimise]: the optimiser panel's defaults; an absent bound is 0
+    assert got["OptimiseObjective"][1] == "App::PropertyEnumeration" and units["OptimiseBaseRadiusMin"] == "Length"
+    assert "0 = not given" in got["OptimiseBaseRadiusMin"][3] and got["OptimiseMaxEvaluations"][1] == "App::PropertyIntegerConstraint"
     # the thesis' control points as FreeCAD holds them: one comma-separated string per segment
     assert props_run["control_x"][0] == "0.3772, 0.4424, 0.5148, 1.2282, 1.5945, 1.9231, 2.1345, 2.2648, 2.5848"
     assert props_run["control_x"][1] == ""
