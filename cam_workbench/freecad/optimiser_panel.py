@@ -54,7 +54,6 @@ class OptimiserPanel:
         self.ticks: list[float] = []          # GUI-thread timer ticks during a run (responsiveness)
         self.plot_seconds: list[float] = []   # time of each redraw of the convergence plot
         self._last_plot = 0.0
-        self._plotted = 0
 
         # 1. problem ---------------------------------------------------------------------------
         problem = QtGui.QWidget()
@@ -82,6 +81,10 @@ class OptimiserPanel:
         self.var_count = QtGui.QLabel()
         vl.addWidget(self.var_count)
         pl.addWidget(vbox)
+        self.status = QtGui.QLabel()      # what the choices amount to, or the rule they break
+        self.status.setWordWrap(True)
+        self.status.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+        pl.addWidget(self.status)
 
         # 2. bounds ----------------------------------------------------------------------------
         bounds = QtGui.QWidget()
@@ -186,12 +189,6 @@ class OptimiserPanel:
         self.apply_button.setEnabled(False)
         self.apply_button.clicked.connect(self.apply)
         self.result_layout.addWidget(self.apply_button)
-        self.status = QtGui.QLabel()
-        self.status.setWordWrap(True)
-        self.status.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
-        bl2 = QtGui.QVBoxLayout()
-        bl2.addWidget(self.status)
-        problem.layout().addLayout(bl2)
 
         self.form = [problem, bounds, algo, runbox, resbox]
         self.settings_widgets = [problem, bounds, algo]
@@ -216,7 +213,7 @@ class OptimiserPanel:
         from PySide import QtGui
 
         spin = QtGui.QDoubleSpinBox()
-        spin.setDecimals(4 if self.units == "in" else 3)
+        spin.setDecimals(5 if self.units == "in" else 4)
         spin.setRange(0.0, 1e6)
         spin.setSingleStep(0.05 if self.units == "in" else 1.0)
         spin.setSuffix(f" {self.units}")
@@ -376,7 +373,6 @@ class OptimiserPanel:
         self.live.setText("starting …")
         self.live.setStyleSheet("")
         self.ticks = []
-        self._plotted = 0
         self._draw_plot([])
         for w in self.settings_widgets:
             w.setEnabled(False)
@@ -600,7 +596,6 @@ class OptimiserPanel:
         for a in (ax, av):
             a.relim()
             a.autoscale_view()
-        self._plotted = len(history)
         if getattr(self, "canvas", None) is not None:
             t0 = time.perf_counter()
             self.canvas.draw()
