@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -316,8 +317,9 @@ class OptimiseSection:
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset, control_x, control_y (control_points = "
-        "both: every free control coordinate of each B-spline rise/return), orientation (the blank on the "
-        "NC table; machining_time only); \"auto\" = base_radius, offset, control_points (+ orientation "
+        "both: every free control coordinate of each B-spline rise/return; motion[k].control_x, "
+        "motion[k].control_y, motion[k].control_points: those of segment k only), orientation (the blank on "
+        "the NC table; machining_time only); \"auto\" = base_radius, offset, control_points (+ orientation "
         "for machining_time)", kind="str", default="auto", group="Optimise")
     algorithm: str = param(
         "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
@@ -662,16 +664,18 @@ def _validate_machining(spec: CamSpec) -> None:
                         f"got {mc.chord_tolerance:g}")
 
 
-def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
-    """The design-variable kinds of ``optimise.variables`` resolved ("auto" and "control_points"
-    expanded), in the order base_radius, offset, control_x, control_y, orientation."""
+_SEGMENT_VARIABLE = re.compile(r"^motion\[(\d+)\]\.(control_x|control_y|control_points)$")
+
+
+def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
+    """(kinds, B-spline motion rows per control kind) of ``optimise.variables``."""
     opt = spec.optimise
     text = opt.variables.strip()
-    has_bspline = any(seg.law == "bspline" for seg in spec.motion)
+    bspline_rows = {k for k, seg in enumerate(spec.motion) if seg.law == "bspline"}
+    rows: dict[str, set[int]] = {"control_x": set(), "control_y": set()}
     if text == "auto":
         names = {"base_radius", "offset"}
-        if has_bspline:
-            names |= {"control_x", "control_y"}
+        rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows)}
         if opt.objective == "machining_time":
             names.add("orientation")
     else:
@@ -680,11 +684,47 @@ def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
             tok = tok.strip()
             if not tok:
                 continue
+            m = _SEGMENT_VARIABLE.match(tok)
+            if m:
+                k = int(m.group(1))
+                if k not in bspline_rows:
+                    what = (f"has law = {spec.motion[k].law!r}" if k < len(spec.motion) and spec.motion[k].law
+                            else "is a dwell" if k < len(spec.motion) else f"does not exist ({len(spec.motion)} segments)")
+                    raise SpecError("optimise.variables",
+                                    f"{tok}: motion[{k}] {what}; only a law = \"bspline\" rise or return has control points")
+                kinds = ("control_x", "control_y") if m.group(2) == "control_points" else (m.group(2),)
+                for kind in kinds:
+                    rows[kind].add(k)
+                continue
             if tok not in OPTIMISE_VARIABLES:
                 raise SpecError("optimise.variables",
-                                f"unknown design variable {tok!r} (known: auto, {', '.join(OPTIMISE_VARIABLES)})")
-            names |= {"control_x", "control_y"} if tok == "control_points" else {tok}
+                                f"unknown design variable {tok!r} (known: auto, {', '.join(OPTIMISE_VARIABLES)}, "
+                                "motion[k].control_x / control_y / control_points)")
+            if tok in ("control_points", "control_x", "control_y"):
+                if not bspline_rows:
+                    raise SpecError("optimise.variables",
+                                    'control points need a law = "bspline" rise or return (other laws have none)')
+                for kind in (("control_x", "control_y") if tok == "control_points" else (tok,)):
+                    rows[kind] |= bspline_rows
+            else:
+                names.add(tok)
+    names |= {kind for kind, ks in rows.items() if ks}
+    return names, rows
+
+
+def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
+    """The design-variable kinds of ``optimise.variables`` resolved ("auto", "control_points"
+    and the per-segment ``motion[k].…`` forms expanded), in the order base_radius, offset,
+    control_x, control_y, orientation."""
+    names, _rows = _parse_variables(spec)
     return tuple(n for n in ("base_radius", "offset", "control_x", "control_y", "orientation") if n in names)
+
+
+def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
+    """The motion rows whose control angles (``"control_x"``) and lifts (``"control_y"``) are
+    design variables, by ``optimise.variables`` (every B-spline row for ``control_x`` etc.)."""
+    _names, rows = _parse_variables(spec)
+    return {kind: tuple(sorted(ks)) for kind, ks in rows.items()}
 
 
 def _validate_optimise(spec: CamSpec) -> None:
@@ -692,9 +732,6 @@ def _validate_optimise(spec: CamSpec) -> None:
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")
-    if ("control_x" in names or "control_y" in names) and not any(seg.law == "bspline" for seg in spec.motion):
-        raise SpecError("optimise.variables",
-                        'control points need a law = "bspline" rise or return (other laws have none)')
     if "orientation" in names and opt.objective != "machining_time":
         raise SpecError("optimise.variables",
                         "orientation only changes objective = \"machining_time\" (the thesis' cutting time)")

@@ -210,7 +210,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
                                   "cam_workbench.freecad.commands": False}, "start-up is not cheap"
     assert "CamWorkbench" in r["workbenches"]
     assert r["active"] == "CamWorkbench" and r["menu"]
-    assert r["toolbar"] == ["New plate cam", "Edit motion program", "Check design",
+    assert r["toolbar"] == ["New plate cam", "Edit motion program", "Optimise", "Check design",
                             "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
                             "Design report (HTML)…"]
     new = r["new"]

@@ -32,7 +32,7 @@ cam = create(doc, EX5)
 out = RESULT["props"] = {}
 for n in cam.PropertiesList:
     g = cam.getGroupOfProperty(n)
-    if g in ("Cam", "Follower", "Motion", "Pitch", "Machining", "Checks", "Material", "Drawing"):
+    if g in ("Cam", "Follower", "Motion", "Pitch", "Machining", "Checks", "Material", "Drawing", "Optimise"):
         v = getattr(cam, n)
         unit = v.Unit.Type if hasattr(v, "Unit") else None
         out[n] = [g, cam.getTypeIdOfProperty(n), unit, cam.getDocumentationOfProperty(n)]
@@ -63,13 +63,16 @@ def test_every_section_is_a_property_group_with_units(props_run):
         assert (group, ptype) == (fp.group, fp.type), fp.name
         assert tip.startswith(fp.param.doc), fp.name
     groups = {g for g, *_ in got.values()}
-    assert groups == {"Cam", "Follower", "Motion", "Pitch", "Machining", "Checks", "Material", "Drawing"}
+    assert groups == {"Cam", "Follower", "Motion", "Pitch", "Machining", "Checks", "Material", "Drawing", "Optimise"}
     units = {n: u for n, (_g, _t, u, _tip) in got.items() if u}
     assert units["FollowerPreload"] == "Force" and units["ChecksMinForce"] == "Force"
     assert units["MaterialAllowableStress"] == "Pressure" and units["MaterialCamModulus"] == "Pressure"
     assert units["MachiningFeedRate"] == "Velocity" and units["MachiningToolRadius"] == "Length"
     assert units["ChecksMaxPressureAngle"] == "Angle" and units["DrawingChordTolerance"] == "Length"
     assert got["DrawingTitleBlock"][1] == "App::PropertyBool" and got["MachiningCoolant"][1] == "App::PropertyBool"
+    # [optimise]: the optimiser panel's defaults; an absent bound is 0
+    assert got["OptimiseObjective"][1] == "App::PropertyEnumeration" and units["OptimiseBaseRadiusMin"] == "Length"
+    assert "0 = not given" in got["OptimiseBaseRadiusMin"][3] and got["OptimiseMaxEvaluations"][1] == "App::PropertyIntegerConstraint"
     # the thesis' control points as FreeCAD holds them: one comma-separated string per segment
     assert props_run["control_x"][0] == "0.3772, 0.4424, 0.5148, 1.2282, 1.5945, 1.9231, 2.1345, 2.2648, 2.5848"
     assert props_run["control_x"][1] == ""

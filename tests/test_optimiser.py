@@ -260,11 +260,39 @@ def test_isres_is_seeded_and_multistart_runs():
     ({"optimise.base_radius_min": 4.0}, "optimise.base_radius_min"),
     ({"optimise.base_radius_min": 10.0, "optimise.offset_max": 12.0}, "optimise.offset_max"),
     ({"optimise.windows": 2}, "optimise.windows"),
+    ({"optimise.variables": "motion[1].control_x"}, "optimise.variables"),
 ])
 def test_settings_rules(changes, field):
     with pytest.raises(SpecError) as info:
         default_spec().replace(**changes)
     assert info.value.field == field
+
+
+def test_control_points_of_one_segment():
+    """``motion[k].control_points`` varies segment k's control polygon only: Example 5's rise
+    changes shape, its return, R_b and e stay exactly as they were; the area still goes down."""
+    start = fixture(5, "initial")
+    space = DesignSpace(start.replace(**{"optimise.variables": "motion[0].control_points"}))
+    assert space.labels == tuple([f"motion[0].P{i}x" for i in range(1, 10)] +
+                                 [f"motion[0].P{i}y" for i in (4, 5, 6)])
+    space = DesignSpace(start.replace(**{"optimise.variables": "base_radius, motion[2].control_y"}))
+    assert space.labels == ("cam.base_radius", "motion[2].P4y", "motion[2].P5y", "motion[2].P6y")
+    res = optimise(start, variables="motion[0].control_points", max_evaluations=60)
+    assert res.spec.motion[2] == start.motion[2]
+    assert res.spec.cam.base_radius == start.cam.base_radius and res.spec.follower.offset == start.follower.offset
+    assert res.spec.motion[0].control_x != start.motion[0].control_x
+    assert res.value < res.initial_value
+
+
+@pytest.mark.parametrize("variables, rule", [
+    ("motion[1].control_x", "motion[1].control_x: motion[1] is a dwell; only a law = \"bspline\" rise or return"),
+    ("motion[7].control_points", "motion[7] does not exist (4 segments)"),
+    ("motion[0].lift", "unknown design variable 'motion[0].lift'"),
+])
+def test_segment_variable_rules(variables, rule):
+    with pytest.raises(SpecError) as info:
+        fixture(5, "initial").replace(**{"optimise.variables": variables})
+    assert info.value.field == "optimise.variables" and rule in info.value.rule
 
 
 def test_report_section_shape():

@@ -130,6 +130,12 @@ def design_report(obj: Any) -> DesignReport:
     return report
 
 
+def check_rows(checks: Any) -> list[CheckRow]:
+    """The rows of the design-check table for ``generators.design_checks.DesignChecks``."""
+    return [CheckRow(r.name, r.description, r.kind, r.value, r.at_deg, r.limit, r.unit, r.status, r.note)
+            for r in checks.results]
+
+
 def _add_checks(report: DesignReport, spec: Any) -> None:
     from generators.design_checks import run_checks
 
@@ -139,8 +145,7 @@ def _add_checks(report: DesignReport, spec: Any) -> None:
         report.checks_error = str(exc)
         return
     report.sampling = _sampling_text(checks)
-    report.checks = [CheckRow(r.name, r.description, r.kind, r.value, r.at_deg, r.limit, r.unit,
-                              r.status, r.note) for r in checks.results]
+    report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
                        for name, e in checks.extremes.items()]
 
@@ -225,9 +230,12 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
 _GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
 
 
-def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | None = None) -> Any:
+def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | tuple[int, ...] | None = None
+           ) -> Any:
+    """A read-only table; the cells of ``status_col`` (one column or several) coloured by status."""
     from PySide import QtGui
 
+    status_cols = (status_col,) if isinstance(status_col, int) else tuple(status_col or ())
     table = QtGui.QTableWidget(len(rows), len(headers))
     table.setObjectName(name)
     table.setHorizontalHeaderLabels(headers)
@@ -236,7 +244,7 @@ def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int
     for r, row in enumerate(rows):
         for c, text in enumerate(row):
             item = QtGui.QTableWidgetItem(text)
-            if c == status_col and text in colours:
+            if c in status_cols and text in colours:
                 item.setForeground(QtGui.QBrush(QtGui.QColor(colours[text])))
                 font = item.font()
                 font.setBold(True)

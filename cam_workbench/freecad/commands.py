@@ -137,6 +137,21 @@ class EditMotion(Command):
             open_editor(cam)
 
 
+class Optimise(Command):
+    menu_text = "Optimise"
+    tooltip = ("Optimise the cam (thesis Ch. 5–7, nlopt): minimise its area, machining time or peak "
+               "acceleration / pressure angle over base radius, offset and B-spline control points, with "
+               "every design check as a constraint; run, watch, cancel, compare before/after, apply")
+    icon = "Optimise.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .optimiser_panel import open_panel
+
+            open_panel(cam)
+
+
 class CheckDesign(Command):
     menu_text = "Check design"
     tooltip = ("Design checks of the cam (thesis Ch. 3): pressure angle, separation, oscillation, "
@@ -258,6 +273,7 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_NewPlateCam": NewPlateCam,
     "CamWorkbench_NewPlateCamFromSpec": NewPlateCamFromSpec,
     "CamWorkbench_EditMotion": EditMotion,
+    "CamWorkbench_Optimise": Optimise,
     "CamWorkbench_CheckDesign": CheckDesign,
     "CamWorkbench_ShowPlots": ShowPlots,
     "CamWorkbench_ExportStep": ExportStep,
@@ -267,15 +283,16 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_DesignReport": DesignReport,
     "CamWorkbench_ExportSpec": ExportSpec,
 }
-#: Menu layout ("Separator" between groups): create, edit, check, export.
+#: Menu layout ("Separator" between groups): create, edit and optimise, check, export.
 LAYOUT = ["CamWorkbench_NewPlateCam", "CamWorkbench_NewPlateCamFromSpec", "Separator",
-          "CamWorkbench_EditMotion", "Separator",
+          "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
           "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
           "CamWorkbench_ExportCommandTable", "Separator",
           "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]
 #: Toolbar: the everyday commands.
-TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_CheckDesign",
+TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_Optimise",
+           "CamWorkbench_CheckDesign",
            "CamWorkbench_ShowPlots", "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf",
            "CamWorkbench_ExportGcode", "CamWorkbench_DesignReport"]
 

@@ -632,6 +632,22 @@ def describe_field(path: str) -> str:
     return path
 
 
+def field_property(path: str) -> FieldProperty:
+    """The property of a spec field given by its path (``optimise.base_radius_min``)."""
+    section, _, field = path.rpartition(".")
+    for fp in field_properties():
+        if fp.section == section and fp.field == field:
+            return fp
+    raise KeyError(path)
+
+
+def field_tooltip(path: str) -> str:
+    """The tooltip of a spec field's property (its declaration's doc, unit and rule) with the
+    property's name, for widgets that edit the field elsewhere (the optimiser panel)."""
+    fp = field_property(path)
+    return f"{fp.name}: {fp.tooltip()}"
+
+
 def iter_property_names() -> Iterator[str]:
     """Every property (and flag) name this module manages."""
     for fp in field_properties():
@@ -644,6 +660,6 @@ def iter_property_names() -> Iterator[str]:
 
 
 __all__ = ["FieldProperty", "LBF_N", "MM_PER_INCH", "UNIT_STORAGE", "camel", "describe_field",
-           "ensure_properties", "field_properties", "format_floats", "iter_property_names",
+           "ensure_properties", "field_properties", "field_property", "field_tooltip", "format_floats", "iter_property_names",
            "migrate_plain_numbers", "parse_floats", "read_rows", "refresh_tooltips", "spec_dict",
            "spec_of", "unscale", "units_of", "units_scale", "write_rows", "write_spec"]

@@ -4,6 +4,6 @@ objectives, and the nlopt drivers.  ``from generators.optimise import optimise``
 nlopt is imported only when a solver runs (:mod:`generators.optimise.run`), so importing this
 package — and ``generators`` — never loads it.
 """
-from .run import Cancelled, OptimiseResult, Progress, final_value, optimise
+from .run import Cancelled, OptimiseResult, Progress, final_value, optimise, worst_constraint
 
-__all__ = ["Cancelled", "OptimiseResult", "Progress", "final_value", "optimise"]
+__all__ = ["Cancelled", "OptimiseResult", "Progress", "final_value", "optimise", "worst_constraint"]

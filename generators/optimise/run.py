@@ -110,21 +110,8 @@ class OptimiseResult:
         return self.checks.passed
 
     def worst_constraint(self) -> dict[str, Any]:
-        """The check closest to (or furthest past) its limit, relative to the limit."""
-        best: dict[str, Any] = {}
-        worst = -math.inf
-        for r in self.checks.results:
-            if r.value is None or r.limit is None or r.status == "skipped":
-                continue
-            if r.name == "oscillation":      # zero at every flat stretch: not a margin
-                continue
-            scale = max(abs(r.limit), 1e-12) if r.name != "separation" else max(self.spec.follower.preload, 1e-12)
-            margin = (r.value - r.limit) / scale if r.kind == "max" else (r.limit - r.value) / scale
-            if margin > worst:
-                worst = margin
-                best = {"name": r.name, "value": r.value, "limit": r.limit, "unit": r.unit,
-                        "at_deg": r.at_deg, "relative_margin": -margin, "status": r.status}
-        return best
+        """The final design's check closest to (or furthest past) its limit, relative to the limit."""
+        return worst_constraint(self.checks, self.spec)
 
     def report(self, max_history: int = HISTORY_MAX) -> dict[str, Any]:
         """report.json's ``optimise`` section (scalars, the design variables and the history)."""
@@ -152,6 +139,25 @@ class OptimiseResult:
         }
         out.update(self.details)
         return out
+
+
+def worst_constraint(checks: DesignChecks, spec: CamSpec) -> dict[str, Any]:
+    """The check of ``checks`` (of ``spec``) closest to (or furthest past) its limit, relative to
+    the limit (separation: to the preload); {} when no check has a value and a limit."""
+    best: dict[str, Any] = {}
+    worst = -math.inf
+    for r in checks.results:
+        if r.value is None or r.limit is None or r.status == "skipped":
+            continue
+        if r.name == "oscillation":      # zero at every flat stretch: not a margin
+            continue
+        scale = max(abs(r.limit), 1e-12) if r.name != "separation" else max(spec.follower.preload, 1e-12)
+        margin = (r.value - r.limit) / scale if r.kind == "max" else (r.limit - r.value) / scale
+        if margin > worst:
+            worst = margin
+            best = {"name": r.name, "value": r.value, "limit": r.limit, "unit": r.unit,
+                    "at_deg": r.at_deg, "relative_margin": -margin, "status": r.status}
+    return best
 
 
 def _thin(history: list[dict[str, Any]], limit: int) -> list[dict[str, Any]]:

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..bspline_law import BSplineLift, fixed_end_points
 from ..motion import MotionProgram
-from ..spec import CamSpec, optimise_variables
+from ..spec import CamSpec, optimise_control_rows, optimise_variables
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,7 @@ class DesignSpace:
         self.spec = spec
         self.program = program or MotionProgram.from_spec(spec)
         self.kinds = optimise_variables(spec)
+        rows = optimise_control_rows(spec)
         opt = spec.optimise
         labels: list[str] = []
         p0: list[float] = []
@@ -104,12 +105,12 @@ class DesignSpace:
             y_free = np.arange(nfix, n - nfix + 1)
             xc = np.array([], dtype=int)
             yc = np.array([], dtype=int)
-            if "control_x" in self.kinds:
+            if k in rows["control_x"]:
                 xc = np.arange(len(p0), len(p0) + n - 1)
                 for i in range(1, n):
                     labels.append(f"motion[{k}].P{i}x")
                     p0.append(float(curve.x[i])), lo.append(gap), hi.append(curve.span - gap)
-            if "control_y" in self.kinds:
+            if k in rows["control_y"]:
                 yc = np.arange(len(p0), len(p0) + y_free.size)
                 for i in y_free:
                     labels.append(f"motion[{k}].P{i}y")

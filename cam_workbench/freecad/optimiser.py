@@ -1,0 +1,433 @@
+"""The optimiser inside FreeCAD: choices, the threaded run, before/after figures, apply.
+
+Everything here is headless (the Qt panel is :mod:`.optimiser_panel`) and is what the panel
+calls, so scripts and tests drive the same code:
+
+- :func:`variable_choices` — the design variables that mean something for a cam (base
+  radius and offset always; the control angles and free lifts of each ``law = "bspline"``
+  rise/return; the blank orientation only for ``machining_time``), and
+  :func:`variables_text` / :func:`selected_tokens` to and from ``optimise.variables``;
+- :func:`settings_of` / :func:`default_bounds` — the panel's starting values: the feature's
+  ``Optimise`` properties (the spec's ``[optimise]`` section), the bounds the library takes when
+  none are given;
+- :func:`run_spec` — the spec with the panel's choices as its ``[optimise]`` section
+  (validated: a bad choice raises ``SpecError`` naming the field);
+- :class:`OptimiseJob` — :func:`generators.optimise.optimise` in a worker thread, its progress
+  (evaluations, objective, violation, history) readable from the GUI thread, and
+  :meth:`OptimiseJob.cancel` (the library's ``threading.Event``: the run stops at the next
+  evaluation with status ``"cancelled"``);
+- :func:`figures` / :func:`check_comparison` — the before/after numbers and every design check
+  before and after (the Check design table's rows);
+- :func:`apply_result` — writes ``OptimiseResult.spec`` (the optimised design AND the
+  ``[optimise]`` settings it was run with) into the feature's properties and recomputes, as ONE
+  undo step.  A result that fails the dense re-check is refused unless ``allow_failing``
+  (the panel asks the user first); a feature changed since the run started is refused.
+
+The optimiser runs in FreeCAD's own Python (nlopt from Debian's ``python3-nlopt``), in a
+thread of the FreeCAD process: the objects are plain numpy data, the document is only read
+before the run (in the GUI thread) and written by :func:`apply_result` (in the GUI thread).
+"""
+from __future__ import annotations
+
+import dataclasses
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from generators.errors import CamError, SpecError
+from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec
+
+from . import properties as props
+
+TRANSACTION = "Optimise cam"
+#: What each objective is, for the panel's list (the declaration says more in its tooltip).
+OBJECTIVE_LABELS = {
+    "area": "Cam area (thesis Eq. 4.21, inside the pitch curve)",
+    "profile_area": "Profile area (true cross-section inside the roller profile)",
+    "machining_time": "Machining time (the thesis' cutting-time model, Eq. 4.20)",
+    "gcode_time": "G-code time (this project's XY contour program)",
+    "peak_acceleration": "Peak acceleration (largest |s″|)",
+    "peak_pressure_angle": "Peak pressure angle (largest |φ|)",
+}
+ALGORITHM_LABELS = {
+    "auto": "auto: SLSQP with exact gradients (times: SLSQP on a stand-in, then BOBYQA)",
+    "slsqp": "SLSQP — gradient, exact sensitivities",
+    "mma": "MMA — gradient, exact sensitivities",
+    "ccsaq": "CCSAQ — gradient, exact sensitivities",
+    "cobyla": "COBYLA — derivative-free, constraints as they are",
+    "bobyqa": "BOBYQA — derivative-free, thesis' exterior penalty",
+    "isres": "ISRES — global (seeded), then a local polish",
+}
+GRADIENT_ALGORITHMS = ("slsqp", "mma", "ccsaq")
+NON_SMOOTH = ("machining_time", "gcode_time")
+assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
+
+
+class ApplyError(CamError):
+    """The result cannot be applied (the cam changed, or it fails a check and was not confirmed)."""
+
+
+# ---- design variables -------------------------------------------------------------------------
+@dataclass(frozen=True)
+class VariableChoice:
+    """One check box of the panel: a token of ``optimise.variables``."""
+
+    token: str             # "base_radius", "offset", "motion[0].control_x", "orientation" …
+    label: str
+    count: int             # scalar design variables it adds
+    enabled: bool
+    reason: str = ""       # why it is disabled
+
+
+def _bspline_rows(spec: CamSpec) -> list[int]:
+    return [k for k, seg in enumerate(spec.motion) if seg.law == "bspline"]
+
+
+def variable_choices(spec: CamSpec, objective: str | None = None) -> list[VariableChoice]:
+    """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
+    from generators.bspline_law import fixed_end_points
+    from generators.motion import MotionProgram
+
+    objective = objective or spec.optimise.objective
+    u = spec.units
+    out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True),
+           VariableChoice("offset", f"Follower offset e [{u}]", 1, True)]
+    program = MotionProgram.from_spec(spec)
+    for k in _bspline_rows(spec):
+        curve = program.curves[k]
+        n = curve.n_points - 1
+        nfix = fixed_end_points(curve.order)
+        what = f"row {k + 1} ({spec.motion[k].kind})"
+        out.append(VariableChoice(f"motion[{k}].control_x", f"{what}: control angles P1x … P{n - 1}x",
+                                  n - 1, True))
+        free = n - 2 * nfix + 1
+        out.append(VariableChoice(f"motion[{k}].control_y",
+                                  f"{what}: free lifts P{nfix}y … P{n - nfix}y", free, free > 0,
+                                  "" if free > 0 else "no free lift at this order"))
+    orient = objective == "machining_time"
+    out.append(VariableChoice("orientation", "Blank orientation on the NC table", 1, orient,
+                              "" if orient else "only changes the machining time (thesis model)"))
+    return out
+
+
+def selected_tokens(spec: CamSpec) -> set[str]:
+    """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects."""
+    from generators.spec import optimise_control_rows, optimise_variables
+
+    kinds = optimise_variables(spec)
+    rows = optimise_control_rows(spec)
+    out = {k for k in ("base_radius", "offset", "orientation") if k in kinds}
+    for kind, ks in rows.items():
+        out |= {f"motion[{k}].{kind}" for k in ks}
+    return out
+
+
+def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str | None = None) -> str:
+    """``optimise.variables`` for the chosen tokens (only enabled ones): the plain names, and
+    ``control_points`` when every B-spline row's angles and lifts are chosen."""
+    choices = {c.token: c for c in variable_choices(spec, objective) if c.enabled}
+    chosen = [c for c in choices if c in set(tokens)]
+    ctrl = [t for t in choices if t.startswith("motion[")]
+    if ctrl and all(t in chosen for t in ctrl):
+        chosen = [t for t in chosen if not t.startswith("motion[")]
+        chosen.insert(2 if "offset" in chosen else 1 if "base_radius" in chosen else 0, "control_points")
+        chosen = [t for t in ("base_radius", "offset", "control_points", "orientation") if t in chosen]
+    return ", ".join(chosen)
+
+
+# ---- settings ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Settings:
+    """What the panel chooses: fields of the ``[optimise]`` section (lengths in spec units)."""
+
+    objective: str
+    variables: str
+    algorithm: str
+    max_evaluations: int
+    multistart: int
+    seed: int
+    base_radius_min: float
+    base_radius_max: float
+    offset_max: float
+
+    def changes(self) -> dict[str, Any]:
+        return {f"optimise.{f.name}": getattr(self, f.name) for f in dataclasses.fields(self)}
+
+
+def default_bounds(spec: CamSpec) -> tuple[float, float, float]:
+    """(R_b lower, R_b upper, |e| upper) as the library takes them when ``[optimise]`` gives none
+    (``generators.optimise.space.DesignSpace``: ½ × and 2 × the initial R_b, the lower at least
+    1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower bound) — or the given ones."""
+    from generators.optimise.space import DesignSpace
+
+    probe = spec.replace(**{"optimise.variables": "base_radius, offset",
+                            "optimise.objective": "area", "optimise.algorithm": "auto"})
+    space = DesignSpace(probe)
+    return (float(space.lower[space.r_index]), float(space.upper[space.r_index]),
+            float(space.upper[space.e_index]))
+
+
+def settings_of(spec: CamSpec) -> Settings:
+    """The panel's starting values: the spec's ``[optimise]`` section, the bounds it leaves out
+    filled with the library's defaults (:func:`default_bounds`)."""
+    opt = spec.optimise
+    r_lo, r_hi, e_max = default_bounds(spec)
+    return Settings(objective=opt.objective, variables=opt.variables, algorithm=opt.algorithm,
+                    max_evaluations=opt.max_evaluations, multistart=opt.multistart, seed=opt.seed,
+                    base_radius_min=r_lo, base_radius_max=r_hi, offset_max=e_max)
+
+
+def bound_is_default(spec: CamSpec) -> bool:
+    """True when ``optimise.base_radius_min`` is not given: the lower bound is only the
+    library's guess (½ × the initial R_b), not the shaft/hub/bore limit of the design."""
+    return spec.optimise.base_radius_min is None
+
+
+def run_spec(spec: CamSpec, settings: Settings) -> CamSpec:
+    """``spec`` with the panel's settings as its ``[optimise]`` section.
+
+    Raises:
+        SpecError: a setting breaks a rule (the field is named, e.g. optimise.offset_max).
+    """
+    return spec.replace(**settings.changes())
+
+
+# ---- the threaded run ---------------------------------------------------------------------------
+class OptimiseJob:
+    """One run of :func:`generators.optimise.optimise` in a worker thread.
+
+    The worker only touches plain data; read :attr:`latest`, :attr:`history` (a list the worker
+    appends to), :attr:`done`, :attr:`result` and :attr:`error` from any thread.
+    :meth:`cancel` sets the library's ``threading.Event``: the run stops after the evaluation in
+    progress (a few ms), re-checks the best design so far and ends with status "cancelled"."""
+
+    def __init__(self, spec: CamSpec):
+        self.spec = spec
+        self.latest: Any = None            # the last generators.optimise.Progress
+        self.history: list[tuple[int, float, float, str]] = []  # (evaluation, objective, violation, phase)
+        self.result: Any = None
+        self.error: str | None = None
+        self.cancel_event = threading.Event()
+        self.started = self.finished = 0.0
+        self.cancel_requested_at: float | None = None
+        self._thread: threading.Thread | None = None
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    @property
+    def done(self) -> bool:
+        return self._thread is not None and not self._thread.is_alive()
+
+    def _progress(self, p: Any) -> bool:
+        self.latest = p
+        self.history.append((p.evaluations, p.objective, p.max_violation, p.phase))
+        return True
+
+    def _work(self) -> None:
+        from generators.optimise import optimise
+
+        try:
+            self.result = optimise(self.spec, progress=self._progress, cancel=self.cancel_event)
+        except CamError as exc:
+            self.error = f"{props.describe_field(exc.field)}: {exc.rule}" if isinstance(exc, SpecError) else str(exc)
+        except Exception as exc:  # noqa: BLE001 - shown by the panel, never raised in a thread
+            import traceback
+
+            self.error = f"{type(exc).__name__}: {exc}"
+            self.traceback = traceback.format_exc()
+        finally:
+            self.finished = time.perf_counter()
+
+    def start(self) -> "OptimiseJob":
+        self.started = time.perf_counter()
+        self._thread = threading.Thread(target=self._work, name="cam-workbench optimise", daemon=True)
+        self._thread.start()
+        return self
+
+    def cancel(self) -> None:
+        if self.cancel_requested_at is None:
+            self.cancel_requested_at = time.perf_counter()
+        self.cancel_event.set()
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Join the worker; True when it has finished."""
+        if self._thread is not None:
+            self._thread.join(timeout)
+        return self.done
+
+
+def run(spec: CamSpec) -> Any:
+    """Optimise ``spec`` in the calling thread (scripts; the panel uses :class:`OptimiseJob`)."""
+    job = OptimiseJob(spec).start()
+    job.wait()
+    if job.error is not None:
+        raise CamError(job.error)
+    return job.result
+
+
+# ---- before / after -----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Figure:
+    """One before/after row: a quantity, its values and its unit."""
+
+    name: str
+    before: float | str | None
+    after: float | str | None
+    unit: str = ""
+
+    def cells(self) -> list[str]:
+        """[quantity, before, after] with the unit on the values."""
+        return [self.name, _fmt(self.before, self.unit), _fmt(self.after, self.unit)]
+
+
+def _fmt(v: Any, unit: str = "") -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, str):
+        return v
+    text = "0" if v == 0 else f"{v:.6g}"
+    return f"{text} {unit}" if unit and unit != "°" else f"{text}{unit}"
+
+
+def _worst_text(w: dict[str, Any]) -> str:
+    if not w:
+        return "—"
+    from .check_design import fmt_value
+
+    where = f" at {w['at_deg']:.1f}°" if w.get("at_deg") is not None else ""
+    fail = " FAILS" if w["status"] == "fail" else ""
+    return f"{w['name'].replace('_', ' ')} {fmt_value(w['value'], w['unit'])}{where}{fail}"
+
+
+def figures(result: Any) -> list[Figure]:
+    """The before/after figures of a result: objective (computed independently of the solver's
+    model: :func:`generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
+    check closest to or furthest past its limit), the design checks' verdict."""
+    from generators.optimise import worst_constraint
+    from generators.optimise.objectives import UNITS
+
+    a, b = result.initial_spec, result.spec
+    u = a.units
+    unit = UNITS[result.objective].replace("length", u)
+    areas = result.details.get("areas", {})
+    ia, fa = areas.get("initial", {}), areas.get("final", {})
+    rows = [Figure(f"objective: {result.objective}", result.initial_value, result.value, unit)]
+    keys = [("thesis_eq_4_21", "cam area (thesis Eq. 4.21)"), ("profile", "area inside the profile")]
+    if a.cam.bore_diameter > 0 or b.cam.bore_diameter > 0:
+        keys.append(("cross_section", "cross-section (minus the bore)"))
+    for key, name in keys:
+        if key in ia:
+            rows.append(Figure(name, ia[key], fa.get(key), f"{u}²"))
+    ct = result.details.get("cutting_time")
+    if ct:
+        rows.append(Figure("thesis cutting time", ct["initial"].get("time_s"), ct["final"].get("time_s"), "s"))
+        rows.append(Figure("thesis tool-path turns", ct["initial"].get("turns"), ct["final"].get("turns")))
+    rows += [Figure("base radius R_b", a.cam.base_radius, b.cam.base_radius, u),
+             Figure("follower offset e", a.follower.offset, b.follower.offset, u)]
+    if "optimise.blank_orientation" in result.variables:
+        rows.append(Figure("blank orientation", a.optimise.blank_orientation, b.optimise.blank_orientation, "°"))
+    rows.append(Figure("worst constraint", _worst_text(worst_constraint(result.initial_checks, a)),
+                       _worst_text(worst_constraint(result.checks, b))))
+    rows.append(Figure("design checks", _verdict(result.initial_checks), _verdict(result.checks)))
+    return rows
+
+
+def _verdict(checks: Any) -> str:
+    return "all pass" if checks.passed else "FAIL: " + ", ".join(n.replace("_", " ") for n in checks.failed)
+
+
+@dataclass(frozen=True)
+class CheckChange:
+    """One design check before and after (the Check design table's rows, side by side)."""
+
+    before: Any   # check_design.CheckRow
+    after: Any
+
+    def cells(self) -> list[str]:
+        b, a = self.before.cells(), self.after.cells()
+        # check, limit, before value, at, status, after value, at, status
+        return [b[0], a[3], b[1], b[2], b[4], a[1], a[2], a[4]]
+
+
+CHECK_HEADERS = ["check", "limit", "before", "at", "status", "after", "at", "status"]
+
+
+def check_comparison(result: Any) -> list[CheckChange]:
+    """Every design check of the starting and the optimised design (dense, refined re-check)."""
+    from .check_design import check_rows
+
+    before = {r.name: r for r in check_rows(result.initial_checks)}
+    after = check_rows(result.checks)
+    return [CheckChange(before[r.name], r) for r in after if r.name in before]
+
+
+def history_arrays(history: list[tuple[int, float, float, str]]) -> dict[str, Any]:
+    """The run's history by phase: {phase: (evaluations, objective, violation)} as numpy arrays."""
+    import numpy as np
+
+    out: dict[str, Any] = {}
+    for phase in dict.fromkeys(h[3] for h in history):
+        sel = [h for h in history if h[3] == phase]
+        out[phase] = (np.array([h[0] for h in sel]), np.array([h[1] for h in sel], dtype=float),
+                      np.array([h[2] for h in sel], dtype=float))
+    return out
+
+
+# ---- apply ----------------------------------------------------------------------------------------
+def _design_part(spec: CamSpec) -> CamSpec:
+    """The spec without its [optimise] section (how to optimise, not what the cam is)."""
+    from generators.spec import OptimiseSection
+
+    return dataclasses.replace(spec, optimise=OptimiseSection())
+
+
+def changed_since(obj: Any, start: Any) -> str | None:
+    """Why the feature no longer holds the design ``start`` (a CamSpec, or an OptimiseResult:
+    its initial spec) — None if it does.  The ``[optimise]`` settings do not count."""
+    spec = getattr(start, "initial_spec", start)
+    try:
+        current = props.spec_of(obj)
+    except SpecError as exc:
+        return f"{props.describe_field(exc.field)}: {exc.rule}"
+    if _design_part(current) != _design_part(spec):
+        return "the cam's properties changed"
+    return None
+
+
+def apply_result(obj: Any, result: Any, allow_failing: bool = False) -> None:
+    """Write ``result.spec`` into ``obj``'s properties and recompute, as ONE undo step
+    ("Optimise cam").  The written spec is the optimised design with the ``[optimise]``
+    section the run used (objective, variables, algorithm, bounds, budget): the panel's choices
+    are stored only here, never on Close.
+
+    Raises:
+        ApplyError: the result fails the dense re-check and ``allow_failing`` is False, or the
+            feature changed since the run started; the new shape could not be built (the
+            transaction is aborted: nothing changes).
+    """
+    if not result.feasible and not allow_failing:
+        raise ApplyError(f"the optimised design fails the dense re-check ({', '.join(result.checks.failed)}); "
+                         "apply it only after confirming")
+    why = changed_since(obj, result)
+    if why is not None:
+        raise ApplyError(f"not applied: {why} since the run started; run the optimiser again")
+    doc = obj.Document
+    doc.openTransaction(TRANSACTION)
+    try:
+        props.write_spec(obj, result.spec)
+        doc.recompute()
+        if not str(obj.Status).startswith("ok"):
+            raise ApplyError(f"the optimised cam could not be built: {obj.Status}")
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
+
+
+__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS",
+           "OptimiseJob", "Settings", "VariableChoice", "apply_result", "bound_is_default", "changed_since",
+           "check_comparison", "default_bounds", "figures", "history_arrays", "run", "run_spec",
+           "selected_tokens", "settings_of", "variable_choices", "variables_text"]
