@@ -369,6 +369,18 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
                         u, st)
 
 
+def format_value(v: float | None, unit: str) -> str:
+    """A check value with its unit as the check table prints it: degrees to 0.001°, other
+    values to four decimals (four significant digits when very large or small); None is "—"."""
+    if v is None:
+        return "—"
+    if unit == "deg":
+        return f"{v:.3f}°"
+    a = abs(v)
+    text = f"{v:.4g}" if (a >= 1e5 or (a < 1e-3 and a != 0)) else f"{v:.4f}".rstrip("0").rstrip(".")
+    return f"{text} {unit}"
+
+
 def _finite(v: float) -> float | None:
     return float(v) if np.isfinite(v) else None
 

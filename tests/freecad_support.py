@@ -120,11 +120,29 @@ def run_freecad_gui(body: str, tmp: Path, home: Path, timeout: float = 600,
     script, result = tmp / "gui_script.py", tmp / "gui_result.json"
     result.unlink(missing_ok=True)
     driver = f"""
+import os
 from PySide import QtCore, QtGui
 import FreeCAD, FreeCADGui
 
 class NotYet(Exception):
     pass  # raised by a step whose widget has not appeared yet: the step is retried
+
+mw = FreeCADGui.getMainWindow()
+
+def shot(name):  # a screenshot of the whole screen into the body's ART folder
+    QtGui.QGuiApplication.primaryScreen().grabWindow(0).save(os.path.join(ART, name))
+
+def report_text():  # the report view's text
+    dock = mw.findChild(QtGui.QDockWidget, "Report view")
+    edits = dock.findChildren(QtGui.QTextEdit) + dock.findChildren(QtGui.QPlainTextEdit)
+    return "\\n".join(e.toPlainText() for e in edits)
+
+def button(text):  # the visible dialog-box button labelled text (mnemonic & ignored)
+    for box in mw.findChildren(QtGui.QDialogButtonBox):
+        for b in box.buttons():
+            if b.isVisible() and b.text().replace("&", "") == text:
+                return b
+    raise NotYet(text)
 
 {textwrap.dedent(body)}
 def _camwb_run(i=0, tries=0):

@@ -23,23 +23,7 @@ R = RESULT
 R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam_workbench",
                                                    "cam_workbench.freecad.commands")}}
 R["workbenches"] = sorted(FreeCADGui.listWorkbenches())
-mw = FreeCADGui.getMainWindow()
 state = {{}}
-
-def shot(name):
-    QtGui.QGuiApplication.primaryScreen().grabWindow(0).save(os.path.join(ART, name))
-
-def report_text():
-    dock = mw.findChild(QtGui.QDockWidget, "Report view")
-    edits = dock.findChildren(QtGui.QTextEdit) + dock.findChildren(QtGui.QPlainTextEdit)
-    return "\n".join(e.toPlainText() for e in edits)
-
-def button(text):
-    for box in mw.findChildren(QtGui.QDialogButtonBox):
-        for b in box.buttons():
-            if b.isVisible() and b.text().replace("&", "") == text:
-                return b
-    raise NotYet(text)
 
 def panel():
     vobj = FreeCADGui.ActiveDocument.getInEdit()

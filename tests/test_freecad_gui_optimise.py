@@ -23,16 +23,7 @@ import sys, os, time
 ART = {art!r}
 EX5 = {ex5!r}
 R = RESULT
-mw = FreeCADGui.getMainWindow()
 state = {{}}
-
-def shot(name):
-    QtGui.QGuiApplication.primaryScreen().grabWindow(0).save(os.path.join(ART, name))
-
-def report_text():
-    dock = mw.findChild(QtGui.QDockWidget, "Report view")
-    edits = dock.findChildren(QtGui.QTextEdit) + dock.findChildren(QtGui.QPlainTextEdit)
-    return "\n".join(e.toPlainText() for e in edits)
 
 def panel():
     from cam_workbench.freecad.optimiser_panel import active_panel

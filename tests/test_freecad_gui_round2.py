@@ -21,23 +21,7 @@ ART = {art!r}
 OUT = {out!r}
 EX5 = {ex5!r}
 R = RESULT
-mw = FreeCADGui.getMainWindow()
 state = {{}}
-
-def shot(name):
-    QtGui.QGuiApplication.primaryScreen().grabWindow(0).save(os.path.join(ART, name))
-
-def report_text():
-    dock = mw.findChild(QtGui.QDockWidget, "Report view")
-    edits = dock.findChildren(QtGui.QTextEdit) + dock.findChildren(QtGui.QPlainTextEdit)
-    return "\n".join(e.toPlainText() for e in edits)
-
-def button(text):
-    for box in mw.findChildren(QtGui.QDialogButtonBox):
-        for b in box.buttons():
-            if b.isVisible() and b.text().replace("&", "") == text:
-                return b
-    raise NotYet(text)
 
 def panel():
     vobj = FreeCADGui.ActiveDocument.getInEdit()

@@ -10,7 +10,7 @@ from typing import Any
 from exporters.atomic import OutputSet
 from exporters.report_json import report_json_text
 from generators.cam_area import area_summary
-from generators.design_checks import DesignChecks, run_checks
+from generators.design_checks import DesignChecks, format_value, run_checks
 from generators.spec import CamSpec, spec_digest
 
 from .common import add_spec_arguments, spec_from_args
@@ -68,16 +68,6 @@ def merged_report(path: Path, spec: CamSpec, checks: DesignChecks) -> dict[str, 
     return base
 
 
-def _fmt(v: float | None, unit: str) -> str:
-    if v is None:
-        return "—"
-    if unit == "deg":
-        return f"{v:.3f}°"
-    a = abs(v)
-    text = f"{v:.4g}" if (a >= 1e5 or (a < 1e-3 and a != 0)) else f"{v:.4f}".rstrip("0").rstrip(".")
-    return f"{text} {unit}"
-
-
 def print_table(checks: DesignChecks, spec: CamSpec, out: Path, areas: dict[str, float]) -> None:
     """The checks as a rich table, then the extremes (the thesis' "Maximum Values")."""
     from rich.console import Console
@@ -92,16 +82,16 @@ def print_table(checks: DesignChecks, spec: CamSpec, out: Path, areas: dict[str,
     style = {"pass": "green", "fail": "bold red", "skipped": "yellow"}
     for r in checks.results:
         op = "≤" if r.kind == "max" else ("≥" if r.name in ("oscillation", "curvature") else ">")
-        limit = "—" if r.limit is None else f"{op} {_fmt(r.limit, r.unit)}"
+        limit = "—" if r.limit is None else f"{op} {format_value(r.limit, r.unit)}"
         at = "—" if r.at_deg is None else f"{r.at_deg:.3f}°"
         status = f"[{style[r.status]}]{r.status}[/]" + (f" ({r.note})" if r.note and r.status != "pass" else "")
-        table.add_row(f"{r.name} ({r.kind})", _fmt(r.value, r.unit), at, limit, status)
+        table.add_row(f"{r.name} ({r.kind})", format_value(r.value, r.unit), at, limit, status)
     console.print(table)
     ext = Table(title="extremes (largest magnitude, signed)")
     for col in ("quantity", "value", "at"):
         ext.add_column(col, justify="left" if col == "quantity" else "right")
     for name, e in checks.extremes.items():
-        ext.add_row(name.replace("_", " "), _fmt(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
+        ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
     console.print(ext)
     u = spec.units
     console.print(f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {areas['thesis_eq_4_21']:.6g} {u}²; "

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from generators.design_checks import format_value as fmt_value
 from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
@@ -97,17 +98,6 @@ class DesignReport:
         for group, item, value, status in self.rows:
             lines.append(f"  {group:<15} {item:<38} {value:<30} {status}")
         return "\n".join(lines)
-
-
-def fmt_value(v: float | None, unit: str) -> str:
-    """A check value with its unit, as ``cam-workbench check`` prints it."""
-    if v is None:
-        return "—"
-    if unit == "deg":
-        return f"{v:.3f}°"
-    a = abs(v)
-    text = f"{v:.4g}" if (a >= 1e5 or (a < 1e-3 and a != 0)) else f"{v:.4f}".rstrip("0").rstrip(".")
-    return f"{text} {unit}"
 
 
 def _sampling_text(checks: Any) -> str:

@@ -23,6 +23,7 @@ from typing import Any, Callable, Mapping
 from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
+from .stateless import Stateless
 
 #: Schema version of the features written by this code.  1: issue 6 round one (forces,
 #: stresses, feeds, masses, spring rates as plain numbers in the spec's units); 2: those as
@@ -100,7 +101,7 @@ def upgrade(obj: Any) -> list[str]:
     return added
 
 
-class PlateCamFeature:
+class PlateCamFeature(Stateless):
     """Proxy of the ``PlateCam`` feature (a ``Part::FeaturePython``)."""
 
     def __init__(self, obj: Any, spec: Any = None):
@@ -153,18 +154,8 @@ class PlateCamFeature:
         self.design, self.scale = None, 1.0
         upgrade(obj)
 
-    # Proxy state: nothing to save (everything is in properties).  FreeCAD 0.20 calls
-    # __getstate__/__setstate__, FreeCAD 1.x dumps/loads.
-    def dumps(self) -> None:
-        return None
-
     def loads(self, state: Any) -> None:
-        self.design, self.scale = None, 1.0
-
-    __getstate__ = dumps
-
-    def __setstate__(self, state: Any) -> None:
-        self.loads(state)
+        self.design, self.scale = None, 1.0     # caches only; everything else is in properties
 
 
 def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
@@ -200,7 +191,7 @@ REFERENCE_KINDS = {
 _REFERENCES = "References"
 
 
-class PlateCamReference:
+class PlateCamReference(Stateless):
     """Proxy of a reference curve of a cam (pitch curve or base circle).
 
     The cam links its reference curves (``PlateCam.References``) and sets their shapes in its
@@ -224,17 +215,6 @@ class PlateCamReference:
     def onDocumentRestored(self, obj: Any) -> None:
         _output_status(obj)
         obj.Version = VERSION
-
-    def dumps(self) -> None:
-        return None
-
-    def loads(self, state: Any) -> None:
-        return None
-
-    __getstate__ = dumps
-
-    def __setstate__(self, state: Any) -> None:
-        return None
 
 
 def _output_status(obj: Any) -> None:

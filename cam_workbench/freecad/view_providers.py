@@ -9,6 +9,8 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from .stateless import Stateless
+
 ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
 
 
@@ -17,7 +19,7 @@ def icon(name: str) -> str:
     return os.path.join(ICON_DIR, name)
 
 
-class ViewProviderPlateCam:
+class ViewProviderPlateCam(Stateless):
     """View provider of a ``PlateCam`` feature."""
 
     def __init__(self, vobj: Any):
@@ -79,19 +81,8 @@ class ViewProviderPlateCam:
             doc.removeObject(ref.Name)
         return True
 
-    def dumps(self) -> None:
-        return None
 
-    def loads(self, state: Any) -> None:
-        return None
-
-    __getstate__ = dumps
-
-    def __setstate__(self, state: Any) -> None:
-        return None
-
-
-class ViewProviderReference:
+class ViewProviderReference(Stateless):
     """View provider of a reference curve: a thin coloured line (the pitch curve dashed)."""
 
     def __init__(self, vobj: Any):
@@ -112,14 +103,3 @@ class ViewProviderReference:
     def getIcon(self) -> str:
         kind = getattr(getattr(self, "Object", None), "Kind", "pitch curve")
         return icon("PitchCurve.svg" if kind == "pitch curve" else "BaseCircle.svg")
-
-    def dumps(self) -> None:
-        return None
-
-    def loads(self, state: Any) -> None:
-        return None
-
-    __getstate__ = dumps
-
-    def __setstate__(self, state: Any) -> None:
-        return None
