@@ -342,8 +342,10 @@ class OptimiseSection:
     windows: int = param(
         "Each rise/return is split into this many equal windows of its parameter (u of a B-spline, θ "
         "otherwise); the largest value of every check in a window, found on 13 samples and refined, is one "
-        "constraint (dwells: one each)", kind="int", ge=4, le=2000, default=80, group="Optimise")
-    refine_rounds: int = param("Re-solves with twice the windows while the final dense check still fails",
+        "constraint (dwells: one each). MMA and CCSAQ use at most 8 (nlopt's dual subproblem slows steeply with "
+        "the number of constraints)", kind="int", ge=4, le=2000, default=80, group="Optimise")
+    refine_rounds: int = param("Re-solves with twice the windows while the final dense check still fails "
+                               "(MMA and CCSAQ: at most once)",
                                kind="int", ge=0, le=8, default=2, group="Optimise")
     base_radius_min: float | None = param(
         "Lower bound of cam.base_radius (default: half the initial, at least roller radius + bore radius)",
