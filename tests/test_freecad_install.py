@@ -147,7 +147,8 @@ m = FreeCAD.Metadata(os.path.join(ROOT, "package.xml"))
 wb = m.Content["workbench"][0]
 RESULT.update(name=m.Name, version=m.Version, supports=m.supportsCurrentFreeCAD(),
               classname=wb.Classname, subdirectory=wb.Subdirectory, icon=m.Icon,
-              wb_supports=wb.supportsCurrentFreeCAD(), depends=[d["package"] for d in m.Depend])
+              wb_supports=wb.supportsCurrentFreeCAD(), depends=[d["package"] for d in m.Depend],
+              licenses=[dict(x) for x in m.License])
 """
 
 
@@ -162,6 +163,8 @@ def test_package_xml_is_read_by_freecad(tmp_path):
     assert r["name"] == "Plate Cam" and r["version"] == __version__
     assert r["supports"] and r["wb_supports"]
     assert r["classname"] == "CamWorkbench"
+    assert [lic["name"] for lic in r["licenses"]] == ["LGPL-2.1-or-later"]
+    assert (ROOT / r["licenses"][0]["file"]).read_text().lstrip().startswith("GNU LESSER GENERAL PUBLIC LICENSE")
     sub = ROOT / r["subdirectory"]
     assert (sub / "Init.py").is_file() and (sub / "InitGui.py").is_file()
     assert "class CamWorkbench(" in (sub / "InitGui.py").read_text()
