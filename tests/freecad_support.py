@@ -144,6 +144,13 @@ def button(text):  # the visible dialog-box button labelled text (mnemonic & ign
                 return b
     raise NotYet(text)
 
+def motion_panel():  # the open motion-editor task panel
+    vobj = FreeCADGui.ActiveDocument.getInEdit()
+    p = vobj.Proxy.panel if vobj is not None else None
+    if p is None or not p.form.isVisible():
+        raise NotYet("motion editor")
+    return p
+
 {textwrap.dedent(body)}
 def _camwb_run(i=0, tries=0):
     try:

@@ -25,13 +25,6 @@ R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam
 R["workbenches"] = sorted(FreeCADGui.listWorkbenches())
 state = {{}}
 
-def panel():
-    vobj = FreeCADGui.ActiveDocument.getInEdit()
-    p = vobj.Proxy.panel if vobj is not None else None
-    if p is None or not p.form.isVisible():
-        raise NotYet("motion editor")
-    return p
-
 def activate():
     mw.resize(1400, 900)
     cv = mw.findChild(QtGui.QDockWidget, "Combo View")
@@ -56,7 +49,7 @@ def open_editor():
     FreeCADGui.runCommand("CamWorkbench_EditMotion")
 
 def editor_state():
-    p = panel()
+    p = motion_panel()
     R["editor_open"] = bool(FreeCADGui.Control.activeDialog()) and p is not None
     R["editor_rows"] = p.table.rowCount()
     R["editor_status"] = p.status.text()
@@ -65,7 +58,7 @@ def screenshot_editor():
     shot("freecad_gui_motion_editor.png")
 
 def edit_and_ok():
-    p = panel()
+    p = motion_panel()
     ok = button("OK")
     col = [f for f, _ in p.cols].index("lift")
     p.table.item(1, col).setText("15")
@@ -85,7 +78,7 @@ def bad_open():
     FreeCADGui.runCommand("CamWorkbench_EditMotion")
 
 def bad_program():
-    p = panel()
+    p = motion_panel()
     ok = button("OK")
     col = [f for f, _ in p.cols].index("angle")
     p.table.item(0, col).setText("25")

@@ -23,13 +23,6 @@ EX5 = {ex5!r}
 R = RESULT
 state = {{}}
 
-def panel():
-    vobj = FreeCADGui.ActiveDocument.getInEdit()
-    p = vobj.Proxy.panel if vobj is not None else None
-    if p is None or not p.form.isVisible():
-        raise NotYet("motion editor")
-    return p
-
 def export_dialog():
     from cam_workbench.freecad.export_dialog import active_dialogs
     ds = [d for d in active_dialogs() if d.dialog.isVisible()]
@@ -59,7 +52,7 @@ def open_editor():
     FreeCADGui.runCommand("CamWorkbench_EditMotion")
 
 def editor_points():
-    p = panel()
+    p = motion_panel()
     t = p.points
     R["points"] = {{"box": p.points_box.title(), "enabled": p.points_box.isEnabled(), "rows": t.rowCount(),
                    "labels": [t.verticalHeaderItem(i).text() for i in range(t.rowCount())],
@@ -69,7 +62,7 @@ def editor_points():
     shot("freecad_gui_bspline_points.png")
 
 def edit_points():
-    p = panel()
+    p = motion_panel()
     p.points.item(4, 1).setText("0.6")         # P5's lift
     R["after_y"] = p.status.text()
     p.points.item(4, 0).setText("abc")         # P5's cam angle: not a number
@@ -77,7 +70,7 @@ def edit_points():
 
 def bad_shot():
     shot("freecad_gui_bspline_invalid.png")
-    p = panel()
+    p = motion_panel()
     p.points.item(4, 0).setText("1.5945")
     R["fixed_x"] = p.status.text()
     state["undo"] = FreeCAD.ActiveDocument.UndoCount
