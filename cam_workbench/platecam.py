@@ -49,6 +49,13 @@ class PlateCam:
         self.design: CamDesign = design_cam(spec)
 
     @classmethod
+    def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
+        """A built-in example cam: "default" or "paper" (the paper's Table 1, case 2)."""
+        from generators.examples import example_spec
+
+        return cls(example_spec(name), **changes)
+
+    @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> "PlateCam":
         """Load a spec file."""
         return cls(Path(path))
