@@ -83,3 +83,21 @@ def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], Non
         prog.update(task, description=f"{description}: M = {m}, deviation {dev:.3g}")
 
     return prog, callback
+
+
+def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
+    """A rich progress bar over the report's figures, and its callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), transient=True)
+    task = prog.add_task("report", total=total)
+    started = [False]
+
+    def callback(title: str) -> None:
+        if started[0]:
+            prog.advance(task)
+        started[0] = True
+        prog.update(task, description=f"plotting: {title}")
+
+    return prog, callback
