@@ -275,13 +275,15 @@ def refuse_undercut(checks: DesignChecks, roller_radius: float) -> None:
     if r.status != "fail":
         return
     parts = []
+    at = r.at_deg
     if r.value is not None and r.value <= 0:
-        parts.append(f"roller radius {roller_radius:g} ≥ smallest convex pitch radius of curvature "
-                     f"{r.value + roller_radius:.6g} (cam surface {r.value:.6g})")
+        at = checks["curvature"].at_deg        # where the convex pitch radius is smallest
+        parts.append(f"undercut at cam angle {at:.3f}°: roller radius {roller_radius:g} ≥ smallest convex "
+                     f"pitch radius of curvature {r.value + roller_radius:.6g} (cam surface {r.value:.6g})")
     if r.note:
-        parts.append(r.note)
-    raise GeometryError("undercut", f"undercut at cam angle {r.at_deg:.3f}°: {'; '.join(parts)} — use a smaller "
-                        "roller, a larger base radius or a gentler motion", r.at_deg)
+        parts.append(r.note if parts else f"undercut at cam angle {r.at_deg:.3f}°: {r.note}")
+    raise GeometryError("undercut", f"{'; '.join(parts)} — use a smaller roller, a larger base radius or a "
+                        "gentler motion", at)
 
 
 def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:

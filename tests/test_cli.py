@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, requires_ocp, paper_args
 from .test_spec import RULES as SPEC_RULES
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -17,7 +17,7 @@ CLI = [sys.executable, "-m", "cam_workbench.cli"]
 
 def run(*args, cwd=None):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=cwd, env=env)
+    return subprocess.run([*CLI, *paper_args(args)], capture_output=True, text=True, cwd=cwd, env=env)
 
 
 @requires_ocp

@@ -10,14 +10,14 @@ import sys
 import numpy as np
 import pytest
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, requires_ocp, paper_args
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 
 
 def run(*args):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([*CLI, *args], capture_output=True, text=True, env=env)
+    return subprocess.run([*CLI, *paper_args(args)], capture_output=True, text=True, env=env)
 
 
 @requires_ocp

@@ -11,7 +11,8 @@ import pytest
 
 from generators.design_checks import (StateModel, check_samples, constraint_arrays, envelope_points,
                                       hertz_stress, run_checks)
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, load_spec
+from generators.examples import PAPER_SPEC_DICT, example_spec
+from generators.spec import CamSpec, load_spec
 
 from .conftest import ROOT
 
@@ -62,7 +63,7 @@ def test_hertz_in_si_units_is_the_same_stress():
 
 
 def radial_harmonic(e=0.0, **follower):
-    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d = copy.deepcopy(PAPER_SPEC_DICT)
     d["cam"].update(base_radius=40.0, bore_diameter=0.0, speed_rpm=300.0)
     d["follower"] = {"kind": "roller", "offset": e, "roller_radius": 6.0, **follower}
     d["motion"] = [{"kind": "rise", "angle": 100.0, "lift": 15.0, "law": "harmonic"},
@@ -224,7 +225,7 @@ def test_stress_at_a_concave_point_uses_the_concave_radius():
     """Where the pitch curve is concave (ρ < 0) the cam surface is concave with radius
     |ρ| + r_f: S² = F(1/r_f − 1/(|ρ| + r_f))/(π t Δ), written out here.  The paper's cam
     (the default spec) is concave in its return."""
-    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d = copy.deepcopy(PAPER_SPEC_DICT)
     d["follower"].update(mass=1.0, preload=200.0, roller_width=6.0)
     d["material"] = {"cam_modulus": 2.0e5, "follower_modulus": 2.1e5, "cam_poisson": 0.3,
                      "follower_poisson": 0.28, "allowable_stress": 2000.0}
@@ -242,9 +243,9 @@ def test_stress_at_a_concave_point_uses_the_concave_radius():
 
 
 def test_envelope_points_lie_on_the_built_profile():
-    from generators import default_spec, design_cam
+    from generators import design_cam
 
-    spec = default_spec()
+    spec = example_spec("paper")
     design = design_cam(spec)
     model = StateModel(spec)
     th = np.linspace(0, 2 * np.pi, 721)

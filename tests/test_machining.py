@@ -17,7 +17,8 @@ from generators import design_cam
 from generators.errors import GeometryError, SpecError
 from generators.interpolator import interpolate
 from generators.machining import machining_plan, smallest_concave_profile_radius
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, default_spec
+from generators.examples import PAPER_SPEC_DICT, example_spec
+from generators.spec import CamSpec
 from generators.nurbs import NurbsCurve
 from generators.toolpath import (OffsetLineSolver, check_lead_arcs, contour_path, outward_distance,
                                  rotary_path, tool_centre_curve)
@@ -26,7 +27,7 @@ from .conftest import paper_case
 
 
 def with_machining(**fields):
-    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d = copy.deepcopy(PAPER_SPEC_DICT)
     d["machining"] = fields
     return d
 
@@ -70,7 +71,7 @@ def test_each_machining_rule(rule):
 
 
 def test_defaults_resolve_per_units_and_follower():
-    plan = machining_plan(design_cam(default_spec()))
+    plan = machining_plan(design_cam(example_spec("paper")))
     assert plan.tool_radius == 5.0 and plan.centre_offset == 0.0          # tool = roller
     assert (plan.feed_rate, plan.plunge_rate, plan.safe_height, plan.chord_tolerance) == (300.0, 100.0, 5.0, 0.005)
     assert plan.depth == 10.0 and plan.lead_radius == 5.0 and plan.rotary_speed_rpm == 60.0
@@ -78,7 +79,7 @@ def test_defaults_resolve_per_units_and_follower():
     knife = machining_plan(design_cam(paper_case(2)))
     rho, _ = smallest_concave_profile_radius(design_cam(paper_case(2)))
     assert knife.tool_radius == pytest.approx(min(np.hypot(20, 10) / 10, rho / 2))
-    two = machining_plan(design_cam(default_spec().replace(**{"machining.passes": 4, "machining.depth": 12.0})))
+    two = machining_plan(design_cam(example_spec("paper").replace(**{"machining.passes": 4, "machining.depth": 12.0})))
     assert np.allclose(two.z_levels, [-3, -6, -9, -12])
 
 
@@ -86,24 +87,24 @@ def test_concave_radius_against_the_closed_form():
     """The profile's smallest concave radius is the as-built pitch curve's plus the roller
     radius (the tool cuts the built curve); the design intent's closed form (thesis Eq. 3.7)
     is 2.6 % tighter at M = 60 and converges to it as M grows (curvature error O(h²))."""
-    d = design_cam(default_spec())
+    d = design_cam(example_spec("paper"))
     rho, at = smallest_concave_profile_radius(d)
     c = d.summary()["curvature"]
     assert rho == pytest.approx(c["as_built"]["min_concave_pitch_radius"] + 5.0, rel=1e-12)
     exact = c["min_concave_pitch_radius"] + 5.0
     assert rho == pytest.approx(exact, rel=0.04)
-    fine = design_cam(default_spec().replace(**{"pitch.segments": 240}))
+    fine = design_cam(example_spec("paper").replace(**{"pitch.segments": 240}))
     assert smallest_concave_profile_radius(fine)[0] == pytest.approx(exact, rel=0.004)
     assert 40 < at < 80
 
 
 def test_gouging_tool_is_a_geometry_error_with_the_cam_angle():
-    d = design_cam(default_spec().replace(**{"machining.tool_radius": 70.0}))
+    d = design_cam(example_spec("paper").replace(**{"machining.tool_radius": 70.0}))
     with pytest.raises(GeometryError) as info:
         machining_plan(d)
     assert info.value.kind == "gouge" and 40 < info.value.angle_deg < 80
     assert "cam angle" in str(info.value) and "machining.tool_radius" in str(info.value)
-    machining_plan(design_cam(default_spec().replace(**{"machining.tool_radius": 60.0})))   # fits
+    machining_plan(design_cam(example_spec("paper").replace(**{"machining.tool_radius": 60.0})))   # fits
 
 
 @pytest.mark.parametrize("tool", [2.0, 5.0, 9.0])
@@ -112,7 +113,7 @@ def test_tool_centre_curve_is_at_the_tool_radius_from_the_profile(tool):
     points of the profile (nearest point by k-d tree, refined on the polyline)."""
     from .rs274 import polyline_distance
 
-    d = design_cam(default_spec().replace(**{"machining.tool_radius": tool}))
+    d = design_cam(example_spec("paper").replace(**{"machining.tool_radius": tool}))
     curve = tool_centre_curve(d, machining_plan(d))
     _, c = curve.sample(64)
     _, p = d.profile.sample(400)
@@ -124,7 +125,7 @@ def test_tool_centre_curve_is_at_the_tool_radius_from_the_profile(tool):
 def test_offset_line_solver_against_brentq_on_the_nurbs():
     """The XC tool position (Eq. 13 on the offset curve) equals a bracketing root of
     Re(e^{iδθ}T(u)) = c found by brentq on the exact offset NURBS, for both lines."""
-    d = design_cam(default_spec().replace(**{"machining.tool_radius": 8.0, "cam.direction": "cw"}))
+    d = design_cam(example_spec("paper").replace(**{"machining.tool_radius": 8.0, "cam.direction": "cw"}))
     pc = d.pitch
     dist = outward_distance(pc, 3.0)
     curve = tool_centre_curve(d, machining_plan(d))
@@ -148,7 +149,7 @@ def test_offset_line_solver_against_brentq_on_the_nurbs():
 def test_xc_with_roller_sized_tool_is_the_followers_position():
     """Tool radius = roller radius on the follower's line: X_k = s₀ + s_actual(θ_k), the
     paper's commands; the general offset solver gives the same X."""
-    d = design_cam(default_spec())
+    d = design_cam(example_spec("paper"))
     plan = machining_plan(d)
     rp = rotary_path(d, plan)
     assert rp.from_commands and rp.y == -10.0
@@ -158,12 +159,12 @@ def test_xc_with_roller_sized_tool_is_the_followers_position():
     assert np.max(np.abs(solver.solve(rp.theta)[3] - rp.x)) < 1e-11
     assert rp.c_deg[0] == 0.0 and rp.c_deg[-1] == 360.0
     assert np.allclose(rp.durations, 1e-3)
-    cw = rotary_path(design_cam(default_spec().replace(**{"cam.direction": "cw"})), plan)
+    cw = rotary_path(design_cam(example_spec("paper").replace(**{"cam.direction": "cw"})), plan)
     assert cw.c_deg[-1] == -360.0
 
 
 def test_contour_loop_is_closed_tangent_entry_and_within_tolerance():
-    d = design_cam(default_spec().replace(**{"machining.chord_tolerance": 0.01}))
+    d = design_cam(example_spec("paper").replace(**{"machining.chord_tolerance": 0.01}))
     plan = machining_plan(d)
     cp = contour_path(d, plan)
     loop = cp.loop
@@ -198,12 +199,12 @@ def test_lead_arcs_that_cut_the_contour_are_rejected():
         else:
             with pytest.raises(SpecError, match="machining.lead_radius"):
                 check_lead_arcs(curve, centre, r, entry, ccw)
-    spec = default_spec().replace(**{"machining.lead_radius": 60.0})
+    spec = example_spec("paper").replace(**{"machining.lead_radius": 60.0})
     contour_path(design_cam(spec), machining_plan(design_cam(spec)))
 
 
 def test_coarse_xc_blocks_are_rejected_for_a_tight_tolerance():
-    spec = default_spec().replace(**{"machining.sample_period": 0.0025, "machining.chord_tolerance": 1e-5})
+    spec = example_spec("paper").replace(**{"machining.sample_period": 0.0025, "machining.chord_tolerance": 1e-5})
     d = design_cam(spec)
     with pytest.raises(SpecError, match="machining.sample_period"):
         rotary_path(d, machining_plan(d))

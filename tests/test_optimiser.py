@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from generators import default_spec, load_spec, to_toml
+from generators import load_spec, to_toml
+from generators.examples import example_spec
 from generators.cam_area import thesis_area
 from generators.cutting_time import thesis_cutting_time
 from generators.design_checks import StateModel, constraint_arrays, run_checks
@@ -191,7 +192,7 @@ def test_ph_cam_base_radius_for_a_pressure_angle_limit():
     """The built-in default (cycloidal, paper Table 1) with only R_b free and a 30° limit: the
     optimum is the smallest R_b with max |φ| ≤ 30°·√(1 − margin), found independently by brentq
     on the dense design check."""
-    spec = default_spec()
+    spec = example_spec("paper")
     assert not run_checks(spec).passed                    # 46° > 30°
     res = optimise(spec, objective="area", variables="base_radius")
     _assert_dense_feasible(res)
@@ -209,7 +210,7 @@ def test_ph_cam_base_radius_for_a_pressure_angle_limit():
 def test_ph_cam_with_offset_gcode_time():
     """Objective gcode_time on a PH cam (R_b and e): the derivative-free path ends feasible and
     below the feasible starting design's G-code time."""
-    spec = default_spec().replace(**{"checks.max_pressure_angle": 50.0, "cam.base_radius": 30.0})
+    spec = example_spec("paper").replace(**{"checks.max_pressure_angle": 50.0, "cam.base_radius": 30.0})
     res = optimise(spec, objective="gcode_time", max_evaluations=60)
     _assert_dense_feasible(res)
     assert res.value < res.initial_value
@@ -222,7 +223,7 @@ def test_peak_objectives():
     res = optimise(ex5, objective="peak_acceleration", variables="control_points")
     _assert_dense_feasible(res)
     assert res.value < 0.9 * res.initial_value
-    spec = default_spec()
+    spec = example_spec("paper")
     res2 = optimise(spec, objective="peak_pressure_angle", variables="base_radius,offset")
     assert res2.value < res2.initial_value
     assert res2.spec.cam.base_radius == pytest.approx(2 * spec.cam.base_radius, rel=1e-9)
@@ -256,7 +257,7 @@ def test_cancel_by_callback_and_event():
 
 
 def test_isres_is_seeded_and_multistart_runs():
-    spec = default_spec()
+    spec = example_spec("paper")
     kw = dict(objective="area", variables="base_radius,offset", algorithm="isres", max_evaluations=300, seed=7)
     a, b = optimise(spec, **kw), optimise(spec, **kw)
     assert np.array_equal(a.design, b.design)
@@ -279,7 +280,7 @@ def test_isres_is_seeded_and_multistart_runs():
 ])
 def test_settings_rules(changes, field):
     with pytest.raises(SpecError) as info:
-        default_spec().replace(**changes)
+        example_spec("paper").replace(**changes)
     assert info.value.field == field
 
 
@@ -313,7 +314,7 @@ def test_segment_variable_rules(variables, rule):
 def test_report_section_shape():
     """report.json's ``optimise`` section: what exporters.report_html draws (history of
     {"iteration", "objective", "max_violation"}), thinned to ≤ 400 entries."""
-    res = optimise(default_spec(), variables="base_radius")
+    res = optimise(example_spec("paper"), variables="base_radius")
     rep = res.report(max_history=10)
     assert rep["objective"] == "area" and rep["evaluations"] == res.evaluations
     assert 2 <= len(rep["history"]) <= 10
@@ -335,9 +336,9 @@ def _debian_has_nlopt() -> bool:
 def test_runs_on_debian_python_with_nlopt_27():
     """FreeCAD's Python on Debian: numpy 1.24, scipy 1.10, nlopt 2.7 (python3-nlopt)."""
     code = ("import nlopt, numpy, scipy\n"
-            "from generators import default_spec\n"
+            "from generators.examples import example_spec\n"
             "from generators.optimise import optimise\n"
-            "r = optimise(default_spec(), variables='base_radius,offset', max_evaluations=200)\n"
+            "r = optimise(example_spec('paper'), variables='base_radius,offset', max_evaluations=200)\n"
             "print(nlopt.version_major(), nlopt.version_minor(), numpy.__version__, scipy.__version__, "
             "r.status, r.feasible, r.spec.cam.base_radius)\n")
     res = subprocess.run([DEBIAN_PYTHON, "-c", code], capture_output=True, text=True, cwd=ROOT,
@@ -345,5 +346,5 @@ def test_runs_on_debian_python_with_nlopt_27():
     assert res.returncode == 0, res.stderr
     major, minor, npv, spv, status, feasible, radius = res.stdout.split()
     assert (int(major), int(minor)) >= (2, 7) and status == "converged" and feasible == "True"
-    ref = optimise(default_spec(), variables="base_radius,offset", max_evaluations=200)
+    ref = optimise(example_spec("paper"), variables="base_radius,offset", max_evaluations=200)
     assert float(radius) == pytest.approx(ref.spec.cam.base_radius, rel=1e-6)

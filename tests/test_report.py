@@ -15,7 +15,7 @@ import pytest
 from exporters.report_html import Series, lookup, render_report, report_plots
 from generators import default_spec, design_cam
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, requires_ocp, paper_args
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
@@ -23,7 +23,7 @@ VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "met
 
 def run(*args):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([*CLI, *args], capture_output=True, text=True, env=env)
+    return subprocess.run([*CLI, *paper_args(args)], capture_output=True, text=True, env=env)
 
 
 class Page(HTMLParser):

@@ -7,13 +7,15 @@ from pathlib import Path
 import pytest
 
 from generators.errors import SpecError
+from generators.examples import PAPER_SPEC_DICT, example_spec
 from generators.spec import DEFAULT_SPEC_DICT, CamSpec, default_spec, load_spec, to_toml
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def base():
-    return copy.deepcopy(DEFAULT_SPEC_DICT)
+    """The paper's Table 1 case-2 cam (these rule tests were written on its numbers)."""
+    return copy.deepcopy(PAPER_SPEC_DICT)
 
 
 def mutate(fn):
@@ -80,8 +82,15 @@ def test_each_rule_fails_with_field_and_rule(rule):
     assert str(info.value).startswith(field + ":")
 
 
-def test_default_spec_is_the_papers_case_2():
+def test_default_spec_is_the_papers_motion_on_a_passing_cam():
     s = default_spec()
+    assert (s.cam.base_radius, s.follower.offset, s.follower.roller_radius) == (40.0, 0.0, 8.0)
+    assert [m.angle for m in s.motion] == [30, 120, 60, 120, 30]
+    assert [(m.lift, m.law) for m in s.motion if m.kind != "dwell"] == [(20.0, "cycloidal")] * 2
+
+
+def test_paper_example_is_the_papers_case_2():
+    s = example_spec("paper")
     assert s.cam.base_radius == pytest.approx(math.sqrt(500))
     assert (s.follower.kind, s.follower.offset, s.follower.roller_radius) == ("roller", 10.0, 5.0)
     assert (s.cam.thickness, s.cam.bore_diameter, s.pitch.segments) == (10.0, 10.0, 60)
