@@ -28,7 +28,7 @@ TITLE                     the title block — key parameters, the numbers and th
 
 The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
 boundaries are in CAM.  Arcs and polylines come from :mod:`generators.approx`; their
-distance from the exact profile is measured two-sided (``max_distance``) and returned.
+distance from the profile NURBS is measured two-sided (``max_distance``) and returned.
 """
 from __future__ import annotations
 

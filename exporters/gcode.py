@@ -1,6 +1,7 @@
 """G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
 
-Two programs, both from exact geometry made in ``generators.toolpath``:
+Two programs, both from the tool-centre geometry made in ``generators.toolpath`` (the exact
+offset of the pitch curve for a PH pitch curve):
 
 * ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
   roller radius) as G02/G03 biarcs or G01 chords, tangent lead arcs, depth passes;
