@@ -455,6 +455,10 @@ INCH = {"units": "in", "cam.thickness": 0.5, "cam.base_radius": 2.0, "follower.o
 CAMS = {
     "default": {},
     "packaging_300rpm": PACKAGING,
+    # these two put the old layout's "R38.486 MAX" text into its title block
+    "packaging_long_dwell": {**PACKAGING, "motion[1].angle": 90.0, "motion[3].angle": 90.0, "motion[4].angle": 90.0},
+    "packaging_cw": {**PACKAGING, "cam.direction": "cw", "motion[0].angle": 90.0, "motion[1].angle": 90.0,
+                     "motion[3].angle": 90.0, "motion[4].angle": 30.0},
     "inch": INCH,
     "inch_large": {**INCH, "cam.base_radius": 8.0, "motion[1].lift": 1.5, "motion[3].lift": 1.5},
     "large_mm": {"cam.base_radius": 150.0, "follower.roller_radius": 20.0, "cam.bore_diameter": 40.0,
