@@ -97,11 +97,11 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
     ph = design.spec.pitch.representation == "ph"
     built = "PH pitch curve" if ph else "fitted B-spline pitch curve"
     claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
-    prof_words = ("The profile (filled) — the " + claim.text + " —") if claim else "The profile (filled)"
+    prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
     ticks = "PH junctions" if ph else "B-spline knots"
     out = [
         Plot("cam", "The cam and its follower",
-             f"{prof_words}, the pitch curve traced by the roller centre (dashed), the prime "
+             f"{prof_words} the pitch curve traced by the roller centre (dashed), the prime "
              "and base circles and the bore; the follower is drawn where it stands at 75° of cam rotation.",
              lambda: plots.cam_drawing_figure(design)),
         Plot("kinematics", "Follower motion",
@@ -219,7 +219,7 @@ svg.plot{width:100%;height:auto;display:block}
 pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overflow-x:auto}
 .verdict{display:inline-block;padding:4px 10px;border-radius:4px;font-weight:bold}
 .verdict.pass{background:#d5f5e3;color:#145a32}.verdict.fail{background:#fadbd8;color:#78281f}
-.note{font-size:12.5px;color:#566573}
+.note{font-size:12.5px;color:#566573}a.plain{text-decoration:none}
 """
 
 
@@ -334,9 +334,11 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         sections.append(("interpolator", "Machining commands (rotational PH interpolator)",
                          fig["interpolator_kinematics"] + _quantity_table(report, ip_rows) +
                          fig["interpolator_deviation"] + warn))
+    # the verdicts come right after the cam, before the curves they are judged on
+    verdicts = [("buildability", "Buildability", _buildability_section(report))]
     if isinstance(report.get("checks"), Mapping):
-        sections.append(("checks", "Design checks", _checks_section(report)))
-    sections.append(("buildability", "Buildability", _buildability_section(report)))
+        verdicts.insert(0, ("checks", "Design checks", _checks_section(report)))
+    sections[1:1] = verdicts
     if isinstance(report.get("optimise"), Mapping):
         body = _scalars_table(report, "optimise", exclude=("history",))
         sections.append(("optimise", "Optimiser", fig.get("convergence", "") + body))
@@ -515,9 +517,9 @@ def _verdict(report: Mapping[str, Any]) -> str:
         return ""
     ok = checks["passed"] is True
     failed = html.escape(",".join(str(n) for n in checks.get("failed") or []))
-    return (f'<p><span class="verdict {"pass" if ok else "fail"}" data-key="checks.passed" '
+    return (f'<p><a class="plain" href="#checks"><span class="verdict {"pass" if ok else "fail"}" data-key="checks.passed" '
             f'data-value="{"true" if ok else "false"}" data-failed="{failed}">'
-            f"{html.escape(checks_verdict(checks))}</span></p>")
+            f"{html.escape(checks_verdict(checks))}</span></a></p>")
 
 
 def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
