@@ -5,23 +5,30 @@ Model space, drawn 1:1 in the spec's units (``$INSUNITS`` says which):
 ========================  ==============================================================
 layer                     content
 ========================  ==============================================================
-PROFILE                   the cam profile: the exact rational SPLINE (degree, knots,
-                          control points and weights copied from the NURBS data), or —
-                          ``drawing.curves`` = "arcs" / "polyline" — tangent biarcs
-                          (ARC/LINE) or one closed polyline within ``chord_tolerance``
-PITCH                     the pitch curve (degree-5 polynomial SPLINE, or approximated
+PROFILE                   the cam profile: a SPLINE with the degree, knots, control points
+                          and weights of the profile NURBS (for a PH pitch curve the exact
+                          rational offset; for a B-spline pitch curve the fitted offset,
+                          whose measured error the title block states — see
+                          :mod:`generators.claims`), or — ``drawing.curves`` = "arcs" /
+                          "polyline" — tangent biarcs (ARC/LINE) or one closed polyline
+                          within ``chord_tolerance`` of that NURBS
+PITCH                     the pitch curve (polynomial SPLINE of degree 5, or approximated
                           like the profile so a spline-less file has no SPLINE at all)
 BASE_CIRCLE, PRIME_CIRCLE radius R_b − roller radius and R_b
 BORE                      the central hole
 CENTERLINES               axes through the rotation centre, the follower axis at θ = 0
 DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R; rendered by
                           ezdxf's dimension machinery) and the thickness/profile note
-TITLE                     the title block: key parameters and the motion table, a border
+TITLE                     the title block — key parameters, the numbers and the checks
+                          verdict of the summary dict that becomes report.json (spec
+                          digest, deviations, errors, pressure angle, failed checks) and
+                          the motion table — placed right of the extents of everything
+                          else (dimension texts included), and a border round it all
 ========================  ==============================================================
 
 The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
 boundaries are in CAM.  Arcs and polylines come from :mod:`generators.approx`; their
-distance from the exact profile is measured two-sided (``max_distance``) and returned.
+distance from the profile NURBS is measured two-sided (``max_distance``) and returned.
 """
 from __future__ import annotations
 
@@ -35,6 +42,7 @@ import numpy as np
 from generators import __version__
 from generators.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
 from generators.cam_design import CamDesign
+from generators.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
 from generators.nurbs import NurbsCurve
 
 from .atomic import atomic_path
@@ -80,9 +88,24 @@ class DxfInfo:
     profile: CurveExport
     pitch: CurveExport
     text_height: float
+    claim: ProfileClaim | None = None
+    pitch_curve: str = ""
 
     def summary(self) -> dict[str, Any]:
+        """The ``drawing`` section of report.json.  ``exact`` is true only when the PROFILE
+        entity is the exact curve (a SPLINE of the exact offset of a PH pitch curve, or of the
+        PH pitch curve itself for a knife edge); ``profile_max_error`` is the written entities'
+        distance from the profile NURBS, ``profile_fit_error`` (fitted profiles only) that
+        NURBS's measured distance from the exact curve it was fitted to."""
         p = self.profile
+        c = self.claim
+        extra: dict[str, Any] = {}
+        if c is not None:
+            extra["profile_curve"] = c.text
+            if not c.exact:
+                extra["profile_fit_error"] = c.fit_error
+        if self.pitch_curve:
+            extra["pitch_curve"] = self.pitch_curve
         return {
             "file_version": self.version,
             "insunits": self.insunits,
@@ -94,7 +117,8 @@ class DxfInfo:
             "profile_max_error": p.max_error,
             "profile_min_arc_radius": p.min_arc_radius,
             "pitch_max_error": self.pitch.max_error,
-            "exact": self.curves == "spline",
+            "exact": self.curves == "spline" and (c is None or c.exact),
+            **extra,
         }
 
 
@@ -188,8 +212,8 @@ def _export_curve(msp: Any, curve: NurbsCurve, layer: str, curves: str, tol: flo
 def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple[Any, DxfInfo]:
     """The ezdxf document of the drawing and what went into it (nothing written yet).
 
-    ``summary`` is ``design.summary()`` (computed when not given): the title block
-    quotes its numbers."""
+    ``summary`` is ``design.summary()`` — the dict that becomes report.json — (computed
+    when not given): the title block quotes its numbers and its checks verdict."""
 
     spec = design.spec
     dr = spec.drawing
@@ -224,7 +248,7 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
     if dr.dimensions:
         _dimensions(msp, design, r_max, p_max, h, units)
     if dr.title_block:
-        _title_block(msp, design, s, profile, r_max, h)
+        _title_block(msp, design, s, profile, _extents(msp, r_max), h)
     try:
         from ezdxf import zoom
 
@@ -232,7 +256,8 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
         pass
     info = DxfInfo(dr.dxf_version, units, None if r12 else _INSUNITS[units], dr.curves,
-                   None if dr.curves == "spline" else tol, profile, pitch, h)
+                   None if dr.curves == "spline" else tol, profile, pitch, h,
+                   profile_claim(s, spec.is_roller, units), pitch_text(s))
     return doc, info
 
 
@@ -323,7 +348,8 @@ def _motion_rows(design: CamDesign) -> list[list[str]]:
 
 
 def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport) -> list[tuple[str, str]]:
-    """(label, value) rows of the title block (also used by tests)."""
+    """(label, value) rows of the title block (also used by tests): the cam's parameters and
+    the numbers and checks verdict of ``summary`` (the dict that becomes report.json)."""
     spec = design.spec
     dr = spec.drawing
     u = spec.units
@@ -331,18 +357,27 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
     fol = spec.follower
     follower = (f"ROLLER Ø{f(2 * fol.roller_radius)}" if spec.is_roller else "KNIFE EDGE")
     follower += f", OFFSET {f(fol.offset)}"
+    claim = profile_claim(summary, spec.is_roller, u)
+    prof = summary["profile"]
+    nurbs = (f"{'RATIONAL ' if prof['rational'] else ''}B-SPLINE, DEGREE {prof['degree']}, {prof['poles']} POLES")
     if profile.curves == "spline":
-        prof = (f"RATIONAL B-SPLINE, DEGREE {design.profile.degree}, {design.profile.n_poles} POLES (EXACT)"
-                if design.profile.is_rational else
-                f"B-SPLINE, DEGREE {design.profile.degree}, {design.profile.n_poles} POLES (EXACT)")
+        what = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "THE PH PITCH CURVE, EXACT",
+                "bspline_offset_fit": "FITTED OFFSET, NOT EXACT",
+                "bspline_pitch": "THE FITTED PITCH B-SPLINE, NOT EXACT"}[claim.kind]
+        prof_text = f"{nurbs} ({what})"
     elif profile.curves == "arcs":
         parts = f"{profile.arcs} ARCS" + (f" + {profile.lines} LINES" if profile.lines else "")
-        prof = f"{parts}, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
+        prof_text = f"{parts}, MAX {profile.max_error:.2e} {u} FROM THE NURBS (TOL. {dr.chord_tolerance:g})"
     else:
-        prof = f"{profile.lines} LINES, MAX ERROR {profile.max_error:.2e} {u} (TOL. {dr.chord_tolerance:g})"
+        prof_text = f"{profile.lines} LINES, MAX {profile.max_error:.2e} {u} FROM THE NURBS (TOL. {dr.chord_tolerance:g})"
     pa = summary["pressure_angle"]
     cv = summary["curvature"]
     pt = summary["pitch"]
+    checks = summary.get("checks")
+    pa_limit = ""
+    if isinstance(checks, dict) and isinstance(checks.get("results"), dict) and "pressure_angle" in checks["results"]:
+        lim = checks["results"]["pressure_angle"].get("limit")
+        pa_limit = "" if lim is None else f" (LIMIT {lim:g}°)"
     rows = [
         ("PART NO.", dr.part_number or "-"),
         ("MATERIAL", dr.material or "-"),
@@ -353,66 +388,126 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(spec.cam.base_radius - spec.roller_radius)})"),
         ("BORE", f"Ø{f(spec.cam.bore_diameter)}" if spec.cam.bore_diameter > 0 else "NONE"),
         ("ROTATION", f"{spec.cam.direction.upper()}, {spec.cam.speed_rpm:g} RPM"),
-        ("PITCH CURVE", f"C2 PH QUINTIC SPLINE, M = {pt['segments']}"),
-        ("PROFILE", prof),
+        ("PITCH CURVE", pitch_text(summary).upper().replace("²", "2")),
+        ("PROFILE", prof_text),
+    ]
+    if not claim.exact:
+        rows.append(("PROFILE FIT ERROR", f"{claim.fit_error:.3e} {u} FROM THE EXACT "
+                     + ("OFFSET OF THE FITTED PITCH B-SPLINE" if claim.kind == "bspline_offset_fit"
+                        else "DESIGN PITCH CURVE")))
+    rows += [
+        ("PROFILE MAX ERROR", f"{prof['max_error']:.3e} {u} FROM THE DESIGN-INTENT PROFILE"),
         ("MAX FOLLOWER DEVIATION", f"{pt['max_deviation']:.3e} {u} AT {pt['max_deviation_at_deg']:.2f}°"),
-        ("MAX PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°"),
+        ("MAX PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°{pa_limit}"),
         ("MIN PROFILE RADIUS OF CURV.", f"{f(cv['min_profile_radius'])} AT {cv['at_deg']:.2f}°"),
-        ("LARGEST RADIUS", f"{f(summary['profile']['max_radius'])}"),
+        ("LARGEST RADIUS", f"{f(prof['max_radius'])}"),
         ("AREA / VOLUME", f"{summary['area']:.6g} {u}2 / {summary['volume']:.6g} {u}3"),
+    ]
+    if isinstance(checks, dict) and "passed" in checks:
+        rows.append(("DESIGN CHECKS", _checks_cell(checks)))
+    rows += [
+        ("SPEC DIGEST (SHA-256)", str(summary.get("spec_digest", "-"))),
         ("SOFTWARE", f"cam_workbench {__version__}"),
     ]
     return rows
 
 
+def _checks_cell(checks: dict[str, Any]) -> str:
+    """checks.passed / checks.failed of the summary (failed names verbatim)."""
+    if checks["passed"]:
+        return checks_verdict(checks).removeprefix("design checks: ").upper()
+    return "FAILED: " + ", ".join(str(n) for n in checks.get("failed") or [])
+
+
 MOTION_HEADER = ["#", "KIND", "FROM °", "TO °", "LIFT", "LAW"]
 
 
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned box [drawing units]."""
+
+    x0: float
+    y0: float
+    x1: float
+    y1: float
+
+
+def _extents(msp: Any, r_max: float) -> Box:
+    """Extents of everything drawn so far, dimension blocks (their texts) included
+    (``ezdxf.bbox`` renders DIMENSION and TEXT/MTEXT entities to measure them); the
+    circle of radius ``r_max`` when ezdxf cannot measure."""
+    try:
+        from ezdxf import bbox
+
+        box = bbox.extents(msp, fast=False)
+        if box.has_data:
+            return Box(box.extmin.x, box.extmin.y, box.extmax.x, box.extmax.y)
+    except Exception:  # noqa: BLE001 - fall back to the cam's own size
+        pass
+    return Box(-r_max, -r_max, r_max, r_max)
+
+
+def _text_right(texts: list[Any]) -> float:
+    """Largest x of a list of TEXT entities (their measured boxes)."""
+    from ezdxf import bbox
+
+    return float(bbox.extents(texts, fast=False).extmax.x)
+
+
 def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: CurveExport,
-                 r_max: float, h: float) -> None:
+                 drawn: Box, h: float) -> Box:
+    """The title block right of ``drawn`` (the extents of everything else, dimension texts
+    included, so nothing overlaps it), its columns as wide as their measured texts; then the
+    sheet border round both.  Returns the title block's box."""
     att = {"layer": "TITLE"}
     rows = title_rows(design, summary, profile)
-    x0 = r_max + 5 * h
-    col = [x0, x0 + 17 * h, x0 + 48 * h]
+    x0 = drawn.x1 + 3 * h
+    top = drawn.y1
     row_h = 1.8 * h
-    top = r_max + 2.5 * h
     y = top
-    _text(msp, design.spec.drawing.title.upper(), (col[0] + 0.5 * h, y - 1.9 * h), 1.4 * h, "TITLE")
+    title = _text(msp, design.spec.drawing.title.upper(), (x0 + 0.5 * h, y - 1.9 * h), 1.4 * h, "TITLE")
     y -= 2.6 * h
-    msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
-    for label, value in rows:
-        _text(msp, label, (col[0] + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE")
-        _text(msp, value, (col[1] + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE")
+    label_y = []
+    labels = []
+    for label, _ in rows:
+        labels.append(_text(msp, label, (x0 + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE"))
+        label_y.append(y)
         y -= row_h
-        msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
-    msp.add_line((col[1], top - 2.6 * h), (col[1], y), dxfattribs=att)
+    x1 = max(x0 + 17 * h, _text_right(labels) + 0.8 * h)
+    values = [_text(msp, value, (x1 + 0.5 * h, yy - 1.35 * h), 0.8 * h, "TITLE")
+              for (_, value), yy in zip(rows, label_y)]
+    widths = np.array([2.5, 5.5, 5.5, 5.5, 5.5, 14.0]) * h
+    x2 = max(x1 + 31 * h, _text_right(values + [title]) + 0.8 * h, x0 + float(np.sum(widths)))
+    for yy in [top - 2.6 * h] + [v - row_h for v in label_y]:
+        msp.add_line((x0, yy), (x2, yy), dxfattribs=att)
+    msp.add_line((x1, top - 2.6 * h), (x1, y), dxfattribs=att)
     # motion table
     y -= 0.8 * h
-    _text(msp, "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)", (col[0] + 0.5 * h, y - 1.35 * h),
+    _text(msp, "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)", (x0 + 0.5 * h, y - 1.35 * h),
           0.8 * h, "TITLE")
     y -= row_h
-    msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
-    widths = np.array([2.5, 5.5, 5.5, 5.5, 5.5, 14.0]) * h
-    xs = col[0] + np.concatenate([[0.0], np.cumsum(widths)])
+    msp.add_line((x0, y), (x2, y), dxfattribs=att)
+    xs = x0 + np.concatenate([[0.0], np.cumsum(widths)])
     table_top = y
     for cells in [MOTION_HEADER, *_motion_rows(design)]:
         for x, cell in zip(xs, cells):
             _text(msp, cell, (float(x) + 0.4 * h, y - 1.35 * h), 0.8 * h, "TITLE")
         y -= row_h
-        msp.add_line((col[0], y), (col[2], y), dxfattribs=att)
+        msp.add_line((x0, y), (x2, y), dxfattribs=att)
     for x in xs[1:-1]:
         msp.add_line((float(x), table_top), (float(x), y), dxfattribs=att)
     # outer border of the title block and of the sheet
-    for a, b in (((col[0], top), (col[2], top)), ((col[0], top), (col[0], y)), ((col[2], top), (col[2], y))):
+    for a, b in (((x0, top), (x2, top)), ((x0, top), (x0, y)), ((x2, top), (x2, y))):
         msp.add_line(a, b, dxfattribs=att)
-    left, right = -r_max - 4 * h, col[2] + 2 * h
-    bottom = min(y, -r_max - 8.5 * h) - 2 * h
-    upper = top + 4 * h
+    left, right = drawn.x0 - 2 * h, x2 + 2 * h
+    bottom = min(y, drawn.y0) - 2 * h
+    upper = max(top, drawn.y1) + 2 * h
     frame = [(left, bottom), (right, bottom), (right, upper), (left, upper)]
     if msp.doc.dxfversion == "AC1009":  # R12 has no LWPOLYLINE
         msp.add_polyline2d(frame, close=True, dxfattribs=att)
     else:
         msp.add_lwpolyline(frame, close=True, dxfattribs=att)
+    return Box(x0, y, x2, top)
 
 
 # ---- writing ---------------------------------------------------------------------------

@@ -1,15 +1,19 @@
 """G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
 
-Two programs, both from exact geometry made in ``generators.toolpath``:
+Two programs, both from the tool-centre geometry made in ``generators.toolpath`` (the exact
+offset of the pitch curve for a PH pitch curve):
 
 * ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
   roller radius) as G02/G03 biarcs or G01 chords, tangent lead arcs, depth passes;
 * ``xc`` — rotary: the cam on a C axis, one G93 inverse-time block per interpolator
   command, so each block takes the sample period Δt (F = 1/Δt in 1/min).
 
-Every program starts with a header (units G21/G20, G90, G17, G40, G49, G80, G94, work
-offset, G64 P path-blending tolerance = 10 % of the chord tolerance, tool change, tool-length offset, spindle) and comments with the
-cam's parameters, and ends with M5/M30.  Coordinates are tool-centre coordinates (no
+Every program starts with comments — the cam's parameters and, given the summary dict that
+becomes report.json (``summary=``), its spec digest, pitch deviation, profile error, largest
+pressure angle and the design-checks verdict with the failed checks' names; without it only
+what the design itself says, and no verdict — then a header (units G21/G20, G90, G17, G40,
+G49, G80, G94, work offset, G64 P path-blending tolerance = 10 % of the chord tolerance, tool
+change, tool-length offset, spindle), and ends with M5/M30.  Coordinates are tool-centre coordinates (no
 cutter compensation): 4 decimals in mm, 5 in inches; C in degrees with 4 decimals.
 
 Dialect "linuxcnc" only.  A Fanuc program would differ in: an ``O`` program number after
@@ -21,11 +25,12 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Iterable
+from typing import Any, Iterable, Mapping
 
 from generators import __version__
 from generators.approx import Path2D
 from generators.cam_design import CamDesign
+from generators.claims import checks_verdict, pitch_text, profile_claim
 from generators.machining import MachiningPlan
 from generators.toolpath import BLEND_SHARE, ContourPath, RotaryPath
 
@@ -76,7 +81,13 @@ def _comment_text(text: str) -> str:
     return out
 
 
-def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str) -> None:
+def _exact_word(design: CamDesign) -> str:
+    """ "exact " where the tool-centre path is the exact offset of a PH pitch curve, else "". """
+    return "exact " if design.spec.pitch.representation == "ph" else ""
+
+
+def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
+                  summary: Mapping[str, Any] | None = None) -> None:
     spec = design.spec
     u = spec.units
     fol = spec.follower
@@ -88,8 +99,26 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
         f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {u} {m.law}" if m.lift is not None else "")
         for m in spec.motion)
     w.comment(f"motion: {motion}")
-    w.comment(f"pitch: C2 PH quintic spline, M = {design.pitch.M} segments, max follower deviation "
-              f"{design.max_deviation[0]:.3g} {u}")
+    if summary is not None:
+        pt = summary["pitch"]
+        w.comment(f"pitch: {pitch_text(summary)}, max follower deviation {pt['max_deviation']:.3g} {u} at "
+                  f"{pt['max_deviation_at_deg']:.2f} deg")
+        claim = profile_claim(summary, spec.is_roller, u)
+        w.comment(f"profile: {claim.text}; max error {summary['profile']['max_error']:.3g} {u} from the "
+                  "design-intent profile")
+        pa = summary["pressure_angle"]
+        checks = summary.get("checks")
+        res = checks.get("results", {}).get("pressure_angle", {}) if isinstance(checks, Mapping) else {}
+        lim = f" [limit {res['limit']:g} deg]" if isinstance(res, Mapping) and res.get("limit") is not None else ""
+        w.comment(f"pressure angle: max {pa['max_deg']:.2f} deg at {pa['at_deg']:.2f} deg{lim}")
+        if isinstance(checks, Mapping) and "passed" in checks:
+            w.comment(checks_verdict(checks))
+        w.comment(f"spec digest: {summary.get('spec_digest', '-')}")
+    else:
+        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if spec.pitch.representation == "ph"
+                else f"fitted periodic B-spline, {design.pitch.M} knot spans")
+        w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {u}")
+        w.comment("design checks: not stated [program written without the report summary]")
     w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; tool centre = pitch curve offset "
               f"outward by {plan.centre_offset:g} {u}; no cutter compensation")
     w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
@@ -129,15 +158,17 @@ def _moves(path: Path2D, d: int) -> Iterable[str]:
         yield _move(path, i, d)
 
 
-def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath) -> str:
-    """The XY contour-milling program (text)."""
+def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *,
+                    summary: Mapping[str, Any] | None = None) -> str:
+    """The XY contour-milling program (text); ``summary`` (the dict that becomes
+    report.json) adds its key numbers and checks verdict to the header comments."""
     u = plan.units
     d = _DECIMALS[u]
     w = _Writer(plan.line_numbers)
-    _cam_comments(w, design, plan, "XY contour milling")
+    _cam_comments(w, design, plan, "XY contour milling", summary)
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], "
-              f"max distance from the exact tool-centre path {path.max_distance:.3g} {u}, tolerance "
+              f"max distance from the {_exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
               f"{path.tolerance:g} {u}")
     w.comment(f"{plan.milling} milling, {'clockwise' if path.clockwise else 'counter-clockwise'}, "
               f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
@@ -162,16 +193,18 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath) -
     return w.text()
 
 
-def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath) -> str:
-    """The XC rotary program (text): G93 inverse-time blocks, one per interpolator command."""
+def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
+                   summary: Mapping[str, Any] | None = None) -> str:
+    """The XC rotary program (text): G93 inverse-time blocks, one per interpolator command;
+    ``summary`` as for :func:`contour_program`."""
     u = plan.units
     d = _DECIMALS[u]
     w = _Writer(plan.line_numbers)
-    _cam_comments(w, design, plan, "XC rotary machining")
+    _cam_comments(w, design, plan, "XC rotary machining", summary)
     cmds = path.commands
     w.comment(f"interpolator: {cmds.n} commands per revolution, dt = {plan.sample_period:g} s, "
               f"{plan.rotary_speed_rpm:g} rpm, {cmds.step_deg:.4g} deg per block; blocks within "
-              f"{path.max_deviation:.3g} {u} of the exact tool-centre path")
+              f"{path.max_deviation:.3g} {u} of the {_exact_word(design)}tool-centre path")
     line = "the follower line" if plan.rotary_line == "follower" else "a line through the C axis"
     w.comment(f"machine: X along {line} [away from the C axis], Y = {fmt(path.y, d)}, "
               "C positive = cam counter-clockwise seen from +Z; at C0 the cam's +Y lies along +X")
@@ -208,20 +241,22 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath) -> 
     return w.text()
 
 
-def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None) -> str:
-    """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if omitted)."""
+def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, *,
+               summary: Mapping[str, Any] | None = None) -> str:
+    """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
+    omitted; ``summary`` as for :func:`contour_program`)."""
     from generators.machining import machining_plan
     from generators.toolpath import contour_path, rotary_path
 
     plan = plan or machining_plan(design)
     if mode == "xy":
-        return contour_program(design, plan, contour_path(design, plan))
+        return contour_program(design, plan, contour_path(design, plan), summary=summary)
     if mode == "xc":
-        return rotary_program(design, plan, rotary_path(design, plan))
+        return rotary_program(design, plan, rotary_path(design, plan), summary=summary)
     raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
 
 
 def export_gcode(design: CamDesign, path: str | os.PathLike[str], mode: str = "xy",
-                 plan: MachiningPlan | None = None) -> Path:
+                 plan: MachiningPlan | None = None, *, summary: Mapping[str, Any] | None = None) -> Path:
     """Write the ``mode`` program to ``path`` atomically."""
-    return write_text_atomic(path, gcode_text(design, mode, plan))
+    return write_text_atomic(path, gcode_text(design, mode, plan, summary=summary))

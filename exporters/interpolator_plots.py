@@ -35,9 +35,10 @@ def _error_scale(units: str) -> tuple[float, str]:
 
 def deviation_figure(acc: InterpolatorAccuracy, units: str = "mm",
                      dense: tuple[np.ndarray, np.ndarray] | None = None,
-                     junction_angles: np.ndarray | None = None) -> Any:
+                     junction_angles: np.ndarray | None = None, junction_label: str = "PH junctions") -> Any:
     """s_actual − s at every command (and, if given, densely sampled), with the junctions
-    marked (the error vanishes there)."""
+    marked (``junction_label``: "PH junctions", where the error vanishes, or the knots of a
+    fitted B-spline)."""
     plt = _plt()
     c = acc.commands
     scale, label = _error_scale(units)
@@ -54,7 +55,7 @@ def deviation_figure(acc: InterpolatorAccuracy, units: str = "mm",
             label=f"max {dev * scale:.4g} {label} at {at:.2f}°")
     if junction_angles is not None:
         ax.plot(np.rad2deg(junction_angles), np.zeros_like(junction_angles), "|", color="#2e7d32", ms=8,
-                label="PH junctions")
+                label=junction_label)
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xlim(0, 360)
     ax.set_xticks(np.arange(0, 361, 30))
@@ -89,7 +90,7 @@ def kinematics_figure(acc: InterpolatorAccuracy, program: MotionProgram, units: 
     mx = acc.maxima(scheme)
     names = {"v": "velocity", "a": "acceleration", "j": "jerk"}
     for ax, (key, label, exact, x_cmd, y_cmd) in zip(axes, rows):
-        ax.plot(deg, exact, color="0.55", lw=2.2, label="desired (exact)")
+        ax.plot(deg, exact, color="0.55", lw=2.2, label="desired (closed-form motion law)")
         cmd_label = "from the commands" if key == "s" else f"from the commands ({scheme} differences)"
         if key in names:
             value, _ = mx[names[key]]

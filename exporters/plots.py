@@ -22,17 +22,32 @@ from __future__ import annotations
 import io
 import os
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from generators.cam_design import CamDesign
+from generators.design_checks import limit_sign
 
 from .atomic import atomic_path
 
 SERIES_COLORS = ("#2e7d32", "#c0392b", "#6a1b9a", "#1f3b5c")
 COLORS = {"profile": "#1f3b5c", "pitch": "#c0392b", "follower": "#8a6212", "s": "#1f3b5c",
-          "v": "#2e7d32", "a": "#c0392b", "j": "#6a1b9a", "built": "#e67e22", "limit": "#b03a2e"}
+          "v": "#2e7d32", "a": "#c0392b", "j": "#6a1b9a", "built": "#e67e22", "limit": "#b03a2e",
+          "fail": "#c0392b", "pass": "#1e8449"}
+
+#: SVG ids (matplotlib ``gid``) of the drawn check limits and check points, for readers of the
+#: SVG: ``limit-<check>`` (``-upper``/``-lower`` for a ± limit) and ``point-<check>``
+LIMIT_GID = "limit-{name}"
+POINT_GID = "point-{name}"
+
+
+def _is_ph(design: CamDesign) -> bool:
+    return design.spec.pitch.representation == "ph"
+
+
+def _pitch_words(design: CamDesign) -> str:
+    return "PH quintic spline" if _is_ph(design) else "fitted B-spline"
 
 
 def _plt() -> Any:
@@ -107,10 +122,15 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     u = spec.units
     _, prof = design.profile.sample(32)
     _, pitch = design.pitch_nurbs.sample(32)
-    ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label="cam (exact NURBS profile)")
+    if _is_ph(design):
+        prof_label = "cam (exact offset NURBS profile)" if spec.roller_radius > 0 else "cam (profile = PH pitch curve)"
+    else:
+        prof_label = "cam (fitted offset B-spline profile)" if spec.roller_radius > 0 else \
+            "cam (profile = fitted B-spline)"
+    ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label=prof_label)
     ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
     ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
-            label="pitch curve (PH quintic spline)")
+            label=f"pitch curve ({_pitch_words(design)})")
     t = np.linspace(0, 2 * np.pi, 400)
     rb = spec.cam.base_radius
     ax.plot(rb * np.cos(t), rb * np.sin(t), ":", color="0.45", lw=0.8, label="prime circle")
@@ -137,7 +157,8 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
     ax.set_title(f"plate cam, {spec.follower.kind} follower, e = {spec.follower.offset:g} {u}, "
-                 f"M = {design.pitch.M} PH segments", fontsize=9)
+                 + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else
+                    f"{design.pitch.M} B-spline knot spans"), fontsize=9)
     ax.set_xlabel(f"x [{u}]")
     ax.set_ylabel(f"y [{u}]")
     ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
@@ -210,40 +231,81 @@ def kinematics_figure(design: CamDesign) -> Any:
     return fig
 
 
-def pressure_angle_figure(design: CamDesign, limit_deg: float | None = None) -> Any:
-    """Pressure angle φ(θ) of the design (thesis Eq. 3.4) and of the built PH curve
-    (samples), with its maximum and, when given, the allowed limit ±limit_deg."""
+def _check_point(ax: Any, name: str, check: Mapping[str, Any], y: float, text: str, below: bool) -> None:
+    """Mark a check's value at its cam angle (red when it fails), labelled with the angle."""
+    status = str(check.get("status"))
+    color = COLORS["fail"] if status == "fail" else COLORS["pass"]
+    x = float(check["at_deg"])
+    ax.plot([x], [y], "o", ms=6, mfc=color, mec="k", mew=0.6, zorder=9, gid=POINT_GID.format(name=name))
+    right = x > 240
+    ax.annotate(text + (" — FAILS" if status == "fail" else ""), (x, y), xytext=(-10 if right else 10, -12 if below else 10),
+                textcoords="offset points", fontsize=8, color=color, ha="right" if right else "left",
+                va="top" if below else "bottom", fontweight="bold" if status == "fail" else "normal", zorder=10,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85})
+
+
+def pressure_angle_figure(design: CamDesign, limit_deg: float | None = None,
+                          check: Mapping[str, Any] | None = None) -> Any:
+    """Pressure angle φ(θ) of the design (thesis Eq. 3.4) and of the built pitch curve
+    (samples), with the allowed limit ±limit as dashed lines and the largest |φ| marked at
+    its cam angle.
+
+    Args:
+        design: the designed cam.
+        limit_deg: the limit [deg] when no ``check`` is given.
+        check: report.json's ``checks.results.pressure_angle`` (value, at_deg, limit,
+            status): its limit is drawn and its point marked (red when it fails), so the
+            figure shows the numbers of the report.
+    """
     plt = _plt()
     th = np.linspace(0, 2 * np.pi, 3601)
     phi = np.rad2deg(design.geometry.pressure_angle(design.program.evaluate(th)))
     at, phi_b = design.as_built_pressure_angles()
     order = np.argsort(at)
-    fig, ax = plt.subplots(figsize=(9, 3.6))
+    fig, ax = plt.subplots(figsize=(9, 3.8))
     _segment_marks(ax, design, labels=True)
     ax.plot(np.rad2deg(th), phi, color=COLORS["s"], lw=1.4, label="design (thesis Eq. 3.4)", zorder=2)
     ax.plot(at[order][::24], phi_b[order][::24], "o", ms=2.6, mfc="none", mew=0.7, color=COLORS["built"],
-            label="built PH curve (samples)", zorder=3)
-    k = int(np.argmax(np.abs(phi)))
-    ax.plot([np.rad2deg(th[k])], [phi[k]], "o", color=COLORS["a"], ms=4)
-    right = np.rad2deg(th[k]) > 240
-    ax.annotate(f"max |φ| = {abs(phi[k]):.2f}° at {np.rad2deg(th[k]):.1f}°", (np.rad2deg(th[k]), phi[k]),
-                xytext=(-8 if right else 8, 0), textcoords="offset points", fontsize=8, va="center",
-                ha="right" if right else "left")
+            label=f"built {_pitch_words(design)} (samples)", zorder=3)
+    if check is not None and check.get("limit") is not None:
+        limit_deg = float(check["limit"])
     if limit_deg is not None:
-        for sgn in (1, -1):
-            ax.axhline(sgn * limit_deg, color=COLORS["limit"], ls="--", lw=0.9)
-        ax.text(2, limit_deg, f" limit ±{limit_deg:g}°", color=COLORS["limit"], fontsize=7, va="bottom")
+        for sgn, tag in ((1, "upper"), (-1, "lower")):
+            ax.axhline(sgn * limit_deg, color=COLORS["limit"], ls="--", lw=1.0,
+                       gid=LIMIT_GID.format(name="pressure_angle") + "-" + tag,
+                       label=f"limit |φ| ≤ {limit_deg:g}° (checks.max_pressure_angle)" if sgn > 0 else None)
+            ax.text(2, sgn * limit_deg, f" {'+' if sgn > 0 else '−'}{limit_deg:g}°", color=COLORS["limit"],
+                    fontsize=7, va="bottom" if sgn > 0 else "top")
+    if check is not None and check.get("value") is not None and check.get("at_deg") is not None:
+        # the check reports |φ|; the curve is signed: mark it on the side where φ is
+        x = float(check["at_deg"])
+        sign = 1.0 if np.interp(x, np.rad2deg(th), phi) >= 0 else -1.0
+        y = sign * float(check["value"])
+        _check_point(ax, "pressure_angle", check, y, f"max |φ| = {float(check['value']):.2f}° at {x:.2f}°", y > 0)
+    else:
+        k = int(np.argmax(np.abs(phi)))
+        ax.plot([np.rad2deg(th[k])], [phi[k]], "o", color=COLORS["a"], ms=4)
+        right = np.rad2deg(th[k]) > 240
+        ax.annotate(f"max |φ| = {abs(phi[k]):.2f}° at {np.rad2deg(th[k]):.1f}°", (np.rad2deg(th[k]), phi[k]),
+                    xytext=(-8 if right else 8, 0), textcoords="offset points", fontsize=8, va="center",
+                    ha="right" if right else "left")
+    top = max(float(np.max(np.abs(phi))), limit_deg or 0.0) * 1.18
+    ax.set_ylim(-top, top)
     ax.set_ylabel("pressure angle φ [deg]", fontsize=8)
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     _angle_axis(ax)
     fig.tight_layout()
     return fig
 
 
-def curvature_figure(design: CamDesign) -> Any:
+def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) -> Any:
     """Signed radius of curvature (+ convex) of the pitch curve (thesis Eq. 3.7) and of the
-    profile (ρ − roller radius), with the built PH curve's samples; the axis is clipped
-    where the curve straightens (|ρ| → ∞)."""
+    profile (ρ − roller radius), with the built curve's samples; the axis is clipped
+    where the curve straightens (|ρ| → ∞).
+
+    ``check`` is report.json's ``checks.results.curvature``: its limit (undercut factor ×
+    roller radius, a lower bound on the convex pitch radius) is drawn dashed and its value
+    marked at its cam angle (red when it fails)."""
     plt = _plt()
     spec = design.spec
     u = spec.units
@@ -259,9 +321,13 @@ def curvature_figure(design: CamDesign) -> Any:
         top = max(top, 1.3 * float(np.min(convex)) + rr)
     if concave.size:
         top = max(top, 1.3 * float(np.min(concave)) + rr)
+    limit = None if check is None or check.get("limit") is None else float(check["limit"])
+    if limit is not None:
+        top = max(top, 1.3 * limit)
     fig, ax = plt.subplots(figsize=(9, 3.8))
     _segment_marks(ax, design, labels=True)
     deg = np.rad2deg(th)
+
     # outside ±top the curve is nearly straight: leave gaps instead of drawing ±∞ jumps
     def cut(r: np.ndarray) -> np.ndarray:
         return np.where(np.abs(r) <= top, r, np.nan)
@@ -272,13 +338,21 @@ def curvature_figure(design: CamDesign) -> Any:
         ax.plot(deg, cut(rho - rr), color=COLORS["profile"], lw=1.3, label="profile (ρ − roller radius)",
                 zorder=2)
     ax.plot(cs.cam_angle_deg[order][::12], cut(cs.radius[order][::12]), "o", ms=2.4, mfc="none", mew=0.6,
-            color="0.35", label="built PH curve (samples)", zorder=3)
+            color="0.35", label=f"built {_pitch_words(design)} (samples)", zorder=3)
+    if limit is not None:
+        sign = limit_sign("curvature", str(check.get("kind", "min")))  # type: ignore[union-attr]
+        ax.axhline(limit, color=COLORS["limit"], ls="--", lw=1.0, gid=LIMIT_GID.format(name="curvature"),
+                   label=f"curvature limit: convex pitch ρ {sign} {limit:g} {u} "
+                         f"({spec.checks.undercut_factor:g} × roller radius)")
     if rr > 0:
-        ax.axhline(rr, color=COLORS["limit"], ls="--", lw=0.9)
-        ax.text(2, rr, f" roller radius {rr:g} (undercut below)", color=COLORS["limit"], fontsize=7,
-                va="bottom")
+        ax.axhline(rr, color="0.45", ls=":", lw=0.9, gid=LIMIT_GID.format(name="undercut"),
+                   label=f"roller radius {rr:g} {u} (undercut below)")
     ax.axhline(0, color="0.3", lw=0.6)
-    if convex.size:
+    if check is not None and check.get("value") is not None and check.get("at_deg") is not None:
+        v = float(check["value"])
+        _check_point(ax, "curvature", check, v,
+                     f"min convex pitch ρ = {v:.4g} {u} at {float(check['at_deg']):.2f}°", False)
+    elif convex.size:
         k = int(np.argmin(np.where(rho > 0, rho, np.inf)))
         ax.plot([deg[k]], [rho[k]], "o", ms=4, color=COLORS["pitch"])
         ax.annotate(f"min convex ρ = {rho[k]:.4g} {u} at {deg[k]:.1f}°", (deg[k], rho[k]),
@@ -296,8 +370,8 @@ def _small_length_scale(units: str) -> tuple[float, str]:
 
 
 def deviation_figure(design: CamDesign) -> Any:
-    """Interpolation error s_actual(θ) − s(θ) of the built PH pitch curve (paper Eq. 13,
-    as the paper's Figs. 5 and 7), with the PH junction angles marked."""
+    """Interpolation error s_actual(θ) − s(θ) of the built pitch curve (paper Eq. 13,
+    as the paper's Figs. 5 and 7), with the PH junction (or B-spline knot) angles marked."""
     plt = _plt()
     th, dev = design.pitch.deviation()
     scale, unit = _small_length_scale(design.spec.units)
@@ -310,7 +384,8 @@ def deviation_figure(design: CamDesign) -> Any:
     ax.annotate(f"max |s_actual − s| = {abs(dev[k]) * scale:.4g} {unit} at {deg[k]:.2f}°",
                 (deg[k], dev[k] * scale), xytext=(8, 0), textcoords="offset points", fontsize=8, va="center")
     j = np.rad2deg(design.pitch.angles)
-    ax.plot(j, np.zeros_like(j), "|", color="0.4", ms=5, label=f"junctions (M = {design.pitch.M})")
+    ax.plot(j, np.zeros_like(j), "|", color="0.4", ms=5,
+            label=f"PH junctions (M = {design.pitch.M})" if _is_ph(design) else f"B-spline knots ({design.pitch.M} spans)")
     ax.set_ylabel(f"s_actual − s [{unit}]", fontsize=8)
     ax.legend(fontsize=7, loc="lower left")
     _angle_axis(ax)

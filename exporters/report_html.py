@@ -12,10 +12,12 @@ always                          the cam drawing with the follower, key numbers, 
                                 motion table, s/v/a/j, pressure angle, radius of curvature,
                                 interpolation error and the accuracy figures
 ``report["drawing"]``           the DXF: how the profile was written and its measured error
-``report["checks"]``            design-check table with pass/fail.  A mapping name →
-                                ``{"value", "limit", "at_deg", "passed", "unit", "kind",
-                                "label"}`` (or a list of such dicts with ``"name"``); only
-                                ``value`` and ``passed`` are required
+``report["checks"]``            the design checks as report.json holds them
+                                (``DesignChecks.to_dict()``): the verdict is its ``passed``
+                                and ``failed`` verbatim, one table row per entry of
+                                ``results`` (value, comparison, limit, cam angle, status,
+                                note; failing rows red), ``extremes`` as a second table;
+                                then the buildability verdicts (from the other sections)
 ``series["contact_force"]``,    contact force and Hertz stress over the cycle (figure): a
 ``series["contact_stress"]``    :class:`Series` each (arrays are not put in report.json)
 ``report["interpolator"]``      the rotational interpolator's commands (paper §3.2): the
@@ -38,6 +40,8 @@ import numpy as np
 
 from generators import __version__
 from generators.cam_design import CamDesign
+from generators.claims import checks_verdict, pitch_text, profile_claim
+from generators.design_checks import limit_sign
 from generators.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
 
@@ -87,11 +91,17 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
     """The figures this report will have, in order (optional ones only with their data)."""
     series = series or {}
     u = design.spec.units
-    limit = _check_limit(report, "pressure_angle")
+    pa_check = check_result(report, "pressure_angle")
+    cv_check = check_result(report, "curvature")
     small = "µm" if u == "mm" else "µin"
+    ph = design.spec.pitch.representation == "ph"
+    built = "PH pitch curve" if ph else "fitted B-spline pitch curve"
+    claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
+    prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
+    ticks = "PH junctions" if ph else "B-spline knots"
     out = [
         Plot("cam", "The cam and its follower",
-             "The exact profile (filled), the pitch curve traced by the roller centre (dashed), the prime "
+             f"{prof_words} the pitch curve traced by the roller centre (dashed), the prime "
              "and base circles and the bore; the follower is drawn where it stands at 75° of cam rotation.",
              lambda: plots.cam_drawing_figure(design)),
         Plot("kinematics", "Follower motion",
@@ -100,17 +110,21 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
              lambda: plots.kinematics_figure(design)),
         Plot("pressure_angle", "Pressure angle",
              "φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4) over the cycle, and the pressure angle of the "
-             "built PH pitch curve at its curvature samples (they lie on the design curve).",
-             lambda: plots.pressure_angle_figure(design, limit)),
+             f"built {built} at its curvature samples (they lie on the design curve). Dashed: the limit "
+             "±checks.max_pressure_angle of the pressure_angle check; the marked point is the check's "
+             "value at its cam angle (report.json checks.results.pressure_angle).",
+             lambda: plots.pressure_angle_figure(design, check=pa_check)),
         Plot("curvature", "Radius of curvature",
              "Signed radius of curvature, positive where convex: pitch curve (thesis Eq. 3.7) and profile "
-             "(ρ − roller radius); dots: the built PH curve. The profile undercuts where the convex pitch "
-             "radius falls below the roller radius. The axis is clipped where the curve straightens.",
-             lambda: plots.curvature_figure(design)),
+             f"(ρ − roller radius); dots: the built {built}. Dashed: the curvature check's limit "
+             "(checks.undercut_factor × roller radius) for the convex pitch radius; the profile undercuts "
+             "where the convex pitch radius falls below the roller radius. The marked point is the "
+             "curvature check's value at its cam angle. The axis is clipped where the curve straightens.",
+             lambda: plots.curvature_figure(design, check=cv_check)),
         Plot("deviation", "Interpolation error",
-             f"s_actual − s [{small}]: the follower displacement the built C² PH quintic pitch curve gives "
-             "(follower line meeting the curve, paper Eq. 13) minus the design displacement, every "
-             f"{360 / design.pitch.deviation_count():.3g}°; ticks: PH junctions.",
+             f"s_actual − s [{small}]: the follower displacement the built pitch curve "
+             f"({pitch_text(report) if 'pitch' in report else built}) gives (follower line meeting the curve, paper Eq. 13) minus the design displacement, every "
+             f"{360 / _deviation_count(design):.3g}°; ticks: {ticks}.",
              lambda: plots.deviation_figure(design)),
     ]
     panels = [series[k] for k in FORCE_STRESS_KEYS if k in series]
@@ -143,8 +157,10 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             lambda: interpolator_plots.kinematics_figure(accuracy(), design.program, u)))
         out.append(Plot(
             "interpolator_deviation", "Displacement error at the commands",
-            f"s_actual − s [{small}] at every command (paper Figs. 5, 7, 8); it vanishes at the PH junctions.",
-            lambda: interpolator_plots.deviation_figure(accuracy(), u, junction_angles=design.pitch.angles)))
+            f"s_actual − s [{small}] at every command (paper Figs. 5, 7, 8)" +
+            ("; it vanishes at the PH junctions." if ph else "; ticks: the B-spline knots."),
+            lambda: interpolator_plots.deviation_figure(accuracy(), u, junction_angles=design.pitch.angles,
+                                                        junction_label=ticks)))
     hist = _history(report)
     if hist is not None:
         it, obj, viol = hist
@@ -196,13 +212,14 @@ th{background:#eaf0f6}tr:nth-child(even) td{background:#fafbfc}
 td.num{text-align:right;font-family:"DejaVu Sans Mono",Menlo,monospace;white-space:nowrap}
 td.pass{background:#d5f5e3 !important;color:#145a32;font-weight:bold}
 td.fail{background:#fadbd8 !important;color:#78281f;font-weight:bold}
+tr.fail td{background:#fadbd8 !important;color:#78281f}td.skip{background:#fef5e7 !important;color:#7e5109}
 .grid{display:grid;grid-template-columns:1.15fr 1fr;gap:24px;align-items:start}
 figure{margin:8px 0 18px}figcaption{font-size:12.5px;color:#424949;margin-top:2px}
 svg.plot{width:100%;height:auto;display:block}
 pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overflow-x:auto}
 .verdict{display:inline-block;padding:4px 10px;border-radius:4px;font-weight:bold}
 .verdict.pass{background:#d5f5e3;color:#145a32}.verdict.fail{background:#fadbd8;color:#78281f}
-.note{font-size:12.5px;color:#566573}
+.note{font-size:12.5px;color:#566573}a.plain{text-decoration:none}
 """
 
 
@@ -229,8 +246,9 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
         ("max follower deviation", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
     ]
+    claim = profile_claim(report, spec.is_roller, u) if "profile" in report else None
     sections.append(("cam", "The cam", f'<div class="grid"><div>{fig["cam"]}</div><div>'
-                     f'{_quantity_table(report, key_rows)}{_verdict(report)}</div></div>'))
+                     f'{_verdict(report)}{_quantity_table(report, key_rows)}</div></div>'))
     sections.append(("spec", "Specification", _spec_section(spec, report)))
     motion_rows = [
         ("largest lift", "motion.max_lift", u, None),
@@ -258,22 +276,37 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     acc_rows = [
         ("max |s_actual − s|", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
         ("target deviation (pitch.tolerance)", "pitch.tolerance", u, None),
-        ("PH segments M", "pitch.segments", "", None),
+        ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
+         None),
         ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
         ("Newton residual (relative)", "pitch.newton_residual", "", None),
-        ("pitch-curve arc length (exact, PH)", "pitch.arc_length", u, None),
+        ("pitch-curve arc length" + (" (closed form, PH)" if spec.pitch.representation == "ph" else ""),
+         "pitch.arc_length", u, None),
         ("profile NURBS degree", "profile.degree", "", None),
+        ("profile NURBS rational", "profile.rational", "", None),
         ("profile poles", "profile.poles", "", None),
+        ("profile: max distance from the design-intent profile", "profile.max_error", u,
+         "profile.max_error_at_deg"),
+        ("profile: fitted offset vs the exact offset of the fitted pitch B-spline",
+         "profile.fitted_vs_kernel_offset", u, None),
+        ("profile: exact offset of the fitted pitch B-spline vs the design-intent profile",
+         "profile.kernel_offset.max_error", u, "profile.kernel_offset.max_error_at_deg"),
         ("solid: OCCT volume", "solid.kernel_volume", f"{u}³", None),
-        ("solid: exact volume (Green's theorem × thickness)", "volume", f"{u}³", None),
+        ("solid: volume of the profile NURBS (Green's theorem × thickness)", "volume", f"{u}³", None),
         ("solid: OCCT cross-section area", "solid.cross_section_area", f"{u}²", None),
-        ("solid: exact cross-section area", "area", f"{u}²", None),
-        ("solid: OCCT volume / exact − 1", "solid.volume_rel_diff", "", None),
-        ("solid: OCCT cross-section / exact − 1", "solid.area_rel_diff", "", None),
+        ("solid: cross-section of the profile NURBS (Green's theorem)", "area", f"{u}²", None),
+        ("solid: OCCT volume / Green's theorem − 1", "solid.volume_rel_diff", "", None),
+        ("solid: OCCT cross-section / Green's theorem − 1", "solid.area_rel_diff", "", None),
     ]
-    acc_note = ('<p class="note">The profile is the exact rational offset of the PH pitch curve (degree '
-                '9 NURBS), so the only approximation in the geometry is the pitch curve\'s interpolation of '
-                'the motion, measured above. OCCT\'s numbers are an independent check of the built solid.</p>')
+    acc_note = ""
+    if claim is not None:
+        where = ("so the only approximation in the geometry is the pitch curve's interpolation of the "
+                 "motion, measured above" if claim.exact else
+                 "so the geometry carries both the pitch curve's interpolation error and the fit's error, "
+                 "each measured above")
+        acc_note = (f'<p class="note" id="profile-claim" data-exact="{str(claim.exact).lower()}">The profile '
+                    f"is the {html.escape(claim.text)}, {where}. OCCT's numbers are an independent check of "
+                    "the built solid.</p>")
     sections.append(("accuracy", "Interpolation error and accuracy",
                      fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
     if "force_stress" in fig:
@@ -301,8 +334,11 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         sections.append(("interpolator", "Machining commands (rotational PH interpolator)",
                          fig["interpolator_kinematics"] + _quantity_table(report, ip_rows) +
                          fig["interpolator_deviation"] + warn))
-    if isinstance(report.get("checks"), (Mapping, list)):
-        sections.append(("checks", "Design checks", _checks_section(report)))
+    # the verdicts come right after the cam, before the curves they are judged on
+    verdicts = [("buildability", "Buildability", _buildability_section(report))]
+    if isinstance(report.get("checks"), Mapping):
+        verdicts.insert(0, ("checks", "Design checks", _checks_section(report)))
+    sections[1:1] = verdicts
     if isinstance(report.get("optimise"), Mapping):
         body = _scalars_table(report, "optimise", exclude=("history",))
         sections.append(("optimise", "Optimiser", fig.get("convergence", "") + body))
@@ -313,7 +349,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
 
     title = html.escape(dr.title)
     sub = [f"{spec.follower.kind} follower", f"{len(spec.motion)} motion segments",
-           f"C² PH quintic pitch curve, M = {design.pitch.M}", f"units {u}"]
+           "pitch curve: " + (pitch_text(report) if "pitch" in report else str(spec.pitch.representation)),
+           f"units {u}"]
     ident = [f"part {html.escape(dr.part_number)}" if dr.part_number else "",
              f"material {html.escape(dr.material)}" if dr.material else "",
              f"by {html.escape(dr.author)}" if dr.author else ""]
@@ -412,59 +449,131 @@ def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[st
     return '<table class="kv"><tr><th>item</th><th>value</th></tr>' + "".join(rows) + "</table>"
 
 
-def _check_limit(report: Mapping[str, Any], name: str) -> float | None:
+def check_result(report: Mapping[str, Any], name: str) -> Mapping[str, Any] | None:
+    """report.json's ``checks.results[name]``, or None when the report has no such check."""
     checks = report.get("checks")
-    if isinstance(checks, Mapping) and isinstance(checks.get(name), Mapping):
-        lim = checks[name].get("limit")
-        return float(lim) if isinstance(lim, (int, float)) and not isinstance(lim, bool) else None
-    return None
+    if not isinstance(checks, Mapping) or not isinstance(checks.get("results"), Mapping):
+        return None
+    r = checks["results"].get(name)
+    return r if isinstance(r, Mapping) else None
 
 
-def _check_items(checks: Any) -> list[tuple[str, str, Mapping[str, Any]]]:
-    """(name, key prefix, check dict) for a mapping or a list of checks."""
-    if isinstance(checks, Mapping):
-        return [(str(k), f"checks.{k}", v) for k, v in checks.items() if isinstance(v, Mapping)]
-    return [(str(c.get("name", i)), f"checks.{i}", c) for i, c in enumerate(checks) if isinstance(c, Mapping)]
-
-
-def _passed(c: Mapping[str, Any]) -> bool | None:
-    for k in ("passed", "pass", "ok"):
-        if isinstance(c.get(k), bool):
-            return c[k]
-    return None
+def _deviation_count(design: CamDesign) -> int:
+    """Samples of the deviation figure (the pitch curve's own rule when it has one)."""
+    count = getattr(design.pitch, "deviation_count", None)
+    if count is not None:
+        return int(count())
+    return len(design.pitch.deviation()[0])
 
 
 def _checks_section(report: Mapping[str, Any]) -> str:
-    items = _check_items(report["checks"])
+    """The verdict, one row per check of ``checks.results`` and the extremes table."""
+    checks = report["checks"]
+    results = checks.get("results") if isinstance(checks.get("results"), Mapping) else {}
+    mode = ("the thesis' 71 nodes per rise/return" if checks.get("sampling") == "thesis71"
+            else f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema")
     out = [_verdict(report),
-           '<table class="checks"><tr><th>check</th><th>value</th><th>limit</th><th>unit</th>'
-           "<th>at cam angle [deg]</th><th>result</th></tr>"]
-    for name, prefix, c in items:
-        label = html.escape(str(c.get("label", name.replace("_", " "))))
-        kind = c.get("kind")
-        if kind in ("max", "min"):
-            label += f" ({'≤' if kind == 'max' else '≥'} limit)"
-        cells = [_num_cell(report, f"{prefix}.{f}") if f in c else "<td></td>"
-                 for f in ("value", "limit")]
-        unit = html.escape(str(c.get("unit", "")))
-        at = _num_cell(report, f"{prefix}.at_deg") if "at_deg" in c else "<td></td>"
-        ok = _passed(c)
-        result = ('<td class="pass">PASS</td>' if ok else '<td class="fail">FAIL</td>' if ok is False
-                  else "<td>—</td>")
-        out.append(f"<tr><td>{label}</td>{cells[0]}{cells[1]}<td>{unit}</td>{at}{result}</tr>")
+           f'<p class="note">Sampling: {html.escape(mode)} ({html.escape(str(checks.get("points")))} points). '
+           "Limits from the spec's [checks], [material] and follower load.</p>",
+           '<table class="checks"><tr><th>check</th><th>value</th><th>rule</th><th>limit</th><th>unit</th>'
+           "<th>at cam angle [deg]</th><th>status</th><th>note</th></tr>"]
+    for name, r in results.items():
+        prefix = f"checks.results.{name}"
+        status = str(r.get("status"))
+        kind = str(r.get("kind"))
+        sign = limit_sign(name, kind) if r.get("limit") is not None else ""
+        cls = {"fail": "fail", "pass": "pass", "skipped": "skip"}.get(status, "")
+        desc = html.escape(str(r.get("description", "")))
+        out.append(
+            f'<tr class="check {cls}" data-check="{html.escape(name)}" data-status="{html.escape(status)}">'
+            f'<td title="{desc}"><code>{html.escape(name)}</code> <span class="note">({html.escape(kind)}: '
+            f"{desc})</span></td>"
+            f"{_num_cell(report, prefix + '.value')}"
+            f'<td class="sign" data-sign="{html.escape(sign)}">{html.escape(sign)}</td>'
+            f"{_num_cell(report, prefix + '.limit')}"
+            f"<td>{html.escape(str(r.get('unit', '')))}</td>"
+            f"{_num_cell(report, prefix + '.at_deg')}"
+            f'<td class="{cls}" data-key="{prefix}.status">{html.escape(status)}</td>'
+            f'<td data-key="{prefix}.note">{html.escape(str(r.get("note", "")))}</td></tr>')
     out.append("</table>")
+    ext = checks.get("extremes")
+    if isinstance(ext, Mapping) and ext:
+        out.append("<h3>Extremes (largest magnitude, signed: the thesis' maximum values)</h3>")
+        out.append('<table class="extremes"><tr><th>quantity</th><th>value</th><th>unit</th>'
+                   "<th>at cam angle [deg]</th></tr>")
+        for name, e in ext.items():
+            prefix = f"checks.extremes.{name}"
+            at = _num_cell(report, prefix + ".at_deg") if "at_deg" in e else "<td></td>"
+            out.append(f"<tr><td>{html.escape(name.replace('_', ' '))}</td>{_num_cell(report, prefix + '.value')}"
+                       f"<td>{html.escape(str(e.get('unit', '')))}</td>{at}</tr>")
+        out.append("</table>")
     return "".join(out)
 
 
 def _verdict(report: Mapping[str, Any]) -> str:
+    """report.json's checks.passed / checks.failed, verbatim (nothing when there are no checks)."""
     checks = report.get("checks")
-    if not isinstance(checks, (Mapping, list)):
+    if not isinstance(checks, Mapping) or "passed" not in checks:
         return ""
-    results = [_passed(c) for _, _, c in _check_items(checks)]
-    failed = sum(1 for r in results if r is False)
-    if failed:
-        return f'<p><span class="verdict fail">{failed} of {len(results)} design checks failed</span></p>'
-    return f'<p><span class="verdict pass">all {len(results)} design checks passed</span></p>'
+    ok = checks["passed"] is True
+    failed = html.escape(",".join(str(n) for n in checks.get("failed") or []))
+    return (f'<p><a class="plain" href="#checks"><span class="verdict {"pass" if ok else "fail"}" data-key="checks.passed" '
+            f'data-value="{"true" if ok else "false"}" data-failed="{failed}">'
+            f"{html.escape(checks_verdict(checks))}</span></a></p>")
+
+
+def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+    """(item, value, status "pass"/"fail"/"") of the buildability verdicts, from report.json.
+
+    The undercut, self-intersection and bore checks raise before any report is written
+    (``design_cam``), so a report exists only for a cam that passed them; the numbers shown
+    are the margins they were judged on."""
+    u = report.get("units", "")
+    rows: list[tuple[str, str, str]] = []
+    prof = report.get("profile", {})
+    cv = report.get("curvature", {})
+    if "min_profile_radius" in cv:
+        v = cv["min_profile_radius"]
+        rows.append(("undercut: smallest convex profile radius of curvature > 0", f"{format_number(v)} {u}",
+                     "pass" if v > 0 else "fail"))
+    rows.append(("profile self-intersection", "none found (design_cam refuses a crossing profile)", "pass"))
+    spec = report.get("spec", {})
+    bore = spec.get("cam", {}).get("bore_diameter") if isinstance(spec, Mapping) else None
+    if "min_radius" in prof and bore is not None:
+        ok = prof["min_radius"] > bore / 2
+        rows.append(("bore inside the profile: smallest profile radius > bore radius",
+                     f"{format_number(prof['min_radius'])} > {format_number(bore / 2)} {u}", "pass" if ok else "fail"))
+    pt = report.get("pitch", {})
+    if pt.get("tolerance") is not None:
+        ok = pt["max_deviation"] <= pt["tolerance"]
+        rows.append(("pitch curve within pitch.tolerance",
+                     f"{format_number(pt['max_deviation'])} ≤ {format_number(pt['tolerance'])} {u}",
+                     "pass" if ok else "fail"))
+    solid = report.get("solid")
+    if isinstance(solid, Mapping) and "valid" in solid:
+        ok = solid["valid"] is True and solid.get("solids") == 1
+        rows.append(("OCCT: valid, one solid", f"valid {format_number(solid['valid'])}, "
+                     f"{format_number(solid.get('solids'))} solid(s)", "pass" if ok else "fail"))
+    it = report.get("interpolator")
+    if isinstance(it, Mapping) and it.get("within_pitch_tolerance") is not None:
+        ok = it["within_pitch_tolerance"] is True
+        rows.append(("machining commands within pitch.tolerance", format_number(it["max_deviation"]) + f" {u}",
+                     "pass" if ok else "fail"))
+    return rows
+
+
+def _buildability_section(report: Mapping[str, Any]) -> str:
+    rows = buildability_rows(report)
+    ok = all(st != "fail" for _, _, st in rows)
+    out = [f'<p><span class="verdict {"pass" if ok else "fail"}" id="buildable-verdict">'
+           f'{"buildable: every buildability check passes" if ok else "NOT buildable: see the red rows"}'
+           "</span></p>",
+           '<table class="build"><tr><th>check</th><th>value</th><th>status</th></tr>']
+    for item, value, st in rows:
+        out.append(f'<tr class="{st}"><td>{html.escape(item)}</td><td>{html.escape(value)}</td>'
+                   f'<td class="{st}">{st or "—"}</td></tr>')
+    out.append("</table>")
+    return "".join(out)
 
 
 def _spec_section(spec: CamSpec, report: Mapping[str, Any]) -> str:
@@ -507,9 +616,14 @@ DRAWING_LABELS = {
     "file_version": "DXF version", "insunits": "$INSUNITS (4 = mm, 1 = inch)",
     "curves": "profile written as", "chord_tolerance": "chord tolerance",
     "profile_entities": "PROFILE entities", "profile_arcs": "PROFILE arcs", "profile_lines": "PROFILE lines",
-    "profile_max_error": "PROFILE max distance from the exact curve (two-sided, measured)",
-    "profile_min_arc_radius": "smallest arc radius", "pitch_max_error": "PITCH max distance from the exact curve",
-    "exact": "exact (the NURBS data itself)",
+    "profile_max_error": "PROFILE entities: max distance from the profile NURBS (two-sided, measured; "
+                         "0 for a SPLINE, which is the NURBS data itself)",
+    "profile_min_arc_radius": "smallest arc radius",
+    "pitch_max_error": "PITCH entities: max distance from the pitch-curve NURBS",
+    "exact": "PROFILE is exact (the exact offset of the pitch curve, or the pitch curve itself)",
+    "profile_curve": "the profile NURBS is",
+    "profile_fit_error": "profile NURBS: max distance from the exact curve it was fitted to",
+    "pitch_curve": "the pitch curve is",
 }
 
 
@@ -520,9 +634,12 @@ def _drawing_section(report: Mapping[str, Any]) -> str:
         out.append(f"<tr><td>{html.escape(DRAWING_LABELS.get(k, k.replace('_', ' ')))}</td>"
                    f"{_num_cell(report, f'drawing.{k}')}</tr>")
     out.append("</table>")
+    spline = ("The SPLINE on PROFILE carries the degree, knots, control points and weights of the profile "
+              "NURBS" + (f" (the {html.escape(str(d['profile_curve']))})" if d.get("profile_curve") else "") + "."
+              if d.get("curves") == "spline" else "")
     out.append('<p class="note">Layers: PROFILE, PITCH, BASE_CIRCLE, PRIME_CIRCLE, BORE, CENTERLINES, '
-               "DIMENSIONS, TITLE (title block with the motion table). The SPLINE on PROFILE carries the "
-               "degree, knots, control points and weights of the exact NURBS profile.</p>")
+               f"DIMENSIONS, TITLE (title block with the key numbers, the checks verdict and the motion "
+               f"table). {spline}</p>")
     return "".join(out)
 
 

@@ -381,6 +381,19 @@ def format_value(v: float | None, unit: str) -> str:
     return f"{text} {unit}"
 
 
+#: min checks that pass only strictly above their limit (the others pass at the limit itself)
+STRICT_MIN_CHECKS = frozenset({"separation", "undercut"})
+
+
+def limit_sign(name: str, kind: str) -> str:
+    """The comparison a check's value must satisfy against its limit, as printed before the
+    limit: "≤" for a "max" check, ">" for the strict min checks (separation: F > min_force;
+    undercut: ρ − r_f > 0), "≥" for the other min checks (oscillation, curvature, convexity)."""
+    if kind == "max":
+        return "≤"
+    return ">" if name in STRICT_MIN_CHECKS else "≥"
+
+
 def _finite(v: float) -> float | None:
     return float(v) if np.isfinite(v) else None
 

@@ -362,7 +362,7 @@ def test_cli_dxf_arcs_to_file(tmp_path):
 def test_cli_dxf_default_folder(tmp_path):
     res = run("dxf", "-o", str(tmp_path / "o"))
     assert res.returncode == 0, res.stderr
-    assert "exact rational SPLINE" in res.stdout
+    assert "PROFILE: SPLINE = the exact rational offset of the PH pitch curve (NURBS degree 9, rational)" in res.stdout
     assert not ezdxf.readfile(tmp_path / "o" / "cam.dxf").audit().has_errors
 
 

@@ -176,14 +176,21 @@ def test_table_numbers_equal_report_json(built):
 
 
 def _fake_extras():
-    """Hand-written check results and optimiser history in the formats the report documents
-    (these exercise the renderer only; the product never invents them)."""
+    """Hand-written check results (report.json's checks format: DesignChecks.to_dict()) and
+    optimiser history (these exercise the renderer only; the product never invents them)."""
+    def res(kind, value, at, limit, unit, status):
+        return {"description": "hand-written", "kind": kind, "value": value, "at_deg": at, "limit": limit,
+                "unit": unit, "status": status, "passed": status != "fail", "note": ""}
+
     checks = {
-        "pressure_angle": {"value": 46.2, "limit": 30.0, "at_deg": 282.8, "passed": False, "unit": "deg",
-                           "kind": "max", "label": "pressure angle"},
-        "contact_stress": {"value": 812.5, "limit": 1100.0, "at_deg": 111.2, "passed": True, "unit": "MPa",
-                           "kind": "max"},
-        "separation": {"value": 35.0, "limit": 0.0, "passed": True, "unit": "N", "kind": "min"},
+        "passed": False, "failed": ["pressure_angle"], "sampling": "dense", "samples_per_segment": 1001,
+        "points": 2008,
+        "results": {
+            "pressure_angle": res("max", 46.2, 282.8, 30.0, "deg", "fail"),
+            "contact_stress": res("max", 812.5, 111.2, 1100.0, "MPa", "pass"),
+            "separation": res("min", 35.0, 12.0, 0.0, "N", "pass"),
+        },
+        "extremes": {"force": {"value": 140.0, "at_deg": 80.0, "unit": "N"}},
     }
     history = [{"iteration": i, "objective": 2400.0 - 30 * i + i * i, "max_violation": 10.0 ** (-i)}
                for i in range(12)]
@@ -213,8 +220,9 @@ def test_optional_sections_only_with_their_data(tmp_path):
     for present in ("checks", "optimise", "force", "fig-force_stress", "fig-convergence"):
         assert present in page2.ids
     assert "plot_force_stress.png" in pngs2 and "plot_convergence.png" in pngs2
-    assert text2.count('class="fail">FAIL') == 1 and text2.count('class="pass">PASS') == 2
-    assert "1 of 3 design checks failed" in text2
+    assert text2.count('class="fail" data-key="checks.results.') == 1
+    assert text2.count('class="pass" data-key="checks.results.') == 2
+    assert "design checks FAILED: pressure_angle" in text2
     for attrs, cell in page2.cells:
         if attrs["data-key"].startswith(("checks.", "optimise.")) and "data-value" in attrs:
             assert float(attrs["data-value"]) == lookup(report2, attrs["data-key"])

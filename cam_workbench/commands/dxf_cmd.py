@@ -65,10 +65,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def describe(d: dict, units: str) -> str:
-    """One line on how the profile went into the DXF (for the CLI)."""
+    """One line on how the profile went into the DXF (for the CLI), from report.json's
+    ``drawing`` section: "exact" only where the profile NURBS is exact (``profile_curve``
+    says what it is; a fitted profile comes with its measured error)."""
+    curve = d.get("profile_curve")
     if d["curves"] == "spline":
-        return f"PROFILE: exact rational SPLINE ({d['file_version']})"
+        what = curve if curve else ("exact profile NURBS" if d.get("exact") else "profile NURBS")
+        return f"PROFILE: SPLINE = the {what} ({d['file_version']})"
     kind = (f"{d['profile_arcs']} arcs + {d['profile_lines']} lines" if d["curves"] == "arcs"
             else f"closed polyline of {d['profile_lines']} segments")
-    return (f"PROFILE: {kind}, max distance from the exact profile {d['profile_max_error']:.3g} {units} "
+    of = f"the profile NURBS (the {curve})" if curve else "the profile NURBS"
+    return (f"PROFILE: {kind}, max distance {d['profile_max_error']:.3g} {units} from {of} "
             f"(tolerance {d['chord_tolerance']:g} {units}, {d['file_version']})")

@@ -20,13 +20,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from generators.claims import profile_claim
 from generators.design_checks import format_value as fmt_value
+from generators.design_checks import limit_sign
 from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
-
-#: Comparison shown before a limit, by check (the CLI's wording).
-_LIMIT_OP = {"oscillation": "≥", "curvature": "≥", "undercut": ">", "separation": ">"}
 
 
 @dataclass(frozen=True)
@@ -44,7 +43,8 @@ class CheckRow:
     note: str
 
     def cells(self) -> list[str]:
-        op = _LIMIT_OP.get(self.name, "≤" if self.kind == "max" else "≥")
+        """check, value, at cam angle, limit (with its comparison), status, note."""
+        op = limit_sign(self.name, self.kind)
         return [self.name.replace("_", " "), fmt_value(self.value, self.unit),
                 "—" if self.at_deg is None else f"{self.at_deg:.3f}°",
                 "—" if self.limit is None else f"{op} {fmt_value(self.limit, self.unit)}",
@@ -63,9 +63,14 @@ class DesignReport:
     extremes: list[tuple[str, float, float, str]] = field(default_factory=list)  # name, value, at_deg, unit
     sampling: str = ""
     checks_error: str | None = None
+    #: report.json's ``checks`` section these rows were read from (None before the checks ran)
+    checks_dict: dict[str, Any] | None = None
 
     @property
     def failed_checks(self) -> list[str]:
+        """report.json's ``checks.failed`` (verbatim)."""
+        if self.checks_dict is not None:
+            return list(self.checks_dict.get("failed") or [])
         return [c.name for c in self.checks if c.status == "fail"]
 
     @property
@@ -100,10 +105,10 @@ class DesignReport:
         return "\n".join(lines)
 
 
-def _sampling_text(checks: Any) -> str:
-    if checks.sampling == "thesis71":
+def _sampling_text(checks: dict[str, Any]) -> str:
+    if checks.get("sampling") == "thesis71":
         return "the thesis' 71 nodes per rise/return"
-    return f"{checks.samples} samples per rise/return, refined extrema"
+    return f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema"
 
 
 def design_report(obj: Any) -> DesignReport:
@@ -121,23 +126,35 @@ def design_report(obj: Any) -> DesignReport:
 
 
 def check_rows(checks: Any) -> list[CheckRow]:
-    """The rows of the design-check table for ``generators.design_checks.DesignChecks``."""
-    return [CheckRow(r.name, r.description, r.kind, r.value, r.at_deg, r.limit, r.unit, r.status, r.note)
-            for r in checks.results]
+    """The rows of the design-check table, read from report.json's ``checks`` section
+    (``DesignChecks.to_dict()``; a ``DesignChecks`` is turned into that dict first), one per
+    entry of ``results`` in its order."""
+    d = checks.to_dict() if hasattr(checks, "to_dict") else checks
+    return [CheckRow(name, str(r.get("description", "")), str(r.get("kind", "")), r.get("value"),
+                     r.get("at_deg"), r.get("limit"), str(r.get("unit", "")), str(r.get("status", "")),
+                     str(r.get("note", "")))
+            for name, r in d["results"].items()]
+
+
+def checks_table(checks: Any) -> list[list[str]]:
+    """The table Check design shows (one row of :meth:`CheckRow.cells` per check), from
+    report.json's ``checks`` section: no FreeCAD needed."""
+    return [c.cells() for c in check_rows(checks)]
 
 
 def _add_checks(report: DesignReport, spec: Any) -> None:
     from generators.design_checks import run_checks
 
     try:
-        checks = run_checks(spec)
+        checks = run_checks(spec).to_dict()  # the dict report.json's checks section is
     except CamError as exc:
         report.checks_error = str(exc)
         return
+    report.checks_dict = checks
     report.sampling = _sampling_text(checks)
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
-                       for name, e in checks.extremes.items()]
+                       for name, e in checks["extremes"].items()]
 
 
 def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
@@ -192,9 +209,12 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
         ("Motion", "max jerk", f"{m['max_jerk']:.6g} {u}/s³", ""),
     ]
     pr = s["profile"]
+    claim = profile_claim(s, spec.is_roller, u)
     rows += [
         ("Profile", "NURBS", f"degree {pr['degree']}, {pr['poles']} poles, "
                              f"{'rational' if pr['rational'] else 'polynomial'}", ""),
+        ("Profile", "is the", claim.text, ""),
+        ("Profile", "max distance from the design-intent profile", f"{pr['max_error']:.3g} {u}", ""),
         ("Profile", "cross-section area", f"{s['area']:.8g} {u}²", ""),
         ("Profile", "volume", f"{s['volume']:.8g} {u}³", ""),
     ]
