@@ -61,10 +61,10 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
     if plan.program == "xy":
         path = contour_path(design, plan)
-        gcode = contour_program(design, plan, path)
+        gcode = contour_program(design, plan, path, summary=summary)
     else:
         path = rotary_path(design, plan, acc.commands)
-        gcode = rotary_program(design, plan, path)
+        gcode = rotary_program(design, plan, path, summary=summary)
     interp = acc.summary()
     tol = spec.pitch.tolerance
     interp["pitch_tolerance"] = tol

@@ -1,6 +1,6 @@
 """Every output tells the truth and agrees with report.json.
 
-Three cams: the default one (its pressure_angle check fails: 46.24° > 30°), a passing one
+Three cams: the paper's (--example paper: its pressure_angle check fails, 46.24° > 30°), a passing one
 (cam.base_radius = 60) and one with a fitted B-spline pitch curve.  Each output is read
 back as a user's tool would read it — the HTML parsed, the DXF read with ezdxf, the G-code
 and the CLI's table as text, the SVG plots' paths and tick labels — and held against the
@@ -56,9 +56,9 @@ def run(*args):
 
 
 # ---- the cams ------------------------------------------------------------------------------
-def _built(tmp_path_factory, name, *sets):
+def _built(tmp_path_factory, name, *sets, example="default"):
     out = tmp_path_factory.mktemp(name) / "out"
-    args = [a for s in sets for a in ("--set", s)]
+    args = ["--example", example, *[a for s in sets for a in ("--set", s)]]
     res = run("build", *args, "-o", str(out))
     assert res.returncode == 0, res.stderr
     return out
@@ -66,8 +66,8 @@ def _built(tmp_path_factory, name, *sets):
 
 @pytest.fixture(scope="module")
 def failing(tmp_path_factory):
-    """`cam-workbench build` of the default cam."""
-    return _built(tmp_path_factory, "failing")
+    """`cam-workbench build` of the paper's cam (--example paper: its pressure angle fails)."""
+    return _built(tmp_path_factory, "failing", example="paper")
 
 
 @pytest.fixture(scope="module")
@@ -225,9 +225,10 @@ def _programs(folder):
             rotary_program(design, plan, rotary_path(design, plan), summary=report))
 
 
-def _cli_check_rows(folder, *sets):
+def _cli_check_rows(folder, *sets, example="default"):
     """{check: [value, at, limit, status]} from `cam-workbench check`'s printed table."""
-    res = run("check", *[a for s in sets for a in ("--set", s)], "-o", str(folder.parent / "check"))
+    res = run("check", "--example", example, *[a for s in sets for a in ("--set", s)],
+              "-o", str(folder.parent / "check"))
     rows = {}
     for line in res.stdout.splitlines():
         if line.startswith("│"):
@@ -266,7 +267,7 @@ def test_failing_check_fails_in_every_output(failing):
         assert any(f"max follower deviation {report['pitch']['max_deviation']:.3g} mm" in h for h in head)
         assert any(f"max error {report['profile']['max_error']:.3g} mm" in h for h in head)
     # CLI check table (exit 3)
-    res, rows = _cli_check_rows(failing)
+    res, rows = _cli_check_rows(failing, example="paper")
     assert res.returncode == 3
     assert rows["pressure_angle"][3].startswith("fail")
     assert rows["pressure_angle"][0] == f"{pa['value']:.3f}°" and rows["pressure_angle"][1] == f"{pa['at_deg']:.3f}°"

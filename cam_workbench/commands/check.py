@@ -10,7 +10,7 @@ from typing import Any
 from exporters.atomic import OutputSet
 from exporters.report_json import report_json_text
 from generators.cam_area import area_summary
-from generators.design_checks import format_value, run_checks
+from generators.design_checks import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
 from generators.spec import CamSpec, spec_digest
 
@@ -116,10 +116,3 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(f"{verdict} — checks written to {out}/report.json")
 
-
-def limit_sign(name: str, kind: str) -> str:
-    """How a check's value compares with its limit: ≤ for maxima; ≥ for curvature, oscillation
-    and convexity minima; > for the others (separation, undercut)."""
-    if kind == "max":
-        return "≤"
-    return "≥" if name in ("oscillation", "curvature", "convexity") else ">"
