@@ -47,6 +47,14 @@ class PlateCam:
             spec = spec.replace(**changes)
         self.spec: CamSpec = spec
         self.design: CamDesign = design_cam(spec)
+        self._outputs: Any = None
+
+    @classmethod
+    def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
+        """A built-in example cam: "default" or "paper" (the paper's Table 1, case 2)."""
+        from generators.examples import example_spec
+
+        return cls(example_spec(name), **changes)
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> "PlateCam":
@@ -116,9 +124,26 @@ class PlateCam:
         export_dxf(self.design, path)
         return Path(path)
 
+    def outputs(self) -> Any:
+        """Every output of the cam, computed by the one pipeline ``cam-workbench build`` runs
+        (:class:`cam_workbench.pipeline.CamOutputs`; nothing written)."""
+        from .pipeline import run_pipeline
+
+        if self._outputs is None:
+            self._outputs = run_pipeline(self.spec, design=self.design)
+        return self._outputs
+
     def report(self) -> dict[str, Any]:
-        """The numbers of ``report.json``."""
-        return self.design.summary()
+        """The numbers of ``report.json`` (without ``files``), as ``cam-workbench build`` writes them."""
+        return self.outputs().summary
+
+    def export(self, folder: str | os.PathLike[str]) -> dict[str, Any]:
+        """Write everything ``cam-workbench build`` writes (cam.step, cam.dxf, cam.nc,
+        commands.csv, report.json, report.html, plots) into ``folder`` as one set; returns the
+        report as written."""
+        from .pipeline import write_outputs
+
+        return write_outputs(self.outputs(), folder)
 
     @property
     def area(self) -> float:

@@ -10,7 +10,7 @@ from typing import Any
 from generators.cam_design import CamDesign
 from generators.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from generators.machining import MachiningPlan, machining_plan
-from generators.toolpath import contour_path, rotary_path
+from generators.toolpath import contour_path, rotary_path, tool_centre_fit_error
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
@@ -47,8 +47,10 @@ class MachiningOutputs:
             out.add(PLOT_FILES[key], lambda p, f=fig: write_png(f, p))
 
 
-def machining_outputs(design: CamDesign, plots: bool = True) -> MachiningOutputs:
-    """Compute the machining outputs of ``design`` (its spec's ``[machining]``).
+def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, Any] | None = None
+                      ) -> MachiningOutputs:
+    """Compute the machining outputs of ``design`` (its spec's ``[machining]``); ``summary`` is
+    the report's summary so far (the G-code header quotes its numbers).
 
     Raises:
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
@@ -76,6 +78,8 @@ def machining_outputs(design: CamDesign, plots: bool = True) -> MachiningOutputs
         "depth": plan.depth,
         "passes": plan.passes,
         "gcode_lines": gcode.count("\n"),
+        # distance of the tool-centre curve from the exact offset of the pitch curve (0: exact)
+        "tool_centre_fit_error": tool_centre_fit_error(design, plan),
         plan.program: path.summary(),
     }
     figures = {}

@@ -78,3 +78,62 @@ def integrate(coeffs: np.ndarray, start: np.ndarray | float = 0.0) -> np.ndarray
     start = np.asarray(start)[..., None]
     zero = np.zeros(coeffs.shape[:-1] + (1,), dtype=np.result_type(coeffs, float))
     return np.concatenate([zero, c], axis=-1) + start
+
+
+def bernstein_from_power(power: np.ndarray) -> np.ndarray:
+    """Bernstein coefficients (..., n+1) of polynomials given by monomial coefficients
+    (..., n+1), lowest power first: b_j = Σ_{k≤j} C(j,k)/C(n,k)·a_k."""
+    n = power.shape[-1] - 1
+    mat = np.zeros((n + 1, n + 1))
+    for j in range(n + 1):
+        for k in range(j + 1):
+            mat[k, j] = comb(j, k) / comb(n, k)
+    return power @ mat
+
+
+class BezierChain:
+    """A closed chain of M polynomial Bézier segments r_k(ξ), ξ ∈ [0, 1] (complex control
+    points ``ctrl`` (M, n+1)), queried by (segment, ξ) pairs as :class:`PHSpline` is —
+    the form in which the pitch-curve consumers (Eq. 13 solves, the interpolator, curvature
+    samples) read any polynomial pitch curve."""
+
+    iterations = None
+    residual = None
+    closing_sign = None
+
+    def __init__(self, ctrl: np.ndarray):
+        self.ctrl = np.asarray(ctrl, dtype=complex)
+        self._d1 = derivative(self.ctrl)
+        self._d2 = derivative(self._d1)
+
+    @property
+    def M(self) -> int:
+        return int(self.ctrl.shape[0])
+
+    @property
+    def degree(self) -> int:
+        return int(self.ctrl.shape[1] - 1)
+
+    def point(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        return evaluate_at(self.ctrl, np.asarray(seg), np.asarray(xi, dtype=float))
+
+    def first_derivative(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """dr/dξ."""
+        return evaluate_at(self._d1, np.asarray(seg), np.asarray(xi, dtype=float))
+
+    def second_derivative(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        return evaluate_at(self._d2, np.asarray(seg), np.asarray(xi, dtype=float))
+
+    def curvature(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """Signed curvature (positive turning left)."""
+        d1 = self.first_derivative(seg, xi)
+        d2 = self.second_derivative(seg, xi)
+        return (np.conj(d1) * d2).imag / np.abs(d1) ** 3
+
+    @property
+    def arc_length(self) -> float:
+        """Arc length by 16-point Gauss–Legendre quadrature on every segment."""
+        xg, wg = np.polynomial.legendre.leggauss(16)
+        xi = np.tile(0.5 * (xg + 1.0), self.M)
+        seg = np.repeat(np.arange(self.M), xg.shape[0])
+        return float(np.sum(np.abs(self.first_derivative(seg, xi)) * np.tile(0.5 * wg, self.M)))

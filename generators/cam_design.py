@@ -12,7 +12,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .cam_area import area_summary
-from .design_checks import run_checks
+from .design_checks import DesignChecks, run_checks
 from .extrema import refine_max
 from .follower import FollowerGeometry
 from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
@@ -23,6 +23,7 @@ from .offsets import offset_nurbs, pitch_nurbs
 from .pitch import PitchCurve, build_pitch
 from .pitch_bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
                             fit_offset, profile_errors)
+from .errors import GeometryError
 from .spec import CamSpec, spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
@@ -54,6 +55,8 @@ class CamDesign:
     curvature_samples: CurvatureSamples = field(repr=False)
     #: pitch.representation = "bspline": the fitted curves and their errors (else None)
     bspline: "BSplineProfile | None" = field(default=None, repr=False)
+    #: the design checks of the spec (``report.json`` ``checks``; the ones ``check`` prints)
+    checks: DesignChecks | None = field(default=None, repr=False)
 
     @property
     def program(self) -> MotionProgram:
@@ -189,8 +192,13 @@ class CamDesign:
                 "built_profile": self.profile_area,
                 "built_cross_section": self.area,
             },
-            "checks": run_checks(spec, program=self.program).to_dict(),
+            "checks": self.design_checks.to_dict(),
         }
+
+    @property
+    def design_checks(self) -> DesignChecks:
+        """The design checks (computed once, when the cam was designed)."""
+        return self.checks if self.checks is not None else run_checks(self.spec, program=self.program)
 
     def _profile_summary(self) -> dict[str, Any]:
         rr = self.spec.roller_radius
@@ -257,8 +265,29 @@ class BSplineProfile:
     errors: ProfileErrors
 
 
+def refuse_undercut(checks: DesignChecks, roller_radius: float) -> None:
+    """Raise the design checks' own undercut failure as a GeometryError (the numbers and the
+    cam angle ``cam-workbench check`` prints), so that a cam is never built past it."""
+    try:
+        r = checks["undercut"]
+    except KeyError:
+        return
+    if r.status != "fail":
+        return
+    parts = []
+    if r.value is not None and r.value <= 0:
+        parts.append(f"roller radius {roller_radius:g} ≥ smallest convex pitch radius of curvature "
+                     f"{r.value + roller_radius:.6g} (cam surface {r.value:.6g})")
+    if r.note:
+        parts.append(r.note)
+    raise GeometryError("undercut", f"undercut at cam angle {r.at_deg:.3f}°: {'; '.join(parts)} — use a smaller "
+                        "roller, a larger base radius or a gentler motion", r.at_deg)
+
+
 def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
     pitch = build_bspline_pitch(spec, progress)
+    checks = run_checks(spec, program=pitch.program)
+    refuse_undercut(checks, spec.roller_radius)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch.to_nurbs()
@@ -271,7 +300,8 @@ def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None
     errors = profile_errors(pitch, fit, rr, inward)
     return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile,  # type: ignore[arg-type]
                      max_deviation=pitch.max_deviation(), min_profile_radius=rmin,
-                     curvature_samples=cs, bspline=BSplineProfile(pitch.curve, inward, fit, errors))
+                     curvature_samples=cs, bspline=BSplineProfile(pitch.curve, inward, fit, errors),
+                     checks=checks)
 
 
 def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
@@ -285,6 +315,8 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
     if spec.pitch.representation == "bspline":
         return _design_bspline(spec, progress)
     pitch = build_pitch(spec, progress=progress)
+    checks = run_checks(spec, program=pitch.program)
+    refuse_undercut(checks, spec.roller_radius)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch_nurbs(pitch.spline)
@@ -296,4 +328,4 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
     rmin = check_bore(profile, pitch, spec.cam.bore_diameter)
     dev = pitch.max_deviation()
     return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile, max_deviation=dev,
-                     min_profile_radius=rmin, curvature_samples=cs)
+                     min_profile_radius=rmin, curvature_samples=cs, checks=checks)

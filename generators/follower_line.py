@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import SolveError
+from .bezier import BezierChain
 from .ph_spline import PHSpline
 
 TWO_PI = 2.0 * np.pi
@@ -55,27 +56,35 @@ class Contact:
 
 
 class FollowerLineSolver:
-    """Precomputed monomial forms of a PH spline for fast vectorised Eq. 13 solves.
+    """Precomputed monomial forms of a chain of Bézier segments (the PH spline, or a
+    B-spline pitch curve in Bézier form) for fast vectorised Eq. 13 solves.
 
     Args:
-        spline: the closed PH pitch spline.
+        spline: the closed pitch curve as Bézier segments: ``ctrl`` (M, n+1) complex and ``M``.
         junction_angles: (M,) cam angles [rad] of junctions q_0..q_{M−1}, increasing from 0.
         offset: follower offset e.
         sense: +1 for a ccw cam, −1 for cw.
     """
 
-    def __init__(self, spline: PHSpline, junction_angles: np.ndarray, offset: float, sense: int):
+    def __init__(self, spline: "PHSpline | BezierChain", junction_angles: np.ndarray, offset: float, sense: int):
         self.spline = spline
-        self.angles = np.append(np.asarray(junction_angles, dtype=float), TWO_PI)
+        ang = np.asarray(junction_angles, dtype=float)
+        self.angles = np.append(ang, ang[0] + TWO_PI)
         self.offset = float(offset)
         self.sense = int(sense)
-        self._pc = power_coeffs(spline.ctrl)                  # r(ξ), degree 5
-        self._dpc = self._pc[:, 1:] * np.arange(1, 6)        # r'(ξ), degree 4
+        self._pc = power_coeffs(spline.ctrl)                  # r(ξ), degree n (5 for PH)
+        self._deg = self._pc.shape[1] - 1
+        self._dpc = self._pc[:, 1:] * np.arange(1, self._deg + 1)  # r'(ξ), degree n − 1
         self._size = np.max(np.abs(spline.ctrl), axis=1)     # bound of |r(ξ)| on each segment
 
+    def wrap(self, theta: np.ndarray) -> np.ndarray:
+        """θ taken modulo 2π into [θ_0, θ_0 + 2π) (θ_0 = 0 for a PH spline)."""
+        a0 = self.angles[0]
+        return np.mod(np.asarray(theta, dtype=float) - a0, TWO_PI) + a0
+
     def segment_of(self, theta: np.ndarray) -> np.ndarray:
-        """PH segment whose junction angles bracket θ (θ taken modulo 2π)."""
-        t = np.mod(theta, TWO_PI)
+        """Segment whose junction angles bracket θ (θ taken modulo 2π)."""
+        t = self.wrap(theta)
         return np.clip(np.searchsorted(self.angles, t, side="right") - 1, 0, self.spline.M - 1)
 
     def solve(self, theta: np.ndarray, xi0: np.ndarray | None = None, seg: np.ndarray | None = None,
@@ -83,7 +92,7 @@ class FollowerLineSolver:
         """Solve Eq. 13 for every θ [rad]; optional starting ξ and segment per sample
         (the previous command's root, paper's ξ⁽⁰⁾_{i,k} = ξ_{i,k−1})."""
         theta = np.asarray(theta, dtype=float)
-        t = np.mod(theta, TWO_PI)
+        t = self.wrap(theta)
         if seg is None:
             seg = self.segment_of(t)
         seg = np.asarray(seg).copy()
@@ -116,11 +125,11 @@ class FollowerLineSolver:
 
     def _newton(self, seg: np.ndarray, xi: np.ndarray, rot: np.ndarray, tol: float, max_iter: int
                 ) -> tuple[np.ndarray, int]:
-        # Turning the segment by θ makes Eq. 13 a real quintic in ξ: its coefficients
+        # Turning the segment by θ makes Eq. 13 a real polynomial (a quintic for PH) in ξ: its coefficients
         # a_j = Re(e^{iδθ} c_j) are formed once, then each Newton step (Eq. 14) is two
         # real Horner evaluations, rows contiguous (6, N).
         a = (rot * self._pc[seg].T).real
-        da = a[1:] * np.arange(1, 6)[:, None]
+        da = a[1:] * np.arange(1, self._deg + 1)[:, None]
         e = self.offset
         floor = 16 * np.finfo(float).eps * (self._size[seg] + abs(e))
         active = np.ones(xi.shape, dtype=bool)

@@ -118,8 +118,10 @@ class RotationalInterpolator:
     def __init__(self, pitch: PitchCurve):
         self.pitch = pitch
         self.solver: FollowerLineSolver = pitch.solver()
-        sp, geo = pitch.spline, pitch.geometry
-        ang = np.append(pitch.angles, TWO_PI)
+        # the pitch curve as Bézier segments and the cam angles that bound them (PH: the
+        # spline and its junction angles; B-spline: its knot spans in Bézier form)
+        sp, geo = self.solver.spline, pitch.geometry
+        ang = self.solver.angles
         self._h = np.diff(ang)                                   # junction spacing [rad]
         # dξ/dθ at both ends of every segment, from differentiating Eq. 13:
         #   Re(e^{iδθ}r') ξ' − δ·Im(e^{iδθ}r) = 0   →   ξ' = δ·Y / Re(e^{iδθ}r').
@@ -143,7 +145,7 @@ class RotationalInterpolator:
     def initial_guess(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(segment, ξ) starting values: cubic Hermite interpolation of ξ(θ) between the
         junctions, where ξ = 0, 1 and dξ/dθ are exact."""
-        t = np.mod(theta, TWO_PI)
+        t = self.solver.wrap(theta)
         seg = self.solver.segment_of(t)
         u = (t - self.solver.angles[seg]) / self._h[seg]
         u2 = u * u

@@ -75,7 +75,7 @@ class MotionProgram:
 
     def segment_of(self, theta: np.ndarray) -> np.ndarray:
         """Index of the motion segment containing each θ (θ reduced modulo 2π)."""
-        t = np.mod(theta, TWO_PI)
+        t = wrap_angle(theta)
         return np.clip(np.searchsorted(self.starts, t, side="right") - 1, 0, len(self.starts) - 1)
 
     def evaluate(self, theta: np.ndarray | float, segment: np.ndarray | None = None) -> Kinematics:
@@ -86,7 +86,7 @@ class MotionProgram:
         the one-sided value at a segment end, where a law's jerk (or a harmonic's
         acceleration) jumps; by default the segment containing θ is used."""
         theta = np.asarray(theta, dtype=float)
-        t = np.mod(theta, TWO_PI)
+        t = wrap_angle(theta)
         idx = self.segment_of(t) if segment is None else np.asarray(segment)
         if segment is not None:
             # θ = 2π at the end of the last segment must not wrap to 0
@@ -144,3 +144,10 @@ class MotionProgram:
             n = samples_per_segment if self.laws[k] is not None else 2
             parts.append(self.starts[k] + self.spans[k] * np.linspace(0.0, 1.0, n))
         return np.concatenate(parts)
+
+
+def wrap_angle(theta: np.ndarray | float) -> np.ndarray:
+    """θ reduced to [0, 2π) [rad]: ``np.mod`` alone returns 2π itself for tiny negative θ
+    (−1e-17 rounds to 2π), which would put the start of the program at its end."""
+    t = np.mod(np.asarray(theta, dtype=float), TWO_PI)
+    return np.where(t >= TWO_PI, 0.0, t)

@@ -53,7 +53,23 @@ class PitchCurve:
     def M(self) -> int:
         return self.spline.M
 
+    @property
+    def segments(self) -> PHSpline:
+        """The curve as Bézier segments bounded by :attr:`angles` (here the PH spline itself)."""
+        return self.spline
+
+    @property
+    def junction_parameters(self) -> np.ndarray:
+        """Parameters of the junction points on the neutral curves (segment k starts at k)."""
+        return np.arange(self.M, dtype=float)
+
+    @property
+    def exact_offsets(self) -> bool:
+        """Offsets of this curve are exact rational NURBS (PH: yes)."""
+        return True
+
     def solver(self) -> FollowerLineSolver:
+        """Eq. 13 solver on :attr:`segments`."""
         return FollowerLineSolver(self.spline, self.angles, self.geometry.offset, self.geometry.sense)
 
     def contact(self, theta: np.ndarray) -> Contact:

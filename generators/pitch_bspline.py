@@ -30,7 +30,8 @@ from scipy.sparse.linalg import spsolve
 from .bspline_law import basis_derivatives
 from .errors import SolveError, SpecError
 from .follower import FollowerGeometry
-from .follower_line import Contact
+from .bezier import BezierChain, bernstein_from_power
+from .follower_line import Contact, FollowerLineSolver
 from .motion import MotionProgram
 from .nurbs import NurbsCurve
 from .spec import DEFAULT_SEGMENTS, CamSpec
@@ -254,12 +255,49 @@ class BSplinePitchCurve:
         return self.curve.breaks[:-1]
 
     @property
+    def junction_parameters(self) -> np.ndarray:
+        """Parameters of the knot points on the neutral curves (:meth:`to_nurbs`)."""
+        return self.angles * self.parameter_scale
+
+    @property
     def parameter_scale(self) -> float:
         """v = θ·scale: the neutral curves' parameter (see the module docstring)."""
         return self.M / TWO_PI
 
     def to_nurbs(self) -> NurbsCurve:
         return self.curve.to_nurbs(self.parameter_scale)
+
+    @property
+    def exact_offsets(self) -> bool:
+        """Offsets of a general B-spline are not rational: outputs use fitted offsets."""
+        return False
+
+    @cached_property
+    def segments(self) -> BezierChain:
+        """The curve as one Bézier segment per knot span (exact: the spans' polynomials),
+        segment k bounded by :attr:`solver_angles` k and k + 1."""
+        return BezierChain(bernstein_from_power(self.curve._power_form))
+
+    @cached_property
+    def solver_angles(self) -> np.ndarray:
+        """(M,) cam angles [rad] at which the knot points cross the follower line (closed
+        form, as :meth:`cam_angle_of_point`), kept within half a turn of the knot angles —
+        the fit does not pass exactly through the true pitch points, so these differ from
+        :attr:`angles` by the fit's error."""
+        q = self.segments.ctrl[:, 0]
+        g = self.geometry
+        cross = g.sense * (np.arccos(np.clip(g.offset / np.abs(q), -1.0, 1.0)) - np.angle(q))
+        b = self.angles
+        return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
+
+    def solver(self) -> FollowerLineSolver:
+        """Eq. 13 solver on :attr:`segments`."""
+        g = self.geometry
+        return FollowerLineSolver(self.segments, self.solver_angles, g.offset, g.sense)
+
+    def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
+        """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per span."""
+        return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
 
     def contact(self, theta: np.ndarray, tol: float = 1e-14, max_iter: int = 30) -> Contact:
         """Paper Eq. 13 on the B-spline: Re(e^{iδθ} C(u)) = e, Newton from u = θ (the fit's
@@ -287,7 +325,7 @@ class BSplinePitchCurve:
 
     def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
-        n = n or max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
+        n = n or self.deviation_count(step_deg)
         th = TWO_PI * np.arange(n) / n
         return th, self.actual_displacement(th) - self.program.s(th)
 

@@ -54,6 +54,8 @@ FIT_MARGIN = 0.85
 BLEND_SHARE = 0.1
 #: Arcs whose sagitta is below this fraction of the tolerance are emitted as lines.
 FLAT_ARC = 0.05
+#: knot spans of a fitted tool-centre B-spline per span of the fitted pitch B-spline
+OFFSET_REFINE = 2
 
 
 # ---- the exact tool-centre path -----------------------------------------------------
@@ -63,13 +65,38 @@ def outward_distance(pitch: PitchCurve, distance: float) -> float:
 
 
 def tool_centre_curve(design: CamDesign, plan: MachiningPlan) -> NurbsCurve:
-    """The exact tool-centre path in the cam frame: the pitch curve offset outward by
-    tool radius − roller radius (exact rational NURBS, one span per PH segment, traversed
-    as the pitch curve is)."""
+    """The tool-centre path in the cam frame: the pitch curve offset outward by tool radius −
+    roller radius, traversed as the pitch curve is.  For a PH pitch curve the exact rational
+    NURBS (one span per PH segment); for a B-spline pitch curve, whose offsets are not
+    rational, a B-spline fitted to its exact offset (error: :func:`tool_centre_fit_error`)."""
     d = plan.centre_offset
     if d == 0.0:
         return design.pitch_nurbs
-    return offset_nurbs(design.pitch.spline, outward_distance(design.pitch, d))
+    if design.pitch.exact_offsets:
+        return offset_nurbs(design.pitch.spline, outward_distance(design.pitch, d))
+    return _fitted_tool_centre(design, d).to_nurbs(design.pitch.parameter_scale)
+
+
+def _fitted_tool_centre(design: CamDesign, distance: float) -> Any:
+    from .pitch_bspline import fit_offset
+
+    pitch = design.pitch
+    return fit_offset(pitch.curve, pitch.geometry.sense * distance, refine=OFFSET_REFINE)
+
+
+def tool_centre_fit_error(design: CamDesign, plan: MachiningPlan) -> float:
+    """Largest distance [length] of :func:`tool_centre_curve` from the exact offset of the pitch
+    curve: 0 where the offset is exact (PH pitch curve, or tool = roller), else measured on
+    the fitted B-spline (dense samples, foot points on the exact offset)."""
+    d = plan.centre_offset
+    if d == 0.0 or design.pitch.exact_offsets:
+        return 0.0
+    from .pitch_bspline import distance_to_offset
+
+    fit = _fitted_tool_centre(design, d)
+    u = np.linspace(0.0, TWO_PI, 64 * fit.n_spans, endpoint=False)
+    pts = fit.evaluate(u)[0]
+    return float(np.max(distance_to_offset(pts, u, design.pitch.curve, design.pitch.geometry.sense * d)))
 
 
 # ---- XY contour ---------------------------------------------------------------------
@@ -192,7 +219,7 @@ def contour_path(design: CamDesign, plan: MachiningPlan) -> ContourPath:
     curve_cw = curve.area() < 0
     clockwise = plan.milling == "climb"
     k = entry_junction(design.pitch)
-    p, d = curve.evaluate_with_derivative(np.array([float(k)]))
+    p, d = curve.evaluate_with_derivative(np.array([float(design.pitch.junction_parameters[k])]))
     entry = complex(p[0, 0], p[0, 1])
     tangent = complex(d[0, 0], d[0, 1])
     tangent /= abs(tangent)
@@ -334,6 +361,24 @@ class OffsetLineSolver:
         raise SolveError("Newton iteration on the tool-centre path did not converge")
 
 
+def _fitted_line_positions(design: CamDesign, distance: float, line: float, theta: np.ndarray) -> np.ndarray:
+    """B-spline pitch curve: position along the tool's line x = ``line`` where it meets the
+    fitted tool-centre B-spline at cam angles θ (Eq. 13 on that curve)."""
+    import dataclasses
+
+    from .pitch_bspline import BSplinePitchCurve
+
+    pitch = design.pitch
+    geo = dataclasses.replace(pitch.geometry, offset=line)
+    centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, geo)
+    ang = np.append(centre.solver_angles, centre.solver_angles[0] + TWO_PI)
+    if np.any(np.diff(ang) <= 0) or np.any(np.abs(centre.segments.ctrl[:, 0]) <= abs(line)):
+        k = int(np.argmax(np.diff(ang) <= 0))
+        raise GeometryError("rotary", f"the tool's line x = {line:g} does not meet the tool-centre path "
+                                      "once per turn", float(np.rad2deg(ang[k]) % 360.0))
+    return centre.solver().solve(theta).Y
+
+
 @dataclass(frozen=True)
 class RotaryPath:
     """The XC program's blocks: block k runs from point k to point k+1 in time durations[k].
@@ -417,9 +462,11 @@ def rotary_path(design: CamDesign, plan: MachiningPlan, commands: Commands | Non
     from_commands = plan.rotary_line == "follower" and plan.centre_offset == 0.0
     if from_commands:
         x = np.append(cmds.s_actual, cmds.s_actual[0]) + geo.s0
-    else:
+    elif pitch.exact_offsets:
         solver = OffsetLineSolver(pitch.spline, outward_distance(pitch, plan.centre_offset), line, geo.sense)
         x = solver.solve(theta)[3]
+    else:
+        x = _fitted_line_positions(design, plan.centre_offset, line, theta)
     curve = tool_centre_curve(design, plan)
     c_deg = geo.sense * np.rad2deg(theta)
     durations = np.diff(theta) / omega

@@ -12,14 +12,15 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec  # noqa: E402
+from generators.examples import PAPER_SPEC_DICT  # noqa: E402
+from generators.spec import CamSpec  # noqa: E402
 
 ARTIFACTS = ROOT / "test-artifacts"
 
 
 def paper_case_dict(case: int, knife: bool = True) -> dict:
     """The paper's Table 1 cam: case 1 (e = 0, M = 60), 2 (e = 10, M = 60), 3 (e = 10, M = 64)."""
-    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d = copy.deepcopy(PAPER_SPEC_DICT)
     e = 0.0 if case == 1 else 10.0
     d["cam"]["base_radius"] = math.hypot(20.0, e)  # h' = 20 mm (paper Eq. 7)
     d["cam"]["bore_diameter"] = 0.0

@@ -5,16 +5,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from exporters.atomic import OutputSet
-from exporters.dxf import build_dxf
-from exporters.machining_outputs import machining_outputs
-from exporters.step import write_step
-from generators.errors import GeometryError
-
-from .. import occ_build
-from .common import add_spec_arguments, design_for, spec_from_args
+from ..pipeline import plot_count, run_pipeline, write_outputs
+from .common import add_spec_arguments, design_for, plot_progress, spec_from_args
 from .dxf_cmd import describe as describe_dxf
-from .report_cmd import add_report_files, base_summary, plot_count, plot_progress
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -34,34 +27,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    design = design_for(spec)
-    shape = occ_build.cam_solid(design)
-    # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
-    # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
-    step_shape = shape if design.bspline is None else occ_build.cam_solid(design, exact_offset=False)
-    for s in {id(shape): shape, id(step_shape): step_shape}.values():
-        if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
-            raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
-    summary = base_summary(design, shape)
-    if design.bspline is not None:
-        summary["solid"]["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
-        summary["solid"]["step_profile"] = "fitted offset B-spline (profile.max_error)"
-        summary["solid"]["step_cross_section_area"] = occ_build.face_area(
-            occ_build.planar_face_at(step_shape, design.spec.cam.thickness))
-    # computed before anything is written; its plots come with the report (report.html + PNG)
-    machining = machining_outputs(design, plots=False)
-    summary["interpolator"] = machining.interpolator_summary
-    summary["machining"] = machining.machining_summary
-    doc, dxf_info = build_dxf(design, summary)
-    summary["drawing"] = dxf_info.summary()
+    outputs = run_pipeline(spec, design=design_for(spec))
     out = Path(args.output)
-    files = {"step": "cam.step", "dxf": "cam.dxf", **machining.files}
-    prog, cb = plot_progress(plot_count(design, summary))
-    with prog, OutputSet(out) as o:
-        o.add(files["step"], lambda p: write_step(step_shape, p, spec.units))
-        o.add(files["dxf"], lambda p: doc.saveas(str(p)))
-        machining.write(o)
-        report = add_report_files(o, design, summary, files, progress=cb)
+    prog, cb = plot_progress(plot_count(outputs))
+    with prog:
+        report = write_outputs(outputs, out, progress=cb)
     _print_summary(report, out)
     return 0
 

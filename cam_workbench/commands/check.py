@@ -10,10 +10,12 @@ from typing import Any
 from exporters.atomic import OutputSet
 from exporters.report_json import report_json_text
 from generators.cam_area import area_summary
-from generators.design_checks import DesignChecks, format_value, run_checks
+from generators.design_checks import format_value, run_checks
+from generators.errors import GeometryError
 from generators.spec import CamSpec, spec_digest
 
-from .common import add_spec_arguments, spec_from_args
+from ..pipeline import run_pipeline
+from .common import add_spec_arguments, design_for, spec_from_args
 
 EXIT_CHECK_FAILED = 3
 
@@ -41,60 +43,83 @@ def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     if args.sampling:
         spec = spec.replace(**{"checks.sampling": args.sampling})
-    checks = run_checks(spec)
+    try:
+        # the numbers `build` reports for the same spec (one pipeline), without solid or files
+        summary = run_pipeline(spec, solid=False, machining=False, drawing=False,
+                               design=design_for(spec)).summary
+        error = None
+    except GeometryError as exc:
+        checks_only = run_checks(spec)
+        if checks_only.passed:
+            raise          # a cam that cannot be made though its checks pass: exit 2, nothing written
+        error = exc
+        summary = {"units": spec.units, "spec_digest": spec_digest(spec), "areas": area_summary(spec),
+                   "checks": checks_only.to_dict(), "spec": spec.to_dict(),
+                   "buildable": {"ok": False, "message": str(exc), "at_deg": exc.angle_deg}}
     out = Path(args.output)
-    report = merged_report(out / "report.json", spec, checks)
+    report = merged_report(out / "report.json", spec, summary)
     with OutputSet(out) as o:
         o.add_text("report.json", report_json_text(report))
+    checks = report["checks"]
     print_table(checks, spec, out, report["areas"])
-    return 0 if checks.passed else EXIT_CHECK_FAILED
+    if error is not None:
+        print(f"the cam cannot be made: {error}")
+    return 0 if checks["passed"] else EXIT_CHECK_FAILED
 
 
-def merged_report(path: Path, spec: CamSpec, checks: DesignChecks) -> dict[str, Any]:
-    """report.json with a fresh ``checks`` section: merged into the existing report when that
-    report was written for the same spec (same ``spec_digest``), else a new report."""
+def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[str, Any]:
+    """report.json with the fresh ``checks`` section: merged into the existing report when that
+    report was written for the same spec (same ``spec_digest``: its numbers are the ones
+    ``summary`` holds), else ``summary`` itself."""
     digest = spec_digest(spec)
-    base: dict[str, Any] = {}
     if path.exists():
         try:
             old = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             old = None
         if isinstance(old, dict) and old.get("spec_digest") == digest:
-            base = old
-    if not base:
-        base = {"units": spec.units, "spec_digest": digest, "areas": area_summary(spec)}
-    base["checks"] = checks.to_dict()
-    return base
+            old["checks"] = summary["checks"]
+            return old
+    return summary
 
 
-def print_table(checks: DesignChecks, spec: CamSpec, out: Path, areas: dict[str, float]) -> None:
-    """The checks as a rich table, then the extremes (the thesis' "Maximum Values")."""
+def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float]) -> None:
+    """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
+    Values") — the values printed are report.json's own."""
     from rich.console import Console
     from rich.table import Table
 
     console = Console()
-    mode = ("the thesis' 71 nodes per rise/return" if checks.sampling == "thesis71"
-            else f"{checks.samples} samples per rise/return, refined extrema")
+    mode = ("the thesis' 71 nodes per rise/return" if checks["sampling"] == "thesis71"
+            else f"{checks['samples_per_segment']} samples per rise/return, refined extrema")
     table = Table(title=f"design checks ({mode})")
     for col in ("check", "value", "at", "limit", "status"):
         table.add_column(col, justify="left" if col in ("check", "status") else "right")
     style = {"pass": "green", "fail": "bold red", "skipped": "yellow"}
-    for r in checks.results:
-        op = "≤" if r.kind == "max" else ("≥" if r.name in ("oscillation", "curvature") else ">")
-        limit = "—" if r.limit is None else f"{op} {format_value(r.limit, r.unit)}"
-        at = "—" if r.at_deg is None else f"{r.at_deg:.3f}°"
-        status = f"[{style[r.status]}]{r.status}[/]" + (f" ({r.note})" if r.note and r.status != "pass" else "")
-        table.add_row(f"{r.name} ({r.kind})", format_value(r.value, r.unit), at, limit, status)
+    for name, r in checks["results"].items():
+        limit = "—" if r["limit"] is None else f"{limit_sign(name, r['kind'])} {format_value(r['limit'], r['unit'])}"
+        at = "—" if r["at_deg"] is None else f"{r['at_deg']:.3f}°"
+        status = f"[{style[r['status']]}]{r['status']}[/]" + (
+            f" ({r['note']})" if r["note"] and r["status"] != "pass" else "")
+        table.add_row(f"{name} ({r['kind']})", format_value(r["value"], r["unit"]), at, limit, status)
     console.print(table)
     ext = Table(title="extremes (largest magnitude, signed)")
     for col in ("quantity", "value", "at"):
         ext.add_column(col, justify="left" if col == "quantity" else "right")
-    for name, e in checks.extremes.items():
+    for name, e in checks["extremes"].items():
         ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
     console.print(ext)
     u = spec.units
     console.print(f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {areas['thesis_eq_4_21']:.6g} {u}²; "
                   f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
-    verdict = "[green]all checks pass[/]" if checks.passed else f"[bold red]failed: {', '.join(checks.failed)}[/]"
+    verdict = ("[green]all checks pass[/]" if checks["passed"]
+               else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(f"{verdict} — checks written to {out}/report.json")
+
+
+def limit_sign(name: str, kind: str) -> str:
+    """How a check's value compares with its limit: ≤ for maxima; ≥ for curvature, oscillation
+    and convexity minima; > for the others (separation, undercut)."""
+    if kind == "max":
+        return "≤"
+    return "≥" if name in ("oscillation", "curvature", "convexity") else ">"

@@ -5,7 +5,8 @@ import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
-from generators.spec import CamSpec, default_spec, load_spec
+from generators.examples import example_spec
+from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
     from generators.cam_design import CamDesign
@@ -14,7 +15,10 @@ if TYPE_CHECKING:
 def add_spec_arguments(p: argparse.ArgumentParser) -> None:
     """SPEC positional (optional: the built-in default) and repeatable ``--set FIELD=VALUE``."""
     p.add_argument("spec", nargs="?", metavar="SPEC",
-                   help="cam spec (TOML); omitted: the built-in default (paper Table 1, case 2, 5 mm roller)")
+                   help="cam spec (TOML); omitted: the built-in example named by --example")
+    p.add_argument("--example", metavar="NAME", default=None,
+                   help="a built-in cam instead of SPEC: 'default' (passes every check; the default) or "
+                        "'paper' (Jahanpour & Dolatabadi 2014, Table 1 case 2, 5 mm roller)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a spec field, e.g. --set cam.base_radius=30 or "
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
@@ -44,7 +48,9 @@ def parse_value(text: str, field: str = "--set") -> Any:
 
 def spec_from_args(args: argparse.Namespace) -> CamSpec:
     """The spec named on the command line (or the default) with ``--set`` overrides applied."""
-    spec = load_spec(args.spec) if args.spec else default_spec()
+    if args.spec and args.example:
+        raise SpecError("--example", "give a SPEC file or --example, not both")
+    spec = load_spec(args.spec) if args.spec else example_spec(args.example or "default")
     changes = {}
     for item in args.overrides:
         if "=" not in item:
@@ -75,5 +81,23 @@ def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], Non
 
     def callback(m: int, dev: float) -> None:
         prog.update(task, description=f"{description}: M = {m}, deviation {dev:.3g}")
+
+    return prog, callback
+
+
+def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
+    """A rich progress bar over the report's figures, and its callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), transient=True)
+    task = prog.add_task("report", total=total)
+    started = [False]
+
+    def callback(title: str) -> None:
+        if started[0]:
+            prog.advance(task)
+        started[0] = True
+        prog.update(task, description=f"plotting: {title}")
 
     return prog, callback

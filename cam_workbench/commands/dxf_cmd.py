@@ -4,11 +4,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from exporters.atomic import OutputSet
-from exporters.dxf import write_dxf
+from exporters.atomic import atomic_path
 from generators.params import params_of
 from generators.spec import DrawingSection
 
+from ..pipeline import run_pipeline
 from .common import add_spec_arguments, design_for, spec_from_args
 
 _DECL = params_of(DrawingSection)
@@ -53,13 +53,14 @@ def run(args: argparse.Namespace) -> int:
         changes["drawing.dxf_version"] = args.dxf_version
     if changes:
         spec = spec.replace(**changes)
-    design = design_for(spec)
+    # the drawing stage `build` runs, with the design numbers its title block quotes
+    outputs = run_pipeline(spec, solid=False, machining=False, drawing=True, design=design_for(spec))
+    doc, info = outputs.dxf
     target = output_file(args.output)
-    infos = []
-    with OutputSet(target.parent) as out:
-        out.add(target.name, lambda p: infos.append(write_dxf(design, p)))
+    with atomic_path(target) as tmp:
+        doc.saveas(str(tmp))
     print(f"drawing written to {target}")
-    print("  " + describe(infos[0].summary(), spec.units))
+    print("  " + describe(info.summary(), spec.units))
     return 0
 
 

@@ -7,12 +7,8 @@ import sys
 from pathlib import Path
 
 from exporters.atomic import write_text_atomic
-from exporters.commands_csv import commands_csv_text
-from exporters.gcode import contour_program, rotary_program
-from generators.interpolator import interpolate
-from generators.machining import machining_plan
-from generators.toolpath import contour_path, rotary_path
 
+from ..pipeline import run_pipeline
 from .common import add_spec_arguments, design_for, spec_from_args
 
 MODES = ("xy", "xc", "csv")
@@ -39,15 +35,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    design = design_for(spec)
-    plan = machining_plan(design)
-    if args.mode == "xy":
-        text = contour_program(design, plan, contour_path(design, plan))
-    elif args.mode == "xc":
-        text = rotary_program(design, plan, rotary_path(design, plan))
-    else:
-        cmds = interpolate(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
-        text = commands_csv_text(cmds, spec.units)
+    if args.mode in ("xy", "xc"):
+        spec = spec.replace(**{"machining.program": args.mode})
+    # the same machining stage `build` runs: cam.nc and commands.csv are these texts
+    outputs = run_pipeline(spec, solid=False, machining=True, drawing=False, design=design_for(spec))
+    text = outputs.machining.commands_csv if args.mode == "csv" else outputs.machining.gcode
     if args.output:
         write_text_atomic(Path(args.output), text)
         print(f"{args.mode} program written to {args.output}", file=sys.stderr)

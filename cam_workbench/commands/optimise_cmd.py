@@ -8,15 +8,11 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from exporters.atomic import OutputSet
-from generators.cam_design import design_cam
-from generators.errors import GeometryError
 from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
-from .. import occ_build
-from .common import add_spec_arguments, spec_from_args
-from .report_cmd import add_report_files, base_summary, plot_count, plot_progress
+from ..pipeline import plot_count, run_pipeline, write_outputs
+from .common import add_spec_arguments, plot_progress, spec_from_args
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -30,8 +26,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "follower offset, the free B-spline control points, the blank orientation) subject to "
                     "every design check, evaluated densely (thesis Ch. 5-7, with nlopt). Writes the optimised "
                     f"spec ({SPEC_NAME}), report.json (with an `optimise` section: objective, history, "
-                    "evaluations, time, the final dense checks), report.html with the convergence figure, and "
-                    "the plots, into the output folder. Settings: the [optimise] section (`cam-workbench spec`).",
+                    "evaluations, time, the final dense checks), report.html with the convergence figure, the "
+                    "plots and the optimised cam's own cam.step, cam.dxf, cam.nc and commands.csv (as `build` "
+                    "writes them) into the output folder. Settings: the [optimise] section (`cam-workbench spec`).",
         epilog="exit status: 0 optimised and every check passes, 3 the result fails a dense check (files are "
                "still written, report.json says which), 2 bad input (nothing written).",
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -78,17 +75,13 @@ def run(args: argparse.Namespace) -> int:
     bar, cb = _progress_bar(budget)
     with bar:
         result = optimise(spec, progress=cb)
-    design = design_cam(result.spec)
-    shape = occ_build.cam_solid(design)
-    if not occ_build.is_valid(shape) or occ_build.count_solids(shape) != 1:
-        raise GeometryError("kernel", "OCCT reports the optimised cam solid as invalid")
-    summary = base_summary(design, shape)
-    summary["optimise"] = result.report()
+    # the optimised cam through the one pipeline: the folder holds its full set of files
+    outputs = run_pipeline(result.spec)
+    outputs.summary["optimise"] = result.report()
     out = Path(args.output)
-    prog, pcb = plot_progress(plot_count(design, summary))
-    with prog, OutputSet(out) as o:
-        o.add_text(SPEC_NAME, to_toml(result.spec))
-        report = add_report_files(o, design, summary, {"spec": SPEC_NAME}, progress=pcb)
+    prog, pcb = plot_progress(plot_count(outputs))
+    with prog:
+        report = write_outputs(outputs, out, extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb)
     _print(result, out, report)
     return 0 if result.feasible else EXIT_CHECK_FAILED
 
@@ -124,5 +117,5 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
         con.print("[green]every design check passes (dense re-check)[/]")
     else:
         con.print(f"[bold red]the result FAILS the dense check: {escape(opt['failed_checks'])}[/]")
-    con.print(f"written to {escape(str(out))}/: {SPEC_NAME}, report.json, report.html, "
-              f"{len(report['files']['plots'])} plots")
+    names = [v for k, v in report["files"].items() if isinstance(v, str)]
+    con.print(escape(f"written to {out}/: {', '.join(names)}, {len(report['files']['plots'])} plots"))

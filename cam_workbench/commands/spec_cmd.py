@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 
+from generators.examples import example_spec
 from generators.spec import default_spec, to_toml
 from generators.spec_doc import render
 
@@ -12,9 +13,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description="Print every spec field with its unit, default and rule "
                                    "(the same text as docs/spec.md), or the built-in default spec as TOML.")
     p.add_argument("--default", action="store_true", help="print the built-in default spec as TOML")
+    p.add_argument("--example", metavar="NAME",
+                   help="print a built-in example spec as TOML ('default' or 'paper')")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    print(to_toml(default_spec()) if args.default else render(), end="")
+    if args.example:
+        print(to_toml(example_spec(args.example)), end="")
+    else:
+        print(to_toml(default_spec()) if args.default else render(), end="")
     return 0

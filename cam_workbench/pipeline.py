@@ -1,0 +1,228 @@
+"""The one output pipeline: design → solid → summary → machining → drawing → report.
+
+Every entry point that makes files or numbers of a cam — ``build``, ``report``, ``check``,
+``optimise``, ``gcode``, ``dxf``, :class:`~cam_workbench.platecam.PlateCam` and the FreeCAD
+exports (which run these commands) — goes through :func:`run_pipeline`, so that the numbers
+they print or write come from one ``summary`` dict, the one ``report.json`` holds.
+
+Stages (each adds its section to the summary, in this order):
+
+* design — :func:`generators.cam_design.design_cam` (pitch curve, exact profile, buildability,
+  design checks): ``pitch``, ``pressure_angle``, ``curvature``, ``profile``, ``areas``, ``checks``;
+* solid — the OCCT solid and the one STEP writes, checked valid: ``solid``;
+* machining — the G-code program, the command table, the interpolator: ``interpolator``,
+  ``machining``;
+* drawing — the DXF document: ``drawing``;
+* report — report.json, report.html and the plots, written by :func:`write_outputs`.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from generators.cam_design import CamDesign, design_cam
+from generators.errors import GeometryError
+from generators.spec import CamSpec
+
+JSON_NAME = "report.json"
+HTML_NAME = "report.html"
+STEP_NAME = "cam.step"
+DXF_NAME = "cam.dxf"
+
+
+@dataclass
+class CamOutputs:
+    """What the pipeline made of one spec (nothing written yet).
+
+    Attributes:
+        spec: the spec.
+        design: the designed cam (generators).
+        summary: the numbers of report.json (without ``files``).
+        shape: the kernel solid (OCP TopoDS_Shape) or None when the solid stage did not run.
+        step_shape: the solid STEP writes (the fitted offset for a B-spline pitch curve).
+        machining: G-code, command table and their report sections, or None.
+        dxf: (ezdxf document, DxfInfo) or None.
+    """
+
+    spec: CamSpec
+    design: CamDesign
+    summary: dict[str, Any]
+    shape: Any = None
+    step_shape: Any = None
+    machining: Any = None
+    dxf: Any = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def design_stage(spec: CamSpec, progress: Callable[[int, float], None] | None = None) -> CamDesign:
+    """The designed cam (raises GeometryError/SpecError for a cam that cannot be made)."""
+    return design_cam(spec, progress=progress)
+
+
+def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
+    """(kernel solid, STEP solid, the ``solid`` section): OCCT's check of the built solid
+    against the exact numbers.
+
+    Raises:
+        GeometryError: OCCT finds the solid invalid or not one solid.
+    """
+    from . import occ_build
+
+    shape = occ_build.cam_solid(design)
+    # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
+    # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
+    step_shape = shape if design.bspline is None else occ_build.cam_solid(design, exact_offset=False)
+    for s in {id(shape): shape, id(step_shape): step_shape}.values():
+        if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
+            raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
+    t = design.spec.cam.thickness
+    solid: dict[str, Any] = {
+        "valid": occ_build.is_valid(shape),
+        "solids": occ_build.count_solids(shape),
+        "kernel_volume": occ_build.kernel_volume(shape),
+        "cross_section_area": occ_build.face_area(occ_build.planar_face_at(shape, t)),
+    }
+    # how far the kernel's integrals are from the exact (Green's theorem) numbers
+    solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
+    solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
+    if design.bspline is not None:
+        solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
+        solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
+        solid["step_cross_section_area"] = occ_build.face_area(occ_build.planar_face_at(step_shape, t))
+    return shape, step_shape, solid
+
+
+def summary_stage(design: CamDesign) -> dict[str, Any]:
+    """design.summary() with the spec itself (the part of report.json every entry point shares)."""
+    summary = design.summary()
+    summary["spec"] = design.spec.to_dict()
+    return summary
+
+
+def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
+    """The machining outputs (G-code of ``machining.program``, command table), adding the
+    ``interpolator`` and ``machining`` sections to ``summary``."""
+    from exporters.machining_outputs import machining_outputs
+
+    machining = machining_outputs(design, plots=False, summary=summary)
+    summary["interpolator"] = machining.interpolator_summary
+    summary["machining"] = machining.machining_summary
+    return machining
+
+
+def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
+    """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
+    from exporters.dxf import build_dxf
+
+    doc, info = build_dxf(design, summary)
+    summary["drawing"] = info.summary()
+    return doc, info
+
+
+def run_pipeline(spec: CamSpec, *, solid: bool = True, machining: bool = True, drawing: bool = True,
+                 design: CamDesign | None = None,
+                 progress: Callable[[int, float], None] | None = None) -> CamOutputs:
+    """Run the stages for ``spec`` (nothing is written): design, then optionally the solid,
+    the machining and the drawing, each adding its section to the one summary."""
+    design = design if design is not None else design_stage(spec, progress)
+    summary = summary_stage(design)
+    out = CamOutputs(spec=spec, design=design, summary=summary)
+    if solid:
+        out.shape, out.step_shape, summary["solid"] = solid_stage(design)
+    if machining:
+        out.machining = machining_stage(design, summary)
+    if drawing:
+        out.dxf = drawing_stage(design, summary)
+    return out
+
+
+# ---- the report ----------------------------------------------------------------------
+def optional_series(design: CamDesign) -> dict[str, Any]:
+    """θ-series for the report's "Contact force and stress" figure: the driving force
+    (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
+    spec gives the follower a load (preload, spring or mass); otherwise nothing."""
+    from exporters.report_html import Series
+    from generators.design_checks import StateModel, check_samples
+    from generators.params import unit_name
+
+    spec = design.spec
+    model = StateModel(spec, design.program)
+    if not model.has_load:
+        return {}
+    cs = check_samples(design.program, "dense", spec.checks.samples)
+    st = model.state(cs.theta, cs.segment)
+    deg = np.rad2deg(cs.theta)
+    out = {"contact_force": Series(deg, st.force, "driving force F (thesis Eq. 3.5)",
+                                   unit_name("force", spec.units), spec.checks.min_force, "min")}
+    if spec.is_roller:
+        out["contact_stress"] = Series(deg, st.stress, "Hertz contact stress (thesis Eq. 3.6)",
+                                       unit_name("stress", spec.units), spec.material.allowable_stress, "max")
+    return out
+
+
+def plot_count(outputs: CamOutputs) -> int:
+    """How many figures the report of ``outputs`` will draw."""
+    from exporters.report_html import report_plots
+
+    return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design)))
+
+
+def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
+                     progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Add report.json, report.html and the plot PNGs to the OutputSet ``out``; ``files``
+    (name → file) is completed with them and stored in report.json.  Returns the report as
+    written (the HTML shows exactly what the JSON holds)."""
+    from exporters.report_html import render_report, report_plots
+    from exporters.report_json import report_json_text
+
+    design, summary = outputs.design, outputs.summary
+    series = optional_series(design)
+    names = [p.png_name for p in report_plots(design, summary, series)]
+    files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=names)
+    text = report_json_text(summary, files)
+    report = json.loads(text)
+    html_text, pngs = render_report(design, report, series, progress=progress)
+    out.add_text(JSON_NAME, text)
+    out.add_text(HTML_NAME, html_text)
+    for name in names:
+        out.add_bytes(name, pngs[name])
+    return report
+
+
+def write_outputs(outputs: CamOutputs, folder: str | Path, *, extra_texts: dict[str, str] | None = None,
+                  report: bool = True, progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Write what ``outputs`` holds into ``folder`` as one set (all or nothing; the folder then
+    holds this cam's files only): cam.step, cam.dxf, the machining files, ``extra_texts``
+    (name → text) and, with ``report``, report.json/report.html/plots.  Returns the report
+    dict (or the summary with ``files`` when ``report`` is False)."""
+    from exporters.atomic import OutputSet
+    from exporters.report_json import report_json_text
+    from exporters.step import write_step
+
+    files: dict[str, Any] = {}
+    extra_texts = extra_texts or {}
+    with OutputSet(Path(folder)) as o:
+        if outputs.step_shape is not None:
+            shape, units = outputs.step_shape, outputs.spec.units
+            o.add(STEP_NAME, lambda p: write_step(shape, p, units))
+            files["step"] = STEP_NAME
+        if outputs.dxf is not None:
+            doc = outputs.dxf[0]
+            o.add(DXF_NAME, lambda p: doc.saveas(str(p)))
+            files["dxf"] = DXF_NAME
+        if outputs.machining is not None:
+            outputs.machining.write(o)
+            files.update(outputs.machining.files)
+        for name, text in extra_texts.items():
+            o.add_text(name, text)
+            files.setdefault("spec" if name.endswith(".toml") else name, name)
+        if report:
+            return add_report_files(o, outputs, files, progress=progress)
+        files["report"] = JSON_NAME
+        text = report_json_text(outputs.summary, files)
+        o.add_text(JSON_NAME, text)
+        return json.loads(text)

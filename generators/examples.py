@@ -1,0 +1,43 @@
+"""Built-in example cams, by name: the spec dicts behind ``--example NAME`` and
+:func:`example_spec`.
+
+* ``default`` — the cam ``make demo`` builds (:data:`generators.spec.DEFAULT_SPEC_DICT`): the
+  paper's motion program (cycloidal 20 mm rise and return over 120°) on a 40 mm base radius
+  with a radial 8 mm roller, a spring-loaded follower and a 1000 MPa contact-stress limit; it
+  passes every design check.
+* ``paper`` — Jahanpour & Dolatabadi (2014), Table 1 case 2: e = 10 mm, R_b = √(20² + 10²),
+  M = 60, with a 5 mm roller, 10 mm thick, 10 mm bore.  Its return has a 46.2° pressure angle:
+  it fails the default 30° limit (as designed in the paper, which checks no pressure angle).
+"""
+from __future__ import annotations
+
+import copy
+import math
+from typing import Any
+
+from .errors import SpecError
+from .spec import DEFAULT_SPEC_DICT, CamSpec
+
+PAPER_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"base_radius": math.sqrt(20.0**2 + 10.0**2), "thickness": 10.0, "bore_diameter": 10.0,
+            "direction": "ccw", "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "offset": 10.0, "roller_radius": 5.0},
+    "motion": copy.deepcopy(DEFAULT_SPEC_DICT["motion"]),
+    "pitch": {"representation": "ph", "segments": 60},
+}
+
+EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT}
+
+
+def example_dict(name: str) -> dict[str, Any]:
+    """A copy of the spec dict of example ``name`` (see :data:`EXAMPLES`)."""
+    try:
+        return copy.deepcopy(EXAMPLES[name])
+    except KeyError:
+        raise SpecError("--example", f"unknown example {name!r} (examples: {', '.join(EXAMPLES)})") from None
+
+
+def example_spec(name: str = "default") -> CamSpec:
+    """The validated spec of example ``name``."""
+    return CamSpec.from_dict(example_dict(name))
