@@ -119,7 +119,11 @@ def test_window_maxima_are_the_dense_maxima(ex):
 def _assert_dense_feasible(result):
     checks = run_checks(result.spec)           # independent of the optimiser's own bookkeeping
     assert checks.passed, checks.failed
-    assert result.feasible and result.status == "converged"
+    # "stopped": the solver ended on its own (e.g. SLSQP's "roundoff limited" at an active
+    # constraint) without meeting a tolerance; the dense re-check above is what decides
+    assert result.feasible and result.status in ("converged", "stopped")
+    assert result.solver_status and result.solver_status in result.message
+    assert result.status == "stopped" or "roundoff" not in result.solver_status
     reloaded = load_spec(to_toml(result.spec))
     assert reloaded == result.spec
 
@@ -188,10 +192,10 @@ def test_thesis_cutting_time_examples(ex):
 
 # ---- PH cams with standard laws -----------------------------------------------------------
 def test_ph_cam_base_radius_for_a_pressure_angle_limit():
-    """The built-in default (cycloidal, paper Table 1) with only R_b free and a 30° limit: the
+    """The paper's Table 1 cam (cycloidal, e = 10 mm) with only R_b free and a 30° limit: the
     optimum is the smallest R_b with max |φ| ≤ 30°·√(1 − margin), found independently by brentq
     on the dense design check."""
-    spec = default_spec()
+    spec = load_spec(PAPER_CASE_2)
     assert not run_checks(spec).passed                    # 46° > 30°
     res = optimise(spec, objective="area", variables="base_radius")
     _assert_dense_feasible(res)
@@ -344,8 +348,8 @@ def test_runs_on_debian_python_with_nlopt_27():
                          env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert res.returncode == 0, res.stderr
     major, minor, npv, spv, status, feasible, radius = res.stdout.split()
-    assert (int(major), int(minor)) >= (2, 7) and status == "converged" and feasible == "True"
     ref = optimise(default_spec(), variables="base_radius,offset", max_evaluations=200)
+    assert (int(major), int(minor)) >= (2, 7) and status == ref.status and feasible == "True"
     assert float(radius) == pytest.approx(ref.spec.cam.base_radius, rel=1e-6)
 
 

@@ -1,7 +1,7 @@
 """DXF, G-code, command-table and design-report exports from FreeCAD, made by the CLI.
 
 FreeCAD's own Python cannot make all of these files as the CLI does (measured on Debian's
-FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — README "FreeCAD workbench"):
+FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — docs/freecad.md):
 
 - the design report checks the solid with OCP's kernel (never imported inside FreeCAD) and
   draws with the virtual environment's matplotlib;
