@@ -14,6 +14,24 @@ from .test_cli import run
 EX5 = str(ROOT / "tests" / "fixtures" / "thesis_ex5_initial.toml")
 
 
+def _paper_spec(folder) -> str:
+    """The paper's Table 1 cam, case 2, as a spec file (independent of the built-in default)."""
+    from .test_optimiser import PAPER_CASE_2
+
+    from generators.spec import to_toml
+    path = folder / "paper.toml"
+    path.write_text(to_toml(load_spec(PAPER_CASE_2)))
+    return str(path)
+
+
+def _assert_prints_the_reports_status(stdout: str, opt: dict) -> None:
+    """The status and message lines are report.json's own text."""
+    lines = stdout.splitlines()
+    assert f"status: {opt['status']}" in lines
+    assert f"message: {opt['message']}" in lines
+    assert "converged" not in stdout or opt["status"] == "converged"
+
+
 class _Ids(HTMLParser):
     def __init__(self):
         super().__init__()
@@ -47,6 +65,11 @@ def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
     page.feed((out / "report.html").read_text())
     assert {"optimise", "fig-convergence", "checks"} <= page.ids
     assert "area: 78.1477 → 21.3" in res.stdout and "every design check passes" in res.stdout
+    _assert_prints_the_reports_status(res.stdout, opt)
+    # the thesis' initial design lets the follower leave the cam (separation −696 lbf)
+    assert opt["initial_feasible"] is False and [v["name"] for v in opt["initial_violations"]] == ["separation"]
+    sep = opt["initial_violations"][0]
+    assert f"start infeasible: separation = {sep['value']:.6g} lbf at {sep['at_deg']:.2f}° (limit 0 lbf)" in res.stdout
 
 
 def test_bad_settings_exit_2_and_write_nothing(tmp_path):
@@ -64,10 +87,36 @@ def test_infeasible_result_exit_3_with_the_report(tmp_path):
     """R_b capped below what a 30° pressure angle needs (42.8 mm): the best design still fails;
     the files are written and say so, the exit status is 3."""
     out = tmp_path / "inf"
-    res = run("optimise", "--variables", "base_radius", "--set", "optimise.base_radius_max=35", "-o", str(out))
+    paper = _paper_spec(tmp_path)
+    res = run("optimise", paper, "--variables", "base_radius", "--set", "optimise.base_radius_max=35",
+              "-o", str(out))
     assert res.returncode == 3, res.stderr
     rep = json.loads((out / "report.json").read_text())
     assert rep["optimise"]["feasible"] is False and "pressure_angle" in rep["optimise"]["failed_checks"]
     assert rep["optimise"]["status"] == "infeasible"
     assert load_spec(out / "optimised.toml").cam.base_radius == pytest.approx(35.0)
     assert "FAILS the dense check: pressure_angle" in res.stdout
+
+
+@requires_ocp
+def test_infeasible_start_is_kept_and_said(tmp_path):
+    """The user's e = 10 mm is the start (not clipped to a default bound), the run says the start
+    was infeasible with the check, value and limit, and prints report.json's status and message."""
+    out = tmp_path / "opt"
+    res = run("optimise", _paper_spec(tmp_path), "--variables", "base_radius,offset", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    opt = json.loads((out / "report.json").read_text())["optimise"]
+    assert opt["variables"][1] == {"name": "follower.offset", "initial": 10.0, "final": opt["variables"][1]["final"]}
+    _assert_prints_the_reports_status(res.stdout, opt)
+    (v,) = opt["initial_violations"]
+    assert v["name"] == "pressure_angle" and 46.2 < v["value"] < 46.3
+    assert f"start infeasible: pressure_angle = {v['value']:.6g} deg at {v['at_deg']:.2f}° (limit 30 deg)" in res.stdout
+
+
+def test_a_bound_that_excludes_the_start_is_refused(tmp_path):
+    out = tmp_path / "never"
+    res = run("optimise", _paper_spec(tmp_path), "--variables", "base_radius,offset",
+              "--set", "optimise.offset_max=5", "-o", str(out))
+    assert res.returncode == 2
+    assert "optimise.offset_max: must be ≥ |follower.offset| of the starting design (10 mm), got 5" in res.stderr
+    assert "Traceback" not in res.stderr and not out.exists()

@@ -1,28 +1,316 @@
-"""The README's examples run as written (the Python block and the CLI lines)."""
+"""Every code block of README.md runs as written, in the order a reader meets it.
+
+The reader is simulated as closely as the test machine allows, and nothing of the project's own
+environment is changed:
+
+* a fresh virtual environment (``python -m venv``) whose ``site-packages`` sees this project's
+  installed dependencies (cadquery, build123d, OCP, numpy, … — symlinked, without cam-workbench
+  itself, pip or setuptools), and a wheel of this checkout as the only ``cam-workbench`` pip can
+  find (``PIP_NO_INDEX``, ``PIP_FIND_LINKS``): the README's ``pip install`` lines install it;
+* ``sh`` blocks run through ``bash -e -o pipefail`` (a failing line fails the block) with that
+  environment's ``bin`` first on PATH, HOME a fresh folder, in the reader's work folder — or, for
+  ``make`` lines, in a copy of the checkout whose ``.venv`` is that environment;
+* ``python`` blocks of one README section run in one process of that environment's Python, in
+  the work folder, followed by a short epilogue (:data:`EPILOGUES`) that checks their results —
+  valid solids, the figures the comments quote;
+* a ``python`` block preceded by ``<!-- freecad -->`` runs in ``freecadcmd`` for the HOME where
+  the README's ``cam-workbench freecad install`` put the workbench;
+* ``toml`` blocks are loaded by :func:`generators.spec.load_spec`.
+
+A block in any other language fails :func:`test_every_block_has_a_runner`, so nothing goes
+untested.  ``make test`` cannot run inside the suite, so the README names it only in prose.
+"""
+from __future__ import annotations
+
+import json
 import os
 import re
+import shutil
 import subprocess
 import sys
+import sysconfig
+from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 
-from .conftest import ROOT, requires_ocp
+from generators.spec import load_spec
 
-README = (ROOT / "README.md").read_text(encoding="utf-8")
+from .conftest import ROOT
+from .freecad_support import FREECADCMD, run_freecadcmd
+
+README = ROOT / "README.md"
+TEXT = README.read_text(encoding="utf-8")
+RUNNERS = ("sh", "python", "toml")
+FREECAD_MARK = "<!-- freecad -->"
+#: left out of the copies of the checkout (the wheel's source and the `make demo` folder)
+IGNORE = shutil.ignore_patterns(".git", ".venv", "out", "test-artifacts", "__pycache__", ".pytest_cache",
+                                "*.egg-info", "build", "dist")
+#: what the reader's environment must not see from the project's own site-packages
+NOT_SHARED = ("cam_workbench", "__editable__", "pip", "setuptools", "_distutils_hack", "pkg_resources")
+#: the files `make demo` and `cam-workbench build` write (README "From a checkout")
+BUILD_FILES = ("cam.step", "cam.dxf", "cam.nc", "commands.csv", "report.json", "report.html",
+               ".cam-workbench.json")
 
 
-@requires_ocp
-def test_readme_cadquery_example_runs(tmp_path):
-    block = re.search(r"## From a CadQuery script\s+```python\n(.*?)```", README, re.S).group(1)
-    assert len(block.strip().splitlines()) <= 12
-    spec = re.search(r"A minimal spec:\s+```toml\n(.*?)```", README, re.S).group(1)
-    (tmp_path / "cam.toml").write_text(spec)
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    res = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True, env=env)
+@dataclass(frozen=True)
+class Block:
+    line: int          # of the opening fence, 1-based
+    section: str       # the ``##`` heading it is under
+    lang: str
+    text: str
+    freecad: bool      # marked by <!-- freecad --> on the line before the fence (blank lines skipped)
+
+
+def parse(text: str) -> list[Block]:
+    """The fenced code blocks of ``text`` in order."""
+    out: list[Block] = []
+    lines = text.split("\n")
+    section = ""
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.startswith("## "):
+            section = line[3:].strip()
+        m = re.match(r"^```(\S*)\s*$", line)
+        if m:
+            j = i + 1
+            while j < len(lines) and not lines[j].startswith("```"):
+                j += 1
+            k = i - 1
+            while k >= 0 and not lines[k].strip():
+                k -= 1
+            marked = k >= 0 and lines[k].strip() == FREECAD_MARK
+            out.append(Block(i + 1, section, m.group(1), "\n".join(lines[i + 1:j]) + "\n", marked))
+            i = j + 1
+            continue
+        i += 1
+    return out
+
+
+BLOCKS = parse(TEXT)
+
+
+@dataclass(frozen=True)
+class Unit:
+    """What one test runs: one sh, toml or FreeCAD block, or every python block of a section."""
+
+    kind: str          # "sh", "toml", "freecad", "python"
+    section: str
+    line: int
+    text: str
+
+    @property
+    def id(self) -> str:
+        slug = re.sub(r"[^a-z0-9]+", "-", self.section.lower()).strip("-")
+        return f"L{self.line}-{self.kind}-{slug}"
+
+
+def units(blocks: list[Block]) -> list[Unit]:
+    out: list[Unit] = []
+    for b in blocks:
+        if b.lang == "python" and not b.freecad:
+            prev = out[-1] if out else None
+            if prev and prev.kind == "python" and prev.section == b.section:
+                out[-1] = Unit("python", b.section, prev.line, prev.text + "\n" + b.text)
+                continue
+            out.append(Unit("python", b.section, b.line, b.text))
+        elif b.lang == "python":
+            out.append(Unit("freecad", b.section, b.line, b.text))
+        elif b.lang in ("sh", "toml"):
+            out.append(Unit(b.lang, b.section, b.line, b.text))
+    return out
+
+
+UNITS = units(BLOCKS)
+
+#: Checks appended to a section's python blocks (same process): the results are valid solids and
+#: the figures the README's comments quote are the code's.
+EPILOGUES = {
+    "From a CadQuery script": """
+import os
+assert body.val().isValid() and len(body.solids().vals()) == 1
+assert 0 < body.val().Volume() < cam.volume                  # the keyway took material away
+assert os.path.getsize("cam_keyed.step") > 10_000
+assert round(cam.report()["pressure_angle"]["max_deg"], 1) == 21.2
+assert paper.is_valid() and paper.report()["checks"]["failed"] == ["pressure_angle"]
+assert round(paper.report()["pressure_angle"]["max_deg"], 1) == 46.2
+""",
+    "From a build123d script": """
+import math, os
+assert part.is_valid and len(part.solids()) == 1
+# the hub ring, r 6…14 mm, 8 mm high, on the cam (the 12 mm bore is the cam's own)
+assert abs(part.volume - (cam.volume + math.pi * (14 ** 2 - 6 ** 2) * 8)) < 1e-6 * part.volume
+assert os.path.getsize("cam_hub.step") > 10_000
+""",
+    "Optimise": """
+rep = res.report()
+assert res.feasible and smaller.is_valid()
+assert (rep["status"], rep["message"]) == (res.status, res.message)
+assert [v["name"] for v in rep["initial_violations"]] == ["pressure_angle"]
+assert round(rep["initial_violations"][0]["value"], 1) == 46.2
+assert smaller.report()["checks"]["failed"] == []
+""",
+}
+
+
+# ---- the reader's machine ----------------------------------------------------------------------
+@dataclass
+class Reader:
+    root: Path
+    venv: Path
+    wheelhouse: Path
+    work: Path          # where the reader types the commands
+    home: Path
+    repo: Path          # a copy of the checkout, for `make`
+
+    @property
+    def bin(self) -> Path:
+        return self.venv / "bin"
+
+    @property
+    def python(self) -> Path:
+        return self.bin / "python"
+
+    def env(self) -> dict[str, str]:
+        env = {k: v for k, v in os.environ.items()
+               if not k.startswith(("PYTHON", "VIRTUAL_ENV", "PIP_", "XDG_", "CAM_WORKBENCH"))}
+        env.update(PATH=f"{self.bin}{os.pathsep}{os.environ.get('PATH', '')}", HOME=str(self.home),
+                   VIRTUAL_ENV=str(self.venv), PIP_NO_INDEX="1", PIP_FIND_LINKS=str(self.wheelhouse),
+                   PIP_DISABLE_PIP_VERSION_CHECK="1")
+        return env
+
+
+def _run(argv, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run(argv, capture_output=True, text=True, stdin=subprocess.DEVNULL, **kw)
+
+
+@pytest.fixture(scope="module")
+def reader(tmp_path_factory) -> Reader:
+    root = tmp_path_factory.mktemp("reader")
+    src = root / "src"
+    shutil.copytree(ROOT, src, ignore=IGNORE, symlinks=True)
+    wheelhouse = root / "wheelhouse"
+    res = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", str(src), "-w", str(wheelhouse)],
+               timeout=900)
+    assert res.returncode == 0, res.stdout + res.stderr
+    venv = root / "venv"
+    res = _run([sys.executable, "-m", "venv", str(venv)], timeout=900)
+    assert res.returncode == 0, res.stdout + res.stderr
+    # the project's installed dependencies, shared read-only through symlinks (not cam-workbench)
+    shared = root / "shared-site-packages"
+    shared.mkdir()
+    ours = Path(sysconfig.get_paths()["purelib"])
+    for entry in ours.iterdir():
+        if entry.name.startswith(NOT_SHARED) or entry.suffix == ".pth":
+            continue
+        (shared / entry.name).symlink_to(entry)
+    site = Path(_run([str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                     timeout=60).stdout.strip())
+    (site / "_reader_shared_dependencies.pth").write_text(f"{shared}\n")
+    work, home = root / "work", root / "home"
+    work.mkdir()
+    home.mkdir()
+    repo = root / "repo"
+    shutil.copytree(ROOT, repo, ignore=IGNORE, symlinks=True)
+    (repo / ".venv").symlink_to(venv, target_is_directory=True)
+    return Reader(root, venv, wheelhouse, work, home, repo)
+
+
+# ---- the blocks -------------------------------------------------------------------------------
+def test_every_block_has_a_runner():
+    """Nothing goes untested: every block is sh, python or toml."""
+    assert BLOCKS, "README.md has no code blocks"
+    other = [(b.line, b.lang) for b in BLOCKS if b.lang not in RUNNERS]
+    assert not other, f"README blocks the tests cannot run (line, language): {other}"
+
+
+def test_make_test_is_named_in_prose_only():
+    """`make test` would run this very suite: it is mentioned in prose, never in a block."""
+    assert "`make test`" in TEXT
+    assert not [b.line for b in BLOCKS if re.search(r"\bmake\s+test\b", b.text)]
+
+
+def test_freecad_mark_is_on_a_python_block():
+    marked = [b for b in BLOCKS if b.freecad]
+    assert len(marked) == TEXT.count(FREECAD_MARK) == 1 and marked[0].lang == "python"
+
+
+def test_relative_links_exist():
+    """Every relative link and picture of README.md and docs/*.md names a file of the checkout."""
+    missing = []
+    for page in [README, *sorted((ROOT / "docs").glob("*.md"))]:
+        for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text(encoding="utf-8")):
+            if re.match(r"[a-z]+:", target):
+                continue
+            if not (page.parent / target).exists():
+                missing.append(f"{page.relative_to(ROOT)} → {target}")
+    assert not missing, missing
+
+
+def _check_build_folder(folder: Path) -> None:
+    names = {p.name for p in folder.iterdir()}
+    assert set(BUILD_FILES) <= names, sorted(set(BUILD_FILES) - names)
+    assert any(n.startswith("plot_") and n.endswith(".png") for n in names)
+    report = json.loads((folder / "report.json").read_text())
+    assert report["checks"]["passed"] in (True, False)
+
+
+def _after_sh(unit: Unit, reader: Reader, res: subprocess.CompletedProcess) -> None:
+    """What the README says the commands leave behind."""
+    def runs(command: str) -> bool:          # a line of the block starts with it (not a comment)
+        return re.search(rf"^\s*{re.escape(command)}\b", unit.text, re.M) is not None
+
+    if runs("pip install"):
+        said = res.stdout + res.stderr
+        assert "does not provide the extra" not in said, said
+        where = _run([str(reader.python), "-c", "import cam_workbench, cadquery, build123d; print(cam_workbench.__file__)"],
+                     env=reader.env(), cwd=reader.work, timeout=300)
+        assert where.returncode == 0, where.stderr
+        assert where.stdout.strip().startswith(str(reader.venv)), where.stdout   # the wheel, not the checkout
+    if runs("make demo"):
+        _check_build_folder(reader.repo / "out")
+    if runs("cam-workbench build -o out"):
+        _check_build_folder(reader.work / "out")
+        _check_build_folder(reader.work / "paper")
+        assert (reader.work / "paper_xc.nc").read_text().count("G93") >= 1
+        assert (reader.work / "paper_opt" / "optimised.toml").is_file()
+    if runs("cam-workbench freecad install"):
+        assert list(reader.home.rglob("CamWorkbench/InitGui.py")), "no workbench under the reader's HOME"
+
+
+@pytest.mark.parametrize("unit", UNITS, ids=[u.id for u in UNITS])
+def test_readme_block_runs(unit: Unit, reader: Reader):
+    """The README's blocks in order (one test each; a later one may use what an earlier one made)."""
+    if unit.kind == "toml":
+        load_spec(unit.text)
+        return
+    if unit.kind == "sh":
+        if "freecad install" in unit.text and FREECADCMD is None:
+            pytest.skip("freecadcmd is not installed (Debian package freecad-python3; `make test` installs it)")
+        cwd = reader.work
+        if re.search(r"^\s*make\b", unit.text, re.M):
+            cwd = reader.repo
+            (reader.venv / ".installed").touch()        # the environment is ready: make need not rebuild it
+        res = _run(["bash", "-e", "-o", "pipefail", "-c", unit.text], cwd=cwd, env=reader.env(), timeout=1800)
+        assert res.returncode == 0, f"README line {unit.line}: exit {res.returncode}\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
+        _after_sh(unit, reader, res)
+        return
+    if unit.kind == "python":
+        script = reader.root / f"readme_{unit.line}.py"
+        script.write_text(unit.text + EPILOGUES.get(unit.section, ""), encoding="utf-8")
+        res = _run([str(reader.python), str(script)], cwd=reader.work, env=reader.env(), timeout=1800)
+        assert res.returncode == 0, f"README line {unit.line} ({unit.section}):\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
+        return
+    assert unit.kind == "freecad"
+    if FREECADCMD is None:
+        pytest.skip("freecadcmd is not installed (Debian package freecad-python3; `make test` installs it)")
+    body = unit.text + "\nimport os\nRESULT['cwd'] = os.getcwd()\n"
+    run = run_freecadcmd(body, reader.work, reader.home).check()
+    assert run.result["cwd"] == str(reader.work)
+    made = reader.work / "cam_xc.nc"
+    ref = reader.root / "ref_xc.nc"
+    res = _run([str(reader.bin / "cam-workbench"), "gcode", "--mode", "xc", "-o", str(ref)], cwd=reader.root,
+               env=reader.env(), timeout=900)
     assert res.returncode == 0, res.stderr
-    assert "max_deg" in res.stdout
-    assert (tmp_path / "cam_keyed.step").stat().st_size > 10_000
-
-
-def test_readme_gives_the_two_commands():
-    assert "make demo" in README and "make test" in README
+    assert made.read_bytes() == ref.read_bytes()      # the CLI's own program, written where FreeCAD runs

@@ -87,23 +87,35 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
+    """The run's summary, every figure and verdict taken from report.json's ``optimise`` section:
+    its status and message exactly as written there, and whether the start was feasible."""
     from rich.console import Console
+    from rich.markup import escape
 
-    con = Console()
-    unit = report["optimise"]["objective_unit"]
-    red = report["optimise"]["reduction_percent"]
-    con.print(f"{result.objective}: {result.initial_value:.6g} → {result.value:.6g} {unit}"
-              + (f" ({-red:+.2f} %)" if red is not None else "")
-              + f" in {result.evaluations} evaluations, {result.time_s:.2f} s ({result.status})")
-    for v in report["optimise"]["variables"]:
-        con.print(f"  {v['name']:28s} {v['initial']:12.6g} → {v['final']:12.6g}")
-    w = report["optimise"]["worst_constraint"]
+    con = Console(soft_wrap=True)         # no wrapping: the lines are report.json's own text
+    opt = report["optimise"]
+    unit = opt["objective_unit"]
+    red = opt["reduction_percent"]
+    con.print(escape(f"{opt['objective']}: {opt['initial_value']:.6g} → {opt['final_value']:.6g} {unit}"
+                     + (f" ({-red:+.2f} %)" if red is not None else "")
+                     + f" in {opt['evaluations']} evaluations, {opt['time_s']:.2f} s"))
+    con.print(escape(f"status: {opt['status']}"))
+    con.print(escape(f"message: {opt['message']}"))
+    if not opt["initial_feasible"]:
+        for v in opt["initial_violations"]:
+            unit_v = f" {v['unit']}" if v["unit"] else ""
+            at = f" at {v['at_deg']:.2f}°" if v["at_deg"] is not None else ""
+            con.print(escape(f"start infeasible: {v['name']} = {v['value']:.6g}{unit_v}{at} "
+                             f"(limit {v['limit']:.6g}{unit_v})"))
+    for v in opt["variables"]:
+        con.print(escape(f"  {v['name']:28s} {v['initial']:12.6g} → {v['final']:12.6g}"))
+    w = opt["worst_constraint"]
     if w:
-        con.print(f"  closest to its limit: {w['name']} = {w['value']:.6g} {w['unit']} at {w['at_deg']:.2f}° "
-                  f"(limit {w['limit']:.6g})")
-    if result.feasible:
+        con.print(escape(f"  closest to its limit: {w['name']} = {w['value']:.6g} {w['unit']} at {w['at_deg']:.2f}° "
+                         f"(limit {w['limit']:.6g})"))
+    if opt["feasible"]:
         con.print("[green]every design check passes (dense re-check)[/]")
     else:
-        con.print(f"[bold red]the result FAILS the dense check: {', '.join(result.checks.failed)}[/]")
+        con.print(f"[bold red]the result FAILS the dense check: {escape(opt['failed_checks'])}[/]")
     names = [v for k, v in report["files"].items() if isinstance(v, str)]
-    con.print(f"written to {out}/: {', '.join(names)}, {len(report['files']['plots'])} plots")
+    con.print(escape(f"written to {out}/: {', '.join(names)}, {len(report['files']['plots'])} plots"))

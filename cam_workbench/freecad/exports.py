@@ -1,7 +1,7 @@
 """DXF, G-code, command-table and design-report exports from FreeCAD, made by the CLI.
 
 FreeCAD's own Python cannot make all of these files as the CLI does (measured on Debian's
-FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — README "FreeCAD workbench"):
+FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — docs/freecad.md):
 
 - the design report checks the solid with OCP's kernel (never imported inside FreeCAD) and
   draws with the virtual environment's matplotlib;
@@ -190,10 +190,11 @@ def command_line(kind: str, spec_path: str | os.PathLike[str], target: str | os.
 
 
 def target_path(kind: str, target: str | os.PathLike[str]) -> Path:
-    """The output path as the CLI will use it (a file gets the kind's suffix if it has none
-    that the CLI accepts)."""
+    """The output path as the CLI will use it: absolute — a relative ``target`` is resolved
+    against this (FreeCAD's) process's working folder, since the CLI runs in another one — and
+    a file gets the kind's suffix if it has none that the CLI accepts."""
     k = KINDS[kind]
-    p = Path(target).expanduser()
+    p = Path(os.path.abspath(Path(target).expanduser()))
     if k.suffix == ".dxf" and p.suffix.lower() != ".dxf":
         p = p.with_name(p.name + ".dxf")  # the CLI takes -o without .dxf as a folder
     elif k.suffix and not p.suffix:

@@ -60,6 +60,9 @@ CCSA_WINDOWS = 8
 NLOPT_RESULTS = {1: "success", 2: "stopval reached", 3: "ftol reached", 4: "xtol reached",
                  5: "maxeval reached", 6: "maxtime reached", -1: "failure", -2: "invalid arguments",
                  -3: "out of memory", -4: "roundoff limited", -5: "forced stop"}
+#: nlopt results that mean the solver met one of its stopping tolerances (the others — roundoff
+#: limited, failure, the evaluation budget — do not make a run "converged").
+NLOPT_CONVERGED = {1, 2, 3, 4}
 HISTORY_MAX = 400
 #: A point whose normalised constraints exceed 0 by less than this counts as feasible while
 #: solving (the solvers' own tolerance); the margin keeps the checks' values below their limits,
@@ -109,6 +112,21 @@ class OptimiseResult:
     checks: DesignChecks
     initial_checks: DesignChecks
     details: dict[str, Any] = field(default_factory=dict)
+    solver_status: str = ""        # the solver's own status text of the run that gave the result
+
+    @property
+    def initial_feasible(self) -> bool:
+        """The starting design passes every design check (dense)."""
+        return self.initial_checks.passed
+
+    def initial_worst_constraint(self) -> dict[str, Any]:
+        """The starting design's check closest to (or furthest past) its limit."""
+        return worst_constraint(self.initial_checks, self.initial_spec)
+
+    def initial_violations(self) -> list[dict[str, Any]]:
+        """Every check the starting design fails: name, value, limit, unit, cam angle."""
+        return [{"name": r.name, "value": r.value, "limit": r.limit, "unit": r.unit, "at_deg": r.at_deg}
+                for r in self.initial_checks.results if r.status == "fail"]
 
     @property
     def feasible(self) -> bool:
@@ -137,7 +155,10 @@ class OptimiseResult:
             "reduction_percent": red,
             "evaluations": self.evaluations,
             "time_s": self.time_s,
-            "initial_feasible": self.initial_checks.passed,
+            "solver_status": self.solver_status,
+            "initial_feasible": self.initial_feasible,
+            "initial_violations": self.initial_violations(),
+            "initial_worst_constraint": self.initial_worst_constraint(),
             "worst_constraint": self.worst_constraint(),
             "variables": [{"name": n, "initial": float(a), "final": float(b)}
                           for n, a, b in zip(self.variables, self.initial_design, self.design)],
@@ -322,8 +343,9 @@ def _bounds(prob: ScaledProblem) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, maxeval: int,
-               tracker: Tracker) -> tuple[np.ndarray, str]:
-    """One nlopt run of ``algo`` (slsqp, mma, ccsaq, cobyla, isres) from z0; returns (z, message)."""
+               tracker: Tracker) -> tuple[np.ndarray, str, bool]:
+    """One nlopt run of ``algo`` (slsqp, mma, ccsaq, cobyla, isres) from z0; returns (z, the
+    solver's status text, whether it met a stopping tolerance)."""
     nlopt = _nlopt()
     name = {"cobyla": "LN_COBYLA", "isres": "GN_ISRES", **LOCAL_GRADIENT}[algo]
     o = nlopt.opt(getattr(nlopt, name), prob.n)
@@ -373,30 +395,35 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
     z = np.clip(z0, lo, hi)
     try:
         z = o.optimize(z)
-        msg = NLOPT_RESULTS.get(o.last_optimize_result(), str(o.last_optimize_result()))
+        code = o.last_optimize_result()
+        msg = NLOPT_RESULTS.get(code, str(code))
+        ok = code in NLOPT_CONVERGED
     except nlopt.RoundoffLimited:
         msg = "roundoff limited (stopped; best point of the run kept)"
         z = seen[0][1] if seen else z
-    except _Stalled:
+        ok = False
+    except _Stalled:                     # the project's own ftol criterion over many evaluations
         msg = f"no gain of ftol_rel in {stall} evaluations (best point of the run kept)"
         z = seen[0][1]
+        ok = True
     fz, _d, gz, _j, _p, _v = prob.evaluate(np.asarray(z, float), False)
     gz_max = float(np.max(gz))
     end_key = (True, gz_max) if gz_max > FEASIBLE_TOL else (False, fz)
     if seen and seen[0][0] < end_key:
         z = seen[0][1]
-    return np.asarray(z, dtype=float), f"{algo}: {msg}"
+    return np.asarray(z, dtype=float), f"{algo}: {msg}", ok
 
 
 def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int, tracker: Tracker
-                 ) -> tuple[np.ndarray, str]:
+                 ) -> tuple[np.ndarray, str, bool]:
     """The thesis' exterior penalty method (Eq. 5.14–5.15) with BOBYQA as the unconstrained
     minimiser; r_p grows ×10 per round."""
     nlopt = _nlopt()
     lo, hi = _bounds(prob)
     z = np.clip(z0, lo, hi)
     rp = opt_cfg.penalty
-    msg = ""
+    msg = "no round run (budget too small)"
+    ok = False
     stall = 10 * prob.n
     used0 = tracker.evaluations
     base_phase = tracker.phase
@@ -436,18 +463,22 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
         o.set_initial_step(np.full(prob.n, 0.02 if k == 0 else 0.005))
         try:
             z = np.asarray(o.optimize(z), dtype=float)
-            msg = NLOPT_RESULTS.get(o.last_optimize_result(), "")
+            code = o.last_optimize_result()
+            msg = NLOPT_RESULTS.get(code, str(code))
+            ok = code in NLOPT_CONVERGED
         except nlopt.RoundoffLimited:
             msg = "roundoff limited"
+            ok = False
         except _Stalled:
             msg = f"no gain in {stall} evaluations"
             z = best[2]
+            ok = True
         g = prob.evaluate(z, False)[2]
         if k >= 1 and float(np.max(g)) <= 0.0:
             break
         rp *= 10.0
     tracker.phase = base_phase
-    return z, f"bobyqa + exterior penalty (last r_p = {rp:g}): {msg}"
+    return z, f"bobyqa + exterior penalty (last r_p = {rp:g}): {msg}", ok
 
 
 # ---- the driver ---------------------------------------------------------------------------
@@ -481,6 +512,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     spec = spec.replace(**changes) if changes else spec
     cfg = spec.optimise
     space = DesignSpace(spec)
+    space.check_start()
     model = SmoothModel(space)
     obj = make_objective(cfg.objective, model)
     algo = cfg.algorithm
@@ -488,16 +520,18 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     budget = cfg.max_evaluations * runs * (2 if cfg.objective in TIME and algo == "auto" else 1)
     tracker = Tracker(budget, progress, cancel)
     messages: list[str] = []
+    last: list[tuple[str, bool]] = [("", False)]     # the latest solver run: (status text, converged)
     details: dict[str, Any] = {}
     p_init = space.p0.copy()
     f_init_model = _objective_value(obj, space, p_init)
 
     def solve_local(prob: ScaledProblem, z0: np.ndarray, local_algo: str, maxeval: int) -> np.ndarray:
         if local_algo in LOCAL_GRADIENT or local_algo in ("cobyla", "isres"):
-            z, msg = _run_nlopt(prob, local_algo, z0, cfg, maxeval, tracker)
+            z, msg, ok = _run_nlopt(prob, local_algo, z0, cfg, maxeval, tracker)
         else:
-            z, msg = _run_penalty(prob, z0, cfg, maxeval, tracker)
+            z, msg, ok = _run_penalty(prob, z0, cfg, maxeval, tracker)
         messages.append(msg)
+        last[0] = (msg, ok)
         return z
 
     def solve_phase(o: Objective, local_algo: str, p0: np.ndarray, phase: str, global_first: bool = False,
@@ -546,14 +580,19 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             p = solve_phase(obj, local, p_init, "isres + " + local if algo == "isres" else local,
                             global_first=(algo == "isres"))
         candidates = [p]
+        ends = [last[0]]
         rng = np.random.default_rng(cfg.seed)
         for i in range(cfg.multistart):
             z_rand = _random_start(space, rng)
             tracker.phase = f"start {i + 2}"
             candidates.append(solve_phase(obj, local, space.to_p(z_rand), f"start {i + 2}"))
-        p_best = _pick(cfg.objective, space, candidates)
+            ends.append(last[0])
+        k_best = _pick(cfg.objective, space, candidates)
+        p_best = candidates[k_best]
+        solver_status, solver_ok = ends[k_best]
     except Cancelled:
         status = "cancelled"
+        solver_status, solver_ok = "cancelled (forced stop after the evaluation in progress)", False
         if tracker.best_feasible is not None:
             p_best = tracker.best_feasible[1]
         elif tracker.best_any is not None:
@@ -577,6 +616,8 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             status = "infeasible"
         elif tracker.evaluations >= budget:
             status = "budget exhausted"
+        elif not solver_ok:
+            status = "stopped"            # the solver's own text says why (e.g. roundoff limited)
     message = "; ".join(messages)
     if not checks.passed:
         message += ("; " if message else "") + f"the final design FAILS the dense check: {', '.join(checks.failed)}"
@@ -584,7 +625,8 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         spec=final_spec, initial_spec=spec, objective=cfg.objective, algorithm=algo,
         initial_value=v0, value=v1, variables=space.labels, initial_design=p_init, design=p_best,
         history=tracker.history, evaluations=tracker.evaluations, time_s=time.perf_counter() - t_start,
-        status=status, message=message, checks=checks, initial_checks=initial_checks, details=details)
+        status=status, message=message, checks=checks, initial_checks=initial_checks, details=details,
+        solver_status=solver_status)
 
 
 def final_value(objective: str, spec: CamSpec) -> float:
@@ -672,12 +714,12 @@ def _random_start(space: DesignSpace, rng: np.random.Generator) -> np.ndarray:
     return space.to_z(np.clip(p, space.lower, space.upper))
 
 
-def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> np.ndarray:
-    """The best candidate: passing the dense check first, then the smallest objective."""
+def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> int:
+    """The index of the best candidate: passing the dense check first, then the smallest objective."""
     best = None
-    for p in candidates:
+    for i, p in enumerate(candidates):
         spec = space.spec_at(p)
         key = (not run_checks(spec).passed, final_value(objective, spec))
         if best is None or key < best[0]:
-            best = (key, p)
+            best = (key, i)
     return best[1]

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..bspline_law import BSplineLift, fixed_end_points
+from ..errors import SpecError
 from ..motion import MotionProgram
 from ..spec import CamSpec, optimise_control_rows, optimise_variables
 
@@ -83,18 +84,26 @@ class DesignSpace:
         r0 = spec.cam.base_radius
         rr = spec.roller_radius
         bore = spec.cam.bore_diameter / 2
-        r_lo = opt.base_radius_min if opt.base_radius_min is not None else max(0.5 * r0, 1.05 * (rr + bore) + 1e-9)
+        e0 = spec.follower.offset
+        # default bounds always contain the start (a user-given one that does not is refused by
+        # :meth:`check_start`): R_b ∈ [½, 2] × the initial (the lower at least 1.05 × (roller +
+        # bore radius)), |e| ≤ ½ × the R_b lower bound or |e₀|, the R_b lower bound above that
+        r_lo = opt.base_radius_min if opt.base_radius_min is not None else min(
+            max(0.5 * r0, 1.05 * (rr + bore) + 1e-9), r0)
         r_hi = opt.base_radius_max if opt.base_radius_max is not None else 2.0 * r0
+        with_r = "base_radius" in self.kinds
+        e_max = opt.offset_max if opt.offset_max is not None else max(0.5 * (r_lo if with_r else r0), abs(e0))
+        if with_r and "offset" in self.kinds and opt.base_radius_min is None and not e_max < r_lo:
+            r_lo = 0.5 * (e_max + r0)       # every design in the box keeps R_b > |e|
         self.r_index = self.e_index = self.b_index = None
-        if "base_radius" in self.kinds:
+        if with_r:
             self.r_index = len(p0)
             labels.append("cam.base_radius")
             p0.append(r0), lo.append(r_lo), hi.append(max(r_hi, r_lo * 1.01))
-        e_max = opt.offset_max if opt.offset_max is not None else 0.5 * (r_lo if "base_radius" in self.kinds else r0)
         if "offset" in self.kinds:
             self.e_index = len(p0)
             labels.append("follower.offset")
-            p0.append(spec.follower.offset), lo.append(-e_max), hi.append(e_max)
+            p0.append(e0), lo.append(-e_max), hi.append(e_max)
         gap = math.radians(opt.control_gap)
         blocks: list[LiftBlock] = []
         for k, curve in enumerate(self.program.curves):
@@ -127,10 +136,43 @@ class DesignSpace:
         self.labels = tuple(labels)
         self.lower = np.array(lo, dtype=float)
         self.upper = np.array(hi, dtype=float)
-        self.p0 = np.clip(np.array(p0, dtype=float), self.lower, self.upper)
+        #: the user's starting design, never moved: default bounds are widened to contain it, and a
+        #: bound the spec gives that excludes it is refused by :meth:`check_start`
+        self.start = np.array(p0, dtype=float)
+        if self.start.size:
+            self.lower = np.minimum(self.lower, self.start)
+            self.upper = np.maximum(self.upper, self.start)
+        self.p0 = self.start.copy()
         self.scale = self.upper - self.lower
         self.gap = gap
         self.linear_A, self.linear_c = self._linear_constraints()
+
+    def check_start(self) -> None:
+        """Refuse a starting design outside the bounds the spec gives (the default bounds
+        always contain it), rather than silently moving it.
+
+        Raises:
+            SpecError: naming the bound (``optimise.offset_max``, ``optimise.base_radius_min`` or
+                ``optimise.base_radius_max``) and the start value.
+        """
+        opt = self.spec.optimise
+        units = self.spec.units
+        if self.e_index is not None and opt.offset_max is not None:
+            e0 = float(self.start[self.e_index])
+            if abs(e0) > opt.offset_max:
+                raise SpecError("optimise.offset_max",
+                                f"must be ≥ |follower.offset| of the starting design ({e0:g} {units}), "
+                                f"got {opt.offset_max:g}")
+        if self.r_index is not None:
+            r0 = float(self.start[self.r_index])
+            if opt.base_radius_min is not None and r0 < opt.base_radius_min:
+                raise SpecError("optimise.base_radius_min",
+                                f"must be ≤ cam.base_radius of the starting design ({r0:g} {units}), "
+                                f"got {opt.base_radius_min:g}")
+            if opt.base_radius_max is not None and r0 > opt.base_radius_max:
+                raise SpecError("optimise.base_radius_max",
+                                f"must be ≥ cam.base_radius of the starting design ({r0:g} {units}), "
+                                f"got {opt.base_radius_max:g}")
 
     # ---- sizes and scaling ----------------------------------------------------------------
     @property
