@@ -12,7 +12,8 @@ import math
 
 import pytest
 
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from generators.examples import PAPER_SPEC_DICT
+from generators.spec import CamSpec
 
 from .conftest import paper_case_dict, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -21,13 +22,13 @@ pytestmark = requires_freecadcmd
 
 
 def _specs() -> dict[str, dict]:
-    cw = copy.deepcopy(DEFAULT_SPEC_DICT)
+    cw = copy.deepcopy(PAPER_SPEC_DICT)
     cw["cam"].update(direction="cw", thickness=7.5, bore_diameter=12.0)
     cw["follower"]["offset"] = -6.0
     cw["motion"][1]["law"] = "poly345"
     cw["motion"][3]["law"] = "modified_sine"
     return {
-        "default_roller": copy.deepcopy(DEFAULT_SPEC_DICT),
+        "default_roller": copy.deepcopy(PAPER_SPEC_DICT),
         "case1_knife": paper_case_dict(1, knife=True),
         "case3_roller": paper_case_dict(3, knife=False),
         "cw_roller": cw,
@@ -121,7 +122,8 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("edit")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["v0"] = cam.Shape.Volume
 cam.CamThickness = 12.5
@@ -231,7 +233,8 @@ MAKE_OLD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("old")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["volume"] = cam.Shape.Volume
 # what a file written before these properties existed looks like
@@ -277,7 +280,8 @@ BAD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("bad")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 good = cam.Shape.Volume
 RESULT["good"] = good
@@ -349,9 +353,9 @@ def test_spec_round_trip_through_properties(tmp_path, fc_home):
     """spec → properties → spec is the identity (also for optional fields: junctions per
     segment, tolerance instead of segments, a knife follower, inches; forces, stresses, feeds,
     masses and spring rates stored in FreeCAD's units; bools; B-spline control points)."""
-    tol = copy.deepcopy(DEFAULT_SPEC_DICT)
+    tol = copy.deepcopy(PAPER_SPEC_DICT)
     tol["pitch"] = {"representation": "ph", "tolerance": 1e-3}
-    inch = copy.deepcopy(DEFAULT_SPEC_DICT)
+    inch = copy.deepcopy(PAPER_SPEC_DICT)
     inch["units"] = "in"
     inch["cam"].update(base_radius=1.0, thickness=0.375, bore_diameter=0.25)
     inch["follower"].update(offset=0.25, roller_radius=0.2)
@@ -363,7 +367,7 @@ def test_spec_round_trip_through_properties(tmp_path, fc_home):
     from .conftest import ROOT
 
     ex5 = load_spec(ROOT / "tests/fixtures/thesis_ex5_final.toml").to_dict()  # inch, loads, B-spline law
-    loaded = copy.deepcopy(DEFAULT_SPEC_DICT)
+    loaded = copy.deepcopy(PAPER_SPEC_DICT)
     loaded["follower"].update(preload=47.3, mass=0.123456789012345678, spring_rate=1.7, roller_width=6.5)
     loaded["material"] = {"allowable_stress": 812.5, "cam_modulus": 206000.0}
     loaded["machining"] = {"feed_rate": 437.0, "plunge_rate": 120.0, "coolant": True, "passes": 3}
@@ -384,7 +388,8 @@ from cam_workbench.freecad import motion_editor as M
 from generators.errors import SpecError
 doc = FreeCAD.newDocument("undo")
 doc.UndoMode = 1
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 v0 = cam.Shape.Volume
 rows = M.read_rows(cam)
@@ -428,7 +433,7 @@ def test_motion_program_apply_is_one_undo_step(tmp_path, fc_home):
     assert len(r["rows1"]) == 6 and r["rows1"][1] == {"kind": "rise", "angle": 100.0, "lift": 15.0,
                                                       "law": "poly345"}
     assert r["status1"] == "ok"
-    spec = CamSpec.from_dict({**DEFAULT_SPEC_DICT, "motion": r["rows1"]})
+    spec = CamSpec.from_dict({**PAPER_SPEC_DICT, "motion": r["rows1"]})
     expected = PlateCam(spec).volume
     assert abs(r["v1"] - expected) / expected < 1e-9
     assert r["validate_bad"] == "row 6, angle: spans sum to 355°, must be 360°"
@@ -443,7 +448,8 @@ from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.step_export import export_step
 from cam_workbench.freecad.spec_io import export_spec, open as open_spec
 doc = FreeCAD.newDocument("step")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 export_step(cam, STEP_PATH)
 RESULT["volume"] = cam.Shape.Volume
@@ -504,7 +510,8 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
 doc = FreeCAD.newDocument("check")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 rep = design_report(cam)
 RESULT["ok"] = rep.ok
@@ -525,12 +532,13 @@ def test_check_design_report(tmp_path, fc_home):
     """Check design reports the default cam buildable with its numbers (compared with the
     summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
     case 2 cam), the undercut with its cam angle, and a bad field by name."""
-    from generators import default_spec, design_cam
+    from generators import design_cam
+    from generators.examples import example_spec
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
     assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
     rows = {(g, item): (value, status) for g, item, value, status in r["rows"]}
-    s = design_cam(default_spec()).summary()
+    s = design_cam(example_spec("paper")).summary()
     assert rows[("Pitch curve", "PH quintic segments M")][0] == "60"
     assert rows[("Pressure angle", "max |φ| (design)")][0].startswith(f"{s['pressure_angle']['max_deg']:.3f}°")
     assert rows[("FreeCAD solid", "valid, one solid")] == ("yes", "pass")
@@ -549,7 +557,8 @@ import FreeCAD
 from cam_workbench.freecad.feature import create, build
 from cam_workbench.freecad.plots import kinematics_figure, kinematics_data, save_figure
 doc = FreeCAD.newDocument("plot")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 design, scale, _ = build(cam, solid=False)
 d = kinematics_data(design)
@@ -565,13 +574,14 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
     """matplotlib is there in FreeCAD's Python; the plot's data agree with the closed form
     (cycloidal rise h = 20 mm over β = 120° at 60 rpm: v_max = 2h·ω/β) and the deviation
     with the design's; the PNG is kept as a test artefact."""
-    from generators import default_spec, design_cam
+    from generators import design_cam
+    from generators.examples import example_spec
 
     png = artifacts / "freecad_kinematics.png"
     r = run_freecadcmd(f"PNG = {str(png)!r}\n" + PLOT, tmp_path, fc_home).check().result
     omega, beta = 2 * math.pi, math.radians(120)
     assert r["max_v"] == pytest.approx(2 * 20.0 * omega / beta, rel=1e-6)
-    dev = design_cam(default_spec()).max_deviation[0]
+    dev = design_cam(example_spec("paper")).max_deviation[0]
     assert r["max_dev"] == pytest.approx(dev, rel=0.05)
     assert png.stat().st_size > 20_000
 
@@ -594,7 +604,8 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("later")
-cam = create(doc)
+from generators.examples import example_dict
+cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 RESULT["props"] = sorted((n, cam.getGroupOfProperty(n), cam.getTypeIdOfProperty(n))
                          for n in cam.PropertiesList if n.startswith("Extra"))
 RESULT["off"] = "extra" in P.spec_dict(cam)
@@ -641,7 +652,7 @@ RESULT["objects"] = [o.Name for o in doc.Objects]
 def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
     """A valid spec whose cam cannot be made (undercut) reports the cam angle and says there
     is no shape yet; the document keeps the feature so the user can fix it."""
-    spec = copy.deepcopy(DEFAULT_SPEC_DICT)
+    spec = copy.deepcopy(PAPER_SPEC_DICT)
     spec["cam"]["bore_diameter"] = 0.0
     spec["follower"]["roller_radius"] = 21.5
     run = run_freecadcmd(f"SPEC = {spec!r}\n" + FIRST_BUILD_FAILS, tmp_path, fc_home).check()

@@ -14,7 +14,8 @@ import json
 
 import pytest
 
-from generators.spec import default_spec, load_spec
+from generators.examples import example_spec
+from generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -80,7 +81,7 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
 
     res, first, second = _open(tmp_path, fc_home, "freecad_round1_default.FCStd")
     r = res["PlateCam"]
-    expected = default_spec().replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345"})
+    expected = example_spec("paper").replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345"})
     assert r["version"] == 2 and r["types"] == NEW_TYPES
     assert _same(r["spec"], expected), r["spec"]
     vol = PlateCam(expected).volume
@@ -106,7 +107,7 @@ def test_plain_number_document_is_converted_to_units(tmp_path, fc_home):
 
     res, first, second = _open(tmp_path, fc_home, "freecad_v1_plain_numbers.FCStd")
     ex5 = load_spec(FIXTURES / "thesis_ex5_final.toml")
-    loaded = default_spec().replace(**{"follower.preload": 50.0, "follower.mass": 0.5,
+    loaded = example_spec("paper").replace(**{"follower.preload": 50.0, "follower.mass": 0.5,
                                        "follower.spring_rate": 2.0, "machining.feed_rate": 450.0,
                                        "material.allowable_stress": 900.0})
     for name, spec in (("Ex5", ex5), ("Loaded", loaded)):

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import pytest
 
-from generators import default_spec, load_spec, to_toml
+from generators import load_spec, to_toml
+from generators.examples import example_spec
 from generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
@@ -65,7 +66,8 @@ def optimise_and_apply(name, spec_src, tokens, budget):
     out["undone"] = state(cam)
     return out
 
-RESULT["ph"] = optimise_and_apply("PH", None, ["base_radius", "offset"], 40)
+from generators.examples import example_dict
+RESULT["ph"] = optimise_and_apply("PH", example_dict("paper"), ["base_radius", "offset"], 40)
 RESULT["ex5"] = optimise_and_apply("Ex5", EX5, None, 30)
 
 # cancellation from another thread while the run goes on
@@ -177,8 +179,8 @@ def test_ph_cam_offers_base_radius_and_offset_only(runs):
     figures = {row[0]: row for row in r["figures"]}
     assert figures["design checks"][1:] == ["FAIL: pressure angle", "all pass"]
     spec = load_spec(res["toml"])
-    assert spec.cam.base_radius > default_spec().cam.base_radius and abs(spec.follower.offset) < 0.1
-    assert r["settings"]["base_radius_min"] == pytest.approx(default_spec().cam.base_radius / 2, rel=1e-15)
+    assert spec.cam.base_radius > example_spec("paper").cam.base_radius and abs(spec.follower.offset) < 0.1
+    assert r["settings"]["base_radius_min"] == pytest.approx(example_spec("paper").cam.base_radius / 2, rel=1e-15)
     checks = {row[0]: row for row in r["checks"]}
     assert checks["pressure angle"][4] == "fail" and checks["pressure angle"][7] == "pass"
 
@@ -261,7 +263,7 @@ def test_default_bounds_are_the_library_defaults():
     |e| ≤ ½ × the lower bound) rather than repeating the rule."""
     from cam_workbench.freecad import optimiser as O
 
-    spec = default_spec()
+    spec = example_spec("paper")
     assert O.default_bounds(spec) == pytest.approx((spec.cam.base_radius / 2, 2 * spec.cam.base_radius,
                                                     spec.cam.base_radius / 4), rel=1e-15)
     tight = spec.replace(**{"cam.base_radius": 12.0, "cam.bore_diameter": 13.0})   # roller 5 + bore 6.5

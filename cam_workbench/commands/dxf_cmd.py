@@ -16,9 +16,11 @@ _DECL = params_of(DrawingSection)
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "dxf", help="write the DXF drawing: exact spline, or arcs/polyline within a tolerance",
-        description="Design the cam and write its manufacturing drawing as DXF: the profile as the "
-                    "exact rational SPLINE (layer PROFILE), or as arcs or a polyline within "
+        "dxf", help="write the DXF drawing: the profile SPLINE, or arcs/polyline within a tolerance",
+        description="Design the cam and write its manufacturing drawing as DXF: the profile as a "
+                    "SPLINE (layer PROFILE: the exact rational offset for a PH pitch curve; for "
+                    "pitch.representation = \"bspline\" a fitted B-spline, its measured error printed), or "
+                    "as arcs or a polyline within "
                     "drawing.chord_tolerance for machines that cannot read splines; the pitch curve, "
                     "base and prime circles, bore, centre lines, dimensions and a title block with the "
                     "motion table. The spec's [drawing] section sets the defaults.",

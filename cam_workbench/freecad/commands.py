@@ -238,7 +238,7 @@ class _Export(Command):
 
 class ExportDxf(_Export):
     menu_text = "Export DXF…"
-    tooltip = ("Write the manufacturing drawing as DXF: the exact rational profile SPLINE (or arcs / a "
+    tooltip = ("Write the manufacturing drawing as DXF: the profile SPLINE (exact for a PH pitch curve; or arcs / a "
                "polyline, Drawing properties), pitch curve, circles, dimensions, title block")
     icon = "ExportDxf.svg"
     group = "dxf"

@@ -61,7 +61,7 @@ class ExportKind:
 
 KINDS: dict[str, ExportKind] = {k.key: k for k in (
     ExportKind("dxf", "Export DXF", ("dxf",), ".dxf", "DXF drawing (*.dxf)", "{label}.dxf",
-               "the manufacturing drawing: the profile as the exact rational SPLINE (or arcs / a "
+               "the manufacturing drawing: the profile as a SPLINE (exact for a PH pitch curve; or arcs / a "
                "polyline within the Drawing tolerance), pitch curve, circles, bore, dimensions, "
                "title block"),
     ExportKind("gcode_xy", "Export G-code (XY contour)", ("gcode", "--mode", "xy"), ".nc",
