@@ -33,10 +33,8 @@ def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
     if has_offset_curves(_topods(shape)):
         raise ValueError("the shape has offset-curve edges, which OCCT's STEP writer cannot map "
                          "(it silently writes an empty model): export a B-spline approximation")
-    Interface_Static.SetCVal_s("xstep.cascade.unit", _OCC_UNIT[units])
-    Interface_Static.SetCVal_s("write.step.unit", _OCC_UNIT[units])
-    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    Interface_Static.SetCVal_s("write.step.product.name", product_name)
+    _set_static({"xstep.cascade.unit": _OCC_UNIT[units], "write.step.unit": _OCC_UNIT[units],
+                 "write.step.schema": "AP214IS", "write.step.product.name": product_name})
     _quiet_occt()
     writer = STEPControl_Writer()
     status = writer.Transfer(_topods(shape), STEPControl_AsIs)
@@ -45,6 +43,22 @@ def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
     if writer.Write(str(path)) != IFSelect_RetDone:
         raise OSError(f"OCCT could not write {path}")
     Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+
+
+def _set_static(values: dict[str, str]) -> None:
+    """Set OCCT's STEP translator parameters, after making sure they exist: in a fresh process
+    they are declared only when the STEP controller is initialised (the first writer or reader
+    does it) — set before that, OCCT refuses them and the file silently declares millimetres.
+
+    Raises:
+        RuntimeError: OCCT refuses a value (the file would not say what it holds)."""
+    from OCP.Interface import Interface_Static
+    from OCP.STEPControl import STEPControl_Controller
+
+    STEPControl_Controller.Init_s()
+    for name, value in values.items():
+        if not Interface_Static.SetCVal_s(name, value) or Interface_Static.CVal_s(name) != value:
+            raise RuntimeError(f"OCCT refused the STEP parameter {name} = {value!r}")
 
 
 def has_offset_curves(shape: Any) -> bool:
@@ -84,7 +98,7 @@ def read_step(path: str | os.PathLike[str], units: str = "mm") -> Any:
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_Reader
 
-    Interface_Static.SetCVal_s("xstep.cascade.unit", _OCC_UNIT[units])
+    _set_static({"xstep.cascade.unit": _OCC_UNIT[units]})
     _quiet_occt()
     reader = STEPControl_Reader()
     try:
