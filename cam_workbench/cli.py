@@ -58,14 +58,28 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cam-workbench`` console script; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.status = EXIT_OK          # a command sets it before it prints its last tables
+    _broken_pipe_raises()
     try:
         return int(args.run(args) or 0)
+    except BrokenPipeError:
+        # the reader of stdout went away (`… | head`): not an error of ours — the files are
+        # written; stop printing and keep the command's status
+        _silence_stdout()
+        return int(args.status)
     except CamError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_one_line(str(exc))}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except (MemoryError, RecursionError) as exc:
+        print(f"error: input too large to process ({type(exc).__name__}); nothing was written", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:
+        where = exc.filename or getattr(args, "output", None) or "output"
+        print(f"error: {where}: {exc.strerror or exc}; nothing was written", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except Exception as exc:  # noqa: BLE001 - last-resort report, never a bare traceback
         if args.debug:
             raise
@@ -74,9 +88,45 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INTERNAL
 
 
+def _one_line(text: str) -> str:
+    """A message on one line (a spec value may carry newlines)."""
+    return " ".join(text.split())
+
+
+def _broken_pipe_raises() -> None:
+    """rich ends the process with exit 1 when stdout's reader goes away; let it raise
+    BrokenPipeError instead, which :func:`main` turns into the command's own status."""
+    try:
+        from rich.console import Console
+    except ImportError:
+        return
+
+    def on_broken_pipe(self: Console) -> None:
+        raise BrokenPipeError(32, "Broken pipe")
+
+    Console.on_broken_pipe = on_broken_pipe  # type: ignore[method-assign]
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that Python's flush at exit does not raise again
+    (see the Python docs' note on SIGPIPE)."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+
+
 def run() -> None:
     """Console-script wrapper."""
-    sys.exit(main())
+    code = main()
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _silence_stdout()
+    sys.exit(code)
 
 
 if __name__ == "__main__":

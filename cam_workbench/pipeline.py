@@ -194,7 +194,8 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
 
 
 def write_outputs(outputs: CamOutputs, folder: str | Path, *, extra_texts: dict[str, str] | None = None,
-                  report: bool = True, progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+                  report: bool = True, progress: Callable[[str], None] | None = None,
+                  command: str = "build") -> dict[str, Any]:
     """Write what ``outputs`` holds into ``folder`` as one set (all or nothing; the folder then
     holds this cam's files only): cam.step, cam.dxf, the machining files, ``extra_texts``
     (name → text) and, with ``report``, report.json/report.html/plots.  Returns the report
@@ -205,7 +206,7 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, *, extra_texts: dict[
 
     files: dict[str, Any] = {}
     extra_texts = extra_texts or {}
-    with OutputSet(Path(folder)) as o:
+    with OutputSet(Path(folder), digest=outputs.summary.get("spec_digest"), command=command) as o:
         if outputs.step_shape is not None:
             shape, units = outputs.step_shape, outputs.spec.units
             o.add(STEP_NAME, lambda p: write_step(shape, p, units))

@@ -1,8 +1,9 @@
 """Atomic file output: write to a temporary file beside the target, then rename.
 
-An error never leaves a half-written or clobbered file.  :class:`OutputSet` commits
-several files together: nothing is renamed until every one of them is written, and
-the output folder is only created once there is something to put in it.
+An error never leaves a half-written or clobbered file.  :class:`OutputSet` commits several
+files together as the whole content of an output folder: they are written into a staging
+folder that replaces the target in one atomic step, so a folder holds one cam's set — never a
+mix of two, even when the process is killed (the next run removes what it left).
 """
 from __future__ import annotations
 
@@ -55,37 +56,150 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     return Path(path)
 
 
+MANIFEST = ".cam-workbench.json"
+STAGING_TAG = ".cam-workbench-staging-"
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two directory entries atomically (Linux renameat2 RENAME_EXCHANGE); False where the
+    system cannot (then the caller falls back to two renames)."""
+    import ctypes
+    import errno
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    if fn(_AT_FDCWD, os.fsencode(str(a)), _AT_FDCWD, os.fsencode(str(b)), _RENAME_EXCHANGE) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def read_manifest(folder: Path) -> dict | None:
+    """The manifest of an output folder (None when there is none or it is unreadable)."""
+    import json
+
+    try:
+        data = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) and isinstance(data.get("files"), list) else None
+
+
+def check_output_folder(folder: str | os.PathLike[str]) -> Path:
+    """The output folder ``folder`` resolved, if it can hold a cam's output set: absent, empty,
+    or holding only the files of an earlier set (its manifest lists them).
+
+    Raises:
+        SpecError: ``-o`` names a file, a path under a file, or a folder with other files.
+    """
+    from generators.errors import SpecError
+
+    target = Path(folder)
+    for parent in [target, *target.parents]:
+        if parent.exists() and not parent.is_dir():
+            what = "is a file" if parent == target else f"is under {parent}, which is a file"
+            raise SpecError("-o", f"{target} {what}: name a folder for the outputs")
+        if parent.exists():
+            break
+    if not target.exists():
+        return target
+    manifest = read_manifest(target)
+    owned = set(manifest["files"]) if manifest else set()
+    foreign = sorted(p.name for p in target.iterdir()
+                     if p.name != MANIFEST and p.name not in owned and STAGING_TAG not in p.name)
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+        raise SpecError("-o", f"{target} holds files that are not a cam-workbench output ({shown}); "
+                              "choose an empty or new folder")
+    return target
+
+
+def _remove_stale_staging(target: Path) -> None:
+    """Staging folders of earlier runs that were killed (their process is gone)."""
+    import shutil
+
+    prefix = f".{target.name}{STAGING_TAG}"
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        return
+    for p in parent.iterdir():
+        if p.name.startswith(prefix):
+            try:
+                pid = int(p.name[len(prefix):].split("-")[0])
+            except ValueError:
+                continue
+            if not _pid_alive(pid) or pid == os.getpid():
+                shutil.rmtree(p, ignore_errors=True)
+
+
 class OutputSet:
-    """Several output files committed together.
+    """Several output files committed together, as the whole content of one folder.
 
     Usage::
 
-        with OutputSet(out_dir) as out:
+        with OutputSet(out_dir, digest=spec_digest(spec)) as out:
             out.add("cam.step", lambda tmp: export_step(shape, tmp))
             out.add_text("report.json", text)
-        # all renamed here, or none if anything raised
+        # here the folder holds exactly these files (and its manifest), or, if anything
+        # raised, what it held before
+
+    The files are written into a staging folder beside the target; on commit a manifest
+    (``.cam-workbench.json``: the files, the spec digest, the command) is added and the staging
+    folder replaces the target in one atomic step (Linux ``renameat2(RENAME_EXCHANGE)``), so a
+    folder never holds files of two cams, even when the process is killed; the next run removes
+    what a killed one left.  A folder with files that no manifest lists is refused (exit 2).
+    ``merge=True`` keeps the earlier set's other files when it was made for the same spec
+    (same ``digest``): ``check`` updating a build's report.json.
     """
 
-    def __init__(self, folder: str | os.PathLike[str]):
+    def __init__(self, folder: str | os.PathLike[str], *, digest: str | None = None,
+                 command: str | None = None, merge: bool = False):
         self.folder = Path(folder)
-        self._pending: list[tuple[Path, Path]] = []
-        self._created_folder = False
+        self.digest = digest
+        self.command = command
+        self.merge = merge
+        self._pending: list[str] = []
+        self._staging: Path | None = None
 
     def __enter__(self) -> "OutputSet":
+        check_output_folder(self.folder)
+        _remove_stale_staging(self.folder)
         return self
 
+    def _stage(self) -> Path:
+        if self._staging is None:
+            parent = self.folder.parent if str(self.folder.parent) else Path(".")
+            parent.mkdir(parents=True, exist_ok=True)
+            self._staging = parent / f".{self.folder.name}{STAGING_TAG}{os.getpid()}-{id(self):x}"
+            self._staging.mkdir()
+        return self._staging
+
     def _tmp_for(self, name: str) -> Path:
-        if not self.folder.exists():
-            self.folder.mkdir(parents=True)
-            self._created_folder = True
-        target = self.folder / name
+        target = self._stage() / name
         target.parent.mkdir(parents=True, exist_ok=True)
-        return _make_temp(target.parent, target.name)
+        return target
 
     def add(self, name: str, writer: Callable[[Path], object]) -> Path:
-        """Run ``writer(tmp_path)`` now; the file is renamed to ``folder/name`` on commit."""
+        """Run ``writer(path)`` now on the staged file; it becomes ``folder/name`` on commit."""
         tmp = self._tmp_for(name)
-        self._pending.append((tmp, self.folder / name))
+        self._pending.append(name)
         writer(tmp)
         return self.folder / name
 
@@ -97,19 +211,59 @@ class OutputSet:
 
     @property
     def names(self) -> list[str]:
-        return [t.name for _, t in self._pending]
+        return list(self._pending)
+
+    def _carry_over(self, staging: Path) -> list[str]:
+        """merge: hard-link the earlier set's files that this set does not replace."""
+        old = read_manifest(self.folder) if self.folder.is_dir() else None
+        if not self.merge or old is None or old.get("spec_digest") != self.digest:
+            return []
+        kept = []
+        for name in old["files"]:
+            src = self.folder / name
+            if name in self._pending or not src.is_file():
+                continue
+            dst = staging / name
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                os.link(src, dst)
+            except OSError:
+                import shutil
+
+                shutil.copy2(src, dst)
+            kept.append(name)
+        return kept
+
+    def _commit(self) -> None:
+        import json
+        import shutil
+        import time
+
+        staging = self._stage()
+        check_output_folder(self.folder)           # nothing foreign appeared meanwhile
+        files = sorted(set(self._pending) | set(self._carry_over(staging)))
+        manifest = {"tool": "cam-workbench", "command": self.command, "spec_digest": self.digest,
+                    "files": files, "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        (staging / MANIFEST).write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+        os.chmod(staging, 0o777 & ~_umask())
+        if not self.folder.exists():
+            os.rename(staging, self.folder)
+        elif _exchange(staging, self.folder):
+            shutil.rmtree(staging, ignore_errors=True)     # now the earlier set
+        else:
+            aside = staging.with_name(staging.name + "-old")
+            os.rename(self.folder, aside)                 # no atomic swap here: a short window
+            os.rename(staging, self.folder)
+            shutil.rmtree(aside, ignore_errors=True)
+        self._staging = None
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        if exc_type is None:
-            for tmp, target in self._pending:
-                os.replace(tmp, target)
-            self._pending.clear()
-            return
-        for tmp, _ in self._pending:
-            if tmp.exists():
-                tmp.unlink()
-        if self._created_folder:
-            try:
-                self.folder.rmdir()
-            except OSError:
-                pass
+        import shutil
+
+        try:
+            if exc_type is None and self._pending:
+                self._commit()
+        finally:
+            if self._staging is not None:
+                shutil.rmtree(self._staging, ignore_errors=True)
+                self._staging = None

@@ -58,9 +58,11 @@ def run(args: argparse.Namespace) -> int:
                    "buildable": {"ok": False, "message": str(exc), "at_deg": exc.angle_deg}}
     out = Path(args.output)
     report = merged_report(out / "report.json", spec, summary)
-    with OutputSet(out) as o:
+    # a build of the same spec keeps its other files (its numbers are these); any other set is replaced
+    with OutputSet(out, digest=spec_digest(spec), command="check", merge=True) as o:
         o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
+    args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
     print_table(checks, spec, out, report["areas"])
     if error is not None:
         print(f"the cam cannot be made: {error}")

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from exporters.atomic import atomic_path
+from exporters.atomic import OutputSet, atomic_path
 from generators.params import params_of
 from generators.spec import DrawingSection
 
@@ -59,8 +59,12 @@ def run(args: argparse.Namespace) -> int:
     outputs = run_pipeline(spec, solid=False, machining=False, drawing=True, design=design_for(spec))
     doc, info = outputs.dxf
     target = output_file(args.output)
-    with atomic_path(target) as tmp:
-        doc.saveas(str(tmp))
+    if Path(args.output).suffix.lower() == ".dxf":
+        with atomic_path(target) as tmp:          # a file the user named
+            doc.saveas(str(tmp))
+    else:                                         # an output folder: it holds one cam's set
+        with OutputSet(target.parent, digest=outputs.summary["spec_digest"], command="dxf", merge=True) as o:
+            o.add(target.name, lambda p: doc.saveas(str(p)))
     print(f"drawing written to {target}")
     print("  " + describe(info.summary(), spec.units))
     return 0

@@ -81,7 +81,8 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, pcb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb)
+        report = write_outputs(outputs, out, extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb,
+                               command="optimise")
     _print(result, out, report)
     return 0 if result.feasible else EXIT_CHECK_FAILED
 

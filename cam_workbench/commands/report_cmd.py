@@ -31,6 +31,6 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, progress=cb)
+        report = write_outputs(outputs, out, progress=cb, command="report")
     print(f"report written to {out}/: {HTML_NAME}, {JSON_NAME}, " + ", ".join(report["files"]["plots"]))
     return 0
