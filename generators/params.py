@@ -30,6 +30,20 @@ UNIT_NAMES: dict[str, dict[str, str]] = {
 }
 
 
+#: Largest magnitude of a value of each unit kind (in the spec's units): far beyond any real
+#: cam, small enough that the geometry, the solvers and the G-code stay finite and readable.
+MAX_MAGNITUDE: dict[str, float] = {
+    "length": 1.0e5, "angle": 1.0e4, "speed": 1.0e5, "force": 1.0e9, "mass": 1.0e6, "stiffness": 1.0e9,
+    "stress": 1.0e12, "time": 1.0e3, "feed": 1.0e6, "spindle": 1.0e6, "density": 1.0e3, "": 1.0e9,
+}
+#: Smallest magnitude of a strictly positive value (``gt=0``) of each unit kind: below it a
+#: G-code word or a geometric tolerance rounds to nothing.
+MIN_POSITIVE: dict[str, float] = {"length": 1.0e-9, "feed": 1.0e-3, "spindle": 1.0, "speed": 1.0e-6,
+                                  "time": 1.0e-6}
+#: Largest value of an integer field that declares no bound of its own.
+MAX_INT = 1_000_000
+
+
 class _Required:
     def __repr__(self) -> str:
         return "REQUIRED"
@@ -88,27 +102,43 @@ class Param:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or (
                 isinstance(value, float) and not value.is_integer()
             ):
-                raise SpecError(path, f"must be an integer, got {value!r}")
+                raise SpecError(path, f"must be an integer, got {_short(value)}")
             value = int(value)
         elif k == "str":
             if not isinstance(value, str):
-                raise SpecError(path, f"must be a string, got {value!r}")
+                raise SpecError(path, f"must be a string, got {_short(value)}")
+            bad = next((c for c in value if ord(c) < 32 or 127 <= ord(c) < 160), None)
+            if bad is not None:
+                raise SpecError(path, f"must not contain control characters (found {bad!r})")
             if self.choices and value not in self.choices:
                 raise SpecError(
                     path, f"must be one of {', '.join(repr(c) for c in self.choices)}, got {value!r}"
                 )
         elif k == "bool":
             if not isinstance(value, bool):
-                raise SpecError(path, f"must be true or false, got {value!r}")
+                raise SpecError(path, f"must be true or false, got {_short(value)}")
         elif k == "floats":
             if not isinstance(value, (list, tuple)):
-                raise SpecError(path, f"must be a list of numbers, got {value!r}")
+                raise SpecError(path, f"must be a list of numbers, got {_short(value)}")
+            if len(value) > 1000:
+                raise SpecError(path, f"must have at most 1000 entries, got {len(value)}")
             value = tuple(_as_float(f"{path}[{i}]", v) for i, v in enumerate(value))
         if k in ("float", "int"):
             self._check_bounds(path, value)
         return value
 
     def _check_bounds(self, path: str, v: float) -> None:
+        if self.kind == "int":
+            top = self.le if self.le is not None else MAX_INT
+            if v > top and self.le is None:
+                raise SpecError(path, f"must be ≤ {top:g}, got {_fmt(v)}")
+        else:
+            top = MAX_MAGNITUDE.get(self.unit, MAX_MAGNITUDE[""])
+            if abs(v) > top:
+                raise SpecError(path, f"must be within ±{top:g}, got {_fmt(v)}")
+            low = MIN_POSITIVE.get(self.unit)
+            if low is not None and self.gt == 0 and 0 < v < low:
+                raise SpecError(path, f"must be ≥ {low:g} (a smaller value rounds to nothing), got {_fmt(v)}")
         if self.gt is not None and not v > self.gt:
             raise SpecError(path, f"must be > {_fmt(self.gt)}, got {_fmt(v)}")
         if self.ge is not None and not v >= self.ge:
@@ -121,15 +151,27 @@ class Param:
 
 def _as_float(path: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SpecError(path, f"must be a number, got {value!r}")
-    v = float(value)
+        raise SpecError(path, f"must be a number, got {_short(value)}")
+    try:
+        v = float(value)
+    except OverflowError:
+        raise SpecError(path, f"must be a finite number, got an integer of {len(str(value))} digits") from None
     if not math.isfinite(v):
         raise SpecError(path, f"must be a finite number, got {value!r}")
     return v
 
 
+def _short(value: Any, limit: int = 60) -> str:
+    """repr of a value for a one-line message, cut to ``limit`` characters."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit] + "…"
+
+
 def _fmt(v: float) -> str:
-    return f"{v:g}"
+    try:
+        return f"{v:g}"
+    except OverflowError:           # an integer beyond float range
+        return f"an integer of {len(str(v))} digits"
 
 
 def param(doc: str, **kw: Any) -> Any:

@@ -78,14 +78,14 @@ class MotionSegment:
     kind: str = param("Segment type", kind="str", choices=("dwell", "rise", "return"), group="Motion")
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
                          unit="angle", gt=0, group="Motion")
-    lift: float | None = param("Rise or fall height of the segment (rise/return only)",
-                               unit="length", gt=0, optional=True, group="Motion")
+    lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
+                               unit="length", ge=0, optional=True, group="Motion")
     law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
                             optional=True, group="Motion")
     junctions: int | None = param(
         "Number of PH segments spanning this motion segment (non-uniform junction spacing, "
         "as the paper's case 3); when any segment has it, all must",
-        kind="int", ge=1, optional=True, group="Motion",
+        kind="int", ge=1, le=20000, optional=True, group="Motion",
     )
     # ---- law = "bspline" (thesis §2.5–2.7) ----
     order: int | None = param(
@@ -129,7 +129,7 @@ class PitchSection:
     segments: int | None = param(
         "Uniform junction count M over 360° (junction spacing 360°/M; for a B-spline pitch: its "
         "knot spans); default 60 when neither segments, tolerance nor motion[].junctions is given",
-        kind="int", ge=8, optional=True, group="Pitch",
+        kind="int", ge=8, le=20000, optional=True, group="Pitch",
     )
     tolerance: float | None = param(
         "Target max follower-displacement deviation: chooses the smallest uniform M (B-spline: "
@@ -191,7 +191,7 @@ class ChecksSection:
         "intervals of the B-spline parameter u; of θ for closed-form laws), no refinement",
         kind="str", choices=("dense", "thesis71"), default="dense", group="Checks")
     samples: int = param("Samples per rise or return in dense sampling (ends included)",
-                         kind="int", ge=11, default=1001, group="Checks")
+                         kind="int", ge=11, le=100001, default=1001, group="Checks")
 
 
 DEFAULT_SEGMENTS = 60
@@ -502,21 +502,32 @@ def _section_dict(obj: Any) -> dict[str, Any]:
 
 
 def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
+    """Set the field at a dotted ``path`` (``cam.base_radius``, ``motion[1].lift``) in the spec's
+    TOML structure; a path that does not fit the structure is a SpecError naming it."""
     import re
 
+    if not isinstance(path, str) or not path:
+        raise SpecError(str(path) or "--set", "is not a valid field path (write e.g. cam.base_radius=30)")
     parts = path.split(".")
     node: Any = data
+    where = ""
     for i, part in enumerate(parts):
-        m = re.fullmatch(r"(\w+)(?:\[(\d+)\])?", part)
+        m = re.fullmatch(r"([A-Za-z_]\w*)(?:\[(\d+)\])?", part)
         if not m:
-            raise SpecError(path, "is not a valid field path")
+            raise SpecError(path, "is not a valid field path (write e.g. cam.base_radius or motion[1].lift)")
         key, idx = m.group(1), m.group(2)
         last = i == len(parts) - 1
+        if not isinstance(node, dict):
+            raise SpecError(path, f"{where or 'the spec'} is a value, not a table: it has no field {key!r}")
+        here = f"{where}.{key}" if where else key
         if idx is not None:
             node = node.setdefault(key, [])
+            if not isinstance(node, list):
+                raise SpecError(path, f"{here} is not a list: write {here}.FIELD without an index")
             k = int(idx)
             if k >= len(node):
                 raise SpecError(path, f"index {k} is out of range (there are {len(node)})")
+            here = f"{here}[{k}]"
             if last:
                 node[k] = value
             else:
@@ -527,7 +538,11 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
             else:
                 node[key] = value
         else:
-            node = node.setdefault(key, {})
+            nxt = node.setdefault(key, {})
+            if isinstance(nxt, list):
+                raise SpecError(path, f"{here} is a list of tables: write {here}[i].{parts[i + 1]}")
+            node = nxt
+        where = here
 
 
 def _reject_unknown(prefix: str, data: Mapping[str, Any], known: set[str]) -> None:
@@ -570,8 +585,9 @@ def validate(spec: CamSpec) -> None:
     r_surface = cam.base_radius - spec.roller_radius
     if not cam.bore_diameter < 2 * r_surface:
         raise SpecError("cam.bore_diameter",
-                        f"must be < 2 × smallest cam-surface radius (2 × {r_surface:g} = {2 * r_surface:g}), "
-                        f"got {cam.bore_diameter:g}")
+                        f"must be < 2 × smallest cam-surface radius = 2 × (cam.base_radius {cam.base_radius:g} − "
+                        f"follower.roller_radius {spec.roller_radius:g}) = {2 * r_surface:g}, got "
+                        f"{cam.bore_diameter:g}: a smaller bore or roller, or a larger base radius")
     _validate_motion(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
@@ -579,7 +595,12 @@ def validate(spec: CamSpec) -> None:
     _validate_optimise(spec)
 
 
+MAX_MOTION_SEGMENTS = 100
+
+
 def _validate_motion(spec: CamSpec) -> None:
+    if len(spec.motion) > MAX_MOTION_SEGMENTS:
+        raise SpecError("motion", f"has {len(spec.motion)} segments, at most {MAX_MOTION_SEGMENTS}")
     total = 0.0
     level = 0.0
     lifts = []
@@ -599,6 +620,8 @@ def _validate_motion(spec: CamSpec) -> None:
             continue
         if seg.lift is None:
             raise SpecError(f"{p}.lift", f"is required for a {seg.kind}")
+        if not seg.lift > 0:
+            raise SpecError(f"{p}.lift", f"must be > 0 for a {seg.kind}, got {seg.lift:g}")
         if seg.law is None:
             raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law == "bspline":
@@ -628,6 +651,9 @@ def _validate_motion(spec: CamSpec) -> None:
 
 def _validate_pitch(spec: CamSpec) -> None:
     pt = spec.pitch
+    if pt.tolerance is not None and pt.tolerance < 1e-9 * spec.cam.base_radius:
+        raise SpecError("pitch.tolerance", f"must be ≥ 1e-9 × cam.base_radius ({1e-9 * spec.cam.base_radius:g}): "
+                                           f"below that the deviation is rounding noise, got {pt.tolerance:g}")
     if pt.segments is not None and pt.tolerance is not None:
         raise SpecError("pitch.tolerance", "is exclusive with pitch.segments: give one of them")
     if pt.representation == "bspline" and spec.motion[0].junctions is not None:
@@ -645,6 +671,9 @@ def _validate_pitch(spec: CamSpec) -> None:
 
 def _validate_drawing(spec: CamSpec) -> None:
     dr = spec.drawing
+    if dr.chord_tolerance is not None and dr.chord_tolerance < 1e-7 * spec.cam.base_radius:
+        raise SpecError("drawing.chord_tolerance",
+                        f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {dr.chord_tolerance:g}")
     if dr.dxf_version == "R12" and dr.curves == "spline":
         raise SpecError("drawing.dxf_version",
                         "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
@@ -660,6 +689,9 @@ def _validate_machining(spec: CamSpec) -> None:
         raise SpecError("machining.sample_period",
                         f"gives {360.0 / step:.4g} commands per revolution at {rpm:g} rpm; must be ≤ "
                         f"{MAX_COMMANDS_PER_REV:g}")
+    if mc.chord_tolerance is not None and mc.chord_tolerance < 1e-7 * spec.cam.base_radius:
+        raise SpecError("machining.chord_tolerance",
+                        f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {mc.chord_tolerance:g}")
     if mc.chord_tolerance is not None and not mc.chord_tolerance < spec.cam.base_radius / 100:
         raise SpecError("machining.chord_tolerance",
                         f"must be < 1% of cam.base_radius ({spec.cam.base_radius / 100:g}), "
@@ -765,22 +797,37 @@ def load_spec(source: str | Path | Mapping[str, Any]) -> CamSpec:
     p = Path(source) if not (isinstance(source, str) and "\n" in source) else None
     if p is not None:
         try:
-            text = p.read_text(encoding="utf-8")
+            if p.stat().st_size > MAX_SPEC_BYTES:
+                raise SpecError(str(source), f"is larger than {MAX_SPEC_BYTES // 1000} kB: not a cam spec")
+            raw = p.read_bytes()
         except FileNotFoundError:
             raise SpecError(str(source), "file not found") from None
         except OSError as exc:
             raise SpecError(str(source), f"cannot be read ({exc.strerror})") from None
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise SpecError(str(source), f"is not UTF-8 text (byte {exc.start}): a TOML spec is UTF-8") from None
     else:
         text = str(source)
     try:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
         import tomli as tomllib  # type: ignore[no-redef]
+    where = str(p) if p else "spec"
+    if "\x00" in text:
+        raise SpecError(where, "holds NUL bytes: not a TOML text")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(str(p) if p else "spec", f"is not valid TOML ({exc})") from None
+        raise SpecError(where, f"is not valid TOML ({exc})") from None
+    except RecursionError:
+        raise SpecError(where, "is nested too deeply to be a cam spec") from None
     return CamSpec.from_dict(data)
+
+
+#: A spec file larger than this is refused before it is read.
+MAX_SPEC_BYTES = 1_000_000
 
 
 def default_spec() -> CamSpec:
