@@ -1,0 +1,78 @@
+"""Invariants of a built cam, computed independently of the project's own evaluators: the
+profile NURBS evaluated by scipy on homogeneous coordinates, areas by the shoelace formula,
+the solid checked by OCCT's BRepCheck_Analyzer directly, distances by brute force."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+from scipy.interpolate import BSpline
+
+#: a clean refusal names a spec field (dotted path) or a cam angle, on one line
+REFUSAL = re.compile(r"^error: (?:[A-Za-z_][\w\[\]\.]*|-o|--example|--set|/\S+)(?:: | )|°")
+
+
+def nurbs_points(curve, n: int = 20000) -> np.ndarray:
+    """Points (complex) of a NURBS curve at ``n`` equally spaced parameters: scipy's BSpline on
+    the homogeneous poles, divided by the weight (not the project's evaluator)."""
+    k, t = curve.degree, np.asarray(curve.knots, dtype=float)
+    w = np.asarray(curve.weights, dtype=float)
+    hom = np.column_stack([np.asarray(curve.poles)[:, 0] * w, np.asarray(curve.poles)[:, 1] * w, w])
+    u = np.linspace(t[k], t[-k - 1], n, endpoint=False)
+    v = BSpline(t, hom, k)(u)
+    return (v[:, 0] + 1j * v[:, 1]) / v[:, 2]
+
+
+def shoelace(points: np.ndarray) -> float:
+    """|area| of the closed polygon through ``points`` (complex)."""
+    x, y = points.real, points.imag
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def polyline_distance(points: np.ndarray, curve: np.ndarray) -> np.ndarray:
+    """Distance of each point to the closed polyline ``curve`` (brute force, in chunks)."""
+    a, b = curve, np.roll(curve, -1)
+    ab = b - a
+    out = np.empty(points.shape[0])
+    for lo in range(0, points.shape[0], 128):
+        p = points[lo:lo + 128, None]
+        t = np.clip(((p - a) * np.conj(ab)).real / np.maximum(np.abs(ab) ** 2, 1e-300), 0.0, 1.0)
+        out[lo:lo + 128] = np.min(np.abs(a + t * ab - p), axis=1)
+    return out
+
+
+def check_solid(shape) -> None:
+    """One valid solid (OCCT's BRepCheck_Analyzer and a solid count, called here directly)."""
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    assert BRepCheck_Analyzer(shape).IsValid(), "OCCT: invalid solid"
+    ex, n = TopExp_Explorer(shape, TopAbs_SOLID), 0
+    while ex.More():
+        n += 1
+        ex.Next()
+    assert n == 1, f"{n} solids"
+
+
+def check_design(design, summary: dict) -> None:
+    """Green's area of the profile (independent evaluation) against the summary's area; the
+    profile at the roller radius from the pitch curve; the report's verdict = run_checks."""
+    from generators.design_checks import run_checks
+
+    spec = design.spec
+    prof = nurbs_points(design.profile)
+    bore = np.pi * (spec.cam.bore_diameter / 2) ** 2
+    area = shoelace(prof) - bore
+    scale = spec.cam.base_radius
+    assert abs(area - summary["area"]) <= 1e-6 * scale**2, (area, summary["area"])
+    assert abs(summary["volume"] - area * spec.cam.thickness) <= 1e-6 * scale**2 * spec.cam.thickness
+    pitch = nurbs_points(design.pitch_nurbs, 40000)
+    d = polyline_distance(prof[::20], pitch)
+    # polyline chords of the pitch curve sit inside it by ≲ L²κ/8; the fitted B-spline profile
+    # is off by its own measured error
+    slack = 5e-6 * scale + (summary["profile"].get("fitted_vs_kernel_offset") or 0.0) * 2
+    assert np.max(np.abs(d - spec.roller_radius)) <= slack + 1e-3 * spec.roller_radius * 0 + 2e-5 * scale, \
+        float(np.max(np.abs(d - spec.roller_radius)))
+    ck = run_checks(spec)
+    assert summary["checks"]["passed"] == ck.passed and summary["checks"]["failed"] == ck.failed

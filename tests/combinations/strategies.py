@@ -1,0 +1,98 @@
+"""Valid specs over every documented option (as TOML-structure dicts), and mutations of them.
+
+Cams are drawn mostly buildable (base radius well above lift + roller) with a share of
+borderline ones (small base radius: undercut, large pressure angles), which must end in a clean
+refusal or a result whose checks fail — never an internal error."""
+from __future__ import annotations
+
+from typing import Any
+
+from hypothesis import strategies as st
+
+LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
+DXF_VERSIONS = ("R12", "R2000", "R2004", "R2007", "R2010", "R2013", "R2018")
+
+
+def _segment(kind: str, angle: float, lift: float | None, law: str | None, y: float) -> dict[str, Any]:
+    seg: dict[str, Any] = {"kind": kind, "angle": angle}
+    if kind != "dwell":
+        seg.update(lift=lift, law=law)
+        if law == "bspline":
+            seg.update(order=5, control_x=[angle * j / 8 for j in range(1, 8)], control_y=[y])
+    return seg
+
+
+@st.composite
+def motion_programs(draw: Any, lift: float) -> list[dict[str, Any]]:
+    """Dwell–rise–dwell–return programs, rise–return without dwells, and two-level programs
+    (rise, dwell, rise, dwell, return); angles summing to 360° exactly."""
+    shape = draw(st.sampled_from(["drdrd", "rr", "rdrdr", "drdr"]))
+    kinds = {"drdrd": ["dwell", "rise", "dwell", "return", "dwell"], "rr": ["rise", "return"],
+             "rdrdr": ["rise", "dwell", "rise", "dwell", "return"], "drdr": ["dwell", "rise", "dwell", "return"]}[shape]
+    weights = [draw(st.integers(20, 100)) if k != "dwell" else draw(st.integers(5, 60)) for k in kinds]
+    total = sum(weights)
+    angles = [360.0 * w / total for w in weights]
+    angles[-1] = 360.0 - sum(angles[:-1])
+    rises = [i for i, k in enumerate(kinds) if k == "rise"]
+    parts = [lift / len(rises)] * len(rises)
+    segs = []
+    for i, k in enumerate(kinds):
+        law = draw(st.sampled_from(LAWS)) if k != "dwell" else None
+        h = None if k == "dwell" else (parts[rises.index(i)] if k == "rise" else lift)
+        segs.append(_segment(k, angles[i], h, law, draw(st.floats(0.3, 0.7))))
+    return segs
+
+
+@st.composite
+def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
+    """A valid spec dict over the documented options."""
+    units = draw(st.sampled_from(["mm", "in"]))
+    u = 1.0 if units == "mm" else 1 / 25.4
+    lift = draw(st.floats(5.0, 25.0)) * u
+    kind = draw(st.sampled_from(["roller", "knife"]))
+    roller = draw(st.floats(2.0, 10.0)) * u if kind == "roller" else 0.0
+    tight = borderline and draw(st.integers(0, 9)) == 0
+    base = (roller + lift) * (draw(st.floats(0.9, 1.4)) if tight else draw(st.floats(2.0, 4.0)))
+    base = max(base, roller + 1.0 * u)
+    offset = draw(st.sampled_from([0.0, 0.15, -0.15])) * base
+    bore = draw(st.sampled_from([0.0, 0.2])) * (base - roller)
+    spec: dict[str, Any] = {
+        "units": units,
+        "cam": {"base_radius": base, "thickness": draw(st.floats(3.0, 20.0)) * u, "bore_diameter": bore,
+                "direction": draw(st.sampled_from(["ccw", "cw"])), "speed_rpm": draw(st.sampled_from([30.0, 60.0, 300.0]))},
+        "follower": {"kind": kind, "offset": offset, **({"roller_radius": roller} if kind == "roller" else {})},
+        "motion": draw(motion_programs(lift)),
+    }
+    if draw(st.booleans()):
+        spec["follower"].update(mass=draw(st.floats(0.05, 2.0)) * (1.0 if units == "mm" else 0.0057),
+                                preload=draw(st.floats(5.0, 50.0)) * (1.0 if units == "mm" else 0.2248),
+                                spring_rate=draw(st.floats(0.0, 2.0)) * (1.0 if units == "mm" else 5.71))
+    rep = draw(st.sampled_from(["ph", "bspline"]))
+    junctions = draw(st.sampled_from(["segments", "tolerance", "per_segment"]))
+    if rep == "bspline" and junctions == "per_segment":
+        junctions = "segments"
+    if junctions == "segments":
+        spec["pitch"] = {"representation": rep, "segments": draw(st.integers(24, 120))}
+    elif junctions == "tolerance":
+        spec["pitch"] = {"representation": rep, "tolerance": draw(st.sampled_from([2e-3, 5e-4])) * u}
+    else:
+        spec["pitch"] = {"representation": rep}
+        for seg in spec["motion"]:
+            seg["junctions"] = max(2, round(seg["angle"] / 6.0))
+    spec["machining"] = {"program": draw(st.sampled_from(["xy", "xc"])),
+                         "contour": draw(st.sampled_from(["arcs", "lines"])),
+                         "milling": draw(st.sampled_from(["climb", "conventional"])),
+                         "rotary_line": draw(st.sampled_from(["follower", "axis"])),
+                         "passes": draw(st.integers(1, 3))}
+    if draw(st.booleans()):
+        spec["machining"]["tool_radius"] = (roller or 3.0 * u) * draw(st.sampled_from([0.6, 1.0, 1.5]))
+    if spec["machining"]["program"] == "xc":
+        spec["machining"]["sample_period"] = 0.0005
+    curves = draw(st.sampled_from(["spline", "arcs", "polyline"]))
+    version = draw(st.sampled_from(DXF_VERSIONS))
+    if version == "R12" and curves == "spline":
+        curves = "arcs"
+    spec["drawing"] = {"curves": curves, "dxf_version": version, "title": draw(st.sampled_from(["Cam", "Nocken Ø40 — Typ A"])),
+                       "dimensions": draw(st.booleans()), "title_block": draw(st.booleans())}
+    spec["checks"] = {"sampling": draw(st.sampled_from(["dense", "thesis71"]))}
+    return spec

@@ -1,0 +1,44 @@
+"""Every documented option against every other through the Python API (PlateCam): a valid
+solid whose numbers pass the independent invariants, or a clean refusal (SpecError naming a
+field, GeometryError with a cam angle) — never another exception."""
+from __future__ import annotations
+
+import json
+
+import pytest
+from hypothesis import given, settings
+
+from generators.errors import GeometryError, SpecError, SolveError
+
+from ..conftest import requires_ocp
+from .conftest import examples
+from .invariants import check_design, check_solid
+from .strategies import specs
+
+
+@requires_ocp
+@settings(max_examples=examples(24, 600))
+@given(specs())
+def test_platecam_any_valid_spec(tmp_path_factory, d):
+    from cam_workbench import PlateCam
+
+    try:
+        cam = PlateCam(d)
+    except SpecError as exc:
+        assert exc.field and str(exc).startswith(exc.field), str(exc)
+        return
+    except (GeometryError, SolveError) as exc:
+        assert "°" in str(exc) or getattr(exc, "angle_deg", None) is not None or exc.kind == "kernel", str(exc)
+        return
+    try:
+        report = cam.report()
+    except (GeometryError, SpecError, SolveError) as exc:     # machining / kernel refusals
+        assert str(exc).strip() and "\n" not in str(exc).strip(), str(exc)
+        return
+    check_solid(cam.shape)
+    check_design(cam.design, report)
+    assert json.loads(json.dumps(report)) is not None            # report.json can hold it
+    out = tmp_path_factory.mktemp("api")
+    written = cam.export(out / "set")
+    assert written["checks"] == json.loads(json.dumps(report["checks"]))
+    assert (out / "set" / "cam.step").stat().st_size > 0

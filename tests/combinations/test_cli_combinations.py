@@ -1,0 +1,85 @@
+"""The same combinations through every CLI command: exit 0 (or 3: a design check failed) with
+outputs that agree with each other, or a clean refusal (exit 2, one line naming a field or a
+cam angle, nothing written) — never an internal error.  G-code runs through LinuxCNC's rs274."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from generators.spec import CamSpec, to_toml
+
+from ..conftest import ROOT, requires_ocp
+from ..rs274 import RS274
+from .conftest import examples
+from .invariants import REFUSAL
+from .strategies import specs
+
+CLI = [sys.executable, "-m", "cam_workbench.cli"]
+EXTRA = ("gcode_xy", "gcode_xc", "gcode_csv", "dxf", "report", "optimise")
+
+
+def cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL,
+                          timeout=600)
+
+
+def assert_clean(res: subprocess.CompletedProcess, allowed=(0, 2, 3)) -> None:
+    assert "Traceback" not in res.stderr and "internal error" not in res.stderr, res.stderr[-2000:]
+    assert res.returncode in allowed, (res.returncode, res.stderr[-2000:])
+    if res.returncode == 2:
+        lines = [ln for ln in res.stderr.strip().splitlines() if ln.strip()]
+        assert len(lines) == 1 and REFUSAL.search(lines[0]), res.stderr
+
+
+@requires_ocp
+@settings(max_examples=examples(8, 300))
+@given(specs(), st.sampled_from(EXTRA))
+def test_cli_commands_agree(tmp_path_factory, d, extra):
+    tmp = tmp_path_factory.mktemp("cli")
+    spec = CamSpec.from_dict(d)
+    (tmp / "cam.toml").write_text(to_toml(spec), encoding="utf-8")
+    b = cli("build", str(tmp / "cam.toml"), "-o", str(tmp / "build"))
+    assert_clean(b, (0, 2))
+    c = cli("check", str(tmp / "cam.toml"), "-o", str(tmp / "check"))
+    assert_clean(c, (0, 2, 3))
+    if b.returncode == 2:
+        assert not (tmp / "build").exists()
+        return
+    built = json.loads((tmp / "build" / "report.json").read_text())
+    assert c.returncode == (0 if built["checks"]["passed"] else 3)
+    checked = json.loads((tmp / "check" / "report.json").read_text())
+    for key in ("pitch", "pressure_angle", "curvature", "profile", "checks", "areas"):
+        assert checked[key] == built[key], key
+    html = (tmp / "build" / "report.html").read_text()
+    assert ("verdict pass" in html) == built["checks"]["passed"]
+    if extra.startswith("gcode"):
+        mode = extra.split("_")[1]
+        g = cli("gcode", str(tmp / "cam.toml"), "--mode", mode, "-o", str(tmp / f"p.{mode}"))
+        assert_clean(g, (0, 2))
+        if g.returncode == 0 and mode != "csv" and RS274 is not None:
+            from ..rs274 import run_rs274
+
+            m = spec.machining
+            tool = m.tool_radius if m.tool_radius is not None else (spec.roller_radius or None)
+            run = run_rs274((tmp / f"p.{mode}").read_text(), tmp, tool_diameter=2 * (tool or 3.0))
+            assert run.motions and run.units == spec.units
+    elif extra == "dxf":
+        r = cli("dxf", str(tmp / "cam.toml"), "-o", str(tmp / "d.dxf"))
+        assert_clean(r, (0,))
+        import ezdxf
+
+        doc = ezdxf.readfile(tmp / "d.dxf")
+        assert not doc.audit().has_errors
+    elif extra == "report":
+        r = cli("report", str(tmp / "cam.toml"), "-o", str(tmp / "rep"))
+        assert_clean(r, (0,))
+        rep = json.loads((tmp / "rep" / "report.json").read_text())
+        assert {k: v for k, v in rep.items() if k != "files"} == {k: v for k, v in built.items() if k != "files"}
+    else:
+        r = cli("optimise", str(tmp / "cam.toml"), "--max-evaluations", "10", "-o", str(tmp / "opt"))
+        assert_clean(r, (0, 2, 3))
