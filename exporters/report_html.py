@@ -218,7 +218,8 @@ figure{margin:8px 0 18px}figcaption{font-size:12.5px;color:#424949;margin-top:2p
 svg.plot{width:100%;height:auto;display:block}
 pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overflow-x:auto}
 .verdict{display:inline-block;padding:4px 10px;border-radius:4px;font-weight:bold}
-.verdict.pass{background:#d5f5e3;color:#145a32}.verdict.fail{background:#fadbd8;color:#78281f}
+.verdict.pass,.verdict.buildable{background:#d5f5e3;color:#145a32}
+.verdict.fail,.verdict.unbuildable{background:#fadbd8;color:#78281f}
 .note{font-size:12.5px;color:#566573}a.plain{text-decoration:none}
 """
 
@@ -565,7 +566,9 @@ def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 def _buildability_section(report: Mapping[str, Any]) -> str:
     rows = buildability_rows(report)
     ok = all(st != "fail" for _, _, st in rows)
-    out = [f'<p><span class="verdict {"pass" if ok else "fail"}" id="buildable-verdict">'
+    # "buildable"/"unbuildable", not "pass"/"fail": the class "verdict pass" is the design checks'
+    # verdict alone, so a reader (or a script) never takes a buildable cam for one that passes
+    out = [f'<p><span class="verdict {"buildable" if ok else "unbuildable"}" id="buildable-verdict">'
            f'{"buildable: every buildability check passes" if ok else "NOT buildable: see the red rows"}'
            "</span></p>",
            '<table class="build"><tr><th>check</th><th>value</th><th>status</th></tr>']

@@ -79,7 +79,7 @@ class MotionSegment:
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
                          unit="angle", gt=0, group="Motion")
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
-                               unit="length", ge=0, optional=True, group="Motion")
+                               unit="length", gt=0, optional=True, group="Motion")
     law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
                             optional=True, group="Motion")
     junctions: int | None = param(
@@ -87,6 +87,15 @@ class MotionSegment:
         "as the paper's case 3); when any segment has it, all must",
         kind="int", ge=1, le=20000, optional=True, group="Motion",
     )
+    @staticmethod
+    def precheck(data: Mapping[str, Any], path: str) -> None:
+        """Before the fields' own rules: a dwell has no lift or law (a dwell's ``lift = 0``
+        is told to leave it out, not that it must be > 0)."""
+        if data.get("kind") == "dwell":
+            for name in ("lift", "law"):
+                if name in data:
+                    raise SpecError(f"{path}.{name}", "must be absent for a dwell")
+
     # ---- law = "bspline" (thesis §2.5–2.7) ----
     order: int | None = param(
         "B-spline order k (degree k − 1) of a law = \"bspline\" segment; the first and last k − 1 "
@@ -558,6 +567,9 @@ def _load_section(cls: type, data: Any, path: str) -> Any:
         raise SpecError(path, f"must be a table, got {data!r}")
     decl = params_of(cls)
     _reject_unknown(path, data, set(decl))
+    precheck = getattr(cls, "precheck", None)
+    if precheck is not None:
+        precheck(data, path)
     values = {}
     for name, p in decl.items():
         fpath = f"{path}.{name}"
