@@ -1,6 +1,7 @@
 # The two set-up commands of the README work on a fresh machine from nothing:
 #   make demo   venv → install → build the default cam into out/ (STEP, DXF, report.html + plots)
 #   make test   system packages (as root) → venv → install → the whole test suite
+#   make fuzz   the combination and bad-input suites with thousands of random cases
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -8,7 +9,7 @@ STAMP  := $(VENV)/.installed
 # Debian packages the test suite drives for real (installed by `make test` when root).
 DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt
 
-.PHONY: demo test bench system-deps docs clean
+.PHONY: demo test fuzz bench system-deps docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -21,6 +22,10 @@ demo: $(STAMP)
 
 test: system-deps $(STAMP)
 	$(PY) -m pytest
+
+# the combination and bad-input suites' long profile: thousands of random cases (tests/combinations)
+fuzz: system-deps $(STAMP)
+	CAM_FUZZ=1 $(PY) -m pytest tests/combinations -p no:randomly --hypothesis-show-statistics
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
