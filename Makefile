@@ -31,7 +31,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
 
 docs: $(STAMP)
-	$(PY) -m generators.spec_doc > docs/spec.md
+	$(PY) -m generators.spec.reference > docs/spec.md
 
 system-deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \

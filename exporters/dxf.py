@@ -9,7 +9,7 @@ PROFILE                   the cam profile: a SPLINE with the degree, knots, cont
                           and weights of the profile NURBS (for a PH pitch curve the exact
                           rational offset; for a B-spline pitch curve the fitted offset,
                           whose measured error the title block states — see
-                          :mod:`generators.claims`), or — ``drawing.curves`` = "arcs" /
+                          :mod:`generators.checks.claims`), or — ``drawing.curves`` = "arcs" /
                           "polyline" — tangent biarcs (ARC/LINE) or one closed polyline
                           within ``chord_tolerance`` of that NURBS
 PITCH                     the pitch curve (polynomial SPLINE of degree 5, or approximated
@@ -27,7 +27,7 @@ TITLE                     the title block — key parameters, the numbers and th
 ========================  ==============================================================
 
 The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
-boundaries are in CAM.  Arcs and polylines come from :mod:`generators.approx`; their
+boundaries are in CAM.  Arcs and polylines come from :mod:`generators.curves.approx`; their
 distance from the profile NURBS is measured two-sided (``max_distance``) and returned.
 """
 from __future__ import annotations
@@ -40,10 +40,10 @@ from typing import Any
 import numpy as np
 
 from generators import __version__
-from generators.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
+from generators.curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
 from generators.cam_design import CamDesign
-from generators.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
-from generators.nurbs import NurbsCurve
+from generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
+from generators.curves.nurbs import NurbsCurve
 
 from .atomic import atomic_path
 

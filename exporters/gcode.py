@@ -1,6 +1,6 @@
 """G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
 
-Two programs, both from the tool-centre geometry made in ``generators.toolpath`` (the exact
+Two programs, both from the tool-centre geometry made in ``generators.machining.toolpath`` (the exact
 offset of the pitch curve for a PH pitch curve):
 
 * ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
@@ -28,11 +28,11 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 from generators import __version__
-from generators.approx import Path2D
+from generators.curves.approx import Path2D
 from generators.cam_design import CamDesign
-from generators.claims import checks_verdict, pitch_text, profile_claim
+from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.machining import MachiningPlan
-from generators.toolpath import BLEND_SHARE, ContourPath, RotaryPath
+from generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
 
 from .atomic import write_text_atomic
 
@@ -246,7 +246,7 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
     """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
     omitted; ``summary`` as for :func:`contour_program`)."""
     from generators.machining import machining_plan
-    from generators.toolpath import contour_path, rotary_path
+    from generators.machining.toolpath import contour_path, rotary_path
 
     plan = plan or machining_plan(design)
     if mode == "xy":

@@ -27,7 +27,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from generators.cam_design import CamDesign
-from generators.design_checks import limit_sign
+from generators.checks.design import limit_sign
 
 from .atomic import atomic_path
 

@@ -40,9 +40,9 @@ import numpy as np
 
 from generators import __version__
 from generators.cam_design import CamDesign
-from generators.claims import checks_verdict, pitch_text, profile_claim
-from generators.design_checks import limit_sign
-from generators.params import params_of, unit_name
+from generators.checks.claims import checks_verdict, pitch_text, profile_claim
+from generators.checks.design import limit_sign
+from generators.spec.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
 
 from . import interpolator_plots, plots
@@ -142,7 +142,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def accuracy() -> Any:
             if "acc" not in acc_cache:
-                from generators.interpolator import interpolator_accuracy
+                from generators.machining.interpolator import interpolator_accuracy
 
                 acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
                                                          float(it_rep["sample_period"]))

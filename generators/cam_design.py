@@ -11,20 +11,20 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .cam_area import area_summary
-from .design_checks import DesignChecks, run_checks
-from .extrema import refine_max
-from .follower import FollowerGeometry
-from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
+from .checks.areas import area_summary
+from .checks.design import DesignChecks, run_checks
+from .curves.extrema import refine_max
+from .followers.translating import FollowerGeometry
+from .checks.buildability import (CurvatureSamples, check_bore, check_self_intersection,
                               check_undercut, pitch_curvature_samples)
-from .motion import MotionProgram
-from .nurbs import NurbsCurve
-from .offsets import offset_nurbs, pitch_nurbs
-from .pitch import PitchCurve, build_pitch
-from .pitch_bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
+from .motion.program import MotionProgram
+from .curves.nurbs import NurbsCurve
+from .curves.offsets import offset_nurbs, pitch_nurbs
+from .pitch.ph import PitchCurve, build_pitch
+from .pitch.bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
                             fit_offset, profile_errors)
 from .errors import GeometryError
-from .spec import CamSpec, spec_digest
+from .spec.model import CamSpec, spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
 #: knot spans of the fitted offset B-spline per span of the fitted pitch B-spline: with 2 its

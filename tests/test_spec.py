@@ -141,7 +141,7 @@ def test_bad_toml_and_missing_file(tmp_path):
 
 
 def test_spec_reference_document_is_current():
-    from generators.spec_doc import render
+    from generators.spec.reference import render
 
     doc = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")
     assert doc == render(), "docs/spec.md is stale: run `make docs`"

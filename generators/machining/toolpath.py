@@ -35,16 +35,16 @@ from typing import Any
 
 import numpy as np
 
-from .approx import Path2D, fit_biarcs, flatten, max_distance, polyline_curve_distance, polyline_path
-from .cam_design import CamDesign, profile_offset_distance
-from .errors import GeometryError, SolveError, SpecError
-from .follower_line import horner, power_coeffs
+from ..curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_curve_distance, polyline_path
+from ..cam_design import CamDesign, profile_offset_distance
+from ..errors import GeometryError, SolveError, SpecError
+from ..pitch.contact import horner, power_coeffs
 from .interpolator import Commands, RotationalInterpolator
-from .machining import MachiningPlan
-from .nurbs import NurbsCurve
-from .offsets import offset_nurbs
-from .ph_spline import PHSpline
-from .pitch import PitchCurve
+from .plan import MachiningPlan
+from ..curves.nurbs import NurbsCurve
+from ..curves.offsets import offset_nurbs
+from ..curves.ph_spline import PHSpline
+from ..pitch.ph import PitchCurve
 
 TWO_PI = 2.0 * np.pi
 #: Fit the contour to this fraction of the chord tolerance; of the rest, BLEND_SHARE goes to
@@ -78,7 +78,7 @@ def tool_centre_curve(design: CamDesign, plan: MachiningPlan) -> NurbsCurve:
 
 
 def _fitted_tool_centre(design: CamDesign, distance: float) -> Any:
-    from .pitch_bspline import fit_offset
+    from ..pitch.bspline import fit_offset
 
     pitch = design.pitch
     return fit_offset(pitch.curve, pitch.geometry.sense * distance, refine=OFFSET_REFINE)
@@ -91,7 +91,7 @@ def tool_centre_fit_error(design: CamDesign, plan: MachiningPlan) -> float:
     d = plan.centre_offset
     if d == 0.0 or design.pitch.exact_offsets:
         return 0.0
-    from .pitch_bspline import distance_to_offset
+    from ..pitch.bspline import distance_to_offset
 
     fit = _fitted_tool_centre(design, d)
     u = np.linspace(0.0, TWO_PI, 64 * fit.n_spans, endpoint=False)
@@ -366,7 +366,7 @@ def _fitted_line_positions(design: CamDesign, distance: float, line: float, thet
     fitted tool-centre B-spline at cam angles θ (Eq. 13 on that curve)."""
     import dataclasses
 
-    from .pitch_bspline import BSplinePitchCurve
+    from ..pitch.bspline import BSplinePitchCurve
 
     pitch = design.pitch
     geo = dataclasses.replace(pitch.geometry, offset=line)

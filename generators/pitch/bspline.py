@@ -27,14 +27,14 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from .bspline_law import basis_derivatives
-from .errors import SolveError, SpecError
-from .follower import FollowerGeometry
-from .bezier import BezierChain, bernstein_from_power
-from .follower_line import Contact, FollowerLineSolver
-from .motion import MotionProgram
-from .nurbs import NurbsCurve
-from .spec import DEFAULT_SEGMENTS, CamSpec
+from ..motion.bspline_law import basis_derivatives
+from ..errors import SolveError, SpecError
+from ..followers.translating import FollowerGeometry
+from ..curves.bezier import BezierChain, bernstein_from_power
+from .contact import Contact, FollowerLineSolver
+from ..motion.program import MotionProgram
+from ..curves.nurbs import NurbsCurve
+from ..spec.model import DEFAULT_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEGREE = 5

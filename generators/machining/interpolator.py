@@ -28,9 +28,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import SolveError
-from .follower_line import Contact, FollowerLineSolver
-from .pitch import PitchCurve
+from ..errors import SolveError
+from ..pitch.contact import Contact, FollowerLineSolver
+from ..pitch.ph import PitchCurve
 
 TWO_PI = 2.0 * np.pi
 #: Finite-difference schemes for the actual kinematics (see :func:`finite_differences`).

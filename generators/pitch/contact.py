@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import SolveError
-from .bezier import BezierChain
-from .ph_spline import PHSpline
+from ..errors import SolveError
+from ..curves.bezier import BezierChain
+from ..curves.ph_spline import PHSpline
 
 TWO_PI = 2.0 * np.pi
 

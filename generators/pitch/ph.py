@@ -13,12 +13,12 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import SpecError
-from .follower import FollowerGeometry
-from .follower_line import Contact, FollowerLineSolver
-from .motion import MotionProgram
-from .ph_spline import PHSpline, solve_closed_ph_spline
-from .spec import DEFAULT_SEGMENTS, CamSpec
+from ..errors import SpecError
+from ..followers.translating import FollowerGeometry
+from .contact import Contact, FollowerLineSolver
+from ..motion.program import MotionProgram
+from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
+from ..spec.model import DEFAULT_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEFAULT_STEP_DEG = 0.02

@@ -34,9 +34,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .follower import FollowerGeometry
-from .motion import Kinematics, MotionProgram
-from .spec import CamSpec
+from ..followers.translating import FollowerGeometry
+from ..motion.program import Kinematics, MotionProgram
+from ..spec.model import CamSpec
 
 TWO_PI = 2.0 * np.pi
 THESIS_NODES = 71
@@ -433,7 +433,7 @@ def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 20
     moved by r_f along the inward normal) crosses itself, or None.  A profile whose polar
     angle is monotonic cannot cross itself; otherwise every pair of edges of the sampled
     polygon is tested."""
-    from .geometry_checks import _segments_intersect
+    from .buildability import _segments_intersect
 
     prog = model.program
     th = np.concatenate([prog.starts[k] + prog.spans[k] * np.linspace(0, 1, per_segment if prog.laws[k] else 64,

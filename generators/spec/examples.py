@@ -15,8 +15,8 @@ import copy
 import math
 from typing import Any
 
-from .errors import SpecError
-from .spec import DEFAULT_SPEC_DICT, CamSpec
+from ..errors import SpecError
+from .model import DEFAULT_SPEC_DICT, CamSpec
 
 PAPER_SPEC_DICT: dict[str, Any] = {
     "units": "mm",

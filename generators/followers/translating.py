@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .motion import Kinematics, MotionProgram
-from .spec import CamSpec
+from ..motion.program import Kinematics, MotionProgram
+from ..spec.model import CamSpec
 
 
 @dataclass(frozen=True)

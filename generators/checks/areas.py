@@ -23,9 +23,9 @@ from typing import Callable
 
 import numpy as np
 
-from .follower import FollowerGeometry
-from .motion import MotionProgram
-from .spec import CamSpec
+from ..followers.translating import FollowerGeometry
+from ..motion.program import MotionProgram
+from ..spec.model import CamSpec
 
 GAUSS_CLOSED_FORM = 64     # nodes per closed-form motion segment (smooth integrands)
 GAUSS_PER_KNOT_SPAN = 16   # nodes per B-spline knot span (exact for degree ≤ 31)

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cam_design import CamDesign
-from .errors import GeometryError
+from ..cam_design import CamDesign
+from ..errors import GeometryError
 
 _UNIT_DEFAULTS = {
     "mm": {"feed_rate": 300.0, "safe_height": 5.0, "chord_tolerance": 0.005},

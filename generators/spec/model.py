@@ -2,7 +2,7 @@
 
 The field names and rules are the contract of ``shared/CAM_SPEC.md``; the project's
 own reference is ``docs/spec.md``, generated from the declarations below by
-``python -m generators.spec_doc``.
+``python -m generators.spec.reference``.
 
 Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rpm.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from .errors import SpecError
+from ..errors import SpecError
 from .params import REQUIRED, Param, param, params_of
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
@@ -637,7 +637,7 @@ def _validate_motion(spec: CamSpec) -> None:
         if seg.law is None:
             raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law == "bspline":
-            from .bspline_law import lift_from_segment
+            from ..motion.bspline_law import lift_from_segment
 
             lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
         lifts.append(seg.lift)

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import SpecError
+from ..errors import SpecError
 
 #: Unit kinds.  The concrete unit of a kind depends on the spec's ``units``.
 UNIT_NAMES: dict[str, dict[str, str]] = {

@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GeometryError
-from .nurbs import NurbsCurve
-from .pitch import PitchCurve
+from ..errors import GeometryError
+from ..curves.nurbs import NurbsCurve
+from ..pitch.ph import PitchCurve
 
 SAMPLES_PER_SEGMENT = 64
 

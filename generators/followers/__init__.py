@@ -1,0 +1,2 @@
+"""Follower kinds: each one module behind the interface of :mod:`.base`.
+"""
