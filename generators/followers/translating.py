@@ -1,46 +1,72 @@
-"""Translating follower geometry from the motion program (the design intent).
+"""Translating knife-edge and roller followers.
 
-Cam frame: origin on the rotation axis; the follower line is x = e in the fixed
-frame.  With Y = s₀ + s(θ), s₀ = √(R_b² − e²), the follower point at cam angle θ
-in the cam frame is (CAM_SPEC.md; paper Eq. 10)
+Cam frame: origin on the rotation axis; the follower line is x = e in the fixed frame.
+With Y = s₀ + s(θ), s₀ = √(R_b² − e²), the follower point at cam angle θ in the cam frame
+is (CAM_SPEC.md; paper Eq. 10)
 
     P(θ) = Rot(−δθ)·(e, Y),   δ = +1 for "ccw", −1 for "cw".
 
-Points are returned as complex numbers x + iy.
+Points are returned as complex numbers x + iy.  The pressure angle and the radius of
+curvature are the thesis' closed forms (Eq. 3.4 and 3.7), which the generic formulas of
+:mod:`generators.followers.base` reproduce; the built curve meets the follower where
+Re(e^{iδθ}·r(ξ)) = e (paper Eq. 13), solved by :class:`generators.pitch.contact.FollowerLineSolver`.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
+from .base import Follower, LoadSpec
+from .load import hertz_stress
 
 
 @dataclass(frozen=True)
-class FollowerGeometry:
-    """The plain numbers that fix the follower point: offset e, s₀, rotation sign δ."""
+class TranslatingFollower(Follower):
+    """A translating knife edge or roller: the plain numbers that fix the follower point
+    (offset e, s₀, rotation sign δ, roller radius) and its load."""
 
     offset: float
     s0: float
     sense: int  # +1 ccw, −1 cw
     roller_radius: float
+    load: LoadSpec = field(default=LoadSpec())
+    motion = "translating"
 
     @classmethod
-    def from_spec(cls, spec: CamSpec) -> "FollowerGeometry":
-        return cls(spec.follower.offset, spec.prime_offset,
-                   1 if spec.cam.direction == "ccw" else -1, spec.roller_radius)
+    def from_spec(cls, spec: CamSpec) -> "TranslatingFollower":
+        from .load import MASS_FORCE_FACTOR
+
+        f = spec.follower
+        return cls(f.offset, spec.prime_offset, 1 if spec.cam.direction == "ccw" else -1, spec.roller_radius,
+                   LoadSpec(f.preload, f.spring_rate, f.mass, MASS_FORCE_FACTOR[spec.units]))
+
+    # ---- the Follower interface ----------------------------------------------------------
+    @property
+    def contact(self) -> str:  # type: ignore[override]
+        return "roller" if self.roller_radius > 0 else "knife"
 
     @property
-    def effective_offset(self) -> float:
-        """The offset seen by the pressure-angle and curvature formulas: e for ccw, −e for cw
-        (turning the cam the other way mirrors the mechanism)."""
-        return self.offset * self.sense
+    def profile_offset(self) -> float:  # type: ignore[override]
+        return self.roller_radius
 
-    def pitch_points(self, theta: np.ndarray, s: np.ndarray) -> np.ndarray:
-        """P(θ) as complex numbers (θ in rad, s in length)."""
-        return np.exp(-1j * self.sense * np.asarray(theta)) * (self.offset + 1j * (self.s0 + np.asarray(s)))
+    @property
+    def prime_radius(self) -> float:  # type: ignore[override]
+        return float(np.hypot(self.offset, self.s0))
+
+    def fixed(self, k: Kinematics, nder: int = 0) -> list[np.ndarray]:
+        out = [self.offset + 1j * (self.s0 + np.asarray(k.s))]
+        if nder >= 1:
+            out.append(1j * np.asarray(k.ds, dtype=float))
+        if nder >= 2:
+            out.append(1j * np.asarray(k.d2s, dtype=float))
+        return out
+
+    def velocity_direction_at(self, q: np.ndarray) -> np.ndarray:
+        return np.full(np.shape(q), 1j)
 
     def pressure_angle(self, k: Kinematics) -> np.ndarray:
         """Pressure angle φ [rad] = atan((s' − e)/(s₀ + s)) (thesis Eq. 3.4), signed;
@@ -48,7 +74,7 @@ class FollowerGeometry:
         e = self.effective_offset
         return np.arctan2(k.ds - e, self.s0 + k.s)
 
-    def pitch_radius_of_curvature(self, k: Kinematics) -> np.ndarray:
+    def radius_of_curvature(self, k: Kinematics) -> np.ndarray:
         """Signed radius of curvature of the pitch curve (thesis Eq. 3.7):
 
             ρ = (Y² + (s'−e)²)^{3/2} / (Y² + (s'−e)(2s'−e) − Y·s''),  Y = s₀ + s,
@@ -62,10 +88,61 @@ class FollowerGeometry:
         with np.errstate(divide="ignore"):
             return num / den
 
+    def contact_residual(self, q, dq, d2q):
+        # paper Eq. 13: Re(q) = e; ∂q/∂θ = iδq
+        return q.real - self.offset, dq.real, -self.sense * q.imag
+
+    def lift_at(self, q, dq):
+        return q.imag - self.s0
+
+    def cam_angle_of(self, p, dp):
+        # Re(e^{iδθ}p) = e with Im > 0, in closed form
+        r = np.abs(p)
+        return self.sense * (np.arccos(np.clip(self.offset / r, -1.0, 1.0)) - np.angle(p))
+
+    def contact_solver(self, chain: Any, angles: np.ndarray) -> Any:
+        from ..pitch.contact import FollowerLineSolver
+
+        return FollowerLineSolver(chain, angles, self.offset, self.sense, lift_origin=self.s0)
+
+    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
+        """F = (P_L + k·s + M_f·s″ω²)/cos φ (thesis Eq. 3.5, with the spring rate)."""
+        ld = self.load
+        phi = self.pressure_angle(k)
+        return (ld.preload + ld.rate * k.s + ld.inertia * ld.mass_force * k.d2s * omega**2) / np.cos(phi)
+
+    def contact_stress(self, force, k, length, moduli):
+        if self.roller_radius <= 0:
+            return super().contact_stress(force, k, length, moduli)
+        return hertz_stress(force, self.roller_radius, self.profile_radius(k), length, *moduli)
+
+    def describe(self) -> dict[str, Any]:
+        return {**super().describe(), "offset": self.offset, "prime_offset": self.s0}
+
+    # ---- the thesis' names (kept for the code written against them) ------------------------
+    @property
+    def effective_offset(self) -> float:
+        """The offset seen by the pressure-angle and curvature formulas: e for ccw, −e for cw
+        (turning the cam the other way mirrors the mechanism)."""
+        return self.offset * self.sense
+
+    def pitch_points(self, theta: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """P(θ) as complex numbers (θ in rad, s in length)."""
+        return np.exp(-1j * self.sense * np.asarray(theta)) * (self.offset + 1j * (self.s0 + np.asarray(s)))
+
+    def pitch_radius_of_curvature(self, k: Kinematics) -> np.ndarray:
+        return self.radius_of_curvature(k)
+
+
+#: The name of the class before the follower interface (one release).
+FollowerGeometry = TranslatingFollower
+
 
 def design_pitch(spec: CamSpec, theta: np.ndarray) -> tuple[np.ndarray, Kinematics]:
-    """Pitch points and kinematics of the design intent at angles ``theta`` [rad]."""
+    """Design-curve points and kinematics of the design intent at angles ``theta`` [rad]."""
+    from . import follower_of
+
     prog = MotionProgram.from_spec(spec)
-    geo = FollowerGeometry.from_spec(spec)
+    fol = follower_of(spec)
     k = prog.evaluate(theta)
-    return geo.pitch_points(theta, k.s), k
+    return fol.points(theta, k), k

@@ -364,13 +364,12 @@ class OffsetLineSolver:
 def _fitted_line_positions(design: CamDesign, distance: float, line: float, theta: np.ndarray) -> np.ndarray:
     """B-spline pitch curve: position along the tool's line x = ``line`` where it meets the
     fitted tool-centre B-spline at cam angles θ (Eq. 13 on that curve)."""
-    import dataclasses
-
+    from ..followers.translating import TranslatingFollower
     from ..pitch.bspline import BSplinePitchCurve
 
     pitch = design.pitch
-    geo = dataclasses.replace(pitch.geometry, offset=line)
-    centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, geo)
+    machine_line = TranslatingFollower(line, 0.0, pitch.follower.sense, 0.0)   # the tool's line x = line
+    centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, machine_line)
     ang = np.append(centre.solver_angles, centre.solver_angles[0] + TWO_PI)
     if np.any(np.diff(ang) <= 0) or np.any(np.abs(centre.segments.ctrl[:, 0]) <= abs(line)):
         k = int(np.argmax(np.diff(ang) <= 0))
@@ -452,16 +451,19 @@ def rotary_path(design: CamDesign, plan: MachiningPlan, commands: Commands | Non
         GeometryError: the tool's line does not meet the tool-centre path once per turn.
     """
     pitch = design.pitch
-    geo = pitch.geometry
+    geo = pitch.follower
     cmds = commands
     if cmds is None or cmds.sample_period != plan.sample_period or cmds.speed_rpm != plan.rotary_speed_rpm:
         cmds = RotationalInterpolator(pitch).commands(plan.rotary_speed_rpm, plan.sample_period)
     omega = cmds.omega
     line = geo.offset if plan.rotary_line == "follower" else 0.0
     theta = np.append(cmds.theta, TWO_PI)
-    from_commands = plan.rotary_line == "follower" and plan.centre_offset == 0.0
+    # the tool centre is the roller centre on the follower's own line: X straight from the commands
+    from_commands = (plan.rotary_line == "follower" and plan.centre_offset == 0.0
+                     and geo.design_curve == "pitch")
     if from_commands:
-        x = np.append(cmds.s_actual, cmds.s_actual[0]) + geo.s0
+        y = (np.exp(1j * geo.sense * cmds.theta) * cmds.point).imag      # s₀ + s_actual (Eq. 15)
+        x = np.append(y, y[0])
     elif pitch.exact_offsets:
         solver = OffsetLineSolver(pitch.spline, outward_distance(pitch, plan.centre_offset), line, geo.sense)
         x = solver.solve(theta)[3]
