@@ -62,6 +62,24 @@ class LoadSpec:
         return self.preload > 0 or self.rate > 0 or self.inertia > 0
 
 
+@dataclass(frozen=True)
+class FollowerSketch:
+    """The follower drawn where it is at one cam angle, in the cam frame (spec lengths): plain
+    geometry that the plots, the DXF drawing and the FreeCAD feature draw.
+
+    Attributes:
+        point: the follower point (roller centre, knife tip) or a flat face's contact point.
+        circles: (centre, radius) of the roller.
+        segments: (start, end, role) with role "stem", "arm" or "face".
+        pivot: the arm's pivot (oscillating followers), else None.
+    """
+
+    point: complex
+    circles: tuple[tuple[complex, float], ...] = ()
+    segments: tuple[tuple[complex, complex, str], ...] = ()
+    pivot: complex | None = None
+
+
 class Follower(ABC):
     """A follower kind (one module each: translating, oscillating, flat).
 
@@ -184,6 +202,15 @@ class Follower(ABC):
     def has_load(self) -> bool:
         return self.load.any
 
+    # ---- drawing ---------------------------------------------------------------------------
+    @abstractmethod
+    def sketch(self, theta: float, k: Kinematics, size: float, face_width: float | None = None) -> FollowerSketch:
+        """The follower at cam angle θ [rad] with the kinematics ``k`` there (length-1 arrays):
+        ``size`` sets the drawn length of a stem; ``face_width`` the drawn face (flat faces)."""
+
+    def _to_cam(self, theta: float, z: complex) -> complex:
+        return complex(np.exp(-1j * self.sense * theta) * z)
+
     # ---- description -----------------------------------------------------------------------
     @property
     def name(self) -> str:
@@ -199,9 +226,14 @@ class Follower(ABC):
     prime_radius: float = 0.0
 
     def describe(self) -> dict[str, Any]:
-        """Plain numbers of the follower for report.json (spec units; angles in degrees)."""
+        """Plain numbers of the follower for report.json (spec units; angles in degrees) and
+        ``label``, the one-line wording every output prints (spec lengths, no unit)."""
         return {"motion": self.motion, "kind": self.contact, "name": self.name,
-                "lift_unit": self.lift_unit, "design_curve": self.design_curve}
+                "lift_unit": self.lift_unit, "design_curve": self.design_curve, "label": self.label()}
+
+    def label(self) -> str:
+        """E.g. "translating roller r = 8, offset e = 0" (lengths in spec units)."""
+        return self.name
 
     def lift_extent(self) -> float:
         """The largest lift the geometry allows (spec lift units), inf when unbounded."""

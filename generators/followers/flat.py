@@ -176,6 +176,19 @@ class TranslatingFlatFollower(FlatFaceFollower):
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "offset": self.offset, "base_radius": self.base_radius}
 
+    def label(self) -> str:
+        return f"translating flat face, offset e = {self.offset:g}"
+
+    def sketch(self, theta, k, size, face_width=None):
+        from .base import FollowerSketch
+
+        c = complex(self.points(np.array([theta]), k)[0])
+        h = self.base_radius + float(np.asarray(k.s).ravel()[0])
+        w = face_width or 2 * abs(float(np.asarray(self.face_position(k)).ravel()[0])) + 0.5 * size
+        a, b, foot = self.offset - w / 2 + 1j * h, self.offset + w / 2 + 1j * h, self.offset + 1j * h
+        cam = lambda z: self._to_cam(theta, z)  # noqa: E731
+        return FollowerSketch(c, (), ((cam(a), cam(b), "face"), (cam(foot), cam(foot + 1j * size), "stem")))
+
 
 def zero_lift_face_angle(base_radius: float, pivot_distance: float, face_offset: float) -> float:
     """β₀ [rad] in (0, π): the face at f from the pivot touches the base circle (NaN if it cannot)."""
@@ -271,6 +284,26 @@ class OscillatingFlatFollower(FlatFaceFollower):
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "pivot_distance": self.pivot_distance, "face_offset": self.face_offset,
                 "arm_length": self.arm_length, "face_angle_at_zero_lift_deg": math.degrees(self.beta0)}
+
+    def label(self) -> str:
+        return (f"oscillating flat face, pivot d = {self.pivot_distance:g}, face offset f = {self.face_offset:g}"
+                + (f", face centre at {self.arm_length:g}" if self.arm_length is not None else ""))
+
+    def sketch(self, theta, k, size, face_width=None):
+        from .base import FollowerSketch
+
+        t = self.terms(k)
+        n = complex(t.n.ravel()[0])
+        u = 1j * n
+        foot = self.pivot - self.face_offset * n
+        pos = float(np.asarray(self.face_position(k)).ravel()[0])
+        centre = self.arm_length if self.arm_length is not None else pos
+        w = face_width or 2 * max(abs(pos - centre), 0.25 * size) + 0.5 * size
+        c = complex(self.points(np.array([theta]), k)[0])
+        cam = lambda z: self._to_cam(theta, z)  # noqa: E731
+        a, b = foot + (centre - w / 2) * u, foot + (centre + w / 2) * u
+        return FollowerSketch(c, (), ((cam(a), cam(b), "face"), (cam(self.pivot), cam(foot + centre * u), "arm")),
+                              cam(self.pivot))
 
     def lift_extent(self) -> float:
         return math.degrees(self.beta0)

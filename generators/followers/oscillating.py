@@ -135,5 +135,17 @@ class OscillatingFollower(Follower):
         return {**super().describe(), "pivot_distance": self.pivot_distance, "arm_length": self.arm_length,
                 "arm_angle_at_zero_lift_deg": math.degrees(self.psi0)}
 
+    def label(self) -> str:
+        what = f"roller r = {self.roller_radius:g}" if self.roller_radius > 0 else "knife edge"
+        return f"oscillating {what}, pivot d = {self.pivot_distance:g}, arm L = {self.arm_length:g}"
+
+    def sketch(self, theta, k, size, face_width=None):
+        from .base import FollowerSketch
+
+        p = complex(self.points(np.array([theta]), k)[0])
+        pivot = self._to_cam(theta, self.pivot)
+        r = self.roller_radius
+        return FollowerSketch(p, ((p, r),) if r > 0 else (), ((pivot, p, "arm"),), pivot)
+
     def lift_extent(self) -> float:
         return math.degrees(self.psi0)

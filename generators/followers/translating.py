@@ -119,6 +119,18 @@ class TranslatingFollower(Follower):
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "offset": self.offset, "prime_offset": self.s0}
 
+    def label(self) -> str:
+        what = f"roller r = {self.roller_radius:g}" if self.roller_radius > 0 else "knife edge"
+        return f"translating {what}, offset e = {self.offset:g}"
+
+    def sketch(self, theta, k, size, face_width=None):
+        from .base import FollowerSketch
+
+        p = complex(self.points(np.array([theta]), k)[0])
+        up = self._to_cam(theta, 1j)
+        r = self.roller_radius
+        return FollowerSketch(p, ((p, r),) if r > 0 else (), ((p, p + up * size, "stem"),))
+
     # ---- the thesis' names (kept for the code written against them) ------------------------
     @property
     def effective_offset(self) -> float:

@@ -9,6 +9,7 @@ built curve (Eq. 13), sampled at least every 0.1° (default 0.02°, and at least
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -74,9 +75,23 @@ class PitchCurve:
         """Offsets of this curve are exact rational NURBS (PH: yes)."""
         return True
 
+    @cached_property
+    def solver_angles(self) -> np.ndarray:
+        """(M,) cam angles [rad] at which the follower touches the junction points, kept within
+        half a turn of the junction angles: the junction angles themselves for a knife edge or a
+        roller (the junction points lie on the follower's path); for a flat face the angles at
+        which the face meets the built curve's tangent there (the spline interpolates the contact
+        points, not their tangents, so these differ from :attr:`angles` by the curve's error)."""
+        m = self.M
+        q = self.spline.point(np.arange(m), np.zeros(m))
+        dq = self.spline.first_derivative(np.arange(m), np.zeros(m))
+        cross = self.follower.cam_angle_of(q, dq)
+        b = self.angles
+        return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
+
     def solver(self) -> FollowerLineSolver:
         """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
-        return self.follower.contact_solver(self.spline, self.angles)
+        return self.follower.contact_solver(self.spline, self.solver_angles)
 
     def contact(self, theta: np.ndarray) -> Contact:
         """Eq. 13 solution at cam angles θ [rad]."""
