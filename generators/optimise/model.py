@@ -42,15 +42,15 @@ from typing import Any
 import numpy as np
 
 from ..motion.bspline_law import basis_derivatives, basis_matrix
-from ..checks.design import MASS_FORCE_FACTOR, TWO_PI
 from ..motion.laws import evaluate_law
+from .kinds import KindModel
 from .space import DesignSpace
 
+#: The translating knife/roller's constraint families (other kinds: :mod:`generators.optimise.kinds`).
 FAMILIES = ("pressure_angle", "curvature", "convexity", "separation", "contact_stress")
 #: Gauss–Legendre nodes per knot span (B-spline) or per segment (other laws) for the integrals.
 GAUSS_PER_SPAN = 16
 GAUSS_PER_SEGMENT = 64
-_STRESS_KNEE = 0.9
 
 
 def basis_matrices(knots: np.ndarray, degree: int, n_points: int, u: np.ndarray, nder: int
@@ -103,28 +103,11 @@ class SmoothModel:
         prog = space.program
         self.program = prog
         samples = samples or 201
-        fol = spec.follower
-        cfg = spec.checks
-        self.sense = 1.0 if spec.cam.direction == "ccw" else -1.0
-        self.rr = spec.roller_radius
-        self.factor = cfg.undercut_factor
-        self.phi_max = np.deg2rad(cfg.max_pressure_angle)
-        self.omega = spec.cam.speed_rpm * TWO_PI / 60.0
-        self.inertia = fol.mass * MASS_FORCE_FACTOR[spec.units] * self.omega**2
-        self.preload = fol.preload
-        self.spring = fol.spring_rate
-        self.min_force = cfg.min_force
-        self.has_load = fol.preload > 0 or fol.mass > 0 or fol.spring_rate > 0
-        self.force_scale = max(fol.preload, 1e-12) if fol.preload > 0 else max(
-            self.inertia * float(np.max(np.abs(prog.lifts))), 1e-12)
-        mat = spec.material
-        delta = ((1 - mat.cam_poisson**2) / mat.modulus("cam", spec.units)
-                 + (1 - mat.follower_poisson**2) / mat.modulus("follower", spec.units))
-        length = min(spec.cam.thickness, fol.roller_width or spec.cam.thickness)
-        self.stress_c = 1.0 / (np.pi * length * delta)
-        self.allowable = mat.allowable_stress
-        self.length_ref = spec.cam.base_radius     # κ·R_b: the convexity constraint made dimensionless
-        self.families = [f for f in FAMILIES if self._family_active(f)]
+        #: the follower kind's checks and integrands (:mod:`generators.optimise.kinds`)
+        self.kind: KindModel = space.kind
+        self.sense = self.kind.sense
+        self.rr = self.kind.rr
+        self.families = list(self.kind.families)
         blocks = {b.motion_index: b for b in space.blocks}
         self.segments: list[SegmentNodes] = []
         for k in range(len(prog.starts)):
@@ -137,17 +120,6 @@ class SmoothModel:
             else:
                 self.segments.append(SegmentNodes(k, "law", np.linspace(0.0, prog.spans[k], samples)))
         self._gauss = [self._gauss_params(sn) for sn in self.segments]
-
-    def _family_active(self, name: str) -> bool:
-        if name == "curvature":
-            return self.rr > 0
-        if name == "convexity":
-            return self.spec.checks.convex
-        if name == "separation":
-            return self.has_load
-        if name == "contact_stress":
-            return self.rr > 0 and self.has_load and bool(self.allowable)
-        return True
 
     # ---- parameters --------------------------------------------------------------------------
     def _gauss_params(self, sn: SegmentNodes) -> tuple[np.ndarray, np.ndarray]:
@@ -229,85 +201,28 @@ class SmoothModel:
         return Kin(s, v, a, t1, ds, dv, da, dt1)
 
     # ---- the checks at nodes ------------------------------------------------------------------
-    def local(self, r: Any, e: Any, s: np.ndarray, v: np.ndarray, a: np.ndarray
+    def local(self, geo: tuple, s: np.ndarray, v: np.ndarray, a: np.ndarray, grad: bool = True
               ) -> dict[str, tuple[np.ndarray, ...]]:
-        """Every constraint family and the pressure angle at points with (s, s′, s″), as
-        (g, ∂g/∂R, ∂g/∂e, ∂g/∂s, ∂g/∂s′, ∂g/∂s″) — e is the spec's offset (the effective one is
-        δe, δ = −1 for a cw cam)."""
-        sg = self.sense
-        s0 = (r * r - e * e) ** 0.5
-        y_r, y_e = r / s0, -e / s0                  # ∂Y/∂R, ∂Y/∂e (Y = s₀ + s)
-        ee = sg * e
-        yy = s0 + s
-        w = v - ee
-        q = yy * yy + w * w
-        sq = q ** 0.5
-        phi = np.arctan(w / yy)                     # Y > 0
-        ph_y, ph_w = -w / q, yy / q
-        out: dict[str, tuple[np.ndarray, ...]] = {}
-        zero = 0.0 * s
+        """Every constraint family, the pressure angle ``phi`` and ``a`` = s″ at points with
+        (s, s′, s″), as (g, ∂g/∂geo₀, …, ∂g/∂s, ∂g/∂s′, ∂g/∂s″) — geo the follower kind's geometric
+        scalars (:attr:`DesignSpace.geometry_names`; translating: R_b and the spec's offset e);
+        without ``grad`` the values only (a 1-tuple)."""
+        return self.kind.local(geo, s, v, a, grad)
 
-        def pack(g_: Any, g_y: Any, g_w: Any, g_v_extra: Any, g_a: Any, g_ee_extra: Any = 0.0, g_s_extra: Any = 0.0):
-            # from partials in (Y, w, v|w, a, e_eff|w, s|Y) to (R, e, s, v, a)
-            return (g_, g_y * y_r, g_y * y_e + sg * (-g_w + g_ee_extra), g_y + g_s_extra, g_w + g_v_extra, g_a)
-
-        out["phi"] = pack(phi, ph_y, ph_w, zero, zero)
-        out["a"] = (a, zero, zero, zero, zero, zero + 1.0)
-        gp = 2 * phi / self.phi_max**2
-        out["pressure_angle"] = pack((phi / self.phi_max) ** 2 - 1.0, gp * ph_y, gp * ph_w, zero, zero)
-        if {"curvature", "convexity", "contact_stress"} & set(self.families):
-            # κ = D/N, D = Y² + w(w + v) − Y s″, N = q^{3/2}  (thesis Eq. 3.7, inverted)
-            dd = yy * yy + w * (w + v) - yy * a
-            nn = q * sq
-            kap = dd / nn
-            k_y = ((2 * yy - a) - kap * 3 * yy * sq) / nn
-            k_w = ((2 * w + v) - kap * 3 * w * sq) / nn
-            k_v = w / nn
-            k_a = -yy / nn
-            if "curvature" in self.families:
-                c = self.factor * self.rr
-                out["curvature"] = pack(c * kap - 1.0, c * k_y, c * k_w, c * k_v, c * k_a)
-            if "convexity" in self.families:
-                c = -self.length_ref
-                out["convexity"] = pack(c * kap, c * k_y, c * k_w, c * k_v, c * k_a)
-        if self.has_load:
-            cph = np.cos(phi)
-            qf = self.preload + self.spring * s + self.inertia * a
-            force = qf / cph
-            f_ph = force * np.tan(phi)
-            f_y, f_w = f_ph * ph_y, f_ph * ph_w
-            f_a = self.inertia / cph
-            f_s = self.spring / cph
-            fs = self.force_scale
-            out["separation"] = pack((self.min_force - force) / fs, -f_y / fs, -f_w / fs, zero, -f_a / fs,
-                                     0.0, -f_s / fs)
-            if "contact_stress" in self.families:
-                rr = self.rr
-                xk = rr * kap
-                knee = _STRESS_KNEE
-                lin = xk.real > knee if np.iscomplexobj(xk) else xk > knee
-                hh = np.where(lin, (1 / (1 - knee) + (xk - knee) / (1 - knee) ** 2) / rr, 1 / (rr * (1 - xk)))
-                h_k = np.where(lin, 1 / (rr * (1 - knee) ** 2), 1 / (rr * (1 - xk) ** 2)) * rr
-                cst = self.stress_c / self.allowable**2
-                g = cst * force * hh - 1.0
-                out["contact_stress"] = pack(g, cst * (f_y * hh + force * h_k * k_y),
-                                             cst * (f_w * hh + force * h_k * k_w), cst * force * h_k * k_v,
-                                             cst * (f_a * hh + force * h_k * k_a), 0.0, cst * f_s * hh)
-        return out
-
-    def design_scalars(self, p: np.ndarray) -> tuple[Any, Any]:
-        return self.space.base_radius(p), self.space.offset(p)
+    def design_scalars(self, p: np.ndarray) -> tuple[Any, ...]:
+        """The geometric scalars of design p (variables from p, the others the spec's)."""
+        return self.space.geometry(p)
 
     def constraints(self, p: np.ndarray, grad: bool = True, families: tuple[str, ...] | None = None
                     ) -> dict[str, tuple[np.ndarray, np.ndarray | None]]:
         """Each family's values at every node (segments in order) and, with ``grad``, its
         Jacobian (nodes × n)."""
         families = families or tuple(self.families)
-        r, e = self.design_scalars(p)
+        geo = self.design_scalars(p)
         parts: dict[str, list] = {f: [] for f in families}
         for sn in self.segments:
             kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
-            loc = self.local(r, e, kin.s, kin.v, kin.a)
+            loc = self.local(geo, kin.s, kin.v, kin.a, grad)
             for f in families:
                 g = loc[f]
                 parts[f].append((g[0], self._chain(g, kin) if grad else None))
@@ -325,12 +240,11 @@ class SmoothModel:
         def col(x: Any) -> np.ndarray:
             return np.broadcast_to(x, (m,))[:, None]
 
-        jac = col(g[3]) * kin.ds + col(g[4]) * kin.dv + col(g[5]) * kin.da
-        sp = self.space
-        if sp.r_index is not None:
-            jac[:, sp.r_index] += np.broadcast_to(g[1], (m,))
-        if sp.e_index is not None:
-            jac[:, sp.e_index] += np.broadcast_to(g[2], (m,))
+        ng = len(self.space.geometry_cols)
+        jac = col(g[ng + 1]) * kin.ds + col(g[ng + 2]) * kin.dv + col(g[ng + 3]) * kin.da
+        for j, c in enumerate(self.space.geometry_cols):
+            if c is not None:
+                jac[:, c] += np.broadcast_to(g[1 + j], (m,))
         return jac
 
     def node_thetas(self, p: np.ndarray) -> np.ndarray:
@@ -350,59 +264,37 @@ class SmoothModel:
 
     # ---- objectives -----------------------------------------------------------------------
     def integral(self, p: np.ndarray, which: str, grad: bool = True) -> tuple[Any, np.ndarray | None]:
-        """Closed-curve integrals over 0…2π with their gradients:
+        """Closed-curve integrals over 0…2π with their gradients, from the follower kind's
+        integrand per dθ (:meth:`KindModel.integrand`):
 
-        * ``thesis_area``: ½∮(R_b + s)² dθ (thesis Eq. 4.21–4.27; exact: ½ r² θ′ is a polynomial
-          in u on each knot span);
-        * ``pitch_area``: ½∮(e² + (s₀ + s)²) dθ (the area inside the pitch curve);
-        * ``pitch_length``: ∮ √((s₀ + s)² + (s′ − δe)²) dθ;
-        * ``thesis_length``: ∮ √((R_b + s)² + s′²) dθ (the length of the thesis' machining curve).
+        * ``thesis_area``: ½∮(R_b + s)² dθ (thesis Eq. 4.21–4.27, translating knife/roller; exact:
+          ½ r² θ′ is a polynomial in u on each knot span);
+        * ``pitch_area``: the area inside the design curve, ½|∮ F × V dθ| (translating:
+          ½∮(e² + (s₀ + s)²) dθ; a flat face: ½∮ h ρ |dγ|);
+        * ``pitch_length``: ∮ |V| dθ, the design curve's length (translating:
+          √((s₀ + s)² + (s′ − δe)²));
+        * ``thesis_length``: ∮ √((R_b + s)² + s′²) dθ (the length of the thesis' machining curve;
+          translating followers).
         """
-        r, e = self.design_scalars(p)
-        sg = self.sense
+        geo = self.design_scalars(p)
+        ng = len(geo)
         total = 0.0
         gsum = np.zeros(self.space.n, dtype=np.result_type(p.dtype, float)) if grad else None
-        sp = self.space
+        cols = self.space.geometry_cols
         for sn, (t, w) in zip(self.segments, self._gauss):
             kin = self.kinematics(sn, t, p, grad, key="gauss")
-            if which == "thesis_area":
-                rad = r + kin.s
-                f = 0.5 * rad * rad * kin.t1
-                if grad:
-                    fr = rad * kin.t1
-                    d = (fr[:, None] * kin.ds + (0.5 * rad * rad)[:, None] * kin.dt1)
-                    gr, ge = fr, 0.0 * fr
-            elif which in ("pitch_area", "pitch_length", "thesis_length"):
-                if which == "thesis_length":
-                    yy, y_r, y_e, ee = r + kin.s, 1.0, 0.0, 0.0 * e
-                else:
-                    s0 = (r * r - e * e) ** 0.5
-                    yy, y_r, y_e, ee = s0 + kin.s, r / s0, -e / s0, sg * e
-                if which == "pitch_area":
-                    f = 0.5 * (e * e + yy * yy) * kin.t1
-                    if grad:
-                        fy = yy * kin.t1
-                        d = fy[:, None] * kin.ds + (0.5 * (e * e + yy * yy))[:, None] * kin.dt1
-                        gr, ge = fy * y_r, (e + yy * y_e) * kin.t1
-                else:
-                    ww = kin.v - ee
-                    root = (yy * yy + ww * ww) ** 0.5
-                    f = root * kin.t1
-                    if grad:
-                        fy = yy / root * kin.t1
-                        fw = ww / root * kin.t1
-                        d = fy[:, None] * kin.ds + fw[:, None] * kin.dv + root[:, None] * kin.dt1
-                        gr = fy * y_r
-                        ge = fy * y_e - fw * (sg if which != "thesis_length" else 0.0)
-            else:
-                raise ValueError(which)
-            total = total + np.sum(w * f)
+            g = self.kind.integrand(which, geo, kin.s, kin.v, kin.a, grad)
+            f = np.broadcast_to(g[0], kin.s.shape)
+            total = total + np.sum(w * f * kin.t1)
             if grad:
-                gseg = (w[:, None] * d).sum(axis=0)
-                if sp.r_index is not None:
-                    gseg[sp.r_index] += np.sum(w * gr)
-                if sp.e_index is not None:
-                    gseg[sp.e_index] += np.sum(w * ge)
+                wt = w * kin.t1
+                m = kin.s.shape[0]
+                gs, gv, ga = (np.broadcast_to(x, (m,)) for x in g[ng + 1:ng + 4])
+                gseg = ((wt * gs)[:, None] * kin.ds + (wt * gv)[:, None] * kin.dv + (wt * ga)[:, None] * kin.da
+                        + (w * f)[:, None] * kin.dt1).sum(axis=0)
+                for j, c in enumerate(cols):
+                    if c is not None:
+                        gseg[c] += np.sum(wt * g[1 + j])
                 gsum = gsum + gseg
         return total, gsum
 
@@ -414,6 +306,46 @@ class SmoothModel:
         return a - rr * length + np.pi * rr * rr, (ga - rr * gl) if grad else None
 
     # ---- constraints as window maxima (the solver's view) ------------------------------------
+    def check_rows(self, p: np.ndarray, grad: bool = True, windows: int = 40,
+                   extra: tuple[tuple[str, float], ...] = ()
+                   ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray | None]:
+        """Every constraint row of the checks at design p: the window maxima of each family
+        (:meth:`window_max`), the face-span rows of a flat face checked without a given centre
+        (max t − min t ≤ width as t_i/w + max(−t/w) − 1 and max(t/w) − t_j/w − 1 over the windows)
+        and the follower's geometry rows (:meth:`KindModel.geometry_rows`).  ``extra`` channels (an
+        epigraph's) are window-maximised in the same pass and returned apart.
+
+        Returns (rows, Jacobian, extra rows, extra Jacobian)."""
+        fams = [f for f in self.families if not f.startswith("face_span")]
+        span = [f for f in self.families if f.startswith("face_span")]
+        channels = tuple((f, 1.0) for f in fams + span)
+        vals, jac = self.window_max(p, channels + tuple(extra), grad, windows)
+        per = vals.size // (len(channels) + len(extra))
+        nc = per * len(fams)
+        rows: list[np.ndarray] = [vals[:nc]]
+        jacs: list[np.ndarray] = [jac[:nc]] if grad else []
+        if span:
+            hi, lo = vals[nc:nc + per], vals[nc + per:nc + 2 * per]
+            with np.errstate(invalid="ignore"):
+                i, j = int(np.argmax(hi.real)), int(np.argmax(lo.real))
+            rows += [hi + lo[j] - 1.0, hi[i] + lo - 1.0]
+            if grad:
+                jh, jl = jac[nc:nc + per], jac[nc + per:nc + 2 * per]
+                jacs += [jh + jl[j][None, :], jh[i][None, :] + jl]
+        geo = self.design_scalars(p)
+        gv, gj = self.kind.geometry_rows(geo, grad)
+        if gv.size:
+            rows.append(gv)
+            if grad:
+                full = np.zeros((gv.size, self.space.n), dtype=np.result_type(gj.dtype, float))
+                for k, c in enumerate(self.space.geometry_cols):
+                    if c is not None:
+                        full[:, c] += gj[:, k]
+                jacs.append(full)
+        top = per * len(channels)
+        return (np.concatenate(rows), np.vstack(jacs) if grad else None, vals[top:],
+                jac[top:] if grad else None)
+
     def window_max(self, p: np.ndarray, channels: tuple[tuple[str, float], ...], grad: bool = True,
                    windows: int = 40, per_window: int = 12) -> tuple[np.ndarray, np.ndarray | None]:
         """The largest value of each channel (``(name, factor)``: factor × the local quantity
@@ -424,13 +356,13 @@ class SmoothModel:
         maximiser (envelope theorem: d/dp max_u g(u, p) = ∂g/∂p at u*).
 
         Returns (values (rows,), Jacobian (rows × n)); rows ordered channel-major."""
-        r, e = self.design_scalars(p)
+        geo = self.design_scalars(p)
         vals_out: list[list[np.ndarray]] = [[] for _ in channels]
         jac_out: list[list[np.ndarray]] = [[] for _ in channels]
         for sn in self.segments:
             if sn.kind == "dwell":
                 kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
-                loc = self.local(r, e, kin.s, kin.v, kin.a)
+                loc = self.local(geo, kin.s, kin.v, kin.a, grad)
                 for c, (name, fac) in enumerate(channels):
                     g = loc[name]
                     vals_out[c].append(fac * np.broadcast_to(g[0], (1,)))
@@ -446,7 +378,7 @@ class SmoothModel:
                 grid = (edges[:-1, None] + (edges[1:] - edges[:-1])[:, None] * frac[None, :])
                 sn.cache[key + "t"] = grid
             kin = self.kinematics(sn, grid.ravel(), p, False, key=key)
-            loc = self.local(r, e, kin.s, kin.v, kin.a)
+            loc = self.local(geo, kin.s, kin.v, kin.a, False)
             h = grid[:, 1] - grid[:, 0]
             rows = np.arange(windows)
             picks = []
@@ -469,7 +401,7 @@ class SmoothModel:
             hi_b = np.concatenate([pk[4] for pk in picks])
             t_lo, t_hi = np.maximum(t_mid - dt, lo_b), np.minimum(t_mid + dt, hi_b)
             kin3 = self.kinematics(sn, np.concatenate([t_lo, t_mid, t_hi]), p, False)
-            loc3 = self.local(r, e, kin3.s, kin3.v, kin3.a)
+            loc3 = self.local(geo, kin3.s, kin3.v, kin3.a, False)
             nw = t_mid.size
             refined = []
             for c, (name, fac) in enumerate(channels):
@@ -487,7 +419,7 @@ class SmoothModel:
             # the maximisers, all channels at once; keep the better of vertex and best sample
             t_all = np.concatenate([np.concatenate([a, b]) for a, b in picks])
             kin2 = self.kinematics(sn, t_all, p, grad)
-            loc2 = self.local(r, e, kin2.s, kin2.v, kin2.a)
+            loc2 = self.local(geo, kin2.s, kin2.v, kin2.a, grad)
             m2 = kin2.s.shape[0]
             for c, (name, fac) in enumerate(channels):
                 g = loc2[name]

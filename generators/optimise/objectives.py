@@ -6,9 +6,13 @@ machining times are piecewise constant in whole turns/blocks and return values o
 ==================  ========================================================  ==========
 objective           value                                                     gradient
 ==================  ========================================================  ==========
-area                ½∮(R_b + s)² dθ, thesis Eq. 4.21–4.27 (inside the pitch   exact
-                    curve when e = 0; the thesis' formula whatever e is)
-profile_area        area inside the roller profile, A_pitch − r_f L + π r_f²  exact
+area                translating knife/roller: ½∮(R_b + s)² dθ, thesis Eq.     exact
+                    4.21–4.27 (inside the pitch curve when e = 0; the thesis'
+                    formula whatever e is); every other follower: the area
+                    inside its design curve (an oscillating knife/roller's
+                    pitch curve, a flat face's profile), ½|∮ F × V dθ|
+profile_area        area inside the cam profile, A_pitch − r_f L + π r_f²     exact
+                    (a flat face: its profile's area)
 peak_acceleration   max |s″| over the nodes (epigraph: min t, ±s″/ref ≤ t)     exact
 peak_pressure_angle max |φ| (epigraph)                                        exact
 machining_time      thesis Eq. 4.20 on its staircase path                     none
@@ -45,6 +49,20 @@ DESCRIPTIONS = {
     "thesis_length": "length of the thesis' machining curve r = R_b + s (smooth stand-in for machining_time)",
     "pitch_length": "pitch-curve length (smooth stand-in for gcode_time)",
 }
+#: "area" for every follower but the translating knife/roller (whose "area" is the thesis' Eq. 4.21)
+AREA_DESIGN_CURVE = ("cam area: the exact area inside the design curve, 1/2 |int F x V dtheta| (an oscillating "
+                     "knife/roller's pitch curve, a flat face's profile)")
+
+
+def describe(name: str, spec: Any) -> str:
+    """The objective ``name`` of ``spec`` in words (report.json's ``objective_description``)."""
+    from .kinds import kind_model
+
+    if name == "area" and kind_model(spec).area_integral != "thesis_area":
+        return AREA_DESIGN_CURVE
+    return DESCRIPTIONS[name]
+
+
 UNITS = {"area": "length²", "profile_area": "length²", "machining_time": "s", "gcode_time": "s",
          "peak_acceleration": "length/rad²", "peak_pressure_angle": "deg", "thesis_length": "length",
          "pitch_length": "length"}
@@ -58,7 +76,7 @@ class Objective:
     model: SmoothModel
     value: Callable[[np.ndarray, bool], tuple[float, np.ndarray | None]]
     smooth: bool
-    peak: Callable[[Any, Any, Any], np.ndarray] | None = None   # (r, e, kin) → q, for the epigraph
+    peak: Callable[[Any, Any], np.ndarray] | None = None   # (geometry, kin) → q, for the epigraph
 
     @property
     def description(self) -> str:
@@ -70,16 +88,17 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
     sp = model.space
     spec = model.spec
     if name == "area":
-        return Objective(name, model, lambda p, g: model.integral(p, "thesis_area", g), True)
+        which = model.kind.area_integral
+        return Objective(name, model, lambda p, g: model.integral(p, which, g), True)
     if name in ("thesis_length", "pitch_length"):
         return Objective(name, model, lambda p, g: model.integral(p, name, g), True)
     if name == "profile_area":
         return Objective(name, model, lambda p, g: model.profile_area(p, g), True)
     if name == "peak_acceleration":
-        return Objective(name, model, _peak_value(model, "a"), True, peak=lambda r, e, kin: kin.a)
+        return Objective(name, model, _peak_value(model, "a"), True, peak=lambda geo, kin: kin.a)
     if name == "peak_pressure_angle":
         return Objective(name, model, _peak_value(model, "phi"), True,
-                         peak=lambda r, e, kin: np.rad2deg(model.local(r, e, kin.s, kin.v, kin.a)["phi"][0]))
+                         peak=lambda geo, kin: np.rad2deg(model.local(geo, kin.s, kin.v, kin.a, False)["phi"][0]))
     if name == "machining_time":
         opt = spec.optimise
         from ..machining.cutting_time import DEFAULT_TOLERANCE
@@ -112,14 +131,14 @@ def _peak_value(model: SmoothModel, which: str) -> Callable[[np.ndarray, bool], 
     """max |q| over the nodes (the reported value; the solver minimises its epigraph)."""
 
     def f(p: np.ndarray, grad: bool) -> tuple[float, None]:
-        r, e = model.design_scalars(p)
+        geo = model.design_scalars(p)
         vals = []
         for sn in model.segments:
             kin = model.kinematics(sn, sn.params, p, False, key="nodes")
             if which == "a":
                 vals.append(np.abs(kin.a))
             else:
-                vals.append(np.abs(np.rad2deg(model.local(r, e, kin.s, kin.v, kin.a)["phi"][0])))
+                vals.append(np.abs(np.rad2deg(model.local(geo, kin.s, kin.v, kin.a, False)["phi"][0])))
         return float(np.max(np.concatenate([np.broadcast_to(v, (np.size(v),)) for v in vals]))), None
 
     return f

@@ -42,12 +42,13 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..checks.areas import area_summary, profile_area, thesis_area
+from ..checks.areas import area_summary, pitch_area, profile_area, thesis_area
 from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
 from ..spec.model import CamSpec
+from .kinds import force_reference, kind_model
 from .model import SmoothModel
-from .objectives import DESCRIPTIONS, PEAK, SURROGATE, TIME, UNITS, Objective, make_objective
+from .objectives import PEAK, SURROGATE, TIME, UNITS, Objective, describe, make_objective
 from .space import DesignSpace
 
 LOCAL_GRADIENT = {"slsqp": "LD_SLSQP", "mma": "LD_MMA", "ccsaq": "LD_CCSAQ"}
@@ -143,7 +144,7 @@ class OptimiseResult:
         red = 100.0 * (1.0 - self.value / self.initial_value) if self.initial_value else None
         out: dict[str, Any] = {
             "objective": self.objective,
-            "objective_description": DESCRIPTIONS[self.objective],
+            "objective_description": describe(self.objective, self.spec),
             "objective_unit": UNITS[self.objective].replace("length", self.spec.units),
             "algorithm": self.algorithm,
             "status": self.status,
@@ -178,7 +179,7 @@ def worst_constraint(checks: DesignChecks, spec: CamSpec) -> dict[str, Any]:
             continue
         if r.name == "oscillation":      # zero at every flat stretch: not a margin
             continue
-        scale = max(abs(r.limit), 1e-12) if r.name != "separation" else max(spec.follower.preload, 1e-12)
+        scale = max(abs(r.limit), 1e-12) if r.name != "separation" else force_reference(spec)
         margin = (r.value - r.limit) / scale if r.kind == "max" else (r.limit - r.value) / scale
         if margin > worst:
             worst = margin
@@ -211,7 +212,6 @@ class ScaledProblem:
         self.f0 = f0 if f0 and math.isfinite(f0) else 1.0
         self.epigraph = objective.name in PEAK
         self.n = space.n + (1 if self.epigraph else 0)
-        self.channels = tuple((f, 1.0) for f in model.families)
         self.peak_channels: tuple[tuple[str, float], ...] = ()
         if self.epigraph:
             name = "a" if objective.name == "peak_acceleration" else "phi"
@@ -249,26 +249,22 @@ class ScaledProblem:
             if grad:
                 jacs.append(np.hstack([sp.linear_A * scale[None, :], np.zeros((lv.size, pad))]))
         with np.errstate(all="ignore"):
-            vals, jac = self.model.window_max(p, self.channels + self.peak_channels, grad, self.windows)
-        bad = ~np.isfinite(vals)
-        if bad.any():        # an invalid control polygon (θ′ ≤ 0), far outside the feasible set
-            vals = np.where(bad, 10.0, vals)
-        if grad:
-            jac = np.nan_to_num(np.where(bad[:, None], 0.0, jac), nan=0.0, posinf=0.0, neginf=0.0)
-        per = vals.size // (len(self.channels) + len(self.peak_channels))   # rows per channel
-        nc = per * len(self.channels)
-        cv = vals[:nc]
+            cv, cjac, qv, qjac = self.model.check_rows(p, grad, self.windows, self.peak_channels)
+        # an invalid control polygon (θ′ ≤ 0) or an arm at the line through the pivot, far outside
+        # the feasible set: a violated row without a gradient (the geometry rows have theirs)
+        cv, cjac = _finite_rows(cv, cjac)
+        qv, qjac = _finite_rows(qv, qjac)
+        nc = cv.size
         if nc:
             viol = max(viol, float(np.max(cv)))
             rows.append(cv + self.margin)
             if grad:
-                jacs.append(np.hstack([jac[:nc] * scale[None, :], np.zeros((nc, pad))]))
+                jacs.append(np.hstack([cjac * scale[None, :], np.zeros((nc, pad))]))
         if self.epigraph:
             t = z[-1]
-            qv = vals[nc:]
             rows.append(qv - t)
             if grad:
-                jacs.append(np.hstack([jac[nc:] * scale[None, :], -np.ones((qv.size, 1))]))
+                jacs.append(np.hstack([qjac * scale[None, :], -np.ones((qv.size, 1))]))
             f_phys = float(np.max(qv)) * self.q_ref
             f_s = float(t)
             df = None
@@ -286,6 +282,16 @@ class ScaledProblem:
         out = (f_s, df, g, np.vstack(jacs) if grad else None, f_phys, viol)
         self._key, self._val = key, out
         return out
+
+
+def _finite_rows(vals: np.ndarray, jac: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+    """Non-finite rows become 10 (violated) with a zero gradient."""
+    bad = ~np.isfinite(vals)
+    if bad.any():
+        vals = np.where(bad, 10.0, vals)
+    if jac is not None:
+        jac = np.nan_to_num(np.where(bad[:, None], 0.0, jac), nan=0.0, posinf=0.0, neginf=0.0)
+    return vals, jac
 
 
 class Tracker:
@@ -550,12 +556,19 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             if global_first and rnd == 0:
                 z0 = solve_local(prob, z0, "isres", cfg.max_evaluations)
             z = solve_local(prob, z0, local_algo, cfg.max_evaluations)
+            p_prev = p
             p = _polish(space, prob.p_of(z))
             bf = tracker.best_feasible
             if bf is not None and bf[0] < _objective_value(o, space, p) * (1 - 1e-12):
                 p = _polish(space, bf[1])          # derivative-free runs end near, not at, their best
+            if not space.is_valid(p):
+                # a run that ended outside the follower's geometry (the arm cannot reach the prime
+                # circle, …) — only possible when it stopped early and infeasible: keep its start
+                messages.append(f"{tracker.phase}: the run ended outside the follower's geometry "
+                                f"({space.invalid_reason(p)}); its starting design kept")
+                p = p_prev
             details["windows"] = windows
-            if not final or run_checks(space.spec_at(p)).passed:
+            if not final or (space.is_valid(p) and run_checks(space.spec_at(p)).passed):
                 break
             windows *= 2
         return p
@@ -584,6 +597,9 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         rng = np.random.default_rng(cfg.seed)
         for i in range(cfg.multistart):
             z_rand = _random_start(space, rng)
+            if z_rand is None:
+                messages.append(f"start {i + 2}: no random design of the box builds (skipped)")
+                continue
             tracker.phase = f"start {i + 2}"
             candidates.append(solve_phase(obj, local, space.to_p(z_rand), f"start {i + 2}"))
             ends.append(last[0])
@@ -598,6 +614,8 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         elif tracker.best_any is not None:
             p_best = tracker.best_any[2]
         p_best = _polish(space, p_best)
+        if not space.is_valid(p_best):
+            p_best = p_init
     final_spec = space.spec_at(p_best)
     checks = run_checks(final_spec)
     initial_checks = run_checks(spec)
@@ -634,7 +652,7 @@ def final_value(objective: str, spec: CamSpec) -> float:
     (:mod:`generators.cam_area`), the cutting times at full resolution, and the dense, refined
     extrema of the design checks for the peak objectives."""
     if objective == "area":
-        return thesis_area(spec)
+        return thesis_area(spec) if area_is_thesis(spec) else pitch_area(spec)
     if objective == "profile_area":
         return profile_area(spec)
     if objective == "machining_time":
@@ -650,6 +668,13 @@ def final_value(objective: str, spec: CamSpec) -> float:
     if objective == "peak_acceleration":
         return abs(float(ext["reduced_acceleration"]["value"]))
     return abs(float(ext["pressure_angle"]["value"]))
+
+
+def area_is_thesis(spec: CamSpec) -> bool:
+    """True when the objective "area" of ``spec`` is the thesis' Eq. 4.21 (a translating knife
+    edge or roller), False when it is the area inside the design curve (every other follower:
+    the pitch curve of an oscillating knife/roller, the profile of a flat face)."""
+    return kind_model(spec).area_integral == "thesis_area"
 
 
 def _objective_value(obj: Objective, space: DesignSpace, p: np.ndarray) -> float:
@@ -684,7 +709,7 @@ def _orientation_scan(obj: Objective, space: DesignSpace, model: SmoothModel, p:
     """The blank orientation at 1° steps over a quarter turn (the thesis' path repeats after 90°)."""
     best = (math.inf, p)
     b0 = p[space.b_index]
-    cons = model.window_max(p, tuple((f, 1.0) for f in model.families), False)[0]
+    cons = model.check_rows(p, False)[0]
     viol = float(np.max(cons)) if cons.size else -1.0        # the orientation changes no check
     if space.linear_A.shape[0]:
         viol = max(viol, float(np.max(space.linear_values(p))))
@@ -698,8 +723,18 @@ def _orientation_scan(obj: Objective, space: DesignSpace, model: SmoothModel, p:
     return best[1]
 
 
-def _random_start(space: DesignSpace, rng: np.random.Generator) -> np.ndarray:
-    """A random design in the box with valid control polygons (sorted angles, monotonic lifts)."""
+def _random_start(space: DesignSpace, rng: np.random.Generator, tries: int = 200) -> np.ndarray | None:
+    """A random design in the box with valid control polygons (sorted angles, monotonic lifts)
+    that is a valid spec (an oscillating arm reaches the prime circle: redrawn up to ``tries``
+    times; None if none does)."""
+    for _ in range(tries):
+        z = _random_point(space, rng)
+        if space.is_valid(space.to_p(z)):
+            return z
+    return None
+
+
+def _random_point(space: DesignSpace, rng: np.random.Generator) -> np.ndarray:
     z = rng.uniform(0.0, 1.0, space.n)
     p = space.to_p(z)
     for blk in space.blocks:
@@ -718,6 +753,8 @@ def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> i
     """The index of the best candidate: passing the dense check first, then the smallest objective."""
     best = None
     for i, p in enumerate(candidates):
+        if not space.is_valid(p):
+            continue
         spec = space.spec_at(p)
         key = (not run_checks(spec).passed, final_value(objective, spec))
         if best is None or key < best[0]:

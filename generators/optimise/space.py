@@ -34,6 +34,7 @@ from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec, optimise_control_rows, optimise_variables
+from .kinds import GEOMETRY_PATHS, kind_model
 
 
 @dataclass(frozen=True)
@@ -81,13 +82,19 @@ class DesignSpace:
         p0: list[float] = []
         lo: list[float] = []
         hi: list[float] = []
+        #: the follower kind's optimiser model (:mod:`generators.optimise.kinds`)
+        self.kind = kind_model(spec)
+        #: the kind's geometric scalars (R_b and the follower's position), in order
+        self.geometry_names = self.kind.geometry
+        start_geo = dict(zip(self.geometry_names, self.kind.start_geometry()))
         r0 = spec.cam.base_radius
         rr = spec.roller_radius
         bore = spec.cam.bore_diameter / 2
         e0 = spec.follower.offset
         # default bounds always contain the start (a user-given one that does not is refused by
         # :meth:`check_start`): R_b ∈ [½, 2] × the initial (the lower at least 1.05 × (roller +
-        # bore radius)), |e| ≤ ½ × the R_b lower bound or |e₀|, the R_b lower bound above that
+        # bore radius)), |e| ≤ ½ × the R_b lower bound or |e₀|, the R_b lower bound above that;
+        # d, L ∈ [½, 2] × the initial; |f| ≤ ½ × the R_b lower bound or |f₀|
         r_lo = opt.base_radius_min if opt.base_radius_min is not None else min(
             max(0.5 * r0, 1.05 * (rr + bore) + 1e-9), r0)
         r_hi = opt.base_radius_max if opt.base_radius_max is not None else 2.0 * r0
@@ -95,15 +102,28 @@ class DesignSpace:
         e_max = opt.offset_max if opt.offset_max is not None else max(0.5 * (r_lo if with_r else r0), abs(e0))
         if with_r and "offset" in self.kinds and opt.base_radius_min is None and not e_max < r_lo:
             r_lo = 0.5 * (e_max + r0)       # every design in the box keeps R_b > |e|
+        bounds = {"base_radius": (r_lo, max(r_hi, r_lo * 1.01)), "offset": (-e_max, e_max)}
+        for name in ("pivot_distance", "arm_length"):
+            v0 = start_geo.get(name) or 0.0
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            bounds[name] = (lo_b if lo_b is not None else 0.5 * v0, hi_b if hi_b is not None else 2.0 * v0)
+        f0 = start_geo.get("face_offset", 0.0)
+        f_max = opt.face_offset_max if opt.face_offset_max is not None else max(
+            0.5 * (r_lo if with_r else r0), abs(f0))
+        bounds["face_offset"] = (-f_max, f_max)
         self.r_index = self.e_index = self.b_index = None
-        if with_r:
-            self.r_index = len(p0)
-            labels.append("cam.base_radius")
-            p0.append(r0), lo.append(r_lo), hi.append(max(r_hi, r_lo * 1.01))
-        if "offset" in self.kinds:
-            self.e_index = len(p0)
-            labels.append("follower.offset")
-            p0.append(e0), lo.append(-e_max), hi.append(e_max)
+        cols: dict[str, int] = {}
+        for name in self.geometry_names:
+            if name not in self.kinds:
+                continue
+            cols[name] = len(p0)
+            labels.append(GEOMETRY_PATHS[name])
+            p0.append(start_geo[name]), lo.append(bounds[name][0]), hi.append(bounds[name][1])
+        self.r_index = cols.get("base_radius")
+        self.e_index = cols.get("offset")
+        #: position in p of each geometric scalar (None: fixed at the spec's value)
+        self.geometry_cols = tuple(cols.get(name) for name in self.geometry_names)
+        self._geometry_start = tuple(start_geo[name] for name in self.geometry_names)
         gap = math.radians(opt.control_gap)
         blocks: list[LiftBlock] = []
         for k, curve in enumerate(self.program.curves):
@@ -173,6 +193,23 @@ class DesignSpace:
                 raise SpecError("optimise.base_radius_max",
                                 f"must be ≥ cam.base_radius of the starting design ({r0:g} {units}), "
                                 f"got {opt.base_radius_max:g}")
+        for name, c in zip(self.geometry_names, self.geometry_cols):
+            if c is None or name not in ("pivot_distance", "arm_length", "face_offset"):
+                continue
+            v0 = float(self.start[c])
+            if name == "face_offset":
+                if opt.face_offset_max is not None and abs(v0) > opt.face_offset_max:
+                    raise SpecError("optimise.face_offset_max",
+                                    f"must be ≥ |follower.face_offset| of the starting design ({v0:g} {units}), "
+                                    f"got {opt.face_offset_max:g}")
+                continue
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            if lo_b is not None and v0 < lo_b:
+                raise SpecError(f"optimise.{name}_min",
+                                f"must be ≤ follower.{name} of the starting design ({v0:g} {units}), got {lo_b:g}")
+            if hi_b is not None and v0 > hi_b:
+                raise SpecError(f"optimise.{name}_max",
+                                f"must be ≥ follower.{name} of the starting design ({v0:g} {units}), got {hi_b:g}")
 
     # ---- sizes and scaling ----------------------------------------------------------------
     @property
@@ -197,6 +234,11 @@ class DesignSpace:
     def offset(self, p: np.ndarray) -> Any:
         return p[self.e_index] if self.e_index is not None else self.spec.follower.offset
 
+    def geometry(self, p: np.ndarray) -> tuple[Any, ...]:
+        """The follower kind's geometric scalars at design p (:attr:`geometry_names`): the
+        variables from p, the others the spec's."""
+        return tuple(p[c] if c is not None else v for c, v in zip(self.geometry_cols, self._geometry_start))
+
     def orientation(self, p: np.ndarray) -> float:
         return float(p[self.b_index]) if self.b_index is not None else math.radians(self.spec.optimise.blank_orientation)
 
@@ -214,10 +256,9 @@ class DesignSpace:
         (and control_y in its own form: free lifts only, or all interior ones)."""
         p = np.asarray(p, dtype=float)
         changes: dict[str, Any] = {}
-        if self.r_index is not None:
-            changes["cam.base_radius"] = float(p[self.r_index])
-        if self.e_index is not None:
-            changes["follower.offset"] = float(p[self.e_index])
+        for name, c in zip(self.geometry_names, self.geometry_cols):
+            if c is not None:
+                changes[GEOMETRY_PATHS[name]] = float(p[c])
         if self.b_index is not None:
             deg = math.degrees(p[self.b_index]) % 90.0
             changes["optimise.blank_orientation"] = float(deg)
@@ -239,6 +280,19 @@ class DesignSpace:
                 cy = y[1:-1] if full else y[blk.y_free]
                 changes[f"motion[{k}].control_y"] = [float(v) for v in cy]
         return self.spec.replace(**changes) if changes else self.spec
+
+    def is_valid(self, p: np.ndarray) -> bool:
+        """True when design p is a valid spec (every rule of the spec, e.g. the arm reaches the
+        prime circle); the solver's geometry rows keep it so, this is the final guard."""
+        return self.invalid_reason(p) is None
+
+    def invalid_reason(self, p: np.ndarray) -> str | None:
+        """The spec rule design p breaks (``field: rule``), or None."""
+        try:
+            self.spec_at(p)
+        except SpecError as exc:
+            return str(exc)
+        return None
 
     # ---- linear constraints -----------------------------------------------------------------
     def _linear_constraints(self) -> tuple[np.ndarray, np.ndarray]:

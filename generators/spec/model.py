@@ -340,7 +340,14 @@ OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acce
               "peak_pressure_angle")
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
-OPTIMISE_VARIABLES = ("base_radius", "offset", "control_x", "control_y", "control_points", "orientation")
+OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "control_x",
+                      "control_y", "control_points", "orientation")
+#: The design variables that are follower fields, in the design vector's order.
+FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
+#: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
+#: face's centre along the arm, arm_length, only when named).
+AUTO_FOLLOWER_VARIABLES = {"translating": ("offset",), "oscillating": ("pivot_distance", "arm_length"),
+                           "oscillating flat": ("pivot_distance", "face_offset")}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -354,11 +361,14 @@ class OptimiseSection:
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|",
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
-        "Design variables, comma-separated: base_radius, offset, control_x, control_y (control_points = "
-        "both: every free control coordinate of each B-spline rise/return; motion[k].control_x, "
-        "motion[k].control_y, motion[k].control_points: those of segment k only), orientation (the blank on "
-        "the NC table; machining_time only); \"auto\" = base_radius, offset, control_points (+ orientation "
-        "for machining_time)", kind="str", default="auto", group="Optimise")
+        "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
+        "arm_length (oscillating followers; a flat face's arm_length, its centre, when given), face_offset "
+        "(oscillating flat face), control_x, control_y (control_points = both: every free control coordinate "
+        "of each B-spline rise/return; motion[k].control_x, motion[k].control_y, motion[k].control_points: "
+        "those of segment k only), orientation (the blank on the NC table; machining_time only); \"auto\" = "
+        "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
+        "face pivot_distance and face_offset), control_points (+ orientation for machining_time)",
+        kind="str", default="auto", group="Optimise")
     algorithm: str = param(
         "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
         "and gcode_time SLSQP on a smooth size surrogate, then BOBYQA with the thesis' exterior penalty "
@@ -393,6 +403,22 @@ class OptimiseSection:
     offset_max: float | None = param("Bound of |follower.offset| (default: half the base-radius lower bound; "
                                      "to keep e fixed, leave offset out of variables)",
                                      unit="length", gt=0, optional=True, group="Optimise")
+    pivot_distance_min: float | None = param(
+        "Lower bound of follower.pivot_distance (oscillating followers; default: half the initial)",
+        unit="length", gt=0, optional=True, group="Optimise")
+    pivot_distance_max: float | None = param(
+        "Upper bound of follower.pivot_distance (oscillating followers; default: twice the initial)",
+        unit="length", gt=0, optional=True, group="Optimise")
+    arm_length_min: float | None = param(
+        "Lower bound of follower.arm_length (oscillating followers; default: half the initial)",
+        unit="length", gt=0, optional=True, group="Optimise")
+    arm_length_max: float | None = param(
+        "Upper bound of follower.arm_length (oscillating followers; default: twice the initial)",
+        unit="length", gt=0, optional=True, group="Optimise")
+    face_offset_max: float | None = param(
+        "Bound of |follower.face_offset| (oscillating flat face; default: half the base-radius lower bound, or "
+        "|face_offset| of the starting design when larger)", unit="length", gt=0, optional=True,
+        group="Optimise")
     control_gap: float = param(
         "Smallest angle between consecutive control-point angles of a B-spline rise/return (keeps θ(u) "
         "increasing: thesis §2.7)", unit="angle", gt=0, default=0.5, group="Optimise")
@@ -792,7 +818,9 @@ def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
     bspline_rows = {k for k, seg in enumerate(spec.motion) if seg.law == "bspline"}
     rows: dict[str, set[int]] = {"control_x": set(), "control_y": set()}
     if text == "auto":
-        names = {"base_radius", "offset"}
+        fol = spec.follower
+        key = "oscillating flat" if (fol.motion, fol.kind) == ("oscillating", "flat") else fol.motion
+        names = {"base_radius", *AUTO_FOLLOWER_VARIABLES[key]}
         rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows)}
         if opt.objective == "machining_time":
             names.add("orientation")
@@ -835,7 +863,8 @@ def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
     and the per-segment ``motion[k].…`` forms expanded), in the order base_radius, offset,
     control_x, control_y, orientation."""
     names, _rows = _parse_variables(spec)
-    return tuple(n for n in ("base_radius", "offset", "control_x", "control_y", "orientation") if n in names)
+    return tuple(n for n in ("base_radius", *FOLLOWER_VARIABLES, "control_x", "control_y", "orientation")
+                 if n in names)
 
 
 def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
@@ -845,11 +874,46 @@ def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
     return {kind: tuple(sorted(ks)) for kind, ks in rows.items()}
 
 
+def follower_variable_rule(spec: CamSpec, name: str) -> str | None:
+    """Why the follower field ``name`` cannot be a design variable of ``spec``'s follower (the
+    rules of ``[follower]``: offset for translating followers, pivot_distance and arm_length for
+    oscillating ones, face_offset for an oscillating flat face), or None when it can."""
+    fol = spec.follower
+    if name == "offset" and fol.motion != "translating":
+        return ("offset applies to translating followers only: an oscillating follower's position is "
+                "pivot_distance and arm_length (vary those)")
+    if name in ("pivot_distance", "arm_length", "face_offset") and fol.motion != "oscillating":
+        return (f'{name} applies to oscillating followers only (follower.motion = "oscillating"); a '
+                "translating follower's position is its offset")
+    if name == "face_offset" and fol.kind != "flat":
+        return 'face_offset applies to oscillating flat faces only (follower.kind = "flat")'
+    if name == "arm_length" and fol.kind == "flat" and fol.arm_length is None:
+        return ("arm_length of a flat face places the face's centre along the arm: give follower.arm_length "
+                "to vary it")
+    return None
+
+
 def _validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")
+    for name in names:
+        rule = follower_variable_rule(spec, name)
+        if rule:
+            raise SpecError("optimise.variables", rule)
+    fol = spec.follower
+    if opt.objective == "machining_time" and fol.motion != "translating":
+        raise SpecError("optimise.objective",
+                        "machining_time is the thesis' cutting-time model of the curve r = R_b + s(θ) of a "
+                        "translating follower; an oscillating follower's lift is an arm angle: use gcode_time")
+    if opt.objective == "peak_pressure_angle" and (fol.motion, fol.kind) == ("translating", "flat"):
+        raise SpecError("optimise.objective",
+                        "peak_pressure_angle: a translating flat face's pressure angle is 0 everywhere")
+    for name in ("pivot_distance", "arm_length"):
+        lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+        if lo_b is not None and hi_b is not None and not lo_b < hi_b:
+            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({lo_b:g}), got {hi_b:g}")
     if "orientation" in names and opt.objective != "machining_time":
         raise SpecError("optimise.variables",
                         "orientation only changes objective = \"machining_time\" (the thesis' cutting time)")
