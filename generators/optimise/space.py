@@ -341,3 +341,19 @@ class DesignSpace:
     def linear_values(self, p: np.ndarray) -> np.ndarray:
         """A·p − c (≤ 0 when the polygons are valid)."""
         return self.linear_A @ p - self.linear_c
+
+
+def geometry_bounds(spec: CamSpec) -> dict[str, tuple[float, float]]:
+    """The bounds (lower, upper) of every geometric design variable of ``spec``'s follower kind
+    as the optimiser takes them — the ``[optimise]`` bounds given, the defaults for the others,
+    widened to contain the start — by name: base_radius and offset (translating followers),
+    pivot_distance and arm_length (oscillating), face_offset (an oscillating flat face; its
+    arm_length when given).  For a GUI that shows the bounds before a run."""
+    from ..spec.model import follower_variable_rule
+
+    names = [n for n in kind_model(spec).geometry if n == "base_radius" or follower_variable_rule(spec, n) is None]
+    probe = spec.replace(**{"optimise.variables": ", ".join(names), "optimise.objective": "area",
+                            "optimise.algorithm": "auto"})
+    space = DesignSpace(probe)
+    return {n: (float(space.lower[c]), float(space.upper[c]))
+            for n, c in zip(space.geometry_names, space.geometry_cols) if c is not None}

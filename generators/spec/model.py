@@ -355,10 +355,13 @@ class OptimiseSection:
     """`[optimise]`: what `cam-workbench optimise` minimises, over which design variables, and how (thesis Ch. 5–7)."""
 
     objective: str = param(
-        "Cost function: \"area\" = thesis Eq. 4.21 (½∮(R_b + s)² dθ, the area inside the pitch curve for "
-        "e = 0); \"profile_area\" = the true cam cross-section inside the roller profile; "
+        "Cost function: \"area\" = thesis Eq. 4.21 for a translating knife edge or roller (½∮(R_b + s)² dθ, "
+        "the area inside the pitch curve for e = 0), for every other follower the exact area inside its "
+        "design curve (an oscillating knife/roller's pitch curve, a flat face's profile); \"profile_area\" = "
+        "the true cam cross-section inside the profile; "
         "\"machining_time\" = the thesis' cutting time (Eq. 4.4–4.20); \"gcode_time\" = the time of this "
-        "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|",
+        "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
+        "machining_time needs a translating follower",
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
