@@ -123,3 +123,67 @@ def test_a_bound_that_excludes_the_start_is_refused(tmp_path):
     assert res.returncode == 2
     assert "optimise.offset_max: must be ≥ |follower.offset| of the starting design (10 mm), got 5" in res.stderr
     assert "Traceback" not in res.stderr and not out.exists()
+
+
+# ---- other follower kinds (issue 13) -------------------------------------------------------------
+def _oscillating_spec(folder) -> str:
+    """An oscillating roller (pivot 60 mm, arm 45 mm, 15° cycloidal lifts) as a spec file."""
+    from generators.spec import CamSpec, to_toml
+
+    from .test_optimiser_followers import oscillating_roller
+
+    path = folder / "osc.toml"
+    path.write_text(to_toml(CamSpec.from_dict(oscillating_roller())))
+    return str(path)
+
+
+@requires_ocp
+def test_optimise_an_oscillating_roller(tmp_path):
+    """R_b, pivot distance and arm length (auto): exit 0, every number printed is report.json's, the
+    objective is the exact area inside the pitch curve (report.json's areas.pitch_curve), the optimised
+    spec holds the final design and passes the checks."""
+    out = tmp_path / "opt"
+    res = run("optimise", _oscillating_spec(tmp_path), "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    rep = json.loads((out / "report.json").read_text())
+    opt = rep["optimise"]
+    _assert_prints_the_reports_status(res.stdout, opt)
+    assert opt["feasible"] is True and rep["checks"]["passed"] is True
+    assert "design curve" in opt["objective_description"]
+    assert f"area: {opt['initial_value']:.6g} → {opt['final_value']:.6g} mm²" in res.stdout
+    assert opt["final_value"] < opt["initial_value"]
+    assert rep["areas"]["pitch_curve"] == pytest.approx(opt["final_value"], rel=1e-9)
+    assert rep["areas"]["thesis_eq_4_21"] is None
+    spec = load_spec(out / "optimised.toml")
+    got = {"cam.base_radius": spec.cam.base_radius, "follower.pivot_distance": spec.follower.pivot_distance,
+           "follower.arm_length": spec.follower.arm_length}
+    assert [v["name"] for v in opt["variables"]] == list(got)
+    for v in opt["variables"]:
+        assert v["final"] == got[v["name"]]
+        assert f"  {v['name']:28s} {v['initial']:12.6g} → {v['final']:12.6g}" in res.stdout
+    w = opt["worst_constraint"]
+    assert (f"closest to its limit: {w['name']} = {w['value']:.6g} {w['unit']} at {w['at_deg']:.2f}° "
+            f"(limit {w['limit']:.6g})") in res.stdout
+
+
+@pytest.mark.parametrize("args, field, words", [
+    (["--variables", "base_radius,offset"], "optimise.variables", "offset applies to translating followers only"),
+    (["--variables", "face_offset"], "optimise.variables", "face_offset applies to oscillating flat faces only"),
+    (["--objective", "machining_time"], "optimise.objective", "use gcode_time"),
+    (["--set", "optimise.arm_length_max=40"], "optimise.arm_length_max",
+     "must be ≥ follower.arm_length of the starting design (45 mm), got 40"),
+])
+def test_bad_variables_for_an_oscillating_follower_exit_2(tmp_path, args, field, words):
+    out = tmp_path / "never"
+    res = run("optimise", _oscillating_spec(tmp_path), *args, "-o", str(out))
+    assert res.returncode == 2, res.stdout
+    assert f"{field}: " in res.stderr and words in res.stderr
+    assert "Traceback" not in res.stderr and not out.exists()
+
+
+def test_oscillating_variables_on_a_translating_follower_exit_2(tmp_path):
+    out = tmp_path / "never"
+    res = run("optimise", _paper_spec(tmp_path), "--variables", "base_radius,pivot_distance", "-o", str(out))
+    assert res.returncode == 2
+    assert "optimise.variables: pivot_distance applies to oscillating followers only" in res.stderr
+    assert "Traceback" not in res.stderr and not out.exists()
