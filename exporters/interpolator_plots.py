@@ -30,7 +30,8 @@ def _plt() -> Any:
 
 
 def _error_scale(units: str) -> tuple[float, str]:
-    return (1e3, "µm") if units == "mm" else (1e6, "µin")
+    """µm, µin — or arc seconds when the lift is an arm angle ("deg")."""
+    return {"mm": (1e3, "µm"), "in": (1e6, "µin"), "deg": (3600.0, "arcsec")}[units]
 
 
 def deviation_figure(acc: InterpolatorAccuracy, units: str = "mm",

@@ -112,7 +112,8 @@ def area_summary(spec: CamSpec, program: MotionProgram | None = None) -> dict[st
     bore = spec.cam.bore_diameter / 2
     prof = profile_area(spec, program)
     # the thesis' formula (R₀ + s)² is a translating follower's
-    thesis = thesis_area(spec, program) if spec.follower.motion == "translating" else None
+    thesis = (thesis_area(spec, program) if spec.follower.motion == "translating" and spec.follower.kind != "flat"
+              else None)
     return {
         "thesis_eq_4_21": thesis,
         "pitch_curve": pitch_area(spec, program),

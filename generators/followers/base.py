@@ -229,7 +229,14 @@ class Follower(ABC):
         """Plain numbers of the follower for report.json (spec units; angles in degrees) and
         ``label``, the one-line wording every output prints (spec lengths, no unit)."""
         return {"motion": self.motion, "kind": self.contact, "name": self.name,
-                "lift_unit": self.lift_unit, "design_curve": self.design_curve, "label": self.label()}
+                "lift_unit": self.lift_unit, "design_curve": self.design_curve, "label": self.label(),
+                "curve": "pitch curve" if self.design_curve == "pitch" else "contact curve",
+                "pressure_angle_text": self.pressure_angle_text, "curvature_text": self.curvature_text}
+
+    #: how the pressure angle is defined, in words (for the report's captions)
+    pressure_angle_text = "between the contact normal and the direction the follower's contact point moves"
+    #: how the design curve's radius of curvature is found, in words
+    curvature_text = "from the curve's exact first and second θ-derivatives"
 
     def label(self) -> str:
         """E.g. "translating roller r = 8, offset e = 0" (lengths in spec units)."""

@@ -59,6 +59,7 @@ class FlatFaceFollower(Follower):
     contact = "flat"
     design_curve = "profile"
     profile_offset = 0.0
+    curvature_text = "ρ = h + h_γγ of the face's envelope"
 
     @abstractmethod
     def face(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -126,6 +127,8 @@ class TranslatingFlatFollower(FlatFaceFollower):
     sense: int
     load: LoadSpec = field(default=LoadSpec())
     motion = "translating"
+    pressure_angle_text = "0: the face's normal is the line of motion"
+    curvature_text = "ρ = R_b + s + s″ (the face's envelope)"
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "TranslatingFlatFollower":
@@ -210,6 +213,7 @@ class OscillatingFlatFollower(FlatFaceFollower):
     motion = "oscillating"
     lift_scale = DEG
     lift_unit = "angle"
+    pressure_angle_text = "between the face's normal and the contact point's velocity about the pivot, atan(f/t)"
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFlatFollower":

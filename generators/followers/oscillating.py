@@ -53,6 +53,8 @@ class OscillatingFollower(Follower):
     motion = "oscillating"
     lift_scale = DEG
     lift_unit = "angle"
+    pressure_angle_text = "between the pitch-curve normal and the roller centre's velocity, perpendicular to the arm"
+    curvature_text = "from the exact derivatives of the arm's path"
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFollower":

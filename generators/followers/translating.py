@@ -35,6 +35,8 @@ class TranslatingFollower(Follower):
     roller_radius: float
     load: LoadSpec = field(default=LoadSpec())
     motion = "translating"
+    pressure_angle_text = "φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4)"
+    curvature_text = "thesis Eq. 3.7"
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "TranslatingFollower":
