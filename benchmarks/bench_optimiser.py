@@ -1,16 +1,22 @@
 """Optimiser benchmark: thesis Examples 5–7 (minimum area) from their initial designs with the
 exact sensitivities (the default) beside the same SLSQP run fed plain forward finite differences
-(step 1e-7 in the scaled variables: n + 1 model evaluations per gradient), and the cost of one
-evaluation of each objective.
+(step 1e-7 in the scaled variables: n + 1 model evaluations per gradient), the cost of one
+evaluation of each objective, and every follower kind on Example 5's B-spline lifts (the
+oscillating and flat kinds' exact partials against finite differences, and the cost of one
+evaluation against the translating roller's).
 
-    .venv/bin/python benchmarks/bench_optimiser.py
+    .venv/bin/python benchmarks/bench_optimiser.py          # everything
+    .venv/bin/python benchmarks/bench_optimiser.py kinds    # the follower kinds only
 """
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+import _timing  # noqa: F401  (the project root on sys.path)
 
 import generators.optimise.run as run
 from generators import load_spec
@@ -54,7 +60,7 @@ def counted(fn):
     return wrapper
 
 
-def one_run(spec, finite_differences: bool):
+def one_run(spec, finite_differences: bool, **kw):
     original_problem, original_window = run.ScaledProblem, SmoothModel.window_max
     counter = counted(original_window)
     SmoothModel.window_max = counter
@@ -62,7 +68,7 @@ def one_run(spec, finite_differences: bool):
         run.ScaledProblem = FiniteDifferenceProblem
     try:
         t0 = time.perf_counter()
-        res = optimise(spec, objective="area")
+        res = optimise(spec, objective="area", **kw)
         dt = time.perf_counter() - t0
     finally:
         run.ScaledProblem, SmoothModel.window_max = original_problem, original_window
@@ -88,7 +94,81 @@ def algorithms() -> None:
               f"{res.value / ref:.4f} | {verdict} |", flush=True)
 
 
+#: Example 5's B-spline lifts (1 in; 15° of arm for the oscillating kinds) with each follower kind
+KINDS = {
+    "translating roller": ({"kind": "roller", "offset": 0.0, "roller_radius": 0.425, "mass": 0.02,
+                            "preload": 340.0}, 1.0),
+    "oscillating roller": ({"kind": "roller", "motion": "oscillating", "pivot_distance": 6.0, "arm_length": 4.5,
+                            "roller_radius": 0.425, "arm_inertia": 0.3, "preload_torque": 1200.0,
+                            "spring_torque_rate": 100.0}, 15.0),
+    "translating flat face": ({"kind": "flat", "offset": 0.1, "face_width": 4.0, "mass": 0.02, "preload": 340.0,
+                               "spring_rate": 20.0}, 1.0),
+    "oscillating flat face": ({"kind": "flat", "motion": "oscillating", "pivot_distance": 8.0, "face_offset": 0.4,
+                               "arm_length": 5.0, "face_width": 6.0, "arm_inertia": 0.3, "preload_torque": 1200.0},
+                              12.0),
+}
+
+
+def kind_spec(name: str):
+    from generators.spec import CamSpec
+
+    follower, lift = KINDS[name]
+    data = load_spec(FIX / "thesis_ex5_initial.toml").to_dict()
+    data["follower"] = follower
+    for m in data["motion"]:
+        if "lift" in m:
+            m["lift"] = lift
+    data["material"]["allowable_stress"] = 400000.0
+    return CamSpec.from_dict(data)
+
+
+def kinds() -> None:
+    """Every follower kind on Example 5's B-spline lifts (R_b, the follower's position and every
+    control point free, minimum area): exact partials vs forward finite differences, and one
+    evaluation of the constraints with their Jacobian against the translating roller's."""
+    from generators.optimise.space import DesignSpace
+
+    print("\n## Every follower kind: Example 5's B-spline lifts, minimum area, auto variables, SLSQP\n")
+    print("| follower | variables | gradients | time [s] | solver evaluations | model evaluations | area: start → "
+          "optimised [in²] | dense checks | FD / exact time |")
+    print("|---|---:|---|---:|---:|---:|---:|---|---:|")
+    for name in KINDS:
+        spec = kind_spec(name)
+        exact, t_exact, m_exact = one_run(spec, False, max_evaluations=600)
+        fd, t_fd, m_fd = one_run(spec, True, max_evaluations=600)
+        for how, res, dt, m in (("exact", exact, t_exact, m_exact), ("finite differences", fd, t_fd, m_fd)):
+            ratio = f"{t_fd / t_exact:.1f}×" if how != "exact" else ""
+            verdict = "pass" if res.feasible else "FAIL: " + ", ".join(res.checks.failed)
+            print(f"| {name} | {len(res.variables)} | {how} | {dt:.2f} | {res.evaluations} | {m} | "
+                  f"{res.initial_value:.4f} → {res.value:.4f} | {verdict} ({res.status}) | {ratio} |", flush=True)
+    print("\n### One evaluation of the constraints and their Jacobian (80 windows × 2 B-splines)\n")
+    print("| follower | families | with Jacobian [ms] | / translating roller | values only [ms] | / translating roller |")
+    print("|---|---|---:|---:|---:|---:|")
+    ref = None
+    for name in KINDS:
+        space = DesignSpace(kind_spec(name))
+        model = SmoothModel(space)
+        t_j = best_of(lambda: model.check_rows(space.p0, True, 80), 20)
+        t_v = best_of(lambda: model.check_rows(space.p0, False, 80), 20)
+        ref = ref or (t_j, t_v)
+        print(f"| {name} | {', '.join(model.families)} | {t_j * 1e3:.2f} | {t_j / ref[0]:.2f}× | {t_v * 1e3:.2f} | "
+              f"{t_v / ref[1]:.2f}× |", flush=True)
+
+
+def best_of(fn, repeat: int) -> float:
+    fn()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
 def main() -> None:
+    if sys.argv[1:] == ["kinds"]:
+        kinds()
+        return
     print("## Minimum area from the thesis' initial designs (checks.convex = true), SLSQP\n")
     print("| example | gradients | time [s] | solver evaluations | model evaluations | area [in²] | "
           "dense checks | FD / exact time |")
@@ -102,6 +182,7 @@ def main() -> None:
             print(f"| {ex} | {name} | {dt:.2f} | {res.evaluations} | {m} | {res.value:.4f} | "
                   f"{'pass' if res.feasible else 'FAIL: ' + ', '.join(res.checks.failed)} | {ratio} |")
     algorithms()
+    kinds()
     spec = load_spec(FIX / "thesis_ex1_final.toml")
     print("\n## One evaluation (thesis Example 1's final design)\n")
     from generators.optimise.space import DesignSpace

@@ -273,24 +273,45 @@ class ScaledProblem:
                 df[-1] = 1.0
         else:
             try:
-                f_phys, dfp = self.obj.value(p, grad and self.obj.smooth) if lin_ok else (float("nan"), None)
+                with np.errstate(all="ignore"):     # NaN where θ′ ≤ 0: handled below
+                    f_phys, dfp = (self.obj.value(p, grad and self.obj.smooth) if lin_ok
+                                   else (float("nan"), None))
             except (CamError, FloatingPointError, ValueError, ZeroDivisionError):
                 f_phys, dfp = float("nan"), None
             f_s = f_phys / self.f0
             df = None if dfp is None else dfp * scale / self.f0
+            if grad and self.obj.smooth and (df is None or not math.isfinite(f_s) or not np.all(np.isfinite(df))):
+                # not defined here (an invalid control polygon: θ′ ≤ 0): the solver sees 1e6 (see
+                # _run_nlopt) with a zero gradient, never NaN (nlopt's SLSQP fails on NaN)
+                df = np.zeros(self.n)
         g = np.concatenate(rows)
         out = (f_s, df, g, np.vstack(jacs) if grad else None, f_phys, viol)
         self._key, self._val = key, out
         return out
 
 
+#: Normalised constraint values beyond ±ROW_SQUASH are compressed logarithmically (see _finite_rows).
+ROW_SQUASH = 100.0
+
+
 def _finite_rows(vals: np.ndarray, jac: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
-    """Non-finite rows become 10 (violated) with a zero gradient."""
+    """Rows the solvers can digest: non-finite ones become 10 (violated) with a zero gradient, and
+    |g| > G = :data:`ROW_SQUASH` becomes ±G(1 + ln(|g|/G)) (value and slope continuous at G, the
+    sign and so the feasible set unchanged).  Far from the feasible set a check can reach 1e14 and
+    more — s″ grows as 1/θ′³ where a control polygon collapses — and nlopt's SLSQP then fails."""
     bad = ~np.isfinite(vals)
     if bad.any():
         vals = np.where(bad, 10.0, vals)
     if jac is not None:
         jac = np.nan_to_num(np.where(bad[:, None], 0.0, jac), nan=0.0, posinf=0.0, neginf=0.0)
+    big = np.abs(vals) > ROW_SQUASH
+    if big.any():
+        mag = np.abs(vals[big])
+        if jac is not None:
+            jac = jac.copy()
+            jac[big] *= (ROW_SQUASH / mag)[:, None]
+        vals = vals.copy()
+        vals[big] = np.sign(vals[big]) * ROW_SQUASH * (1.0 + np.log(mag / ROW_SQUASH))
     return vals, jac
 
 
@@ -338,6 +359,12 @@ def _nlopt():
     import nlopt  # noqa: PLC0415 - lazily: only the optimiser needs nlopt
 
     return nlopt
+
+
+def _failures(nlopt: Any) -> tuple[type, ...]:
+    """nlopt's exception for its generic failure: ``nlopt.runtime_error`` (pip's nlopt 2.8+, not a
+    RuntimeError) or RuntimeError (Debian's nlopt 2.7)."""
+    return tuple({RuntimeError, getattr(nlopt, "runtime_error", RuntimeError)})
 
 
 def _bounds(prob: ScaledProblem) -> tuple[np.ndarray, np.ndarray]:
@@ -408,6 +435,10 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
         msg = "roundoff limited (stopped; best point of the run kept)"
         z = seen[0][1] if seen else z
         ok = False
+    except _failures(nlopt) as exc:      # nlopt's generic failure (NLOPT_FAILURE), e.g. SLSQP's LSQ
+        msg = f"failure: {exc or 'nlopt failure'} (stopped; best point of the run kept)"
+        z = seen[0][1] if seen else z
+        ok = False
     except _Stalled:                     # the project's own ftol criterion over many evaluations
         msg = f"no gain of ftol_rel in {stall} evaluations (best point of the run kept)"
         z = seen[0][1]
@@ -475,6 +506,10 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
         except nlopt.RoundoffLimited:
             msg = "roundoff limited"
             ok = False
+        except _failures(nlopt) as exc:
+            msg = f"failure: {exc or 'nlopt failure'}"
+            z = best[2]
+            ok = False
         except _Stalled:
             msg = f"no gain in {stall} evaluations"
             z = best[2]
@@ -530,6 +565,9 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     details: dict[str, Any] = {}
     p_init = space.p0.copy()
     f_init_model = _objective_value(obj, space, p_init)
+    # the start's objective, independently: a start that cannot be built (gcode_time builds the cam)
+    # is refused here, before any solver work, by the CamError that says why
+    v0 = final_value(cfg.objective, spec)
 
     def solve_local(prob: ScaledProblem, z0: np.ndarray, local_algo: str, maxeval: int) -> np.ndarray:
         if local_algo in LOCAL_GRADIENT or local_algo in ("cobyla", "isres"):
@@ -617,10 +655,14 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         if not space.is_valid(p_best):
             p_best = p_init
     final_spec = space.spec_at(p_best)
+    try:
+        v1 = final_value(cfg.objective, final_spec)
+    except CamError as exc:        # gcode_time: the result cannot be built — the start is kept
+        messages.append(f"the result cannot be built ({exc}): the starting design kept")
+        p_best, final_spec, v1 = p_init, spec, v0
+        solver_ok = False
     checks = run_checks(final_spec)
     initial_checks = run_checks(spec)
-    v0 = final_value(cfg.objective, spec)
-    v1 = final_value(cfg.objective, final_spec)
     details["areas"] = {"initial": area_summary(spec), "final": area_summary(final_spec)}
     if cfg.objective == "machining_time":
         from ..machining.cutting_time import thesis_cutting_time
@@ -756,7 +798,11 @@ def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> i
         if not space.is_valid(p):
             continue
         spec = space.spec_at(p)
-        key = (not run_checks(spec).passed, final_value(objective, spec))
+        try:
+            value = final_value(objective, spec)
+        except CamError:           # gcode_time: a candidate that cannot be built comes last
+            value = math.inf
+        key = (not run_checks(spec).passed or not math.isfinite(value), value)
         if best is None or key < best[0]:
             best = (key, i)
     return best[1]
