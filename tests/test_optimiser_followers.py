@@ -144,8 +144,10 @@ def test_model_values_are_the_followers_own(name, spec, variables):
     cons = model.constraints(p, grad=False)
     force = spec.checks.min_force - cons["separation"][0] * force_reference(spec)
     assert np.max(np.abs(force - st.force)) < 1e-12 * np.max(np.abs(st.force))
-    if "cusp" in cons:                  # a flat face: ρ of the profile
-        rho = -cons["cusp"][0] * spec.cam.base_radius
+    if "cusp" in cons:                  # a flat face: ρG³ of the profile, G = 1 + δs′ [rad/rad] (1: translating)
+        sense = 1 if spec.cam.direction == "ccw" else -1
+        big_g = 1 + sense * math.radians(1) * st.kin.ds if spec.follower.motion == "oscillating" else 1.0
+        rho = -cons["cusp"][0] * spec.cam.base_radius / big_g**3
         assert np.max(np.abs(rho - st.pitch_radius)) < 1e-12 * spec.cam.base_radius * 10
     if "curvature" in cons:
         kappa = (cons["curvature"][0] + 1) / (spec.checks.undercut_factor * spec.roller_radius)
@@ -218,11 +220,14 @@ def test_the_window_maxima_reach_the_dense_check_extremes():
         assert top["separation"] == pytest.approx(-checks["separation"].value / force_reference(spec), abs=1e-8)
         if "curvature" in top:
             assert top["curvature"] == pytest.approx(1.5 * 8.0 / checks["curvature"].value - 1, abs=1e-8)
-        if "cusp" in top:
+        if "cusp" in top and spec.follower.motion == "translating":      # G = 1: the rows are ρ and t
             assert top["cusp"] == pytest.approx(-checks["cusp"].value / spec.cam.base_radius, abs=1e-8)
-        if "face_hi" in top:
             width = max(top["face_hi"], top["face_lo"])
             assert (width + 1) * spec.follower.face_width == pytest.approx(checks["face_width"].value, abs=1e-7)
+        elif "cusp" in top:     # oscillating face: ρG³ and (t − c ∓ w/2)G, G > 0: the same verdicts
+            assert (top["cusp"] < 0) == (checks["cusp"].status == "pass") and top["turning"] < 0
+            face_ok = max(top["face_hi"], top["face_lo"]) <= 0
+            assert face_ok == (checks["face_width"].status == "pass")
 
 
 # ---- known answers -----------------------------------------------------------------------------------

@@ -16,8 +16,10 @@ oscillating knife / roller     R_b, d, L               the same, for the arm (φ
 translating flat face          R_b, e                  cusp (ρ = R_b + s + s″ > 0), separation,
                                                        contact_stress (flat on convex), face_width
 oscillating flat face          R_b, d, f, (L)          pressure_angle (tan φ = −δf/t), cusp
-                                                       (ρ = h + h_γγ > 0), separation (F = T/|t|),
-                                                       contact_stress, face_width
+                                                       (ρ = h + h_γγ > 0), turning (the face turns
+                                                       slower than the cam), separation (F = T/|t|),
+                                                       contact_stress, face_width (pole-free forms:
+                                                       :class:`FlatModel`)
 =============================  ======================  =============================================
 
 (d = ``pivot_distance``, L = ``arm_length`` — for a flat face the position of its centre —, f =
@@ -379,15 +381,29 @@ class OscillatingPointModel(KindModel):
 
 # ---- flat faces ----------------------------------------------------------------------------------------
 class FlatModel(KindModel):
-    """A flat face (design curve = profile): the support function h(γ) of the face lines."""
+    """A flat face (design curve = profile): the support function h(γ) of the face lines.
+
+    The face's normal turns relative to the cam at γ_θ = −δG, G = 1 + δ·s′ (s′ in rad/rad; G = 1
+    for a translating face).  ρ = h + h_γγ and the contact's position t = h_γ + … both have a pole
+    where G → 0 (the face turning with the cam: the contact runs off to infinity), which a steep
+    B-spline lift can reach; so the rows are written pole-free, multiplied by G > 0:
+
+        cusp        −ρG³/R_b,  ρG³ = hG³ − δ(h_θθ γ_θ − h_θ γ_θθ)
+        turning     −G                                  (oscillating face: G > 0, the face turns
+                                                         slower than the cam)
+        face width  ±(tG − (c ± w/2)G)/(w/2)             (centre c given)
+        stress      S²/S_d² − 1 = F G³/(ρG³) /(π t Δ S_d²) − 1
+        φ           tan φ = −δfG/(tG)
+
+    — equivalent to the dense checks (ρ > 0, |t − c| ≤ w/2) wherever G > 0."""
 
     def _centre(self) -> float | None:
         return self.follower.face_centre
 
     @property
     def families(self) -> list[str]:
-        out = [] if self.follower.motion == "translating" else ["pressure_angle"]
-        out.append("cusp")
+        osc = self.follower.motion != "translating"
+        out = ["pressure_angle", "cusp", "turning"] if osc else ["cusp"]
         if self.has_load:
             out.append("separation")
             if self.allowable:
@@ -400,41 +416,46 @@ class FlatModel(KindModel):
     def span_family(self) -> bool:
         return self.spec.follower.face_width is not None and self._centre() is None
 
-    def _terms(self, geo, s, v, a):
-        """(h, ρ, g1 = γ_θ, t, F (fixed frame), φ or None, lever) of the kind."""
+    def _terms(self, geo, s, v, a) -> dict[str, Any]:
+        """h, G, ρG³, tG, φ (None: 0) and the contact force F of the kind."""
         raise NotImplementedError
 
     def formulas(self, geo, s, v, a, which=None):
-        h, rho, g1, t, _f, phi, force = self._terms(geo, s, v, a)
-        out: dict[str, Any] = {"a": a + 0.0 * s, "cusp": -rho / self.length_ref}
+        q = self._terms(geo, s, v, a)
+        big_g, rho3, tg, phi = q["G"], q["rhoG3"], q["tG"], q["phi"]
+        out: dict[str, Any] = {"a": a + 0.0 * s, "cusp": -rho3 / self.length_ref}
         out["phi"] = phi if phi is not None else 0.0 * s
         if phi is not None:
             out["pressure_angle"] = self._pressure(phi)
+            out["turning"] = -big_g
         if self.has_load:
+            force = q["force"]
             out["separation"] = self._separation(force)
             if self.allowable:
-                out["contact_stress"] = self._flat_stress(force, rho)
+                out["contact_stress"] = self._flat_stress(force * big_g**3, rho3)
         w = self.spec.follower.face_width
         if w is not None:
             centre = self._face_centre(geo)
             if centre is None:
-                out["face_span_hi"] = t / w
-                out["face_span_lo"] = -t / w
+                out["face_span_hi"] = tg / (big_g * w)
+                out["face_span_lo"] = -tg / (big_g * w)
             else:
-                out["face_hi"] = (t - centre) / (0.5 * w) - 1.0
-                out["face_lo"] = -(t - centre) / (0.5 * w) - 1.0
+                out["face_hi"] = (tg - (centre + 0.5 * w) * big_g) / (0.5 * w)
+                out["face_lo"] = (-tg + (centre - 0.5 * w) * big_g) / (0.5 * w)
         return out
 
     def _face_centre(self, geo) -> Any:
         return self._centre()
 
     def integrands(self, geo, s, v, a, which):
-        h, rho, g1, _t, _f, _phi, _force = self._terms(geo, s, v, a)
+        q = self._terms(geo, s, v, a)
+        # |V| = |ρ γ_θ| = |ρG³|/G², F × V = −δ ρ G h: ½|∮ F × V dθ| = ½∮ ρ h G dθ (the support-function
+        # area ½∮ h(h + h_γγ) dγ)
+        rho_g = q["rhoG3"] / q["G"] ** 2
         if which == "pitch_area":
-            # ½|F × V| with V = ρ γ_θ (i n): ½ ρ h |γ_θ| (the support-function area ½∮h(h + h_γγ) dγ)
-            return -0.5 * self.sense * rho * g1 * h
+            return 0.5 * rho_g * q["h"]
         if which == "pitch_length":
-            return sqrt((rho * g1) ** 2)
+            return sqrt(rho_g * rho_g)
         if which == "thesis_length" and self.follower.motion == "translating":
             r = geo[0]
             return sqrt((r + s) ** 2 + v * v)
@@ -451,10 +472,8 @@ class TranslatingFlatModel(FlatModel):
         r, e = geo
         dl = self.sense
         h = r + s
-        rho = h + a
-        t = dl * v - e                           # from the stem x = e
         force = self.preload + self.rate * s + self.inertia * a
-        return h, rho, -dl + 0.0 * s, t, None, None, force
+        return {"h": h, "G": 1.0 + 0.0 * s, "rhoG3": h + a, "tG": dl * v - e, "phi": None, "force": force}
 
 
 class OscillatingFlatModel(FlatModel):
@@ -477,24 +496,24 @@ class OscillatingFlatModel(FlatModel):
         beta = arccos(self._clamped_x(self.geometry_x(geo))) - DEG * s
         cb, sb = cos(beta), sin(beta)
         vi, ai = DEG * v, DEG * a
-        g1 = -vi - dl                            # γ_θ (β_s = −1 per rad)
+        g1 = -vi - dl                            # γ_θ (β_s = −1 per rad) = −δG
         g2 = -ai
+        big_g = 1.0 + dl * vi
         h = d * cb - f
         h1 = d * sb * vi                         # h_θ
         h2 = -d * cb * vi * vi + d * sb * ai     # h_θθ
-        hg = h1 / g1
-        rho = h + (h2 * g1 - h1 * g2) / g1**3
-        t = hg + d * sb
-        # tan φ = −δf/t; where |t| < |f|: φ = ±π/2 + atan(δt/f) (the same angle, no pole)
-        tr, fr = jet.real(t), np.real(jet.value(f))
-        far = np.abs(tr) >= np.abs(fr)
-        safe_t = where(far, t, 1.0)
-        safe_f = where(far, 1.0, f)
-        phi = where(far, arctan(-dl * f / safe_t),
-                    np.sign(-dl * fr * tr) * (np.pi / 2) + arctan(dl * t / safe_f))
+        rho3 = h * big_g**3 - dl * (h2 * g1 - h1 * g2)      # ρG³ (ρ = h + (h₂γ_θ − h₁γ_θθ)/γ_θ³)
+        tg = -dl * h1 + d * sb * big_g                      # tG, t = h_θ/γ_θ + d sin β
+        # tan φ = −δf/t = −δfG/(tG); where |tG| < |f|G: φ = ±π/2 + atan(δ tG/(fG)) (no pole)
+        tr, fr, gr = jet.real(tg), np.real(jet.value(f)), jet.real(big_g)
+        far = np.abs(tr) >= np.abs(fr) * np.abs(gr)
+        safe_t = where(far, tg, 1.0)
+        safe_f = where(far, 1.0, f * big_g)
+        phi = where(far, arctan(-dl * f * big_g / safe_t),
+                    np.sign(-dl * fr * tr * gr) * (np.pi / 2) + arctan(dl * tg / safe_f))
         torque = self.preload + self.rate * DEG * s + self.inertia * DEG * a
-        force = torque / (t * np.sign(np.where(tr == 0, 1.0, tr)))     # the lever about the pivot is |t|
-        return h, rho, g1, t, None, phi, force
+        lever = tg * np.sign(np.where(tr == 0, 1.0, tr))                 # |t|·G: the lever about the pivot × G
+        return {"h": h, "G": big_g, "rhoG3": rho3, "tG": tg, "phi": phi, "force": torque * big_g / lever}
 
 
 #: follower class → its optimiser model

@@ -242,7 +242,7 @@ class ScaledProblem:
         viol = -math.inf
         lin_ok = True
         if sp.linear_A.shape[0]:
-            lv = sp.linear_values(p)
+            lv, _ = _finite_rows(sp.linear_values(p), None)       # a NaN step of the solver: violated
             viol = max(viol, float(np.max(lv)))
             lin_ok = float(np.max(lv)) < 0.5
             rows.append(lv)
@@ -394,6 +394,8 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
     def f(z: np.ndarray, grad: np.ndarray) -> float:
         fs, df, g, _j, fp, viol = prob.evaluate(z, needs_grad and grad.size > 0)
         gmax = float(np.max(g))
+        if not np.all(np.isfinite(z)):   # a failed step of the solver (NaN): never the run's best
+            gmax = math.inf
         # feasible points by objective; infeasible ones by their violation
         key = (True, gmax) if gmax > FEASIBLE_TOL else (False, fs if math.isfinite(fs) else math.inf)
         if not seen or key < seen[0][0]:
