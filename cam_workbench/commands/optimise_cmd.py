@@ -1,6 +1,7 @@
 """``cam-workbench optimise``: minimise the cam area, a machining time or a peak over base radius,
-offset, B-spline control points (and the blank orientation) with every design check as a
-constraint (thesis Ch. 5–7, nlopt); writes the optimised spec, report.json with an ``optimise``
+the follower's position (offset; pivot distance and arm length of an oscillating follower),
+B-spline control points (and the blank orientation) with every design check of the follower kind
+as a constraint (thesis Ch. 5–7, nlopt); writes the optimised spec, report.json with an ``optimise``
 section, report.html with the convergence figure, and the plots."""
 from __future__ import annotations
 
@@ -23,8 +24,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "optimise", aliases=["optimize"],
         help="optimise the cam: area, machining time or smoothness under every design check",
         description="Minimise the spec's [optimise] objective over its design variables (base radius, "
-                    "follower offset, the free B-spline control points, the blank orientation) subject to "
-                    "every design check, evaluated densely (thesis Ch. 5-7, with nlopt). Writes the optimised "
+                    "the follower's position: offset, or pivot distance and arm length of an oscillating "
+                    "follower; the free B-spline control points, the blank orientation) subject to "
+                    "every design check of the follower kind, evaluated densely (thesis Ch. 5-7, with nlopt). Writes the optimised "
                     f"spec ({SPEC_NAME}), report.json (with an `optimise` section: objective, history, "
                     "evaluations, time, the final dense checks), report.html with the convergence figure, the "
                     "plots and the optimised cam's own cam.step, cam.dxf, cam.nc and commands.csv (as `build` "
@@ -35,7 +37,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_spec_arguments(p)
     p.add_argument("--objective", choices=OBJECTIVES, help="override optimise.objective")
     p.add_argument("--variables", metavar="LIST",
-                   help="override optimise.variables, e.g. 'base_radius,offset' or 'control_points'")
+                   help="override optimise.variables, e.g. 'base_radius,offset', "
+                        "'base_radius,pivot_distance,arm_length' or 'control_points'")
     p.add_argument("--algorithm", choices=OPTIMISE_ALGORITHMS, help="override optimise.algorithm")
     p.add_argument("--max-evaluations", type=int, metavar="N", help="override optimise.max_evaluations")
     p.add_argument("-o", "--output", default="out", metavar="OUT",
