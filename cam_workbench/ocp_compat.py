@@ -96,7 +96,24 @@ def _import_ocp(what: str | None = None) -> Any:
                                 f"installed: {INSTALL_HINT}") from exc
     except ImportError as exc:
         raise _broken(need, exc) from exc
+    _warn_two_distributions()
     return OCP
+
+
+_WARNED = []
+
+
+def _warn_two_distributions() -> None:
+    """Once per process: a RuntimeWarning when both OCP distributions are installed (OCP may
+    import and still be a mixture of the two builds; CadQuery breaks when the VTK-less one won)."""
+    if _WARNED:
+        return
+    _WARNED.append(True)
+    note = two_distributions_note()
+    if note:
+        import warnings
+
+        warnings.warn(f"broken environment{note}", RuntimeWarning, stacklevel=3)
 
 
 def _broken(need: str, exc: BaseException) -> MissingDependency:
