@@ -58,6 +58,8 @@ SCENARIOS: dict[str, Scenario] = {s.name: s for s in (
              title="(e) cam-workbench[ocp]: the command line"),
     Scenario("core-only", (), None, None, False, source="sdist",
              title="(f) cam-workbench alone, from the sdist: no OCP"),
+    Scenario("build123d-0.12-first", ("build123d==0.12.0",), "build123d", "build123d", True,
+             title="(g) pip install build123d==0.12.0 (OCP 7.9 without VTK), then cam-workbench[build123d]"),
 )}
 
 

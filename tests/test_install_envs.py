@@ -4,7 +4,8 @@ This checkout's wheel and sdist (``python -m build``) go into clean venvs the wa
 them (:data:`tests.install_envs.SCENARIOS`): (a) ``pip install build123d`` first, then
 ``cam-workbench[build123d]``; (b) ``pip install cadquery`` first, then ``cam-workbench[cadquery]``;
 (c) ``[cadquery]`` alone; (d) ``[build123d]`` alone; (e) ``[ocp]`` alone, for the command line;
-(f) the sdist with no extra (no OCP).  In each:
+(f) the sdist with no extra (no OCP); (g) build123d 0.12 (OCP 7.9 without VTK) first, then
+``cam-workbench[build123d]``.  In each:
 
 * ``pip check`` passes, and ``pip list`` shows at most one OCP distribution (exactly one where an
   OCP is expected) and every package the user had before, at the version they had;
