@@ -110,7 +110,7 @@ def test_nothing_the_user_had_changed(env: Env):
     changed = {n: (v, env.after.get(n)) for n, v in env.before.items() if env.after.get(n) != v}
     assert not changed, changed
     if env.scenario.first:
-        assert env.scenario.first[0] in env.before            # the user's library was there
+        assert env.scenario.library in env.before             # the user's library was there
 
 
 def test_library_imports_and_readme_example_runs(env: Env, tmp_path):
