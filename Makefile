@@ -1,6 +1,7 @@
 # The two set-up commands of the README work on a fresh machine from nothing:
 #   make demo   venv → install → build the default cam into out/ (STEP, DXF, report.html + plots)
 #   make test   system packages (as root) → venv → install → the whole test suite
+#   make fuzz   the combination and bad-input suites with thousands of random cases
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -16,7 +17,7 @@ DEV_EXTRAS := cadquery,test
 # Debian packages the test suite drives for real (installed by `make test` when root).
 DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt
 
-.PHONY: demo test test-install dist bench system-deps docs clean
+.PHONY: demo test test-install fuzz dist bench system-deps docs clean
 
 $(STAMP): pyproject.toml dev-constraints.txt
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +36,10 @@ test: system-deps $(STAMP)
 test-install: $(STAMP)
 	$(PY) -m pytest -m install_envs
 
+# the combination and bad-input suites' long profile: thousands of random cases (tests/combinations)
+fuzz: system-deps $(STAMP)
+	CAM_FUZZ=1 $(PY) -m pytest tests/combinations -p no:randomly --hypothesis-show-statistics
+
 # the wheel and the sdist into dist/
 dist: $(STAMP)
 	rm -rf dist
@@ -44,7 +49,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
 
 docs: $(STAMP)
-	$(PY) -m generators.spec_doc > docs/spec.md
+	$(PY) -m generators.spec.reference > docs/spec.md
 
 system-deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \
