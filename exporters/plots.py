@@ -169,7 +169,7 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
-    ax.set_title(f"plate cam, {desc['label']} {u}, "
+    ax.set_title(f"plate cam, {desc['label']} {u}\n"
                  + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else
                     f"{design.pitch.M} B-spline knot spans"), fontsize=9)
     ax.set_xlabel(f"x [{u}]")

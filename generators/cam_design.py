@@ -305,11 +305,18 @@ def refuse_cusp(checks: DesignChecks) -> None:
                             "cannot make it: a larger base radius or a gentler motion", r.at_deg)
 
 
-def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
-    pitch = build_bspline_pitch(spec, progress)
-    checks = run_checks(spec, program=pitch.program)
+def checked_intent(spec: CamSpec) -> DesignChecks:
+    """The design checks of the design intent, refusing (GeometryError with the cam angle) what no
+    pitch curve can make — an undercut roller, a flat face's cusp — before any curve is built."""
+    checks = run_checks(spec, program=MotionProgram.from_spec(spec))
     refuse_undercut(checks, spec.roller_radius)
     refuse_cusp(checks)
+    return checks
+
+
+def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
+    checks = checked_intent(spec)
+    pitch = build_bspline_pitch(spec, progress)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch.to_nurbs()
@@ -336,10 +343,8 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
     """
     if spec.pitch.representation == "bspline":
         return _design_bspline(spec, progress)
+    checks = checked_intent(spec)
     pitch = build_pitch(spec, progress=progress)
-    checks = run_checks(spec, program=pitch.program)
-    refuse_undercut(checks, spec.roller_radius)
-    refuse_cusp(checks)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch_nurbs(pitch.spline)

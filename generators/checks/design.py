@@ -137,11 +137,10 @@ class StateModel:
         seg = self.program.segment_of(theta) if segment is None else np.asarray(segment)
         k = self.program.evaluate(theta, seg)
         fol = self.follower
-        phi = fol.pressure_angle(k)
-        force = fol.contact_force(k, self.omega)
-        rho = fol.radius_of_curvature(k)
+        phi, rho = fol.kinematic_state(k)
+        force = fol.contact_force(k, self.omega, phi)
         prof = rho - fol.profile_offset
-        stress = fol.contact_stress(force, k, self.contact_length, self.moduli)
+        stress = fol.contact_stress(force, k, self.contact_length, self.moduli, rho)
         return CamState(theta, seg, k, phi, force, rho, prof, stress, k.ds * self.direction[seg])
 
 

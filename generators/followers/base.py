@@ -138,6 +138,17 @@ class Follower(ABC):
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(v) ** 3 / (-self.sense * (np.conj(v) * w).imag)
 
+    def kinematic_state(self, k: Kinematics) -> tuple[np.ndarray, np.ndarray]:
+        """(pressure angle φ [rad], radius of curvature ρ) at once, from one evaluation of the
+        design point's derivatives (the checks evaluate both at every sample)."""
+        f = self.fixed(k, 2)
+        d = self.sense
+        v = f[1] - 1j * d * f[0]
+        w = f[2] - 2j * d * f[1] - f[0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = np.abs(v) ** 3 / (-d * (np.conj(v) * w).imag)
+        return self.pressure_angle_of(v, self.velocity_direction_at(f[0])), rho
+
     def profile_radius(self, k: Kinematics) -> np.ndarray:
         """Signed radius of curvature of the cam profile: ρ − profile_offset."""
         return self.radius_of_curvature(k) - self.profile_offset
@@ -190,13 +201,19 @@ class Follower(ABC):
 
     # ---- loads ----------------------------------------------------------------------------
     @abstractmethod
-    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
+    def contact_force(self, k: Kinematics, omega: float, phi: np.ndarray | None = None) -> np.ndarray:
         """Normal contact force [force unit] that keeps the follower on the cam at cam speed
-        ``omega`` [rad/s] (thesis Eq. 3.5 for a translating follower; ≤ 0: it leaves)."""
+        ``omega`` [rad/s] (thesis Eq. 3.5 for a translating follower; ≤ 0: it leaves); ``phi``:
+        the pressure angle at ``k`` when already known."""
 
-    def contact_stress(self, force: np.ndarray, k: Kinematics, length: float, moduli: tuple) -> np.ndarray:
-        """Hertz contact stress for the contact ``force`` (NaN where not defined)."""
+    def contact_stress(self, force: np.ndarray, k: Kinematics, length: float, moduli: tuple,
+                       rho: np.ndarray | None = None) -> np.ndarray:
+        """Hertz contact stress for the contact ``force`` (NaN where not defined); ``rho``: the
+        design curve's radius of curvature at ``k`` when already known."""
         return np.full(np.shape(force), np.nan)
+
+    #: the highest ξ-derivative of the built curve :meth:`contact_residual` reads (1: q, q′; 2: q″ too)
+    contact_order = 1
 
     @property
     def has_load(self) -> bool:

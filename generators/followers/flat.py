@@ -59,6 +59,7 @@ class FlatFaceFollower(Follower):
     contact = "flat"
     design_curve = "profile"
     profile_offset = 0.0
+    contact_order = 2
     curvature_text = "ρ = h + h_γγ of the face's envelope"
 
     @abstractmethod
@@ -103,9 +104,13 @@ class FlatFaceFollower(Follower):
         """ρ = h + h_γγ (signed: ≤ 0 is a cusp, which a flat face cannot make)."""
         return self.terms(k).rho
 
-    def contact_stress(self, force, k, length, moduli):
+    def kinematic_state(self, k: Kinematics) -> tuple[np.ndarray, np.ndarray]:
+        return self.pressure_angle(k), self.radius_of_curvature(k)
+
+    def contact_stress(self, force, k, length, moduli, rho=None):
         # a cylinder of the profile's radius on a plane (flat on convex)
-        return hertz_stress(force, np.inf, self.radius_of_curvature(k), length, *moduli)
+        rho = self.radius_of_curvature(k) if rho is None else rho
+        return hertz_stress(force, np.inf, rho, length, *moduli)
 
     @abstractmethod
     def face_position(self, k: Kinematics) -> np.ndarray:
@@ -163,7 +168,7 @@ class TranslatingFlatFollower(FlatFaceFollower):
         a = np.angle(1j * self.sense * dp)
         return self.sense * (np.pi / 2 - a)
 
-    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
+    def contact_force(self, k: Kinematics, omega: float, phi: np.ndarray | None = None) -> np.ndarray:
         """F = P_L + k·s + M_f·s″ω² (thesis Eq. 3.5 with φ = 0)."""
         ld = self.load
         return ld.preload + ld.rate * k.s + ld.inertia * ld.mass_force * k.d2s * omega**2
@@ -270,7 +275,7 @@ class OscillatingFlatFollower(FlatFaceFollower):
         ld = self.load
         return ld.preload + ld.rate * DEG * k.s + ld.inertia * ld.mass_force * DEG * k.d2s * omega**2
 
-    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
+    def contact_force(self, k: Kinematics, omega: float, phi: np.ndarray | None = None) -> np.ndarray:
         t = self.terms(k)
         point = t.h * t.n + t.h_gamma * 1j * t.n
         return self.torque(k, omega) / arm_moment(point, t.n, self.pivot)

@@ -125,13 +125,15 @@ class OscillatingFollower(Follower):
         ld = self.load
         return ld.preload + ld.rate * DEG * k.s + ld.inertia * ld.mass_force * DEG * k.d2s * omega**2
 
-    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
-        return self.torque(k, omega) / (self.arm_length * np.cos(self.pressure_angle(k)))
+    def contact_force(self, k: Kinematics, omega: float, phi: np.ndarray | None = None) -> np.ndarray:
+        phi = self.pressure_angle(k) if phi is None else phi
+        return self.torque(k, omega) / (self.arm_length * np.cos(phi))
 
-    def contact_stress(self, force, k, length, moduli):
+    def contact_stress(self, force, k, length, moduli, rho=None):
         if self.roller_radius <= 0:
             return super().contact_stress(force, k, length, moduli)
-        return hertz_stress(force, self.roller_radius, self.profile_radius(k), length, *moduli)
+        rho = self.radius_of_curvature(k) if rho is None else rho
+        return hertz_stress(force, self.roller_radius, rho - self.roller_radius, length, *moduli)
 
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "pivot_distance": self.pivot_distance, "arm_length": self.arm_length,

@@ -107,16 +107,20 @@ class TranslatingFollower(Follower):
 
         return FollowerLineSolver(chain, angles, self.offset, self.sense, lift_origin=self.s0)
 
-    def contact_force(self, k: Kinematics, omega: float) -> np.ndarray:
+    def kinematic_state(self, k: Kinematics) -> tuple[np.ndarray, np.ndarray]:
+        return self.pressure_angle(k), self.radius_of_curvature(k)
+
+    def contact_force(self, k: Kinematics, omega: float, phi: np.ndarray | None = None) -> np.ndarray:
         """F = (P_L + k·s + M_f·s″ω²)/cos φ (thesis Eq. 3.5, with the spring rate)."""
         ld = self.load
-        phi = self.pressure_angle(k)
+        phi = self.pressure_angle(k) if phi is None else phi
         return (ld.preload + ld.rate * k.s + ld.inertia * ld.mass_force * k.d2s * omega**2) / np.cos(phi)
 
-    def contact_stress(self, force, k, length, moduli):
+    def contact_stress(self, force, k, length, moduli, rho=None):
         if self.roller_radius <= 0:
             return super().contact_stress(force, k, length, moduli)
-        return hertz_stress(force, self.roller_radius, self.profile_radius(k), length, *moduli)
+        rho = self.radius_of_curvature(k) if rho is None else rho
+        return hertz_stress(force, self.roller_radius, rho - self.roller_radius, length, *moduli)
 
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "offset": self.offset, "prime_offset": self.s0}

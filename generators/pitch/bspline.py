@@ -320,7 +320,9 @@ class BSplinePitchCurve:
             if np.max(np.abs(step)) < tol:
                 break
         else:
-            raise SolveError("the contact Newton iteration on the B-spline pitch curve did not converge")
+            bad = int(np.argmax(np.abs(step)))
+            raise SolveError(f"no single contact between the follower and the B-spline pitch curve near cam angle "
+                             f"{np.rad2deg(theta[bad]) % 360:.3f}° (Newton did not converge)")
         c, d = self.curve.evaluate(u, 1)
         v = np.mod(u, TWO_PI) * self.parameter_scale
         seg = np.minimum(v.astype(int), self.M - 1)

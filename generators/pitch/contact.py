@@ -82,13 +82,16 @@ class FollowerLineSolver:
         self._size = np.max(np.abs(spline.ctrl), axis=1)     # bound of |r(ξ)| on each segment
 
     def wrap(self, theta: np.ndarray) -> np.ndarray:
-        """θ taken modulo 2π into [θ_0, θ_0 + 2π) (θ_0 = 0 for a PH spline)."""
+        """θ taken modulo 2π into [θ_0, θ_0 + 2π) (θ_0 ≈ 0: the angle the first junction is touched)."""
         a0 = self.angles[0]
-        return np.mod(np.asarray(theta, dtype=float) - a0, TWO_PI) + a0
+        t = np.mod(np.asarray(theta, dtype=float) - a0, TWO_PI) + a0
+        return np.where(t >= a0 + TWO_PI, t - TWO_PI, t)
 
     def segment_of(self, theta: np.ndarray) -> np.ndarray:
         """Segment whose junction angles bracket θ (θ taken modulo 2π)."""
-        t = self.wrap(theta)
+        return self._segment_of_wrapped(self.wrap(theta))
+
+    def _segment_of_wrapped(self, t: np.ndarray) -> np.ndarray:
         return np.clip(np.searchsorted(self.angles, t, side="right") - 1, 0, self.spline.M - 1)
 
     def solve(self, theta: np.ndarray, xi0: np.ndarray | None = None, seg: np.ndarray | None = None,
@@ -98,7 +101,7 @@ class FollowerLineSolver:
         theta = np.asarray(theta, dtype=float)
         t = self.wrap(theta)
         if seg is None:
-            seg = self.segment_of(t)
+            seg = self._segment_of_wrapped(t)
         seg = np.asarray(seg).copy()
         if xi0 is None:
             a0, a1 = self.angles[seg], self.angles[seg + 1]
@@ -192,23 +195,30 @@ class ContactSolver(FollowerLineSolver):
     def _eval(self, seg: np.ndarray, xi: np.ndarray, rot: np.ndarray):
         q = rot * horner(self._pc[seg], xi)
         dq = rot * horner(self._dpc[seg], xi)
-        d2q = rot * horner(self._d2pc[seg], xi) if self._d2pc.shape[1] else np.zeros_like(q)
-        return q, dq, d2q
+        if self.follower.contact_order < 2 or not self._d2pc.shape[1]:
+            return q, dq, None                     # the kind's residual reads q and q′ only
+        return q, dq, rot * horner(self._d2pc[seg], xi)
 
     def _newton(self, seg, xi, rot, tol, max_iter):
         fol = self.follower
         # residuals are lengths (or lengths × ξ-derivatives): their rounding floor
         floor = 256 * np.finfo(float).eps * (self._deg * self._size[seg] + abs(getattr(fol, "prime_radius", 0.0)))
+        # the segments' polynomials turned by θ once, as contiguous rows (n+1, N)
+        c0 = (rot * self._pc[seg].T).copy()
+        c1 = (rot * self._dpc[seg].T).copy()
+        c2 = (rot * self._d2pc[seg].T).copy() if fol.contact_order >= 2 and self._d2pc.shape[1] else None
         active = np.ones(xi.shape, dtype=bool)
         it = 0
         for it in range(1, max_iter + 1):
-            q, dq, d2q = self._eval(seg, xi, rot)
+            q, dq = _horner_rows(c0, xi), _horner_rows(c1, xi)
+            d2q = _horner_rows(c2, xi) if c2 is not None else None
             g, dg, _ = fol.contact_residual(q, dq, d2q)
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = np.where(active, g / dg, 0.0)
             if not np.all(np.isfinite(step)):
                 bad = int(np.argmax(~np.isfinite(step)))
-                raise SolveError(f"the contact Newton step is singular in segment {int(seg[bad])}")
+                raise SolveError(f"the follower touches the built curve tangentially near cam angle "
+                                 f"{self._deg(rot[bad]):.3f}° (segment {int(seg[bad])}): no simple contact there")
             step = np.clip(step, -0.5, 0.5)
             xi = xi - step
             active = (np.abs(step) > tol) & (np.abs(g) > floor)
@@ -216,8 +226,12 @@ class ContactSolver(FollowerLineSolver):
                 break
         else:
             bad = int(np.argmax(active))
-            raise SolveError(f"the contact Newton iteration did not converge in segment {int(seg[bad])}")
+            raise SolveError(f"no single contact between the follower and the built curve near cam angle "
+                             f"{self._deg(rot[bad]):.3f}° (segment {int(seg[bad])}, Newton did not converge)")
         return xi, it
+
+    def _deg(self, rot: complex) -> float:
+        return float(np.rad2deg(np.angle(rot) * self.sense) % 360.0)
 
     def solve(self, theta, xi0=None, seg=None, tol=1e-14, max_iter=40):
         c = super().solve(theta, xi0, seg, tol, max_iter)
