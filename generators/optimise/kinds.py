@@ -50,7 +50,6 @@ import numpy as np
 
 from ..followers import (Follower, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
-from ..followers.load import MASS_FORCE_FACTOR
 from ..spec.model import CamSpec
 from . import jet
 from .jet import arccos, arctan, cos, sin, sqrt, where
@@ -130,11 +129,12 @@ class KindModel:
         return tuple(out)
 
     # ---- the formulas -------------------------------------------------------------------------
-    def formulas(self, geo: tuple, s: Any, v: Any, a: Any, which: tuple[str, ...] | None = None) -> dict[str, Any]:
+    def formulas(self, geo: tuple, s: Any, v: Any, a: Any) -> dict[str, Any]:
         """Every local quantity (plain arrays or jets)."""
         raise NotImplementedError
 
     def integrands(self, geo: tuple, s: Any, v: Any, a: Any, which: str) -> Any:
+        """The integrand ``which`` per dθ (plain arrays or jets)."""
         raise NotImplementedError
 
     def local(self, geo: tuple, s: np.ndarray, v: np.ndarray, a: np.ndarray, grad: bool = True
@@ -194,8 +194,9 @@ class KindModel:
         return self.stress_c / self.allowable**2 * force * hh - 1.0
 
     def _flat_stress(self, force: Any, rho: Any) -> Any:
-        """S²/S_d² − 1 of a flat face on the profile of radius ρ (S² = F/(π t Δ ρ)); 1/ρ continued
-        by its tangent below ρ_k = margin/2 × R_b (inside the cusp constraint's infeasible side)."""
+        """S²/S_d² − 1 of a flat face on the profile of radius ρ (S² = F/(π t Δ ρ); F and ρ may both
+        be multiplied by G³); 1/ρ continued by its tangent below ρ_k = margin/2 × R_b (inside the
+        cusp constraint's infeasible side)."""
         rk = max(0.5 * self.margin, 1e-9) * self.length_ref
         inv = where(jet.real(rho) > rk, 1.0 / where(jet.real(rho) > rk, rho, rk), 2.0 / rk - rho / (rk * rk))
         return self.stress_c / self.allowable**2 * force * inv - 1.0
@@ -346,7 +347,7 @@ class OscillatingPointModel(KindModel):
         wx, wy = f2x + 2 * dl * f1y - fx, f2y - 2 * dl * f1x - fy
         return (fx, fy), (vx, vy), (wx, wy), (cp, sp)
 
-    def formulas(self, geo, s, v, a, which=None):
+    def formulas(self, geo, s, v, a):
         r, d, L = geo
         dl = self.sense
         (fx, fy), (vx, vy), (wx, wy), (cp, sp) = self._curve(geo, s, v, a)
@@ -420,7 +421,7 @@ class FlatModel(KindModel):
         """h, G, ρG³, tG, φ (None: 0) and the contact force F of the kind."""
         raise NotImplementedError
 
-    def formulas(self, geo, s, v, a, which=None):
+    def formulas(self, geo, s, v, a):
         q = self._terms(geo, s, v, a)
         big_g, rho3, tg, phi = q["G"], q["rhoG3"], q["tG"], q["phi"]
         out: dict[str, Any] = {"a": a + 0.0 * s, "cusp": -rho3 / self.length_ref}
@@ -550,4 +551,4 @@ def force_reference(spec: CamSpec) -> float:
     return max(other / lever, 1e-12)
 
 
-__all__ = ["GEOMETRY_PATHS", "KIND_MODELS", "KindModel", "force_reference", "kind_model", "MASS_FORCE_FACTOR"]
+__all__ = ["GEOMETRY_PATHS", "KIND_MODELS", "KindModel", "force_reference", "kind_model"]
