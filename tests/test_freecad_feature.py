@@ -163,8 +163,8 @@ def test_change_properties_and_recompute(tmp_path, fc_home):
 
     r = run_freecadcmd(EDIT, tmp_path, fc_home).check().result
     assert r["v_thick"] / r["v0"] == pytest.approx(12.5 / 10.0, rel=1e-12)
-    expected = PlateCam(None, **{"cam.thickness": 12.5, "follower.roller_radius": 4.0,
-                                 "pitch.segments": 72}).volume
+    expected = PlateCam.example("paper", **{"cam.thickness": 12.5, "follower.roller_radius": 4.0,
+                                            "pitch.segments": 72}).volume
     assert abs(r["v_roller"] - expected) / expected < 1e-9
     assert r["status"] == "ok"
     # each of the 72 Bézier profile spans bounds the bottom face, the top face and one side face
@@ -489,7 +489,7 @@ def test_step_export_through_freecad(tmp_path, fc_home):
                                                ("BAD_TOML_PATH", "bad.toml"))}
     head = "".join(f"{k} = {v!r}\n" for k, v in paths.items())
     r = run_freecadcmd(head + STEP, tmp_path / "run", fc_home).check().result
-    cam = PlateCam()
+    cam = PlateCam.example("paper")  # the cam the script exported
     assert abs(r["reread_volume"] - cam.volume) / cam.volume < 1e-9 and r["reread_valid"]
     reader = STEPControl_Reader()
     assert int(reader.ReadFile(paths["STEP_PATH"])) == 1  # IFSelect_RetDone
@@ -529,7 +529,7 @@ RESULT["bad"] = [design_report(cam).ok, design_report(cam).error]
 
 
 def test_check_design_report(tmp_path, fc_home):
-    """Check design reports the default cam buildable with its numbers (compared with the
+    """Check design reports the paper's cam buildable with its numbers (compared with the
     summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
     case 2 cam), the undercut with its cam angle, and a bad field by name."""
     from generators import design_cam
@@ -650,15 +650,24 @@ RESULT["objects"] = [o.Name for o in doc.Objects]
 
 
 def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
-    """A valid spec whose cam cannot be made (undercut) reports the cam angle and says there
+    """A valid spec whose cam cannot be made (undercut) reports the library's refusal — the
+    cam angle where the design checks find the smallest convex pitch radius — and says there
     is no shape yet; the document keeps the feature so the user can fix it."""
+    from generators import design_cam
+    from generators.design_checks import run_checks
+    from generators.errors import GeometryError
+
     spec = copy.deepcopy(PAPER_SPEC_DICT)
     spec["cam"]["bore_diameter"] = 0.0
     spec["follower"]["roller_radius"] = 21.5
+    with pytest.raises(GeometryError) as refused:  # the library's own refusal, computed here
+        design_cam(CamSpec.from_dict(spec))
+    at = run_checks(CamSpec.from_dict(spec))["curvature"].at_deg
+    assert f"undercut at cam angle {at:.3f}°" in str(refused.value)
     run = run_freecadcmd(f"SPEC = {spec!r}\n" + FIRST_BUILD_FAILS, tmp_path, fc_home).check()
     r = run.result
-    assert r["status"].startswith("error: the cam cannot be made: undercut at cam angle")
+    assert r["status"].startswith(f"error: the cam cannot be made: undercut at cam angle {at:.3f}°")
     assert r["null"] is True
     assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
-    assert "PlateCam: the cam cannot be made: undercut at cam angle 114.00°" in run.console
+    assert f"PlateCam: the cam cannot be made: {refused.value}" in run.console
     assert "no shape yet." in run.console and "Traceback" not in run.console

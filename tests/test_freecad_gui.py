@@ -19,6 +19,7 @@ GUI = r"""
 import sys, os
 ART = {art!r}
 STEP_PATH = {step!r}
+PA_LIMIT = {pa_limit!r}
 R = RESULT
 R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam_workbench",
                                                    "cam_workbench.freecad.commands")}}
@@ -109,6 +110,9 @@ def screenshot_model():
     FreeCADGui.ActiveDocument.ActiveView.saveImage(os.path.join(ART, "freecad_gui_view.png"), 1000, 750, "White")
 
 def check_design():
+    # a stricter pressure-angle limit than the default cam's 30° (which it passes), so the
+    # dialog shows a failing row too
+    FreeCAD.ActiveDocument.getObject("PlateCam").ChecksMaxPressureAngle = PA_LIMIT
     FreeCADGui.runCommand("CamWorkbench_CheckDesign")
 
 def check_dialog():
@@ -121,6 +125,7 @@ def check_dialog():
         t = d[0].findChild(QtGui.QTableWidget, "checks")
         R["check_rows"] = sum(x.rowCount() for x in tables)
         R["check_fail"] = [t.item(r, 0).text() for r in range(t.rowCount()) if t.item(r, 4).text() == "fail"]
+        R["check_names"] = [t.item(r, 0).text() for r in range(t.rowCount())]
         d[0].move(40, 40)
         state["check"] = d[0]
 
@@ -178,9 +183,16 @@ steps = [(activate, 500), (new_cam, 1000), (open_editor, 500), (editor_state, 10
 """
 
 
+#: the pressure-angle limit Check design is run with (the default cam with 15 mm lifts has 16.9°)
+PA_LIMIT = 15.0
+
+
 def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
+    from generators import default_spec
+    from generators.design_checks import run_checks
+
     step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
-    run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step)), tmp_path, fc_home)
+    run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)
     r = run.check().result
     (artifacts / "freecad_gui_report_view.txt").write_text(r.get("report", ""))
     assert r["start_modules"] == {"generators": False, "scipy": False, "cam_workbench": False,
@@ -203,8 +215,14 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["bad_status"] == "row 5, angle: spans sum to 355°, must be 360°"
     assert r["bad_still_open"] is True
     assert r["after_cancel"] == {"dialog": False, "angles": [30.0, 120.0, 60.0, 120.0, 30.0]}
-    # the paper's case-2 cam exceeds the default 30° pressure-angle limit (46.24°)
-    assert r["check_dialog"] == 1 and r["check_rows"] > 15 and r["check_fail"] == ["pressure angle"]
+    # the dialog lists the library's checks of the cam as edited (the default cam with 15 mm
+    # lifts) and fails exactly those the library fails under the stricter limit
+    checked = run_checks(default_spec().replace(**{"motion[1].lift": 15.0, "motion[3].lift": 15.0,
+                                                   "checks.max_pressure_angle": PA_LIMIT}))
+    assert checked.failed, "the stricter limit must make a check fail (the dialog's fail rows)"
+    assert r["check_dialog"] == 1 and r["check_rows"] > 15
+    assert r["check_names"] == [c.name.replace("_", " ") for c in checked.results]
+    assert r["check_fail"] == [n.replace("_", " ") for n in checked.failed]
     assert r["plot_dialog"] == 1
     assert r["file_dialog"] == "QFileDialog" and r["step_written"]
     assert r.get("delete_modal") is None and r["after_delete"] == []  # children go with the cam

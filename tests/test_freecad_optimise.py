@@ -259,17 +259,31 @@ def test_variable_tokens_round_trip():
 
 
 def test_default_bounds_are_the_library_defaults():
-    """default_bounds reads DesignSpace's own bounds (½ and 2 × R_b, at least 1.05 × (roller + bore);
-    |e| ≤ ½ × the lower bound) rather than repeating the rule."""
+    """default_bounds reads DesignSpace's own bounds rather than repeating the rule: ½ and 2 × R_b,
+    the lower at least 1.05 × (roller + bore radius); |e| ≤ ½ × the lower bound or |e₀|, the
+    lower bound raised to ½(|e|max + R_b) when that would not keep R_b > |e|; never a default
+    bound that excludes the user's start.  Bounds the spec gives are shown as given."""
     from cam_workbench.freecad import optimiser as O
 
-    spec = example_spec("paper")
-    assert O.default_bounds(spec) == pytest.approx((spec.cam.base_radius / 2, 2 * spec.cam.base_radius,
-                                                    spec.cam.base_radius / 4), rel=1e-15)
-    tight = spec.replace(**{"cam.base_radius": 12.0, "cam.bore_diameter": 13.0})   # roller 5 + bore 6.5
+    spec = example_spec("paper")                               # R_b √500, e = 10, roller 5, bore 10
+    r0 = spec.cam.base_radius
+    assert O.default_bounds(spec) == pytest.approx((r0 / 2, 2 * r0, 10.0), rel=1e-15)   # |e₀| > R_b/4
+    small_e = spec.replace(**{"follower.offset": 2.0})
+    assert O.default_bounds(small_e) == pytest.approx((r0 / 2, 2 * r0, r0 / 4), rel=1e-15)
+    large_e = spec.replace(**{"follower.offset": 15.0})       # |e₀| ≥ R_b/2: the lower bound rises
+    assert O.default_bounds(large_e) == pytest.approx(((15.0 + r0) / 2, 2 * r0, 15.0), rel=1e-15)
+    tight = spec.replace(**{"cam.base_radius": 20.0, "cam.bore_diameter": 13.0})   # roller 5 + bore 6.5
     assert O.default_bounds(tight)[0] == pytest.approx(1.05 * 11.5, rel=1e-8)
-    given = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 2.0})
-    assert O.default_bounds(given) == pytest.approx((15.0, 2 * spec.cam.base_radius, 2.0))
+    tighter = spec.replace(**{"cam.base_radius": 12.0, "cam.bore_diameter": 13.0})
+    assert O.default_bounds(tighter)[0] == 12.0                # 1.05 × 11.5 > the start: not moved
+    given = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 12.0})
+    assert O.default_bounds(given) == pytest.approx((15.0, 2 * r0, 12.0), rel=1e-15)
+    excluding = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 2.0})
+    assert O.default_bounds(excluding) == pytest.approx((15.0, 2 * r0, 2.0), rel=1e-15)
+    job = O.OptimiseJob(O.run_spec(excluding, O.settings_of(excluding))).start()   # … the run refuses it
+    assert job.wait(60) and job.result is None
+    assert job.error.startswith("OptimiseOffsetMax (optimise.offset_max): must be ≥ |follower.offset| "
+                                "of the starting design (10 mm)"), job.error
     with pytest.raises(SpecError) as info:
         O.run_spec(spec, O.Settings(**{**O.settings_of(spec).__dict__, "offset_max": 20.0}))
     assert info.value.field == "optimise.offset_max"
