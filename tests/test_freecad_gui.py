@@ -28,7 +28,7 @@ state = {{}}
 
 def activate():
     mw.resize(1400, 900)
-    cv = mw.findChild(QtGui.QDockWidget, "Combo View")
+    cv = task_dock()
     mw.resizeDocks([cv], [560], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
     R["active"] = FreeCADGui.activeWorkbench().name()

@@ -39,7 +39,7 @@ def spec_text():
 
 def activate():
     mw.resize(1400, 900)
-    cv = mw.findChild(QtGui.QDockWidget, "Combo View")
+    cv = task_dock()
     mw.resizeDocks([cv], [700], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
     menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
