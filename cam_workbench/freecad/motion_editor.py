@@ -481,9 +481,9 @@ class MotionEditorPanel:
 
     # -- task dialog protocol
     def getStandardButtons(self) -> int:
-        from PySide import QtGui
+        from .qt_compat import standard_buttons
 
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+        return standard_buttons("Ok", "Cancel")
 
     def accept(self) -> bool:
         rows = self.rows()

@@ -636,9 +636,9 @@ class OptimiserPanel:
         return True
 
     def getStandardButtons(self) -> int:
-        from PySide import QtGui
+        from .qt_compat import standard_buttons
 
-        return int(QtGui.QDialogButtonBox.Close)
+        return standard_buttons("Close")
 
     def reject(self) -> bool:
         """Close: nothing is written; a run in progress is cancelled."""
