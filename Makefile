@@ -15,6 +15,9 @@ FREECAD_ROOTS ?= .cache/freecad-roots
 FREECAD_SUITES ?= trixie unstable
 FREECAD_ROOT_PACKAGES := freecad-python3 freecad python3-numpy python3-scipy python3-nlopt \
                          python3-matplotlib xvfb xauth
+# what apt's Recommends would bring a user and mmdebstrap leaves out: Qt 6's SVG image plugin
+# (FreeCAD 1.1 draws its check boxes and the workbench icons from SVG; trixie's Qt 5 has it)
+FREECAD_ROOT_EXTRA_unstable := qt6-svg-plugins
 FREECAD_MIRROR ?= $(shell tests/freecad_roots.sh mirror)
 FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
@@ -46,7 +49,8 @@ freecad-roots:
 	@if [ "$$(id -u)" != 0 ]; then \
 	  echo "not root: FreeCAD 1.0/1.1 root filesystems not built (their test runs are skipped)"; \
 	else for s in $(FREECAD_SUITES); do \
-	  tests/freecad_roots.sh build $(FREECAD_ROOTS)/$$s $$s "$(FREECAD_MIRROR)" $(FREECAD_ROOT_PACKAGES) \
+	  extra=; [ "$$s" = unstable ] && extra="$(FREECAD_ROOT_EXTRA_unstable)"; \
+	  tests/freecad_roots.sh build $(FREECAD_ROOTS)/$$s $$s "$(FREECAD_MIRROR)" $(FREECAD_ROOT_PACKAGES) $$extra \
 	    || exit 1; done; fi
 
 test-freecad-roots: freecad-roots $(STAMP)

@@ -98,6 +98,15 @@ def fc_env(home: Path) -> dict[str, str]:
     return env
 
 
+def cli_env() -> dict[str, str]:
+    """The environment for running this checkout's ``python -m cam_workbench.cli`` from any
+    folder: the checkout first on the path (the virtual environment's editable install may
+    point at another checkout)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["PYTHONPATH"] = str(ROOT)
+    return env
+
+
 def install_workbench(home: Path, *extra: str) -> subprocess.CompletedProcess:
     """``cam-workbench freecad install`` for a user whose HOME is ``home`` (asks freecadcmd)."""
     home.mkdir(parents=True, exist_ok=True)
@@ -222,7 +231,9 @@ def _camwb_run(i=0, tries=0):
 QtCore.QTimer.singleShot(1000, _camwb_run)
 """
     script.write_text(_PRELUDE.format(result=str(result)) + driver, encoding="utf-8")
-    cmd = [XVFB_RUN, "-a", "-s", f"-screen 0 {screen}", FREECAD_GUI, str(script)]
+    # in a root, its xvfb-run starts its own freecad (the wrapper would nest another namespace)
+    gui = "freecad" if ROOT_BIN is not None else FREECAD_GUI
+    cmd = [XVFB_RUN, "-a", "-s", f"-screen 0 {screen}", gui, str(script)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=fc_env(home),
                           cwd=tmp, stdin=subprocess.DEVNULL)
     data = json.loads(result.read_text()) if result.exists() else {}

@@ -193,6 +193,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
 
     step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
     run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)
+    (artifacts / "freecad_gui_console.txt").write_text(run.console)  # FreeCAD's own output
     r = run.check().result
     (artifacts / "freecad_gui_report_view.txt").write_text(r.get("report", ""))
     assert r["start_modules"] == {"generators": False, "scipy": False, "cam_workbench": False,

@@ -154,6 +154,17 @@ RESULT.update(name=m.Name, version=m.Version, supports=m.supportsCurrentFreeCAD(
               wb_supports=wb.supportsCurrentFreeCAD(), depends=[dict(d) for d in m.Depend],
               licenses=[dict(x) for x in m.License], maintainers=[dict(x) for x in m.Maintainer],
               freecadmin=str(wb.FreeCADMin), content=sorted(m.Content))
+try:  # the Addon Manager of FreeCAD 1.x reads package.xml with its own pure-Python reader
+    from addonmanager_metadata import MetadataReader
+except ImportError:
+    RESULT["addon_manager"] = None
+else:
+    am = MetadataReader.from_file(os.path.join(ROOT, "package.xml"))
+    amwb = am.content["workbench"][0]
+    RESULT["addon_manager"] = dict(
+        name=am.name, icon=am.icon, classname=amwb.classname, subdirectory=amwb.subdirectory,
+        wb_icon=amwb.icon, depends=[[d.package, str(d.dependency_type), d.optional] for d in am.depend],
+        maintainers=[[c.name, c.email] for c in am.maintainer], licenses=[lic.name for lic in am.license])
 """
 
 
@@ -191,6 +202,13 @@ def test_package_xml_is_read_by_freecad(tmp_path):
     for name, d in deps.items():
         if "optional" in d:
             assert bool(d["optional"]) == (name in optional), d
+    am = out["addon_manager"]
+    if am is not None:   # FreeCAD 1.0, 1.1: what the Addon Manager reads is the same
+        assert (am["name"], am["classname"], am["subdirectory"], am["icon"], am["wb_icon"]) == (
+            out["name"], out["classname"], out["subdirectory"], out["icon"], out["wb_icon"])
+        assert am["depends"] == [[d.text, "python", d.get("optional") == "true"] for d in xml]
+        assert am["maintainers"] == [[m["name"], m["email"]] for m in out["maintainers"]]
+        assert am["licenses"] == ["LGPL-2.1-or-later"]
     assert "Traceback" not in r.console and "rror" not in r.console, r.console
 
 

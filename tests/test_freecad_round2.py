@@ -18,7 +18,7 @@ import pytest
 from generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
-from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
+from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
 
@@ -216,6 +216,7 @@ cam = create(doc, EX5, name="Ex5")
 default = create(doc, None, name="Default")
 doc.recompute()
 RESULT["cli"] = E.find_cli().source
+RESULT["cli_env"] = dict(E.find_cli().env)
 def attempt(key, obj, kind, target):
     try:
         r = E.export(obj, kind, os.path.join(OUT, target))
@@ -241,7 +242,7 @@ RESULT["listing"] = sorted(os.listdir(OUT))
 
 def _cli(*args: str, cwd) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL)
+                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL, env=cli_env())
 
 
 @pytest.fixture(scope="module")
@@ -261,6 +262,7 @@ def exported(tmp_path_factory, fc_home):
 def test_exports_run_the_installed_cli_and_import_no_kernel(exported):
     r, out, _cli_dir = exported
     assert r["cli"].startswith("the installation recorded in ") and r["cli"].endswith(".cam-workbench-install.json")
+    assert r["cli_env"] == {"PYTHONPATH": str(ROOT)}  # the command line is this checkout's code too
     assert r["forbidden_modules"] == []
     for key in ("dxf", "xy", "csv", "report", "xc_default", "dxf_noext"):
         assert r[key]["ok"], (key, r[key])

@@ -249,6 +249,9 @@ class MotionEditorPanel:
         self.status.setWordWrap(True)
         layout.addWidget(self.total)
         layout.addWidget(self.status)
+        from .qt_compat import fit_task_width
+
+        fit_task_width(self.form)
         self._filling = False
         self._points_row = -1
         self.set_rows(read_rows(obj))

@@ -38,3 +38,17 @@ def is_checked(state: Any) -> bool:
     from PySide import QtCore
 
     return enum_int(state) == enum_int(QtCore.Qt.Checked)
+
+
+def fit_task_width(widget: Any, contents: int = 14) -> None:
+    """Let a task panel be as narrow as FreeCAD's task area: every combo box sized to
+    ``contents`` characters (its list still shows the whole text) and every label word-wrapped,
+    so that no line of text sets the panel's minimum width (FreeCAD 1.1's Tasks dock is far
+    narrower than 0.20's Combo View)."""
+    from PySide import QtGui
+
+    for combo in widget.findChildren(QtGui.QComboBox):
+        combo.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+        combo.setMinimumContentsLength(contents)
+    for label in widget.findChildren(QtGui.QLabel):
+        label.setWordWrap(True)
