@@ -25,6 +25,16 @@ R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam
                                                    "cam_workbench.freecad.commands")}}
 R["workbenches"] = sorted(FreeCADGui.listWorkbenches())
 state = {{}}
+# every Python warning our packages cause from here on (deprecations of PySide6, numpy 2, …)
+import warnings
+R["our_warnings"] = []
+_shown = warnings.showwarning
+def _record(message, category, filename, lineno, file=None, line=None):
+    if any(f"/{{p}}/" in filename for p in ("cam_workbench", "generators", "exporters")):
+        R["our_warnings"].append(f"{{category.__name__}}: {{message}} ({{filename}}:{{lineno}})")
+    return _shown(message, category, filename, lineno, file, line)
+warnings.showwarning = _record
+warnings.simplefilter("always")
 
 def activate():
     mw.resize(1400, 900)
@@ -230,6 +240,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     report = r["report"]
     assert "PlateCam: motion program not applied: row 5, angle: spans sum to 355°" in report
     assert "Traceback" not in report and "Traceback" not in run.console
+    assert r["our_warnings"] == []
     bad = [line for line in report.splitlines()
            if ("Error" in line or "error" in line) and "motion program not applied" not in line]
     assert bad == [], bad
