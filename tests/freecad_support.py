@@ -1,5 +1,10 @@
 """Driving the real FreeCAD from pytest: ``freecadcmd`` (headless) and the GUI under Xvfb.
 
+Which FreeCAD: the one on PATH (Debian bookworm's 0.20.2 here), or with ``$CAM_FREECAD_ROOT``
+set to a root filesystem made by ``tests/freecad_roots.sh`` (``make freecad-roots``: Debian
+trixie's FreeCAD 1.0, unstable's 1.1) that root's, through its wrapper commands — headless,
+the GUI with the root's own Xvfb, and the FreeCAD that ``cam-workbench freecad install`` asks.
+
 Each run gets its own HOME, so FreeCAD's user settings and Mod folder are those of the
 test, never the developer's.  The workbench is installed into that HOME by the real
 ``cam-workbench freecad install`` (fixture ``fc_home``): FreeCAD (Debian's 0.20.2 with its
