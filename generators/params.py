@@ -65,10 +65,6 @@ class Param:
         gt, ge, lt, le: numeric bounds (exclusive / inclusive).
         optional: the field may be absent (None) without a default.
         group: FreeCAD property group.
-        never_zero: a valid spec never holds 0 here although the bounds allow it (a rule of the
-            section refuses it, with its own message: ``motion[].lift`` is absent for a dwell and
-            > 0 for a rise/return), so a store that cannot hold None may keep 0 for "absent"
-            (FreeCAD's float-list properties).
     """
 
     doc: str
@@ -82,7 +78,6 @@ class Param:
     le: float | None = None
     optional: bool = False
     group: str = ""
-    never_zero: bool = False
 
     def rule_text(self) -> str:
         """The bounds/choices of this parameter in words (for docs)."""

@@ -79,7 +79,7 @@ class MotionSegment:
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
                          unit="angle", gt=0, group="Motion")
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
-                               unit="length", ge=0, optional=True, group="Motion", never_zero=True)
+                               unit="length", ge=0, optional=True, group="Motion")
     law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
                             optional=True, group="Motion")
     junctions: int | None = param(

@@ -62,27 +62,6 @@ def test_absent_values():
     assert [f.flag for f in fps.values() if f.flag] == ["MotionControlStartEnabled"]
 
 
-def test_never_zero_declarations_hold():
-    """A field declared ``never_zero`` (0 stored for "absent" although its bounds allow 0, as
-    ``motion[].lift``) really is refused at 0 by the library, in every row of the default cam:
-    a dwell's lift must be absent, a rise's or return's > 0."""
-    from generators import default_spec
-    from generators.errors import SpecError
-
-    never = [f for f in props.field_properties() if f.param.never_zero]
-    assert [f.path for f in never] == ["motion[].lift"]
-    d = default_spec().to_dict()
-    for f in never:
-        rows = d[f.section] if f.is_list else [d[f.section]]
-        for i in range(len(rows)):
-            bad = default_spec().to_dict()
-            (bad[f.section][i] if f.is_list else bad[f.section])[f.field] = 0.0
-            path = f"{f.section}[{i}].{f.field}" if f.is_list else f.path
-            with pytest.raises(SpecError) as info:
-                CamSpec.from_dict(bad)
-            assert info.value.field == path, (path, info.value)
-
-
 @pytest.mark.parametrize("path, shown", [
     ("cam.base_radius", "CamBaseRadius (cam.base_radius)"),
     ("motion[3].angle", "MotionAngle[3] (motion[3].angle)"),

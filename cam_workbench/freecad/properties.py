@@ -78,7 +78,7 @@ def _absent_value(p: Param, is_list: bool) -> Any:
     if not _is_optional(p):
         return _NOT_OPTIONAL
     if p.kind in ("float", "int"):
-        zero_invalid = (p.gt is not None and p.gt >= 0) or (p.ge is not None and p.ge > 0) or p.never_zero
+        zero_invalid = (p.gt is not None and p.gt >= 0) or (p.ge is not None and p.ge > 0)
         return (0.0 if p.kind == "float" else 0) if zero_invalid else None
     if p.kind == "str":
         return "" if not (p.choices and "" in p.choices) else None
