@@ -2,6 +2,7 @@
 #   make demo   venv → install → build the default cam into out/ (STEP, DXF, report.html + plots)
 #   make test   system packages (as root) → venv → install → the whole test suite, then the
 #               FreeCAD tests again with FreeCAD 1.0 and 1.1 (Debian trixie/unstable roots, as root)
+#   make fuzz   the combination and bad-input suites with thousands of random cases
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -21,7 +22,7 @@ FREECAD_ROOT_EXTRA_unstable := qt6-svg-plugins
 FREECAD_MIRROR ?= $(shell tests/freecad_roots.sh mirror)
 FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
-.PHONY: demo test test-host test-freecad-roots freecad-roots bench system-deps docs clean
+.PHONY: demo test test-host test-freecad-roots freecad-roots fuzz bench system-deps docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -61,11 +62,15 @@ test-freecad-roots: freecad-roots $(STAMP)
 	  CAM_FREECAD_ROOT=$(FREECAD_ROOTS)/$$s $(PY) -m pytest $(FREECAD_TESTS) || status=1; \
 	done; exit $$status; fi
 
+# the combination and bad-input suites' long profile: thousands of random cases (tests/combinations)
+fuzz: system-deps $(STAMP)
+	CAM_FUZZ=1 $(PY) -m pytest tests/combinations -p no:randomly --hypothesis-show-statistics
+
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
 
 docs: $(STAMP)
-	$(PY) -m generators.spec_doc > docs/spec.md
+	$(PY) -m generators.spec.reference > docs/spec.md
 
 system-deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \

@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from generators import load_spec  # noqa: E402
-from generators.design_checks import StateModel, check_samples, constraint_arrays, run_checks  # noqa: E402
+from generators.checks.design import StateModel, check_samples, constraint_arrays, run_checks  # noqa: E402
 from generators.motion import MotionProgram  # noqa: E402
 
 

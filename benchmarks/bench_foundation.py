@@ -14,9 +14,9 @@ import numpy as np
 
 from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
-from generators.follower import FollowerGeometry  # noqa: E402
+from generators.followers.translating import FollowerGeometry  # noqa: E402
 from generators.motion import MotionProgram  # noqa: E402
-from generators.ph_spline import solve_closed_ph_spline  # noqa: E402
+from generators.curves.ph_spline import solve_closed_ph_spline  # noqa: E402
 from generators.spec import default_spec  # noqa: E402
 
 

@@ -14,8 +14,8 @@ import numpy as np
 
 import generators.optimise.run as run
 from generators import load_spec
-from generators.cam_area import thesis_area
-from generators.cutting_time import thesis_cutting_time
+from generators.checks.areas import thesis_area
+from generators.machining.cutting_time import thesis_cutting_time
 from generators.optimise import optimise
 from generators.optimise.model import SmoothModel
 

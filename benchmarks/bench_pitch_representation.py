@@ -16,7 +16,7 @@ sys.path.insert(0, str(ROOT))
 from cam_workbench import occ_build  # noqa: E402
 from exporters.step import write_step  # noqa: E402
 from generators import default_spec, design_cam, load_spec  # noqa: E402
-from generators.pitch_bspline import bezier_form  # noqa: E402
+from generators.pitch.bspline import bezier_form  # noqa: E402
 
 
 def measure(spec, repeats: int = 3) -> dict:

@@ -24,7 +24,7 @@ sys.path.insert(0, str(FIX))
 import thesis_examples  # noqa: E402
 
 from generators import load_spec  # noqa: E402
-from generators.design_checks import run_checks  # noqa: E402
+from generators.checks.design import run_checks  # noqa: E402
 from generators.optimise import final_value, optimise  # noqa: E402
 
 MACHINING = {"machining.feed_rate": 9.333e-2 * 60, "optimise.turn_time": 0.4, "optimise.machining_tolerance": 0.01}

@@ -146,8 +146,8 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
     (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
     spec gives the follower a load (preload, spring or mass); otherwise nothing."""
     from exporters.report_html import Series
-    from generators.design_checks import StateModel, check_samples
-    from generators.params import unit_name
+    from generators.checks.design import StateModel, check_samples
+    from generators.spec.params import unit_name
 
     spec = design.spec
     model = StateModel(spec, design.program)

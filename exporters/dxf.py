@@ -9,7 +9,7 @@ PROFILE                   the cam profile: a SPLINE with the degree, knots, cont
                           and weights of the profile NURBS (for a PH pitch curve the exact
                           rational offset; for a B-spline pitch curve the fitted offset,
                           whose measured error the title block states — see
-                          :mod:`generators.claims`), or — ``drawing.curves`` = "arcs" /
+                          :mod:`generators.checks.claims`), or — ``drawing.curves`` = "arcs" /
                           "polyline" — tangent biarcs (ARC/LINE) or one closed polyline
                           within ``chord_tolerance`` of that NURBS
 PITCH                     the pitch curve (polynomial SPLINE of degree 5, or approximated
@@ -27,7 +27,7 @@ TITLE                     the title block — key parameters, the numbers and th
 ========================  ==============================================================
 
 The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
-boundaries are in CAM.  Arcs and polylines come from :mod:`generators.approx`; their
+boundaries are in CAM.  Arcs and polylines come from :mod:`generators.curves.approx`; their
 distance from the profile NURBS is measured two-sided (``max_distance``) and returned.
 """
 from __future__ import annotations
@@ -40,10 +40,10 @@ from typing import Any
 import numpy as np
 
 from generators import __version__
-from generators.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
+from generators.curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
 from generators.cam_design import CamDesign
-from generators.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
-from generators.nurbs import NurbsCurve
+from generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
+from generators.curves.nurbs import NurbsCurve
 
 from .atomic import atomic_path
 
@@ -283,13 +283,22 @@ def _centerlines(msp: Any, design: CamDesign, r_max: float, h: float) -> None:
     att = {"layer": "CENTERLINES"}
     msp.add_line((-ext, 0), (ext, 0), dxfattribs=att)
     msp.add_line((0, -ext), (0, ext), dxfattribs=att)
-    # the follower axis when the program starts (θ = 0): where the drawing's angles begin
-    e = design.spec.follower.offset
-    y0 = design.spec.prime_offset
-    msp.add_line((e, y0), (e, ext + 2 * h), dxfattribs=att)  # from the roller centre at zero lift
+    # the follower where the program starts (θ = 0): where the drawing's angles begin — its axis
+    # (translating) or its arm and pivot (oscillating), drawn from the follower's own sketch
+    fol = design.follower
+    k0 = design.program.evaluate(np.array([0.0]))
+    sk = fol.sketch(0.0, k0, ext + 2 * h - abs(fol.sketch(0.0, k0, 1.0).point))
     sense = "CCW" if design.spec.cam.direction == "ccw" else "CW"
-    _text(msp, f"FOLLOWER AXIS AT 0°, CAM TURNS {sense}", (e + 0.4 * h, ext + 1.2 * h), 0.7 * h,
-          "CENTERLINES")
+    for a, b, role in sk.segments:
+        msp.add_line((a.real, a.imag), (b.real, b.imag), dxfattribs=att)
+    if sk.pivot is not None:
+        msp.add_circle((sk.pivot.real, sk.pivot.imag), 0.5 * h, dxfattribs=att)
+        _text(msp, f"PIVOT, FOLLOWER AT 0°, CAM TURNS {sense}", (sk.pivot.real + 0.8 * h, sk.pivot.imag), 0.7 * h,
+              "CENTERLINES")
+    else:
+        top = max((b for _, b, role in sk.segments if role == "stem"), key=lambda z: z.imag, default=sk.point)
+        _text(msp, f"FOLLOWER AXIS AT 0°, CAM TURNS {sense}", (top.real + 0.4 * h, top.imag - 0.8 * h), 0.7 * h,
+              "CENTERLINES")
 
 
 def _dim_override(h: float, units: str) -> dict[str, Any]:
@@ -323,7 +332,9 @@ def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: fl
     u = spec.units
     note = [f"THICKNESS {_fmt(spec.cam.thickness, u)} {u}",
             f"PRIME CIRCLE R{_fmt(spec.cam.base_radius, u)} (ROLLER CENTRE AT ZERO LIFT)"
-            if spec.roller_radius > 0 else "KNIFE-EDGE FOLLOWER: PROFILE = PITCH CURVE"]
+            if spec.roller_radius > 0 else
+            ("FLAT-FACED FOLLOWER: PROFILE = CURVE THROUGH THE CONTACT POINTS"
+             if design.follower.design_curve == "profile" else "KNIFE-EDGE FOLLOWER: PROFILE = PITCH CURVE")]
     for i, line in enumerate(note):
         _text(msp, line, (-r_max - 2.5 * h, -r_max - (6.0 + 1.6 * i) * h), h, "DIMENSIONS")
 
@@ -354,16 +365,17 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
     dr = spec.drawing
     u = spec.units
     f = lambda v: _fmt(v, u)  # noqa: E731
-    fol = spec.follower
-    follower = (f"ROLLER Ø{f(2 * fol.roller_radius)}" if spec.is_roller else "KNIFE EDGE")
-    follower += f", OFFSET {f(fol.offset)}"
+    follower = str(summary["follower"]["label"]).upper()
+    lift_u = summary["motion"]["lift_unit"]
     claim = profile_claim(summary, spec.is_roller, u)
     prof = summary["profile"]
     nurbs = (f"{'RATIONAL ' if prof['rational'] else ''}B-SPLINE, DEGREE {prof['degree']}, {prof['poles']} POLES")
     if profile.curves == "spline":
         what = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "THE PH PITCH CURVE, EXACT",
                 "bspline_offset_fit": "FITTED OFFSET, NOT EXACT",
-                "bspline_pitch": "THE FITTED PITCH B-SPLINE, NOT EXACT"}[claim.kind]
+                "bspline_pitch": "THE FITTED PITCH B-SPLINE, NOT EXACT",
+                "ph_contact": "PH CURVE THROUGH THE FACE'S CONTACT POINTS, NOT EXACT",
+                "bspline_contact": "B-SPLINE FITTED TO THE FACE'S CONTACT POINTS, NOT EXACT"}[claim.kind]
         prof_text = f"{nurbs} ({what})"
     elif profile.curves == "arcs":
         parts = f"{profile.arcs} ARCS" + (f" + {profile.lines} LINES" if profile.lines else "")
@@ -393,11 +405,11 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
     ]
     if not claim.exact:
         rows.append(("PROFILE FIT ERROR", f"{claim.fit_error:.3e} {u} FROM THE EXACT "
-                     + ("OFFSET OF THE FITTED PITCH B-SPLINE" if claim.kind == "bspline_offset_fit"
-                        else "DESIGN PITCH CURVE")))
+                     + {"bspline_offset_fit": "OFFSET OF THE FITTED PITCH B-SPLINE",
+                        "bspline_pitch": "DESIGN PITCH CURVE"}.get(claim.kind, "ENVELOPE OF THE FACE")))
     rows += [
         ("PROFILE MAX ERROR", f"{prof['max_error']:.3e} {u} FROM THE DESIGN-INTENT PROFILE"),
-        ("MAX FOLLOWER DEVIATION", f"{pt['max_deviation']:.3e} {u} AT {pt['max_deviation_at_deg']:.2f}°"),
+        ("MAX FOLLOWER DEVIATION", f"{pt['max_deviation']:.3e} {'DEG' if lift_u == 'deg' else lift_u} AT {pt['max_deviation_at_deg']:.2f}°"),
         ("MAX PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°{pa_limit}"),
         ("MIN PROFILE RADIUS OF CURV.", f"{f(cv['min_profile_radius'])} AT {cv['at_deg']:.2f}°"),
         ("LARGEST RADIUS", f"{f(prof['max_radius'])}"),
@@ -489,7 +501,8 @@ def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: 
     msp.add_line((x0, y), (x2, y), dxfattribs=att)
     xs = x0 + np.concatenate([[0.0], np.cumsum(widths)])
     table_top = y
-    for cells in [MOTION_HEADER, *_motion_rows(design)]:
+    header = [("LIFT °" if c == "LIFT" and design.follower.lift_unit == "angle" else c) for c in MOTION_HEADER]
+    for cells in [header, *_motion_rows(design)]:
         for x, cell in zip(xs, cells):
             _text(msp, cell, (float(x) + 0.4 * h, y - 1.35 * h), 0.8 * h, "TITLE")
         y -= row_h

@@ -1,6 +1,6 @@
 """G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
 
-Two programs, both from the tool-centre geometry made in ``generators.toolpath`` (the exact
+Two programs, both from the tool-centre geometry made in ``generators.machining.toolpath`` (the exact
 offset of the pitch curve for a PH pitch curve):
 
 * ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
@@ -28,11 +28,11 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 from generators import __version__
-from generators.approx import Path2D
+from generators.curves.approx import Path2D
 from generators.cam_design import CamDesign
-from generators.claims import checks_verdict, pitch_text, profile_claim
+from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.machining import MachiningPlan
-from generators.toolpath import BLEND_SHARE, ContourPath, RotaryPath
+from generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
 
 from .atomic import write_text_atomic
 
@@ -90,18 +90,17 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
                   summary: Mapping[str, Any] | None = None) -> None:
     spec = design.spec
     u = spec.units
-    fol = spec.follower
+    lu = "deg" if design.follower.lift_unit == "angle" else u
     w.comment(f"cam_workbench {__version__}: plate cam, {mode_text}")
-    follower = (f"roller r = {fol.roller_radius:g} {u}" if spec.is_roller else "knife edge")
     w.comment(f"cam: base radius {spec.cam.base_radius:.6g} {u}, thickness {spec.cam.thickness:g} {u}, "
-              f"{spec.cam.direction}, {follower}, offset e = {fol.offset:g} {u}")
+              f"{spec.cam.direction}, follower: {design.follower.label()} [{u}]")
     motion = " / ".join(
-        f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {u} {m.law}" if m.lift is not None else "")
+        f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
         for m in spec.motion)
     w.comment(f"motion: {motion}")
     if summary is not None:
         pt = summary["pitch"]
-        w.comment(f"pitch: {pitch_text(summary)}, max follower deviation {pt['max_deviation']:.3g} {u} at "
+        w.comment(f"pitch: {pitch_text(summary)}, max follower deviation {pt['max_deviation']:.3g} {lu} at "
                   f"{pt['max_deviation_at_deg']:.2f} deg")
         claim = profile_claim(summary, spec.is_roller, u)
         w.comment(f"profile: {claim.text}; max error {summary['profile']['max_error']:.3g} {u} from the "
@@ -117,9 +116,10 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
     else:
         kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if spec.pitch.representation == "ph"
                 else f"fitted periodic B-spline, {design.pitch.M} knot spans")
-        w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {u}")
+        w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {lu}")
         w.comment("design checks: not stated [program written without the report summary]")
-    w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; tool centre = pitch curve offset "
+    curve = "pitch curve" if design.follower.design_curve == "pitch" else "profile"
+    w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; tool centre = {curve} offset "
               f"outward by {plan.centre_offset:g} {u}; no cutter compensation")
     w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
 
@@ -246,7 +246,7 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
     """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
     omitted; ``summary`` as for :func:`contour_program`)."""
     from generators.machining import machining_plan
-    from generators.toolpath import contour_path, rotary_path
+    from generators.machining.toolpath import contour_path, rotary_path
 
     plan = plan or machining_plan(design)
     if mode == "xy":

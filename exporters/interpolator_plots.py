@@ -2,7 +2,7 @@
 the follower-displacement error of the commands, and the follower's s, v, a, j from the
 commands (finite differences at Δt) against the design intent.
 
-Figures take plain results from ``generators.interpolator`` and only plot them.
+Figures take plain results from ``generators.machining.interpolator`` and only plot them.
 """
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from generators.interpolator import DEFAULT_SCHEME, InterpolatorAccuracy
+from generators.machining.interpolator import DEFAULT_SCHEME, InterpolatorAccuracy
 from generators.motion import MotionProgram
 
 from .plots import save_figure
@@ -30,7 +30,8 @@ def _plt() -> Any:
 
 
 def _error_scale(units: str) -> tuple[float, str]:
-    return (1e3, "µm") if units == "mm" else (1e6, "µin")
+    """µm, µin — or arc seconds when the lift is an arm angle ("deg")."""
+    return {"mm": (1e3, "µm"), "in": (1e6, "µin"), "deg": (3600.0, "arcsec")}[units]
 
 
 def deviation_figure(acc: InterpolatorAccuracy, units: str = "mm",

@@ -8,9 +8,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from generators.cam_design import CamDesign
-from generators.interpolator import InterpolatorAccuracy, interpolator_accuracy
+from generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from generators.machining import MachiningPlan, machining_plan
-from generators.toolpath import contour_path, rotary_path, tool_centre_fit_error
+from generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text

@@ -27,7 +27,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from generators.cam_design import CamDesign
-from generators.design_checks import limit_sign
+from generators.checks.design import limit_sign
 
 from .atomic import atomic_path
 
@@ -116,47 +116,60 @@ def _angle_axis(ax: Any, last: bool = True) -> None:
 
 # ---- the cam -----------------------------------------------------------------------------
 def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> None:
-    """The cam in its own frame: profile (filled), pitch curve, prime and base circles, bore,
-    and the follower drawn where it is at ``follower_angle_deg`` of cam rotation."""
+    """The cam in its own frame: profile (filled), pitch (or contact) curve, prime and base
+    circles, bore, and the follower — roller, stem, arm and pivot, or face, as the follower
+    draws itself (:meth:`generators.followers.base.Follower.sketch`) — where it is at
+    ``follower_angle_deg`` of cam rotation."""
     spec = design.spec
     u = spec.units
+    fol = design.follower
+    desc = fol.describe()
+    flat = fol.design_curve == "profile"
     _, prof = design.profile.sample(32)
     _, pitch = design.pitch_nurbs.sample(32)
-    if _is_ph(design):
-        prof_label = "cam (exact offset NURBS profile)" if spec.roller_radius > 0 else "cam (profile = PH pitch curve)"
+    rr = fol.profile_offset
+    if flat:
+        prof_label = f"cam (profile = {'PH spline' if _is_ph(design) else 'fitted B-spline'} through the contact points)"
+    elif _is_ph(design):
+        prof_label = "cam (exact offset NURBS profile)" if rr > 0 else "cam (profile = PH pitch curve)"
     else:
-        prof_label = "cam (fitted offset B-spline profile)" if spec.roller_radius > 0 else \
-            "cam (profile = fitted B-spline)"
+        prof_label = "cam (fitted offset B-spline profile)" if rr > 0 else "cam (profile = fitted B-spline)"
     ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label=prof_label)
     ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
-    ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
-            label=f"pitch curve ({_pitch_words(design)})")
+    if not flat:
+        ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
+                label=f"pitch curve ({_pitch_words(design)})")
     t = np.linspace(0, 2 * np.pi, 400)
     rb = spec.cam.base_radius
-    ax.plot(rb * np.cos(t), rb * np.sin(t), ":", color="0.45", lw=0.8, label="prime circle")
-    if spec.roller_radius > 0:
-        r0 = rb - spec.roller_radius
+    if not flat:
+        ax.plot(rb * np.cos(t), rb * np.sin(t), ":", color="0.45", lw=0.8, label="prime circle")
+    if rr > 0 or flat:
+        r0 = rb - rr
         ax.plot(r0 * np.cos(t), r0 * np.sin(t), "-.", color="0.6", lw=0.6, label="base circle")
     if spec.cam.bore_diameter > 0:
         rbore = spec.cam.bore_diameter / 2
         ax.fill(rbore * np.cos(t), rbore * np.sin(t), color="white", zorder=3)
         ax.plot(rbore * np.cos(t), rbore * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=4)
     th = np.deg2rad(follower_angle_deg)
-    geo = design.geometry
-    s = design.program.s(np.array([th]))[0]
-    p = geo.pitch_points(np.array([th]), np.array([s]))[0]
-    axis_dir = np.exp(-1j * geo.sense * th) * 1j
-    r = spec.roller_radius
-    if r > 0:
-        ax.fill(p.real + r * np.cos(t), p.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=5)
-        ax.plot(p.real + r * np.cos(t), p.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=6)
-    stem = np.array([p, p + axis_dir * (spec.max_lift + 2 * max(r, 0.1 * rb))])
-    ax.plot(stem.real, stem.imag, color=COLORS["follower"], lw=3, zorder=6, solid_capstyle="round",
-            label=f"follower at θ = {follower_angle_deg:g}°")
-    ax.plot([p.real], [p.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
+    k = design.program.evaluate(np.array([th]))
+    lift_len = spec.max_lift * (rb * fol.lift_scale if fol.lift_unit == "angle" else 1.0)
+    sk = fol.sketch(th, k, lift_len + 2 * max(rr, 0.1 * rb), spec.follower.face_width)
+    label = f"follower at θ = {follower_angle_deg:g}°"
+    for c, r in sk.circles:
+        ax.fill(c.real + r * np.cos(t), c.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=5)
+        ax.plot(c.real + r * np.cos(t), c.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=6)
+    for a, b, role in sk.segments:
+        lw = {"stem": 3, "arm": 3, "face": 2.2}[role]
+        ax.plot([a.real, b.real], [a.imag, b.imag], color=COLORS["follower"], lw=lw, zorder=6,
+                solid_capstyle="round", label=label)
+        label = None
+    if sk.pivot is not None:
+        ax.plot([sk.pivot.real], [sk.pivot.imag], "o", ms=7, mfc="white", mec=COLORS["follower"], mew=1.5,
+                zorder=8, label="pivot")
+    ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
-    ax.set_title(f"plate cam, {spec.follower.kind} follower, e = {spec.follower.offset:g} {u}, "
+    ax.set_title(f"plate cam, {desc['label']} {u}\n"
                  + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else
                     f"{design.pitch.M} B-spline knot spans"), fontsize=9)
     ax.set_xlabel(f"x [{u}]")
@@ -174,7 +187,7 @@ def cam_drawing_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> A
 
 def _kinematic_series(design: CamDesign, n: int = 3601) -> tuple[np.ndarray, list[tuple[np.ndarray, str, str]]]:
     spec = design.spec
-    u = spec.units
+    u = "deg" if design.follower.lift_unit == "angle" else spec.units
     th = np.linspace(0, 2 * np.pi, n)
     k = design.program.evaluate(th)
     omega = spec.cam.speed_rpm * 2 * np.pi / 60
@@ -310,8 +323,9 @@ def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) 
     spec = design.spec
     u = spec.units
     rr = spec.roller_radius
+    flat = design.follower.design_curve == "profile"
     th = np.linspace(0, 2 * np.pi, 3601)
-    rho = design.geometry.pitch_radius_of_curvature(design.program.evaluate(th))
+    rho = design.follower.radius_of_curvature(design.program.evaluate(th))
     cs = design.curvature_samples
     order = np.argsort(cs.cam_angle_deg)
     convex = rho[rho > 0]
@@ -332,26 +346,29 @@ def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) 
     def cut(r: np.ndarray) -> np.ndarray:
         return np.where(np.abs(r) <= top, r, np.nan)
 
-    ax.plot(deg, cut(rho), color=COLORS["pitch"], lw=1.3, label="pitch curve (Eq. 3.7)", zorder=2)
+    ax.plot(deg, cut(rho), color=COLORS["pitch"], lw=1.3,
+            label="profile (the face's envelope)" if flat else "pitch curve", zorder=2)
     if rr > 0:
         # offsetting inward by r shrinks convex radii and grows concave ones: ρ − r either way
         ax.plot(deg, cut(rho - rr), color=COLORS["profile"], lw=1.3, label="profile (ρ − roller radius)",
                 zorder=2)
     ax.plot(cs.cam_angle_deg[order][::12], cut(cs.radius[order][::12]), "o", ms=2.4, mfc="none", mew=0.6,
             color="0.35", label=f"built {_pitch_words(design)} (samples)", zorder=3)
+    name = "cusp" if flat else "curvature"
     if limit is not None:
-        sign = limit_sign("curvature", str(check.get("kind", "min")))  # type: ignore[union-attr]
-        ax.axhline(limit, color=COLORS["limit"], ls="--", lw=1.0, gid=LIMIT_GID.format(name="curvature"),
-                   label=f"curvature limit: convex pitch ρ {sign} {limit:g} {u} "
-                         f"({spec.checks.undercut_factor:g} × roller radius)")
+        sign = limit_sign(name, str(check.get("kind", "min")))  # type: ignore[union-attr]
+        ax.axhline(limit, color=COLORS["limit"], ls="--", lw=1.0, gid=LIMIT_GID.format(name=name),
+                   label=(f"cusp limit: ρ {sign} {limit:g} {u}" if flat else
+                          f"curvature limit: convex pitch ρ {sign} {limit:g} {u} "
+                          f"({spec.checks.undercut_factor:g} × roller radius)"))
     if rr > 0:
         ax.axhline(rr, color="0.45", ls=":", lw=0.9, gid=LIMIT_GID.format(name="undercut"),
                    label=f"roller radius {rr:g} {u} (undercut below)")
     ax.axhline(0, color="0.3", lw=0.6)
     if check is not None and check.get("value") is not None and check.get("at_deg") is not None:
         v = float(check["value"])
-        _check_point(ax, "curvature", check, v,
-                     f"min convex pitch ρ = {v:.4g} {u} at {float(check['at_deg']):.2f}°", False)
+        _check_point(ax, name, check, v,
+                     f"min {'' if flat else 'convex pitch '}ρ = {v:.4g} {u} at {float(check['at_deg']):.2f}°", False)
     elif convex.size:
         k = int(np.argmin(np.where(rho > 0, rho, np.inf)))
         ax.plot([deg[k]], [rho[k]], "o", ms=4, color=COLORS["pitch"])
@@ -369,12 +386,17 @@ def _small_length_scale(units: str) -> tuple[float, str]:
     return (1e3, "µm") if units == "mm" else (1e6, "µin")
 
 
+def small_unit(units: str, lift_unit: str = "length") -> tuple[float, str]:
+    """(factor, unit) in which lift errors are shown: µm/µin, or arc seconds for an arm's angle."""
+    return (3600.0, "arcsec") if lift_unit == "angle" else _small_length_scale(units)
+
+
 def deviation_figure(design: CamDesign) -> Any:
     """Interpolation error s_actual(θ) − s(θ) of the built pitch curve (paper Eq. 13,
     as the paper's Figs. 5 and 7), with the PH junction (or B-spline knot) angles marked."""
     plt = _plt()
     th, dev = design.pitch.deviation()
-    scale, unit = _small_length_scale(design.spec.units)
+    scale, unit = small_unit(design.spec.units, design.follower.lift_unit)
     deg = np.rad2deg(th)
     fig, ax = plt.subplots(figsize=(9, 3.4))
     _segment_marks(ax, design, labels=True)

@@ -40,9 +40,9 @@ import numpy as np
 
 from generators import __version__
 from generators.cam_design import CamDesign
-from generators.claims import checks_verdict, pitch_text, profile_claim
-from generators.design_checks import limit_sign
-from generators.params import params_of, unit_name
+from generators.checks.claims import checks_verdict, pitch_text, profile_claim
+from generators.checks.design import limit_sign
+from generators.spec.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
 
 from . import interpolator_plots, plots
@@ -91,39 +91,50 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
     """The figures this report will have, in order (optional ones only with their data)."""
     series = series or {}
     u = design.spec.units
+    fol = design.follower.describe()
+    curve = fol["curve"]
+    flat = fol["design_curve"] == "profile"
     pa_check = check_result(report, "pressure_angle")
-    cv_check = check_result(report, "curvature")
-    small = "µm" if u == "mm" else "µin"
+    cv_check = check_result(report, "cusp" if flat else "curvature")
+    small = plots.small_unit(u, design.follower.lift_unit)[1]
     ph = design.spec.pitch.representation == "ph"
-    built = "PH pitch curve" if ph else "fitted B-spline pitch curve"
+    built = f"PH {curve}" if ph else f"fitted B-spline {curve}"
     claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
     prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
     ticks = "PH junctions" if ph else "B-spline knots"
     out = [
         Plot("cam", "The cam and its follower",
-             f"{prof_words} the pitch curve traced by the roller centre (dashed), the prime "
-             "and base circles and the bore; the follower is drawn where it stands at 75° of cam rotation.",
+             f"{prof_words} " + ("the face's contact points (dashed), the base circle and the bore"
+                                 if flat else f"the {curve} traced by the follower point (dashed), the prime and "
+                                 "base circles and the bore") +
+             f"; the follower ({fol['label']}) is drawn where it stands at 75° of cam rotation"
+             + (", with its arm and pivot." if fol["motion"] == "oscillating" else "."),
              lambda: plots.cam_drawing_figure(design)),
         Plot("kinematics", "Follower motion",
              f"Displacement, velocity, acceleration and jerk at {design.spec.cam.speed_rpm:g} rpm from the "
              "closed-form motion laws (design intent); grey lines separate the motion segments.",
              lambda: plots.kinematics_figure(design)),
         Plot("pressure_angle", "Pressure angle",
-             "φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4) over the cycle, and the pressure angle of the "
+             f"φ {fol['pressure_angle_text']} over the cycle, and the pressure angle of the "
              f"built {built} at its curvature samples (they lie on the design curve). Dashed: the limit "
              "±checks.max_pressure_angle of the pressure_angle check; the marked point is the check's "
              "value at its cam angle (report.json checks.results.pressure_angle).",
              lambda: plots.pressure_angle_figure(design, check=pa_check)),
         Plot("curvature", "Radius of curvature",
-             "Signed radius of curvature, positive where convex: pitch curve (thesis Eq. 3.7) and profile "
-             f"(ρ − roller radius); dots: the built {built}. Dashed: the curvature check's limit "
-             "(checks.undercut_factor × roller radius) for the convex pitch radius; the profile undercuts "
-             "where the convex pitch radius falls below the roller radius. The marked point is the "
-             "curvature check's value at its cam angle. The axis is clipped where the curve straightens.",
+             (f"Signed radius of curvature of the profile, {fol['curvature_text']}, positive where convex; "
+              f"dots: the built {built}. A flat face needs ρ > 0 everywhere: the dashed line at 0 is the cusp "
+              "check's limit and the marked point its value at its cam angle."
+              if flat else
+              f"Signed radius of curvature, positive where convex: {curve} ({fol['curvature_text']}) and "
+              f"profile (ρ − roller radius); dots: the built {built}. Dashed: the curvature check's limit "
+              "(checks.undercut_factor × roller radius) for the convex pitch radius; the profile undercuts "
+              "where the convex pitch radius falls below the roller radius. The marked point is the "
+              "curvature check's value at its cam angle.") + " The axis is clipped where the curve straightens.",
              lambda: plots.curvature_figure(design, check=cv_check)),
         Plot("deviation", "Interpolation error",
-             f"s_actual − s [{small}]: the follower displacement the built pitch curve "
-             f"({pitch_text(report) if 'pitch' in report else built}) gives (follower line meeting the curve, paper Eq. 13) minus the design displacement, every "
+             f"s_actual − s [{small}]: the follower {'rotation' if fol['lift_unit'] == 'angle' else 'displacement'} "
+             f"the built {curve} ({pitch_text(report) if 'pitch' in report else built}) gives (the follower "
+             "touching the curve, paper Eq. 13 generalised) minus the design's, every "
              f"{360 / _deviation_count(design):.3g}°; ticks: {ticks}.",
              lambda: plots.deviation_figure(design)),
     ]
@@ -142,7 +153,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def accuracy() -> Any:
             if "acc" not in acc_cache:
-                from generators.interpolator import interpolator_accuracy
+                from generators.machining.interpolator import interpolator_accuracy
 
                 acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
                                                          float(it_rep["sample_period"]))
@@ -154,12 +165,14 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             f"{float(it_rep['step_deg']):.3g}°, finite differences at Δt = {float(it_rep['sample_period']):g} s, "
             f"{it_rep.get('differencing', 'backward')} differences as the paper's Figs. 4 and 6) over the "
             "exact curves of the motion laws.",
-            lambda: interpolator_plots.kinematics_figure(accuracy(), design.program, u)))
+            lambda: interpolator_plots.kinematics_figure(accuracy(), design.program,
+                                                         "deg" if fol["lift_unit"] == "angle" else u)))
         out.append(Plot(
             "interpolator_deviation", "Displacement error at the commands",
             f"s_actual − s [{small}] at every command (paper Figs. 5, 7, 8)" +
             ("; it vanishes at the PH junctions." if ph else "; ticks: the B-spline knots."),
-            lambda: interpolator_plots.deviation_figure(accuracy(), u, junction_angles=design.pitch.angles,
+            lambda: interpolator_plots.deviation_figure(accuracy(), "deg" if fol["lift_unit"] == "angle" else u,
+                                                        junction_angles=design.pitch.angles,
                                                         junction_label=ticks)))
     hist = _history(report)
     if hist is not None:
@@ -218,7 +231,8 @@ figure{margin:8px 0 18px}figcaption{font-size:12.5px;color:#424949;margin-top:2p
 svg.plot{width:100%;height:auto;display:block}
 pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overflow-x:auto}
 .verdict{display:inline-block;padding:4px 10px;border-radius:4px;font-weight:bold}
-.verdict.pass{background:#d5f5e3;color:#145a32}.verdict.fail{background:#fadbd8;color:#78281f}
+.verdict.pass,.verdict.buildable{background:#d5f5e3;color:#145a32}
+.verdict.fail,.verdict.unbuildable{background:#fadbd8;color:#78281f}
 .note{font-size:12.5px;color:#566573}a.plain{text-decoration:none}
 """
 
@@ -231,12 +245,19 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     fig = {p.key: _figure(p, figures[p.key]) for p in plot_list}
     sections: list[tuple[str, str, str]] = []  # (id, title, body)
 
+    lu = report.get("motion", {}).get("lift_unit", u)
     key_rows = [
+        ("follower", "follower.label", "", None),
         ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
         ("base circle radius (R_b − roller)", "profile.base_circle_radius", u, None),
         ("smallest profile radius (built)", "profile.min_radius", u, None),
         ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
-        ("follower offset e", "spec.follower.offset", u, None),
+        ("follower offset e", "follower.offset", u, None),
+        ("arm pivot distance d", "follower.pivot_distance", u, None),
+        ("arm length L", "follower.arm_length", u, None),
+        ("arm angle at zero lift ψ₀", "follower.arm_angle_at_zero_lift_deg", "deg", None),
+        ("face offset from the pivot f", "follower.face_offset", u, None),
+        ("face normal angle at zero lift β₀", "follower.face_angle_at_zero_lift_deg", "deg", None),
         ("roller radius", "spec.follower.roller_radius", u, None),
         ("bore diameter", "spec.cam.bore_diameter", u, None),
         ("thickness", "spec.cam.thickness", u, None),
@@ -244,27 +265,30 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("volume", "volume", f"{u}³", None),
         ("max pressure angle", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
         ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
-        ("max follower deviation", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
+        ("max follower deviation", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
     ]
+    if spec.follower.kind != "roller":
+        key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
     claim = profile_claim(report, spec.is_roller, u) if "profile" in report else None
     sections.append(("cam", "The cam", f'<div class="grid"><div>{fig["cam"]}</div><div>'
                      f'{_verdict(report)}{_quantity_table(report, key_rows)}</div></div>'))
     sections.append(("spec", "Specification", _spec_section(spec, report)))
     motion_rows = [
-        ("largest lift", "motion.max_lift", u, None),
-        ("max |velocity|", "motion.max_velocity", f"{u}/s", None),
-        ("max |acceleration|", "motion.max_acceleration", f"{u}/s²", None),
-        ("max |jerk|", "motion.max_jerk", f"{u}/s³", None),
+        ("largest lift", "motion.max_lift", lu, None),
+        ("max |velocity|", "motion.max_velocity", f"{lu}/s", None),
+        ("max |acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
+        ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
     ]
     sections.append(("motion", "Follower motion", fig["kinematics"] + _quantity_table(report, motion_rows)))
     pa_rows = [
-        ("max |φ| (design, Eq. 3.4)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
+        ("max |φ| (design)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
         ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
-        ("max |φ| (built PH curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
+        ("max |φ| (built curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
     ]
     sections.append(("pressure", "Pressure angle", fig["pressure_angle"] + _quantity_table(report, pa_rows)))
     cv_rows = [
-        ("min convex pitch radius (design, Eq. 3.7)", "curvature.min_pitch_radius", u, "curvature.at_deg"),
+        (f"min convex {report.get('follower', {}).get('curve', 'pitch curve')} radius (design)",
+         "curvature.min_pitch_radius", u, "curvature.at_deg"),
         ("min convex profile radius (design)", "curvature.min_profile_radius", u, "curvature.at_deg"),
         ("min concave pitch radius (design)", "curvature.min_concave_pitch_radius", u, None),
         ("min convex pitch radius (built)", "curvature.as_built.min_pitch_radius", u, "curvature.as_built.at_deg"),
@@ -274,8 +298,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     ]
     sections.append(("curvature", "Radius of curvature", fig["curvature"] + _quantity_table(report, cv_rows)))
     acc_rows = [
-        ("max |s_actual − s|", "pitch.max_deviation", u, "pitch.max_deviation_at_deg"),
-        ("target deviation (pitch.tolerance)", "pitch.tolerance", u, None),
+        ("max |s_actual − s|", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
+        ("target deviation (pitch.tolerance)", "pitch.tolerance", lu, None),
         ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
          None),
         ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
@@ -317,16 +341,16 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
             ("sample period Δt", "interpolator.sample_period", "s", None),
             ("cam rotation per command", "interpolator.step_deg", "deg", None),
             ("commands per revolution", "interpolator.commands", "", None),
-            ("max |s_actual − s| at the commands", "interpolator.max_deviation", u,
+            ("max |s_actual − s| at the commands", "interpolator.max_deviation", lu,
              "interpolator.max_deviation_at_deg"),
-            ("max |v| from the commands", "interpolator.velocity.max", f"{u}/s", "interpolator.velocity.at_deg"),
-            ("max |v| desired", "interpolator.velocity.desired_max", f"{u}/s", None),
-            ("max |a| from the commands", "interpolator.acceleration.max", f"{u}/s²",
+            ("max |v| from the commands", "interpolator.velocity.max", f"{lu}/s", "interpolator.velocity.at_deg"),
+            ("max |v| desired", "interpolator.velocity.desired_max", f"{lu}/s", None),
+            ("max |a| from the commands", "interpolator.acceleration.max", f"{lu}/s²",
              "interpolator.acceleration.at_deg"),
-            ("max |a| desired", "interpolator.acceleration.desired_max", f"{u}/s²", None),
+            ("max |a| desired", "interpolator.acceleration.desired_max", f"{lu}/s²", None),
             ("increase of max |a| [%]", "interpolator.acceleration.increase_percent", "%", None),
-            ("max |j| from the commands", "interpolator.jerk.max", f"{u}/s³", "interpolator.jerk.at_deg"),
-            ("max |j| desired", "interpolator.jerk.desired_max", f"{u}/s³", None),
+            ("max |j| from the commands", "interpolator.jerk.max", f"{lu}/s³", "interpolator.jerk.at_deg"),
+            ("max |j| desired", "interpolator.jerk.desired_max", f"{lu}/s³", None),
             ("increase of max |j| [%]", "interpolator.jerk.increase_percent", "%", None),
         ]
         note = report["interpolator"].get("warning")
@@ -348,7 +372,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         sections.append(("files", "Files", _files_section(report)))
 
     title = html.escape(dr.title)
-    sub = [f"{spec.follower.kind} follower", f"{len(spec.motion)} motion segments",
+    sub = [str(report.get("follower", {}).get("name", spec.follower.kind)) + " follower",
+           f"{len(spec.motion)} motion segments",
            "pitch curve: " + (pitch_text(report) if "pitch" in report else str(spec.pitch.representation)),
            f"units {u}"]
     ident = [f"part {html.escape(dr.part_number)}" if dr.part_number else "",
@@ -529,13 +554,16 @@ def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
     (``design_cam``), so a report exists only for a cam that passed them; the numbers shown
     are the margins they were judged on."""
     u = report.get("units", "")
+    lu = report.get("motion", {}).get("lift_unit", u)
     rows: list[tuple[str, str, str]] = []
     prof = report.get("profile", {})
     cv = report.get("curvature", {})
+    flat = report.get("follower", {}).get("design_curve") == "profile"
     if "min_profile_radius" in cv:
         v = cv["min_profile_radius"]
-        rows.append(("undercut: smallest convex profile radius of curvature > 0", f"{format_number(v)} {u}",
-                     "pass" if v > 0 else "fail"))
+        what = ("cusp: smallest radius of curvature of the profile > 0" if flat else
+                "undercut: smallest convex profile radius of curvature > 0")
+        rows.append((what, f"{format_number(v)} {u}", "pass" if v > 0 else "fail"))
     rows.append(("profile self-intersection", "none found (design_cam refuses a crossing profile)", "pass"))
     spec = report.get("spec", {})
     bore = spec.get("cam", {}).get("bore_diameter") if isinstance(spec, Mapping) else None
@@ -547,7 +575,7 @@ def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
     if pt.get("tolerance") is not None:
         ok = pt["max_deviation"] <= pt["tolerance"]
         rows.append(("pitch curve within pitch.tolerance",
-                     f"{format_number(pt['max_deviation'])} ≤ {format_number(pt['tolerance'])} {u}",
+                     f"{format_number(pt['max_deviation'])} ≤ {format_number(pt['tolerance'])} {lu}",
                      "pass" if ok else "fail"))
     solid = report.get("solid")
     if isinstance(solid, Mapping) and "valid" in solid:
@@ -557,7 +585,7 @@ def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
     it = report.get("interpolator")
     if isinstance(it, Mapping) and it.get("within_pitch_tolerance") is not None:
         ok = it["within_pitch_tolerance"] is True
-        rows.append(("machining commands within pitch.tolerance", format_number(it["max_deviation"]) + f" {u}",
+        rows.append(("machining commands within pitch.tolerance", format_number(it["max_deviation"]) + f" {lu}",
                      "pass" if ok else "fail"))
     return rows
 
@@ -565,7 +593,9 @@ def buildability_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
 def _buildability_section(report: Mapping[str, Any]) -> str:
     rows = buildability_rows(report)
     ok = all(st != "fail" for _, _, st in rows)
-    out = [f'<p><span class="verdict {"pass" if ok else "fail"}" id="buildable-verdict">'
+    # "buildable"/"unbuildable", not "pass"/"fail": the class "verdict pass" is the design checks'
+    # verdict alone, so a reader (or a script) never takes a buildable cam for one that passes
+    out = [f'<p><span class="verdict {"buildable" if ok else "unbuildable"}" id="buildable-verdict">'
            f'{"buildable: every buildability check passes" if ok else "NOT buildable: see the red rows"}'
            "</span></p>",
            '<table class="build"><tr><th>check</th><th>value</th><th>status</th></tr>']

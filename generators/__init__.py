@@ -3,10 +3,14 @@
 Imports only numpy, scipy and the standard library (no CAD kernel, no file format
 beyond TOML), so it runs inside FreeCAD's own Python as well as beside CadQuery.
 """
-from .cam_design import CamDesign, design_cam
+from . import _renamed
+
+_renamed.install()
+
+from .cam_design import CamDesign, design_cam  # noqa: E402
 from .errors import CamError, GeometryError, SolveError, SpecError
-from .nurbs import NurbsCurve
-from .spec import CamSpec, default_spec, load_spec, to_toml
+from .curves.nurbs import NurbsCurve
+from .spec.model import CamSpec, default_spec, load_spec, to_toml
 
 __all__ = [
     "CamDesign", "CamError", "CamSpec", "GeometryError", "NurbsCurve", "SolveError", "SpecError",

@@ -11,20 +11,20 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .cam_area import area_summary
-from .design_checks import DesignChecks, run_checks
-from .extrema import refine_max
-from .follower import FollowerGeometry
-from .geometry_checks import (CurvatureSamples, check_bore, check_self_intersection,
+from .checks.areas import area_summary
+from .checks.design import DesignChecks, run_checks
+from .curves.extrema import refine_max
+from .followers import Follower
+from .checks.buildability import (CurvatureSamples, check_bore, check_self_intersection,
                               check_undercut, pitch_curvature_samples)
-from .motion import MotionProgram
-from .nurbs import NurbsCurve
-from .offsets import offset_nurbs, pitch_nurbs
-from .pitch import PitchCurve, build_pitch
-from .pitch_bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
+from .motion.program import MotionProgram
+from .curves.nurbs import NurbsCurve
+from .curves.offsets import offset_nurbs, pitch_nurbs
+from .pitch.ph import PitchCurve, build_pitch
+from .pitch.bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
                             fit_offset, profile_errors)
 from .errors import GeometryError
-from .spec import CamSpec, spec_digest
+from .spec.model import CamSpec, spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
 #: knot spans of the fitted offset B-spline per span of the fitted pitch B-spline: with 2 its
@@ -63,8 +63,13 @@ class CamDesign:
         return self.pitch.program
 
     @property
-    def geometry(self) -> FollowerGeometry:
-        return self.pitch.geometry
+    def geometry(self) -> Follower:
+        """The follower (the name before the follower interface)."""
+        return self.pitch.follower
+
+    @property
+    def follower(self) -> Follower:
+        return self.pitch.follower
 
     def profile_ccw(self) -> NurbsCurve:
         """The profile oriented counter-clockwise (positive area), as solid builders want it."""
@@ -101,8 +106,7 @@ class CamDesign:
         p = prof.evaluate(np.array([u_max]))[0]
         # profile and pitch curve share the parameter: knot span k is PH segment k
         seg = min(int(u_max), self.pitch.M - 1)
-        pitch_pt = self.pitch.spline.point(np.array([seg]), np.array([u_max - seg]))
-        at = float(self.pitch.cam_angle_of_point(pitch_pt)[0])
+        at = float(self.pitch.cam_angle_at(np.array([seg]), np.array([u_max - seg]))[0])
         return float(r_max), complex(p[0], p[1]), at
 
     def design_kinematics(self, samples_per_segment: int = DESIGN_SAMPLES_PER_SEGMENT):
@@ -121,11 +125,11 @@ class CamDesign:
             return np.abs(geo.pressure_angle(prog.evaluate(t)))
 
         def neg_convex(t: np.ndarray) -> np.ndarray:
-            rho_t = geo.pitch_radius_of_curvature(prog.evaluate(t))
+            rho_t = geo.radius_of_curvature(prog.evaluate(t))
             return -np.where(rho_t > 0, rho_t, np.inf)
 
         def neg_concave(t: np.ndarray) -> np.ndarray:
-            rho_t = geo.pitch_radius_of_curvature(prog.evaluate(t))
+            rho_t = geo.radius_of_curvature(prog.evaluate(t))
             return -np.where(rho_t < 0, -rho_t, np.inf)
 
         th_p, _ = refine_max(abs_phi, th, abs_phi(th))
@@ -136,7 +140,7 @@ class CamDesign:
         b_convex = np.where(cs.radius > 0, cs.radius, np.inf)
         ib = int(np.argmin(b_convex))
         b_concave = np.where(cs.radius < 0, -cs.radius, np.inf)
-        rr = spec.roller_radius
+        rr = geo.profile_offset
         phi_b, at_b = self._as_built_pressure_angle()
         omega = spec.cam.speed_rpm * 2 * np.pi / 60
         maxima = self.program.maxima(omega)
@@ -176,7 +180,9 @@ class CamDesign:
                 "as_built": {"max_deg": phi_b, "at_deg": at_b},
             },
             "curvature": curvature,
+            "follower": geo.describe(),
             "motion": {
+                "lift_unit": "deg" if geo.lift_unit == "angle" else spec.units,
                 "max_lift": spec.max_lift,
                 "max_velocity": maxima["velocity"],
                 "max_acceleration": maxima["acceleration"],
@@ -227,14 +233,14 @@ class CamDesign:
         return out
 
     def as_built_pressure_angles(self) -> tuple[np.ndarray, np.ndarray]:
-        """Pressure angle of the built PH curve at the curvature samples: (cam angle [deg],
-        signed φ [deg]) — the angle of its tangent, turned to the follower frame, against
-        the follower's normal direction."""
+        """Pressure angle of the built curve at the curvature samples: (cam angle [deg],
+        signed φ [deg]) — its tangent, turned into the fixed frame at the cam angle where the
+        follower touches it, against the direction the follower's contact point moves."""
         geo = self.geometry
         cs = self.curvature_samples
-        ang = np.deg2rad(cs.cam_angle_deg)
-        tangent = np.exp(1j * geo.sense * ang) * self.pitch.spline.first_derivative(cs.seg, cs.xi)
-        phi = geo.sense * np.rad2deg(np.arctan(tangent.imag / tangent.real))
+        rot = np.exp(1j * geo.sense * np.deg2rad(cs.cam_angle_deg))
+        tangent = rot * self.pitch.spline.first_derivative(cs.seg, cs.xi)
+        phi = np.rad2deg(geo.pressure_angle_of(tangent, geo.velocity_direction_at(rot * cs.point)))
         return cs.cam_angle_deg, phi
 
     def _as_built_pressure_angle(self) -> tuple[float, float]:
@@ -286,10 +292,31 @@ def refuse_undercut(checks: DesignChecks, roller_radius: float) -> None:
                         "gentler motion", at)
 
 
-def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
-    pitch = build_bspline_pitch(spec, progress)
-    checks = run_checks(spec, program=pitch.program)
+def refuse_cusp(checks: DesignChecks) -> None:
+    """Raise a flat face's failed cusp check as a GeometryError with its cam angle: the face's
+    envelope folds over itself there and no cam can give the motion."""
+    try:
+        r = checks["cusp"]
+    except KeyError:
+        return
+    if r.status == "fail":
+        raise GeometryError("cusp", f"cusp at cam angle {r.at_deg:.3f}°: the profile's radius of curvature "
+                            f"{r.value:.6g} ≤ 0 ({r.description.split('ρ = ')[-1].split(' (')[0]}) — a flat face "
+                            "cannot make it: a larger base radius or a gentler motion", r.at_deg)
+
+
+def checked_intent(spec: CamSpec) -> DesignChecks:
+    """The design checks of the design intent, refusing (GeometryError with the cam angle) what no
+    pitch curve can make — an undercut roller, a flat face's cusp — before any curve is built."""
+    checks = run_checks(spec, program=MotionProgram.from_spec(spec))
     refuse_undercut(checks, spec.roller_radius)
+    refuse_cusp(checks)
+    return checks
+
+
+def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
+    checks = checked_intent(spec)
+    pitch = build_bspline_pitch(spec, progress)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch.to_nurbs()
@@ -316,9 +343,8 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
     """
     if spec.pitch.representation == "bspline":
         return _design_bspline(spec, progress)
+    checks = checked_intent(spec)
     pitch = build_pitch(spec, progress=progress)
-    checks = run_checks(spec, program=pitch.program)
-    refuse_undercut(checks, spec.roller_radius)
     cs = pitch_curvature_samples(pitch)
     check_undercut(pitch, spec.roller_radius, cs)
     pn = pitch_nurbs(pitch.spline)

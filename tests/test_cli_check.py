@@ -25,7 +25,7 @@ def test_check_fails_with_exit_3_and_writes_the_section(tmp_path):
     assert ck["results"]["pressure_angle"]["limit"] == 18.0
     assert ck["sampling"] == "dense" and ck["samples_per_segment"] == 1001
     assert report["areas"]["thesis_eq_4_21"] == pytest.approx(55.4806, abs=1e-4)
-    assert sorted(p.name for p in out.iterdir()) == ["report.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".cam-workbench.json", "report.json"]  # + the manifest
 
 
 def test_check_passes_with_exit_0_and_thesis_nodes(tmp_path):

@@ -31,7 +31,8 @@ def test_build_writes_machining_files_and_report(tmp_path):
     report = json.loads((out / "report.json").read_text())
     listed = [v for v in report["files"].values() if isinstance(v, str)]
     listed += [x for v in report["files"].values() if isinstance(v, list) for x in v]
-    assert sorted(listed) == names  # report.json lists exactly the files written
+    # report.json lists exactly the files written, beside the folder's manifest
+    assert sorted(listed + [".cam-workbench.json"]) == names
     it = report["interpolator"]
     assert it["commands"] == 1000 and it["sample_period"] == 0.001 and it["differencing"] == "backward"
     assert it["max_deviation"] == pytest.approx(1.494e-4, rel=1e-3)          # default cam = paper case 2
@@ -68,7 +69,9 @@ def test_gcode_command_to_file_with_spec_and_overrides(tmp_path):
 
 BAD = [
     (["--set", "machining.tool_radius=70"], "would gouge the profile at cam angle"),
-    (["--set", "machining.sample_period=1e-10"], "machining.sample_period: gives 1e+10 commands per revolution"),
+    (["--set", "machining.sample_period=1e-10"], "machining.sample_period: must be ≥ 1e-06"),
+    (["--set", "machining.sample_period=1e-6", "--set", "cam.speed_rpm=1"],
+     "machining.sample_period: gives 6e+07 commands per revolution"),
     (["--set", "machining.contour=spline"], "machining.contour: must be one of"),
     (["--set", "machining.chord_tolerance=0.00001", "--set", "machining.sample_period=0.0025",
       "--set", "machining.program=xc"], "machining.sample_period: X–C blocks"),
@@ -97,12 +100,11 @@ def test_gcode_help_lists_the_modes():
     assert np.all([w in run("--help").stdout for w in ("build", "gcode", "spec")])
 
 
-def test_readme_machining_commands_run(tmp_path):
-    """The `cam-workbench gcode` lines of the README's machining section run as written."""
+def test_docs_machining_commands_run(tmp_path):
+    """The `cam-workbench gcode` lines of docs/machining.md run as written."""
     import re
 
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = text.split("## Machining:", 1)[1].split("\n## ", 1)[0]
+    section = (ROOT / "docs" / "machining.md").read_text(encoding="utf-8")
     lines = [ln.split("#")[0].strip() for ln in section.splitlines() if ln.startswith("cam-workbench gcode")]
     assert len(lines) == 3
     (tmp_path / "cam.toml").write_text(run("spec", "--default").stdout)

@@ -53,7 +53,10 @@ def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
     spec = load_spec(out / "optimised.toml")
     rep = json.loads((out / "report.json").read_text())
     opt = rep["optimise"]
-    assert opt["objective"] == "area" and opt["feasible"] is True and opt["status"] == "converged"
+    assert opt["objective"] == "area" and opt["feasible"] is True
+    # SLSQP ends this run "roundoff limited" at its best point (nlopt's own words): an honest
+    # "stopped", never relabelled "converged"
+    assert opt["status"] == "converged" or (opt["status"] == "stopped" and "roundoff limited" in opt["message"])
     assert opt["final_value"] == pytest.approx(thesis_area(spec), rel=1e-12)
     assert opt["final_value"] < 55.48 < opt["initial_value"]
     assert rep["areas"]["thesis_eq_4_21"] == pytest.approx(opt["final_value"], rel=1e-9)

@@ -19,7 +19,16 @@ from generators.machining import machining_plan
 from generators.spec import default_spec
 from generators.toolpath import contour_path, rotary_path
 
+from generators.spec.examples import example_spec
+
 from .conftest import paper_case
+
+
+def oscillating_flat():
+    """An oscillating flat face 5 mm from the pivot (the default's motion as 12° of arm rotation)."""
+    return example_spec("oscillating").replace(**{
+        "follower.kind": "flat", "follower.arm_length": None, "follower.roller_radius": 0.0,
+        "follower.face_offset": 5.0, "follower.pivot_distance": 70.0, "motion[1].lift": 12.0, "motion[3].lift": 12.0})
 from .rs274 import PRINT_QUANTUM, polyline_distance, requires_rs274, run_rs274, sample_xy
 
 pytestmark = requires_rs274
@@ -57,6 +66,11 @@ XY_CASES = {
     "small_tool_cw_coolant": (default_spec, {"cam.direction": "cw", "machining.tool_radius": 3.0,
                                              "machining.coolant": True, "machining.work_offset": "G55"}),
     "knife_case3": (lambda: paper_case(3), {"machining.chord_tolerance": 0.02}),
+    "oscillating_roller": (lambda: example_spec("oscillating"), {}),
+    "oscillating_knife_cw": (lambda: example_spec("oscillating"), {"follower.kind": "knife",
+                                                                   "cam.direction": "cw"}),
+    "flat_face": (lambda: example_spec("flat"), {}),
+    "oscillating_flat_face": (oscillating_flat, {"machining.contour": "lines"}),
 }
 
 
@@ -110,6 +124,11 @@ XC_CASES = {
     "knife_case2_period_2ms": (lambda: paper_case(2), {"machining.sample_period": 0.002,
                                                        "machining.rotary_speed_rpm": 30.0}),
     "non_whole_revolution": (default_spec, {"machining.sample_period": 0.0007}),
+    "oscillating_roller_axis_line": (lambda: example_spec("oscillating"), {}),
+    "oscillating_bigger_tool_cw": (lambda: example_spec("oscillating"), {"cam.direction": "cw",
+                                                                         "machining.tool_radius": 10.0}),
+    "flat_face_follower_line": (lambda: example_spec("flat"), {}),
+    "oscillating_flat_face": (oscillating_flat, {}),
 }
 
 

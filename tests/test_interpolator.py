@@ -191,7 +191,7 @@ def test_finite_difference_stencils_on_polynomials():
 def test_unbracketed_root_is_a_clear_error():
     """A follower line that misses part of the curve (offset beyond its smallest radius)."""
     pc = build_pitch_for_segments(paper_case(1))
-    bad = dataclasses.replace(pc, geometry=dataclasses.replace(pc.geometry, offset=25.0))
+    bad = dataclasses.replace(pc, follower=dataclasses.replace(pc.follower, offset=25.0))
     with pytest.raises(SolveError, match="cam angle|junction"):
         RotationalInterpolator(bad).solve(np.linspace(0, 2 * np.pi, 1000))
 

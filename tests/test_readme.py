@@ -136,6 +136,14 @@ assert round(cam.report()["pressure_angle"]["max_deg"], 1) == 21.2
 assert paper.is_valid() and paper.report()["checks"]["failed"] == ["pressure_angle"]
 assert round(paper.report()["pressure_angle"]["max_deg"], 1) == 46.2
 """,
+    "Followers: translating, oscillating, flat-faced": """
+assert arm.is_valid() and face.is_valid()
+rep = arm.report()
+assert rep["follower"]["motion"] == "oscillating" and rep["motion"]["lift_unit"] == "deg"
+assert f"{rep['pitch']['max_deviation']:.1e}" == "9.0e-05" and rep["checks"]["passed"]
+fw = face.report()["checks"]["results"]["face_width"]
+assert round(fw["value"], 1) == 38.2 and fw["status"] == "pass"
+""",
     "From a build123d script": """
 import math, os
 assert part.is_valid and len(part.solids()) == 1

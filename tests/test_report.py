@@ -114,7 +114,8 @@ def test_build_writes_every_file(built):
     listed |= {x for v in files.values() if isinstance(v, list) for x in v}
     assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv",
             *files["plots"]} <= listed
-    assert {p.name for p in built.iterdir()} == listed  # report.json lists exactly what was written
+    # report.json lists exactly what was written, beside the folder's manifest
+    assert {p.name for p in built.iterdir()} == listed | {".cam-workbench.json"}
     assert {"plot_cam.png", "plot_kinematics.png", "plot_pressure_angle.png", "plot_curvature.png",
             "plot_deviation.png"} <= set(files["plots"])
     for name in files["plots"]:

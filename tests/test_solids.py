@@ -18,6 +18,18 @@ VARIANTS = {
     "inch": {"units": "in", "cam.thickness": 0.5, "cam.base_radius": 2.0, "follower.offset": 0.3,
              "follower.roller_radius": 0.25, "cam.bore_diameter": 0.5, "motion[1].lift": 0.8,
              "motion[3].lift": 0.8},
+    # the other follower kinds (arm degrees for the oscillating ones)
+    "oscillating_roller": {"follower.motion": "oscillating", "follower.pivot_distance": 60.0,
+                           "follower.arm_length": 45.0, "follower.mass": 0.0, "follower.preload": 0.0,
+                           "follower.spring_rate": 0.0, "motion[1].lift": 15.0, "motion[3].lift": 15.0},
+    "oscillating_knife_cw": {"follower.motion": "oscillating", "follower.kind": "knife", "cam.direction": "cw",
+                             "follower.pivot_distance": 55.0, "follower.arm_length": 40.0, "follower.mass": 0.0,
+                             "follower.preload": 0.0, "follower.spring_rate": 0.0, "motion[1].lift": 12.0,
+                             "motion[3].lift": 12.0},
+    "flat": {"follower.kind": "flat"},
+    "oscillating_flat": {"follower.motion": "oscillating", "follower.kind": "flat", "follower.pivot_distance": 70.0,
+                         "follower.face_offset": 5.0, "follower.mass": 0.0, "follower.preload": 0.0,
+                         "follower.spring_rate": 0.0, "motion[1].lift": 12.0, "motion[3].lift": 12.0},
 }
 
 

@@ -37,7 +37,7 @@ RULES = [
     ("bore_too_big", lambda d: d["cam"].update(bore_diameter=40.0), "cam.bore_diameter", "smallest cam-surface radius"),
     ("direction", lambda d: d["cam"].update(direction="left"), "cam.direction", "must be one of"),
     ("speed", lambda d: d["cam"].update(speed_rpm=0.0), "cam.speed_rpm", "must be > 0"),
-    ("follower_kind", lambda d: d["follower"].update(kind="flat"), "follower.kind", "must be one of"),
+    ("follower_kind", lambda d: d["follower"].update(kind="flat_faced"), "follower.kind", "must be one of"),
     ("roller_radius_zero", lambda d: d["follower"].update(roller_radius=0.0), "follower.roller_radius", "must be > 0 for a roller"),
     ("offset_too_big", lambda d: d["follower"].update(offset=30.0), "follower.offset", "must be < cam.base_radius"),
     ("motion_kind", lambda d: d["motion"][0].update(kind="hold"), "motion[0].kind", "must be one of"),
@@ -141,7 +141,7 @@ def test_bad_toml_and_missing_file(tmp_path):
 
 
 def test_spec_reference_document_is_current():
-    from generators.spec_doc import render
+    from generators.spec.reference import render
 
     doc = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")
     assert doc == render(), "docs/spec.md is stale: run `make docs`"

@@ -38,27 +38,31 @@ def run(args: argparse.Namespace) -> int:
 
 def _print_summary(s: dict, out: Path) -> None:
     u = s["units"]
+    lu = s["motion"]["lift_unit"]
     p = s["pitch"]
     f = s["files"]
+    fol = s["follower"]
     print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
           f"{len(f['plots'])} plots")
+    print(f"  follower: {fol['label']} {u}")
     kind = ("PH quintic spline, M" if p["representation"] == "ph"
             else f"periodic B-spline (degree {p['degree']}), knot spans")
-    print(f"  pitch: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {u}"
+    print(f"  {fol['curve']}: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {lu}"
           f" at {p['max_deviation_at_deg']:.2f}°; profile within {s['profile']['max_error']:.3g} {u} of the true one")
     print(f"  pressure angle: max {s['pressure_angle']['max_deg']:.2f}° at {s['pressure_angle']['at_deg']:.2f}°")
     c = s["curvature"]
-    print(f"  curvature: min pitch radius {c['min_pitch_radius']:.4g} {u}, "
+    print(f"  curvature: min {fol['curve']} radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
-    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³ "
-          f"(thesis Eq. 4.21 area inside the pitch curve: {s['areas']['thesis_eq_4_21']:.6g} {u}²)")
+    thesis = s["areas"]["thesis_eq_4_21"]
+    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³"
+          + ("" if thesis is None else f" (thesis Eq. 4.21 area inside the pitch curve: {thesis:.6g} {u}²)"))
     print("  DXF " + describe_dxf(s["drawing"], u))
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
                                  f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
     it = s["interpolator"]
     print(f"  interpolator: {it['commands']} commands (Δt = {it['sample_period']:g} s), max deviation "
-          f"{it['max_deviation']:.3g} {u}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "
+          f"{it['max_deviation']:.3g} {lu}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "
           f"j {it['jerk']['max']:.5g} ({it['differencing']} differences)")
     if it.get("warning"):
         print(f"  warning: {it['warning']}")

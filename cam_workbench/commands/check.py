@@ -9,8 +9,8 @@ from typing import Any
 
 from exporters.atomic import OutputSet
 from exporters.report_json import report_json_text
-from generators.cam_area import area_summary
-from generators.design_checks import format_value, limit_sign, run_checks
+from generators.checks.areas import area_summary
+from generators.checks.design import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
 from generators.spec import CamSpec, spec_digest
 

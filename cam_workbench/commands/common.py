@@ -5,7 +5,7 @@ import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
-from generators.examples import example_spec
+from generators.spec.examples import example_spec
 from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:

@@ -5,7 +5,7 @@ import argparse
 from pathlib import Path
 
 from exporters.atomic import OutputSet, atomic_path
-from generators.params import params_of
+from generators.spec.params import params_of
 from generators.spec import DrawingSection
 
 from ..pipeline import run_pipeline

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import argparse
 
-from generators.examples import example_spec
+from generators.spec.examples import example_spec
 from generators.spec import default_spec, to_toml
-from generators.spec_doc import render
+from generators.spec.reference import render
 
 
 def register(sub: argparse._SubParsersAction) -> None:

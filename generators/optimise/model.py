@@ -41,9 +41,9 @@ from typing import Any
 
 import numpy as np
 
-from ..bspline_law import basis_derivatives, basis_matrix
-from ..design_checks import MASS_FORCE_FACTOR, TWO_PI
-from ..laws import evaluate_law
+from ..motion.bspline_law import basis_derivatives, basis_matrix
+from ..checks.design import MASS_FORCE_FACTOR, TWO_PI
+from ..motion.laws import evaluate_law
 from .space import DesignSpace
 
 FAMILIES = ("pressure_angle", "curvature", "convexity", "separation", "contact_stress")

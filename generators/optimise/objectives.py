@@ -26,7 +26,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..cutting_time import staircase_moves
+from ..machining.cutting_time import staircase_moves
 from ..errors import CamError
 from .model import SmoothModel
 
@@ -82,7 +82,7 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
                          peak=lambda r, e, kin: np.rad2deg(model.local(r, e, kin.s, kin.v, kin.a)["phi"][0]))
     if name == "machining_time":
         opt = spec.optimise
-        from ..cutting_time import DEFAULT_TOLERANCE
+        from ..machining.cutting_time import DEFAULT_TOLERANCE
 
         eps = opt.machining_tolerance or DEFAULT_TOLERANCE[spec.units]
         per_min = spec.machining.feed_rate if spec.machining.feed_rate is not None else {"in": 12.0, "mm": 300.0}[spec.units]
@@ -96,7 +96,7 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
         return Objective(name, model, mtime, False)
     if name == "gcode_time":
         from ..cam_design import design_cam
-        from ..cutting_time import contour_time
+        from ..machining.cutting_time import contour_time
 
         def gtime(p: np.ndarray, grad: bool) -> tuple[float, None]:
             try:

@@ -42,10 +42,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..cam_area import area_summary, profile_area, thesis_area
-from ..design_checks import DesignChecks, run_checks
+from ..checks.areas import area_summary, profile_area, thesis_area
+from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
-from ..spec import CamSpec
+from ..spec.model import CamSpec
 from .model import SmoothModel
 from .objectives import DESCRIPTIONS, PEAK, SURROGATE, TIME, UNITS, Objective, make_objective
 from .space import DesignSpace
@@ -605,7 +605,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     v1 = final_value(cfg.objective, final_spec)
     details["areas"] = {"initial": area_summary(spec), "final": area_summary(final_spec)}
     if cfg.objective == "machining_time":
-        from ..cutting_time import thesis_cutting_time
+        from ..machining.cutting_time import thesis_cutting_time
 
         details["cutting_time"] = {"initial": thesis_cutting_time(spec).summary(),
                                    "final": thesis_cutting_time(final_spec).summary()}
@@ -638,12 +638,12 @@ def final_value(objective: str, spec: CamSpec) -> float:
     if objective == "profile_area":
         return profile_area(spec)
     if objective == "machining_time":
-        from ..cutting_time import thesis_cutting_time
+        from ..machining.cutting_time import thesis_cutting_time
 
         return thesis_cutting_time(spec).time
     if objective == "gcode_time":
         from ..cam_design import design_cam
-        from ..cutting_time import contour_time
+        from ..machining.cutting_time import contour_time
 
         return contour_time(design_cam(spec)).time
     ext = run_checks(spec).extremes

@@ -30,10 +30,10 @@ from typing import Any
 
 import numpy as np
 
-from ..bspline_law import BSplineLift, fixed_end_points
+from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError
-from ..motion import MotionProgram
-from ..spec import CamSpec, optimise_control_rows, optimise_variables
+from ..motion.program import MotionProgram
+from ..spec.model import CamSpec, optimise_control_rows, optimise_variables
 
 
 @dataclass(frozen=True)

@@ -48,25 +48,49 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
     """A valid spec dict over the documented options."""
     units = draw(st.sampled_from(["mm", "in"]))
     u = 1.0 if units == "mm" else 1 / 25.4
-    lift = draw(st.floats(5.0, 25.0)) * u
-    kind = draw(st.sampled_from(["roller", "knife"]))
+    motion = draw(st.sampled_from(["translating", "translating", "oscillating"]))
+    kind = draw(st.sampled_from(["roller", "knife", "flat"]))
+    lift_len = draw(st.floats(5.0, 25.0)) * u
     roller = draw(st.floats(2.0, 10.0)) * u if kind == "roller" else 0.0
     tight = borderline and draw(st.integers(0, 9)) == 0
-    base = (roller + lift) * (draw(st.floats(0.9, 1.4)) if tight else draw(st.floats(2.0, 4.0)))
+    base = (roller + lift_len) * (draw(st.floats(0.9, 1.4)) if tight else draw(st.floats(2.0, 4.0)))
     base = max(base, roller + 1.0 * u)
-    offset = draw(st.sampled_from([0.0, 0.15, -0.15])) * base
     bore = draw(st.sampled_from([0.0, 0.2])) * (base - roller)
+    follower: dict[str, Any] = {"kind": kind, **({"roller_radius": roller} if kind == "roller" else {})}
+    if motion == "translating":
+        lift = lift_len
+        follower["offset"] = draw(st.sampled_from([0.0, 0.15, -0.15])) * base
+    else:
+        # an arm that reaches the prime circle, turning through arm degrees well below ψ₀ (β₀)
+        d = base * draw(st.floats(1.3, 2.2))
+        follower.update(motion="oscillating", pivot_distance=d)
+        if kind == "flat":
+            f = draw(st.sampled_from([0.0, 0.1, -0.1])) * base
+            follower["face_offset"] = f
+            if draw(st.booleans()):
+                follower["arm_length"] = d * draw(st.floats(0.5, 0.9))
+        else:
+            follower["arm_length"] = d * draw(st.floats(0.45, 0.9))
+        lift = draw(st.floats(4.0, 18.0))
     spec: dict[str, Any] = {
         "units": units,
         "cam": {"base_radius": base, "thickness": draw(st.floats(3.0, 20.0)) * u, "bore_diameter": bore,
                 "direction": draw(st.sampled_from(["ccw", "cw"])), "speed_rpm": draw(st.sampled_from([30.0, 60.0, 300.0]))},
-        "follower": {"kind": kind, "offset": offset, **({"roller_radius": roller} if kind == "roller" else {})},
+        "follower": follower,
         "motion": draw(motion_programs(lift)),
     }
     if draw(st.booleans()):
-        spec["follower"].update(mass=draw(st.floats(0.05, 2.0)) * (1.0 if units == "mm" else 0.0057),
-                                preload=draw(st.floats(5.0, 50.0)) * (1.0 if units == "mm" else 0.2248),
-                                spring_rate=draw(st.floats(0.0, 2.0)) * (1.0 if units == "mm" else 5.71))
+        if motion == "translating":
+            spec["follower"].update(mass=draw(st.floats(0.05, 2.0)) * (1.0 if units == "mm" else 0.0057),
+                                    preload=draw(st.floats(5.0, 50.0)) * (1.0 if units == "mm" else 0.2248),
+                                    spring_rate=draw(st.floats(0.0, 2.0)) * (1.0 if units == "mm" else 5.71))
+        else:   # kg·mm², N·mm, N·mm/rad (lbf·in·s², lbf·in, lbf·in/rad)
+            spec["follower"].update(
+                arm_inertia=draw(st.floats(100.0, 5000.0)) * (1.0 if units == "mm" else 8.85e-6),
+                preload_torque=draw(st.floats(200.0, 2000.0)) * (1.0 if units == "mm" else 8.85e-3),
+                spring_torque_rate=draw(st.floats(0.0, 2000.0)) * (1.0 if units == "mm" else 8.85e-3))
+    if kind == "flat" and draw(st.booleans()):
+        spec["follower"]["face_width"] = base * draw(st.floats(0.3, 2.0))
     rep = draw(st.sampled_from(["ph", "bspline"]))
     junctions = draw(st.sampled_from(["segments", "tolerance", "per_segment"]))
     if rep == "bspline" and junctions == "per_segment":
@@ -74,7 +98,8 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
     if junctions == "segments":
         spec["pitch"] = {"representation": rep, "segments": draw(st.integers(24, 120))}
     elif junctions == "tolerance":
-        spec["pitch"] = {"representation": rep, "tolerance": draw(st.sampled_from([2e-3, 5e-4])) * u}
+        spec["pitch"] = {"representation": rep,
+                         "tolerance": draw(st.sampled_from([2e-3, 5e-4])) * (1.0 if motion == "oscillating" else u)}
     else:
         spec["pitch"] = {"representation": rep}
         for seg in spec["motion"]:
@@ -82,8 +107,10 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
     spec["machining"] = {"program": draw(st.sampled_from(["xy", "xc"])),
                          "contour": draw(st.sampled_from(["arcs", "lines"])),
                          "milling": draw(st.sampled_from(["climb", "conventional"])),
-                         "rotary_line": draw(st.sampled_from(["follower", "axis"])),
                          "passes": draw(st.integers(1, 3))}
+    line = draw(st.sampled_from(["follower", "axis", None]))
+    if line is not None and not (line == "follower" and motion == "oscillating"):
+        spec["machining"]["rotary_line"] = line
     if draw(st.booleans()):
         spec["machining"]["tool_radius"] = (roller or 3.0 * u) * draw(st.sampled_from([0.6, 1.0, 1.5]))
     if spec["machining"]["program"] == "xc":

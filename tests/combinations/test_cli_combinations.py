@@ -56,7 +56,9 @@ def test_cli_commands_agree(tmp_path_factory, d, extra):
     for key in ("pitch", "pressure_angle", "curvature", "profile", "checks", "areas"):
         assert checked[key] == built[key], key
     html = (tmp / "build" / "report.html").read_text()
+    # the checks' verdict says what report.json says (and nothing else on the page says "verdict pass")
     assert ("verdict pass" in html) == built["checks"]["passed"]
+    assert ("verdict fail" in html) == (not built["checks"]["passed"])
     if extra.startswith("gcode"):
         mode = extra.split("_")[1]
         g = cli("gcode", str(tmp / "cam.toml"), "--mode", mode, "-o", str(tmp / f"p.{mode}"))

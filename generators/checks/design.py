@@ -1,7 +1,10 @@
-"""Design checks of a translating roller (or knife) follower cam (thesis Ch. 3, §5.3).
+"""Design checks of a cam and its follower (thesis Ch. 3, §5.3), for every follower kind.
 
 Everything is evaluated on the design intent — the motion program s(θ) and the follower
-geometry — vectorised over sample angles:
+(:mod:`generators.followers`) — vectorised over sample angles.  The formulas below are the
+translating follower's (the thesis'); the follower interface gives each kind's own (the
+oscillating arm's pressure angle against the velocity perpendicular to the arm, its force from
+the torque about the pivot, a flat face's φ and ρ):
 
 =================  ==========================================================  ============
 check              quantity                                                    passes when
@@ -13,16 +16,16 @@ contact_stress     S² = F(1/r_f + 1/ρ_c)/(π t Δ), Δ = Σ(1 − ν²)/E  (Eq
 curvature          convex pitch radius ρ (Eq. 3.7) ≥ factor · r_f  (Eq. 5.7)   min ≥ limit
 undercut           convex profile radius ρ − r_f > 0 and the roller envelope    min > 0
                    does not cross itself
+cusp (flat)        profile radius ρ = R_b + s + s″ (oscillating: h + h_γγ)      min > 0
+face_width (flat)  face width the contact needs, centred on stem / arm_length  ≤ face_width
 =================  ==========================================================  ============
 
 ρ_c = ρ − r_f is the cam surface's signed radius of curvature (+ convex, − concave), so the
 same Eq. 3.6 covers convex and concave contact (the thesis put the pitch radius ρ there;
-:func:`hertz_stress` takes whichever radius it is given).
+:func:`hertz_stress` takes whichever radius it is given; a flat face is a cylinder on a plane).
 
-Units are the spec's: lengths mm or in, force N or lbf, mass kg or lbf·s²/in, stress MPa
-or psi.  M_f·s″ω² is kg·mm/s² = 10⁻³ N in a mm spec and lbf·s²/in · in/s² = lbf in an
-inch spec (the thesis' convention), so a mm spec and its inch equivalent give the same
-physical forces and stresses.
+Units are the spec's (:mod:`generators.followers.load`); an oscillating follower's lifts and
+reduced kinematics are in degrees of arm rotation.
 
 For an optimiser, :func:`constraint_arrays` gives every constraint as a normalised array
 g ≤ 0 over all sample points (thesis Eq. 5.2–5.13 in a smooth form).
@@ -34,15 +37,14 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .follower import FollowerGeometry
-from .motion import Kinematics, MotionProgram
-from .spec import CamSpec
+from ..followers import Follower, follower_of
+from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
+from ..motion.program import Kinematics, MotionProgram
+from ..spec.model import CamSpec
 
 TWO_PI = 2.0 * np.pi
 THESIS_NODES = 71
 
-#: Newtons per (mass unit × length unit / s²): kg·mm/s² = 1e-3 N; lbf·s²/in · in/s² = 1 lbf.
-MASS_FORCE_FACTOR = {"mm": 1e-3, "in": 1.0}
 UNIT_LABELS = {
     "mm": {"length": "mm", "force": "N", "stress": "MPa", "reduced_velocity": "mm/rad",
            "reduced_acceleration": "mm/rad²", "reduced_jerk": "mm/rad³"},
@@ -89,25 +91,6 @@ def check_samples(program: MotionProgram, sampling: str = "dense", samples: int 
 
 
 # ---- the physics, vectorised ------------------------------------------------------------
-def hertz_stress(force: np.ndarray, roller_radius: float, cam_radius: np.ndarray, length: float,
-                 e_cam: float, nu_cam: float, e_roller: float, nu_roller: float) -> np.ndarray:
-    """Largest Hertz contact pressure of two parallel cylinders (thesis Eq. 3.6):
-
-        S² = F (r_c + r_f) / (π t r_f r_c Δ) = F (1/r_f + 1/r_c) / (π t Δ),
-        Δ = (1 − ν_c²)/E_c + (1 − ν_f²)/E_f,
-
-    with r_c signed (+ convex cam surface, − concave: the roller sits in a hollow of radius
-    |r_c| > r_f) and r_c = ±inf for a flat.  Where F ≤ 0 (no contact) the stress is 0; where
-    1/r_f + 1/r_c ≤ 0 (the roller is larger than a concave hollow: undercut) it is inf."""
-    force = np.asarray(force, dtype=float)
-    with np.errstate(divide="ignore"):
-        k_rel = 1.0 / roller_radius + 1.0 / np.asarray(cam_radius, dtype=float)
-    delta = (1 - nu_cam**2) / e_cam + (1 - nu_roller**2) / e_roller
-    with np.errstate(invalid="ignore"):
-        s2 = np.maximum(force, 0.0) * k_rel / (np.pi * length * delta)
-        return np.where(k_rel > 0, np.sqrt(np.maximum(s2, 0.0)), np.inf)
-
-
 @dataclass(frozen=True)
 class CamState:
     """Every checked quantity at a set of cam angles (arrays of equal length)."""
@@ -124,41 +107,40 @@ class CamState:
 
 
 class StateModel:
-    """The spec's numbers the checks need, and :meth:`state` that evaluates them at any θ."""
+    """The spec's numbers the checks need, and :meth:`state` that evaluates them at any θ
+    through the follower's interface (:class:`generators.followers.base.Follower`)."""
 
     def __init__(self, spec: CamSpec, program: MotionProgram | None = None):
         self.spec = spec
         self.program = program or MotionProgram.from_spec(spec)
-        self.geometry = FollowerGeometry.from_spec(spec)
+        self.follower: Follower = follower_of(spec)
         self.omega = spec.cam.speed_rpm * TWO_PI / 60.0
         fol = spec.follower
-        self.mass_force = fol.mass * MASS_FORCE_FACTOR[spec.units]
-        self.contact_length = min(spec.cam.thickness, fol.roller_width or spec.cam.thickness)
+        width = fol.roller_width if spec.is_roller else None
+        self.contact_length = min(spec.cam.thickness, width or spec.cam.thickness)
         mat = spec.material
         self.moduli = (mat.modulus("cam", spec.units), mat.cam_poisson,
                        mat.modulus("follower", spec.units), mat.follower_poisson)
         self.direction = np.sign(self.program.lifts)
 
     @property
+    def geometry(self) -> Follower:
+        """The follower (the name before the follower interface)."""
+        return self.follower
+
+    @property
     def has_load(self) -> bool:
-        f = self.spec.follower
-        return f.preload > 0 or f.mass > 0 or f.spring_rate > 0
+        return self.follower.has_load
 
     def state(self, theta: np.ndarray, segment: np.ndarray | None = None) -> CamState:
         theta = np.asarray(theta, dtype=float)
         seg = self.program.segment_of(theta) if segment is None else np.asarray(segment)
         k = self.program.evaluate(theta, seg)
-        geo = self.geometry
-        fol = self.spec.follower
-        phi = geo.pressure_angle(k)
-        force = (fol.preload + fol.spring_rate * k.s + self.mass_force * k.d2s * self.omega**2) / np.cos(phi)
-        rho = geo.pitch_radius_of_curvature(k)
-        rr = self.spec.roller_radius
-        prof = rho - rr
-        if self.spec.is_roller:
-            stress = hertz_stress(force, rr, prof, self.contact_length, *self.moduli)
-        else:
-            stress = np.full(theta.shape, np.nan)
+        fol = self.follower
+        phi, rho = fol.kinematic_state(k)
+        force = fol.contact_force(k, self.omega, phi)
+        prof = rho - fol.profile_offset
+        stress = fol.contact_stress(force, k, self.contact_length, self.moduli, rho)
         return CamState(theta, seg, k, phi, force, rho, prof, stress, k.ds * self.direction[seg])
 
 
@@ -287,7 +269,8 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
     cs = check_samples(model.program, sampling, samples)
     st = model.state(cs.theta, cs.segment)
     u = spec.units
-    lab = UNIT_LABELS[u]
+    fol = model.follower
+    lab = unit_labels(u, fol.lift_unit)
     results: list[CheckResult] = []
     moving = np.array([model.program.laws[s] is not None for s in st.segment])
 
@@ -308,10 +291,12 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
             "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
             fmin, _deg(t), cfg.min_force, lab["force"], "pass" if fmin > cfg.min_force else "fail"))
     else:
+        loads = ("preload_torque, arm_inertia and spring_torque_rate" if fol.motion == "oscillating"
+                 else "preload, mass and spring_rate")
         results.append(CheckResult(
             "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
             None, None, cfg.min_force, lab["force"], "skipped",
-            "follower.preload, mass and spring_rate are all 0: no load to check"))
+            f"follower.{loads} are all 0: no load to check"))
 
     # oscillation (§3.3, Eq. 5.2/5.4): interior of every rise/return
     interior = moving & ~cs.is_end
@@ -324,7 +309,7 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
             "min", vmin, _deg(t), 0.0, lab["reduced_velocity"], "pass" if vmin >= -tol else "fail"))
 
     # contact stress (Eq. 3.6, 5.13)
-    if spec.is_roller and model.has_load:
+    if fol.contact != "knife" and model.has_load:
         v, t, _ = _extreme(st.stress, st, model, lambda s: s.stress, refine)
         lim = spec.material.allowable_stress
         status = "pass" if lim is None or v <= lim else "fail"
@@ -336,10 +321,23 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
         results.append(CheckResult(
             "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
             "max", None, None, spec.material.allowable_stress, lab["stress"], "skipped",
-            "knife-edge follower" if not spec.is_roller else "no follower load given"))
+            "knife-edge follower" if fol.contact == "knife" else "no follower load given"))
 
-    # curvature with the safety factor (Eq. 3.7, 5.7) and the true undercut
-    rr = spec.roller_radius
+    if fol.design_curve == "profile":
+        results.extend(_flat_face_checks(model, st, refine, cfg, lab))
+    else:
+        results.extend(_pitch_curvature_checks(spec, model, st, cs, refine, cfg, lab))
+    extremes = _extremes(st, model, refine, lab)
+    return DesignChecks(tuple(results), extremes, sampling, samples if sampling == "dense" else THESIS_NODES,
+                        u, st)
+
+
+def _pitch_curvature_checks(spec: CamSpec, model: StateModel, st: CamState, cs: CheckSamples, refine: bool,
+                            cfg: Any, lab: dict[str, str]) -> list[CheckResult]:
+    """Knife edge and roller: the curvature with the safety factor (Eq. 3.7, 5.7), the convexity
+    option and the true undercut of the roller envelope."""
+    results: list[CheckResult] = []
+    rr = model.follower.profile_offset
     convex = st.pitch_radius > 0
     v, t, _ = _extreme(-np.where(convex, st.pitch_radius, np.inf), st, model,
                     lambda s: -np.where(s.pitch_radius > 0, s.pitch_radius, np.inf), refine)
@@ -363,10 +361,70 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
             "undercut", "smallest convex cam-surface radius of curvature ρ − r_f (the roller envelope)",
             "min", _finite(rho_min - rr), _deg(t) if crossing is None else crossing, 0.0,
             lab["length"], "pass" if ok else "fail", note))
+    return results
 
-    extremes = _extremes(st, model, refine, lab)
-    return DesignChecks(tuple(results), extremes, sampling, samples if sampling == "dense" else THESIS_NODES,
-                        u, st)
+
+def _flat_face_checks(model: StateModel, st: CamState, refine: bool, cfg: Any, lab: dict[str, str]
+                      ) -> list[CheckResult]:
+    """Flat face: no cusp (the profile's radius of curvature ρ = R_b + s + s″ for the translating
+    face, h + h_γγ for the oscillating one, must stay > 0), the convexity option, and the face width
+    the contact needs against ``follower.face_width``."""
+    fol = model.follower
+    results: list[CheckResult] = []
+    v, t, _ = _extreme(-st.pitch_radius, st, model, lambda s: -s.pitch_radius, refine)
+    rho_min = -v
+    formula = "R_b + s + s″" if fol.motion == "translating" else "h + h_γγ"
+    results.append(CheckResult(
+        "cusp", f"smallest radius of curvature of the profile ρ = {formula} (a flat face needs ρ > 0)",
+        "min", _finite(rho_min), _deg(t), 0.0, lab["length"], "pass" if rho_min > 0 else "fail",
+        "" if rho_min > 0 else "the face's envelope has a cusp: a larger base radius or a gentler motion"))
+    if model.spec.checks.convex:
+        v, t, _ = _extreme(-1.0 / st.pitch_radius, st, model, lambda s: -1.0 / s.pitch_radius, refine)
+        results.append(CheckResult(
+            "convexity", "smallest profile curvature κ = 1/ρ (checks.convex)", "min", -v, _deg(t), 0.0,
+            "1/" + lab["length"], "pass" if -v >= 0 else "fail"))
+    width, lo, hi, at = face_width_needed(model, st)
+    limit = model.spec.follower.face_width
+    centre = fol.face_centre
+    note = (f"contact from {lo:.4g} to {hi:.4g} along the face from the "
+            f"{'stem' if fol.motion == 'translating' else 'foot of the pivot'}")
+    if limit is None:
+        note += "; follower.face_width not given: not limited"
+    elif centre is None:
+        note += "; the face centred on the contact's travel (follower.arm_length not given)"
+    results.append(CheckResult(
+        "face_width", "width of face the contact needs (centred on the stem / on arm_length)", "max", width, at,
+        limit, lab["length"], "pass" if limit is None or width <= limit else "fail", note))
+    return results
+
+
+def face_width_needed(model: StateModel, st: CamState) -> tuple[float, float, float, float]:
+    """(width of a face centred on its reference that holds every contact, the contact's least
+    and largest position along the face, the cam angle [deg] of the farthest contact): the
+    positions over the check samples, refined at their extremes."""
+    fol = model.follower
+    pos = fol.face_position(st.kin)
+    centre = fol.face_centre
+    if centre is None:
+        centre = 0.5 * (float(np.min(pos)) + float(np.max(pos)))
+    v_hi, t_hi, _ = _extreme(pos, st, model, lambda s: fol.face_position(s.kin), refine=True)
+    v_lo, t_lo, _ = _extreme(-pos, st, model, lambda s: -fol.face_position(s.kin), refine=True)
+    lo, hi = -v_lo, v_hi
+    if hi - centre >= centre - lo:
+        return 2 * (hi - centre), lo, hi, _deg(t_hi)
+    return 2 * (centre - lo), lo, hi, _deg(t_lo)
+
+
+def unit_labels(units: str, lift_unit: str = "length") -> dict[str, str]:
+    """Unit labels of the checks: :data:`UNIT_LABELS` with the reduced kinematics in the lift's
+    unit (deg/rad, … for an oscillating follower's arm)."""
+    lab = dict(UNIT_LABELS[units])
+    if lift_unit == "angle":
+        lab.update(lift="deg", reduced_velocity="deg/rad", reduced_acceleration="deg/rad²",
+                   reduced_jerk="deg/rad³")
+    else:
+        lab["lift"] = lab["length"]
+    return lab
 
 
 def format_value(v: float | None, unit: str) -> str:
@@ -433,7 +491,7 @@ def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 20
     moved by r_f along the inward normal) crosses itself, or None.  A profile whose polar
     angle is monotonic cannot cross itself; otherwise every pair of edges of the sampled
     polygon is tested."""
-    from .geometry_checks import _segments_intersect
+    from .buildability import _segments_intersect
 
     prog = model.program
     th = np.concatenate([prog.starts[k] + prog.spans[k] * np.linspace(0, 1, per_segment if prog.laws[k] else 64,
@@ -450,13 +508,12 @@ def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 20
 def envelope_points(model: StateModel, theta: np.ndarray) -> np.ndarray:
     """Design-intent cam profile points (complex, cam frame): the pitch point P(θ) moved by
     the roller radius along the pitch curve's normal towards the cam."""
-    geo = model.geometry
+    fol = model.follower
     k = model.program.evaluate(theta)
-    p = geo.pitch_points(theta, k.s)
-    d = np.exp(-1j * geo.sense * theta) * (geo.sense * (geo.s0 + k.s) - 1j * geo.sense * geo.offset + 1j * k.ds)
+    p, d = fol.derivatives(theta, k, 1)
     # a ccw cam's pitch curve runs clockwise (the cam on its right), a cw cam's counter-clockwise
-    inward = -1j * geo.sense * d / np.abs(d)
-    return p + model.spec.roller_radius * inward
+    inward = -1j * fol.sense * d / np.abs(d)
+    return p + fol.profile_offset * inward
 
 
 # ---- constraint arrays for an optimiser ------------------------------------------------------
@@ -486,6 +543,8 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
     g["oscillation"] = np.where(moving, -st.travel_velocity / np.where(moving, seg_scale, 1.0), -1.0)  # Eq. 5.2, 5.4
     g["pressure_angle"] = (st.pressure_angle / np.deg2rad(cfg.max_pressure_angle)) ** 2 - 1.0  # Eq. 5.5
     kappa = 1.0 / st.pitch_radius
+    if model.follower.design_curve == "profile":
+        g["cusp"] = -st.pitch_radius / spec.cam.base_radius                       # a flat face: ρ > 0
     if rr > 0:
         g["curvature"] = kappa * cfg.undercut_factor * rr - 1.0                            # Eq. 5.7
         g["undercut"] = kappa * rr - 1.0
@@ -494,6 +553,6 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
     if model.has_load:
         scale = max(spec.follower.preload, 1e-12)
         g["separation"] = (cfg.min_force - st.force) / scale                               # Eq. 5.10
-        if spec.is_roller and spec.material.allowable_stress:
+        if model.follower.contact != "knife" and spec.material.allowable_stress:
             g["contact_stress"] = (st.stress / spec.material.allowable_stress) ** 2 - 1.0   # Eq. 5.13
     return ConstraintArrays(cs.theta, g)

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import SpecError
+from ..errors import SpecError
 
 #: Unit kinds.  The concrete unit of a kind depends on the spec's ``units``.
 UNIT_NAMES: dict[str, dict[str, str]] = {
@@ -26,6 +26,9 @@ UNIT_NAMES: dict[str, dict[str, str]] = {
     "feed": {"mm": "mm/min", "in": "in/min"},
     "spindle": {"mm": "rpm", "in": "rpm"},
     "density": {"mm": "kg/mm³", "in": "lb/in³"},
+    "torque": {"mm": "N·mm", "in": "lbf·in"},
+    "torsional_stiffness": {"mm": "N·mm/rad", "in": "lbf·in/rad"},
+    "inertia": {"mm": "kg·mm²", "in": "lbf·in·s²"},
     "": {"mm": "", "in": ""},
 }
 
@@ -34,7 +37,8 @@ UNIT_NAMES: dict[str, dict[str, str]] = {
 #: cam, small enough that the geometry, the solvers and the G-code stay finite and readable.
 MAX_MAGNITUDE: dict[str, float] = {
     "length": 1.0e5, "angle": 1.0e4, "speed": 1.0e5, "force": 1.0e9, "mass": 1.0e6, "stiffness": 1.0e9,
-    "stress": 1.0e12, "time": 1.0e3, "feed": 1.0e6, "spindle": 1.0e6, "density": 1.0e3, "": 1.0e9,
+    "stress": 1.0e12, "time": 1.0e3, "feed": 1.0e6, "spindle": 1.0e6, "density": 1.0e3, "torque": 1.0e12,
+    "torsional_stiffness": 1.0e12, "inertia": 1.0e12, "": 1.0e9,
 }
 #: Smallest magnitude of a strictly positive value (``gt=0``) of each unit kind: below it a
 #: G-code word or a geometric tolerance rounds to nothing.

@@ -14,6 +14,8 @@ with each other.
                           its measured error is ``profile.fitted_vs_kernel_offset``
 "bspline", knife edge     the fitted pitch B-spline itself (not exact: its distance from the
                           design-intent pitch curve is ``profile.max_error``)
+flat face (either)        the PH spline (or fitted B-spline) through the face's exact contact
+                          points: not the envelope itself; ``profile.max_error`` from it
 ========================  =================================================================
 
 In every case ``profile.max_error`` is the built profile's distance from the design-intent
@@ -65,19 +67,27 @@ def profile_claim(summary: Mapping[str, Any], is_roller: bool, units: str | None
     rep = summary.get("pitch", {}).get("representation", "ph")
     design_error = prof.get("max_error")
     words = _nurbs_words(prof)
+    if summary.get("follower", {}).get("design_curve") == "profile":
+        # a flat face: the profile is the curve through the face's exact contact points, not the
+        # envelope itself — its distance from the envelope is measured
+        curve = "PH quintic spline" if rep == "ph" else "periodic B-spline fitted"
+        text = (f"{curve} through the exact contact points of the face ({words}), max error "
+                f"{_g(design_error)} {u} from the true envelope")
+        return ProfileClaim(False, "ph_contact" if rep == "ph" else "bspline_contact", text, design_error,
+                            design_error)
     if rep == "ph":
         if is_roller:
             text = f"exact offset of the PH pitch curve ({words})"
             if prof.get("rational"):
                 text = "exact rational offset of the PH pitch curve " + f"({words})"
             return ProfileClaim(True, "ph_offset", text, None, design_error)
-        return ProfileClaim(True, "ph_pitch", f"the PH pitch curve itself, exact ({words})", None, design_error)
+        return ProfileClaim(True, "ph_pitch", f"PH pitch curve itself, exact ({words})", None, design_error)
     if is_roller:
         err = prof.get("fitted_vs_kernel_offset")
         text = (f"fitted offset B-spline ({words}), max error {_g(err)} {u} from the exact offset of the "
                 "fitted pitch B-spline")
         return ProfileClaim(False, "bspline_offset_fit", text, err, design_error)
-    text = (f"the fitted pitch B-spline itself ({words}), max error {_g(design_error)} {u} from the "
+    text = (f"fitted pitch B-spline itself ({words}), max error {_g(design_error)} {u} from the "
             "design pitch curve")
     return ProfileClaim(False, "bspline_pitch", text, design_error, design_error)
 
@@ -86,10 +96,12 @@ def pitch_text(summary: Mapping[str, Any]) -> str:
     """The pitch curve in words: "C² PH quintic spline, M = 60 segments" or "periodic B-spline
     (degree 5) fitted to the design pitch curve, 60 knot spans"."""
     p = summary["pitch"]
+    flat = summary.get("follower", {}).get("design_curve") == "profile"
     if p.get("representation", "ph") == "ph":
-        return f"C² PH quintic spline, M = {p['segments']} segments"
-    return (f"periodic B-spline (degree {p.get('degree')}) fitted to the design pitch curve, "
-            f"{p['segments']} knot spans")
+        return f"C² PH quintic spline, M = {p['segments']} segments" + (
+            " through the face's contact points" if flat else "")
+    return (f"periodic B-spline (degree {p.get('degree')}) fitted to the design "
+            f"{'contact curve' if flat else 'pitch curve'}, {p['segments']} knot spans")
 
 
 def checks_verdict(checks: Mapping[str, Any]) -> str:

@@ -256,7 +256,7 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
         start: the segment's start in the program [rad].
         span: the segment's span [rad].
     """
-    from .errors import SpecError
+    from ..errors import SpecError
 
     k = seg.order or DEFAULT_ORDER
     if seg.control_x is None:
@@ -314,7 +314,7 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     """θ(u) must increase: exact when every control θ increases (θ'(u) is then a positive
     combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
     control point of the non-increasing step nearest to its minimum is named."""
-    from .errors import SpecError
+    from ..errors import SpecError
 
     c = lift.theta_derivative_coefficients()
     if np.all(c > 0):

@@ -27,7 +27,7 @@ import numpy as np
 
 from . import bezier
 from .banded import solve_cyclic_tridiagonal
-from .errors import SolveError
+from ..errors import SolveError
 
 
 @dataclass(frozen=True)

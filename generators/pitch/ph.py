@@ -9,16 +9,17 @@ built curve (Eq. 13), sampled at least every 0.1° (default 0.02°, and at least
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
 
-from .errors import SpecError
-from .follower import FollowerGeometry
-from .follower_line import Contact, FollowerLineSolver
-from .motion import MotionProgram
-from .ph_spline import PHSpline, solve_closed_ph_spline
-from .spec import DEFAULT_SEGMENTS, CamSpec
+from ..errors import SpecError
+from ..followers import Follower, follower_of
+from .contact import Contact, FollowerLineSolver
+from ..motion.program import MotionProgram
+from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
+from ..spec.model import DEFAULT_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEFAULT_STEP_DEG = 0.02
@@ -42,12 +43,18 @@ def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PitchCurve:
-    """A solved PH pitch curve with everything needed to query it."""
+    """A solved PH design curve (the pitch curve of a knife edge or roller, the profile of a
+    flat face) with everything needed to query it."""
 
     spline: PHSpline
     angles: np.ndarray            # junction angles [rad]
     program: MotionProgram
-    geometry: FollowerGeometry
+    follower: Follower
+
+    @property
+    def geometry(self) -> Follower:
+        """The follower (the name before the follower interface)."""
+        return self.follower
 
     @property
     def M(self) -> int:
@@ -68,17 +75,31 @@ class PitchCurve:
         """Offsets of this curve are exact rational NURBS (PH: yes)."""
         return True
 
+    @cached_property
+    def solver_angles(self) -> np.ndarray:
+        """(M,) cam angles [rad] at which the follower touches the junction points, kept within
+        half a turn of the junction angles: the junction angles themselves for a knife edge or a
+        roller (the junction points lie on the follower's path); for a flat face the angles at
+        which the face meets the built curve's tangent there (the spline interpolates the contact
+        points, not their tangents, so these differ from :attr:`angles` by the curve's error)."""
+        m = self.M
+        q = self.spline.point(np.arange(m), np.zeros(m))
+        dq = self.spline.first_derivative(np.arange(m), np.zeros(m))
+        cross = self.follower.cam_angle_of(q, dq)
+        b = self.angles
+        return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
+
     def solver(self) -> FollowerLineSolver:
-        """Eq. 13 solver on :attr:`segments`."""
-        return FollowerLineSolver(self.spline, self.angles, self.geometry.offset, self.geometry.sense)
+        """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
+        return self.follower.contact_solver(self.spline, self.solver_angles)
 
     def contact(self, theta: np.ndarray) -> Contact:
         """Eq. 13 solution at cam angles θ [rad]."""
         return self.solver().solve(theta)
 
     def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
-        """s_actual(θ): displacement the built curve gives the follower."""
-        return self.contact(theta).Y - self.geometry.s0
+        """s_actual(θ): the lift the built curve gives the follower [spec lift units]."""
+        return self.contact(theta).lift
 
     def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
         """Number of equally spaced samples over 360°: every ``step_deg``, ≥ 8 per PH segment."""
@@ -99,25 +120,29 @@ class PitchCurve:
         k = int(np.argmax(np.abs(dev)))
         return float(abs(dev[k])), float(np.rad2deg(th[k]))
 
-    def cam_angle_of_point(self, pts: np.ndarray) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which a pitch point (complex, cam frame) is under the
-        follower: solve Re(e^{iδθ}p) = e with Im > 0 in closed form."""
-        g = self.geometry
-        r = np.abs(pts)
-        alpha = np.angle(pts)
-        target = np.arccos(np.clip(g.offset / r, -1.0, 1.0))
-        theta = g.sense * (target - alpha)
-        return np.mod(np.rad2deg(theta), 360.0)
+    def cam_angle_of_point(self, pts: np.ndarray, tangents: np.ndarray | None = None) -> np.ndarray:
+        """Cam angle [deg, 0..360) at which a point of the curve (complex, cam frame; with its
+        tangent in the direction of increasing θ for a flat face) touches the follower, in
+        closed form (:meth:`Follower.cam_angle_of`)."""
+        if tangents is None:
+            if self.follower.design_curve != "pitch":
+                raise ValueError("a flat face's contact angle needs the curve's tangent too")
+            tangents = np.ones_like(pts)
+        return np.mod(np.rad2deg(self.follower.cam_angle_of(pts, tangents)), 360.0)
+
+    def cam_angle_at(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """Cam angle [deg, 0..360) at which the curve's point (segment, ξ) touches the follower."""
+        return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
 def build_pitch_for_segments(spec: CamSpec, segments: int | None = None) -> PitchCurve:
     """The PH pitch curve with a given uniform M (or the spec's junctions)."""
     angles = junction_angles(spec, segments)
     prog = MotionProgram.from_spec(spec)
-    geo = FollowerGeometry.from_spec(spec)
-    q = geo.pitch_points(angles, prog.s(angles))
+    fol = follower_of(spec)
+    q = fol.points(angles, prog.evaluate(angles))
     spline = solve_closed_ph_spline(q)
-    return PitchCurve(spline, angles, prog, geo)
+    return PitchCurve(spline, angles, prog, fol)
 
 
 def segments_for_tolerance(

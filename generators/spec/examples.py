@@ -8,6 +8,11 @@
 * ``paper`` — Jahanpour & Dolatabadi (2014), Table 1 case 2: e = 10 mm, R_b = √(20² + 10²),
   M = 60, with a 5 mm roller, 10 mm thick, 10 mm bore.  Its return has a 46.2° pressure angle:
   it fails the default 30° limit (as designed in the paper, which checks no pressure angle).
+* ``oscillating`` — the default's motion program as arm rotation (15° rise and return) of an
+  oscillating 8 mm roller on a 45 mm arm pivoted 60 mm from the cam axis, held by a 800 N·mm
+  preload torque and a 500 N·mm/rad spring, arm inertia 2000 kg·mm²; it passes every check.
+* ``flat`` — the default's motion program with a translating flat-faced follower (face 40 mm
+  wide), the valve-train follower; it passes every check (its smallest ρ = R_b + s + s″ is 29.3 mm).
 """
 from __future__ import annotations
 
@@ -15,8 +20,8 @@ import copy
 import math
 from typing import Any
 
-from .errors import SpecError
-from .spec import DEFAULT_SPEC_DICT, CamSpec
+from ..errors import SpecError
+from .model import DEFAULT_SPEC_DICT, CamSpec
 
 PAPER_SPEC_DICT: dict[str, Any] = {
     "units": "mm",
@@ -27,7 +32,24 @@ PAPER_SPEC_DICT: dict[str, Any] = {
     "pitch": {"representation": "ph", "segments": 60},
 }
 
-EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT}
+def _with_follower(follower: dict[str, Any], lift: float | None = None) -> dict[str, Any]:
+    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d["follower"] = follower
+    if lift is not None:
+        for seg in d["motion"]:
+            if "lift" in seg:
+                seg["lift"] = lift
+    return d
+
+
+OSCILLATING_SPEC_DICT: dict[str, Any] = _with_follower(
+    {"kind": "roller", "motion": "oscillating", "pivot_distance": 60.0, "arm_length": 45.0, "roller_radius": 8.0,
+     "arm_inertia": 2000.0, "preload_torque": 800.0, "spring_torque_rate": 500.0}, lift=15.0)
+FLAT_SPEC_DICT: dict[str, Any] = _with_follower(
+    {"kind": "flat", "face_width": 40.0, "mass": 0.5, "preload": 20.0, "spring_rate": 1.0})
+
+EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
+                                       "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT}
 
 
 def example_dict(name: str) -> dict[str, Any]:

@@ -28,9 +28,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import SolveError
-from .follower_line import Contact, FollowerLineSolver
-from .pitch import PitchCurve
+from ..errors import SolveError
+from ..pitch.contact import Contact, FollowerLineSolver
+from ..pitch.ph import PitchCurve
 
 TWO_PI = 2.0 * np.pi
 #: Finite-difference schemes for the actual kinematics (see :func:`finite_differences`).
@@ -120,27 +120,34 @@ class RotationalInterpolator:
         self.solver: FollowerLineSolver = pitch.solver()
         # the pitch curve as Bézier segments and the cam angles that bound them (PH: the
         # spline and its junction angles; B-spline: its knot spans in Bézier form)
-        sp, geo = self.solver.spline, pitch.geometry
+        fol = pitch.follower
         ang = self.solver.angles
         self._h = np.diff(ang)                                   # junction spacing [rad]
-        # dξ/dθ at both ends of every segment, from differentiating Eq. 13:
-        #   Re(e^{iδθ}r') ξ' − δ·Im(e^{iδθ}r) = 0   →   ξ' = δ·Y / Re(e^{iδθ}r').
-        m = sp.M
+        # dξ/dθ at both ends of every segment, from differentiating the contact condition
+        # g(ξ, θ) = 0 (Eq. 13 for a translating follower: ξ' = δ·Y / Re(e^{iδθ}r')):
+        #   g_ξ ξ' + g_θ = 0   →   ξ' = −g_θ / g_ξ.
+        m = self.solver.spline.M
         seg = np.arange(m)
-        rot0 = np.exp(1j * geo.sense * ang[:-1])
-        rot1 = np.exp(1j * geo.sense * ang[1:])
-        q0 = sp.point(seg, np.zeros(m))
-        q1 = sp.point(seg, np.ones(m))
-        d0 = (rot0 * sp.first_derivative(seg, np.zeros(m))).real
-        d1 = (rot1 * sp.first_derivative(seg, np.ones(m))).real
-        if np.any(d0 == 0) or np.any(d1 == 0):
-            k = int(np.argmax((d0 == 0) | (d1 == 0)))
-            raise SolveError(f"the pitch curve is tangent to the follower line at junction {k} "
-                             f"(cam angle {np.rad2deg(ang[k]):.4f}°): Eq. 13 has no simple root there")
-        self._m0 = geo.sense * (rot0 * q0).imag / d0 * self._h    # dξ/du at u = 0 (u = (θ−θ_i)/h_i)
-        self._m1 = geo.sense * (rot1 * q1).imag / d1 * self._h    # dξ/du at u = 1
-        # junction coordinates at both ends of every segment, for the bracket check
-        self._ends = np.stack([q0.real, q0.imag, q1.real, q1.imag])
+        slopes = []
+        for x, a in ((0.0, ang[:-1]), (1.0, ang[1:])):
+            q, dq, d2q = self._at(seg, np.full(m, x), a)
+            _, g_xi, g_th = fol.contact_residual(q, dq, d2q)
+            if np.any(g_xi == 0):
+                k = int(np.argmax(g_xi == 0))
+                raise SolveError(f"the follower touches the pitch curve tangentially at junction {k} "
+                                 f"(cam angle {np.rad2deg(ang[k]):.4f}°): Eq. 13 has no simple root there")
+            slopes.append(-g_th / g_xi * self._h)                # dξ/du (u = (θ−θ_i)/h_i)
+        self._m0, self._m1 = slopes
+
+    def _at(self, seg: np.ndarray, xi: np.ndarray, theta: np.ndarray):
+        """q, q′, q″ of the chain at (seg, ξ), turned into the fixed frame at θ."""
+        from ..pitch.contact import horner
+
+        s = self.solver
+        rot = np.exp(1j * s.sense * theta)
+        d2 = s._dpc[:, 1:] * np.arange(1, s._deg)
+        return (rot * horner(s._pc[seg], xi), rot * horner(s._dpc[seg], xi),
+                rot * horner(d2[seg], xi) if d2.shape[1] else np.zeros(seg.shape, complex))
 
     def initial_guess(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(segment, ξ) starting values: cubic Hermite interpolation of ξ(θ) between the
@@ -167,7 +174,8 @@ class RotationalInterpolator:
         seg = np.empty(n, dtype=np.intp)
         xi = np.empty(n)
         pts = np.empty(n, dtype=complex)
-        y = np.empty(n)
+        lift = np.empty(n)
+        y: np.ndarray | None = np.empty(n)
         iterations = 0
         for lo in range(0, n, CHUNK):
             th = theta[lo:lo + CHUNK]
@@ -177,20 +185,18 @@ class RotationalInterpolator:
             seg[lo:lo + CHUNK] = c.seg
             xi[lo:lo + CHUNK] = c.xi
             pts[lo:lo + CHUNK] = c.point
-            y[lo:lo + CHUNK] = c.Y
+            lift[lo:lo + CHUNK] = c.lift
+            if c.Y is None:
+                y = None
+            elif y is not None:
+                y[lo:lo + CHUNK] = c.Y
             iterations = max(iterations, c.iterations)
-        return Contact(seg=seg, xi=xi, point=pts, Y=y, iterations=iterations)
+        return Contact(seg=seg, xi=xi, point=pts, Y=y, iterations=iterations, lift=lift)
 
     def _check_bracketed(self, theta: np.ndarray, seg: np.ndarray) -> None:
         """Eq. 13's residual must change sign over the segment (its ends are junctions):
-        Re(e^{iδθ}q) − e = x cos θ − δ y sin θ − e at both ends."""
-        geo = self.pitch.geometry
-        c, s = np.cos(theta), geo.sense * np.sin(theta)
-        x0, y0, x1, y1 = self._ends[:, seg]
-        e = geo.offset
-        g0 = x0 * c - y0 * s - e
-        g1 = x1 * c - y1 * s - e
-        scale = 1e-12 * (np.abs(x0) + np.abs(y0) + abs(e))
+        Re(e^{iδθ}q) − e at both ends for a translating follower, the kind's own residual else."""
+        g0, g1, scale = self.solver.residual_ends(theta, seg)
         bad = (g0 * g1 > 0) & (np.abs(g0) > scale) & (np.abs(g1) > scale)
         if bad.any():
             k = int(np.argmax(bad))
@@ -207,15 +213,14 @@ class RotationalInterpolator:
         k = np.arange(n)
         theta = k * (omega * sample_period)
         c = self.solve(theta)
-        s0 = self.pitch.geometry.s0
         return Commands(t=k * sample_period, theta=theta, seg=c.seg, xi=c.xi, point=c.point,
-                        s_actual=c.Y - s0, s_desired=self.pitch.program.s(theta),
+                        s_actual=c.lift, s_desired=self.pitch.program.s(theta),
                         sample_period=float(sample_period), speed_rpm=float(speed_rpm), omega=float(omega),
                         sense=self.pitch.geometry.sense, iterations=c.iterations)
 
     def displacement(self, theta: np.ndarray) -> np.ndarray:
         """s_actual at any cam angles [rad]."""
-        return self.solve(theta).Y - self.pitch.geometry.s0
+        return self.solve(theta).lift
 
 
 # ---- kinematics of the commanded motion --------------------------------------------

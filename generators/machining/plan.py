@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cam_design import CamDesign
-from .errors import GeometryError
+from ..cam_design import CamDesign
+from ..errors import GeometryError
 
 _UNIT_DEFAULTS = {
     "mm": {"feed_rate": 300.0, "safe_height": 5.0, "chord_tolerance": 0.005},
@@ -128,7 +128,7 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
         contour=mc.contour,
         lead_radius=float(mc.lead_radius if mc.lead_radius is not None else tool),
         milling=mc.milling,
-        rotary_line=mc.rotary_line,
+        rotary_line=mc.rotary_line or ("follower" if spec.follower.motion == "translating" else "axis"),
         work_offset=mc.work_offset,
         line_numbers=mc.line_numbers,
         coolant=mc.coolant,

@@ -35,16 +35,16 @@ from typing import Any
 
 import numpy as np
 
-from .approx import Path2D, fit_biarcs, flatten, max_distance, polyline_curve_distance, polyline_path
-from .cam_design import CamDesign, profile_offset_distance
-from .errors import GeometryError, SolveError, SpecError
-from .follower_line import horner, power_coeffs
+from ..curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_curve_distance, polyline_path
+from ..cam_design import CamDesign, profile_offset_distance
+from ..errors import GeometryError, SolveError, SpecError
+from ..pitch.contact import horner, power_coeffs
 from .interpolator import Commands, RotationalInterpolator
-from .machining import MachiningPlan
-from .nurbs import NurbsCurve
-from .offsets import offset_nurbs
-from .ph_spline import PHSpline
-from .pitch import PitchCurve
+from .plan import MachiningPlan
+from ..curves.nurbs import NurbsCurve
+from ..curves.offsets import offset_nurbs
+from ..curves.ph_spline import PHSpline
+from ..pitch.ph import PitchCurve
 
 TWO_PI = 2.0 * np.pi
 #: Fit the contour to this fraction of the chord tolerance; of the rest, BLEND_SHARE goes to
@@ -78,7 +78,7 @@ def tool_centre_curve(design: CamDesign, plan: MachiningPlan) -> NurbsCurve:
 
 
 def _fitted_tool_centre(design: CamDesign, distance: float) -> Any:
-    from .pitch_bspline import fit_offset
+    from ..pitch.bspline import fit_offset
 
     pitch = design.pitch
     return fit_offset(pitch.curve, pitch.geometry.sense * distance, refine=OFFSET_REFINE)
@@ -91,7 +91,7 @@ def tool_centre_fit_error(design: CamDesign, plan: MachiningPlan) -> float:
     d = plan.centre_offset
     if d == 0.0 or design.pitch.exact_offsets:
         return 0.0
-    from .pitch_bspline import distance_to_offset
+    from ..pitch.bspline import distance_to_offset
 
     fit = _fitted_tool_centre(design, d)
     u = np.linspace(0.0, TWO_PI, 64 * fit.n_spans, endpoint=False)
@@ -364,13 +364,12 @@ class OffsetLineSolver:
 def _fitted_line_positions(design: CamDesign, distance: float, line: float, theta: np.ndarray) -> np.ndarray:
     """B-spline pitch curve: position along the tool's line x = ``line`` where it meets the
     fitted tool-centre B-spline at cam angles θ (Eq. 13 on that curve)."""
-    import dataclasses
-
-    from .pitch_bspline import BSplinePitchCurve
+    from ..followers.translating import TranslatingFollower
+    from ..pitch.bspline import BSplinePitchCurve
 
     pitch = design.pitch
-    geo = dataclasses.replace(pitch.geometry, offset=line)
-    centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, geo)
+    machine_line = TranslatingFollower(line, 0.0, pitch.follower.sense, 0.0)   # the tool's line x = line
+    centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, machine_line)
     ang = np.append(centre.solver_angles, centre.solver_angles[0] + TWO_PI)
     if np.any(np.diff(ang) <= 0) or np.any(np.abs(centre.segments.ctrl[:, 0]) <= abs(line)):
         k = int(np.argmax(np.diff(ang) <= 0))
@@ -452,16 +451,19 @@ def rotary_path(design: CamDesign, plan: MachiningPlan, commands: Commands | Non
         GeometryError: the tool's line does not meet the tool-centre path once per turn.
     """
     pitch = design.pitch
-    geo = pitch.geometry
+    geo = pitch.follower
     cmds = commands
     if cmds is None or cmds.sample_period != plan.sample_period or cmds.speed_rpm != plan.rotary_speed_rpm:
         cmds = RotationalInterpolator(pitch).commands(plan.rotary_speed_rpm, plan.sample_period)
     omega = cmds.omega
     line = geo.offset if plan.rotary_line == "follower" else 0.0
     theta = np.append(cmds.theta, TWO_PI)
-    from_commands = plan.rotary_line == "follower" and plan.centre_offset == 0.0
+    # the tool centre is the roller centre on the follower's own line: X straight from the commands
+    from_commands = (plan.rotary_line == "follower" and plan.centre_offset == 0.0
+                     and geo.design_curve == "pitch")
     if from_commands:
-        x = np.append(cmds.s_actual, cmds.s_actual[0]) + geo.s0
+        y = (np.exp(1j * geo.sense * cmds.theta) * cmds.point).imag      # s₀ + s_actual (Eq. 15)
+        x = np.append(y, y[0])
     elif pitch.exact_offsets:
         solver = OffsetLineSolver(pitch.spline, outward_distance(pitch, plan.centre_offset), line, geo.sense)
         x = solver.solve(theta)[3]

@@ -13,7 +13,7 @@ import numpy as np
 
 from .bspline_law import BSplineLift, lift_from_segment
 from .laws import evaluate_law
-from .spec import CamSpec, MotionSegment
+from ..spec.model import CamSpec, MotionSegment
 
 TWO_PI = 2.0 * np.pi
 

@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GeometryError
-from .nurbs import NurbsCurve
-from .pitch import PitchCurve
+from ..errors import GeometryError
+from ..curves.nurbs import NurbsCurve
+from ..pitch.ph import PitchCurve
 
 SAMPLES_PER_SEGMENT = 64
 
@@ -39,7 +39,7 @@ def pitch_curvature_samples(pitch: PitchCurve, per_segment: int = SAMPLES_PER_SE
     with np.errstate(divide="ignore"):
         radius = -pitch.geometry.sense / kappa
     pts = pitch.spline.point(seg, xi)
-    return CurvatureSamples(seg, xi, pts, radius, pitch.cam_angle_of_point(pts))
+    return CurvatureSamples(seg, xi, pts, radius, pitch.cam_angle_at(seg, xi))
 
 
 def check_undercut(pitch: PitchCurve, roller_radius: float, samples: CurvatureSamples | None = None) -> None:
@@ -112,7 +112,7 @@ def check_self_intersection(profile: NurbsCurve, pitch: PitchCurve, per_span: in
         return
     uu = u[hit[0]]
     seg = np.array([min(int(uu), pitch.M - 1)])
-    ang = float(pitch.cam_angle_of_point(pitch.spline.point(seg, np.array([uu - seg[0]])))[0])
+    ang = float(pitch.cam_angle_at(seg, np.array([uu - seg[0]]))[0])
     raise GeometryError(
         "self_intersection",
         f"the cam profile crosses itself near cam angle {ang:.2f}° "
@@ -152,7 +152,7 @@ def check_bore(profile: NurbsCurve, pitch: PitchCurve, bore_diameter: float) -> 
     rmin, u = min_radius(profile)
     if bore_diameter > 0 and bore_diameter / 2 >= rmin:
         seg = np.array([min(int(u), pitch.M - 1)])
-        ang = float(pitch.cam_angle_of_point(pitch.spline.point(seg, np.array([u - seg[0]])))[0])
+        ang = float(pitch.cam_angle_at(seg, np.array([u - seg[0]]))[0])
         raise GeometryError(
             "bore",
             f"the bore (radius {bore_diameter / 2:g}) cuts the profile at cam angle {ang:.2f}°, "

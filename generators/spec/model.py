@@ -2,7 +2,7 @@
 
 The field names and rules are the contract of ``shared/CAM_SPEC.md``; the project's
 own reference is ``docs/spec.md``, generated from the declarations below by
-``python -m generators.spec_doc``.
+``python -m generators.spec.reference``.
 
 Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rpm.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from .errors import SpecError
+from ..errors import SpecError
 from .params import REQUIRED, Param, param, params_of
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
@@ -50,9 +50,13 @@ class CamSection:
 class FollowerSection:
     """`[follower]`: a translating follower whose line of motion is parallel to +Y at x = offset."""
 
-    kind: str = param("Follower contact: a roller or a knife edge", kind="str",
-                      choices=("roller", "knife"), group="Follower")
-    offset: float = param("Follower offset e (signed): its line of motion is x = e",
+    kind: str = param("Follower contact: a roller, a knife edge or a flat face", kind="str",
+                      choices=("roller", "knife", "flat"), group="Follower")
+    motion: str = param(
+        "How the follower moves: along a straight line (translating) or turning about a pivot on an arm "
+        "(oscillating; motion[].lift is then the arm's rotation in degrees)", kind="str",
+        choices=("translating", "oscillating"), default="translating", group="Follower")
+    offset: float = param("Follower offset e (signed, translating followers): its line of motion is x = e",
                           unit="length", default=0.0, group="Follower")
     roller_radius: float = param("Roller radius (roller followers; ignored for a knife edge)",
                                  unit="length", ge=0, default=0.0, group="Follower")
@@ -69,6 +73,30 @@ class FollowerSection:
     spring_rate: float = param(
         "Return-spring rate k: the load is P_L + k·s at lift s (0: constant load, as the thesis)",
         unit="stiffness", ge=0, default=0.0, group="Follower")
+    # ---- oscillating followers (CAM_SPEC.md "Follower motion and kinds") ----
+    pivot_distance: float | None = param(
+        "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame",
+        unit="length", gt=0, optional=True, group="Follower")
+    arm_length: float | None = param(
+        "Oscillating: arm length L from the pivot to the roller centre / knife tip; for a flat face the "
+        "position of the face's centre along it (default: the middle of the contact's travel)",
+        unit="length", gt=0, optional=True, group="Follower")
+    face_offset: float | None = param(
+        "Oscillating flat face: distance from the pivot to the face line, positive with the face between "
+        "the pivot and the cam (default 0: the face passes through the pivot)",
+        unit="length", optional=True, group="Follower")
+    face_width: float | None = param(
+        "Flat face: its width, centred on the stem (translating) or on arm_length (oscillating); "
+        "checked against the width the contact needs", unit="length", gt=0, optional=True, group="Follower")
+    arm_inertia: float = param(
+        "Oscillating: moment of inertia I of the arm and everything turning with it about the pivot",
+        unit="inertia", ge=0, default=0.0, group="Follower")
+    preload_torque: float = param(
+        "Oscillating: torque T_L pressing the arm onto the cam at zero lift (spring preload)",
+        unit="torque", ge=0, default=0.0, group="Follower")
+    spring_torque_rate: float = param(
+        "Oscillating: return-spring torque rate k_t: the torque is T_L + k_t·s at arm rotation s [rad]",
+        unit="torsional_stiffness", ge=0, default=0.0, group="Follower")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,7 +107,7 @@ class MotionSegment:
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
                          unit="angle", gt=0, group="Motion")
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
-                               unit="length", ge=0, optional=True, group="Motion")
+                               unit="length", gt=0, optional=True, group="Motion")
     law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
                             optional=True, group="Motion")
     junctions: int | None = param(
@@ -87,6 +115,15 @@ class MotionSegment:
         "as the paper's case 3); when any segment has it, all must",
         kind="int", ge=1, le=20000, optional=True, group="Motion",
     )
+    @staticmethod
+    def precheck(data: Mapping[str, Any], path: str) -> None:
+        """Before the fields' own rules: a dwell has no lift or law (a dwell's ``lift = 0``
+        is told to leave it out, not that it must be > 0)."""
+        if data.get("kind") == "dwell":
+            for name in ("lift", "law"):
+                if name in data:
+                    raise SpecError(f"{path}.{name}", "must be absent for a dwell")
+
     # ---- law = "bspline" (thesis §2.5–2.7) ----
     order: int | None = param(
         "B-spline order k (degree k − 1) of a law = \"bspline\" segment; the first and last k − 1 "
@@ -279,10 +316,11 @@ class MachiningSection:
         "default the tool radius", unit="length", gt=0, optional=True, group="Machining")
     milling: str = param("Outside contour milled climb or conventional (spindle clockwise, M3)", kind="str",
                          choices=("climb", "conventional"), default="climb", group="Machining")
-    rotary_line: str = param(
+    rotary_line: str | None = param(
         "XC program: the tool centre moves on the follower's own line (machine Y = −offset, C = cam "
-        "angle) or on a line through the C axis (two-axis X–C machines)", kind="str",
-        choices=("follower", "axis"), default="follower", group="Machining")
+        "angle) or on a line through the C axis (two-axis X–C machines); default the follower's line for a "
+        "translating follower, the C axis for an oscillating one (which has no line)", kind="str",
+        choices=("follower", "axis"), optional=True, group="Machining")
     work_offset: str = param("Work coordinate system: origin on the cam axis, Z = 0 on the top face",
                              kind="str", choices=WORK_OFFSETS, default="G54", group="Machining")
     line_numbers: bool = param("Number the blocks (N10, N20, …)", kind="bool", default=False,
@@ -558,6 +596,9 @@ def _load_section(cls: type, data: Any, path: str) -> Any:
         raise SpecError(path, f"must be a table, got {data!r}")
     decl = params_of(cls)
     _reject_unknown(path, data, set(decl))
+    precheck = getattr(cls, "precheck", None)
+    if precheck is not None:
+        precheck(data, path)
     values = {}
     for name, p in decl.items():
         fpath = f"{path}.{name}"
@@ -576,6 +617,8 @@ def validate(spec: CamSpec) -> None:
     cam, fol = spec.cam, spec.follower
     if fol.kind == "roller" and not fol.roller_radius > 0:
         raise SpecError("follower.roller_radius", f"must be > 0 for a roller follower, got {fol.roller_radius:g}")
+    _validate_follower_motion(spec)
+    _validate_face(spec)
     if not abs(fol.offset) < cam.base_radius:
         raise SpecError("follower.offset",
                         f"|offset| must be < cam.base_radius ({cam.base_radius:g}), got {fol.offset:g}")
@@ -589,10 +632,48 @@ def validate(spec: CamSpec) -> None:
                         f"follower.roller_radius {spec.roller_radius:g}) = {2 * r_surface:g}, got "
                         f"{cam.bore_diameter:g}: a smaller bore or roller, or a larger base radius")
     _validate_motion(spec)
+    from ..followers import validate_follower   # the kinds' own geometric rules
+
+    validate_follower(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
     _validate_machining(spec)
     _validate_optimise(spec)
+
+
+#: fields that only one follower motion may have (a typo or a leftover must not be ignored)
+TRANSLATING_ONLY = {"mass": "arm_inertia", "preload": "preload_torque", "spring_rate": "spring_torque_rate"}
+OSCILLATING_ONLY = ("pivot_distance", "arm_length", "face_offset", "arm_inertia", "preload_torque",
+                    "spring_torque_rate")
+
+
+def _validate_follower_motion(spec: CamSpec) -> None:
+    fol = spec.follower
+    if fol.motion == "translating":
+        for name in OSCILLATING_ONLY:
+            v = getattr(fol, name)
+            if v is not None and v != 0:
+                raise SpecError(f"follower.{name}", 'applies to oscillating followers only (follower.motion = '
+                                '"oscillating")')
+        return
+    if fol.offset != 0:
+        raise SpecError("follower.offset", "applies to translating followers only: an oscillating follower's "
+                        "position is follower.pivot_distance and follower.arm_length")
+    for name, instead in TRANSLATING_ONLY.items():
+        if getattr(fol, name) != 0:
+            raise SpecError(f"follower.{name}", f"applies to translating followers only: for an oscillating "
+                            f"arm give follower.{instead}")
+    if fol.pivot_distance is None:
+        raise SpecError("follower.pivot_distance", "is required for an oscillating follower")
+    if fol.kind != "flat" and fol.arm_length is None:
+        raise SpecError("follower.arm_length", f"is required for an oscillating {fol.kind} follower")
+    if fol.kind != "flat" and fol.face_offset is not None:
+        raise SpecError("follower.face_offset", "applies to flat-faced followers only")
+
+
+def _validate_face(spec: CamSpec) -> None:
+    if spec.follower.kind != "flat" and spec.follower.face_width is not None:
+        raise SpecError("follower.face_width", "applies to flat-faced followers only")
 
 
 MAX_MOTION_SEGMENTS = 100
@@ -625,7 +706,7 @@ def _validate_motion(spec: CamSpec) -> None:
         if seg.law is None:
             raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law == "bspline":
-            from .bspline_law import lift_from_segment
+            from ..motion.bspline_law import lift_from_segment
 
             lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
         lifts.append(seg.lift)
@@ -681,6 +762,9 @@ def _validate_drawing(spec: CamSpec) -> None:
 
 def _validate_machining(spec: CamSpec) -> None:
     mc = spec.machining
+    if mc.rotary_line == "follower" and spec.follower.motion != "translating":
+        raise SpecError("machining.rotary_line", '"follower" needs a translating follower\'s line of motion; an '
+                        'oscillating arm has none: use "axis" (the default for an oscillating follower)')
     rpm = mc.rotary_speed_rpm if mc.rotary_speed_rpm is not None else spec.cam.speed_rpm
     step = 360.0 * rpm / 60.0 * mc.sample_period
     # (a coarse step is not an error here: it only matters for the XC program, whose

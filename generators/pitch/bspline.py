@@ -27,14 +27,14 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from .bspline_law import basis_derivatives
-from .errors import SolveError, SpecError
-from .follower import FollowerGeometry
-from .bezier import BezierChain, bernstein_from_power
-from .follower_line import Contact, FollowerLineSolver
-from .motion import MotionProgram
-from .nurbs import NurbsCurve
-from .spec import DEFAULT_SEGMENTS, CamSpec
+from ..motion.bspline_law import basis_derivatives
+from ..errors import SolveError, SpecError
+from ..followers import Follower, follower_of
+from ..curves.bezier import BezierChain, bernstein_from_power
+from .contact import Contact, FollowerLineSolver
+from ..motion.program import MotionProgram
+from ..curves.nurbs import NurbsCurve
+from ..spec.model import DEFAULT_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEGREE = 5
@@ -183,12 +183,13 @@ def knot_breaks(program: MotionProgram, spans: int) -> np.ndarray:
     return np.append(np.concatenate(parts), TWO_PI)
 
 
-def true_pitch(program: MotionProgram, geometry: FollowerGeometry, theta: np.ndarray) -> np.ndarray:
-    """P(θ) of the design intent (complex)."""
-    return geometry.pitch_points(theta, program.s(theta))
+def true_pitch(program: MotionProgram, geometry: Follower, theta: np.ndarray) -> np.ndarray:
+    """The design curve of the design intent (complex, cam frame): the pitch curve P(θ), or a
+    flat face's contact points."""
+    return geometry.points(theta, program.evaluate(theta))
 
 
-def fit_pitch(program: MotionProgram, geometry: FollowerGeometry, spans: int) -> PeriodicBSpline:
+def fit_pitch(program: MotionProgram, geometry: Follower, spans: int) -> PeriodicBSpline:
     """Least-squares periodic quintic fit of the true pitch curve on :func:`knot_breaks`,
     12 samples per knot span."""
     breaks = knot_breaks(program, spans)
@@ -239,11 +240,16 @@ class BSplinePitchCurve:
 
     curve: PeriodicBSpline
     program: MotionProgram
-    geometry: FollowerGeometry
+    follower: Follower
     spline: _SegmentView = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "spline", _SegmentView(self.curve))
+
+    @property
+    def geometry(self) -> Follower:
+        """The follower (the name before the follower interface)."""
+        return self.follower
 
     @property
     def M(self) -> int:
@@ -280,48 +286,51 @@ class BSplinePitchCurve:
 
     @cached_property
     def solver_angles(self) -> np.ndarray:
-        """(M,) cam angles [rad] at which the knot points cross the follower line (closed
-        form, as :meth:`cam_angle_of_point`), kept within half a turn of the knot angles —
-        the fit does not pass exactly through the true pitch points, so these differ from
-        :attr:`angles` by the fit's error."""
-        q = self.segments.ctrl[:, 0]
-        g = self.geometry
-        cross = g.sense * (np.arccos(np.clip(g.offset / np.abs(q), -1.0, 1.0)) - np.angle(q))
+        """(M,) cam angles [rad] at which the follower touches the knot points (closed form,
+        as :meth:`cam_angle_of_point`), kept within half a turn of the knot angles — the fit
+        does not pass exactly through the true points, so these differ from :attr:`angles` by
+        the fit's error."""
+        ctrl = self.segments.ctrl
+        q = ctrl[:, 0]
+        dq = ctrl[:, 1] - ctrl[:, 0]
+        cross = self.follower.cam_angle_of(q, dq)
         b = self.angles
         return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
 
     def solver(self) -> FollowerLineSolver:
-        """Eq. 13 solver on :attr:`segments`."""
-        g = self.geometry
-        return FollowerLineSolver(self.segments, self.solver_angles, g.offset, g.sense)
+        """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
+        return self.follower.contact_solver(self.segments, self.solver_angles)
 
     def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
         """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per span."""
         return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
 
     def contact(self, theta: np.ndarray, tol: float = 1e-14, max_iter: int = 30) -> Contact:
-        """Paper Eq. 13 on the B-spline: Re(e^{iδθ} C(u)) = e, Newton from u = θ (the fit's
-        parameter is the cam angle, so the root is close)."""
+        """Paper Eq. 13 (generalised to the follower kind) on the B-spline, Newton from u = θ
+        (the fit's parameter is the cam angle, so the root is close)."""
         theta = np.asarray(theta, dtype=float)
-        rot = np.exp(1j * self.geometry.sense * theta)
-        e = self.geometry.offset
+        rot = np.exp(1j * self.follower.sense * theta)
+        fol = self.follower
         u = theta.copy()
         for _ in range(max_iter):
-            c, d = self.curve.evaluate(u, 1)
-            g = (rot * c).real - e
-            step = g / (rot * d).real
+            c, d, dd = self.curve.evaluate(u, 2)
+            g, dg, _ = fol.contact_residual(rot * c, rot * d, rot * dd)
+            step = g / dg
             u = u - np.clip(step, -0.1, 0.1)
             if np.max(np.abs(step)) < tol:
                 break
         else:
-            raise SolveError("Eq. 13 Newton iteration on the B-spline pitch curve did not converge")
-        c = self.curve.evaluate(u)[0]
+            bad = int(np.argmax(np.abs(step)))
+            raise SolveError(f"no single contact between the follower and the B-spline pitch curve near cam angle "
+                             f"{np.rad2deg(theta[bad]) % 360:.3f}° (Newton did not converge)")
+        c, d = self.curve.evaluate(u, 1)
         v = np.mod(u, TWO_PI) * self.parameter_scale
         seg = np.minimum(v.astype(int), self.M - 1)
-        return Contact(seg=seg, xi=v - seg, point=c, Y=(rot * c).imag, iterations=0)
+        return Contact(seg=seg, xi=v - seg, point=c, Y=(rot * c).imag, iterations=0,
+                       lift=fol.lift_at(rot * c, rot * d))
 
     def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
-        return self.contact(theta).Y - self.geometry.s0
+        return self.contact(theta).lift
 
     def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
@@ -334,12 +343,18 @@ class BSplinePitchCurve:
         k = int(np.argmax(np.abs(dev)))
         return float(abs(dev[k])), float(np.rad2deg(th[k]))
 
-    def cam_angle_of_point(self, pts: np.ndarray) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which a pitch point is under the follower (closed form)."""
-        g = self.geometry
-        r = np.abs(pts)
-        theta = g.sense * (np.arccos(np.clip(g.offset / r, -1.0, 1.0)) - np.angle(pts))
-        return np.mod(np.rad2deg(theta), 360.0)
+    def cam_angle_of_point(self, pts: np.ndarray, tangents: np.ndarray | None = None) -> np.ndarray:
+        """Cam angle [deg, 0..360) at which a point of the curve touches the follower (closed
+        form; a flat face needs the tangent too)."""
+        if tangents is None:
+            if self.follower.design_curve != "pitch":
+                raise ValueError("a flat face's contact angle needs the curve's tangent too")
+            tangents = np.ones_like(pts)
+        return np.mod(np.rad2deg(self.follower.cam_angle_of(pts, tangents)), 360.0)
+
+    def cam_angle_at(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """Cam angle [deg, 0..360) at which the curve's point (segment, ξ) touches the follower."""
+        return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
 def build_bspline_pitch(spec: CamSpec, progress: Callable[[int, float], None] | None = None
@@ -348,7 +363,7 @@ def build_bspline_pitch(spec: CamSpec, progress: Callable[[int, float], None] | 
     fewest spans whose max deviation is ≤ ``pitch.tolerance`` (doubling, then bisection:
     the deviation falls steadily with the span count, unlike the PH interpolant's)."""
     program = MotionProgram.from_spec(spec)
-    geometry = FollowerGeometry.from_spec(spec)
+    geometry = follower_of(spec)
     n_min = max(8, len(program.starts))
 
     def make(n: int) -> BSplinePitchCurve:
@@ -399,17 +414,14 @@ def fit_offset(curve: PeriodicBSpline, distance: float, refine: int = 1) -> Peri
     return least_squares_periodic(fine, curve.degree, u, offset_points(curve, u, distance))
 
 
-def true_profile(program: MotionProgram, geometry: FollowerGeometry, roller_radius: float,
+def true_profile(program: MotionProgram, geometry: Follower, roller_radius: float,
                  theta: np.ndarray, nder: int = 0) -> list[np.ndarray]:
-    """The true cam profile Q(θ) = P(θ) + r_f·(inward unit normal) and, with ``nder`` = 1, Q′(θ)
-    (from s, s′, s″: dP/dθ = e^{−iδθ}(δY − iδe + i s′), Y = s₀ + s)."""
+    """The true cam profile Q(θ) = C(θ) + r·(inward unit normal) of the design curve C (the pitch
+    curve; r the roller radius, 0 for a knife edge or a flat face) and, with ``nder`` = 1, Q′(θ),
+    from the follower's exact C′, C″."""
     k = program.evaluate(theta)
     d = geometry.sense
-    rot = np.exp(-1j * d * theta)
-    y = geometry.s0 + k.s
-    p = rot * (geometry.offset + 1j * y)
-    dp = rot * (d * y - 1j * d * geometry.offset + 1j * k.ds)
-    ddp = rot * (-1j * d * (d * y - 1j * d * geometry.offset + 1j * k.ds) + (d * k.ds + 1j * k.d2s))
+    p, dp, ddp = geometry.derivatives(theta, k, 2)
     speed = np.abs(dp)
     t = dp / speed
     inward = -1j * d * t
@@ -423,7 +435,7 @@ def true_profile(program: MotionProgram, geometry: FollowerGeometry, roller_radi
 
 
 def distance_to_true_profile(points: np.ndarray, theta0: np.ndarray, program: MotionProgram,
-                             geometry: FollowerGeometry, roller_radius: float, iterations: int = 8
+                             geometry: Follower, roller_radius: float, iterations: int = 8
                              ) -> np.ndarray:
     """Distance from each point to the true profile: the foot point Q(θ) with
     (Q(θ) − X)·Q′(θ) = 0 found by Gauss–Newton from θ₀ (vectorised)."""
@@ -490,7 +502,7 @@ def built_profile_error(profile: NurbsCurve, pitch, roller_radius: float, per_sp
     v, pts = profile.sample(per_span)
     z = pts[:, 0] + 1j * pts[:, 1]
     seg = np.minimum(v.astype(int), pitch.M - 1)
-    theta0 = np.deg2rad(pitch.cam_angle_of_point(pitch.spline.point(seg, v - seg)))
+    theta0 = np.deg2rad(pitch.cam_angle_at(seg, v - seg))
     d = distance_to_true_profile(z, theta0, pitch.program, pitch.geometry, roller_radius)
     k = int(np.argmax(d))
     return float(d[k]), float(np.rad2deg(theta0[k]) % 360.0)

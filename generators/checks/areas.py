@@ -6,26 +6,28 @@
   and return (Eq. 4.26–4.27).  R₀ + s is the distance of the follower point (the roller
   centre) from the axis when e = 0, so this is the area inside the pitch (prime) curve — not
   inside the cam profile, which lies a roller radius further in.
-* :func:`pitch_area` — the exact area inside the pitch curve P(θ) = Rot(−δθ)(e, s₀ + s):
-  ½∮ Im(P̄ dP) = ½∫ (e² + (s₀ + s)²) dθ (the ∫ e s′ dθ term vanishes over a closed cycle),
-  equal to :func:`thesis_area` for e = 0.
-* :func:`pitch_length` — ∫ |P′| dθ = ∫ √((s₀ + s)² + (s′ − e)²) dθ.
-* :func:`profile_area` — the area inside the true roller profile (the pitch curve offset
-  inward by r_f): A_pitch − r_f·L_pitch + π r_f² (Steiner's formula for the inner parallel
-  curve of a simple closed curve, valid while the offset is not undercut).
+* :func:`pitch_area` — the exact area inside the design curve C(θ) (the pitch curve of a knife
+  edge or roller, the profile of a flat face): ½|∮ Im(C̄ C′) dθ|, with the follower's exact C′;
+  for a translating follower ½∫ (e² + (s₀ + s)²) dθ (the ∫ e s′ dθ term vanishes over a closed
+  cycle), equal to :func:`thesis_area` for e = 0.
+* :func:`pitch_length` — ∫ |C′| dθ (translating: ∫ √((s₀ + s)² + (s′ − e)²) dθ).
+* :func:`profile_area` — the area inside the true profile (the design curve offset inward by
+  the roller radius r_f, 0 for a knife edge or a flat face): A − r_f·L + π r_f² (Steiner's
+  formula for the inner parallel curve of a simple closed curve, valid while the offset is not
+  undercut).
 
 Integrals are Gauss–Legendre per motion segment; on a B-spline segment they run over the
 parameter u per knot span, where ½ r² θ′ is a polynomial and the rule is exact.
 """
 from __future__ import annotations
 
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
-from .follower import FollowerGeometry
-from .motion import MotionProgram
-from .spec import CamSpec
+from ..followers import follower_of
+from ..motion.program import MotionProgram
+from ..spec.model import CamSpec
 
 GAUSS_CLOSED_FORM = 64     # nodes per closed-form motion segment (smooth integrands)
 GAUSS_PER_KNOT_SPAN = 16   # nodes per B-spline knot span (exact for degree ≤ 31)
@@ -34,6 +36,11 @@ GAUSS_PER_KNOT_SPAN = 16   # nodes per B-spline knot span (exact for degree ≤ 
 def _integrate(program: MotionProgram, integrand: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
                ) -> float:
     """∫₀^{2π} integrand(θ, s, s′) dθ, segment by segment."""
+    return _integrate_kin(program, lambda th, k: integrand(th, k.s, k.ds))
+
+
+def _integrate_kin(program: MotionProgram, integrand: Callable[[np.ndarray, Any], np.ndarray]) -> float:
+    """∫₀^{2π} integrand(θ, kinematics) dθ, segment by segment."""
     total = 0.0
     for k in range(len(program.starts)):
         a, beta = program.starts[k], program.spans[k]
@@ -49,13 +56,13 @@ def _integrate(program: MotionProgram, integrand: Callable[[np.ndarray, np.ndarr
             theta = a + th_u[0]
             seg_idx = np.full(theta.shape, k)
             kin = program.evaluate(theta, seg_idx)
-            total += float(np.sum(integrand(theta, kin.s, kin.ds) * th_u[1] * w))
+            total += float(np.sum(integrand(theta, kin) * th_u[1] * w))
             continue
         n = GAUSS_CLOSED_FORM if program.laws[k] is not None else 2
         xg, wg = np.polynomial.legendre.leggauss(n)
         theta = a + 0.5 * beta * (xg + 1)
         kin = program.evaluate(theta, np.full(theta.shape, k))
-        total += float(np.sum(integrand(theta, kin.s, kin.ds) * 0.5 * beta * wg))
+        total += float(np.sum(integrand(theta, kin) * 0.5 * beta * wg))
     return total
 
 
@@ -68,22 +75,32 @@ def thesis_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
 
 
 def pitch_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
-    """Exact area inside the design pitch curve: ½∫ (e² + (s₀ + s)²) dθ [length²]."""
+    """Exact area inside the design curve: ½|∮ Im(C̄ C′) dθ| [length²]."""
     program = program or MotionProgram.from_spec(spec)
-    geo = FollowerGeometry.from_spec(spec)
-    return _integrate(program, lambda th, s, ds: 0.5 * (geo.offset**2 + (geo.s0 + s) ** 2))
+    fol = follower_of(spec)
+
+    def integrand(th: np.ndarray, k: Any) -> np.ndarray:
+        f = fol.fixed(k, 1)
+        v = f[1] - 1j * fol.sense * f[0]
+        return 0.5 * (np.conj(f[0]) * v).imag     # rotation-invariant: C̄C′ = F̄V
+
+    return abs(_integrate_kin(program, integrand))
 
 
 def pitch_length(spec: CamSpec, program: MotionProgram | None = None) -> float:
-    """Arc length of the design pitch curve: ∫ √((s₀ + s)² + (s′ − e)²) dθ [length]."""
+    """Arc length of the design curve: ∫ |C′| dθ [length]."""
     program = program or MotionProgram.from_spec(spec)
-    geo = FollowerGeometry.from_spec(spec)
-    e = geo.effective_offset
-    return _integrate(program, lambda th, s, ds: np.sqrt((geo.s0 + s) ** 2 + (ds - e) ** 2))
+    fol = follower_of(spec)
+
+    def integrand(th: np.ndarray, k: Any) -> np.ndarray:
+        f = fol.fixed(k, 1)
+        return np.abs(f[1] - 1j * fol.sense * f[0])
+
+    return _integrate_kin(program, integrand)
 
 
 def profile_area(spec: CamSpec, program: MotionProgram | None = None) -> float:
-    """Area inside the true cam profile (no bore): A_pitch − r_f·L_pitch + π r_f²."""
+    """Area inside the true cam profile (no bore): A − r_f·L + π r_f² of the design curve."""
     program = program or MotionProgram.from_spec(spec)
     rr = spec.roller_radius
     return pitch_area(spec, program) - rr * pitch_length(spec, program) + np.pi * rr * rr
@@ -94,8 +111,11 @@ def area_summary(spec: CamSpec, program: MotionProgram | None = None) -> dict[st
     program = program or MotionProgram.from_spec(spec)
     bore = spec.cam.bore_diameter / 2
     prof = profile_area(spec, program)
+    # the thesis' formula (R₀ + s)² is a translating follower's
+    thesis = (thesis_area(spec, program) if spec.follower.motion == "translating" and spec.follower.kind != "flat"
+              else None)
     return {
-        "thesis_eq_4_21": thesis_area(spec, program),
+        "thesis_eq_4_21": thesis,
         "pitch_curve": pitch_area(spec, program),
         "profile": prof,
         "cross_section": prof - np.pi * bore * bore,

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import bezier
-from .errors import GeometryError
+from ..errors import GeometryError
 from .nurbs import NurbsCurve, from_polynomial_beziers, from_rational_beziers
 from .ph_spline import PHSpline, hodograph_coeffs, sigma_coeffs
 

@@ -43,9 +43,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .laws import evaluate_law
-from .motion import MotionProgram
-from .spec import CamSpec
+from ..motion.laws import evaluate_law
+from ..motion.program import MotionProgram
+from ..spec.model import CamSpec
 
 #: The thesis' tolerance (0.01 in) in each unit system, and its time per turn.
 DEFAULT_TOLERANCE = {"in": 0.01, "mm": 0.25}
@@ -302,7 +302,7 @@ def contour_time(design: Any, plan: Any = None, block_time: float | None = None)
     """Time of the XY contour G-code of ``design``: per pass, (lead-in + contour + lead-out)/feed
     and the plunge/plunge feed, plus ``block_time`` per motion block (default
     ``optimise.block_time``); rapid moves are left out (their speed is the machine's)."""
-    from .machining import machining_plan
+    from .plan import machining_plan
     from .toolpath import contour_path
 
     plan = plan or machining_plan(design)

@@ -1,0 +1,3 @@
+"""Cam-agnostic curves: Bézier, banded solves, extrema, the PH spline, NURBS data, exact
+offsets, arcs and lines within a tolerance.
+"""

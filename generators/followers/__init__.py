@@ -1,0 +1,74 @@
+"""Follower kinds: each one module behind the interface of :mod:`.base` —
+:mod:`.translating` (knife edge, roller), :mod:`.oscillating` (knife edge, roller on an arm) and
+:mod:`.flat` (flat faces, translating and oscillating).  :func:`follower_of` is the one place that
+maps a spec's ``follower.motion`` and ``follower.kind`` to its class; everything above reads the
+interface.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+from .base import Follower, LoadSpec
+from .flat import OscillatingFlatFollower, TranslatingFlatFollower
+from .oscillating import OscillatingFollower
+from .translating import FollowerGeometry, TranslatingFollower
+
+#: (follower.motion, follower.kind) → the class that builds it from a spec
+KINDS: dict[tuple[str, str], Callable] = {
+    ("translating", "knife"): TranslatingFollower.from_spec,
+    ("translating", "roller"): TranslatingFollower.from_spec,
+    ("translating", "flat"): TranslatingFlatFollower.from_spec,
+    ("oscillating", "knife"): OscillatingFollower.from_spec,
+    ("oscillating", "roller"): OscillatingFollower.from_spec,
+    ("oscillating", "flat"): OscillatingFlatFollower.from_spec,
+}
+
+
+def follower_of(spec) -> Follower:
+    """The follower of a validated spec."""
+    return KINDS[(spec.follower.motion, spec.follower.kind)](spec)
+
+
+def validate_follower(spec) -> None:
+    """The geometric rules of the spec's follower kind (called by the spec's validation, after
+    the motion program's): an oscillating arm must reach the prime circle and must not turn
+    onto the line through the pivot and the cam axis within the lift.
+
+    Raises:
+        SpecError: naming the field and the rule.
+    """
+    from ..errors import SpecError
+
+    fol = spec.follower
+    if fol.motion != "oscillating":
+        return
+    d, rb = fol.pivot_distance, spec.cam.base_radius
+    if fol.kind == "flat":
+        f = fol.face_offset or 0.0
+        if not abs(rb + f) < d:
+            raise SpecError("follower.pivot_distance",
+                            f"the face at face_offset {f:g} from the pivot cannot touch the base circle: needs "
+                            f"|cam.base_radius + face_offset| = {abs(rb + f):g} < pivot_distance, got {d:g}")
+        extent = OscillatingFlatFollower.from_spec(spec).lift_extent()
+        what = "face"
+    else:
+        L = fol.arm_length
+        if not abs(d - L) < rb < d + L:
+            raise SpecError("follower.arm_length",
+                            f"the arm cannot reach the prime circle: needs |pivot_distance − arm_length| < "
+                            f"cam.base_radius < pivot_distance + arm_length (d = {d:g}, L = {L:g}, R_b = {rb:g})")
+        extent = OscillatingFollower.from_spec(spec).lift_extent()
+        what = "arm"
+    level, top, at = 0.0, 0.0, 0
+    for i, seg in enumerate(spec.motion):
+        level += (seg.lift or 0.0) * (1 if seg.kind == "rise" else -1 if seg.kind == "return" else 0)
+        if level > top:
+            top, at = level, i
+    if not top < extent:
+        raise SpecError(f"motion[{at}].lift",
+                        f"the {what} would turn {top:g}° and reach the line through the pivot and the cam axis "
+                        f"at {extent:.4g}°: the lift must stay below it (a smaller lift, or move the pivot)")
+
+
+__all__ = ["Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
+           "TranslatingFlatFollower", "TranslatingFollower", "follower_of"]

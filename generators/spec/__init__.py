@@ -1,0 +1,12 @@
+"""The cam spec (stage room: declarations, sections, the CamSpec model, validation, TOML in/out,
+the generated reference).  ``generators.spec`` re-exports :mod:`generators.spec.model`.
+"""
+from .model import (  # noqa: F401
+    REQUIRED, Param, param, params_of, LAWS, CLOSED_FORM_LAWS, BSPLINE_FIELDS, SPAN_TOL_DEG,
+    CamSection, FollowerSection, MotionSegment, PitchSection, STEEL_MODULUS, MaterialSection,
+    ChecksSection, DEFAULT_SEGMENTS, DXF_VERSIONS, DrawingSection, WORK_OFFSETS,
+    MAX_COMMANDS_PER_REV, MachiningSection, OBJECTIVES, OPTIMISE_ALGORITHMS, OPTIMISE_VARIABLES,
+    OptimiseSection, SECTIONS, CamSpec, validate, MAX_MOTION_SEGMENTS, optimise_variables,
+    optimise_control_rows, load_spec, MAX_SPEC_BYTES, default_spec, DEFAULT_SPEC_DICT, to_toml,
+    dict_to_toml, spec_digest,
+)
