@@ -53,7 +53,10 @@ def test_install_copy_mode(tmp_path):
     assert res.returncode == 0, res.stderr
     target = mod / "CamWorkbench"
     assert not (target / "generators").is_symlink()
-    assert (target / "generators" / "spec.py").read_text() == (ROOT / "generators" / "spec.py").read_text()
+    sources = sorted(p.relative_to(ROOT) for p in (ROOT / "generators").rglob("*.py")
+                     if "__pycache__" not in p.parts)
+    assert sources == sorted(p.relative_to(target) for p in (target / "generators").rglob("*.py"))
+    assert all((target / rel).read_bytes() == (ROOT / rel).read_bytes() for rel in sources)
     assert not list(target.rglob("__pycache__"))
     assert cli("freecad", "uninstall", "--mod-dir", str(mod), home=tmp_path).returncode == 0
 

@@ -15,6 +15,7 @@ import json
 import pytest
 
 from generators.examples import example_spec
+from cam_workbench.freecad import properties as P
 from generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
@@ -88,8 +89,12 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - vol) / vol < 1e-9      # the shape stored in the file
     assert abs(r["volume"] - vol) / vol < 1e-9               # rebuilt by the current code
-    assert "PlateCam: upgraded from feature version 1 (added FollowerRollerWidth" in first
-    assert "MachiningFeedRate" in first and "Traceback" not in first + second
+    line = next(x for x in first.splitlines() if x.startswith("PlateCam: upgraded from feature version 1 (added "))
+    added = line.split("(added ", 1)[1].rstrip(")").split(", ")
+    # the properties of every field declared after round one, and only properties of fields
+    assert {"FollowerRollerWidth", "MachiningFeedRate", "ChecksMaxPressureAngle"} <= set(added), added
+    assert set(added) <= set(P.iter_property_names()), set(added) - set(P.iter_property_names())
+    assert "Traceback" not in first + second
     assert r["again"]["version"] == 2 and _same(r["again"]["spec"], expected)
     assert "upgraded" not in second  # saved by version 2: nothing to do
     # tooltips are stored in the document: the old wording is replaced by the current one
