@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-from generators.examples import PAPER_SPEC_DICT
+from generators.spec.examples import PAPER_SPEC_DICT
 from generators.spec import CamSpec
 
 from .conftest import paper_case_dict, requires_ocp
@@ -122,7 +122,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("edit")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["v0"] = cam.Shape.Volume
@@ -221,7 +221,7 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
     assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 2
+    assert r["version"] == 3
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
@@ -233,7 +233,7 @@ MAKE_OLD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("old")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["volume"] = cam.Shape.Volume
@@ -267,7 +267,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 2
+    assert res["version"] == 3
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -280,7 +280,7 @@ BAD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("bad")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 good = cam.Shape.Volume
@@ -388,7 +388,7 @@ from cam_workbench.freecad import motion_editor as M
 from generators.errors import SpecError
 doc = FreeCAD.newDocument("undo")
 doc.UndoMode = 1
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 v0 = cam.Shape.Volume
@@ -448,7 +448,7 @@ from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.step_export import export_step
 from cam_workbench.freecad.spec_io import export_spec, open as open_spec
 doc = FreeCAD.newDocument("step")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 export_step(cam, STEP_PATH)
@@ -510,7 +510,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
 doc = FreeCAD.newDocument("check")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 rep = design_report(cam)
@@ -533,7 +533,7 @@ def test_check_design_report(tmp_path, fc_home):
     summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
     case 2 cam), the undercut with its cam angle, and a bad field by name."""
     from generators import design_cam
-    from generators.examples import example_spec
+    from generators.spec.examples import example_spec
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
     assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
@@ -557,7 +557,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create, build
 from cam_workbench.freecad.plots import kinematics_figure, kinematics_data, save_figure
 doc = FreeCAD.newDocument("plot")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 design, scale, _ = build(cam, solid=False)
@@ -575,7 +575,7 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
     (cycloidal rise h = 20 mm over β = 120° at 60 rpm: v_max = 2h·ω/β) and the deviation
     with the design's; the PNG is kept as a test artefact."""
     from generators import design_cam
-    from generators.examples import example_spec
+    from generators.spec.examples import example_spec
 
     png = artifacts / "freecad_kinematics.png"
     r = run_freecadcmd(f"PNG = {str(png)!r}\n" + PLOT, tmp_path, fc_home).check().result
@@ -588,7 +588,7 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
 
 LATER_SECTION = """
 from dataclasses import dataclass
-from generators.params import param
+from generators.spec.params import param
 from generators import spec as S
 
 @dataclass(frozen=True, kw_only=True)
@@ -604,7 +604,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("later")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 RESULT["props"] = sorted((n, cam.getGroupOfProperty(n), cam.getTypeIdOfProperty(n))
                          for n in cam.PropertiesList if n.startswith("Extra"))
@@ -654,7 +654,7 @@ def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
     cam angle where the design checks find the smallest convex pitch radius — and says there
     is no shape yet; the document keeps the feature so the user can fix it."""
     from generators import design_cam
-    from generators.design_checks import run_checks
+    from generators.checks.design import run_checks
     from generators.errors import GeometryError
 
     spec = copy.deepcopy(PAPER_SPEC_DICT)

@@ -199,7 +199,7 @@ PA_LIMIT = 15.0
 
 def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     from generators import default_spec
-    from generators.design_checks import run_checks
+    from generators.checks.design import run_checks
 
     step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
     run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from generators import load_spec, to_toml
-from generators.examples import example_spec
+from generators.spec.examples import example_spec
 from generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
@@ -66,7 +66,7 @@ def optimise_and_apply(name, spec_src, tokens, budget):
     out["undone"] = state(cam)
     return out
 
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 RESULT["ph"] = optimise_and_apply("PH", example_dict("paper"), ["base_radius", "offset"], 40)
 RESULT["ex5"] = optimise_and_apply("Ex5", EX5, None, 30)
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from cam_workbench.freecad import properties as props
-from generators.params import param, params_of
+from generators.spec.params import param, params_of
 from generators.spec import SECTIONS, CamSpec
 
 

@@ -132,7 +132,7 @@ def test_bspline_cam_volume_equals_the_cadquery_build(tmp_path, fc_home):
     assert abs(bs["volume"] / in3 - fitted) / fitted < 1e-9
     assert abs(bs["volume"] / in3 - design.volume) / design.volume < 1e-9
     assert abs(fitted - exact_offset) / exact_offset < 1e-9   # the fit's own error (≈ 7e-13)
-    from generators.pitch_bspline import bezier_form
+    from generators.pitch.bspline import bezier_form
 
     # one exact Bézier edge per knot span (a single multi-span edge was off by 1.3e-3)
     assert bs["edges"] == len(bezier_form(design.profile).bezier_pieces()) == 120
@@ -166,7 +166,7 @@ def test_check_design_table_equals_run_checks(tmp_path, fc_home):
     Example 5 fails separation (−1.162 lbf at 120.46°, README); switching Units to mm gives
     the same physics (forces × 4.4482216152605 N/lbf); the thesis' 71 nodes are used when
     asked; a roller too large is reported as not buildable, with the cam angle."""
-    from generators.design_checks import run_checks
+    from generators.checks.design import run_checks
 
     r = run_freecadcmd(f"EX5 = {str(EX5)!r}\n" + CHECK, tmp_path, fc_home).check().result
     spec = load_spec(EX5)

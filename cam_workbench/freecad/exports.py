@@ -264,7 +264,7 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
 def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     """(property, value) pairs the export dialog shows: the values the command line gets, in
     the spec's units ("default" where the property leaves the field to the spec's default)."""
-    from generators.params import unit_name
+    from generators.spec.params import unit_name
 
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
                 "csv": ("machining",), "report": ("checks", "material")}[kind]

@@ -86,7 +86,7 @@ def _bspline_rows(spec: CamSpec) -> list[int]:
 
 def variable_choices(spec: CamSpec, objective: str | None = None) -> list[VariableChoice]:
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
-    from generators.bspline_law import fixed_end_points
+    from generators.motion.bspline_law import fixed_end_points
     from generators.motion import MotionProgram
 
     objective = objective or spec.optimise.objective
