@@ -7,12 +7,20 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# Downloads are cached here (the dev venv and the install tests' clean venvs): re-runs are fast.
+CACHE  ?= $(CURDIR)/.cache
+export PIP_CACHE_DIR ?= $(CACHE)/pip
+# The dev venv: the project editable with the [cadquery] extra (CadQuery 2.8 and its one OCP,
+# cadquery-ocp 7.9) pinned by dev-constraints.txt, and the test tools. Never build123d here: it
+# brings the other OCP build (docs/install.md). The tests that need build123d or OCP 8 run in
+# clean venvs of their own (tests/test_install_envs.py).
+DEV_EXTRAS := cadquery,test
 # Debian packages the test suite drives for real (installed by `make test` when root).
 DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap
 # FreeCAD 1.0 (Debian trixie) and 1.1 (Debian unstable): root filesystems made by mmdebstrap
 # from Debian's packages, cached here (reused while their package list is the same; delete
 # the folder to rebuild); `make test` runs the FreeCAD tests once with each, beside the host's.
-FREECAD_ROOTS ?= .cache/freecad-roots
+FREECAD_ROOTS ?= $(CACHE)/freecad-roots
 FREECAD_SUITES ?= trixie unstable
 FREECAD_ROOT_PACKAGES := freecad-python3 freecad python3-numpy python3-scipy python3-nlopt \
                          python3-matplotlib xvfb xauth
@@ -22,12 +30,13 @@ FREECAD_ROOT_EXTRA_unstable := qt6-svg-plugins
 FREECAD_MIRROR ?= $(shell tests/freecad_roots.sh mirror)
 FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
-.PHONY: demo test test-host test-freecad-roots freecad-roots fuzz bench system-deps docs clean
+.PHONY: demo test test-host test-freecad-roots freecad-roots test-install fuzz dist bench system-deps docs clean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml dev-constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet -c dev-constraints.txt -e '.[$(DEV_EXTRAS)]'
+	$(PY) -c 'from cam_workbench.ocp_compat import main; raise SystemExit(main())'  # exactly one OCP
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -62,9 +71,18 @@ test-freecad-roots: freecad-roots $(STAMP)
 	  CAM_FREECAD_ROOT=$(FREECAD_ROOTS)/$$s $(PY) -m pytest $(FREECAD_TESTS) || status=1; \
 	done; exit $$status; fi
 
+# only the install tests: the wheel into clean venvs (build123d first, cadquery first, each extra)
+test-install: $(STAMP)
+	$(PY) -m pytest -m install_envs
+
 # the combination and bad-input suites' long profile: thousands of random cases (tests/combinations)
 fuzz: system-deps $(STAMP)
 	CAM_FUZZ=1 $(PY) -m pytest tests/combinations -p no:randomly --hypothesis-show-statistics
+
+# the wheel and the sdist into dist/
+dist: $(STAMP)
+	rm -rf dist
+	$(PY) -m build --outdir dist .
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
@@ -82,4 +100,4 @@ system-deps:
 	else echo "not root: skipping Debian packages ($$missing); tests that need them will skip"; fi
 
 clean:
-	rm -rf $(VENV) out .pytest_cache
+	rm -rf $(VENV) out .pytest_cache dist build

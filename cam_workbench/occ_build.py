@@ -1,8 +1,9 @@
-"""OCP adaptor: neutral NURBS data → OCCT edges, faces and the cam solid.
+"""Neutral NURBS data → OCCT edges, faces and the cam solid (through OCP).
 
 This is the only place the CadQuery/build123d side turns generator output into
 B-rep; FreeCAD has its own adaptor in ``cam_workbench/freecad`` (never both OCCT
-builds in one process).
+builds in one process).  Every OCP name comes from :mod:`cam_workbench.ocp_compat`
+(``occ.``), which knows the OCP versions; nothing here does.
 """
 from __future__ import annotations
 
@@ -14,44 +15,30 @@ from generators.cam_design import CamDesign
 from generators.nurbs import NurbsCurve
 from generators.pitch_bspline import bezier_form
 
+from . import ocp_compat as occ
+
 
 def _occ_arrays(curve: NurbsCurve, pole_array: Any, point: Any) -> tuple[Any, Any, Any, Any]:
     """OCCT arrays (poles, weights, distinct knots, multiplicities) of ``curve``; ``point(x, y)``
-    makes one pole (gp_Pnt or gp_Pnt2d)."""
-    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
-
-    n = curve.n_poles
-    poles = pole_array(1, n)
-    weights = TColStd_Array1OfReal(1, n)
-    for i, ((x, y), w) in enumerate(zip(curve.poles.tolist(), curve.weights.tolist()), start=1):
-        poles.SetValue(i, point(x, y))
-        weights.SetValue(i, w)
+    makes one pole (gp_Pnt or gp_Pnt2d), ``pole_array`` their array (``occ.pnt_array`` or
+    ``occ.pnt2d_array``)."""
+    poles = pole_array([point(x, y) for x, y in curve.poles.tolist()])
+    weights = occ.real_array(curve.weights.tolist())
     u, mult = curve.distinct_knots()
-    knots = TColStd_Array1OfReal(1, len(u))
-    mults = TColStd_Array1OfInteger(1, len(u))
-    for i, (k, m) in enumerate(zip(u.tolist(), mult.tolist()), start=1):
-        knots.SetValue(i, k)
-        mults.SetValue(i, int(m))
-    return poles, weights, knots, mults
+    return poles, weights, occ.real_array(u.tolist()), occ.int_array(mult.tolist())
 
 
 def nurbs_to_geom(curve: NurbsCurve, z: float = 0.0) -> Any:
     """A ``Geom_BSplineCurve`` with exactly the poles, weights, knots and degree of ``curve``."""
-    from OCP.Geom import Geom_BSplineCurve
-    from OCP.gp import gp_Pnt
-    from OCP.TColgp import TColgp_Array1OfPnt
-
-    poles, weights, knots, mults = _occ_arrays(curve, TColgp_Array1OfPnt, lambda x, y: gp_Pnt(x, y, z))
+    poles, weights, knots, mults = _occ_arrays(curve, occ.pnt_array, lambda x, y: occ.gp_Pnt(x, y, z))
     if curve.is_rational:
-        return Geom_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
-    return Geom_BSplineCurve(poles, knots, mults, curve.degree, False)
+        return occ.Geom_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
+    return occ.Geom_BSplineCurve(poles, knots, mults, curve.degree, False)
 
 
 def nurbs_to_edge(curve: NurbsCurve, z: float = 0.0) -> Any:
     """A ``TopoDS_Edge`` on the exact NURBS curve."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
-
-    mk = BRepBuilderAPI_MakeEdge(nurbs_to_geom(curve, z))
+    mk = occ.BRepBuilderAPI_MakeEdge(nurbs_to_geom(curve, z))
     if not mk.IsDone():
         raise RuntimeError("OCCT could not make an edge from the NURBS profile")
     return mk.Edge()
@@ -65,9 +52,7 @@ def profile_wire(curve: NurbsCurve, z: float = 0.0) -> Any:
     degree-9 edge (measured), and FreeCAD, CAD importers and our own checks all
     use those integrals.  A curve with simple interior knots (a fitted B-spline) is first
     brought to Bézier form by exact knot insertion, for the same reason."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeWire
-
-    mk = BRepBuilderAPI_MakeWire()
+    mk = occ.BRepBuilderAPI_MakeWire()
     pieces = curve.bezier_pieces()
     if len(pieces) == 1 and len(np.unique(curve.knots)) > 2:
         pieces = bezier_form(curve).bezier_pieces()     # exact knot insertion, no refit
@@ -83,36 +68,26 @@ def profile_wire(curve: NurbsCurve, z: float = 0.0) -> Any:
 
 def circle_wire(radius: float, z: float = 0.0) -> Any:
     """A full circle about the Z axis as a wire."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt
-
-    circ = gp_Circ(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1)), radius)
-    return BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circ).Edge()).Wire()
+    circ = occ.gp_Circ(occ.gp_Ax2(occ.gp_Pnt(0, 0, z), occ.gp_Dir(0, 0, 1)), radius)
+    return occ.BRepBuilderAPI_MakeWire(occ.BRepBuilderAPI_MakeEdge(circ).Edge()).Wire()
 
 
 def profile_face(profile_ccw: NurbsCurve, bore_radius: float = 0.0, z: float = 0.0) -> Any:
     """The planar cam cross-section: the exact profile as the outer boundary, the bore as a hole."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.TopoDS import TopoDS
-
-    mk = BRepBuilderAPI_MakeFace(profile_wire(profile_ccw, z), True)
+    mk = occ.BRepBuilderAPI_MakeFace(profile_wire(profile_ccw, z), True)
     if not mk.IsDone():
         raise RuntimeError("OCCT could not make a planar face from the profile")
     if bore_radius > 0:
-        mk.Add(TopoDS.Wire_s(circle_wire(bore_radius, z).Reversed()))
+        mk.Add(occ.topods_wire(circle_wire(bore_radius, z).Reversed()))
     return mk.Face()
 
 
 def nurbs_to_geom2d(curve: NurbsCurve) -> Any:
     """A ``Geom2d_BSplineCurve`` (x, y) with exactly the data of ``curve``."""
-    from OCP.Geom2d import Geom2d_BSplineCurve
-    from OCP.gp import gp_Pnt2d
-    from OCP.TColgp import TColgp_Array1OfPnt2d
-
-    poles, weights, knots, mults = _occ_arrays(curve, TColgp_Array1OfPnt2d, gp_Pnt2d)
+    poles, weights, knots, mults = _occ_arrays(curve, occ.pnt2d_array, occ.gp_Pnt2d)
     if curve.is_rational:
-        return Geom2d_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
-    return Geom2d_BSplineCurve(poles, knots, mults, curve.degree, False)
+        return occ.Geom2d_BSplineCurve(poles, weights, knots, mults, curve.degree, False)
+    return occ.Geom2d_BSplineCurve(poles, knots, mults, curve.degree, False)
 
 
 def offset_profile_face(design: CamDesign, z: float = 0.0) -> Any:
@@ -123,15 +98,6 @@ def offset_profile_face(design: CamDesign, z: float = 0.0) -> Any:
     of multi-span edges poorly), each with its exact plane curve (``Geom2d_OffsetCurve`` of the
     same B-spline) so that BRepCheck accepts the face — the pcurves OCCT projects itself miss
     the offset by ~5e-7 and fail it."""
-    from OCP.BRep import BRep_Builder
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
-    from OCP.Geom import Geom_OffsetCurve
-    from OCP.Geom2d import Geom2d_OffsetCurve
-    from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
-    from OCP.TopAbs import TopAbs_EDGE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
     assert design.bspline is not None
     basis = design.pitch_nurbs
     distance = design.bspline.offset_distance            # + = left of the pitch curve's travel
@@ -139,29 +105,30 @@ def offset_profile_face(design: CamDesign, z: float = 0.0) -> Any:
     if clockwise:                                        # travel reversed: left ↔ right
         basis, distance = basis.reversed(), -distance
     occ_offset = -distance                               # OCCT: + = T × Z, the right-hand side
-    curve3d = Geom_OffsetCurve(nurbs_to_geom(basis, z), occ_offset, gp_Dir(0, 0, 1))
-    curve2d = Geom2d_OffsetCurve(nurbs_to_geom2d(basis), occ_offset)
-    mk = BRepBuilderAPI_MakeWire()
+    curve3d = occ.Geom_OffsetCurve(nurbs_to_geom(basis, z), occ_offset, occ.gp_Dir(0, 0, 1))
+    curve2d = occ.Geom2d_OffsetCurve(nurbs_to_geom2d(basis), occ_offset)
+    mk = occ.BRepBuilderAPI_MakeWire()
     u = np.unique(basis.knots)
     for a, b in zip(u[:-1].tolist(), u[1:].tolist()):
-        mk.Add(BRepBuilderAPI_MakeEdge(curve3d, a, b).Edge())
-    plane = gp_Pln(gp_Ax3(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)))   # (u, v) = (x, y)
-    mf = BRepBuilderAPI_MakeFace(plane, mk.Wire(), True)
+        mk.Add(occ.BRepBuilderAPI_MakeEdge(curve3d, a, b).Edge())
+    # the plane's (u, v) = (x, y)
+    plane = occ.gp_Pln(occ.gp_Ax3(occ.gp_Pnt(0, 0, z), occ.gp_Dir(0, 0, 1), occ.gp_Dir(1, 0, 0)))
+    mf = occ.BRepBuilderAPI_MakeFace(plane, mk.Wire(), True)
     if not mf.IsDone():
         raise RuntimeError("OCCT could not make a planar face from the offset profile")
     face = mf.Face()
-    builder = BRep_Builder()
-    ex = TopExp_Explorer(face, TopAbs_EDGE)
+    builder = occ.BRep_Builder()
+    ex = occ.TopExp_Explorer(face, occ.TopAbs_EDGE)
     while ex.More():
-        edge = TopoDS.Edge_s(ex.Current())
+        edge = occ.topods_edge(ex.Current())
         builder.UpdateEdge(edge, curve2d, face, 1e-7)
         builder.SameParameter(edge, True)
         builder.SameRange(edge, True)
         ex.Next()
     bore = design.spec.cam.bore_diameter / 2
     if bore > 0:
-        mf2 = BRepBuilderAPI_MakeFace(face)
-        mf2.Add(TopoDS.Wire_s(circle_wire(bore, z).Reversed()))
+        mf2 = occ.BRepBuilderAPI_MakeFace(face)
+        mf2.Add(occ.topods_wire(circle_wire(bore, z).Reversed()))
         face = mf2.Face()
     return face
 
@@ -173,35 +140,25 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     pitch B-spline (``exact_offset``) or the fitted offset B-spline ``design.profile``
     (``exact_offset=False``: what STEP can hold — OCCT's STEP writer has no mapping for
     offset curves and writes an empty model)."""
-    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
-    from OCP.gp import gp_Vec
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
     if exact_offset and design.bspline is not None and design.spec.roller_radius > 0:
         face = offset_profile_face(design)
     else:
         face = profile_face(design.profile_ccw(), design.spec.cam.bore_diameter / 2)
-    prism = BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, design.spec.cam.thickness), True)
+    prism = occ.BRepPrimAPI_MakePrism(face, occ.gp_Vec(0, 0, design.spec.cam.thickness), True)
     shape = prism.Shape()
-    exp = TopExp_Explorer(shape, TopAbs_SOLID)
-    solid = TopoDS.Solid_s(exp.Current())
+    exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
+    solid = occ.topods_solid(exp.Current())
     return solid
 
 
 def is_valid(shape: Any) -> bool:
     """OCCT's full topological and geometric check (``BRepCheck_Analyzer``)."""
-    from OCP.BRepCheck import BRepCheck_Analyzer
-
-    return bool(BRepCheck_Analyzer(shape).IsValid())
+    return occ.is_valid(shape)
 
 
 def count_solids(shape: Any) -> int:
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
 
-    exp = TopExp_Explorer(shape, TopAbs_SOLID)
+    exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
     n = 0
     while exp.More():
         n += 1
@@ -211,27 +168,18 @@ def count_solids(shape: Any) -> int:
 
 def kernel_volume(shape: Any) -> float:
     """Volume by OCCT's ``BRepGProp`` (good to ~1e-5 relative on B-spline faces)."""
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(shape, props)
+    props = occ.GProp_GProps()
+    occ.volume_properties(shape, props)
     return float(props.Mass())
 
 
 def planar_face_at(shape: Any, z: float) -> Any:
     """The planar face of ``shape`` lying at height ``z``."""
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    from OCP.GeomAbs import GeomAbs_Plane
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
-    fx = TopExp_Explorer(shape, TopAbs_FACE)
+    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
     while fx.More():
-        face = TopoDS.Face_s(fx.Current())
-        surf = BRepAdaptor_Surface(face)
-        if surf.GetType() == GeomAbs_Plane and abs(surf.Plane().Location().Z() - z) < 1e-9:
+        face = occ.topods_face(fx.Current())
+        surf = occ.BRepAdaptor_Surface(face)
+        if surf.GetType() == occ.GeomAbs_Plane and abs(surf.Plane().Location().Z() - z) < 1e-9:
             return face
         fx.Next()
     raise ValueError(f"no planar face at z = {z}")
@@ -239,30 +187,22 @@ def planar_face_at(shape: Any, z: float) -> Any:
 
 def face_area(face: Any) -> float:
     """Area of a face by OCCT's ``BRepGProp.SurfaceProperties``."""
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    props = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(face, props)
+    props = occ.GProp_GProps()
+    occ.surface_properties(face, props)
     return float(props.Mass())
 
 
 def face_area_shoelace(face: Any, samples_per_edge: int = 400) -> float:
     """Area of a planar face by a shoelace over its edges sampled through OCCT's own curve
     evaluator — independent of OCCT's mass properties and of our NURBS code (~1e-8)."""
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.TopAbs import TopAbs_EDGE, TopAbs_REVERSED
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
     total = 0.0
-    ex = TopExp_Explorer(face, TopAbs_EDGE)
+    ex = occ.TopExp_Explorer(face, occ.TopAbs_EDGE)
     while ex.More():
-        edge = TopoDS.Edge_s(ex.Current())
-        c = BRepAdaptor_Curve(edge)
+        edge = occ.topods_edge(ex.Current())
+        c = occ.BRepAdaptor_Curve(edge)
         t = np.linspace(c.FirstParameter(), c.LastParameter(), samples_per_edge + 1)
         pts = np.array([(p.X(), p.Y()) for p in map(c.Value, t)])
-        if edge.Orientation() == TopAbs_REVERSED:
+        if edge.Orientation() == occ.TopAbs_REVERSED:
             pts = pts[::-1]
         total += 0.5 * float(np.sum(pts[:-1, 0] * pts[1:, 1] - pts[1:, 0] * pts[:-1, 1]))
         ex.Next()

@@ -70,8 +70,9 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     Raises:
         GeometryError: OCCT finds the solid invalid or not one solid.
     """
-    from . import occ_build
+    from . import occ_build, ocp_compat
 
+    ocp_compat.require("the cam's solid")
     shape = occ_build.cam_solid(design)
     # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
     # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)

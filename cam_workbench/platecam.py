@@ -8,7 +8,11 @@
     >>> cam.export_step("cam.step")
 
 The geometry is designed once (``generators.design_cam``) and the B-rep built once,
-lazily; CadQuery and build123d are imported only when their objects are asked for.
+lazily; CadQuery and build123d are imported only when their objects are asked for, and each is
+an extra of the project (``pip install "cam-workbench[cadquery]"`` / ``[build123d]``): without
+it, the method that needs it raises :class:`~generators.errors.MissingDependency` (an
+ImportError) naming the extra.  The solid, STEP and the report need OCP, which either extra
+brings (or ``[ocp]`` alone).
 """
 from __future__ import annotations
 
@@ -20,7 +24,8 @@ from typing import Any, Mapping
 from generators.cam_design import CamDesign, design_cam
 from generators.spec import CamSpec, default_spec, load_spec
 
-from . import occ_build
+from . import occ_build, ocp_compat
+from .extras import import_build123d, import_cadquery
 
 
 class PlateCam:
@@ -68,36 +73,40 @@ class PlateCam:
     # ---- B-rep ------------------------------------------------------------------
     @cached_property
     def shape(self) -> Any:
-        """The cam as an OCP ``TopoDS_Solid`` (built once)."""
+        """The cam as an OCP ``TopoDS_Solid`` (built once; needs OCP, which every extra brings)."""
+        ocp_compat.require("PlateCam's solid")
         return occ_build.cam_solid(self.design)
 
     def solid(self) -> Any:
-        """The cam as a ``cadquery.Solid``."""
-        import cadquery as cq
+        """The cam as a ``cadquery.Solid`` (needs the ``[cadquery]`` extra)."""
+        cq = import_cadquery("PlateCam.solid()")
 
         return cq.Solid(self.shape)
 
     def workplane(self) -> Any:
-        """A ``cadquery.Workplane`` on the XY plane holding the cam solid."""
-        import cadquery as cq
+        """A ``cadquery.Workplane`` on the XY plane holding the cam solid (needs the
+        ``[cadquery]`` extra)."""
+        cq = import_cadquery("PlateCam.workplane()")
 
         return cq.Workplane("XY").newObject([self.solid()])
 
     def part(self) -> Any:
-        """The cam as a ``build123d.Part``."""
-        import build123d as bd
+        """The cam as a ``build123d.Part`` (needs the ``[build123d]`` extra)."""
+        bd = import_build123d("PlateCam.part()")
 
         return bd.Part([bd.Solid(self.shape)])
 
     def profile_edge(self) -> Any:
-        """The exact profile as a ``cadquery.Edge`` (for sketches and further modelling)."""
-        import cadquery as cq
+        """The exact profile as a ``cadquery.Edge`` (for sketches and further modelling; needs
+        the ``[cadquery]`` extra)."""
+        cq = import_cadquery("PlateCam.profile_edge()")
 
         return cq.Edge(occ_build.nurbs_to_edge(self.design.profile_ccw()))
 
     def pitch_edge(self) -> Any:
-        """The pitch curve as a ``cadquery.Edge`` (reference geometry)."""
-        import cadquery as cq
+        """The pitch curve as a ``cadquery.Edge`` (reference geometry; needs the ``[cadquery]``
+        extra)."""
+        cq = import_cadquery("PlateCam.pitch_edge()")
 
         return cq.Edge(occ_build.nurbs_to_edge(self.design.pitch_nurbs))
 
@@ -166,14 +175,16 @@ class PlateCam:
 
 def plate_cam(spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
               **changes: Any) -> Any:
-    """A ``cadquery.Workplane`` holding the cam solid: ``plate_cam("cam.toml").faces(">Z")…``."""
+    """A ``cadquery.Workplane`` holding the cam solid: ``plate_cam("cam.toml").faces(">Z")…``
+    (needs the ``[cadquery]`` extra)."""
+    import_cadquery("plate_cam()")
     return PlateCam(spec, **changes).workplane()
 
 
 def register() -> None:
     """Add ``Workplane.plateCam(spec, **changes)`` to CadQuery (explicit opt-in), which places
-    the cam on the current workplane's origin and orientation."""
-    import cadquery as cq
+    the cam on the current workplane's origin and orientation (needs the ``[cadquery]`` extra)."""
+    cq = import_cadquery("cam_workbench.register() (Workplane.plateCam)")
 
     def _plate_cam(self: Any, spec: Any = None, **changes: Any) -> Any:
         solid = PlateCam(spec, **changes).solid()

@@ -2,6 +2,10 @@
 
 The model's numbers are in the spec's units; the file declares the same unit, so
 a CAD system reading it gets the right size (an inch cam stays 2.5 in, not 2.5 mm).
+
+Every OCP name comes from the OCP adaptor :mod:`cam_workbench.ocp_compat` (the one module of
+``cam_workbench`` that ``exporters`` may import: it imports no other project module), imported
+when a function runs, so that the DXF and G-code exporters never need OCP.
 """
 from __future__ import annotations
 
@@ -24,10 +28,9 @@ def _topods(shape: Any) -> Any:
 def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
                product_name: str = "plate cam") -> None:
     """Write ``shape`` to ``path`` (not atomic; see :func:`export_step`)."""
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from cam_workbench import ocp_compat as occ
 
+    occ.require("STEP export")
     if units not in _OCC_UNIT:
         raise ValueError(f"units must be 'mm' or 'in', got {units!r}")
     if has_offset_curves(_topods(shape)):
@@ -36,13 +39,13 @@ def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
     _set_static({"xstep.cascade.unit": _OCC_UNIT[units], "write.step.unit": _OCC_UNIT[units],
                  "write.step.schema": "AP214IS", "write.step.product.name": product_name})
     _quiet_occt()
-    writer = STEPControl_Writer()
-    status = writer.Transfer(_topods(shape), STEPControl_AsIs)
-    if status != IFSelect_RetDone:
+    writer = occ.STEPControl_Writer()
+    status = writer.Transfer(_topods(shape), occ.STEPControl_AsIs)
+    if status != occ.IFSelect_RetDone:
         raise RuntimeError("OCCT could not transfer the shape to STEP")
-    if writer.Write(str(path)) != IFSelect_RetDone:
+    if writer.Write(str(path)) != occ.IFSelect_RetDone:
         raise OSError(f"OCCT could not write {path}")
-    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+    occ.static_set("xstep.cascade.unit", "MM")
 
 
 def _set_static(values: dict[str, str]) -> None:
@@ -52,26 +55,21 @@ def _set_static(values: dict[str, str]) -> None:
 
     Raises:
         RuntimeError: OCCT refuses a value (the file would not say what it holds)."""
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_Controller
+    from cam_workbench import ocp_compat as occ
 
-    STEPControl_Controller.Init_s()
+    occ.init_step()
     for name, value in values.items():
-        if not Interface_Static.SetCVal_s(name, value) or Interface_Static.CVal_s(name) != value:
+        if not occ.static_set(name, value) or occ.static_get(name) != value:
             raise RuntimeError(f"OCCT refused the STEP parameter {name} = {value!r}")
 
 
 def has_offset_curves(shape: Any) -> bool:
     """True when an edge of ``shape`` lies on an offset curve (``GeomAbs_OffsetCurve``)."""
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.GeomAbs import GeomAbs_OffsetCurve
-    from OCP.TopAbs import TopAbs_EDGE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
+    from cam_workbench import ocp_compat as occ
 
-    ex = TopExp_Explorer(shape, TopAbs_EDGE)
+    ex = occ.TopExp_Explorer(shape, occ.TopAbs_EDGE)
     while ex.More():
-        if BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current())).GetType() == GeomAbs_OffsetCurve:
+        if occ.BRepAdaptor_Curve(occ.topods_edge(ex.Current())).GetType() == occ.GeomAbs_OffsetCurve:
             return True
         ex.Next()
     return False
@@ -79,10 +77,10 @@ def has_offset_curves(shape: Any) -> bool:
 
 def _quiet_occt() -> None:
     """Stop OCCT's translators printing transfer statistics on stdout."""
-    from OCP.Message import Message, Message_Gravity
+    from cam_workbench import ocp_compat as occ
 
-    for printer in Message.DefaultMessenger_s().Printers():
-        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    for printer in occ.message_printers():
+        printer.SetTraceLevel(occ.Message_Gravity.Message_Fail)
 
 
 def export_step(shape: Any, path: str | os.PathLike[str], units: str = "mm") -> Path:
@@ -94,17 +92,16 @@ def export_step(shape: Any, path: str | os.PathLike[str], units: str = "mm") -> 
 
 def read_step(path: str | os.PathLike[str], units: str = "mm") -> Any:
     """Read a STEP file into one TopoDS_Shape, converted to ``units`` (for checks and tests)."""
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_Reader
+    from cam_workbench import ocp_compat as occ
 
+    occ.require("reading STEP")
     _set_static({"xstep.cascade.unit": _OCC_UNIT[units]})
     _quiet_occt()
-    reader = STEPControl_Reader()
+    reader = occ.STEPControl_Reader()
     try:
-        if reader.ReadFile(str(path)) != IFSelect_RetDone:
+        if reader.ReadFile(str(path)) != occ.IFSelect_RetDone:
             raise OSError(f"cannot read STEP file {path}")
         reader.TransferRoots()
         return reader.OneShape()
     finally:
-        Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+        occ.static_set("xstep.cascade.unit", "MM")

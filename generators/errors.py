@@ -40,3 +40,10 @@ class GeometryError(CamError):
 
 class SolveError(CamError, RuntimeError):
     """A numerical solve (PH spline Newton, follower-line root) did not converge."""
+
+
+class MissingDependency(CamError, ImportError):
+    """A feature needs a package that is not installed, or that is installed but fails to
+    import; the message names the feature and the ``pip install`` (extra) that brings it.
+
+    The CLI reports it as bad input (exit 2, one line); in Python it is also an ImportError."""

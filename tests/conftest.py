@@ -75,3 +75,12 @@ def has_module(name: str) -> bool:
 
 
 requires_ocp = pytest.mark.skipif(not has_module("OCP"), reason="OCP (cadquery-ocp) is not installed")
+
+
+@pytest.fixture(scope="session")
+def install_envs(tmp_path_factory):
+    """Clean venvs with this checkout's wheel installed as users do (tests/install_envs.py),
+    each built once per session on first use."""
+    from .install_envs import EnvFactory
+
+    return EnvFactory(tmp_path_factory.mktemp("install-envs"))

@@ -253,19 +253,14 @@ def test_cadquery_import_gives_the_solids_cross_section(drawings, name):
 def _occt_green_area(face):
     """½∮(x dy − y dx) over the face's outer wire with OCCT's curve evaluator (D1), 24 Gauss
     points per knot span — exact for these spans to rounding."""
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.GeomAbs import GeomAbs_BSplineCurve
-    from OCP.gp import gp_Pnt, gp_Vec
-    from OCP.TopAbs import TopAbs_EDGE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
+    from cam_workbench import ocp_compat as occ
 
     xg, wg = np.polynomial.legendre.leggauss(24)
     total = 0.0
-    ex = TopExp_Explorer(face.outerWire().wrapped, TopAbs_EDGE)
+    ex = occ.TopExp_Explorer(face.outerWire().wrapped, occ.TopAbs_EDGE)
     while ex.More():
-        c = BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current()))
-        if c.GetType() == GeomAbs_BSplineCurve:
+        c = occ.BRepAdaptor_Curve(occ.topods_edge(ex.Current()))
+        if c.GetType() == occ.GeomAbs_BSplineCurve:
             bs = c.BSpline()
             knots = np.array([bs.Knot(i) for i in range(1, bs.NbKnots() + 1)])
         else:
@@ -273,7 +268,7 @@ def _occt_green_area(face):
         for a, b in zip(knots[:-1], knots[1:]):
             for x, w in zip(xg, wg):
                 t = 0.5 * (b - a) * (x + 1) + a
-                p, v = gp_Pnt(), gp_Vec()
+                p, v = occ.gp_Pnt(), occ.gp_Vec()
                 c.D1(t, p, v)
                 total += 0.25 * (b - a) * w * (p.X() * v.Y() - p.Y() * v.X())
         ex.Next()

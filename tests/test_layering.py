@@ -1,5 +1,6 @@
 """DESIGN.md's layering, checked: importing and running `generators` loads no CAD kernel,
 file-format or upper-layer module; `cam_workbench/freecad` never imports OCP/cadquery/build123d."""
+import ast
 import re
 import subprocess
 import sys
@@ -35,9 +36,45 @@ def test_no_upward_imports_in_source():
         bad = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP)\b", re.M)
         for path in freecad.rglob("*.py"):
             assert not bad.search(path.read_text()), path
-    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench|cadquery|build123d)\b", re.M)
+    # exporters may use the OCP adaptor (a leaf: it imports no other project module), nothing
+    # else of cam_workbench
+    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench(?!\s+import\s+ocp_compat\b|\.ocp_compat\b)|"
+                     r"cadquery|build123d)\b", re.M)
     for path in (ROOT / "exporters").rglob("*.py"):
         assert not exp.search(path.read_text()), path
+
+
+def test_only_the_adaptor_imports_ocp():
+    """Every OCP name the project uses comes from cam_workbench/ocp_compat.py, the one module that
+    knows OCP's versions (issue 12): no other source, test or benchmark imports OCP."""
+    ocp = re.compile(r"^\s*(import|from)\s+OCP\b", re.M)
+    adaptor = "cam_workbench/ocp_compat.py"
+    offenders = []
+    for top in ("cam_workbench", "exporters", "generators", "tests", "benchmarks"):
+        for path in (ROOT / top).rglob("*.py"):
+            rel = path.relative_to(ROOT).as_posix()
+            if rel != adaptor and ocp.search(path.read_text(encoding="utf-8")):
+                offenders.append(rel)
+    assert not offenders, offenders
+    text = (ROOT / adaptor).read_text(encoding="utf-8")
+    assert ocp.search(text)
+    # a leaf: of the project, only generators' error types
+    tree = ast.parse(text)
+    imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    imported |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
+    project = sorted(m for m in imported if m.split(".")[0] in ("cam_workbench", "exporters", "generators"))
+    assert project == ["generators.errors"], project
+
+
+def test_importing_the_package_loads_no_ocp():
+    """``import cam_workbench`` (and the command line's parser) loads no OCP, cadquery or
+    build123d: they are loaded when a solid is asked for."""
+    code = ("import sys, cam_workbench, cam_workbench.cli, cam_workbench.ocp_compat\n"
+            "cam_workbench.cli.build_parser()\n"
+            "print(','.join(m for m in ('OCP', 'cadquery', 'build123d') if m in sys.modules))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == ""
 
 
 def test_only_the_optimiser_imports_nlopt():

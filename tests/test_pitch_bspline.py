@@ -158,17 +158,13 @@ def test_kernel_solids_are_valid_with_exact_offset_curves(designs, name, tmp_pat
         assert occ_build.face_area(top) == pytest.approx(steiner - bore, rel=1e-9)
         assert occ_build.kernel_volume(exact) == pytest.approx((steiner - bore) * t, rel=1e-8)
         # OCCT's own evaluation of the offset curve = our offset of the same B-spline
-        from OCP.BRepAdaptor import BRepAdaptor_Curve
-        from OCP.GeomAbs import GeomAbs_OffsetCurve
-        from OCP.TopAbs import TopAbs_EDGE
-        from OCP.TopExp import TopExp_Explorer
-        from OCP.TopoDS import TopoDS
+        from cam_workbench import ocp_compat as occ
 
-        ex = TopExp_Explorer(top, TopAbs_EDGE)
+        ex = occ.TopExp_Explorer(top, occ.TopAbs_EDGE)
         worst = 0.0
         while ex.More():
-            c = BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current()))
-            if c.GetType() == GeomAbs_OffsetCurve:
+            c = occ.BRepAdaptor_Curve(occ.topods_edge(ex.Current()))
+            if c.GetType() == occ.GeomAbs_OffsetCurve:
                 us = np.linspace(c.FirstParameter(), c.LastParameter(), 7)
                 pts = np.array([(p.X() + 1j * p.Y()) for p in map(c.Value, us)])
                 theta0 = np.radians(d.pitch.cam_angle_of_point(pts * (1 + rr / np.abs(pts))))
@@ -193,21 +189,22 @@ def test_occt_step_writer_drops_offset_curves(tmp_path, bore):
     for Geom_OffsetCurve): it reports success and leaves out every face bounded by an offset
     curve — no geometry at all without a bore; with a bore only the bore's cylinder, which reads
     back as a "valid" shell of negative volume."""
-    from OCP.IFSelect import IFSelect_RetDone
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
     from cam_workbench import occ_build
+    from cam_workbench import ocp_compat as occ
     from exporters.step import read_step
 
     d = design_cam(default_spec().replace(**{"pitch.representation": "bspline", "cam.bore_diameter": bore}))
-    writer = STEPControl_Writer()
-    assert writer.Transfer(occ_build.cam_solid(d), STEPControl_AsIs) == IFSelect_RetDone
+    writer = occ.STEPControl_Writer()
+    assert writer.Transfer(occ_build.cam_solid(d), occ.STEPControl_AsIs) == occ.IFSelect_RetDone
     path = tmp_path / "raw.step"
-    assert writer.Write(str(path)) == IFSelect_RetDone
+    assert writer.Write(str(path)) == occ.IFSelect_RetDone
     text = path.read_text()
     assert "B_SPLINE" not in text and "OFFSET_CURVE" not in text and "PLANE(" not in text
     back = read_step(path)
     if bore == 0.0:
-        assert back.IsNull() and "MANIFOLD_SOLID_BREP" not in text
+        # nothing to read: OCCT 7.9's reader returns a null shape, OCCT 8's an empty compound
+        assert "MANIFOLD_SOLID_BREP" not in text
+        assert back.IsNull() or not occ.TopExp_Explorer(back, occ.TopAbs_FACE).More()
     else:
         assert "CYLINDRICAL_SURFACE" in text
         # an open cylinder's divergence-theorem "volume": −⅓·r·(2πr h)

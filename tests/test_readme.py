@@ -1,12 +1,19 @@
 """Every code block of README.md runs as written, in the order a reader meets it.
 
 The reader is simulated as closely as the test machine allows, and nothing of the project's own
-environment is changed:
+environment is changed.  There are two readers, because CadQuery and build123d bring different
+OCP builds that cannot share an environment (docs/install.md): a CadQuery reader, who runs every
+block, and a build123d reader, who runs the ``pip install "cam-workbench[build123d]"`` line of the
+install block (its lines are alternatives, one per library) and the "From a build123d script"
+section (:data:`SECTION_READER`).  Each reader has
 
-* a fresh virtual environment (``python -m venv``) whose ``site-packages`` sees this project's
-  installed dependencies (cadquery, build123d, OCP, numpy, … — symlinked, without cam-workbench
-  itself, pip or setuptools), and a wheel of this checkout as the only ``cam-workbench`` pip can
-  find (``PIP_NO_INDEX``, ``PIP_FIND_LINKS``): the README's ``pip install`` lines install it;
+* a fresh virtual environment (``python -m venv``) whose ``site-packages`` sees the installed
+  dependencies of an environment that has the reader's library (symlinked, without cam-workbench
+  itself, pip or setuptools) — for CadQuery the project's dev venv, for build123d the clean venv
+  where ``pip install build123d`` put today's build123d (tests/install_envs.py, scenario (a)) —
+  and a wheel of this checkout as the only ``cam-workbench`` pip can find (``PIP_NO_INDEX``,
+  ``PIP_FIND_LINKS``): the README's ``pip install`` lines install it, and must find the library
+  and its one OCP already there;
 * ``sh`` blocks run through ``bash -e -o pipefail`` (a failing line fails the block) with that
   environment's ``bin`` first on PATH, HOME a fresh folder, in the reader's work folder — or, for
   ``make`` lines, in a copy of the checkout whose ``.venv`` is that environment;
@@ -44,13 +51,18 @@ TEXT = README.read_text(encoding="utf-8")
 RUNNERS = ("sh", "python", "toml")
 FREECAD_MARK = "<!-- freecad -->"
 #: left out of the copies of the checkout (the wheel's source and the `make demo` folder)
-IGNORE = shutil.ignore_patterns(".git", ".venv", "out", "test-artifacts", "__pycache__", ".pytest_cache",
+IGNORE = shutil.ignore_patterns(".git", ".venv", ".cache", "out", "test-artifacts", "__pycache__", ".pytest_cache",
                                 "*.egg-info", "build", "dist")
 #: what the reader's environment must not see from the project's own site-packages
 NOT_SHARED = ("cam_workbench", "__editable__", "pip", "setuptools", "_distutils_hack", "pkg_resources")
 #: the files `make demo` and `cam-workbench build` write (README "From a checkout")
 BUILD_FILES = ("cam.step", "cam.dxf", "cam.nc", "commands.csv", "report.json", "report.html",
                ".cam-workbench.json")
+#: the reader who runs a section's blocks (every other section: the CadQuery reader)
+SECTION_READER = {"From a build123d script": "build123d"}
+#: an install line for one library's reader: ``pip install "cam-workbench[build123d]"``
+INSTALL_LINE = re.compile(r"^\s*pip\s+install\s+.*cam-workbench\[(\w+)\]", re.M)
+READERS = ("cadquery", "build123d")
 
 
 @dataclass(frozen=True)
@@ -165,6 +177,7 @@ assert smaller.report()["checks"]["failed"] == []
 # ---- the reader's machine ----------------------------------------------------------------------
 @dataclass
 class Reader:
+    library: str        # "cadquery" or "build123d": what the reader scripts in
     root: Path
     venv: Path
     wheelhouse: Path
@@ -193,36 +206,85 @@ def _run(argv, **kw) -> subprocess.CompletedProcess:
     return subprocess.run(argv, capture_output=True, text=True, stdin=subprocess.DEVNULL, **kw)
 
 
-@pytest.fixture(scope="module")
-def reader(tmp_path_factory) -> Reader:
-    root = tmp_path_factory.mktemp("reader")
-    src = root / "src"
-    shutil.copytree(ROOT, src, ignore=IGNORE, symlinks=True)
-    wheelhouse = root / "wheelhouse"
-    res = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", str(src), "-w", str(wheelhouse)],
-               timeout=900)
-    assert res.returncode == 0, res.stdout + res.stderr
+def _site_packages(python: Path | str) -> Path:
+    res = _run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], timeout=60)
+    assert res.returncode == 0, res.stderr
+    return Path(res.stdout.strip())
+
+
+def make_reader(library: str, root: Path, wheelhouse: Path, deps: Path) -> Reader:
+    """A reader of ``library`` at ``root``: a fresh venv sharing the packages of the site-packages
+    ``deps`` (not cam-workbench), with HOME, work folder and a copy of the checkout of its own."""
+    root.mkdir(parents=True)
     venv = root / "venv"
     res = _run([sys.executable, "-m", "venv", str(venv)], timeout=900)
     assert res.returncode == 0, res.stdout + res.stderr
-    # the project's installed dependencies, shared read-only through symlinks (not cam-workbench)
+    # the library's environment, shared read-only through symlinks (not cam-workbench)
     shared = root / "shared-site-packages"
     shared.mkdir()
-    ours = Path(sysconfig.get_paths()["purelib"])
-    for entry in ours.iterdir():
+    for entry in deps.iterdir():
         if entry.name.startswith(NOT_SHARED) or entry.suffix == ".pth":
             continue
         (shared / entry.name).symlink_to(entry)
-    site = Path(_run([str(venv / "bin" / "python"), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-                     timeout=60).stdout.strip())
-    (site / "_reader_shared_dependencies.pth").write_text(f"{shared}\n")
+    (_site_packages(venv / "bin" / "python") / "_reader_shared_dependencies.pth").write_text(f"{shared}\n")
     work, home = root / "work", root / "home"
     work.mkdir()
     home.mkdir()
     repo = root / "repo"
     shutil.copytree(ROOT, repo, ignore=IGNORE, symlinks=True)
     (repo / ".venv").symlink_to(venv, target_is_directory=True)
-    return Reader(root, venv, wheelhouse, work, home, repo)
+    return Reader(library, root, venv, wheelhouse, work, home, repo)
+
+
+class Readers:
+    """The two readers, each made when first needed (the build123d one needs the clean build123d
+    venv of tests/install_envs.py, made once per session)."""
+
+    def __init__(self, root: Path, install_envs):
+        self.root = root
+        self.install_envs = install_envs
+        self._readers: dict[str, Reader] = {}
+        self._wheelhouse: Path | None = None
+
+    @property
+    def wheelhouse(self) -> Path:
+        if self._wheelhouse is None:
+            src = self.root / "src"
+            shutil.copytree(ROOT, src, ignore=IGNORE, symlinks=True)
+            self._wheelhouse = self.root / "wheelhouse"
+            res = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", str(src), "-w",
+                        str(self._wheelhouse)], timeout=900)
+            assert res.returncode == 0, res.stdout + res.stderr
+        return self._wheelhouse
+
+    def __getitem__(self, library: str) -> Reader:
+        if library not in self._readers:
+            if library == "cadquery":          # the dev venv: CadQuery and its OCP (Makefile)
+                deps = Path(sysconfig.get_paths()["purelib"])
+            else:
+                deps = _site_packages(self.install_envs.get("build123d-first").python)
+            self._readers[library] = make_reader(library, self.root / library, self.wheelhouse, deps)
+        return self._readers[library]
+
+
+@pytest.fixture(scope="module")
+def readers(tmp_path_factory, install_envs) -> Readers:
+    return Readers(tmp_path_factory.mktemp("reader"), install_envs)
+
+
+def sh_parts(unit: Unit) -> list[tuple[str, str]]:
+    """(reader, text) pieces of an sh block in order: an install line naming another library's
+    extra goes to that library's reader; the rest to the section's reader."""
+    default = SECTION_READER.get(unit.section, "cadquery")
+    parts: list[tuple[str, str]] = []
+    for line in unit.text.splitlines(keepends=True):
+        m = INSTALL_LINE.match(line)
+        who = m.group(1) if m and m.group(1) in READERS else default
+        if parts and parts[-1][0] == who:
+            parts[-1] = (who, parts[-1][1] + line)
+        else:
+            parts.append((who, line))
+    return parts
 
 
 # ---- the blocks -------------------------------------------------------------------------------
@@ -245,13 +307,15 @@ def test_freecad_mark_is_on_a_python_block():
 
 
 def test_relative_links_exist():
-    """Every relative link and picture of README.md and docs/*.md names a file of the checkout."""
+    """Every relative link and picture of README.md and docs/*.md names a file of the checkout
+    (docs/_readme_*.md are pieces of the README: their links are the README's)."""
     missing = []
     for page in [README, *sorted((ROOT / "docs").glob("*.md"))]:
+        base = ROOT if page.name.startswith("_readme_") else page.parent
         for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text(encoding="utf-8")):
             if re.match(r"[a-z]+:", target):
                 continue
-            if not (page.parent / target).exists():
+            if not (base / target).exists():
                 missing.append(f"{page.relative_to(ROOT)} → {target}")
     assert not missing, missing
 
@@ -264,18 +328,22 @@ def _check_build_folder(folder: Path) -> None:
     assert report["checks"]["passed"] in (True, False)
 
 
-def _after_sh(unit: Unit, reader: Reader, res: subprocess.CompletedProcess) -> None:
+def _after_sh(text: str, reader: Reader, res: subprocess.CompletedProcess) -> None:
     """What the README says the commands leave behind."""
     def runs(command: str) -> bool:          # a line of the block starts with it (not a comment)
-        return re.search(rf"^\s*{re.escape(command)}\b", unit.text, re.M) is not None
+        return re.search(rf"^\s*{re.escape(command)}\b", text, re.M) is not None
 
     if runs("pip install"):
         said = res.stdout + res.stderr
         assert "does not provide the extra" not in said, said
-        where = _run([str(reader.python), "-c", "import cam_workbench, cadquery, build123d; print(cam_workbench.__file__)"],
-                     env=reader.env(), cwd=reader.work, timeout=300)
+        code = (f"import cam_workbench, {reader.library}\nfrom cam_workbench import ocp_compat\n"
+                f"print(cam_workbench.__file__)\nprint([n for n, v in ocp_compat.distributions()])")
+        where = _run([str(reader.python), "-c", code], env=reader.env(), cwd=reader.work, timeout=300)
         assert where.returncode == 0, where.stderr
-        assert where.stdout.strip().startswith(str(reader.venv)), where.stdout   # the wheel, not the checkout
+        path, dists = where.stdout.strip().splitlines()[-2:]
+        assert path.startswith(str(reader.venv)), path          # the wheel, not the checkout
+        # the library's own OCP build, and no second one
+        assert dists == str(["cadquery-ocp" if reader.library == "cadquery" else "cadquery-ocp-novtk"]), dists
     if runs("make demo"):
         _check_build_folder(reader.repo / "out")
     if runs("cam-workbench build -o out"):
@@ -287,8 +355,21 @@ def _after_sh(unit: Unit, reader: Reader, res: subprocess.CompletedProcess) -> N
         assert list(reader.home.rglob("CamWorkbench/InitGui.py")), "no workbench under the reader's HOME"
 
 
+def test_install_lines_name_the_readers():
+    """Every extra the README's install lines name is one of pyproject's extras, and each reader's
+    library has its line (what the two-reader set-up relies on)."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib  # type: ignore[no-redef]
+
+    extras = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"])
+    named = {m.group(1) for u in UNITS if u.kind == "sh" for m in INSTALL_LINE.finditer(u.text)}
+    assert set(READERS) <= named <= extras, (named, extras)
+
+
 @pytest.mark.parametrize("unit", UNITS, ids=[u.id for u in UNITS])
-def test_readme_block_runs(unit: Unit, reader: Reader):
+def test_readme_block_runs(unit: Unit, readers: Readers):
     """The README's blocks in order (one test each; a later one may use what an earlier one made)."""
     if unit.kind == "toml":
         load_spec(unit.text)
@@ -296,14 +377,18 @@ def test_readme_block_runs(unit: Unit, reader: Reader):
     if unit.kind == "sh":
         if "freecad install" in unit.text and FREECADCMD is None:
             pytest.skip("freecadcmd is not installed (Debian package freecad-python3; `make test` installs it)")
-        cwd = reader.work
-        if re.search(r"^\s*make\b", unit.text, re.M):
-            cwd = reader.repo
-            (reader.venv / ".installed").touch()        # the environment is ready: make need not rebuild it
-        res = _run(["bash", "-e", "-o", "pipefail", "-c", unit.text], cwd=cwd, env=reader.env(), timeout=1800)
-        assert res.returncode == 0, f"README line {unit.line}: exit {res.returncode}\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
-        _after_sh(unit, reader, res)
+        for who, text in sh_parts(unit):
+            reader = readers[who]
+            cwd = reader.work
+            if re.search(r"^\s*make\b", text, re.M):
+                cwd = reader.repo
+                (reader.venv / ".installed").touch()        # the environment is ready: make need not rebuild it
+            res = _run(["bash", "-e", "-o", "pipefail", "-c", text], cwd=cwd, env=reader.env(), timeout=1800)
+            assert res.returncode == 0, (f"README line {unit.line} ({who} reader): exit {res.returncode}\n"
+                                         f"{res.stdout[-3000:]}\n{res.stderr[-3000:]}")
+            _after_sh(text, reader, res)
         return
+    reader = readers[SECTION_READER.get(unit.section, "cadquery")]
     if unit.kind == "python":
         script = reader.root / f"readme_{unit.line}.py"
         script.write_text(unit.text + EPILOGUES.get(unit.section, ""), encoding="utf-8")

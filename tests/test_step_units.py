@@ -18,13 +18,11 @@ CLI = [sys.executable, "-m", "cam_workbench.cli"]
 #: reads a STEP file in mm in a new interpreter: (bounding-box z extent, volume)
 READ_MM = """
 import json, sys
-from OCP.Bnd import Bnd_Box
-from OCP.BRepBndLib import BRepBndLib
 from exporters.step import read_step
-from cam_workbench import occ_build
+from cam_workbench import occ_build, ocp_compat as occ
 shape = read_step(sys.argv[1], "mm")
-box = Bnd_Box(); BRepBndLib.Add_s(shape, box)
-x0, y0, z0, x1, y1, z1 = box.Get()
+box = occ.Bnd_Box(); occ.add_to_box(shape, box)
+x0, y0, z0, x1, y1, z1 = occ.box_limits(box)
 print(json.dumps({"z": z1 - z0, "volume": occ_build.kernel_volume(shape)}))
 """
 

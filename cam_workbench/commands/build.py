@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, design_for, plot_progress, spec_from_args
+from .common import add_spec_arguments, design_for, plot_progress, require_ocp, spec_from_args
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -27,6 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    require_ocp("build")
     outputs = run_pipeline(spec, design=design_for(spec))
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))

@@ -112,8 +112,11 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
         ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
     console.print(ext)
     u = spec.units
-    console.print(f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {areas['thesis_eq_4_21']:.6g} {u}²; "
-                  f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
+    thesis = areas.get("thesis_eq_4_21")
+    console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
+                   else f"area inside the {'pitch curve' if spec.follower.kind != 'flat' else 'profile'}: "
+                        f"{areas['pitch_curve']:.6g} {u}²; ")
+                  + f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
     verdict = ("[green]all checks pass[/]" if checks["passed"]
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(f"{verdict} — checks written to {out}/report.json")

@@ -60,6 +60,14 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
     return spec.replace(**changes) if changes else spec
 
 
+def require_ocp(command: str) -> None:
+    """Before any work: the commands that build the solid (build, report, optimise) need OCP;
+    without it they exit 2 with one line naming the extras that bring it (nothing written)."""
+    from ..ocp_compat import require
+
+    require(f"cam-workbench {command} (the solid, its checks and cam.step)")
+
+
 def design_for(spec: CamSpec) -> "CamDesign":
     """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M."""
     from generators.cam_design import design_cam

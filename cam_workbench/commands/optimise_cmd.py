@@ -12,7 +12,7 @@ from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, plot_progress, spec_from_args
+from .common import add_spec_arguments, plot_progress, require_ocp, spec_from_args
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -61,6 +61,7 @@ def _progress_bar(budget: int) -> tuple[Any, Any]:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    require_ocp("optimise")
     changes: dict[str, Any] = {}
     if args.max_evaluations is not None:
         changes["max_evaluations"] = args.max_evaluations

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from ..pipeline import HTML_NAME, JSON_NAME, plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, design_for, plot_progress, spec_from_args
+from .common import add_spec_arguments, design_for, plot_progress, require_ocp, spec_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -25,6 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    require_ocp("report")
     # the same numbers as `build` (every stage runs); only the report files are written
     outputs = run_pipeline(spec, design=design_for(spec))
     outputs.step_shape = outputs.machining = outputs.dxf = None

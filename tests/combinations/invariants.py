@@ -43,12 +43,10 @@ def polyline_distance(points: np.ndarray, curve: np.ndarray) -> np.ndarray:
 
 def check_solid(shape) -> None:
     """One valid solid (OCCT's BRepCheck_Analyzer and a solid count, called here directly)."""
-    from OCP.BRepCheck import BRepCheck_Analyzer
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
+    from cam_workbench import ocp_compat as occ
 
-    assert BRepCheck_Analyzer(shape).IsValid(), "OCCT: invalid solid"
-    ex, n = TopExp_Explorer(shape, TopAbs_SOLID), 0
+    assert occ.BRepCheck_Analyzer(shape).IsValid(), "OCCT: invalid solid"
+    ex, n = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID), 0
     while ex.More():
         n += 1
         ex.Next()

@@ -70,7 +70,7 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
             if draw(st.booleans()):
                 follower["arm_length"] = d * draw(st.floats(0.5, 0.9))
         else:
-            follower["arm_length"] = d * draw(st.floats(0.45, 0.9))
+            follower["arm_length"] = d - base * draw(st.floats(0.1, 0.9))   # |d − L| < R_b < d + L
         lift = draw(st.floats(4.0, 18.0))
     spec: dict[str, Any] = {
         "units": units,
