@@ -1,6 +1,7 @@
 # The two set-up commands of the README work on a fresh machine from nothing:
 #   make demo   venv → install → build the default cam into out/ (STEP, DXF, report.html + plots)
-#   make test   system packages (as root) → venv → install → the whole test suite
+#   make test   system packages (as root) → venv → install → the whole test suite, then the
+#               FreeCAD tests again with FreeCAD 1.0 and 1.1 (Debian trixie/unstable roots, as root)
 #   make fuzz   the combination and bad-input suites with thousands of random cases
 PYTHON ?= python3
 VENV   ?= .venv
@@ -15,9 +16,21 @@ export PIP_CACHE_DIR ?= $(CACHE)/pip
 # clean venvs of their own (tests/test_install_envs.py).
 DEV_EXTRAS := cadquery,test
 # Debian packages the test suite drives for real (installed by `make test` when root).
-DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt
+DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap
+# FreeCAD 1.0 (Debian trixie) and 1.1 (Debian unstable): root filesystems made by mmdebstrap
+# from Debian's packages, cached here (reused while their package list is the same; delete
+# the folder to rebuild); `make test` runs the FreeCAD tests once with each, beside the host's.
+FREECAD_ROOTS ?= $(CACHE)/freecad-roots
+FREECAD_SUITES ?= trixie unstable
+FREECAD_ROOT_PACKAGES := freecad-python3 freecad python3-numpy python3-scipy python3-nlopt \
+                         python3-matplotlib xvfb xauth
+# what apt's Recommends would bring a user and mmdebstrap leaves out: Qt 6's SVG image plugin
+# (FreeCAD 1.1 draws its check boxes and the workbench icons from SVG; trixie's Qt 5 has it)
+FREECAD_ROOT_EXTRA_unstable := qt6-svg-plugins
+FREECAD_MIRROR ?= $(shell tests/freecad_roots.sh mirror)
+FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
-.PHONY: demo test test-install fuzz dist bench system-deps docs clean
+.PHONY: demo test test-host test-freecad-roots freecad-roots test-install fuzz dist bench system-deps docs clean
 
 $(STAMP): pyproject.toml dev-constraints.txt
 	$(PYTHON) -m venv $(VENV)
@@ -29,8 +42,34 @@ $(STAMP): pyproject.toml dev-constraints.txt
 demo: $(STAMP)
 	$(VENV)/bin/cam-workbench build -o out
 
+# The whole suite on the host (FreeCAD 0.20 from bookworm), then the FreeCAD tests with
+# FreeCAD 1.0 and 1.1; every part runs, and `make test` fails if any part failed.
 test: system-deps $(STAMP)
+	@status=0; \
+	$(MAKE) --no-print-directory test-host || status=1; \
+	$(MAKE) --no-print-directory test-freecad-roots || status=1; \
+	exit $$status
+
+test-host: $(STAMP)
 	$(PY) -m pytest
+
+# As root: build (or reuse) the roots; a failure (no mmdebstrap, no network) fails loudly.
+# Not root: nothing to do (FreeCAD in a root filesystem needs mount namespaces and chroot).
+freecad-roots:
+	@if [ "$$(id -u)" != 0 ]; then \
+	  echo "not root: FreeCAD 1.0/1.1 root filesystems not built (their test runs are skipped)"; \
+	else for s in $(FREECAD_SUITES); do \
+	  extra=; [ "$$s" = unstable ] && extra="$(FREECAD_ROOT_EXTRA_unstable)"; \
+	  tests/freecad_roots.sh build $(FREECAD_ROOTS)/$$s $$s "$(FREECAD_MIRROR)" $(FREECAD_ROOT_PACKAGES) $$extra \
+	    || exit 1; done; fi
+
+test-freecad-roots: freecad-roots $(STAMP)
+	@if [ "$$(id -u)" != 0 ]; then \
+	  echo "SKIPPED: the FreeCAD tests with FreeCAD 1.0 (trixie) and 1.1 (unstable) need root"; \
+	else status=0; for s in $(FREECAD_SUITES); do \
+	  echo "=== FreeCAD tests with the FreeCAD of Debian $$s ($(FREECAD_ROOTS)/$$s)"; \
+	  CAM_FREECAD_ROOT=$(FREECAD_ROOTS)/$$s $(PY) -m pytest $(FREECAD_TESTS) || status=1; \
+	done; exit $$status; fi
 
 # only the install tests: the wheel into clean venvs (build123d first, cadquery first, each extra)
 test-install: $(STAMP)

@@ -30,10 +30,15 @@ class _Alias(importlib.abc.Loader):
         self.target = target
 
     def create_module(self, spec):  # noqa: D102
-        return importlib.import_module(self.target)
+        module = importlib.import_module(self.target)
+        self.spec = module.__spec__
+        return module
 
     def exec_module(self, module):  # noqa: D102
-        pass
+        # the import system has just set the alias's spec on the module: give it back its own,
+        # else __package__ != __spec__.parent (a DeprecationWarning on its relative imports
+        # since Python 3.12, seen with FreeCAD 1.1's Python 3.14) and reloads use the alias
+        module.__spec__ = self.spec
 
 
 class _RenamedFinder(importlib.abc.MetaPathFinder):

@@ -38,8 +38,13 @@ def paper_case(case: int, knife: bool = True) -> CamSpec:
 
 @pytest.fixture(scope="session")
 def artifacts() -> Path:
-    ARTIFACTS.mkdir(exist_ok=True)
-    return ARTIFACTS
+    """Where tests leave files for a person to look at; a run with another FreeCAD
+    (``$CAM_FREECAD_ROOT``, e.g. ``.cache/freecad-roots/unstable``) gets a subfolder of its own
+    (``test-artifacts/unstable``), so its screenshots do not overwrite the host FreeCAD's."""
+    root = os.environ.get("CAM_FREECAD_ROOT")
+    folder = ARTIFACTS / Path(root).name if root else ARTIFACTS
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
 
 
 @pytest.fixture(scope="session")

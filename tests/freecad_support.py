@@ -1,5 +1,10 @@
 """Driving the real FreeCAD from pytest: ``freecadcmd`` (headless) and the GUI under Xvfb.
 
+Which FreeCAD: the one on PATH (Debian bookworm's 0.20.2 here), or with ``$CAM_FREECAD_ROOT``
+set to a root filesystem made by ``tests/freecad_roots.sh`` (``make freecad-roots``: Debian
+trixie's FreeCAD 1.0, unstable's 1.1) that root's, through its wrapper commands — headless,
+the GUI with the root's own Xvfb, and the FreeCAD that ``cam-workbench freecad install`` asks.
+
 Each run gets its own HOME, so FreeCAD's user settings and Mod folder are those of the
 test, never the developer's.  The workbench is installed into that HOME by the real
 ``cam-workbench freecad install`` (fixture ``fc_home``): FreeCAD (Debian's 0.20.2 with its
@@ -24,9 +29,25 @@ import pytest
 
 from .conftest import ROOT
 
-FREECADCMD = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
-FREECAD_GUI = shutil.which("freecad") or shutil.which("FreeCAD")
-XVFB_RUN = shutil.which("xvfb-run")
+#: A FreeCAD root filesystem (Debian trixie's FreeCAD 1.0, unstable's 1.1) made by
+#: ``tests/freecad_roots.sh build`` (``make freecad-roots``): when set, every FreeCAD the tests
+#: start — headless, the GUI and its Xvfb, and the one ``cam-workbench freecad install`` asks —
+#: is that root's, through its wrappers in ``$CAM_FREECAD_ROOT/bin``.
+FREECAD_ROOT = os.environ.get("CAM_FREECAD_ROOT") or None
+if FREECAD_ROOT:
+    ROOT_BIN: Path | None = Path(FREECAD_ROOT).resolve() / "bin"
+    _missing = [n for n in ("freecadcmd", "freecad", "xvfb-run") if not (ROOT_BIN / n).is_file()]
+    if _missing:  # never fall back to the host's FreeCAD: the run would test the wrong version
+        raise RuntimeError(f"CAM_FREECAD_ROOT={FREECAD_ROOT}: no {', '.join(_missing)} in {ROOT_BIN} "
+                           "(build it with `make freecad-roots`)")
+    FREECADCMD: str | None = str(ROOT_BIN / "freecadcmd")
+    FREECAD_GUI: str | None = str(ROOT_BIN / "freecad")
+    XVFB_RUN: str | None = str(ROOT_BIN / "xvfb-run")
+else:
+    ROOT_BIN = None
+    FREECADCMD = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+    FREECAD_GUI = shutil.which("freecad") or shutil.which("FreeCAD")
+    XVFB_RUN = shutil.which("xvfb-run")
 
 requires_freecadcmd = pytest.mark.skipif(
     FREECADCMD is None, reason="freecadcmd is not installed (Debian package freecad-python3)")
@@ -74,6 +95,20 @@ def fc_env(home: Path) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("XDG_", "PYTHON", "VIRTUAL_ENV"))}
     env["HOME"] = str(home)
     env["QTWEBENGINE_DISABLE_SANDBOX"] = "1"  # the Start page's web view refuses root otherwise
+    if ROOT_BIN is not None:
+        # `cam-workbench freecad install` asks the freecadcmd on PATH: the root's; and the Python
+        # it records for the exports (this one) runs from inside the root as the host's
+        env["PATH"] = str(ROOT_BIN) + os.pathsep + env.get("PATH", "")
+        env["CAM_FREECAD_HOST_EXES"] = sys.executable
+    return env
+
+
+def cli_env() -> dict[str, str]:
+    """The environment for running this checkout's ``python -m cam_workbench.cli`` from any
+    folder: the checkout first on the path (the virtual environment's editable install may
+    point at another checkout)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["PYTHONPATH"] = str(ROOT)
     return env
 
 
@@ -93,19 +128,34 @@ def fc_home(tmp_path_factory) -> Path:
     home = tmp_path_factory.mktemp("freecad_home")
     res = install_workbench(home, "--no-verify")
     assert res.returncode == 0, res.stdout + res.stderr
+    # the FreeCAD runs must load this checkout's code, not another installation's
+    markers = list(home.rglob(".cam-workbench-install.json"))
+    assert len(markers) == 1, (markers, res.stdout)
+    assert json.loads(markers[0].read_text())["source"] == str(ROOT), markers[0].read_text()
     return home
 
 
+def user_mod_dir(home: Path, tmp: Path, extra_env: dict[str, str] | None = None) -> Path:
+    """The Mod folder of the FreeCAD under test for the user ``home``, as that FreeCAD itself
+    says (``getUserAppDataDir()``: ``~/.local/share/FreeCAD`` for 0.20 and 1.0, the versioned
+    ``…/FreeCAD/v1-1`` for 1.1), never a path written into a test."""
+    run = run_freecadcmd("import FreeCAD\nRESULT['data'] = FreeCAD.getUserAppDataDir()\n", tmp, home,
+                         extra_env=extra_env).check()
+    return Path(run.result["data"]) / "Mod"
+
+
 def run_freecadcmd(body: str, tmp: Path, home: Path, add_root: bool = False,
-                   timeout: float = 600) -> FreeCADRun:
+                   timeout: float = 600, extra_env: dict[str, str] | None = None) -> FreeCADRun:
     """Run ``body`` (Python) in a fresh ``freecadcmd`` as the user ``home``; ``add_root`` puts
     this checkout on sys.path too (for a FreeCAD without the workbench installed)."""
     tmp.mkdir(parents=True, exist_ok=True)
     script, result = tmp / "fc_script.py", tmp / "fc_result.json"
     result.unlink(missing_ok=True)
     script.write_text(_wrap(body, result, add_root), encoding="utf-8")
+    env = fc_env(home)
+    env.update(extra_env or {})
     proc = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=timeout,
-                          env=fc_env(home), cwd=tmp, stdin=subprocess.DEVNULL)
+                          env=env, cwd=tmp, stdin=subprocess.DEVNULL)
     data = json.loads(result.read_text()) if result.exists() else {}
     return FreeCADRun(data, proc.stdout, proc.stderr, proc.returncode)
 
@@ -144,6 +194,14 @@ def button(text):  # the visible dialog-box button labelled text (mnemonic & ign
                 return b
     raise NotYet(text)
 
+def task_dock():  # the dock holding the task panels: "Combo View" (0.20), "Tasks" (1.0, 1.1)
+    docks = mw.findChildren(QtGui.QDockWidget)
+    for name in ("Combo View", "Tasks"):
+        for d in docks:
+            if d.objectName() == name:
+                return d
+    raise RuntimeError("no task-panel dock among " + ", ".join(repr(d.objectName()) for d in docks))
+
 def motion_panel():  # the open motion-editor task panel
     vobj = FreeCADGui.ActiveDocument.getInEdit()
     p = vobj.Proxy.panel if vobj is not None else None
@@ -178,7 +236,9 @@ def _camwb_run(i=0, tries=0):
 QtCore.QTimer.singleShot(1000, _camwb_run)
 """
     script.write_text(_PRELUDE.format(result=str(result)) + driver, encoding="utf-8")
-    cmd = [XVFB_RUN, "-a", "-s", f"-screen 0 {screen}", FREECAD_GUI, str(script)]
+    # in a root, its xvfb-run starts its own freecad (the wrapper would nest another namespace)
+    gui = "freecad" if ROOT_BIN is not None else FREECAD_GUI
+    cmd = [XVFB_RUN, "-a", "-s", f"-screen 0 {screen}", gui, str(script)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=fc_env(home),
                           cwd=tmp, stdin=subprocess.DEVNULL)
     data = json.loads(result.read_text()) if result.exists() else {}

@@ -11,7 +11,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
-from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
+from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
 
@@ -48,7 +48,8 @@ def test_relative_targets_land_in_freecads_working_folder(tmp_path, fc_home):
     cli.mkdir()
     for mode, name in (("xc", "cam_xc.nc"), ("xy", "cam_xy.nc")):
         res = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "gcode", "--mode", mode, "-o", name],
-                             capture_output=True, text=True, cwd=cli, timeout=600, stdin=subprocess.DEVNULL)
+                             capture_output=True, text=True, cwd=cli, timeout=600, stdin=subprocess.DEVNULL,
+                             env=cli_env())
         assert res.returncode == 0, res.stderr
     assert (work / "cam_xc.nc").read_bytes() == (cli / "cam_xc.nc").read_bytes()
     assert (work / "sub" / "cam_xy.nc").read_bytes() == (cli / "cam_xy.nc").read_bytes()

@@ -12,7 +12,7 @@ import math
 
 import pytest
 
-from generators.examples import PAPER_SPEC_DICT
+from generators.spec.examples import PAPER_SPEC_DICT
 from generators.spec import CamSpec
 
 from .conftest import paper_case_dict, requires_ocp
@@ -122,7 +122,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("edit")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["v0"] = cam.Shape.Volume
@@ -163,8 +163,8 @@ def test_change_properties_and_recompute(tmp_path, fc_home):
 
     r = run_freecadcmd(EDIT, tmp_path, fc_home).check().result
     assert r["v_thick"] / r["v0"] == pytest.approx(12.5 / 10.0, rel=1e-12)
-    expected = PlateCam(None, **{"cam.thickness": 12.5, "follower.roller_radius": 4.0,
-                                 "pitch.segments": 72}).volume
+    expected = PlateCam.example("paper", **{"cam.thickness": 12.5, "follower.roller_radius": 4.0,
+                                            "pitch.segments": 72}).volume
     assert abs(r["v_roller"] - expected) / expected < 1e-9
     assert r["status"] == "ok"
     # each of the 72 Bézier profile spans bounds the bottom face, the top face and one side face
@@ -221,7 +221,7 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
     assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 2
+    assert r["version"] == 3
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
@@ -233,7 +233,7 @@ MAKE_OLD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("old")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["volume"] = cam.Shape.Volume
@@ -267,7 +267,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 2
+    assert res["version"] == 3
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -280,7 +280,7 @@ BAD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("bad")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 good = cam.Shape.Volume
@@ -388,7 +388,7 @@ from cam_workbench.freecad import motion_editor as M
 from generators.errors import SpecError
 doc = FreeCAD.newDocument("undo")
 doc.UndoMode = 1
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 v0 = cam.Shape.Volume
@@ -448,7 +448,7 @@ from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.step_export import export_step
 from cam_workbench.freecad.spec_io import export_spec, open as open_spec
 doc = FreeCAD.newDocument("step")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 export_step(cam, STEP_PATH)
@@ -488,7 +488,7 @@ def test_step_export_through_freecad(tmp_path, fc_home):
                                                ("BAD_TOML_PATH", "bad.toml"))}
     head = "".join(f"{k} = {v!r}\n" for k, v in paths.items())
     r = run_freecadcmd(head + STEP, tmp_path / "run", fc_home).check().result
-    cam = PlateCam()
+    cam = PlateCam.example("paper")  # the cam the script exported
     assert abs(r["reread_volume"] - cam.volume) / cam.volume < 1e-9 and r["reread_valid"]
     reader = occ.STEPControl_Reader()
     assert reader.ReadFile(paths["STEP_PATH"]) == occ.IFSelect_RetDone
@@ -509,7 +509,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
 doc = FreeCAD.newDocument("check")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 rep = design_report(cam)
@@ -528,11 +528,11 @@ RESULT["bad"] = [design_report(cam).ok, design_report(cam).error]
 
 
 def test_check_design_report(tmp_path, fc_home):
-    """Check design reports the default cam buildable with its numbers (compared with the
+    """Check design reports the paper's cam buildable with its numbers (compared with the
     summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
     case 2 cam), the undercut with its cam angle, and a bad field by name."""
     from generators import design_cam
-    from generators.examples import example_spec
+    from generators.spec.examples import example_spec
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
     assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
@@ -556,7 +556,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create, build
 from cam_workbench.freecad.plots import kinematics_figure, kinematics_data, save_figure
 doc = FreeCAD.newDocument("plot")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 design, scale, _ = build(cam, solid=False)
@@ -574,7 +574,7 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
     (cycloidal rise h = 20 mm over β = 120° at 60 rpm: v_max = 2h·ω/β) and the deviation
     with the design's; the PNG is kept as a test artefact."""
     from generators import design_cam
-    from generators.examples import example_spec
+    from generators.spec.examples import example_spec
 
     png = artifacts / "freecad_kinematics.png"
     r = run_freecadcmd(f"PNG = {str(png)!r}\n" + PLOT, tmp_path, fc_home).check().result
@@ -587,7 +587,7 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
 
 LATER_SECTION = """
 from dataclasses import dataclass
-from generators.params import param
+from generators.spec.params import param
 from generators import spec as S
 
 @dataclass(frozen=True, kw_only=True)
@@ -603,7 +603,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("later")
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 RESULT["props"] = sorted((n, cam.getGroupOfProperty(n), cam.getTypeIdOfProperty(n))
                          for n in cam.PropertiesList if n.startswith("Extra"))
@@ -649,15 +649,24 @@ RESULT["objects"] = [o.Name for o in doc.Objects]
 
 
 def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
-    """A valid spec whose cam cannot be made (undercut) reports the cam angle and says there
+    """A valid spec whose cam cannot be made (undercut) reports the library's refusal — the
+    cam angle where the design checks find the smallest convex pitch radius — and says there
     is no shape yet; the document keeps the feature so the user can fix it."""
+    from generators import design_cam
+    from generators.checks.design import run_checks
+    from generators.errors import GeometryError
+
     spec = copy.deepcopy(PAPER_SPEC_DICT)
     spec["cam"]["bore_diameter"] = 0.0
     spec["follower"]["roller_radius"] = 21.5
+    with pytest.raises(GeometryError) as refused:  # the library's own refusal, computed here
+        design_cam(CamSpec.from_dict(spec))
+    at = run_checks(CamSpec.from_dict(spec))["curvature"].at_deg
+    assert f"undercut at cam angle {at:.3f}°" in str(refused.value)
     run = run_freecadcmd(f"SPEC = {spec!r}\n" + FIRST_BUILD_FAILS, tmp_path, fc_home).check()
     r = run.result
-    assert r["status"].startswith("error: the cam cannot be made: undercut at cam angle")
+    assert r["status"].startswith(f"error: the cam cannot be made: undercut at cam angle {at:.3f}°")
     assert r["null"] is True
     assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
-    assert "PlateCam: the cam cannot be made: undercut at cam angle 114.00°" in run.console
+    assert f"PlateCam: the cam cannot be made: {refused.value}" in run.console
     assert "no shape yet." in run.console and "Traceback" not in run.console

@@ -19,15 +19,26 @@ GUI = r"""
 import sys, os
 ART = {art!r}
 STEP_PATH = {step!r}
+PA_LIMIT = {pa_limit!r}
 R = RESULT
 R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam_workbench",
                                                    "cam_workbench.freecad.commands")}}
 R["workbenches"] = sorted(FreeCADGui.listWorkbenches())
 state = {{}}
+# every Python warning our packages cause from here on (deprecations of PySide6, numpy 2, …)
+import warnings
+R["our_warnings"] = []
+_shown = warnings.showwarning
+def _record(message, category, filename, lineno, file=None, line=None):
+    if any(f"/{{p}}/" in filename for p in ("cam_workbench", "generators", "exporters")):
+        R["our_warnings"].append(f"{{category.__name__}}: {{message}} ({{filename}}:{{lineno}})")
+    return _shown(message, category, filename, lineno, file, line)
+warnings.showwarning = _record
+warnings.simplefilter("always")
 
 def activate():
     mw.resize(1400, 900)
-    cv = mw.findChild(QtGui.QDockWidget, "Combo View")
+    cv = task_dock()
     mw.resizeDocks([cv], [560], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
     R["active"] = FreeCADGui.activeWorkbench().name()
@@ -109,6 +120,9 @@ def screenshot_model():
     FreeCADGui.ActiveDocument.ActiveView.saveImage(os.path.join(ART, "freecad_gui_view.png"), 1000, 750, "White")
 
 def check_design():
+    # a stricter pressure-angle limit than the default cam's 30° (which it passes), so the
+    # dialog shows a failing row too
+    FreeCAD.ActiveDocument.getObject("PlateCam").ChecksMaxPressureAngle = PA_LIMIT
     FreeCADGui.runCommand("CamWorkbench_CheckDesign")
 
 def check_dialog():
@@ -121,6 +135,7 @@ def check_dialog():
         t = d[0].findChild(QtGui.QTableWidget, "checks")
         R["check_rows"] = sum(x.rowCount() for x in tables)
         R["check_fail"] = [t.item(r, 0).text() for r in range(t.rowCount()) if t.item(r, 4).text() == "fail"]
+        R["check_names"] = [t.item(r, 0).text() for r in range(t.rowCount())]
         d[0].move(40, 40)
         state["check"] = d[0]
 
@@ -178,9 +193,17 @@ steps = [(activate, 500), (new_cam, 1000), (open_editor, 500), (editor_state, 10
 """
 
 
+#: the pressure-angle limit Check design is run with (the default cam with 15 mm lifts has 16.9°)
+PA_LIMIT = 15.0
+
+
 def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
+    from generators import default_spec
+    from generators.checks.design import run_checks
+
     step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
-    run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step)), tmp_path, fc_home)
+    run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)
+    (artifacts / "freecad_gui_console.txt").write_text(run.console)  # FreeCAD's own output
     r = run.check().result
     (artifacts / "freecad_gui_report_view.txt").write_text(r.get("report", ""))
     assert r["start_modules"] == {"generators": False, "scipy": False, "cam_workbench": False,
@@ -203,14 +226,21 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["bad_status"] == "row 5, angle: spans sum to 355°, must be 360°"
     assert r["bad_still_open"] is True
     assert r["after_cancel"] == {"dialog": False, "angles": [30.0, 120.0, 60.0, 120.0, 30.0]}
-    # the paper's case-2 cam exceeds the default 30° pressure-angle limit (46.24°)
-    assert r["check_dialog"] == 1 and r["check_rows"] > 15 and r["check_fail"] == ["pressure angle"]
+    # the dialog lists the library's checks of the cam as edited (the default cam with 15 mm
+    # lifts) and fails exactly those the library fails under the stricter limit
+    checked = run_checks(default_spec().replace(**{"motion[1].lift": 15.0, "motion[3].lift": 15.0,
+                                                   "checks.max_pressure_angle": PA_LIMIT}))
+    assert checked.failed, "the stricter limit must make a check fail (the dialog's fail rows)"
+    assert r["check_dialog"] == 1 and r["check_rows"] > 15
+    assert r["check_names"] == [c.name.replace("_", " ") for c in checked.results]
+    assert r["check_fail"] == [n.replace("_", " ") for n in checked.failed]
     assert r["plot_dialog"] == 1
     assert r["file_dialog"] == "QFileDialog" and r["step_written"]
     assert r.get("delete_modal") is None and r["after_delete"] == []  # children go with the cam
     report = r["report"]
     assert "PlateCam: motion program not applied: row 5, angle: spans sum to 355°" in report
     assert "Traceback" not in report and "Traceback" not in run.console
+    assert r["our_warnings"] == []
     bad = [line for line in report.splitlines()
            if ("Error" in line or "error" in line) and "motion program not applied" not in line]
     assert bad == [], bad

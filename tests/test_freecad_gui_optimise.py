@@ -39,7 +39,7 @@ def spec_text():
 
 def activate():
     mw.resize(1400, 900)
-    cv = mw.findChild(QtGui.QDockWidget, "Combo View")
+    cv = task_dock()
     mw.resizeDocks([cv], [700], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
     menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
@@ -79,6 +79,13 @@ def panel_state():
         "max_evals": p.max_evals.value(), "status": p.status.text(),
         "run_enabled": p.run_button.isEnabled(), "apply_enabled": p.apply_button.isEnabled(),
         "plot": p.canvas is not None,
+        # fits the task area: no panel needs more width than the dock holding it has, and the
+        # window is not pushed past the screen
+        "min_widths": [w.minimumSizeHint().width() for w in p.form],
+        "task_width": task_dock().width(), "task_visible": task_dock().isVisible(),
+        "window_width": mw.frameGeometry().width(),
+        "right_edges": [w.mapToGlobal(QtCore.QPoint(w.width(), 0)).x() for w in p.form],
+        "checked_drawn": {{t: cb.checkState() == QtCore.Qt.Checked for t, cb in p.var_boxes.items()}},
     }}
     shot("freecad_gui_optimise_panel.png")
 
@@ -307,6 +314,12 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert "not a real limit" in p["rb_note"] and "do not bound the cam from below" in p["rb_note"]
     assert p["status"] == "Ready: area over 26 variables." and p["run_enabled"] and not p["apply_enabled"]
     assert p["max_evals"] == 3000 and p["plot"] is True
+    # the panel fits: the window stays within the 1400-pixel Xvfb screen, every box of the panel
+    # ends on it, and none needs more width than its task area (FreeCAD 1.1's Tasks dock)
+    assert p["window_width"] <= 1400 and max(p["right_edges"]) <= 1400, p
+    assert max(p["min_widths"]) <= p["task_width"], p
+    # the boxes the count reports are checked (PySide6's CheckState compared as an enum)
+    assert p["checked_drawn"] == {t: t != "orientation" for t in v}, p["checked_drawn"]
     # machining time: the blank orientation becomes a variable ("auto"), gradient algorithms are off
     mt = r["machining_time"]
     assert mt["orientation"] == [True, True] and mt["count"] == "27 design variables"

@@ -32,7 +32,7 @@ def export_dialog():
 
 def activate():
     mw.resize(1400, 900)
-    cv = mw.findChild(QtGui.QDockWidget, "Combo View")
+    cv = task_dock()
     mw.resizeDocks([cv], [620], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
 

@@ -14,7 +14,8 @@ import json
 
 import pytest
 
-from generators.examples import example_spec
+from generators.spec.examples import example_spec
+from cam_workbench.freecad import properties as P
 from generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
@@ -82,15 +83,19 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
     res, first, second = _open(tmp_path, fc_home, "freecad_round1_default.FCStd")
     r = res["PlateCam"]
     expected = example_spec("paper").replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345"})
-    assert r["version"] == 2 and r["types"] == NEW_TYPES
+    assert r["version"] == 3 and r["types"] == NEW_TYPES
     assert _same(r["spec"], expected), r["spec"]
     vol = PlateCam(expected).volume
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - vol) / vol < 1e-9      # the shape stored in the file
     assert abs(r["volume"] - vol) / vol < 1e-9               # rebuilt by the current code
-    assert "PlateCam: upgraded from feature version 1 (added FollowerRollerWidth" in first
-    assert "MachiningFeedRate" in first and "Traceback" not in first + second
-    assert r["again"]["version"] == 2 and _same(r["again"]["spec"], expected)
+    line = next(x for x in first.splitlines() if x.startswith("PlateCam: upgraded from feature version 1 (added "))
+    added = line.split("(added ", 1)[1].rstrip(")").split(", ")
+    # the properties of every field declared after round one, and only properties of fields
+    assert {"FollowerRollerWidth", "MachiningFeedRate", "ChecksMaxPressureAngle"} <= set(added), added
+    assert set(added) <= set(P.iter_property_names()), set(added) - set(P.iter_property_names())
+    assert "Traceback" not in first + second
+    assert r["again"]["version"] == 3 and _same(r["again"]["spec"], expected)
     assert "upgraded" not in second  # saved by version 2: nothing to do
     # tooltips are stored in the document: the old wording is replaced by the current one
     assert 'a FreeCAD quantity (type e.g. "12 in")' in r["tip_thickness"]
@@ -112,14 +117,17 @@ def test_plain_number_document_is_converted_to_units(tmp_path, fc_home):
                                        "material.allowable_stress": 900.0})
     for name, spec in (("Ex5", ex5), ("Loaded", loaded)):
         r = res[name]
-        assert r["version"] == 2 and r["types"] == NEW_TYPES, name
+        assert r["version"] == 3 and r["types"] == NEW_TYPES, name
         assert _same(r["spec"], spec), (name, r["spec"])
         assert _same(r["again"]["spec"], spec), name
         vol = PlateCam(spec).volume * (25.4**3 if spec.units == "in" else 1.0)  # FreeCAD: mm³
         assert r["status"] == "ok" and abs(r["volume"] - vol) / vol < 1e-9, name
         line = next(x for x in first.splitlines() if x.startswith(f"{name}: upgraded from feature version 1 ("))
-        # fields declared after the file was written are added (e.g. the [optimise] section)
-        assert "added ChecksConvex, OptimiseObjective," in line, line
+        # fields declared after the file was written are added (e.g. the [optimise] section, the
+        # follower kinds' fields), and only properties of fields
+        added = line.split("(added ", 1)[1].split(";", 1)[0].split(", ")
+        assert {"ChecksConvex", "OptimiseObjective", "FollowerMotion"} <= set(added), line
+        assert set(added) <= set(P.iter_property_names()), line
         assert line.endswith("; 9 force, stress, feed, mass and spring-rate properties now in fixed units, "
                              "the spec unchanged)"), line
     # stored in FreeCAD's units: mN, kPa, mm/s; kg and N/mm

@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from generators import load_spec, to_toml
-from generators.examples import example_spec
+from generators.spec.examples import example_spec
 from generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
@@ -66,7 +66,7 @@ def optimise_and_apply(name, spec_src, tokens, budget):
     out["undone"] = state(cam)
     return out
 
-from generators.examples import example_dict
+from generators.spec.examples import example_dict
 RESULT["ph"] = optimise_and_apply("PH", example_dict("paper"), ["base_radius", "offset"], 40)
 RESULT["ex5"] = optimise_and_apply("Ex5", EX5, None, 30)
 
@@ -137,6 +137,31 @@ def runs(tmp_path_factory, fc_home):
     return run_freecadcmd(body, tmp_path_factory.mktemp("fc_optimise"), fc_home).check().result
 
 
+#: A length of an inch spec is stored in a FreeCAD quantity in mm and read back: x·25.4, then
+#: ÷ 25.4, each correctly rounded, so the spec gets x(1 + δ₁)(1 + δ₂) with |δ| ≤ u = 2⁻⁵³ — at
+#: most 2u + u² relative from x (1–2 ulp; whether a value comes back exactly depends on its last
+#: bits: Example 5's optimised offset 0.0033096024813739078 in returned 1 ulp low with
+#: FreeCAD 1.1's numpy/scipy optimum).  4u also covers the comparison's own rounding.
+ROUND_TRIP_REL = 2.0**-51
+
+
+def _same_spec(a_toml: str, b_toml: str) -> bool:
+    """Two specs equal field by field, numbers to :data:`ROUND_TRIP_REL` (a mm spec's lengths
+    are stored unconverted: those must be equal exactly, as the test asserts elsewhere)."""
+    import math
+
+    def same(x, y) -> bool:
+        if isinstance(x, dict) and isinstance(y, dict):
+            return x.keys() == y.keys() and all(same(x[k], y[k]) for k in x)
+        if isinstance(x, list) and isinstance(y, list):
+            return len(x) == len(y) and all(same(u, v) for u, v in zip(x, y))
+        if isinstance(x, float) and isinstance(y, float):
+            return math.isclose(x, y, rel_tol=ROUND_TRIP_REL, abs_tol=0.0)
+        return type(x) is type(y) and x == y
+
+    return same(load_spec(a_toml).to_dict(), load_spec(b_toml).to_dict())
+
+
 def _volume_mm3(toml_text: str) -> float:
     from cam_workbench import PlateCam
 
@@ -148,14 +173,18 @@ def _volume_mm3(toml_text: str) -> float:
 @requires_ocp
 @pytest.mark.parametrize("case", ["ph", "ex5"])
 def test_apply_writes_the_result_as_one_undo_step(runs, case):
-    """Apply: the feature's spec is the result's spec exactly (TOML equal: design and the
-    [optimise] settings used), one undo step "Optimise cam", a valid solid whose volume equals
-    the CadQuery build of the result (1e-9); one Undo restores the original spec and volume."""
+    """Apply: the feature's spec is the result's spec (TOML equal: design and the [optimise]
+    settings used; an inch spec's lengths to the mm round trip's rounding, ROUND_TRIP_REL), one
+    undo step "Optimise cam", a valid solid whose volume equals the CadQuery build of the result
+    (1e-9); one Undo restores the original spec and volume."""
     r = runs[case]
     assert r["job_error"] is None
     res, before, after, undone = r["result"], r["before"], r["after"], r["undone"]
     assert res["initial_toml"].split("[optimise]")[0] == before["toml"].split("[optimise]")[0]
-    assert after["toml"] == res["toml"]
+    if load_spec(res["toml"]).units == "mm":
+        assert after["toml"] == res["toml"]                     # mm lengths are stored as given
+    else:
+        assert _same_spec(after["toml"], res["toml"]), (after["toml"], res["toml"])
     assert after["status"] == "ok" and after["valid"]
     assert after["undo"] - before["undo"] == 1 and after["undo_names"] == ["Optimise cam"]
     vol = _volume_mm3(res["toml"])
@@ -259,17 +288,31 @@ def test_variable_tokens_round_trip():
 
 
 def test_default_bounds_are_the_library_defaults():
-    """default_bounds reads DesignSpace's own bounds (½ and 2 × R_b, at least 1.05 × (roller + bore);
-    |e| ≤ ½ × the lower bound) rather than repeating the rule."""
+    """default_bounds reads DesignSpace's own bounds rather than repeating the rule: ½ and 2 × R_b,
+    the lower at least 1.05 × (roller + bore radius); |e| ≤ ½ × the lower bound or |e₀|, the
+    lower bound raised to ½(|e|max + R_b) when that would not keep R_b > |e|; never a default
+    bound that excludes the user's start.  Bounds the spec gives are shown as given."""
     from cam_workbench.freecad import optimiser as O
 
-    spec = example_spec("paper")
-    assert O.default_bounds(spec) == pytest.approx((spec.cam.base_radius / 2, 2 * spec.cam.base_radius,
-                                                    spec.cam.base_radius / 4), rel=1e-15)
-    tight = spec.replace(**{"cam.base_radius": 12.0, "cam.bore_diameter": 13.0})   # roller 5 + bore 6.5
+    spec = example_spec("paper")                               # R_b √500, e = 10, roller 5, bore 10
+    r0 = spec.cam.base_radius
+    assert O.default_bounds(spec) == pytest.approx((r0 / 2, 2 * r0, 10.0), rel=1e-15)   # |e₀| > R_b/4
+    small_e = spec.replace(**{"follower.offset": 2.0})
+    assert O.default_bounds(small_e) == pytest.approx((r0 / 2, 2 * r0, r0 / 4), rel=1e-15)
+    large_e = spec.replace(**{"follower.offset": 15.0})       # |e₀| ≥ R_b/2: the lower bound rises
+    assert O.default_bounds(large_e) == pytest.approx(((15.0 + r0) / 2, 2 * r0, 15.0), rel=1e-15)
+    tight = spec.replace(**{"cam.base_radius": 20.0, "cam.bore_diameter": 13.0})   # roller 5 + bore 6.5
     assert O.default_bounds(tight)[0] == pytest.approx(1.05 * 11.5, rel=1e-8)
-    given = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 2.0})
-    assert O.default_bounds(given) == pytest.approx((15.0, 2 * spec.cam.base_radius, 2.0))
+    tighter = spec.replace(**{"cam.base_radius": 12.0, "cam.bore_diameter": 13.0})
+    assert O.default_bounds(tighter)[0] == 12.0                # 1.05 × 11.5 > the start: not moved
+    given = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 12.0})
+    assert O.default_bounds(given) == pytest.approx((15.0, 2 * r0, 12.0), rel=1e-15)
+    excluding = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 2.0})
+    assert O.default_bounds(excluding) == pytest.approx((15.0, 2 * r0, 2.0), rel=1e-15)
+    job = O.OptimiseJob(O.run_spec(excluding, O.settings_of(excluding))).start()   # … the run refuses it
+    assert job.wait(60) and job.result is None
+    assert job.error.startswith("OptimiseOffsetMax (optimise.offset_max): must be ≥ |follower.offset| "
+                                "of the starting design (10 mm)"), job.error
     with pytest.raises(SpecError) as info:
         O.run_spec(spec, O.Settings(**{**O.settings_of(spec).__dict__, "offset_max": 20.0}))
     assert info.value.field == "optimise.offset_max"

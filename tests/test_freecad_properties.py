@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from cam_workbench.freecad import properties as props
-from generators.params import param, params_of
+from generators.spec.params import param, params_of
 from generators.spec import SECTIONS, CamSpec
 
 
@@ -58,8 +58,9 @@ def test_absent_values():
     assert fps["motion[].lift"].absent == 0.0
     assert fps["motion[].law"].absent == ""
     assert "0 = not given" in fps["pitch.segments"].tooltip()
-    # only optional fields for which 0 is a meaningful value need an "Enabled" flag
-    assert [f.flag for f in fps.values() if f.flag] == ["MotionControlStartEnabled"]
+    # only optional fields for which 0 is a meaningful value need an "Enabled" flag: a flat
+    # face's offset (0 = the face through the follower's axis) and a segment's control start
+    assert [f.flag for f in fps.values() if f.flag] == ["FollowerFaceOffsetEnabled", "MotionControlStartEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [

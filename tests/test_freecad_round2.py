@@ -18,7 +18,7 @@ import pytest
 from generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
-from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
+from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
 
@@ -132,7 +132,7 @@ def test_bspline_cam_volume_equals_the_cadquery_build(tmp_path, fc_home):
     assert abs(bs["volume"] / in3 - fitted) / fitted < 1e-9
     assert abs(bs["volume"] / in3 - design.volume) / design.volume < 1e-9
     assert abs(fitted - exact_offset) / exact_offset < 1e-9   # the fit's own error (≈ 7e-13)
-    from generators.pitch_bspline import bezier_form
+    from generators.pitch.bspline import bezier_form
 
     # one exact Bézier edge per knot span (a single multi-span edge was off by 1.3e-3)
     assert bs["edges"] == len(bezier_form(design.profile).bezier_pieces()) == 120
@@ -166,7 +166,7 @@ def test_check_design_table_equals_run_checks(tmp_path, fc_home):
     Example 5 fails separation (−1.162 lbf at 120.46°, README); switching Units to mm gives
     the same physics (forces × 4.4482216152605 N/lbf); the thesis' 71 nodes are used when
     asked; a roller too large is reported as not buildable, with the cam angle."""
-    from generators.design_checks import run_checks
+    from generators.checks.design import run_checks
 
     r = run_freecadcmd(f"EX5 = {str(EX5)!r}\n" + CHECK, tmp_path, fc_home).check().result
     spec = load_spec(EX5)
@@ -216,6 +216,7 @@ cam = create(doc, EX5, name="Ex5")
 default = create(doc, None, name="Default")
 doc.recompute()
 RESULT["cli"] = E.find_cli().source
+RESULT["cli_env"] = dict(E.find_cli().env)
 def attempt(key, obj, kind, target):
     try:
         r = E.export(obj, kind, os.path.join(OUT, target))
@@ -241,7 +242,7 @@ RESULT["listing"] = sorted(os.listdir(OUT))
 
 def _cli(*args: str, cwd) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL)
+                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL, env=cli_env())
 
 
 @pytest.fixture(scope="module")
@@ -261,6 +262,7 @@ def exported(tmp_path_factory, fc_home):
 def test_exports_run_the_installed_cli_and_import_no_kernel(exported):
     r, out, _cli_dir = exported
     assert r["cli"].startswith("the installation recorded in ") and r["cli"].endswith(".cam-workbench-install.json")
+    assert r["cli_env"] == {"PYTHONPATH": str(ROOT)}  # the command line is this checkout's code too
     assert r["forbidden_modules"] == []
     for key in ("dxf", "xy", "csv", "report", "xc_default", "dxf_noext"):
         assert r[key]["ok"], (key, r[key])

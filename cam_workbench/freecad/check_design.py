@@ -3,7 +3,7 @@
 Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, so FreeCAD's
 own Python runs them):
 
-- the **design checks** of ``generators.design_checks.run_checks`` (thesis Ch. 3: pressure
+- the **design checks** of ``generators.checks.design.run_checks`` (thesis Ch. 3: pressure
   angle, separation, oscillation, Hertz contact stress, curvature with the undercut factor,
   the roller envelope), with the limits and sampling of the feature's ``[checks]``,
   ``[material]`` and follower load properties: value, cam angle, limit, pass/fail — the
@@ -20,9 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from generators.claims import profile_claim
-from generators.design_checks import format_value as fmt_value
-from generators.design_checks import limit_sign
+from generators.checks.claims import profile_claim
+from generators.checks.design import format_value as fmt_value
+from generators.checks.design import limit_sign
 from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
@@ -30,7 +30,7 @@ from . import properties as props
 
 @dataclass(frozen=True)
 class CheckRow:
-    """One design check (``generators.design_checks.CheckResult``) as the table shows it."""
+    """One design check (``generators.checks.design.CheckResult``) as the table shows it."""
 
     name: str
     description: str
@@ -143,7 +143,7 @@ def checks_table(checks: Any) -> list[list[str]]:
 
 
 def _add_checks(report: DesignReport, spec: Any) -> None:
-    from generators.design_checks import run_checks
+    from generators.checks.design import run_checks
 
     try:
         checks = run_checks(spec).to_dict()  # the dict report.json's checks section is

@@ -82,10 +82,12 @@ KINDS: dict[str, ExportKind] = {k.key: k for k in (
 
 @dataclass(frozen=True)
 class Cli:
-    """How to start the command line: an argv prefix and where it was found."""
+    """How to start the command line: an argv prefix, where it was found, and what its
+    environment needs (``PYTHONPATH`` naming the installation the workbench was installed from)."""
 
     argv: tuple[str, ...]
     source: str
+    env: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -142,11 +144,17 @@ def find_cli() -> Cli:
         return _as_cli(configured, "the FreeCAD parameter CamWorkbench/CliPath")
     for marker in _marker_files():
         try:
-            python = json.loads(marker.read_text(encoding="utf-8")).get("installed_with", "")
+            recorded = json.loads(marker.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             continue
+        python, source = recorded.get("installed_with", ""), recorded.get("source", "")
         if python and Path(python).exists():
-            return Cli(_python_cli(python), f"the installation recorded in {marker}")
+            # the packages the workbench links to come first: the command line is then the same
+            # code as the workbench even where that Python would import another copy (a second
+            # checkout beside an editable install)
+            env = ((("PYTHONPATH", source),) if source and (Path(source) / "cam_workbench" / "cli.py").is_file()
+                   else ())
+            return Cli(_python_cli(python), f"the installation recorded in {marker}", env)
     exe = shutil.which("cam-workbench")
     if exe:
         return Cli((exe,), "cam-workbench on PATH")
@@ -227,8 +235,8 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
         argv = command_line(kind, spec_file, out, cli)
         try:
             res = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, cwd=tmp,
-                                 env=_cli_env(), stdin=subprocess.DEVNULL, encoding="utf-8",
-                                 errors="replace")
+                                 env={**_cli_env(), **dict(cli.env)}, stdin=subprocess.DEVNULL,
+                                 encoding="utf-8", errors="replace")
         except FileNotFoundError:
             raise ExportError(f"cannot start the command line {argv[0]} (from {cli.source})") from None
         except subprocess.TimeoutExpired:
@@ -256,7 +264,7 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
 def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     """(property, value) pairs the export dialog shows: the values the command line gets, in
     the spec's units ("default" where the property leaves the field to the spec's default)."""
-    from generators.params import unit_name
+    from generators.spec.params import unit_name
 
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
                 "csv": ("machining",), "report": ("checks", "material")}[kind]

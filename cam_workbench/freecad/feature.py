@@ -27,12 +27,14 @@ from .stateless import Stateless
 
 #: Schema version of the features written by this code.  1: issue 6 round one (forces,
 #: stresses, feeds, masses, spring rates as plain numbers in the spec's units); 2: those as
-#: FreeCAD quantities / fixed storage units (:data:`properties.UNIT_STORAGE`).
-VERSION = 2
+#: FreeCAD quantities / fixed storage units (:data:`properties.UNIT_STORAGE`); 3: follower
+#: kinds — choice fields that became optional (``machining.rotary_line``) offer "" (absent).
+VERSION = 3
 #: Migrations of a feature from version v to v + 1, run in order on restore BEFORE the
 #: properties of newer fields are added (so a migration only sees what the file had).
 #: Fields added to the spec need none: :func:`properties.ensure_properties` adds them.
-MIGRATIONS: dict[int, Callable[[Any], Any]] = {1: props.migrate_plain_numbers}
+MIGRATIONS: dict[int, Callable[[Any], Any]] = {1: props.migrate_plain_numbers,
+                                               2: props.migrate_optional_choices}
 
 #: Read-only output properties: name → (type, tooltip).
 RESULT_PROPERTIES = {

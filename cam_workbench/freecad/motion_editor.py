@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from generators.errors import CamError, SpecError
-from generators.params import params_of, unit_name
+from generators.spec.params import params_of, unit_name
 from generators.spec import CamSpec, MotionSegment
 
 from . import properties as props
@@ -49,7 +49,7 @@ class ControlPoint:
 
 
 def _order(row: dict[str, Any]) -> int:
-    from generators.bspline_law import DEFAULT_ORDER
+    from generators.motion.bspline_law import DEFAULT_ORDER
 
     k = row.get("order")
     return k if isinstance(k, int) and 3 <= k <= 10 else DEFAULT_ORDER
@@ -106,7 +106,7 @@ def default_polygon(row: dict[str, Any]) -> dict[str, Any]:
     """A starting polygon for a row switched to ``law = "bspline"``: the thesis' order 5 with
     11 control points, equally spaced in θ (degrees from the segment start), the free lifts
     P4 … P6 at ¼, ½, ¾ of the way — a smooth, valid rise or return to shape from."""
-    from generators.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
+    from generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
 
     angle = row.get("angle") if isinstance(row.get("angle"), float) else 90.0
     n = DEFAULT_POINTS - 1
@@ -249,6 +249,9 @@ class MotionEditorPanel:
         self.status.setWordWrap(True)
         layout.addWidget(self.total)
         layout.addWidget(self.status)
+        from .qt_compat import fit_task_width
+
+        fit_task_width(self.form)
         self._filling = False
         self._points_row = -1
         self.set_rows(read_rows(obj))
@@ -481,9 +484,9 @@ class MotionEditorPanel:
 
     # -- task dialog protocol
     def getStandardButtons(self) -> int:
-        from PySide import QtGui
+        from .qt_compat import standard_buttons
 
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+        return standard_buttons("Ok", "Cancel")
 
     def accept(self) -> bool:
         rows = self.rows()

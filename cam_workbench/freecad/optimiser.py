@@ -86,7 +86,7 @@ def _bspline_rows(spec: CamSpec) -> list[int]:
 
 def variable_choices(spec: CamSpec, objective: str | None = None) -> list[VariableChoice]:
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
-    from generators.bspline_law import fixed_end_points
+    from generators.motion.bspline_law import fixed_end_points
     from generators.motion import MotionProgram
 
     objective = objective or spec.optimise.objective
@@ -156,16 +156,22 @@ class Settings:
 
 
 def default_bounds(spec: CamSpec) -> tuple[float, float, float]:
-    """(R_b lower, R_b upper, |e| upper) as the library takes them when ``[optimise]`` gives none
-    (``generators.optimise.space.DesignSpace``: ½ × and 2 × the initial R_b, the lower at least
-    1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower bound) — or the given ones."""
+    """(R_b lower, R_b upper, |e| upper): the ones ``[optimise]`` gives, and for those it leaves
+    out the library's defaults (``generators.optimise.space.DesignSpace``: ½ × and 2 × the
+    initial R_b, the lower at least 1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower
+    bound or |e₀|; default bounds always contain the starting design, which is never moved).
+    A given bound is shown as given even when it excludes the start: the run then refuses it
+    with the library's message naming the field."""
     from generators.optimise.space import DesignSpace
 
     probe = spec.replace(**{"optimise.variables": "base_radius, offset",
                             "optimise.objective": "area", "optimise.algorithm": "auto"})
     space = DesignSpace(probe)
-    return (float(space.lower[space.r_index]), float(space.upper[space.r_index]),
-            float(space.upper[space.e_index]))
+    opt = spec.optimise
+    found = (float(space.lower[space.r_index]), float(space.upper[space.r_index]),
+             float(space.upper[space.e_index]))
+    given = (opt.base_radius_min, opt.base_radius_max, opt.offset_max)
+    return tuple(float(g) if g is not None else f for g, f in zip(given, found))  # type: ignore[return-value]
 
 
 def settings_of(spec: CamSpec) -> Settings:

@@ -191,6 +191,10 @@ class OptimiserPanel:
         self.result_layout.addWidget(self.apply_button)
 
         self.form = [problem, bounds, algo, runbox, resbox]
+        from .qt_compat import fit_task_width
+
+        for w in self.form:
+            fit_task_width(w)
         self.settings_widgets = [problem, bounds, algo]
         self._timer = QtCore.QTimer(runbox)
         self._timer.setInterval(POLL_MS)
@@ -636,9 +640,9 @@ class OptimiserPanel:
         return True
 
     def getStandardButtons(self) -> int:
-        from PySide import QtGui
+        from .qt_compat import standard_buttons
 
-        return int(QtGui.QDialogButtonBox.Close)
+        return standard_buttons("Close")
 
     def reject(self) -> bool:
         """Close: nothing is written; a run in progress is cancelled."""

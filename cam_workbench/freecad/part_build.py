@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from generators.cam_design import CamDesign
-from generators.nurbs import NurbsCurve
-from generators.pitch_bspline import bezier_form
+from generators.curves.nurbs import NurbsCurve
+from generators.pitch.bspline import bezier_form
 
 
 def bspline_curve(curve: NurbsCurve, scale: float = 1.0, z: float = 0.0) -> Any:

@@ -1,8 +1,8 @@
 """Spec fields ↔ FreeCAD properties, generated from the one spec declaration.
 
-Every declared spec field (``generators.params.params_of`` over ``generators.spec.SECTIONS``)
+Every declared spec field (``generators.spec.params.params_of`` over ``generators.spec.SECTIONS``)
 becomes one property of the feature; its type, group, tooltip, unit and bounds come from
-the field's :class:`~generators.params.Param`, nothing is written twice.  A field added to
+the field's :class:`~generators.spec.params.Param`, nothing is written twice.  A field added to
 the spec later appears on new features and is added to old ones when they are restored.
 
 Naming: ``cam.base_radius`` → ``CamBaseRadius``; top-level ``units`` → ``Units``; a field of
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from typing import Any, Iterator
 
 from generators.errors import SpecError
-from generators.params import REQUIRED, Param, params_of, unit_name
+from generators.spec.params import REQUIRED, Param, params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, default_spec
 
 MM_PER_INCH = 25.4
@@ -571,6 +571,28 @@ def _write_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
 # ---- documents of feature version 1 -----------------------------------------------------------
 #: Unit kinds that version 1 kept as plain numbers in the spec's units.
 _V1_PLAIN_KINDS = ("force", "stress", "feed", "mass", "stiffness", "density")
+
+
+def migrate_optional_choices(obj: Any) -> list[str]:
+    """Feature version 2 → 3: choice fields that became optional — ``machining.rotary_line``,
+    absent meaning "by the follower's kind" since oscillating followers arrived — get their ""
+    (absent) choice, keeping the stored value.  Such a document's follower is translating (they
+    came with version 3), for which an absent rotary line is the follower's own line: its
+    stored "follower" (the default then) becomes absent, so the spec reads as that cam's TOML
+    file does, and the cam is unchanged.  Returns nothing (no value changes meaning)."""
+    for fp in field_properties():
+        if (fp.type != "App::PropertyEnumeration" or fp.absent != "" or fp.is_list
+                or fp.name not in obj.PropertiesList):
+            continue
+        choices = [""] + list(fp.param.choices or ())
+        if list(obj.getEnumerationsOfProperty(fp.name)) != choices:
+            value = getattr(obj, fp.name)
+            setattr(obj, fp.name, choices)
+            setattr(obj, fp.name, value if value in choices else "")
+    if ("MachiningRotaryLine" in obj.PropertiesList and obj.MachiningRotaryLine == "follower"
+            and getattr(obj, "FollowerMotion", "translating") == "translating"):
+        obj.MachiningRotaryLine = ""
+    return []
 
 
 def migrate_plain_numbers(obj: Any) -> list[str]:

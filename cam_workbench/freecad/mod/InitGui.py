@@ -4,6 +4,7 @@
 # inside the class: everything the methods need is imported in them.
 import importlib.util
 import os
+import sys
 
 import FreeCAD
 import FreeCADGui
@@ -33,6 +34,15 @@ class CamWorkbench(FreeCADGui.Workbench):
     def GetClassName(self):
         return "Gui::PythonWorkbench"
 
+
+for _camwb_dir in list(sys.path):  # a clone in the Mod folder: its root (see Init.py)
+    _camwb_dir = os.path.normpath(str(_camwb_dir))
+    if _camwb_dir.endswith(os.path.join("cam_workbench", "freecad", "mod")):
+        _camwb_root = os.path.dirname(os.path.dirname(os.path.dirname(_camwb_dir)))
+        if (os.path.isfile(os.path.join(_camwb_root, "generators", "__init__.py"))
+                and _camwb_root not in [os.path.normpath(str(p)) for p in sys.path]):
+            sys.path.insert(0, _camwb_root)
+        break
 
 _cam_spec = importlib.util.find_spec("cam_workbench")  # finds the package without importing it
 if _cam_spec is None or not _cam_spec.submodule_search_locations:
