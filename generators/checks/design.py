@@ -37,7 +37,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import Follower, follower_of
+from ..followers import Follower, follower_of, force_reference
 from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
@@ -551,7 +551,7 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
     if cfg.convex:
         g["convexity"] = -kappa * spec.cam.base_radius                                    # Eq. 5.7, signed ρ
     if model.has_load:
-        scale = max(spec.follower.preload, 1e-12)
+        scale = force_reference(spec)
         g["separation"] = (cfg.min_force - st.force) / scale                               # Eq. 5.10
         if model.follower.contact != "knife" and spec.material.allowable_stress:
             g["contact_stress"] = (st.stress / spec.material.allowable_stress) ** 2 - 1.0   # Eq. 5.13

@@ -6,6 +6,7 @@ interface.
 """
 from __future__ import annotations
 
+import math
 from typing import Callable
 
 from .base import Follower, LoadSpec
@@ -27,6 +28,25 @@ KINDS: dict[tuple[str, str], Callable] = {
 def follower_of(spec) -> Follower:
     """The follower of a validated spec."""
     return KINDS[(spec.follower.motion, spec.follower.kind)](spec)
+
+
+def force_reference(spec) -> float:
+    """The force that normalises the separation constraint: the preload's contact force (P_L;
+    an oscillating arm's T_L over its lever: the arm length, or the pivot distance for a flat face),
+    else the spring's or the inertia's over the largest lift."""
+    fol = follower_of(spec)
+    ld = fol.load
+    omega = spec.cam.speed_rpm * 2.0 * math.pi / 60.0
+    lever = 1.0
+    scale = fol.lift_scale
+    if fol.motion == "oscillating":
+        f = spec.follower
+        lever = f.arm_length if f.arm_length and fol.contact != "flat" else f.pivot_distance
+    if ld.preload > 0:
+        return ld.preload / lever
+    lifts = spec.max_lift * scale
+    other = max(ld.rate * lifts, ld.inertia * ld.mass_force * omega**2 * lifts)
+    return max(other / lever, 1e-12)
 
 
 def validate_follower(spec) -> None:
@@ -71,4 +91,4 @@ def validate_follower(spec) -> None:
 
 
 __all__ = ["Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
-           "TranslatingFlatFollower", "TranslatingFollower", "follower_of"]
+           "TranslatingFlatFollower", "TranslatingFollower", "follower_of", "force_reference"]

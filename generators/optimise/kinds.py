@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from ..followers import (Follower, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
+from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
 from ..spec.model import CamSpec
 from . import jet
@@ -530,25 +530,6 @@ def kind_model(spec: CamSpec) -> KindModel:
     """The optimiser model of the spec's follower kind."""
     fol = follower_of(spec)
     return KIND_MODELS[type(fol)](spec, fol)
-
-
-def force_reference(spec: CamSpec) -> float:
-    """The force that normalises the separation constraint: the preload's contact force (P_L;
-    an oscillating arm's T_L over its lever: the arm length, or the pivot distance for a flat face),
-    else the spring's or the inertia's over the largest lift."""
-    fol = follower_of(spec)
-    ld = fol.load
-    omega = spec.cam.speed_rpm * TWO_PI / 60.0
-    lever = 1.0
-    scale = fol.lift_scale
-    if fol.motion == "oscillating":
-        f = spec.follower
-        lever = f.arm_length if f.arm_length and fol.contact != "flat" else f.pivot_distance
-    if ld.preload > 0:
-        return ld.preload / lever
-    lifts = spec.max_lift * scale
-    other = max(ld.rate * lifts, ld.inertia * ld.mass_force * omega**2 * lifts)
-    return max(other / lever, 1e-12)
 
 
 __all__ = ["GEOMETRY_PATHS", "KIND_MODELS", "KindModel", "force_reference", "kind_model"]
