@@ -90,7 +90,7 @@ def nurbs_to_geom2d(curve: NurbsCurve) -> Any:
     return occ.Geom2d_BSplineCurve(poles, knots, mults, curve.degree, False)
 
 
-def offset_profile_face(design: CamDesign, z: float = 0.0) -> Any:
+def offset_profile_face(design: CamDesign, z: float = 0.0, holes: Any = None) -> Any:
     """The cross-section of a ``pitch.representation = "bspline"`` cam with the profile as OCCT's
     exact offset (``Geom_OffsetCurve``) of the fitted pitch B-spline, counter-clockwise.
 
@@ -126,29 +126,107 @@ def offset_profile_face(design: CamDesign, z: float = 0.0) -> Any:
         builder.SameRange(edge, True)
         ex.Next()
     bore = design.spec.cam.bore_diameter / 2
-    if bore > 0:
+    hole_wires = holes if holes is not None else ([circle_wire(bore, z)] if bore > 0 else [])
+    if hole_wires:
         mf2 = occ.BRepBuilderAPI_MakeFace(face)
-        mf2.Add(occ.topods_wire(circle_wire(bore, z).Reversed()))
+        for w in hole_wires:
+            mf2.Add(occ.topods_wire(w.Reversed()))
         face = mf2.Face()
     return face
 
 
 def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
-    """The cam as a ``TopoDS_Solid``: the exact profile face extruded by the thickness, with the bore.
+    """The cam as a ``TopoDS_Solid``: its body's prisms (:mod:`generators.bodies`) — for a plate
+    cam the exact profile face extruded by the thickness, with the bore — fused and cut in order.
 
-    For ``pitch.representation = "bspline"`` the profile is OCCT's exact offset of the fitted
+    For ``pitch.representation = "bspline"`` the plate's profile is OCCT's exact offset of the fitted
     pitch B-spline (``exact_offset``) or the fitted offset B-spline ``design.profile``
     (``exact_offset=False``: what STEP can hold — OCCT's STEP writer has no mapping for
     offset curves and writes an empty model)."""
-    if exact_offset and design.bspline is not None and design.spec.roller_radius > 0:
-        face = offset_profile_face(design)
-    else:
-        face = profile_face(design.profile_ccw(), design.spec.cam.bore_diameter / 2)
-    prism = occ.BRepPrimAPI_MakePrism(face, occ.gp_Vec(0, 0, design.spec.cam.thickness), True)
-    shape = prism.Shape()
+    body = design.body
+    plain_plate = body is None or (body.kind == "plate" and len(body.prisms) == 1
+                                   and all(h.is_circle for h in body.prisms[0].holes))
+    kernel_offset = exact_offset and design.bspline is not None and design.spec.roller_radius > 0 and \
+        (body is None or body.kind == "plate")
+    if plain_plate:
+        if kernel_offset:
+            face = offset_profile_face(design)
+        else:
+            face = profile_face(design.profile_ccw(), design.spec.cam.bore_diameter / 2)
+        return _extrude(face, 0.0, design.spec.cam.thickness)
+    shape = None
+    for prism in body.prisms:
+        if prism.role == "plate" and kernel_offset:
+            face = offset_profile_face(design, prism.z0, holes=[loop_wire(h, prism.z0) for h in prism.holes])
+        else:
+            face = region_face(prism.outer, prism.holes, prism.z0)
+        solid = _extrude(face, prism.z0, prism.z1)
+        if shape is None:
+            shape = solid
+        elif prism.op == "add":
+            shape = _boolean(occ.BRepAlgoAPI_Fuse, shape, solid)
+        else:
+            shape = _boolean(occ.BRepAlgoAPI_Cut, shape, solid)
     exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
-    solid = occ.topods_solid(exp.Current())
-    return solid
+    return occ.topods_solid(exp.Current()) if count_solids(shape) == 1 else shape
+
+
+def _extrude(face: Any, z0: float, z1: float) -> Any:
+    """The face (made at z = z0) swept up to z1, as a solid."""
+    shape = occ.BRepPrimAPI_MakePrism(face, occ.gp_Vec(0, 0, z1 - z0), True).Shape()
+    exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
+    return occ.topods_solid(exp.Current())
+
+
+def _boolean(op: Any, a: Any, b: Any) -> Any:
+    mk = op(a, b)
+    mk.Build()
+    if not mk.IsDone():
+        raise RuntimeError("OCCT could not combine the cam body's parts")
+    return mk.Shape()
+
+
+def loop_wire(loop: Any, z: float = 0.0) -> Any:
+    """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one edge
+    per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
+    from generators.bodies import Arc, Curve, Line
+
+    mk = occ.BRepBuilderAPI_MakeWire()
+    for piece in loop.pieces:
+        if isinstance(piece, Curve):
+            sub = profile_wire(piece.nurbs, z)
+            ex = occ.TopExp_Explorer(sub, occ.TopAbs_EDGE)
+            edges = []
+            while ex.More():
+                edges.append(occ.topods_edge(ex.Current()))
+                ex.Next()
+            for e in edges:
+                mk.Add(e)
+        elif isinstance(piece, Arc):
+            c = piece.centre
+            circ = occ.gp_Circ(occ.gp_Ax2(occ.gp_Pnt(c.real, c.imag, z), occ.gp_Dir(0, 0, 1)), piece.radius)
+            if abs(abs(piece.a1 - piece.a0) - 2 * np.pi) < 1e-12:
+                mk.Add(occ.BRepBuilderAPI_MakeEdge(circ).Edge())
+            else:
+                a, b = sorted((piece.a0, piece.a1))
+                edge = occ.BRepBuilderAPI_MakeEdge(circ, a, b).Edge()
+                mk.Add(edge if piece.a1 > piece.a0 else occ.topods_edge(edge.Reversed()))
+        elif isinstance(piece, Line):
+            a, b = piece.start, piece.end
+            mk.Add(occ.BRepBuilderAPI_MakeEdge(occ.gp_Pnt(a.real, a.imag, z), occ.gp_Pnt(b.real, b.imag, z)).Edge())
+    if not mk.IsDone():
+        raise RuntimeError(f"OCCT could not join the {loop.role or 'loop'} into a wire")
+    return mk.Wire()
+
+
+def region_face(outer: Any, holes: Any = (), z: float = 0.0) -> Any:
+    """The planar region inside ``outer`` minus ``holes`` (body loops, counter-clockwise)."""
+    mk = occ.BRepBuilderAPI_MakeFace(loop_wire(outer, z), True)
+    if not mk.IsDone():
+        raise RuntimeError(f"OCCT could not make a planar face from the {outer.role or 'loop'}")
+    for h in holes:
+        mk.Add(occ.topods_wire(loop_wire(h, z).Reversed()))
+    return mk.Face()
 
 
 def is_valid(shape: Any) -> bool:

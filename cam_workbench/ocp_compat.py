@@ -65,7 +65,7 @@ RENAMED: dict[str, tuple[tuple[str, str], ...]] = {
 #: OCP names that are the same in every supported version; each lives in the OCP module named
 #: by its prefix (``BRepBuilderAPI_MakeEdge`` in ``OCP.BRepBuilderAPI``, ``gp_Pnt`` in ``OCP.gp``)
 SAME: tuple[str, ...] = (
-    "BRep_Builder", "BRepAdaptor_Curve", "BRepAdaptor_Surface", "BRepBndLib",
+    "BRep_Builder", "BRepAdaptor_Curve", "BRepAlgoAPI_Cut", "BRepAlgoAPI_Fuse", "BRepAdaptor_Surface", "BRepBndLib",
     "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeWire",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
     "Geom_BSplineCurve", "Geom_OffsetCurve", "Geom2d_BSplineCurve", "Geom2d_OffsetCurve",

@@ -57,6 +57,11 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "CENTERLINES": (4, "CENTER", 18),
     "DIMENSIONS": (3, "Continuous", 18),
     "TITLE": (7, "Continuous", 25),
+    "PROFILE_OUTER": (7, "Continuous", 50),     # a groove's outer wall
+    "OUTLINE": (7, "Continuous", 50),           # a groove cam's rim
+    "HOLES": (7, "Continuous", 35),
+    "HUB": (8, "HIDDEN", 25),                   # below the plate
+    "TIMING_MARK": (6, "Continuous", 18),
 }
 
 _INSUNITS = {"mm": 4, "in": 1}
@@ -242,8 +247,13 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
     if rr > 0:
         msp.add_circle((0, 0), rb, dxfattribs={"layer": "PRIME_CIRCLE"})
     r_bore = spec.cam.bore_diameter / 2
-    if r_bore > 0:
-        msp.add_circle((0, 0), r_bore, dxfattribs={"layer": "BORE"})
+    body = design.body
+    outer_wall = None
+    if body is None:
+        if r_bore > 0:
+            msp.add_circle((0, 0), r_bore, dxfattribs={"layer": "BORE"})
+    else:
+        outer_wall = _body_loops(msp, body, dr.curves, tol, r12, dr.spline_closed_flag)
     _centerlines(msp, design, r_max, h)
     if dr.dimensions:
         _dimensions(msp, design, r_max, p_max, h, units)
@@ -259,6 +269,47 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
                    None if dr.curves == "spline" else tol, profile, pitch, h,
                    profile_claim(s, spec.is_roller, units), pitch_text(s))
     return doc, info
+
+
+#: body loop role → DXF layer (the profile itself is drawn above, with its claim)
+_ROLE_LAYERS = {"bore": "BORE", "rim": "OUTLINE", "groove_outer": "PROFILE_OUTER", "hole": "HOLES",
+                "hub": "HUB", "timing_mark": "TIMING_MARK"}
+
+
+def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_flag: bool) -> Any:
+    """The body's loops besides the profile: circles as CIRCLE, arcs as ARC, lines as LINE, exact
+    NURBS (a groove's outer wall) as the profile is drawn; returns the outer wall's export, if any."""
+    from generators.bodies import Arc, Curve, Line
+
+    seen: set[tuple] = set()
+    out = None
+    for loop in body.loops():
+        layer = _ROLE_LAYERS.get(loop.role)
+        if layer is None:
+            continue
+        for piece in loop.pieces:
+            att = {"layer": layer}
+            if isinstance(piece, Arc):
+                c = piece.centre
+                key = ("arc", round(c.real, 9), round(c.imag, 9), round(piece.radius, 9), round(piece.a0, 9))
+                if key in seen:
+                    continue            # the bore of the plate and of the hub: drawn once
+                seen.add(key)
+                if abs(abs(piece.a1 - piece.a0) - 2 * np.pi) < 1e-12:
+                    msp.add_circle((c.real, c.imag), piece.radius, dxfattribs=att)
+                else:
+                    a0, a1 = (piece.a0, piece.a1) if piece.a1 > piece.a0 else (piece.a1, piece.a0)
+                    msp.add_arc((c.real, c.imag), piece.radius, math.degrees(a0), math.degrees(a1), dxfattribs=att)
+            elif isinstance(piece, Line):
+                key = ("line", round(piece.start.real, 9), round(piece.start.imag, 9), round(piece.end.real, 9),
+                       round(piece.end.imag, 9))
+                if key in seen:
+                    continue
+                seen.add(key)
+                msp.add_line((piece.start.real, piece.start.imag), (piece.end.real, piece.end.imag), dxfattribs=att)
+            elif isinstance(piece, Curve):
+                out = _export_curve(msp, piece.nurbs, layer, curves, tol, r12, closed_flag)
+    return out
 
 
 def _new_document(version: str, insunits: int) -> Any:

@@ -87,11 +87,11 @@ def _exact_word(design: CamDesign) -> str:
 
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
-                  summary: Mapping[str, Any] | None = None) -> None:
+                  summary: Mapping[str, Any] | None = None, tool_text: str | None = None) -> None:
     spec = design.spec
     u = spec.units
     lu = "deg" if design.follower.lift_unit == "angle" else u
-    w.comment(f"cam_workbench {__version__}: plate cam, {mode_text}")
+    w.comment(f"cam_workbench {__version__}: {design.spec.cam.body} cam, {mode_text}")
     w.comment(f"cam: base radius {spec.cam.base_radius:.6g} {u}, thickness {spec.cam.thickness:g} {u}, "
               f"{spec.cam.direction}, follower: {design.follower.label()} [{u}]")
     motion = " / ".join(
@@ -119,8 +119,9 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
         w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {lu}")
         w.comment("design checks: not stated [program written without the report summary]")
     curve = "pitch curve" if design.follower.design_curve == "pitch" else "profile"
-    w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; tool centre = {curve} offset "
-              f"outward by {plan.centre_offset:g} {u}; no cutter compensation")
+    w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; "
+              + (tool_text or f"tool centre = {curve} offset outward by {plan.centre_offset:g} {u}")
+              + "; no cutter compensation")
     w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
 
 
@@ -189,6 +190,41 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
         w.comment("lead-out")
         w.block(_move(path.lead_out, 0, d))
         w.block(f"G0 Z{safe}")
+    _footer(w, plan)
+    return w.text()
+
+
+def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
+                   summary: Mapping[str, Any] | None = None) -> str:
+    """The XY program that mills a groove cam's groove (text): at every depth level, the passes of
+    ``path`` (:class:`generators.machining.groove.GroovePath`) from the middle out, the two walls
+    last; each pass entered by a plunge at the middle of the longest dwell."""
+    u = plan.units
+    d = _DECIMALS[u]
+    w = _Writer(plan.line_numbers)
+    _cam_comments(w, design, plan, "XY groove milling", summary,
+                  tool_text="tool centres on exact offsets of the pitch curve [the passes below]")
+    kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
+    w.comment(f"groove {path.groove_width:g} {u} wide, {path.depth:g} {u} deep; tool radius {plan.tool_radius:g} {u}; "
+              f"{len(path.passes)} passes per level at tool-centre offsets "
+              + ", ".join(fmt(p.offset, d) for p in path.passes) + f" {u} from the pitch curve")
+    w.comment(f"{kind}, max distance from the {_exact_word(design)}tool-centre paths {path.max_distance:.3g} {u}, "
+              f"tolerance {path.tolerance:g} {u}; {plan.milling} milling; plunge (centre-cutting end mill) at "
+              f"cam angle {path.entry_angle_deg:.2f} deg; {len(path.z_levels)} level[s] to depth {plan.depth:g} {u}")
+    _header(w, plan)
+    safe = fmt(plan.safe_height, d)
+    w.block(f"G0 Z{safe}")
+    for level, z in enumerate(path.z_levels, start=1):
+        for k, p in enumerate(path.passes, start=1):
+            start = p.loop.start[0]
+            w.comment(f"level {level}, pass {k}: {p.role.replace('_', ' ')} [offset {fmt(p.offset, d)}]")
+            w.block(f"G0 X{fmt(start.real, d)} Y{fmt(start.imag, d)}")
+            w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
+            lines = list(_moves(p.loop, d))
+            w.block(lines[0] + f" F{fmt(plan.feed_rate, 3)}")
+            for line in lines[1:]:
+                w.block(line)
+            w.block(f"G0 Z{safe}")
     _footer(w, plan)
     return w.text()
 

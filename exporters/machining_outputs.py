@@ -14,7 +14,7 @@ from generators.machining.toolpath import contour_path, rotary_path, tool_centre
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
-from .gcode import contour_program, rotary_program
+from .gcode import contour_program, groove_program, rotary_program
 from .interpolator_plots import PLOT_FILES, deviation_figure, kinematics_figure, write_png
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
@@ -59,7 +59,17 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
-    if plan.program == "xy":
+    if design.spec.cam.body == "groove":
+        from generators.machining.groove import groove_path
+
+        if plan.program != "xy":
+            from generators.errors import SpecError
+
+            raise SpecError("machining.program", 'a groove is milled with the XY program ("xy"); the XC rotary '
+                            "program cuts a plate cam's outside profile")
+        path = groove_path(design, plan)
+        gcode = groove_program(design, plan, path, summary=summary)
+    elif plan.program == "xy":
         path = contour_path(design, plan)
         gcode = contour_program(design, plan, path, summary=summary)
     else:

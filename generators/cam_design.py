@@ -6,11 +6,12 @@ and the numbers of ``report.json`` (units of the spec; angles in degrees).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable
 
 import numpy as np
 
+from .bodies import BodyGeometry, body_of
 from .checks.areas import area_summary
 from .checks.design import DesignChecks, run_checks
 from .curves.extrema import refine_max
@@ -57,6 +58,9 @@ class CamDesign:
     bspline: "BSplineProfile | None" = field(default=None, repr=False)
     #: the design checks of the spec (``report.json`` ``checks``; the ones ``check`` prints)
     checks: DesignChecks | None = field(default=None, repr=False)
+    #: the body (plate, groove, …) as prisms of exact loops, and what its checks measured
+    body: BodyGeometry | None = field(default=None, repr=False)
+    body_report: dict = field(default_factory=dict, repr=False)
 
     @property
     def program(self) -> MotionProgram:
@@ -82,13 +86,27 @@ class CamDesign:
 
     @property
     def area(self) -> float:
-        """Cross-section area: profile minus bore."""
-        r = self.spec.cam.bore_diameter / 2
-        return self.profile_area - np.pi * r * r
+        """Area of the top face (z = thickness): for a plate cam the profile minus the bore (and keyway,
+        holes, timing mark); for a groove cam the disc minus the bore and the groove."""
+        if self.body is None:
+            r = self.spec.cam.bore_diameter / 2
+            return self.profile_area - np.pi * r * r
+        return self.body.face_area_at(self.spec.cam.thickness)
 
     @property
     def volume(self) -> float:
-        return self.area * self.spec.cam.thickness
+        """The body's exact volume (Green's theorem on its loops × heights)."""
+        if self.body is None:
+            return self.area * self.spec.cam.thickness
+        return self.body.volume
+
+    def pitch_offset_curve(self, outward: float) -> NurbsCurve:
+        """The pitch curve offset outward by ``outward`` (inward when negative): the exact rational
+        NURBS for a PH pitch curve, a B-spline fitted to the exact offset for a B-spline one."""
+        if self.bspline is None:
+            return offset_nurbs(self.pitch.spline, profile_offset_distance(self.pitch, -outward))
+        fit = fit_offset(self.pitch.curve, self.pitch.follower.sense * outward, refine=OFFSET_REFINE)
+        return fit.to_nurbs(self.pitch.parameter_scale)
 
     def max_profile_radius(self, per_span: int = 64) -> tuple[float, complex, float]:
         """Largest distance of the profile from the axis [length]: (radius, the profile point
@@ -140,7 +158,7 @@ class CamDesign:
         b_convex = np.where(cs.radius > 0, cs.radius, np.inf)
         ib = int(np.argmin(b_convex))
         b_concave = np.where(cs.radius < 0, -cs.radius, np.inf)
-        rr = geo.profile_offset
+        rr = profile_inset(spec)            # the profile's (for a groove: the inner wall's) inset
         phi_b, at_b = self._as_built_pressure_angle()
         omega = spec.cam.speed_rpm * 2 * np.pi / 60
         maxima = self.program.maxima(omega)
@@ -199,6 +217,8 @@ class CamDesign:
                 "built_cross_section": self.area,
             },
             "checks": self.design_checks.to_dict(),
+            "body": _plain({**self.body_report, "volume": self.volume, "top_face_area": self.area})
+            if self.body is not None else None,
         }
 
     @property
@@ -207,7 +227,7 @@ class CamDesign:
         return self.checks if self.checks is not None else run_checks(self.spec, program=self.program)
 
     def _profile_summary(self) -> dict[str, Any]:
-        rr = self.spec.roller_radius
+        rr = profile_inset(self.spec)
         r_max, _, r_max_at = self.max_profile_radius()
         err, at = built_profile_error(self.profile, self.pitch, rr)
         out: dict[str, Any] = {
@@ -247,6 +267,17 @@ class CamDesign:
         at, phi = self.as_built_pressure_angles()
         k = int(np.argmax(np.abs(phi)))
         return float(abs(phi[k])), float(at[k])
+
+
+def _plain(d: Any) -> Any:
+    """A dict of numbers and lists as JSON can hold them (curves and arrays left out)."""
+    if isinstance(d, dict):
+        return {k: _plain(v) for k, v in d.items() if not isinstance(v, (NurbsCurve, np.ndarray))}
+    if isinstance(d, (list, tuple)):
+        return [_plain(v) for v in d]
+    if isinstance(d, (np.floating, np.integer)):
+        return d.item()
+    return d
 
 
 def _finite_or_none(v: float) -> float | None:
@@ -314,23 +345,38 @@ def checked_intent(spec: CamSpec) -> DesignChecks:
     return checks
 
 
+def with_body(design: CamDesign) -> CamDesign:
+    """The design with its body built and checked (refusals: GeometryError with the cam angle, or a
+    SpecError naming a feature's field)."""
+    body = body_of(design.spec)
+    geometry = body.geometry(design)
+    report = body.check(design, geometry)
+    return replace(design, body=geometry, body_report={"kind": body.kind, **report})
+
+
+def profile_inset(spec: CamSpec) -> float:
+    """How far inside the pitch curve the profile NURBS lies: the roller radius, plus the body's
+    own inset (half a groove's clearance)."""
+    return spec.roller_radius + body_of(spec).profile_inset(spec)
+
+
 def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None) -> CamDesign:
     checks = checked_intent(spec)
     pitch = build_bspline_pitch(spec, progress)
     cs = pitch_curvature_samples(pitch)
-    check_undercut(pitch, spec.roller_radius, cs)
+    rr = profile_inset(spec)
+    check_undercut(pitch, rr, cs)
     pn = pitch.to_nurbs()
-    rr = spec.roller_radius
     inward = -pitch.geometry.sense * rr
     fit = fit_offset(pitch.curve, inward, refine=OFFSET_REFINE) if rr > 0 else pitch.curve
     profile = fit.to_nurbs(pitch.parameter_scale) if rr > 0 else pn
     check_self_intersection(profile, pitch)
     rmin = check_bore(profile, pitch, spec.cam.bore_diameter)
     errors = profile_errors(pitch, fit, rr, inward)
-    return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile,  # type: ignore[arg-type]
-                     max_deviation=pitch.max_deviation(), min_profile_radius=rmin,
-                     curvature_samples=cs, bspline=BSplineProfile(pitch.curve, inward, fit, errors),
-                     checks=checks)
+    return with_body(CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile,  # type: ignore[arg-type]
+                               max_deviation=pitch.max_deviation(), min_profile_radius=rmin,
+                               curvature_samples=cs, bspline=BSplineProfile(pitch.curve, inward, fit, errors),
+                               checks=checks))
 
 
 def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
@@ -346,14 +392,15 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
     checks = checked_intent(spec)
     pitch = build_pitch(spec, progress=progress)
     cs = pitch_curvature_samples(pitch)
-    check_undercut(pitch, spec.roller_radius, cs)
+    rr = profile_inset(spec)
+    check_undercut(pitch, rr, cs)
     pn = pitch_nurbs(pitch.spline)
-    if spec.roller_radius > 0:
-        profile = offset_nurbs(pitch.spline, profile_offset_distance(pitch, spec.roller_radius))
+    if rr > 0:
+        profile = offset_nurbs(pitch.spline, profile_offset_distance(pitch, rr))
     else:
         profile = pn
     check_self_intersection(profile, pitch)
     rmin = check_bore(profile, pitch, spec.cam.bore_diameter)
     dev = pitch.max_deviation()
-    return CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile, max_deviation=dev,
-                     min_profile_radius=rmin, curvature_samples=cs, checks=checks)
+    return with_body(CamDesign(spec=spec, pitch=pitch, pitch_nurbs=pn, profile=profile, max_deviation=dev,
+                               min_profile_radius=rmin, curvature_samples=cs, checks=checks))

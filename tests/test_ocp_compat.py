@@ -118,4 +118,4 @@ def test_unknown_names_are_attribute_errors():
     from cam_workbench import ocp_compat as occ
 
     with pytest.raises(AttributeError):
-        occ.BRepAlgoAPI_Fuse  # noqa: B018 - not a name the project uses: add it to SAME first
+        occ.IGESControl_Writer  # noqa: B018 - not a name the project uses: add it to SAME first

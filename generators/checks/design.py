@@ -122,6 +122,10 @@ class StateModel:
         self.moduli = (mat.modulus("cam", spec.units), mat.cam_poisson,
                        mat.modulus("follower", spec.units), mat.follower_poisson)
         self.direction = np.sign(self.program.lifts)
+        from ..bodies import body_of
+
+        #: a groove holds the roller both ways: no separation, and the contact changes wall
+        self.form_closed = body_of(spec).closure == "form"
 
     @property
     def geometry(self) -> Follower:
@@ -141,6 +145,12 @@ class StateModel:
         force = fol.contact_force(k, self.omega, phi)
         prof = rho - fol.profile_offset
         stress = fol.contact_stress(force, k, self.contact_length, self.moduli, rho)
+        if self.form_closed:
+            # a negative force is taken by the groove's outer wall: the roller (radius r) against a
+            # surface of signed radius −(ρ + r) (concave where the pitch curve is convex)
+            r = fol.profile_offset
+            outer = hertz_stress(-force, r, -(rho + r), self.contact_length, *self.moduli)
+            stress = np.where(force >= 0, stress, outer)
         return CamState(theta, seg, k, phi, force, rho, prof, stress, k.ds * self.direction[seg])
 
 
@@ -284,7 +294,12 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
         f"signed {signed:.4g}°"))
 
     # separation (Eq. 3.5, 5.10)
-    if model.has_load:
+    if model.form_closed:
+        results.append(CheckResult(
+            "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
+            None, None, cfg.min_force, lab["force"], "skipped",
+            "positive drive: the groove holds the roller both ways (report.json body.drive: which wall drives where)"))
+    elif model.has_load:
         v, t, _ = _extreme(-st.force, st, model, lambda s: -s.force, refine)
         fmin = -v
         results.append(CheckResult(
@@ -552,7 +567,8 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
         g["convexity"] = -kappa * spec.cam.base_radius                                    # Eq. 5.7, signed ρ
     if model.has_load:
         scale = force_reference(spec)
-        g["separation"] = (cfg.min_force - st.force) / scale                               # Eq. 5.10
+        if not model.form_closed:
+            g["separation"] = (cfg.min_force - st.force) / scale                           # Eq. 5.10
         if model.follower.contact != "knife" and spec.material.allowable_stress:
             g["contact_stress"] = (st.stress / spec.material.allowable_stress) ** 2 - 1.0   # Eq. 5.13
     return ConstraintArrays(cs.theta, g)

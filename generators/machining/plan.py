@@ -103,8 +103,13 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
     spec = design.spec
     mc = spec.machining
     d = _UNIT_DEFAULTS[spec.units]
+    from ..bodies import body_of
+
+    body = body_of(spec).machining_defaults(spec)
     if mc.tool_radius is not None:
         tool = mc.tool_radius
+    elif body["tool_radius"] is not None:
+        tool = body["tool_radius"]
     elif spec.is_roller:
         tool = spec.roller_radius
     else:
@@ -121,7 +126,7 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
         plunge_rate=float(mc.plunge_rate if mc.plunge_rate is not None else feed / 3),
         sample_period=mc.sample_period,
         rotary_speed_rpm=float(mc.rotary_speed_rpm if mc.rotary_speed_rpm is not None else spec.cam.speed_rpm),
-        depth=float(mc.depth if mc.depth is not None else spec.cam.thickness),
+        depth=float(mc.depth if mc.depth is not None else body["depth"]),
         passes=mc.passes,
         safe_height=float(mc.safe_height if mc.safe_height is not None else d["safe_height"]),
         chord_tolerance=float(mc.chord_tolerance if mc.chord_tolerance is not None else d["chord_tolerance"]),

@@ -26,6 +26,9 @@ CLOSED_FORM_LAWS = LAWS[:-1]
 BSPLINE_FIELDS = ("order", "control_x", "control_y", "control_frame", "control_start")
 
 SPAN_TOL_DEG = 1e-9
+#: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
+BODIES = ("plate", "groove")
+KEYWAYS = ("DIN6885", "ANSI")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -44,6 +47,35 @@ class CamSection:
                            kind="str", choices=("ccw", "cw"), default="ccw", group="Cam")
     speed_rpm: float = param("Constant angular speed of the cam", unit="speed", gt=0,
                              default=60.0, group="Cam")
+    # ---- the body and its features (CAM_SPEC.md "Cam bodies") ----
+    body: str = param(
+        "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it) or \"groove\" (a "
+        "disc with the roller running in a groove cut into its top face: positive drive)", kind="str",
+        choices=BODIES, default="plate", group="Cam")
+    outer_diameter: float | None = param("Groove cam: diameter of the disc", unit="length", gt=0, optional=True,
+                                         group="Cam")
+    hub_diameter: float | None = param("Hub diameter (the hub stands below the plate, bored as it is)",
+                                       unit="length", gt=0, optional=True, group="Cam")
+    hub_length: float | None = param("Hub length along the cam axis", unit="length", gt=0, optional=True,
+                                     group="Cam")
+    keyway: str | None = param(
+        "Keyway in the bore sized from the bore diameter by a standard: \"DIN6885\" (DIN 6885-1 parallel "
+        "key) or \"ANSI\" (ANSI B17.1 square key); or give keyway_width and keyway_depth", kind="str",
+        choices=KEYWAYS, optional=True, group="Cam")
+    keyway_width: float | None = param("Keyway width (explicit keyway)", unit="length", gt=0, optional=True,
+                                       group="Cam")
+    keyway_depth: float | None = param("Keyway depth from the bore at its centre line (explicit keyway)",
+                                       unit="length", gt=0, optional=True, group="Cam")
+    mounting_holes: int = param("Number of mounting holes on the mounting circle (0: none)", kind="int", ge=0,
+                                le=64, default=0, group="Cam")
+    mounting_hole_diameter: float | None = param("Mounting hole diameter", unit="length", gt=0, optional=True,
+                                                 group="Cam")
+    mounting_circle_diameter: float | None = param("Diameter of the circle the mounting holes' centres lie on",
+                                                   unit="length", gt=0, optional=True, group="Cam")
+    timing_mark: bool = param("Engrave a radial timing mark on the top face where the follower is at θ = 0",
+                              kind="bool", default=False, group="Cam")
+    timing_mark_width: float = param("Width of the timing mark", unit="length", gt=0, default=0.5, group="Cam")
+    timing_mark_depth: float = param("Depth of the timing mark", unit="length", gt=0, default=0.2, group="Cam")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -154,6 +186,18 @@ class MotionSegment:
         "it). For designs whose cycle starts elsewhere (thesis Examples 4 and 6 start at −20°)",
         unit="angle", optional=True, group="Motion",
     )
+
+
+@dataclass(frozen=True, kw_only=True)
+class GrooveSection:
+    """`[groove]`: the groove of a groove (face) cam."""
+
+    depth: float | None = param("Depth of the groove cut into the disc's top face (default: ⅔ of the "
+                                "thickness)", unit="length", gt=0, optional=True, group="Groove")
+    clearance: float = param("Added to the roller's diameter: the groove width is 2·roller_radius + clearance",
+                             unit="length", ge=0, default=0.05, group="Groove")
+    min_wall: float = param("Smallest material allowed between the groove and the rim, and between the groove "
+                            "and the bore (or hub holes)", unit="length", ge=0, default=3.0, group="Groove")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -450,6 +494,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "follower": (FollowerSection, False, True),
     "motion": (MotionSegment, True, True),
     "pitch": (PitchSection, False, False),
+    "groove": (GrooveSection, False, False),
     "material": (MaterialSection, False, False),
     "checks": (ChecksSection, False, False),
     "drawing": (DrawingSection, False, False),
@@ -469,6 +514,7 @@ class CamSpec:
     follower: FollowerSection
     motion: tuple[MotionSegment, ...]
     pitch: PitchSection = field(default_factory=PitchSection)
+    groove: GrooveSection = field(default_factory=GrooveSection)
     material: MaterialSection = field(default_factory=MaterialSection)
     checks: ChecksSection = field(default_factory=ChecksSection)
     drawing: DrawingSection = field(default_factory=DrawingSection)
@@ -661,9 +707,11 @@ def validate(spec: CamSpec) -> None:
                         f"follower.roller_radius {spec.roller_radius:g}) = {2 * r_surface:g}, got "
                         f"{cam.bore_diameter:g}: a smaller bore or roller, or a larger base radius")
     _validate_motion(spec)
+    from ..bodies import validate_body
     from ..followers import validate_follower   # the kinds' own geometric rules
 
     validate_follower(spec)
+    validate_body(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
     _validate_machining(spec)

@@ -1,0 +1,65 @@
+"""Cam bodies: which curves bound which faces, as plain data (:mod:`.base`), one module per body —
+:mod:`.plate` (the outside profile) and :mod:`.groove` (a groove in a disc's face) — with the
+features every body can carry (:mod:`.features`: bore and keyway, hub, mounting holes, timing
+mark).  :func:`body_of` is the one place that maps ``cam.body`` to its class."""
+from __future__ import annotations
+
+from .base import Arc, BodyGeometry, Curve, Line, Loop, Prism
+from .groove import GrooveBody, validate_groove
+from .plate import PlateBody
+
+#: cam.body → the body
+BODY_KINDS = {"plate": PlateBody, "groove": GrooveBody}
+#: cam.body → its own spec rules (beyond the fields' declarations)
+BODY_RULES = {"groove": validate_groove}
+
+
+def body_of(spec):
+    """The body class of a spec."""
+    return BODY_KINDS[spec.cam.body]
+
+
+def validate_body(spec) -> None:
+    """The rules of the spec's body and of the features every body shares.
+
+    Raises:
+        SpecError: naming the field and the rule.
+    """
+    from ..errors import SpecError
+
+    cam = spec.cam
+    rule = BODY_RULES.get(cam.body)
+    if rule is not None:
+        rule(spec)
+    if cam.body != "groove" and cam.outer_diameter is not None:
+        raise SpecError("cam.outer_diameter", "applies to groove cams only (cam.body = \"groove\")")
+    if (cam.keyway is not None or cam.keyway_width is not None) and cam.bore_diameter <= 0:
+        raise SpecError("cam.keyway" if cam.keyway is not None else "cam.keyway_width",
+                        "needs a bore: cam.bore_diameter > 0")
+    if cam.keyway is not None and (cam.keyway_width is not None or cam.keyway_depth is not None):
+        raise SpecError("cam.keyway", "give a standard or keyway_width and keyway_depth, not both")
+    if (cam.keyway_width is None) != (cam.keyway_depth is None):
+        missing = "cam.keyway_depth" if cam.keyway_depth is None else "cam.keyway_width"
+        raise SpecError(missing, "is required with the other explicit keyway dimension")
+    if cam.keyway_width is not None and not cam.keyway_width < cam.bore_diameter:
+        raise SpecError("cam.keyway_width", f"must be < cam.bore_diameter ({cam.bore_diameter:g}), got "
+                        f"{cam.keyway_width:g}")
+    if (cam.hub_diameter is None) != (cam.hub_length is None):
+        missing = "cam.hub_length" if cam.hub_length is None else "cam.hub_diameter"
+        raise SpecError(missing, "is required with the other hub dimension")
+    if cam.hub_diameter is not None:
+        from .features import bore_extent
+
+        if not cam.hub_diameter / 2 > bore_extent(spec):
+            raise SpecError("cam.hub_diameter", f"must leave material around the bore and keyway (they reach "
+                            f"{bore_extent(spec):.4g} from the axis), got {cam.hub_diameter:g}")
+    if cam.mounting_holes:
+        for name in ("mounting_hole_diameter", "mounting_circle_diameter"):
+            if getattr(cam, name) is None:
+                raise SpecError(f"cam.{name}", "is required with cam.mounting_holes")
+    if cam.timing_mark and not cam.timing_mark_depth < cam.thickness:
+        raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({cam.thickness:g})")
+
+
+__all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "Curve", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
+           "body_of", "validate_body"]

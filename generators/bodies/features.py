@@ -1,0 +1,155 @@
+"""Features every cam body can carry: the bore with a keyway, a hub, mounting holes on a pitch
+circle and a timing mark at θ = 0 — as loops and prisms (:mod:`generators.bodies.base`).
+
+Keyways are sized from the bore by a standard or given explicitly:
+
+* **DIN 6885-1** (parallel keys, normal form): width b and hub keyway depth t₂ by shaft
+  diameter; the keyway's bottom lies d/2 + t₂ from the axis (the standard's "d + t₂" measured
+  across the bore).  Table of DIN 6885-1:1968; the rows from 38 mm on agree with Siemens'
+  reproduction (catalogue MD 31.1, 2016, p. 7/3).
+* **ANSI B17.1** (square parallel keys, inch): key width W by shaft diameter; the hub keyseat
+  is W/2 deep measured at the side of the keyway (the standard's convention), so its bottom lies
+  √(r² − (W/2)²) + W/2 from the axis.
+* explicit ``cam.keyway_width`` / ``cam.keyway_depth``: depth from the bore at the keyway's
+  centre line (as DIN's t₂).
+
+The keyway points along +Y of the cam frame: where a translating follower on the cam's centre
+line touches at θ = 0, so the key, the timing mark and the program start line up.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import SpecError
+from .base import Arc, Line, Loop, Prism
+
+#: DIN 6885-1: (shaft diameter over, up to [mm], key width b, hub keyway depth t₂ [mm])
+DIN6885 = (
+    (6, 8, 2, 1.0), (8, 10, 3, 1.4), (10, 12, 4, 1.8), (12, 17, 5, 2.3), (17, 22, 6, 2.8),
+    (22, 30, 8, 3.3), (30, 38, 10, 3.3), (38, 44, 12, 3.3), (44, 50, 14, 3.8), (50, 58, 16, 4.3),
+    (58, 65, 18, 4.4), (65, 75, 20, 4.9), (75, 85, 22, 5.4), (85, 95, 25, 5.4), (95, 110, 28, 6.4),
+    (110, 130, 32, 7.4), (130, 150, 36, 8.4), (150, 170, 40, 9.4), (170, 200, 45, 10.4),
+    (200, 230, 50, 11.4),
+)
+#: ANSI B17.1 square keys: (shaft diameter over, up to [in], key width W [in])
+ANSI_B17_1 = (
+    (5 / 16, 7 / 16, 3 / 32), (7 / 16, 9 / 16, 1 / 8), (9 / 16, 7 / 8, 3 / 16), (7 / 8, 1.25, 1 / 4),
+    (1.25, 1.375, 5 / 16), (1.375, 1.75, 3 / 8), (1.75, 2.25, 1 / 2), (2.25, 2.75, 5 / 8),
+    (2.75, 3.25, 3 / 4), (3.25, 3.75, 7 / 8), (3.75, 4.5, 1.0), (4.5, 5.5, 1.25), (5.5, 6.5, 1.5),
+)
+MM_PER_IN = 25.4
+#: the +Y direction of the cam frame
+KEY_ANGLE = math.pi / 2
+
+
+def keyway_size(spec) -> tuple[float, float] | None:
+    """(width, depth from the bore at the keyway's centre line) [spec lengths], or None."""
+    cam = spec.cam
+    if cam.keyway_width is not None:
+        return cam.keyway_width, cam.keyway_depth
+    if not cam.keyway:
+        return None
+    d = cam.bore_diameter
+    to_mm = MM_PER_IN if spec.units == "in" else 1.0
+    if cam.keyway == "DIN6885":
+        dm = d * to_mm
+        for lo, hi, b, t2 in DIN6885:
+            if lo < dm <= hi:
+                return b / to_mm, t2 / to_mm
+        raise SpecError("cam.keyway", f"DIN 6885-1 covers bores over 6 up to 230 mm; cam.bore_diameter is "
+                        f"{dm:g} mm")
+    di = d * to_mm / MM_PER_IN
+    for lo, hi, w in ANSI_B17_1:
+        if lo < di <= hi:
+            w_u = w * MM_PER_IN / to_mm
+            r = d / 2
+            # keyseat W/2 deep at its side: bottom at √(r² − (W/2)²) + W/2 from the axis
+            bottom = math.sqrt(r * r - (w_u / 2) ** 2) + w_u / 2
+            return w_u, bottom - r
+    raise SpecError("cam.keyway", f"ANSI B17.1 covers bores over 5/16 up to 6 1/2 in; cam.bore_diameter is "
+                    f"{di:g} in")
+
+
+def bore_loop(spec) -> Loop | None:
+    """The bore, with its keyway when the spec asks for one (counter-clockwise), or None."""
+    r = spec.cam.bore_diameter / 2
+    if r <= 0:
+        return None
+    key = keyway_size(spec)
+    if key is None:
+        return Loop.circle(r, role="bore")
+    w, depth = key
+    half = math.asin(min(w / 2 / r, 1.0))
+    a = KEY_ANGLE
+    u, n = np.exp(1j * a), np.exp(1j * (a + np.pi / 2))        # along the key, across it
+    top = r + depth
+    p_left = r * np.exp(1j * (a + half))                       # where the keyway meets the bore
+    p_right = r * np.exp(1j * (a - half))
+    return Loop((Arc(0j, r, a + half, a - half + 2 * np.pi),   # the bore, the long way round
+                 Line(p_right, top * u - w / 2 * n),
+                 Line(top * u - w / 2 * n, top * u + w / 2 * n),
+                 Line(top * u + w / 2 * n, p_left)), role="bore")
+
+
+def bore_extent(spec) -> float:
+    """The largest distance of the bore (and keyway) from the axis."""
+    r = spec.cam.bore_diameter / 2
+    key = keyway_size(spec) if r > 0 else None
+    if key is None:
+        return r
+    w, depth = key
+    return math.hypot(r + depth, w / 2)
+
+
+def hub_prism(spec) -> Prism | None:
+    """The hub below the plate (−hub_length ≤ z ≤ 0), bored as the plate."""
+    cam = spec.cam
+    if not cam.hub_diameter or not cam.hub_length:
+        return None
+    bore = bore_loop(spec)
+    return Prism(Loop.circle(cam.hub_diameter / 2, role="hub"), (bore,) if bore else (), -cam.hub_length, 0.0,
+                 "add", "hub")
+
+
+def mounting_holes(spec, z0: float, z1: float) -> list[Prism]:
+    """The mounting holes: ``cam.mounting_holes`` circles of ``mounting_hole_diameter`` equally
+    spaced on ``mounting_circle_diameter``, the first at +Y (with the keyway), through z0..z1."""
+    cam = spec.cam
+    n = cam.mounting_holes or 0
+    if n <= 0:
+        return []
+    rc, rh = cam.mounting_circle_diameter / 2, cam.mounting_hole_diameter / 2
+    angles = KEY_ANGLE + 2 * np.pi * np.arange(n) / n
+    return [Prism(Loop.circle(rh, complex(rc * np.exp(1j * a)), role="hole"), (), z0, z1, "cut", f"hole{k}")
+            for k, a in enumerate(angles)]
+
+
+def timing_mark(spec, angle: float, r_in: float, r_out: float, z_top: float) -> Prism | None:
+    """An engraved radial line on the top face at cam-frame angle ``angle`` [rad], from r_in to
+    r_out, ``cam.timing_mark_width`` wide and ``cam.timing_mark_depth`` deep."""
+    cam = spec.cam
+    if not cam.timing_mark:
+        return None
+    w, d = cam.timing_mark_width, cam.timing_mark_depth
+    u, n = np.exp(1j * angle), np.exp(1j * (angle + np.pi / 2))
+    pts = [r_in * u - w / 2 * n, r_out * u - w / 2 * n, r_out * u + w / 2 * n, r_in * u + w / 2 * n]
+    loop = Loop(tuple(Line(complex(a), complex(b)) for a, b in zip(pts, pts[1:] + pts[:1])), role="timing_mark")
+    return Prism(loop, (), z_top - d, z_top, "cut", "timing_mark")
+
+
+def hole_ligaments(spec, inner_radius_at, bore: float) -> dict:
+    """Material left around the mounting holes: (to the bore, to the nearest outer boundary,
+    between neighbouring holes) [spec lengths]; ``inner_radius_at(angle)`` gives the radius of the
+    boundary the holes must stay inside (the profile, or a groove's inner wall) along a ray."""
+    cam = spec.cam
+    n = cam.mounting_holes or 0
+    rc, rh = cam.mounting_circle_diameter / 2, cam.mounting_hole_diameter / 2
+    angles = KEY_ANGLE + 2 * np.pi * np.arange(n) / n
+    # the boundary radius over the hole's angular width, a small margin of rays
+    span = np.arcsin(min(rh / rc, 1.0))
+    rays = angles[:, None] + np.linspace(-span, span, 9)[None, :]
+    outer = float(np.min(inner_radius_at(rays.ravel()))) - (rc + rh)
+    between = 2 * rc * math.sin(math.pi / n) - 2 * rh if n > 1 else float("inf")
+    return {"to_bore": rc - rh - bore, "to_outer": outer, "between": between}

@@ -1,0 +1,152 @@
+"""The groove (face) cam: a disc of ``cam.outer_diameter`` with a groove cut ``groove.depth`` into
+its top face, in which the roller runs — positive drive, no spring needed.
+
+The groove's walls are the pitch curve's offsets at ±w/2, w = 2·roller_radius + groove.clearance:
+for a PH pitch curve both are exact rational NURBS (degree 9), the inner wall being the design's
+profile (:attr:`CamDesign.profile`, offset inward by r + c/2 because :meth:`GrooveBody.profile_inset`
+adds c/2).  Checks (refusals with the cam angle): material between the outer wall and the rim,
+between the inner wall and the bore (and keyway, holes) ≥ ``groove.min_wall``; the outer wall's
+undercut where the pitch curve's concave radius of curvature is below w/2.  Reported: which wall
+drives the follower where — the inner wall while the contact force pushes the follower out, the
+outer wall while it must pull it in (the force changes sign where the inertia beats the load).
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import GeometryError, SpecError
+from .base import BodyGeometry, Loop, Prism
+from .features import bore_extent, bore_loop, hub_prism, mounting_holes, timing_mark
+from .plate import feature_checks, profile_radius_along, zero_angle
+
+
+def half_width(spec) -> float:
+    """w/2 = roller radius + clearance/2."""
+    return spec.roller_radius + spec.groove.clearance / 2
+
+
+def groove_depth(spec) -> float:
+    return spec.groove.depth if spec.groove.depth is not None else 2.0 / 3.0 * spec.cam.thickness
+
+
+class GrooveBody:
+    """A disc with the groove in its top face."""
+
+    kind = "groove"
+    #: the groove holds the roller both ways (form closure): it cannot leave the cam
+    closure = "form"
+
+    @staticmethod
+    def profile_inset(spec) -> float:
+        return spec.groove.clearance / 2
+
+    @staticmethod
+    def machining_defaults(spec) -> dict[str, float | None]:
+        """The groove's depth, and a tool ¾ of the groove's half width (it must be narrower than
+        the groove to finish both walls)."""
+        return {"depth": groove_depth(spec), "tool_radius": 0.75 * half_width(spec)}
+
+    @staticmethod
+    def geometry(design) -> BodyGeometry:
+        spec = design.spec
+        t = spec.cam.thickness
+        r_out = spec.cam.outer_diameter / 2
+        bore = bore_loop(spec)
+        inner = design.profile
+        outer = design.pitch_offset_curve(half_width(spec))
+        prisms = [Prism(Loop.circle(r_out, role="rim"), (bore,) if bore else (), 0.0, t, "add", "disc"),
+                  Prism(Loop.nurbs(outer, "groove_outer"), (Loop.nurbs(inner, "groove_inner"),), t - groove_depth(spec),
+                        t, "cut", "groove")]
+        hub = hub_prism(spec)
+        if hub is not None:
+            prisms.append(hub)
+        prisms += mounting_holes(spec, 0.0, t)
+        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * spec.cam.timing_mark_width,
+                           design.min_profile_radius - 1.5 * spec.cam.timing_mark_width, t)
+        if mark is not None:
+            prisms.append(mark)
+        return BodyGeometry("groove", tuple(prisms), {"outer_wall": outer})
+
+    @staticmethod
+    def check(design, geometry: BodyGeometry) -> dict[str, Any]:
+        spec = design.spec
+        g = spec.groove
+        w2 = half_width(spec)
+        out: dict[str, Any] = {"groove_width": 2 * w2, "groove_depth": groove_depth(spec),
+                               "outer_diameter": spec.cam.outer_diameter}
+        # the outer wall folds where the pitch curve's concave radius is below w/2
+        cs = design.curvature_samples
+        concave = cs.radius < 0
+        if concave.any():
+            k = int(np.argmin(np.where(concave, -cs.radius, np.inf)))
+            out["min_concave_pitch_radius"] = float(-cs.radius[k])
+            if -cs.radius[k] <= w2:
+                raise GeometryError("undercut", f"the groove's outer wall is undercut at cam angle "
+                                    f"{cs.cam_angle_deg[k]:.2f}°: concave pitch radius {-cs.radius[k]:.4g} ≤ half "
+                                    f"the groove width {w2:g} — a smaller roller or a gentler motion",
+                                    float(cs.cam_angle_deg[k]))
+        # material to the rim, at the largest radius of the outer wall
+        outer = geometry.extra["outer_wall"]
+        u, pts = outer.sample(64)
+        r = np.hypot(pts[:, 0], pts[:, 1])
+        k = int(np.argmax(r))
+        rim = spec.cam.outer_diameter / 2 - float(r[k])
+        at_rim = cam_angle_at_parameter(design, float(u[k]))
+        out["rim_wall"] = {"value": rim, "at_deg": at_rim}
+        if rim < g.min_wall:
+            raise GeometryError("wall", f"the groove leaves {rim:.4g} of material to the rim at cam angle {at_rim:.2f}°, "
+                                f"less than groove.min_wall {g.min_wall:g}: a larger cam.outer_diameter", at_rim)
+        # material to the bore (and keyway)
+        from ..checks.buildability import min_radius
+
+        r_in, u_in = min_radius(design.profile)
+        at_bore = cam_angle_at_parameter(design, u_in)
+        bore_wall = r_in - bore_extent(spec)
+        out["bore_wall"] = {"value": bore_wall, "at_deg": at_bore}
+        if bore_wall < g.min_wall:
+            raise GeometryError("wall", f"the groove leaves {bore_wall:.4g} of material to the bore at cam angle "
+                                f"{at_bore:.2f}°, less than groove.min_wall {g.min_wall:g}", at_bore)
+        out.update(feature_checks(design, lambda a: profile_radius_along(design.profile, a), "groove's inner wall"))
+        out["drive"] = drive_sides(design)
+        return out
+
+
+def cam_angle_at_parameter(design, u: float) -> float:
+    """Cam angle [deg] at which the follower is at the point of parameter ``u`` of a curve that
+    shares the pitch curve's parameter (its offsets: knot span k ↔ segment k)."""
+    m = design.pitch.M
+    seg = min(int(u), m - 1)
+    return float(design.pitch.cam_angle_at(np.array([seg]), np.array([min(max(u - seg, 0.0), 1.0)]))[0])
+
+
+def drive_sides(design) -> dict[str, Any]:
+    """Which wall drives the follower where: the inner wall while the contact force needed to
+    follow the motion is positive (pushing the follower out), the outer wall while it is negative;
+    the cam angles [deg] where it changes side and each wall's share of the turn."""
+    from ..checks.design import StateModel
+
+    model = StateModel(design.spec, design.program)
+    th = np.linspace(0.0, 2 * np.pi, 7201)
+    k = design.program.evaluate(th)
+    f = design.follower.contact_force(k, model.omega)
+    sign = np.sign(f)
+    sign[sign == 0] = 1
+    flips = np.nonzero(sign[1:] != sign[:-1])[0]
+    # linear interpolation of the zero crossing
+    at = th[flips] - f[flips] * (th[flips + 1] - th[flips]) / (f[flips + 1] - f[flips])
+    return {"changes_at_deg": [float(np.rad2deg(a)) for a in at],
+            "inner_wall_share": float(np.mean(sign[:-1] > 0)), "outer_wall_share": float(np.mean(sign[:-1] < 0)),
+            "note": "the inner wall drives while the force pushes the follower out, the outer wall while it pulls it in"
+            if design.follower.has_load else "no follower load given: the force is the inertia's alone"}
+
+
+def validate_groove(spec) -> None:
+    """The groove body's own rules (called by the spec's validation)."""
+    if spec.follower.kind != "roller":
+        raise SpecError("cam.body", f'a groove needs a roller follower, got follower.kind = "{spec.follower.kind}"')
+    if spec.cam.outer_diameter is None:
+        raise SpecError("cam.outer_diameter", "is required for a groove cam")
+    if spec.groove.depth is not None and not spec.groove.depth < spec.cam.thickness:
+        raise SpecError("groove.depth", f"must be < cam.thickness ({spec.cam.thickness:g}), got {spec.groove.depth:g}")
