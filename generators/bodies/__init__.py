@@ -57,7 +57,9 @@ def validate_body(spec) -> None:
         for name in ("mounting_hole_diameter", "mounting_circle_diameter"):
             if getattr(cam, name) is None:
                 raise SpecError(f"cam.{name}", "is required with cam.mounting_holes")
-    if cam.timing_mark and not cam.timing_mark_depth < cam.thickness:
+    from .features import resolved
+
+    if cam.timing_mark and not resolved(spec, "cam", "timing_mark_depth") < cam.thickness:
         raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({cam.thickness:g})")
 
 

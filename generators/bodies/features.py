@@ -42,6 +42,17 @@ ANSI_B17_1 = (
 MM_PER_IN = 25.4
 #: the +Y direction of the cam frame
 KEY_ANGLE = math.pi / 2
+#: defaults that depend on the spec's units (a value of the field overrides them)
+UNIT_DEFAULTS = {
+    "mm": {"timing_mark_width": 0.5, "timing_mark_depth": 0.2, "clearance": 0.05, "min_wall": 3.0},
+    "in": {"timing_mark_width": 0.02, "timing_mark_depth": 0.008, "clearance": 0.002, "min_wall": 0.12},
+}
+
+
+def resolved(spec, section: str, name: str) -> float:
+    """``spec.<section>.<name>``, or its default in the spec's units."""
+    v = getattr(getattr(spec, section), name)
+    return UNIT_DEFAULTS[spec.units][name] if v is None else v
 
 
 def keyway_size(spec) -> tuple[float, float] | None:
@@ -132,7 +143,7 @@ def timing_mark(spec, angle: float, r_in: float, r_out: float, z_top: float) -> 
     cam = spec.cam
     if not cam.timing_mark:
         return None
-    w, d = cam.timing_mark_width, cam.timing_mark_depth
+    w, d = resolved(spec, "cam", "timing_mark_width"), resolved(spec, "cam", "timing_mark_depth")
     u, n = np.exp(1j * angle), np.exp(1j * (angle + np.pi / 2))
     pts = [r_in * u - w / 2 * n, r_out * u - w / 2 * n, r_out * u + w / 2 * n, r_in * u + w / 2 * n]
     loop = Loop(tuple(Line(complex(a), complex(b)) for a, b in zip(pts, pts[1:] + pts[:1])), role="timing_mark")

@@ -18,13 +18,13 @@ import numpy as np
 
 from ..errors import GeometryError, SpecError
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, hub_prism, mounting_holes, timing_mark
+from .features import bore_extent, bore_loop, resolved, hub_prism, mounting_holes, timing_mark
 from .plate import feature_checks, profile_radius_along, zero_angle
 
 
 def half_width(spec) -> float:
     """w/2 = roller radius + clearance/2."""
-    return spec.roller_radius + spec.groove.clearance / 2
+    return spec.roller_radius + resolved(spec, "groove", "clearance") / 2
 
 
 def groove_depth(spec) -> float:
@@ -40,7 +40,7 @@ class GrooveBody:
 
     @staticmethod
     def profile_inset(spec) -> float:
-        return spec.groove.clearance / 2
+        return resolved(spec, "groove", "clearance") / 2
 
     @staticmethod
     def machining_defaults(spec) -> dict[str, float | None]:
@@ -63,8 +63,8 @@ class GrooveBody:
         if hub is not None:
             prisms.append(hub)
         prisms += mounting_holes(spec, 0.0, t)
-        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * spec.cam.timing_mark_width,
-                           design.min_profile_radius - 1.5 * spec.cam.timing_mark_width, t)
+        mw = resolved(spec, "cam", "timing_mark_width")
+        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * mw, design.min_profile_radius - 1.5 * mw, t)
         if mark is not None:
             prisms.append(mark)
         return BodyGeometry("groove", tuple(prisms), {"outer_wall": outer})
@@ -72,7 +72,7 @@ class GrooveBody:
     @staticmethod
     def check(design, geometry: BodyGeometry) -> dict[str, Any]:
         spec = design.spec
-        g = spec.groove
+        min_wall = resolved(spec, "groove", "min_wall")
         w2 = half_width(spec)
         out: dict[str, Any] = {"groove_width": 2 * w2, "groove_depth": groove_depth(spec),
                                "outer_diameter": spec.cam.outer_diameter}
@@ -95,9 +95,9 @@ class GrooveBody:
         rim = spec.cam.outer_diameter / 2 - float(r[k])
         at_rim = cam_angle_at_parameter(design, float(u[k]))
         out["rim_wall"] = {"value": rim, "at_deg": at_rim}
-        if rim < g.min_wall:
+        if rim < min_wall:
             raise GeometryError("wall", f"the groove leaves {rim:.4g} of material to the rim at cam angle {at_rim:.2f}°, "
-                                f"less than groove.min_wall {g.min_wall:g}: a larger cam.outer_diameter", at_rim)
+                                f"less than groove.min_wall {min_wall:g}: a larger cam.outer_diameter", at_rim)
         # material to the bore (and keyway)
         from ..checks.buildability import min_radius
 
@@ -105,9 +105,9 @@ class GrooveBody:
         at_bore = cam_angle_at_parameter(design, u_in)
         bore_wall = r_in - bore_extent(spec)
         out["bore_wall"] = {"value": bore_wall, "at_deg": at_bore}
-        if bore_wall < g.min_wall:
+        if bore_wall < min_wall:
             raise GeometryError("wall", f"the groove leaves {bore_wall:.4g} of material to the bore at cam angle "
-                                f"{at_bore:.2f}°, less than groove.min_wall {g.min_wall:g}", at_bore)
+                                f"{at_bore:.2f}°, less than groove.min_wall {min_wall:g}", at_bore)
         out.update(feature_checks(design, lambda a: profile_radius_along(design.profile, a), "groove's inner wall"))
         out["drive"] = drive_sides(design)
         return out

@@ -74,8 +74,10 @@ class CamSection:
                                                    unit="length", gt=0, optional=True, group="Cam")
     timing_mark: bool = param("Engrave a radial timing mark on the top face where the follower is at θ = 0",
                               kind="bool", default=False, group="Cam")
-    timing_mark_width: float = param("Width of the timing mark", unit="length", gt=0, default=0.5, group="Cam")
-    timing_mark_depth: float = param("Depth of the timing mark", unit="length", gt=0, default=0.2, group="Cam")
+    timing_mark_width: float | None = param("Width of the timing mark (default 0.5 mm, 0.02 in)", unit="length", gt=0,
+                                            optional=True, group="Cam")
+    timing_mark_depth: float | None = param("Depth of the timing mark (default 0.2 mm, 0.008 in)", unit="length",
+                                            gt=0, optional=True, group="Cam")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -194,10 +196,12 @@ class GrooveSection:
 
     depth: float | None = param("Depth of the groove cut into the disc's top face (default: ⅔ of the "
                                 "thickness)", unit="length", gt=0, optional=True, group="Groove")
-    clearance: float = param("Added to the roller's diameter: the groove width is 2·roller_radius + clearance",
-                             unit="length", ge=0, default=0.05, group="Groove")
-    min_wall: float = param("Smallest material allowed between the groove and the rim, and between the groove "
-                            "and the bore (or hub holes)", unit="length", ge=0, default=3.0, group="Groove")
+    clearance: float | None = param(
+        "Added to the roller's diameter: the groove width is 2·roller_radius + clearance (default 0.05 mm, "
+        "0.002 in)", unit="length", ge=0, optional=True, group="Groove")
+    min_wall: float | None = param(
+        "Smallest material allowed between the groove and the rim, and between the groove and the bore (or hub "
+        "holes) (default 3 mm, 0.12 in)", unit="length", ge=0, optional=True, group="Groove")
 
 
 @dataclass(frozen=True, kw_only=True)
