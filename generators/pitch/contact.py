@@ -218,7 +218,7 @@ class ContactSolver(FollowerLineSolver):
             if not np.all(np.isfinite(step)):
                 bad = int(np.argmax(~np.isfinite(step)))
                 raise SolveError(f"the follower touches the built curve tangentially near cam angle "
-                                 f"{self._deg(rot[bad]):.3f}° (segment {int(seg[bad])}): no simple contact there")
+                                 f"{self._angle_deg(rot[bad]):.3f}° (segment {int(seg[bad])}): no simple contact there")
             step = np.clip(step, -0.5, 0.5)
             xi = xi - step
             active = (np.abs(step) > tol) & (np.abs(g) > floor)
@@ -227,10 +227,10 @@ class ContactSolver(FollowerLineSolver):
         else:
             bad = int(np.argmax(active))
             raise SolveError(f"no single contact between the follower and the built curve near cam angle "
-                             f"{self._deg(rot[bad]):.3f}° (segment {int(seg[bad])}, Newton did not converge)")
+                             f"{self._angle_deg(rot[bad]):.3f}° (segment {int(seg[bad])}, Newton did not converge)")
         return xi, it
 
-    def _deg(self, rot: complex) -> float:
+    def _angle_deg(self, rot: complex) -> float:
         return float(np.rad2deg(np.angle(rot) * self.sense) % 360.0)
 
     def solve(self, theta, xi0=None, seg=None, tol=1e-14, max_iter=40):

@@ -122,4 +122,37 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
     spec["drawing"] = {"curves": curves, "dxf_version": version, "title": draw(st.sampled_from(["Cam", "Nocken Ø40 — Typ A"])),
                        "dimensions": draw(st.booleans()), "title_block": draw(st.booleans())}
     spec["checks"] = {"sampling": draw(st.sampled_from(["dense", "thesis71"]))}
+    _body(draw, spec, kind, base, roller, lift_len if motion == "translating" else 0.0, u)
     return spec
+
+
+def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float, lift: float, u: float) -> None:
+    """The body and its features: a groove cam (a roller only: the XY program) or the plate; a
+    keyway by a standard or explicit, a hub, mounting holes between the bore and the profile, a
+    timing mark — sized from the cam so that most draws fit and some do not (a clean refusal)."""
+    cam = spec["cam"]
+    bore = cam["bore_diameter"]
+    if kind == "roller" and draw(st.integers(0, 3)) == 0:
+        cam["body"] = "groove"
+        reach = base + lift + roller + 0.5 * u
+        cam["outer_diameter"] = 2 * reach + 2 * draw(st.floats(3.0, 15.0)) * u
+        spec["groove"] = {"depth": cam["thickness"] * draw(st.floats(0.3, 0.8))}
+        spec["machining"]["program"] = "xy"
+        spec["machining"].pop("tool_radius", None)
+        inner = base - roller
+    else:
+        inner = base - roller
+    if bore > 0 and draw(st.booleans()):
+        if draw(st.booleans()):
+            cam["keyway_width"], cam["keyway_depth"] = 0.25 * bore, 0.12 * bore
+        else:
+            cam["keyway"] = "DIN6885" if spec["units"] == "mm" else "ANSI"
+    if draw(st.booleans()):
+        cam["hub_diameter"] = max(bore, 2.0 * u) * draw(st.floats(1.6, 2.5)) + 2.0 * u
+        cam["hub_length"] = cam["thickness"] * draw(st.floats(0.5, 1.5))
+    if draw(st.booleans()):
+        n = draw(st.integers(2, 6))
+        r_in, r_out = bore / 2 + 0.15 * inner, 0.9 * inner
+        cam.update(mounting_holes=n, mounting_circle_diameter=r_in + r_out,
+                   mounting_hole_diameter=max((r_out - r_in) * draw(st.floats(0.2, 0.6)), 0.5 * u))
+    cam["timing_mark"] = draw(st.booleans())

@@ -37,6 +37,10 @@ def test_platecam_any_valid_spec(tmp_path_factory, d):
         return
     check_solid(cam.shape)
     check_design(cam.design, report)
+    from cam_workbench.occ_build import kernel_volume
+
+    # the kernel's solid (its integrals good to ~1e-5 on B-spline faces) has the body's exact volume
+    assert abs(kernel_volume(cam.shape) / report["volume"] - 1) < 5e-5, (kernel_volume(cam.shape), report["volume"])
     assert json.loads(json.dumps(report)) is not None            # report.json can hold it
     out = tmp_path_factory.mktemp("api")
     written = cam.export(out / "set")
