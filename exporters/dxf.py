@@ -60,7 +60,7 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "PROFILE_OUTER": (7, "Continuous", 50),     # a groove's outer wall
     "OUTLINE": (7, "Continuous", 50),           # a groove cam's rim
     "HOLES": (7, "Continuous", 35),
-    "HUB": (8, "HIDDEN", 25),                   # below the plate
+    "HUB": (8, "DASHED", 25),                   # below the plate (hidden line)
     "TIMING_MARK": (6, "Continuous", 18),
 }
 
