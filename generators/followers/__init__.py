@@ -29,6 +29,13 @@ def follower_of(spec) -> Follower:
     return KINDS[(spec.follower.motion, spec.follower.kind)](spec)
 
 
+def follower_class(motion: str, kind: str) -> type[Follower]:
+    """The class of a follower kind, for what it says before there is a spec (its class
+    attributes: ``lift_unit``, ``design_curve``, ``lift_scale``) — e.g. the unit in which the
+    FreeCAD properties store the lifts while a user edits them."""
+    return KINDS[(motion, kind)].__self__  # type: ignore[attr-defined]
+
+
 def validate_follower(spec) -> None:
     """The geometric rules of the spec's follower kind (called by the spec's validation, after
     the motion program's): an oscillating arm must reach the prime circle and must not turn
@@ -71,4 +78,4 @@ def validate_follower(spec) -> None:
 
 
 __all__ = ["Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
-           "TranslatingFlatFollower", "TranslatingFollower", "follower_of"]
+           "TranslatingFlatFollower", "TranslatingFollower", "follower_class", "follower_of"]
