@@ -179,7 +179,7 @@ def test_change_properties_and_recompute(tmp_path, fc_home):
     assert r["base_radius_after"] == pytest.approx(30.0, rel=1e-12)
     assert r["base_center_x"] == pytest.approx(100.0, abs=1e-9)
     assert r["cam_bbox_xmin"] > 50.0
-    assert r["states"] == [["Up-to-date"]] * 3 and r["second_recompute"] == 0
+    assert r["states"] == [["Up-to-date"]] * 4 and r["second_recompute"] == 0
 
 
 SAVE = """
