@@ -209,7 +209,7 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
     rows += [
         (group, "PH quintic segments M" if p.get("representation", "ph") == "ph"
          else "B-spline knot spans", str(p["segments"]), ""),
-        (group, f"max follower {moved} error |s_actual − s|",
+        (group, f"max follower {moved} deviation |s_actual − s|",
          f"{p['max_deviation']:.3g} {lu} at {p['max_deviation_at_deg']:.2f}°",
          "" if p["tolerance"] is None else ("pass" if p["max_deviation"] <= p["tolerance"] else "FAIL")),
         (group, "arc length", f"{p['arc_length']:.6g} {u}", ""),
