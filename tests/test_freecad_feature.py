@@ -112,7 +112,7 @@ def test_reference_geometry(built):
     cam's children."""
     specs, res = built
     for key, r in ((k, v) for k, v in res.items() if k in specs):
-        assert r["children"] == ["base circle", "pitch curve"]
+        assert r["children"] == ["base circle", "follower", "pitch curve"]
         assert r["pitch_edges"] == r["junctions"]
         assert r["base_circle_radius"] == pytest.approx(specs[key]["cam"]["base_radius"], rel=1e-14)
 
@@ -179,7 +179,7 @@ def test_change_properties_and_recompute(tmp_path, fc_home):
     assert r["base_radius_after"] == pytest.approx(30.0, rel=1e-12)
     assert r["base_center_x"] == pytest.approx(100.0, abs=1e-9)
     assert r["cam_bbox_xmin"] > 50.0
-    assert r["states"] == [["Up-to-date"]] * 3 and r["second_recompute"] == 0
+    assert r["states"] == [["Up-to-date"]] * 4 and r["second_recompute"] == 0
 
 
 SAVE = """
@@ -221,11 +221,11 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
     assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 3
+    assert r["version"] == 4
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
-    assert r["children_valid"] == [True, True]
+    assert r["children_valid"] == [True, True, True]
     assert r["volume_9"] / r["volume"] == pytest.approx(9.0 / 8.0, rel=1e-12)
 
 
@@ -267,7 +267,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 3
+    assert res["version"] == 4
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -667,6 +667,6 @@ def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
     r = run.result
     assert r["status"].startswith(f"error: the cam cannot be made: undercut at cam angle {at:.3f}°")
     assert r["null"] is True
-    assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
+    assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle", "PlateCamFollower"]
     assert f"PlateCam: the cam cannot be made: {refused.value}" in run.console
     assert "no shape yet." in run.console and "Traceback" not in run.console

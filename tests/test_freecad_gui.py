@@ -215,7 +215,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
                             "Design report (HTML)…"]
     new = r["new"]
     assert new["status"] == "ok" and new["valid"] and new["volume"] > 0
-    assert new["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle"]
+    assert new["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle", "PlateCamFollower"]
     assert r["editor_open"] and r["editor_rows"] == 5 and r["editor_status"] == "OK"
     assert r["edited_status"] == "OK"
     ok = r["after_ok"]

@@ -4,7 +4,9 @@ The fixtures were written by the old code itself (``tests/fixtures/freecad_old_d
 says how): ``freecad_round1_default.FCStd`` by issue 6 round one (commit 341cca2, feature
 version 1, before ``[material]``, ``[checks]``, ``[machining]`` and the follower's load
 fields existed) and ``freecad_v1_plain_numbers.FCStd`` by main at 8d26f7b (feature version 1,
-forces, stresses, feeds, masses and spring rates as plain numbers in the spec's units).
+forces, stresses, feeds, masses and spring rates as plain numbers in the spec's units);
+``freecad_v3_followers.FCStd`` by main at 2017c68 (feature version 3, an oscillating follower's
+degrees stored as lengths, torques and inertias in the spec's units).
 The expected specs are written here from what the fixture script did, and the expected
 volumes come from the CadQuery build of those specs in this process.
 """
@@ -83,7 +85,7 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
     res, first, second = _open(tmp_path, fc_home, "freecad_round1_default.FCStd")
     r = res["PlateCam"]
     expected = example_spec("paper").replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345"})
-    assert r["version"] == 3 and r["types"] == NEW_TYPES
+    assert r["version"] == 4 and r["types"] == NEW_TYPES
     assert _same(r["spec"], expected), r["spec"]
     vol = PlateCam(expected).volume
     assert r["status"] == "ok" and r["valid"]
@@ -95,7 +97,7 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
     assert {"FollowerRollerWidth", "MachiningFeedRate", "ChecksMaxPressureAngle"} <= set(added), added
     assert set(added) <= set(P.iter_property_names()), set(added) - set(P.iter_property_names())
     assert "Traceback" not in first + second
-    assert r["again"]["version"] == 3 and _same(r["again"]["spec"], expected)
+    assert r["again"]["version"] == 4 and _same(r["again"]["spec"], expected)
     assert "upgraded" not in second  # saved by version 2: nothing to do
     # tooltips are stored in the document: the old wording is replaced by the current one
     assert 'a FreeCAD quantity (type e.g. "12 in")' in r["tip_thickness"]
@@ -117,7 +119,7 @@ def test_plain_number_document_is_converted_to_units(tmp_path, fc_home):
                                        "material.allowable_stress": 900.0})
     for name, spec in (("Ex5", ex5), ("Loaded", loaded)):
         r = res[name]
-        assert r["version"] == 3 and r["types"] == NEW_TYPES, name
+        assert r["version"] == 4 and r["types"] == NEW_TYPES, name
         assert _same(r["spec"], spec), (name, r["spec"])
         assert _same(r["again"]["spec"], spec), name
         vol = PlateCam(spec).volume * (25.4**3 if spec.units == "in" else 1.0)  # FreeCAD: mm³
@@ -139,4 +141,112 @@ def test_plain_number_document_is_converted_to_units(tmp_path, fc_home):
     assert raw["FollowerPreload"] == 50000.0 and raw["MaterialAllowableStress"] == 900000.0
     assert raw["MachiningFeedRate"] == pytest.approx(7.5) and raw["FollowerSpringRate"] == 2.0
     assert "a FreeCAD quantity" in res["Ex5"]["tip"]  # tooltips follow the current declaration
+    assert "Traceback" not in first + second and "upgraded" not in second
+
+
+OPEN_V3 = """
+import FreeCAD, shutil
+from cam_workbench.freecad import properties as P
+from cam_workbench.freecad.feature import add_reference, reference_of
+shutil.copy(SRC, PATH)
+doc = FreeCAD.openDocument(PATH)
+RAW = ("FollowerArmInertia", "FollowerPreloadTorque", "FollowerSpringTorqueRate", "PitchTolerance", "MaxDeviation")
+for name in ("OscIn", "FlatOsc"):
+    o = doc.getObject(name)
+    RESULT[name] = {"version": o.Version, "restored_volume": o.Shape.Volume, "spec": P.spec_dict(o),
+                    "types": {n: o.getTypeIdOfProperty(n) for n in RAW},
+                    "raw": {n: float(getattr(getattr(o, n), "Value", getattr(o, n))) for n in RAW},
+                    "lifts": list(o.MotionLift), "groups": {n: o.getGroupOfProperty(n) for n in RAW[:3]},
+                    "children": sorted(c.Kind for c in o.References)}
+    o.touch()
+doc.recompute()
+for name in ("OscIn", "FlatOsc"):
+    o = doc.getObject(name)
+    RESULT[name].update(status=o.Status, volume=o.Shape.Volume, max_deviation=o.MaxDeviation.Value)
+    # an old cam has no drawn follower: add_reference gives it one
+    f = add_reference(o, "follower")
+    doc.recompute()
+    RESULT[name]["follower"] = {"edges": len(f.Shape.Edges), "again": add_reference(o, "follower").Name == f.Name,
+                                "children": sorted(c.Kind for c in o.References), "status": o.Status}
+doc.save()
+FreeCAD.closeDocument(doc.Name)
+FreeCAD.Console.PrintMessage("=== reopened\\n")
+doc = FreeCAD.openDocument(PATH)
+for name in ("OscIn", "FlatOsc"):
+    o = doc.getObject(name)
+    RESULT[name]["again"] = {"version": o.Version, "spec": P.spec_dict(o),
+                             "follower_edges": len(reference_of(o, "follower").Shape.Edges)}
+"""
+
+
+def _v3_expected() -> dict:
+    """The two cams ``tests/fixtures/freecad_old_documents.py`` saved with feature version 3."""
+    import copy
+
+    from generators.spec import DEFAULT_SPEC_DICT
+
+    osc = copy.deepcopy(DEFAULT_SPEC_DICT)
+    osc["units"] = "in"
+    osc["cam"].update(base_radius=1.6, thickness=0.4, bore_diameter=0.5)
+    osc["follower"] = {"kind": "roller", "motion": "oscillating", "pivot_distance": 2.4, "arm_length": 1.8,
+                       "roller_radius": 0.3, "arm_inertia": 0.02, "preload_torque": 7.0, "spring_torque_rate": 4.0}
+    osc["pitch"] = {"tolerance": 0.002}
+    flat = copy.deepcopy(DEFAULT_SPEC_DICT)
+    flat["cam"].update(base_radius=40.0)
+    flat["follower"] = {"kind": "flat", "motion": "oscillating", "pivot_distance": 70.0, "face_offset": 5.0,
+                        "face_width": 60.0, "arm_inertia": 2000.0, "preload_torque": 800.0}
+    for spec, lift, law in ((osc, 15.0, "harmonic"), (flat, 12.0, "cycloidal")):
+        for m in spec["motion"]:
+            if "lift" in m:
+                m["lift"], m["law"] = lift, law
+    return {"OscIn": osc, "FlatOsc": flat}
+
+
+def test_v3_follower_document_is_converted(tmp_path, fc_home):
+    """Version 3 (main at 2017c68) stored an oscillating follower's lifts — degrees — scaled by
+    25.4 in an inch document as if they were inches, ``PitchTolerance`` as a length and torques,
+    torsional rates and arm inertias as plain numbers in the spec's units.  Version 4 converts
+    them so the specs — and the cams — are those saved: an inch oscillating roller (15° lifts,
+    0.002° tolerance, 7 lbf·in, 0.02 lbf·in·s²) and a mm oscillating flat face; the tolerance and
+    the deviation become angles, the load moves to "Follower load", and an old cam gets a drawn
+    follower through ``add_reference``."""
+    from generators import design_cam
+    from generators.spec import CamSpec
+
+    fixture = "freecad_v3_followers.FCStd"
+    head = f"SRC = {str(FIXTURES / fixture)!r}\nPATH = {str(tmp_path / fixture)!r}\n"
+    run = run_freecadcmd(head + OPEN_V3, tmp_path / "run", fc_home).check()
+    first, _, second = run.console.partition("=== reopened")
+    res = run.result
+    lbf_n = 0.45359237 * 9.80665
+    for name, spec in _v3_expected().items():
+        r = res[name]
+        expected = CamSpec.from_dict(spec)
+        assert r["version"] == 4, name
+        assert _same(r["spec"], expected), (name, r["spec"])
+        assert _same(r["again"]["spec"], expected) and r["again"]["version"] == 4, name
+        design = design_cam(expected)
+        k = 25.4 if spec["units"] == "in" else 1.0
+        vol = design.volume * k**3
+        assert abs(r["restored_volume"] - vol) / vol < 1e-9, name   # the shape version 3 built
+        assert r["status"] == "ok" and abs(r["volume"] - vol) / vol < 1e-9, name
+        assert r["types"]["PitchTolerance"] == r["types"]["MaxDeviation"] == "App::PropertyAngle", name
+        assert r["max_deviation"] == pytest.approx(design.max_deviation[0], rel=1e-9), name   # degrees
+        assert r["lifts"] == [0.0, spec["motion"][1]["lift"], 0.0, spec["motion"][3]["lift"], 0.0], name
+        assert set(r["groups"].values()) == {"Follower load"}, name
+        assert r["children"] == ["base circle", "pitch curve"], name
+        f = r["follower"]
+        assert f["edges"] > 0 and f["again"] and f["status"] == "ok"
+        assert f["children"] == ["base circle", "follower", "pitch curve"]
+        assert r["again"]["follower_edges"] == f["edges"]
+    raw = res["OscIn"]["raw"]
+    assert raw["FollowerArmInertia"] == pytest.approx(0.02 * lbf_n * 0.0254e6, rel=1e-14)     # kg·mm²
+    assert raw["FollowerPreloadTorque"] == pytest.approx(7.0 * lbf_n * 25.4, rel=1e-14)       # N·mm
+    assert raw["FollowerSpringTorqueRate"] == pytest.approx(4.0 * lbf_n * 25.4, rel=1e-14)    # N·mm/rad
+    assert raw["PitchTolerance"] == 0.002                                                      # degrees
+    assert res["FlatOsc"]["raw"]["FollowerArmInertia"] == 2000.0
+    assert "OscIn: upgraded from feature version 3 (5 lift, torque and arm-inertia properties now in fixed " \
+           "units, the spec unchanged)" in first
+    assert "FlatOsc: upgraded from feature version 3 (1 lift, torque and arm-inertia properties now in fixed " \
+           "units, the spec unchanged)" in first
     assert "Traceback" not in first + second and "upgraded" not in second

@@ -105,10 +105,20 @@ def test_a_field_declared_later_becomes_a_property(monkeypatch):
 
 # ---- round two: units of the new sections, list-of-floats fields, the control-point editor ----
 @pytest.mark.parametrize("path, ptype, group", [
-    ("follower.preload", "App::PropertyForce", "Follower"),
-    ("follower.mass", "App::PropertyFloatConstraint", "Follower"),          # stored in kg
-    ("follower.spring_rate", "App::PropertyFloatConstraint", "Follower"),   # stored in N/mm
+    ("follower.preload", "App::PropertyForce", "Follower load"),
+    ("follower.mass", "App::PropertyFloatConstraint", "Follower load"),          # stored in kg
+    ("follower.spring_rate", "App::PropertyFloatConstraint", "Follower load"),   # stored in N/mm
     ("follower.roller_width", "App::PropertyLength", "Follower"),
+    # the follower kinds' fields: the arm's geometry, its load (torques, inertia: plain numbers
+    # in N·mm, N·mm/rad, kg·mm²: FreeCAD 0.20 has no property type for them)
+    ("follower.motion", "App::PropertyEnumeration", "Follower"),
+    ("follower.face_width", "App::PropertyLength", "Follower"),
+    ("follower.pivot_distance", "App::PropertyLength", "Follower arm"),
+    ("follower.arm_length", "App::PropertyLength", "Follower arm"),
+    ("follower.face_offset", "App::PropertyDistance", "Follower arm"),
+    ("follower.arm_inertia", "App::PropertyFloatConstraint", "Follower load"),
+    ("follower.preload_torque", "App::PropertyFloatConstraint", "Follower load"),
+    ("follower.spring_torque_rate", "App::PropertyFloatConstraint", "Follower load"),
     ("material.allowable_stress", "App::PropertyPressure", "Material"),
     ("material.cam_poisson", "App::PropertyFloatConstraint", "Material"),
     ("checks.min_force", "App::PropertyForce", "Checks"),
@@ -152,6 +162,49 @@ def test_storage_factors_are_the_defined_conversions():
     assert "a FreeCAD quantity" in tip and "N for mm specs, lbf for inch specs" in tip
     assert "mass in kg" in fps["follower.mass"].tooltip()
     assert "numbers separated by commas" in fps["motion[].control_x"].tooltip()
+
+
+def test_torque_and_inertia_storage_are_the_defined_conversions():
+    """An oscillating arm's load is stored in N·mm, N·mm/rad and kg·mm² whatever ``Units`` says;
+    the factors from the definitions: 1 lbf = 0.45359237 kg × 9.80665 m/s², 1 in = 25.4 mm, so
+    1 lbf·in = 112.98482933… N·mm and 1 lbf·in·s² = (1 lbf)(0.0254 m)(1 s²) = 0.1129848… kg·m²."""
+    fps = {f.path: f for f in props.field_properties()}
+    lbf_n = 0.45359237 * 9.80665
+    for path in ("follower.preload_torque", "follower.spring_torque_rate", "follower.arm_inertia"):
+        assert fps[path].factor("mm") == 1.0, path
+    assert fps["follower.preload_torque"].factor("in") == pytest.approx(lbf_n * 25.4, rel=1e-15)
+    assert fps["follower.spring_torque_rate"].factor("in") == pytest.approx(lbf_n * 25.4, rel=1e-15)
+    assert fps["follower.arm_inertia"].factor("in") == pytest.approx(lbf_n * 0.0254 * 1e6, rel=1e-14)
+    assert "torque in N·mm; the spec gets N·mm for mm specs, lbf·in for inch specs" in \
+        fps["follower.preload_torque"].tooltip()
+    assert "torsional stiffness in N·mm/rad; the spec gets N·mm/rad for mm specs, lbf·in/rad for inch specs" \
+        in fps["follower.spring_torque_rate"].tooltip()
+    assert "inertia in kg·mm²; the spec gets kg·mm² for mm specs, lbf·in·s² for inch specs" in \
+        fps["follower.arm_inertia"].tooltip()
+
+
+def test_lifts_are_in_the_followers_lift_unit():
+    """``motion[].lift`` and ``pitch.tolerance`` (``generators.spec.LIFT_FIELDS``) are lengths for
+    a translating follower and the arm's degrees for an oscillating one (the follower class's
+    ``lift_unit``): degrees are stored as degrees whatever ``Units`` says, and the tolerance's
+    property is then an angle."""
+    from generators.spec import LIFT_FIELDS
+
+    fps = {f.path: f for f in props.field_properties()}
+    assert sorted(f.path for f in fps.values() if f.is_lift) == sorted(LIFT_FIELDS)
+    lift, tol = fps["motion[].lift"], fps["pitch.tolerance"]
+    assert (lift.factor("in"), lift.factor("in", "angle"), tol.factor("in", "angle")) == (25.4, 1.0, 1.0)
+    assert (tol.type_for("length"), tol.type_for("angle")) == ("App::PropertyLength", "App::PropertyAngle")
+    assert lift.type_for("angle") == "App::PropertyFloatList"   # a list of plain numbers either way
+    assert "degrees of arm rotation for an oscillating one" in lift.tooltip()
+    assert "an angle in degrees for an oscillating one" in tol.tooltip()
+    units = {(m, k): props.lift_unit(m, k) for m in ("translating", "oscillating")
+             for k in ("roller", "knife", "flat")}
+    assert units == {("translating", "roller"): "length", ("translating", "knife"): "length",
+                     ("translating", "flat"): "length", ("oscillating", "roller"): "angle",
+                     ("oscillating", "knife"): "angle", ("oscillating", "flat"): "angle"}
+    assert props.lift_unit_of_data({"follower": {"kind": "flat", "motion": "oscillating"}}) == "angle"
+    assert props.lift_unit_of_data(None) == "length"
 
 
 @pytest.mark.parametrize("value", [340.0, 0.02, 250000.0, 12.7, 0.1 + 0.2, 1.0 / 3.0, 29.0e6, 1e-7])

@@ -4,14 +4,20 @@ Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, 
 own Python runs them):
 
 - the **design checks** of ``generators.checks.design.run_checks`` (thesis Ch. 3: pressure
-  angle, separation, oscillation, Hertz contact stress, curvature with the undercut factor,
-  the roller envelope), with the limits and sampling of the feature's ``[checks]``,
-  ``[material]`` and follower load properties: value, cam angle, limit, pass/fail — the
-  table ``cam-workbench check`` prints;
+  angle, separation, oscillation, Hertz contact stress; for knife edges and rollers curvature
+  with the undercut factor and the roller envelope, for flat faces the cusp and the face width),
+  with the limits and sampling of the feature's ``[checks]``, ``[material]`` and follower load
+  properties: value, cam angle, limit, pass/fail — the table ``cam-workbench check`` prints,
+  read from the dict that is report.json's ``checks`` section;
 - the **extremes** (the thesis' "Maximum Values": force, pressure angle, stress, reduced
   velocity, acceleration and jerk, signed, with their cam angles);
-- the **buildability** checks of ``design_cam`` (undercut, self-intersection, bore, which
-  raise with the cam angle), the design numbers, and FreeCAD's own verdict on the solid.
+- the **buildability** checks of ``design_cam`` (undercut or cusp, self-intersection, bore,
+  which raise with the cam angle), the design numbers — lifts, their errors and derivatives in
+  the follower's lift unit (report.json's ``motion.lift_unit``: the arm's degrees for an
+  oscillating follower) — and FreeCAD's own verdict on the solid.
+
+The follower is named by its own label (``Follower.describe()``, report.json's ``follower``
+section); which checks and rows exist is read from the results, never from the kind.
 
 :func:`design_report` is headless; :func:`show_report` renders it in a dialog.
 """
@@ -65,6 +71,16 @@ class DesignReport:
     checks_error: str | None = None
     #: report.json's ``checks`` section these rows were read from (None before the checks ran)
     checks_dict: dict[str, Any] | None = None
+    #: report.json's ``follower`` section (``Follower.describe()``; None for a bad spec)
+    follower: dict[str, Any] | None = None
+    units: str = ""
+
+    @property
+    def follower_text(self) -> str:
+        """The follower's label with the spec's length unit, as the report's drawing titles it."""
+        if not self.follower:
+            return ""
+        return f"{self.follower['label']} {self.units}".strip()
 
     @property
     def failed_checks(self) -> list[str]:
@@ -91,6 +107,8 @@ class DesignReport:
 
     def text(self) -> str:
         lines = [self.verdict()]
+        if self.follower:
+            lines.append(f"  follower: {self.follower_text}")
         if self.checks:
             lines.append(f"  design checks ({self.sampling}):")
             for c in self.checks:
@@ -118,7 +136,9 @@ def design_report(obj: Any) -> DesignReport:
     except SpecError as exc:
         msg = f"{props.describe_field(exc.field)}: {exc.rule}"
         return DesignReport(False, msg, checks_error=msg)
-    report = DesignReport(True)
+    from generators.followers import follower_of
+
+    report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
     _add_buildability(report, obj, spec)
     report.ok = report.checks_error is None and not report.failed_checks and report.buildable
@@ -172,21 +192,27 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
         return
     s = design.summary()
     u = s["units"]
+    lu = s["motion"]["lift_unit"]          # the lift's unit: u, or "deg" for an arm's rotation
+    fol = s["follower"]
+    curve = fol["curve"]                   # "pitch curve", or a flat face's "contact curve"
+    group = curve[:1].upper() + curve[1:]
     rows = report.rows
     rows += [
-        ("Buildability", "undercut (roller vs. convex curvature)", "none", "pass"),
+        ("Buildability", "undercut (roller vs. convex curvature)" if fol["design_curve"] == "pitch"
+         else "cusp (profile radius of curvature > 0)", "none", "pass"),
         ("Buildability", "profile self-intersection", "none", "pass"),
         ("Buildability", "bore inside the profile",
          f"min profile radius {s['profile']['min_radius']:.4g} {u}", "pass"),
     ]
     p = s["pitch"]
+    moved = "rotation" if fol["lift_unit"] == "angle" else "displacement"
     rows += [
-        ("Pitch curve", "PH quintic segments M" if p.get("representation", "ph") == "ph"
+        (group, "PH quintic segments M" if p.get("representation", "ph") == "ph"
          else "B-spline knot spans", str(p["segments"]), ""),
-        ("Pitch curve", "max follower deviation",
-         f"{p['max_deviation']:.3g} {u} at {p['max_deviation_at_deg']:.2f}°",
+        (group, f"max follower {moved} deviation |s_actual − s|",
+         f"{p['max_deviation']:.3g} {lu} at {p['max_deviation_at_deg']:.2f}°",
          "" if p["tolerance"] is None else ("pass" if p["max_deviation"] <= p["tolerance"] else "FAIL")),
-        ("Pitch curve", "arc length", f"{p['arc_length']:.6g} {u}", ""),
+        (group, "arc length", f"{p['arc_length']:.6g} {u}", ""),
     ]
     pa = s["pressure_angle"]
     rows += [
@@ -196,17 +222,17 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
     ]
     c = s["curvature"]
     rows += [
-        ("Curvature", "min convex pitch radius", f"{c['min_pitch_radius']:.4g} {u} at {c['at_deg']:.2f}°", ""),
+        ("Curvature", f"min convex {curve} radius", f"{c['min_pitch_radius']:.4g} {u} at {c['at_deg']:.2f}°", ""),
         ("Curvature", "min convex profile radius", f"{c['min_profile_radius']:.4g} {u}", ""),
-        ("Curvature", "min concave pitch radius",
+        ("Curvature", f"min concave {curve} radius",
          "—" if c["min_concave_pitch_radius"] is None else f"{c['min_concave_pitch_radius']:.4g} {u}", ""),
     ]
     m = s["motion"]
     rows += [
-        ("Motion", "max lift", f"{m['max_lift']:.6g} {u}", ""),
-        ("Motion", "max velocity", f"{m['max_velocity']:.6g} {u}/s", ""),
-        ("Motion", "max acceleration", f"{m['max_acceleration']:.6g} {u}/s²", ""),
-        ("Motion", "max jerk", f"{m['max_jerk']:.6g} {u}/s³", ""),
+        ("Motion", "max lift", f"{m['max_lift']:.6g} {lu}", ""),
+        ("Motion", "max velocity", f"{m['max_velocity']:.6g} {lu}/s", ""),
+        ("Motion", "max acceleration", f"{m['max_acceleration']:.6g} {lu}/s²", ""),
+        ("Motion", "max jerk", f"{m['max_jerk']:.6g} {lu}/s³", ""),
     ]
     pr = s["profile"]
     claim = profile_claim(s, spec.is_roller, u)
@@ -284,6 +310,13 @@ def show_report(obj: Any) -> DesignReport:
     head.setWordWrap(True)
     head.setStyleSheet("font-weight: bold; color: " + (_GREEN if report.ok else _RED))
     layout.addWidget(head)
+    if report.follower:
+        who = QtGui.QLabel(f"Follower: {report.follower_text}")
+        who.setObjectName("follower")
+        who.setWordWrap(True)
+        who.setToolTip(f"Pressure angle: {report.follower['pressure_angle_text']}; radius of curvature: "
+                       f"{report.follower['curvature_text']}")
+        layout.addWidget(who)
     tabs = QtGui.QTabWidget()
     checks_page = QtGui.QWidget()
     cl = QtGui.QVBoxLayout(checks_page)
@@ -291,7 +324,7 @@ def show_report(obj: Any) -> DesignReport:
         cl.addWidget(QtGui.QLabel(f"The design checks could not run: {report.checks_error}"))
     else:
         cl.addWidget(QtGui.QLabel(f"Design checks (thesis Ch. 3), {report.sampling}; limits from the "
-                                  "Checks, Material and Follower properties:"))
+                                  "Checks, Material, Follower and Follower load properties:"))
         checks = _table("checks", ["check", "value", "at cam angle", "limit", "status", "note"],
                         [c.cells() for c in report.checks], status_col=4)
         for r, c in enumerate(report.checks):

@@ -6,8 +6,10 @@ and builds the solid with FreeCAD's ``Part`` (:mod:`.part_build`).  A bad value 
 reported in the report view (the property, the spec field and the rule) and the last good
 shape is kept: never a traceback, never an empty shape where there was a cam.
 
-Two child features show the reference geometry: the pitch curve (path of the follower
-point, exact degree-5 PH segments) and the base circle R_b.  They follow the cam.
+Three child features show the reference geometry: the pitch curve (path of the follower
+point, exact degree-5 PH segments), the base circle R_b and the follower itself where it stands
+at its ``FollowerAngle`` of cam rotation, drawn from its own sketch
+(``Follower.sketch``: roller, stem, arm and pivot, or face).  They follow the cam.
 
 Document compatibility: the class and module names below are stored in saved documents
 and must not change.  Each feature has a ``Version``; ``onDocumentRestored`` adds the
@@ -28,24 +30,35 @@ from .stateless import Stateless
 #: Schema version of the features written by this code.  1: issue 6 round one (forces,
 #: stresses, feeds, masses, spring rates as plain numbers in the spec's units); 2: those as
 #: FreeCAD quantities / fixed storage units (:data:`properties.UNIT_STORAGE`); 3: follower
-#: kinds — choice fields that became optional (``machining.rotary_line``) offer "" (absent).
-VERSION = 3
+#: kinds — choice fields that became optional (``machining.rotary_line``) offer "" (absent);
+#: 4: every follower kind — torques, torsional rates, arm inertias in fixed units, an
+#: oscillating follower's lifts in degrees whatever ``Units`` says (``PitchTolerance`` an angle),
+#: ``MaxDeviation`` in the lift's unit, the follower's groups, and a drawn follower child.
+VERSION = 4
 #: Migrations of a feature from version v to v + 1, run in order on restore BEFORE the
 #: properties of newer fields are added (so a migration only sees what the file had).
 #: Fields added to the spec need none: :func:`properties.ensure_properties` adds them.
 MIGRATIONS: dict[int, Callable[[Any], Any]] = {1: props.migrate_plain_numbers,
-                                               2: props.migrate_optional_choices}
+                                               2: props.migrate_optional_choices,
+                                               3: props.migrate_lift_and_torque_units}
+#: What each migration converts, for the upgrade message.
+_MIGRATED = {1: "force, stress, feed, mass and spring-rate", 3: "lift, torque and arm-inertia"}
 
 #: Read-only output properties: name → (type, tooltip).
 RESULT_PROPERTIES = {
     "Status": ("App::PropertyString", "ok, or the error of the last recompute (the shape is then "
                                       "the last good one)"),
     "JunctionCount": ("App::PropertyInteger", "Number M of PH quintic segments of the pitch curve"),
-    "MaxDeviation": ("App::PropertyLength", "Largest |s_actual − s| of the built pitch curve "
-                                            "(follower displacement error)"),
+    "MaxDeviation": ("App::PropertyLength", "Largest |s_actual − s| of the built pitch (or contact) "
+                                            "curve: the follower's displacement error, a length — or "
+                                            "the arm's angle error of an oscillating follower, an angle"),
     "CrossSectionArea": ("App::PropertyArea", "Cross-section area: profile minus bore (exact, "
                                               "Green's theorem on the NURBS profile)"),
 }
+#: Result properties holding a lift (or a lift's error): their type follows the follower's lift
+#: unit (``Follower.lift_unit``) — a length, or an angle for an oscillating follower.
+RESULT_LIFTS = ("MaxDeviation",)
+_LIFT_TYPES = {"length": "App::PropertyLength", "angle": "App::PropertyAngle"}
 _RESULT_GROUP = "Result"
 _PROP_READONLY, _PROP_OUTPUT = 1, 8
 ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
@@ -86,18 +99,19 @@ def upgrade(obj: Any) -> list[str]:
             f"{obj.Label}: saved by a newer cam_workbench (feature version {version} > {VERSION}); "
             "properties this version does not know are ignored\n")
         return added
-    converted: list[str] = []
+    converted: dict[int, list[str]] = {}
     for v in range(version, VERSION):
         if v in MIGRATIONS:
-            converted += MIGRATIONS[v](obj) or []
+            converted[v] = MIGRATIONS[v](obj) or []
     added += props.ensure_properties(obj, None)
     if version < VERSION:
         props.refresh_tooltips(obj)
+        set_lift_results(obj, props.lift_unit_of(obj))
     obj.Version = VERSION
-    if added or converted:
+    if added or any(converted.values()):
         what = [f"added {', '.join(added)}"] if added else []
-        what += [f"{len(converted)} force, stress, feed, mass and spring-rate properties now in "
-                 f"fixed units, the spec unchanged"] if converted else []
+        what += [f"{len(names)} {_MIGRATED[v]} properties now in fixed units, the spec unchanged"
+                 for v, names in converted.items() if names]
         _console().PrintMessage(f"{obj.Label}: upgraded from feature version {version} "
                                 f"({'; '.join(what)})\n")
     return added
@@ -119,6 +133,7 @@ class PlateCamFeature(Stateless):
 
             data = default_spec().to_dict()
         props.ensure_properties(obj, data)
+        set_lift_results(obj, props.lift_unit_of(obj))
         obj.Status = "not built yet"
 
     # ---- FreeCAD callbacks --------------------------------------------------------------
@@ -144,7 +159,10 @@ class PlateCamFeature(Stateless):
             update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
         obj.JunctionCount = int(design.pitch.M)
-        obj.MaxDeviation = float(design.max_deviation[0]) * scale
+        lift = design.follower.lift_unit
+        set_lift_results(obj, lift)
+        # a lift's error in the lift's unit: mm (FreeCAD's lengths) or degrees
+        obj.MaxDeviation = float(design.max_deviation[0]) * (scale if lift == "length" else 1.0)
         obj.CrossSectionArea = float(design.area) * scale * scale
 
     def _fail(self, obj: Any, text: str) -> None:
@@ -155,6 +173,12 @@ class PlateCamFeature(Stateless):
     def onDocumentRestored(self, obj: Any) -> None:
         self.design, self.scale = None, 1.0
         upgrade(obj)
+
+    def onChanged(self, obj: Any, prop: str) -> None:
+        # the lift fields' property types follow the follower (a length, or the arm's degrees)
+        if prop in ("FollowerMotion", "FollowerKind") and not _restoring(obj):
+            if "PitchTolerance" in obj.PropertiesList and "FollowerKind" in obj.PropertiesList:
+                props.sync_lift_unit(obj)
 
     def loads(self, state: Any) -> None:
         self.design, self.scale = None, 1.0     # caches only; everything else is in properties
@@ -181,6 +205,31 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     return design, scale, shape
 
 
+def _restoring(obj: Any) -> bool:
+    doc = getattr(obj, "Document", None)
+    return bool(getattr(doc, "Restoring", False)) or "Restore" in getattr(obj, "State", ())
+
+
+def set_lift_results(obj: Any, lift: str) -> None:
+    """Give the result properties that hold a lift (:data:`RESULT_LIFTS`) the type of the lift
+    unit ``lift`` ("length" or "angle"); a property whose type changes restarts at 0 (it is an
+    output: the next recompute sets it)."""
+    scale = props.units_scale(obj)
+    for name in RESULT_LIFTS:
+        want = _LIFT_TYPES[lift]
+        if name in obj.PropertiesList and obj.getTypeIdOfProperty(name) == want:
+            continue
+        value = 0.0
+        if name in obj.PropertiesList:
+            # the same lift error in the other unit's storage: mm ↔ spec units (the arm's
+            # degrees were stored as if they were the spec's lengths)
+            old = float(getattr(getattr(obj, name), "Value", getattr(obj, name)))
+            value = old / scale if want == _LIFT_TYPES["angle"] else old * scale
+            obj.removeProperty(name)
+        obj.addProperty(want, name, _RESULT_GROUP, RESULT_PROPERTIES[name][1], _PROP_READONLY | _PROP_OUTPUT)
+        setattr(obj, name, value)
+
+
 def _unit_note(obj: Any) -> str:
     return " (values in inches: Units = in)" if getattr(obj, "Units", "mm") == "in" else ""
 
@@ -189,25 +238,38 @@ def _unit_note(obj: Any) -> str:
 REFERENCE_KINDS = {
     "pitch curve": "Pitch curve: the path of the follower point (exact PH quintic segments)",
     "base circle": "Base circle R_b: traced by the follower point at zero lift",
+    "follower": "The follower where it stands at FollowerAngle of cam rotation, in the cam's frame, "
+                "as it draws itself (roller, stem, arm and pivot, or face)",
 }
+#: (object-name suffix, label) of each reference child that :func:`create` adds
+REFERENCE_NAMES = {"pitch curve": "PitchCurve", "base circle": "BaseCircle", "follower": "Follower"}
 _REFERENCES = "References"
+#: The follower child's angle property: the cam angle at which the follower is drawn.
+FOLLOWER_ANGLE = "FollowerAngle"
 
 
 class PlateCamReference(Stateless):
-    """Proxy of a reference curve of a cam (pitch curve or base circle).
+    """Proxy of a reference child of a cam (pitch curve, base circle, the drawn follower).
 
-    The cam links its reference curves (``PlateCam.References``) and sets their shapes in its
+    The cam links its reference children (``PlateCam.References``) and sets their shapes in its
     own ``execute``; their ``Shape`` and ``Placement`` have FreeCAD's *Output* status, so this
-    does not touch them (no recompute loop).  The link points from the cam to the curves, so
-    deleting the cam does not warn about them — its view provider deletes them with it."""
+    does not touch them (no recompute loop).  The link points from the cam to the children, so
+    deleting the cam does not warn about them — its view provider deletes them with it; and a
+    changed child (the follower's ``FollowerAngle``) recomputes the cam, which redraws it."""
 
     def __init__(self, obj: Any, kind: str):
         obj.Proxy = self
-        obj.addProperty("App::PropertyEnumeration", "Kind", "Reference", "Which reference curve")
+        obj.addProperty("App::PropertyEnumeration", "Kind", "Reference", "Which reference geometry")
         obj.addProperty("App::PropertyInteger", "Version", "Base",
                         "Schema version of this feature (cam_workbench)", _PROP_READONLY)
         obj.Kind = list(REFERENCE_KINDS)
         obj.Kind = kind
+        obj.setEditorMode("Kind", 1)
+        if kind == "follower":
+            obj.addProperty("App::PropertyAngle", FOLLOWER_ANGLE, "Reference",
+                            "Cam angle θ at which the follower is drawn (degrees of cam rotation from "
+                            "the start of the motion program; the cam stays, the follower is drawn "
+                            "where it stands then, seen from the cam)")
         obj.Version = VERSION
         _output_status(obj)
 
@@ -232,6 +294,9 @@ def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> Non
 
     if ref.Kind == "pitch curve":
         wire = part_build.pitch_wire(design, scale)
+    elif ref.Kind == "follower":
+        angle = getattr(ref, FOLLOWER_ANGLE, None)
+        wire = part_build.follower_shape(design, scale, float(angle.Value) if angle is not None else 0.0)
     else:
         wire = part_build.base_circle_wire(design, scale)
     wire.Placement = placement
@@ -239,9 +304,36 @@ def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> Non
 
 
 def references_of(cam: Any) -> list[Any]:
-    """The reference-curve children of a cam."""
+    """The reference children of a cam."""
     links = getattr(cam, _REFERENCES, None) or []
     return [o for o in links if isinstance(getattr(o, "Proxy", None), PlateCamReference)]
+
+
+def reference_of(cam: Any, kind: str) -> Any:
+    """The cam's reference child of ``kind`` ("pitch curve", "base circle", "follower"), or None."""
+    return next((o for o in references_of(cam) if o.Kind == kind), None)
+
+
+def add_reference(cam: Any, kind: str) -> Any:
+    """Add a reference child of ``kind`` to ``cam`` (and link it); e.g. the drawn follower for
+    a cam of a document saved before feature version 4, which has none.  The caller
+    recomputes.  Returns the existing child when the cam has one."""
+    import FreeCAD
+
+    have = reference_of(cam, kind)
+    if have is not None:
+        return have
+    doc = cam.Document
+    ref = doc.addObject("Part::FeaturePython", f"{cam.Name}{REFERENCE_NAMES[kind]}")
+    PlateCamReference(ref, kind)
+    ref.Label = f"{cam.Label} {kind}"
+    cam.References = list(cam.References) + [ref]
+    if FreeCAD.GuiUp:
+        from . import view_providers
+
+        view_providers.ViewProviderReference(ref.ViewObject)
+    cam.touch()
+    return ref
 
 
 def cam_of(ref: Any) -> Any:
@@ -276,7 +368,7 @@ def create(doc: Any = None, spec: Any = None, name: str = "PlateCam", reference:
         spec: a CamSpec, a TOML path or text, a dict in the spec's structure, or None for
             the built-in default (the paper's Table 1, case 2, with a 5 mm roller).
         name: object name of the feature.
-        reference: also add the pitch-curve and base-circle children.
+        reference: also add the pitch-curve, base-circle and follower children.
 
     Raises:
         SpecError: ``spec`` is bad (nothing is added to the document).
@@ -290,10 +382,14 @@ def create(doc: Any = None, spec: Any = None, name: str = "PlateCam", reference:
     PlateCamFeature(obj, spec)
     refs = []
     if reference:
-        for kind, label in (("pitch curve", "PitchCurve"), ("base circle", "BaseCircle")):
-            ref = doc.addObject("Part::FeaturePython", f"{name}{label}")
+        from generators.followers import follower_of
+
+        # a flat face's design curve is its contact curve (the profile), not a pitch curve
+        curve = follower_of(spec).describe()["curve"]
+        for kind, suffix in REFERENCE_NAMES.items():
+            ref = doc.addObject("Part::FeaturePython", f"{name}{suffix}")
             PlateCamReference(ref, kind)
-            ref.Label = f"{obj.Label} {kind}"
+            ref.Label = f"{obj.Label} {curve if kind == 'pitch curve' else kind}"
             refs.append(ref)
         obj.References = refs
     if FreeCAD.GuiUp:

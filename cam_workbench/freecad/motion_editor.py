@@ -20,7 +20,7 @@ from typing import Any
 
 from generators.errors import CamError, SpecError
 from generators.spec.params import params_of, unit_name
-from generators.spec import CamSpec, MotionSegment
+from generators.spec import LIFT_FIELDS, CamSpec, MotionSegment
 
 from . import properties as props
 
@@ -206,6 +206,7 @@ class MotionEditorPanel:
 
         self.obj = obj
         self.units = getattr(obj, "Units", "mm")
+        self.lift = props.lift_unit_of(obj)   # lifts: the spec's length, or an arm's degrees
         self.cols = columns()
         self.extra: list[dict[str, Any]] = []   # control_x / control_y of each row
         self.form = QtGui.QWidget()
@@ -264,7 +265,8 @@ class MotionEditorPanel:
         self.show_points()
 
     def _header(self, field: str, p: Any) -> str:
-        unit = "°" if p.unit == "angle" else unit_name(p.unit, self.units)
+        lift_angle = self.lift == "angle" and f"{SECTION}[].{field}" in LIFT_FIELDS
+        unit = "°" if p.unit == "angle" or lift_angle else unit_name(p.unit, self.units)
         return f"{field} [{unit}]" if unit else field
 
     # -- table <-> rows

@@ -321,12 +321,8 @@ def figures(result: Any) -> list[Figure]:
     areas = result.details.get("areas", {})
     ia, fa = areas.get("initial", {}), areas.get("final", {})
     rows = [Figure(f"objective: {result.objective}", result.initial_value, result.value, unit)]
-    keys = [("thesis_eq_4_21", "cam area (thesis Eq. 4.21)"), ("profile", "area inside the profile")]
-    if a.cam.bore_diameter > 0 or b.cam.bore_diameter > 0:
-        keys.append(("cross_section", "cross-section (minus the bore)"))
-    for key, name in keys:
-        if key in ia:
-            rows.append(Figure(name, ia[key], fa.get(key), f"{u}²"))
+    for key, name in area_keys(a, b, ia, fa):
+        rows.append(Figure(name, ia[key], fa.get(key), f"{u}²"))
     ct = result.details.get("cutting_time")
     if ct:
         rows.append(Figure("thesis cutting time", ct["initial"].get("time_s"), ct["final"].get("time_s"), "s"))
@@ -339,6 +335,32 @@ def figures(result: Any) -> list[Figure]:
                        _worst_text(worst_constraint(result.checks, b))))
     rows.append(Figure("design checks", _verdict(result.initial_checks), _verdict(result.checks)))
     return rows
+
+
+def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final: dict[str, Any]
+              ) -> list[tuple[str, str]]:
+    """(key of report.json's ``areas``, row name) of the areas the result shows — those that
+    exist for the follower: the thesis' Eq. 4.21 area (a translating knife edge or roller's;
+    ``None`` for every other follower: ``generators.checks.areas.area_summary``), else the exact
+    area inside the design curve (the pitch curve, or a flat face's contact curve); the area
+    inside the profile unless it is that same area (a knife edge or a flat face: offset 0); the
+    cross-section minus the bore when there is a bore."""
+    from generators.followers import follower_of
+
+    curve = follower_of(spec).describe()["curve"]
+    keys = []
+    first = "thesis_eq_4_21"
+    if initial.get(first) is None and final.get(first) is None:
+        first = "pitch_curve"
+        keys.append((first, f"area inside the {curve}"))
+    else:
+        keys.append((first, "cam area (thesis Eq. 4.21)"))
+    if "profile" in initial and not (first == "pitch_curve" and initial["profile"] == initial[first]
+                                     and final.get("profile") == final.get(first)):
+        keys.append(("profile", "area inside the profile"))
+    if spec.cam.bore_diameter > 0 or final_spec.cam.bore_diameter > 0:
+        keys.append(("cross_section", "cross-section (minus the bore)"))
+    return [(k, name) for k, name in keys if k in initial]
 
 
 def _verdict(checks: Any) -> str:

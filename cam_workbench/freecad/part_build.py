@@ -92,6 +92,51 @@ def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
     return circle_wire(design.spec.cam.base_radius * scale)
 
 
+def follower_size(design: CamDesign) -> float:
+    """The drawn length of a stem (``Follower.sketch``'s ``size``), as the report's drawing of
+    the cam takes it (``exporters.plots.draw_cam``): the largest lift — as an arc on the base
+    circle for an arm's degrees — plus the roller's diameter (at least a fifth of R_b)."""
+    spec = design.spec
+    fol = design.follower
+    rb = spec.cam.base_radius
+    lift_len = spec.max_lift * (rb * fol.lift_scale if fol.lift_unit == "angle" else 1.0)
+    return lift_len + 2 * max(fol.profile_offset, 0.1 * rb)
+
+
+def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
+    """The follower where it stands at ``angle_deg`` of cam rotation, in the cam's frame, as it
+    draws itself (:meth:`generators.followers.base.Follower.sketch`, which the plots and the DXF
+    drawing read too): a compound of its roller circles, its segments (stem, arm, face), the
+    arm's pivot (a vertex with a small circle round it) and the follower point (a vertex: the
+    roller centre or knife tip on the pitch curve, a flat face's contact point), on the plane
+    of the cam's top face.  No kind is named here: what is drawn is what the sketch holds."""
+    import Part
+    from FreeCAD import Vector
+
+    spec = design.spec
+    fol = design.follower
+    th = np.deg2rad(angle_deg)
+    k = design.program.evaluate(np.array([th]))
+    sk = fol.sketch(th, k, follower_size(design), spec.follower.face_width)
+    z = spec.cam.thickness * scale
+    normal = Vector(0, 0, 1)
+
+    def at(p: complex) -> Any:
+        return Vector(p.real * scale, p.imag * scale, z)
+
+    shapes = [Part.Circle(at(c), normal, r * scale).toShape() for c, r in sk.circles]
+    shapes += [Part.LineSegment(at(a), at(b)).toShape() for a, b, _role in sk.segments if abs(b - a) > 0]
+    if sk.pivot is not None:
+        shapes.append(Part.Circle(at(sk.pivot), normal, PIVOT_MARK * spec.cam.base_radius * scale).toShape())
+        shapes.append(Part.Vertex(at(sk.pivot)))
+    shapes.append(Part.Vertex(at(sk.point)))
+    return Part.Compound(shapes)
+
+
+#: Radius of the circle drawn round an arm's pivot, per unit of the base radius.
+PIVOT_MARK = 0.04
+
+
 def profile_edges_rational(shape: Any) -> list[bool]:
     """For every B-spline edge of ``shape``: is its curve rational (weights not all equal)?"""
     out = []

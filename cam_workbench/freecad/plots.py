@@ -37,11 +37,14 @@ def kinematics_data(design: Any, samples_per_segment: int = 721) -> dict[str, np
 
 def kinematics_figure(design: Any, title: str = "") -> Any:
     """A matplotlib Figure: displacement, velocity, acceleration, jerk, pressure angle and
-    the displacement error of the built PH pitch curve against cam angle."""
+    the displacement error of the built PH pitch curve against cam angle — lifts in the
+    follower's lift unit (the spec's length, or degrees of an oscillating arm's rotation)."""
     from matplotlib.figure import Figure
 
     d = kinematics_data(design)
-    u = design.spec.units
+    fol = design.follower
+    desc = fol.describe()
+    u = "deg" if fol.lift_unit == "angle" else design.spec.units
     fig = Figure(figsize=(8.5, 10.5), dpi=100, layout="constrained")  # re-laid out on resize
     axes = fig.subplots(6, 1, sharex=True)
     panels = [
@@ -58,7 +61,7 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
     ax = axes[-1]
     ax.plot(d["theta_err_deg"], d["deviation"], lw=1.0, color="#c0392b")
     ax.set_ylabel(f"Δs [{u}]")
-    ax.set_title(f"built PH pitch curve: s_actual − s (M = {design.pitch.M})", fontsize=9, loc="left")
+    ax.set_title(f"built {desc['curve']}: s_actual − s (M = {design.pitch.M})", fontsize=9, loc="left")
     for ax in axes:
         for b in d["boundaries_deg"]:
             ax.axvline(b, color="0.8", lw=0.6, zorder=0)
@@ -69,7 +72,7 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
     axes[-1].set_xticks(np.arange(0, 361, 30))
     spec = design.spec
     fig.suptitle(title or f"Follower kinematics at {spec.cam.speed_rpm:g} rpm "
-                          f"({spec.follower.kind}, e = {spec.follower.offset:g} {u})", fontsize=11)
+                          f"({desc['label']} {spec.units})", fontsize=11)
     return fig
 
 
@@ -115,7 +118,8 @@ def show_plots(obj: Any) -> Any:
         FreeCAD.Console.PrintError(f"{obj.Label}: cannot plot: {text}\n")
         QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), "Kinematics plots", text)
         return None
-    fig = kinematics_figure(design, f"{obj.Label}: follower kinematics at {design.spec.cam.speed_rpm:g} rpm")
+    fig = kinematics_figure(design, f"{obj.Label}: follower kinematics at {design.spec.cam.speed_rpm:g} rpm\n"
+                                    f"{design.follower.label()} {design.spec.units}")
     dlg = QtGui.QDialog(FreeCADGui.getMainWindow())
     dlg.setWindowTitle(f"Kinematics — {obj.Label}")
     layout = QtGui.QVBoxLayout(dlg)

@@ -17,7 +17,14 @@ masses kg and spring rates N/mm (FreeCAD 0.20 has no property type for these; th
 says so).  List properties hold plain numbers in the same storage units.  The spec's
 ``units`` only chooses the unit of the spec that is handed to ``generators`` (and of reports
 and exports): switching ``Units`` never changes the cam.  Unit kinds that are the same in both
-unit systems (rpm, seconds) are plain numbers.
+unit systems (rpm, seconds) are plain numbers.  Torques, torsional spring rates and moments of
+inertia (an oscillating arm's load) are plain numbers in N·mm, N·mm/rad and kg·mm².
+
+Lifts: the fields of ``generators.spec.LIFT_FIELDS`` (``motion[].lift``, ``pitch.tolerance``)
+are in the follower's lift unit (``Follower.lift_unit``, from ``FollowerMotion`` and
+``FollowerKind``): a length as above for a translating follower, degrees of arm rotation for
+an oscillating one — stored as degrees whatever ``Units`` says, ``PitchTolerance`` then an
+``App::PropertyAngle`` (its type follows the follower: :func:`sync_lift_unit`).
 
 Absent optional values (``None``): a number whose bounds exclude 0 stores 0, a string
 stores "", a list of numbers stores nothing; any other optional field gets a companion
@@ -33,7 +40,7 @@ from typing import Any, Iterator
 
 from generators.errors import SpecError
 from generators.spec.params import REQUIRED, Param, params_of, unit_name
-from generators.spec import SECTIONS, CamSpec, default_spec
+from generators.spec import LIFT_FIELDS, SECTIONS, CamSpec, default_spec
 
 MM_PER_INCH = 25.4
 #: 1 lbf in N (exact by definition: 0.45359237 kg × 9.80665 m/s²).
@@ -48,7 +55,14 @@ UNIT_STORAGE: dict[str, tuple[str, str, float, float]] = {
     "mass": ("", "kg", 1.0, LBF_N / (MM_PER_INCH * 1e-3)),                         # kg, lbf·s²/in
     "stiffness": ("", "N/mm", 1.0, LBF_N / MM_PER_INCH),                           # N/mm, lbf/in
     "density": ("", "kg/mm³", 1.0, 0.45359237 / MM_PER_INCH**3),                   # kg/mm³, lb/in³
+    "torque": ("", "N·mm", 1.0, LBF_N * MM_PER_INCH),                               # N·mm, lbf·in
+    "torsional_stiffness": ("", "N·mm/rad", 1.0, LBF_N * MM_PER_INCH),              # N·mm/rad, lbf·in/rad
+    # lbf·in·s² = (lbf·s²/in)·in²: the mass factor × (25.4 mm)²
+    "inertia": ("", "kg·mm²", 1.0, LBF_N / (MM_PER_INCH * 1e-3) * MM_PER_INCH**2),  # kg·mm², lbf·in·s²
 }
+#: Unit kinds that feature version 3 kept as plain numbers in the spec's units (converted by
+#: :func:`migrate_lift_and_torque_units`).
+_V3_PLAIN_KINDS = ("torque", "torsional_stiffness", "inertia")
 #: Property type of a non-list field by value kind (float fields are refined by unit).
 _LIST_TYPES = {"float": "App::PropertyFloatList", "int": "App::PropertyIntegerList",
                "str": "App::PropertyStringList", "bool": "App::PropertyBoolList",
@@ -117,14 +131,29 @@ class FieldProperty:
         return self.param.unit == "length" and self.param.kind in ("float", "floats")
 
     @property
+    def is_lift(self) -> bool:
+        """In the follower's lift unit (``generators.spec.LIFT_FIELDS``): a length, or the arm's
+        degrees for an oscillating follower."""
+        return self.path in LIFT_FIELDS
+
+    def type_for(self, lift: str = "length") -> str:
+        """The property type for a follower whose lifts are of unit kind ``lift`` ("length",
+        "angle"): an angle for a lift field of an oscillating follower, else :attr:`type`."""
+        if self.is_lift and lift == "angle" and not self.is_list:
+            return "App::PropertyAngle"
+        return self.type
+
+    @property
     def is_quantity(self) -> bool:
         """Held as a FreeCAD quantity (read through ``.Value``)."""
         return self.type in _QUANTITY_TYPES
 
-    def factor(self, units: str) -> float:
+    def factor(self, units: str, lift: str = "length") -> float:
         """Stored value per unit of the spec's ``units`` ("mm" or "in"); 1 for values stored as
-        the spec gives them."""
+        the spec gives them (degrees, and a lift in the arm's degrees: ``lift`` = "angle")."""
         if self.param.kind not in ("float", "floats") or self.param.unit not in UNIT_STORAGE:
+            return 1.0
+        if self.is_lift and lift == "angle":
             return 1.0
         _type, _store, mm, inch = UNIT_STORAGE[self.param.unit]
         return inch if units == "in" else mm
@@ -133,13 +162,21 @@ class FieldProperty:
         """How the value is stored and what the spec gets (for the tooltip)."""
         p = self.param
         mm, inch = unit_name(p.unit, "mm"), unit_name(p.unit, "in")
+        if self.is_lift:
+            conv = f"{mm} for mm specs, {inch} for inch specs"
+            if self.is_list:
+                return (f"the follower's lift: length in mm (the spec gets {conv}) for a translating "
+                        "follower, degrees of arm rotation for an oscillating one (whatever Units says)")
+            return (f"the follower's lift: a length, a FreeCAD quantity (type e.g. \"0.0004 {inch}\"; the spec "
+                    f"gets {conv}) for a translating follower, an angle in degrees for an oscillating one "
+                    "(the property's type follows FollowerMotion)")
         if p.kind in ("float", "floats") and p.unit in UNIT_STORAGE:
-            kind = p.unit
+            kind = p.unit.replace("_", " ")
             conv = f"{mm} for mm specs, {inch} for inch specs"
             if self.is_quantity or (self.is_length and not self.is_list):
                 return (f"{kind}, a FreeCAD quantity (type e.g. \"12 {inch}\"); the spec gets "
                         f"{conv}")
-            store = UNIT_STORAGE[kind][1]
+            store = UNIT_STORAGE[p.unit][1]
             return f"{kind} in {store}; the spec gets {conv}"
         if mm != inch:
             return f"{mm} for mm specs, {inch} for inch specs"
@@ -244,17 +281,19 @@ def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[s
     added: list[str] = []
     existing = set(obj.PropertiesList)
     rows_now = {s: _current_rows(obj, s) for s in list_sections()}
+    units = _units_of(initial)
+    lift = lift_unit_of_data(initial) if initial is not None else lift_unit_of(obj)
     for fp in field_properties():
         if fp.name not in existing:
-            obj.addProperty(fp.type, fp.name, fp.group, fp.tooltip())
+            obj.addProperty(fp.type_for(lift), fp.name, fp.group, fp.tooltip())
             added.append(fp.name)
             if fp.is_list:
                 n = rows_now[fp.section]
                 rows = _initial_rows(fp.section, initial, n)
-                _set_list(obj, fp, [r.get(fp.field) for r in rows], _units_of(initial))
+                _set_list(obj, fp, [r.get(fp.field) for r in rows], units, lift)
                 obj.setEditorMode(fp.name, 1)  # read-only in the editor: use the motion editor
             else:
-                _init_scalar(obj, fp, _initial_value(fp, initial), _units_of(initial))
+                _init_scalar(obj, fp, _initial_value(fp, initial), units, lift)
         if fp.flag and fp.flag not in existing:
             ptype = "App::PropertyBoolList" if fp.is_list else "App::PropertyBool"
             obj.addProperty(ptype, fp.flag, fp.group, f"{fp.name} is given (else the spec leaves "
@@ -278,6 +317,54 @@ def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[s
 
 def _units_of(data: dict[str, Any] | None) -> str:
     return "in" if data and data.get("units") == "in" else "mm"
+
+
+def lift_unit(motion: str, kind: str) -> str:
+    """The unit kind of a follower's lifts ("length" or "angle"), read from its class
+    (``Follower.lift_unit``); "length" for a combination the library does not know (the
+    spec's validation names it)."""
+    from generators.followers import follower_class
+
+    try:
+        return follower_class(motion or "translating", kind).lift_unit
+    except KeyError:
+        return "length"
+
+
+def lift_unit_of_data(data: dict[str, Any] | None) -> str:
+    """The lift unit of a spec dict's follower (the default spec's when it has none)."""
+    fol = (data or {}).get("follower") or default_spec().to_dict()["follower"]
+    return lift_unit(fol.get("motion") or "translating", fol.get("kind", "roller"))
+
+
+def lift_unit_of(obj: Any) -> str:
+    """The lift unit of the feature's follower (``FollowerMotion``, ``FollowerKind``)."""
+    return lift_unit(str(getattr(obj, "FollowerMotion", "") or "translating"),
+                     str(getattr(obj, "FollowerKind", "roller")))
+
+
+def sync_lift_unit(obj: Any, lift: str | None = None) -> list[str]:
+    """Give the lift fields' scalar properties (``PitchTolerance``) the type of the follower's
+    lift unit — a length quantity, or an angle for an oscillating follower — keeping the number
+    (and the editor mode); return the properties whose type changed.  The list entries
+    (``MotionLift``) are plain numbers and need no change."""
+    lift = lift or lift_unit_of(obj)
+    changed = []
+    for fp in field_properties():
+        if not fp.is_lift or fp.is_list or fp.name not in obj.PropertiesList:
+            continue
+        want = fp.type_for(lift)
+        if obj.getTypeIdOfProperty(fp.name) == want:
+            continue
+        value = float(_value(getattr(obj, fp.name)))
+        mode = obj.getEditorMode(fp.name)
+        obj.removeProperty(fp.name)
+        obj.addProperty(want, fp.name, fp.group, fp.tooltip())
+        if mode:
+            obj.setEditorMode(fp.name, mode)
+        setattr(obj, fp.name, value)
+        changed.append(fp.name)
+    return changed
 
 
 def _current_rows(obj: Any, section: str) -> int | None:
@@ -309,7 +396,7 @@ def _initial_value(fp: FieldProperty, initial: dict[str, Any] | None) -> Any:
     return p.default
 
 
-def _init_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
+def _init_scalar(obj: Any, fp: FieldProperty, value: Any, units: str, lift: str = "length") -> None:
     p = fp.param
     if fp.type == "App::PropertyEnumeration":
         choices = list(p.choices or ())
@@ -320,16 +407,16 @@ def _init_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
         lo = 0 if fp.absent == 0 else int(p.ge if p.ge is not None else
                                           (p.gt + 1 if p.gt is not None else -_INT_MAX))
         hi = int(p.le if p.le is not None else (p.lt - 1 if p.lt is not None else _INT_MAX))
-        v = _stored_scalar(fp, value, units)
+        v = _stored_scalar(fp, value, units, lift)
         setattr(obj, fp.name, (int(min(max(v, lo), hi)), lo, hi, 1))
         return
     elif fp.type == "App::PropertyFloatConstraint":
         lo = 0.0 if fp.absent == 0 else _stored_bound(fp, p.ge if p.ge is not None else p.gt, -_FLOAT_MAX)
         hi = _stored_bound(fp, p.le if p.le is not None else p.lt, _FLOAT_MAX)
-        v = _stored_scalar(fp, value, units)
+        v = _stored_scalar(fp, value, units, lift)
         setattr(obj, fp.name, (float(min(max(v, lo), hi)), lo, hi, 1.0))
         return
-    setattr(obj, fp.name, _stored_scalar(fp, value, units))
+    setattr(obj, fp.name, _stored_scalar(fp, value, units, lift))
 
 
 def _stored_bound(fp: FieldProperty, bound: float | None, none: float) -> float:
@@ -350,10 +437,10 @@ def _zero(fp: FieldProperty) -> Any:
     return {"float": 0.0, "int": 0, "bool": False, "floats": ()}[k]
 
 
-def _stored_scalar(fp: FieldProperty, value: Any, units: str) -> Any:
+def _stored_scalar(fp: FieldProperty, value: Any, units: str, lift: str = "length") -> Any:
     if value is None:
         return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
-    f = fp.factor(units)
+    f = fp.factor(units, lift)
     if fp.param.kind == "floats":
         return [float(v) * f for v in value]
     if fp.param.kind == "float":
@@ -361,11 +448,11 @@ def _stored_scalar(fp: FieldProperty, value: Any, units: str) -> Any:
     return value
 
 
-def _stored_item(fp: FieldProperty, value: Any, units: str) -> Any:
+def _stored_item(fp: FieldProperty, value: Any, units: str, lift: str = "length") -> Any:
     if value is None:
         return fp.absent if fp.absent not in (None, _NOT_OPTIONAL) else _zero(fp)
     k = fp.param.kind
-    f = fp.factor(units)
+    f = fp.factor(units, lift)
     if k == "floats":
         return ", ".join(repr(float(v) * f) for v in value)
     if k == "float":
@@ -373,8 +460,8 @@ def _stored_item(fp: FieldProperty, value: Any, units: str) -> Any:
     return value
 
 
-def _set_list(obj: Any, fp: FieldProperty, values: list[Any], units: str) -> None:
-    setattr(obj, fp.name, [_stored_item(fp, v, units) for v in values])
+def _set_list(obj: Any, fp: FieldProperty, values: list[Any], units: str, lift: str = "length") -> None:
+    setattr(obj, fp.name, [_stored_item(fp, v, units, lift) for v in values])
 
 
 def unscale(stored: float, factor: float) -> float:
@@ -399,7 +486,7 @@ def _value(raw: Any) -> Any:
     return float(raw.Value) if hasattr(raw, "Value") else raw  # a FreeCAD Quantity
 
 
-def _read_scalar(obj: Any, fp: FieldProperty, units: str) -> Any:
+def _read_scalar(obj: Any, fp: FieldProperty, units: str, lift: str = "length") -> Any:
     raw = getattr(obj, fp.name)
     if fp.flag and not getattr(obj, fp.flag):
         return None
@@ -408,7 +495,7 @@ def _read_scalar(obj: Any, fp: FieldProperty, units: str) -> Any:
         raw = tuple(float(v) for v in raw)
     if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
         return None
-    f = fp.factor(units)
+    f = fp.factor(units, lift)
     if fp.param.kind == "floats":
         return tuple(unscale(v, f) for v in raw)
     if fp.param.kind == "float":
@@ -439,10 +526,11 @@ def format_floats(values: Any) -> str:
     return ", ".join(repr(float(v)) for v in values)
 
 
-def _read_item(fp: FieldProperty, raw: Any, given: bool, units: str, path: str) -> Any:
+def _read_item(fp: FieldProperty, raw: Any, given: bool, units: str, path: str,
+               lift: str = "length") -> Any:
     if not given:
         return None
-    f = fp.factor(units)
+    f = fp.factor(units, lift)
     if fp.param.kind == "floats":
         text = str(raw).strip()
         if not text:
@@ -455,7 +543,8 @@ def _read_item(fp: FieldProperty, raw: Any, given: bool, units: str, path: str) 
     return raw
 
 
-def read_rows(obj: Any, section: str, units: str | None = None) -> list[dict[str, Any]]:
+def read_rows(obj: Any, section: str, units: str | None = None, lift: str | None = None
+              ) -> list[dict[str, Any]]:
     """The rows of an array-of-tables section as spec dicts (values in the spec's units,
     absent optional values left out).
 
@@ -464,6 +553,8 @@ def read_rows(obj: Any, section: str, units: str | None = None) -> list[dict[str
     """
     if units is None:
         units = units_of(obj)
+    if lift is None:
+        lift = lift_unit_of(obj)
     fps = properties_of_section(section)
     lengths = {fp.name: len(getattr(obj, fp.name)) for fp in fps}
     lengths.update({fp.flag: len(getattr(obj, fp.flag)) for fp in fps if fp.flag})
@@ -477,18 +568,22 @@ def read_rows(obj: Any, section: str, units: str | None = None) -> list[dict[str
         values = list(getattr(obj, fp.name))
         given = list(getattr(obj, fp.flag)) if fp.flag else [True] * n
         for i in range(n):
-            v = _read_item(fp, values[i], given[i], units, f"{section}[{i}].{fp.field}")
+            v = _read_item(fp, values[i], given[i], units, f"{section}[{i}].{fp.field}", lift)
             if v is not None:
                 rows[i][fp.field] = v
     return rows
 
 
-def write_rows(obj: Any, section: str, rows: list[dict[str, Any]], units: str | None = None) -> None:
-    """Store the rows of an array-of-tables section (spec dicts, values in spec units)."""
+def write_rows(obj: Any, section: str, rows: list[dict[str, Any]], units: str | None = None,
+               lift: str | None = None) -> None:
+    """Store the rows of an array-of-tables section (spec dicts, values in spec units; lifts
+    in the lift unit ``lift``, default the feature's follower's)."""
     if units is None:
         units = units_of(obj)
+    if lift is None:
+        lift = lift_unit_of(obj)
     for fp in properties_of_section(section):
-        _set_list(obj, fp, [r.get(fp.field) for r in rows], units)
+        _set_list(obj, fp, [r.get(fp.field) for r in rows], units, lift)
         if fp.flag:
             setattr(obj, fp.flag, [r.get(fp.field) is not None for r in rows])
 
@@ -506,10 +601,11 @@ def units_scale(obj: Any) -> float:
 def spec_dict(obj: Any) -> dict[str, Any]:
     """The spec held by the feature's properties, as the TOML structure (not yet validated)."""
     units = units_of(obj)
+    lift = lift_unit_of(obj)
     data: dict[str, Any] = {}
     for fp in field_properties():
         if fp.section == "":
-            v = _read_scalar(obj, fp, units)
+            v = _read_scalar(obj, fp, units, lift)
             if v is not None:
                 data[fp.field] = v
     for section, (_cls, is_list, _required) in SECTIONS.items():
@@ -517,11 +613,11 @@ def spec_dict(obj: Any) -> dict[str, Any]:
         if flag and not getattr(obj, flag):
             continue
         if is_list:
-            data[section] = read_rows(obj, section, units)
+            data[section] = read_rows(obj, section, units, lift)
             continue
         table = {}
         for fp in properties_of_section(section):
-            v = _read_scalar(obj, fp, units)
+            v = _read_scalar(obj, fp, units, lift)
             if v is not None:
                 table[fp.field] = v
         data[section] = table
@@ -541,30 +637,32 @@ def write_spec(obj: Any, spec: CamSpec | dict[str, Any]) -> None:
     """Set every spec property of ``obj`` from a spec (or its dict)."""
     data = spec.to_dict() if isinstance(spec, CamSpec) else spec
     units = _units_of(data)
+    lift = lift_unit_of_data(data)
+    sync_lift_unit(obj, lift)
     by_section: dict[str, list[FieldProperty]] = {}
     for fp in field_properties():
         by_section.setdefault(fp.section, []).append(fp)
     for fp in by_section.pop(""):
-        _write_scalar(obj, fp, data.get(fp.field), units)
+        _write_scalar(obj, fp, data.get(fp.field), units, lift)
     for section, fps in by_section.items():
         flag = section_flag(section)
         if flag:
             setattr(obj, flag, section in data)
         if SECTIONS[section][1]:
-            write_rows(obj, section, list(data.get(section, [])), units)
+            write_rows(obj, section, list(data.get(section, [])), units, lift)
             continue
         table = data.get(section, {})
         for fp in fps:
             value = table.get(fp.field)
             if value is None and not _is_optional(fp.param) and fp.param.default is not REQUIRED:
                 value = fp.param.default
-            _write_scalar(obj, fp, value, units)
+            _write_scalar(obj, fp, value, units, lift)
 
 
-def _write_scalar(obj: Any, fp: FieldProperty, value: Any, units: str) -> None:
+def _write_scalar(obj: Any, fp: FieldProperty, value: Any, units: str, lift: str = "length") -> None:
     if fp.flag:
         setattr(obj, fp.flag, value is not None)
-    stored = _stored_scalar(fp, value, units)
+    stored = _stored_scalar(fp, value, units, lift)
     setattr(obj, fp.name, stored)
 
 
@@ -624,13 +722,55 @@ def migrate_plain_numbers(obj: Any) -> list[str]:
     return done
 
 
+def migrate_lift_and_torque_units(obj: Any) -> list[str]:
+    """Feature version 3 → 4: what version 3 stored by the spec's ``units`` alone gets the unit
+    of what it is, so the spec is unchanged —
+
+    * torques, torsional spring rates and arm inertias (plain numbers in the spec's units then,
+      lbf·in for an inch document) are stored in N·mm, N·mm/rad and kg·mm²;
+    * an oscillating follower's lifts (``MotionLift``: the arm's degrees, which version 3 scaled
+      by 25.4 in an inch document as if they were inches) are stored as degrees, and
+      ``PitchTolerance`` (a length quantity then) becomes an angle holding the degrees.
+
+    Returns the properties converted (only those whose stored number or type changes)."""
+    units = units_of(obj)
+    lift = lift_unit_of(obj)
+    existing = set(obj.PropertiesList)
+    done = []
+    for fp in field_properties():
+        if fp.name not in existing:
+            continue
+        if fp.param.unit in _V3_PLAIN_KINDS and not fp.is_list:
+            f = fp.factor(units)
+            if f != 1.0:
+                setattr(obj, fp.name, float(_value(getattr(obj, fp.name))) * f)
+                done.append(fp.name)
+        elif fp.is_lift and lift == "angle":
+            f_old = fp.factor(units, "length")   # version 3 stored the degrees as lengths
+            if fp.is_list:
+                if f_old != 1.0:
+                    setattr(obj, fp.name, [unscale(float(v), f_old) for v in getattr(obj, fp.name)])
+                    done.append(fp.name)
+                continue
+            old = float(_value(getattr(obj, fp.name)))
+            sync_lift_unit(obj, lift)
+            setattr(obj, fp.name, unscale(old, f_old))
+            done.append(fp.name)
+    return done
+
+
 def refresh_tooltips(obj: Any) -> None:
-    """Set every spec property's tooltip to the current declaration's (they are stored in the
-    document and would otherwise keep an older wording)."""
+    """Set every spec property's tooltip and group to the current declaration's (they are
+    stored in the document and would otherwise keep an older wording or group)."""
     existing = set(obj.PropertiesList)
     for fp in field_properties():
-        if fp.name in existing and hasattr(obj, "setDocumentationOfProperty"):
-            obj.setDocumentationOfProperty(fp.name, fp.tooltip())
+        for name, tip in ((fp.name, fp.tooltip()), (fp.flag, None)):
+            if name is None or name not in existing:
+                continue
+            if tip is not None and hasattr(obj, "setDocumentationOfProperty"):
+                obj.setDocumentationOfProperty(name, tip)
+            if hasattr(obj, "setGroupOfProperty") and obj.getGroupOfProperty(name) != fp.group:
+                obj.setGroupOfProperty(name, fp.group)
 
 
 # ---- messages ------------------------------------------------------------------------------
@@ -683,5 +823,6 @@ def iter_property_names() -> Iterator[str]:
 
 __all__ = ["FieldProperty", "LBF_N", "MM_PER_INCH", "UNIT_STORAGE", "camel", "describe_field",
            "ensure_properties", "field_properties", "field_property", "field_tooltip", "format_floats", "iter_property_names",
+           "lift_unit", "lift_unit_of", "lift_unit_of_data", "migrate_lift_and_torque_units",
            "migrate_plain_numbers", "parse_floats", "read_rows", "refresh_tooltips", "spec_dict",
-           "spec_of", "unscale", "units_of", "units_scale", "write_rows", "write_spec"]
+           "spec_of", "sync_lift_unit", "unscale", "units_of", "units_scale", "write_rows", "write_spec"]

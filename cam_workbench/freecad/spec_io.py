@@ -39,12 +39,17 @@ def open(filename: str) -> Any:  # noqa: A001 - FreeCAD's importer protocol
 
 
 def insert(filename: str, docname: str) -> Any:
-    """Add a plate cam built from a spec file to the document ``docname``."""
+    """Add a plate cam built from a spec file to the document ``docname`` ("" — as
+    ``FreeCAD.loadFile(path)`` passes it — the active document, else a new one)."""
     import FreeCAD
 
     from .feature import create
 
-    doc = FreeCAD.getDocument(docname)
+    if not docname:
+        doc = FreeCAD.ActiveDocument or FreeCAD.newDocument(
+            "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "PlateCam")
+    else:
+        doc = FreeCAD.getDocument(docname)
     try:
         obj = create(doc, Path(filename))
     except SpecError as exc:

@@ -82,24 +82,33 @@ class ViewProviderPlateCam(Stateless):
         return True
 
 
+#: How each reference child is drawn: line colour, draw style, line width, point size, icon.
+#: The follower is drawn in the colour the report's drawing gives it, with its pivot and the
+#: follower point as points.
+REFERENCE_STYLES = {
+    "pitch curve": ((0.10, 0.35, 0.85), "Dashed", 2.0, 1.0, "PitchCurve.svg"),
+    "base circle": ((0.85, 0.45, 0.05), "Dotted", 2.0, 1.0, "BaseCircle.svg"),
+    "follower": ((0.54, 0.38, 0.07), "Solid", 3.0, 7.0, "Follower.svg"),
+}
+
+
 class ViewProviderReference(Stateless):
-    """View provider of a reference curve: a thin coloured line (the pitch curve dashed)."""
+    """View provider of a reference child: a thin coloured line (the pitch curve dashed, the
+    base circle dotted), the follower solid and thicker with its points shown."""
 
     def __init__(self, vobj: Any):
         vobj.Proxy = self
-        obj = vobj.Object
-        if obj.Kind == "pitch curve":
-            vobj.LineColor = (0.10, 0.35, 0.85)
-            vobj.DrawStyle = "Dashed"
-        else:
-            vobj.LineColor = (0.85, 0.45, 0.05)
-            vobj.DrawStyle = "Dotted"
-        vobj.LineWidth = 2.0
-        vobj.PointSize = 1.0
+        colour, style, width, points, _icon = REFERENCE_STYLES.get(vobj.Object.Kind,
+                                                                   REFERENCE_STYLES["base circle"])
+        vobj.LineColor = colour
+        vobj.DrawStyle = style
+        vobj.LineWidth = width
+        vobj.PointSize = points
+        vobj.PointColor = colour
 
     def attach(self, vobj: Any) -> None:
         self.Object = vobj.Object
 
     def getIcon(self) -> str:
         kind = getattr(getattr(self, "Object", None), "Kind", "pitch curve")
-        return icon("PitchCurve.svg" if kind == "pitch curve" else "BaseCircle.svg")
+        return icon(REFERENCE_STYLES.get(kind, REFERENCE_STYLES["base circle"])[4])

@@ -47,6 +47,11 @@ def force_reference(spec) -> float:
     lifts = spec.max_lift * scale
     other = max(ld.rate * lifts, ld.inertia * ld.mass_force * omega**2 * lifts)
     return max(other / lever, 1e-12)
+def follower_class(motion: str, kind: str) -> type[Follower]:
+    """The class of a follower kind, for what it says before there is a spec (its class
+    attributes: ``lift_unit``, ``design_curve``, ``lift_scale``) — e.g. the unit in which the
+    FreeCAD properties store the lifts while a user edits them."""
+    return KINDS[(motion, kind)].__self__  # type: ignore[attr-defined]
 
 
 def validate_follower(spec) -> None:
@@ -91,4 +96,5 @@ def validate_follower(spec) -> None:
 
 
 __all__ = ["Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
-           "TranslatingFlatFollower", "TranslatingFollower", "follower_of", "force_reference"]
+           "TranslatingFlatFollower", "TranslatingFollower", "follower_class", "follower_of",
+           "force_reference"]

@@ -2,7 +2,7 @@
 the generated reference).  ``generators.spec`` re-exports :mod:`generators.spec.model`.
 """
 from .model import (  # noqa: F401
-    REQUIRED, Param, param, params_of, LAWS, CLOSED_FORM_LAWS, BSPLINE_FIELDS, SPAN_TOL_DEG,
+    REQUIRED, Param, param, params_of, LAWS, CLOSED_FORM_LAWS, BSPLINE_FIELDS, SPAN_TOL_DEG, LIFT_FIELDS,
     CamSection, FollowerSection, MotionSegment, PitchSection, STEEL_MODULUS, MaterialSection,
     ChecksSection, DEFAULT_SEGMENTS, DXF_VERSIONS, DrawingSection, WORK_OFFSETS,
     MAX_COMMANDS_PER_REV, MachiningSection, OBJECTIVES, OPTIMISE_ALGORITHMS, OPTIMISE_VARIABLES,

@@ -29,6 +29,10 @@ SPAN_TOL_DEG = 1e-9
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
 BODIES = ("plate", "groove")
 KEYWAYS = ("DIN6885", "ANSI")
+#: Fields whose unit is the follower's lift unit (``Follower.lift_unit``): a length (``units``) for
+#: translating followers, degrees of arm rotation for oscillating ones, whatever ``units`` says.
+#: Their declarations say unit "length"; readers that convert units (the FreeCAD properties) read this.
+LIFT_FIELDS = ("motion[].lift", "pitch.tolerance")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -100,37 +104,37 @@ class FollowerSection:
         unit="length", gt=0, optional=True, group="Follower")
     mass: float = param(
         "Mass M_f of the follower train moving with the follower (thesis Eq. 3.5; the thesis' "
-        "\"0.02 slugs\" is 0.02 lbf·s²/in)", unit="mass", ge=0, default=0.0, group="Follower")
+        "\"0.02 slugs\" is 0.02 lbf·s²/in)", unit="mass", ge=0, default=0.0, group="Follower load")
     preload: float = param(
         "Force P_L pressing the follower onto the cam at zero lift (spring preload, load, "
-        "friction: thesis Eq. 3.5)", unit="force", ge=0, default=0.0, group="Follower")
+        "friction: thesis Eq. 3.5)", unit="force", ge=0, default=0.0, group="Follower load")
     spring_rate: float = param(
         "Return-spring rate k: the load is P_L + k·s at lift s (0: constant load, as the thesis)",
-        unit="stiffness", ge=0, default=0.0, group="Follower")
+        unit="stiffness", ge=0, default=0.0, group="Follower load")
     # ---- oscillating followers (CAM_SPEC.md "Follower motion and kinds") ----
     pivot_distance: float | None = param(
         "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame",
-        unit="length", gt=0, optional=True, group="Follower")
+        unit="length", gt=0, optional=True, group="Follower arm")
     arm_length: float | None = param(
         "Oscillating: arm length L from the pivot to the roller centre / knife tip; for a flat face the "
         "position of the face's centre along it (default: the middle of the contact's travel)",
-        unit="length", gt=0, optional=True, group="Follower")
+        unit="length", gt=0, optional=True, group="Follower arm")
     face_offset: float | None = param(
         "Oscillating flat face: distance from the pivot to the face line, positive with the face between "
         "the pivot and the cam (default 0: the face passes through the pivot)",
-        unit="length", optional=True, group="Follower")
+        unit="length", optional=True, group="Follower arm")
     face_width: float | None = param(
         "Flat face: its width, centred on the stem (translating) or on arm_length (oscillating); "
         "checked against the width the contact needs", unit="length", gt=0, optional=True, group="Follower")
     arm_inertia: float = param(
         "Oscillating: moment of inertia I of the arm and everything turning with it about the pivot",
-        unit="inertia", ge=0, default=0.0, group="Follower")
+        unit="inertia", ge=0, default=0.0, group="Follower load")
     preload_torque: float = param(
         "Oscillating: torque T_L pressing the arm onto the cam at zero lift (spring preload)",
-        unit="torque", ge=0, default=0.0, group="Follower")
+        unit="torque", ge=0, default=0.0, group="Follower load")
     spring_torque_rate: float = param(
         "Oscillating: return-spring torque rate k_t: the torque is T_L + k_t·s at arm rotation s [rad]",
-        unit="torsional_stiffness", ge=0, default=0.0, group="Follower")
+        unit="torsional_stiffness", ge=0, default=0.0, group="Follower load")
 
 
 @dataclass(frozen=True, kw_only=True)
