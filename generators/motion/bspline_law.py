@@ -125,17 +125,31 @@ class BSplineLift:
         order: k (degree k − 1).
         x: (n+1,) control-point cam angles [rad] from the segment start; x[0] = 0, x[-1] = span.
         y: (n+1,) control-point normalised lifts.
+        knots: (n + k + 1,) knot vector; default (None) the thesis' uniform clamped knots
+            (Eq. 2.12).  Piecewise laws (a constant-velocity segment with blended ends,
+            :mod:`generators.motion.segments`) give clamped knots of their own.
     """
 
     order: int
     x: np.ndarray
     y: np.ndarray
-    knots: np.ndarray = field(init=False, repr=False)
+    knots: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "x", np.asarray(self.x, dtype=float))
         object.__setattr__(self, "y", np.asarray(self.y, dtype=float))
-        object.__setattr__(self, "knots", clamped_uniform_knots(len(self.x), self.order))
+        if self.knots is None:
+            object.__setattr__(self, "knots", clamped_uniform_knots(len(self.x), self.order))
+        else:
+            knots = np.asarray(self.knots, dtype=float)
+            if knots.shape != (len(self.x) + self.order,):
+                raise ValueError(f"{len(self.x)} control points of order {self.order} need "
+                                 f"{len(self.x) + self.order} knots, got {knots.shape[0]}")
+            object.__setattr__(self, "knots", knots)
+
+    def with_points(self, x: np.ndarray, y: np.ndarray) -> "BSplineLift":
+        """The same B-spline (order and knots) with new control points."""
+        return BSplineLift(self.order, x, y, self.knots)
 
     @property
     def degree(self) -> int:
@@ -168,7 +182,7 @@ class BSplineLift:
     @cached_property
     def _table(self) -> tuple[np.ndarray, np.ndarray]:
         """θ on a grid of 32 parameters per knot span (starting guesses and brackets)."""
-        u = np.linspace(0.0, self.u_max, 32 * int(round(self.u_max)) + 1)
+        u = np.linspace(0.0, self.u_max, 32 * max(1, int(round(self.u_max))) + 1)
         return u, self.parametric(u, 0)[0][0]
 
     def u_of_theta(self, theta: np.ndarray, tol: float = 1e-15, max_iter: int = 100) -> np.ndarray:
@@ -238,7 +252,8 @@ class BSplineLift:
         k = self.order
         t = self.knots
         n = self.n_points
-        return (k - 1) * np.diff(self.x) / (t[k:n + k - 1] - t[1:n])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (k - 1) * np.diff(self.x) / (t[k:n + k - 1] - t[1:n])
 
 
 # ---- from a spec segment --------------------------------------------------------------
