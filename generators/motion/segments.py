@@ -335,8 +335,13 @@ def _check_nonnegative(p: _Plan) -> None:
     if s[j] >= -1e-9 * scale:
         return
     seg = p.seg
-    fld = {"polynomial": "points" if seg.points else "law", "constant_velocity": "start_blend",
-           "table": "table"}[seg.law]
+    given = [f for f in END_FIELDS.values() if getattr(seg, f, None) is not None]
+    if seg.law == "polynomial":
+        fld = "points" if seg.points else (given[0] if given else "law")
+    elif seg.law == "constant_velocity":
+        fld = "start_blend" if seg.start_blend else "end_blend" if seg.end_blend else "law"
+    else:
+        fld = "table"
     raise SpecError(f"{p.path}.{fld}",
                     f"the {seg.law} segment goes to s = {s[j]:.4g} at {math.degrees(p.start + th[0][j]):.4g}° "
                     "(cam angle): s must stay ≥ 0")

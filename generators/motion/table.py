@@ -6,7 +6,8 @@ abscissae), so the fit is a :class:`~generators.motion.bspline_law.BSplineLift` 
 lifts.  Its ends are held exactly: s at the segment's start and end levels, and the derivatives
 the program gives the ends (the neighbours' to the segment's continuity, or the spec's values) as
 equality constraints.  The number of knot spans is the fewest (by doubling, then bisection) whose
-largest point error max |s_fit − s_i| is within the tolerance.
+largest point error max |s_fit − s_i| is within the tolerance — at most one free control value per
+two points, so the result is a fit, never an interpolation of noise.
 
 The normal equations are banded (k non-zero basis functions per point); with the end constraints
 they are solved as one sparse KKT system (scipy), with a vanishing second-difference term
@@ -137,9 +138,10 @@ def fit_table(theta: np.ndarray, s: np.ndarray, span: float, low: float, height:
     theta = np.asarray(theta, dtype=float)
     s = np.asarray(s, dtype=float)
     ncons = len(constraints)
-    # at least one free control value beyond the constraints, at most one per point
+    # at least one free control value beyond the constraints, at most one per two points: a fit,
+    # never an interpolation (noise above the tolerance is an error, not a wiggle through the points)
     lo_spans = max(1, ncons + 2 - order)
-    hi_spans = min(MAX_SPANS, max(lo_spans, theta.shape[0] + ncons - order + 1))
+    hi_spans = min(MAX_SPANS, max(lo_spans, theta.shape[0] // 2 + ncons - order + 1))
     cache: dict[int, tuple[np.ndarray, float, int]] = {}
 
     def attempt(n: int) -> tuple[np.ndarray, float, int]:
