@@ -272,3 +272,10 @@ def test_points_fields_are_text_rows_with_the_lift_in_storage_units():
     with pytest.raises(SpecError, match=r"motion\[1\]\.table\[1\]"):
         props._read_item(fp, "0, 0; 30", True, "mm", "motion[1].table")
     assert fps["motion[].start_velocity"].factor("in") == 25.4
+
+
+def test_motion_editor_reads_points_cells():
+    from cam_workbench.freecad.motion_editor import _parse
+
+    assert _parse("0, 0; 30, 2.5", "points") == [[0.0, 0.0], [30.0, 2.5]]
+    assert _parse("0, 0; 30", "points") == "0, 0; 30"        # left for the spec's rule to name

@@ -118,7 +118,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
         ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
     console.print(ext)
     if junctions:
-        console.print(junction_table(junctions, checks))
+        console.print(junction_table(junctions, spec.units if spec.follower.motion == "translating" else "deg"))
     u = spec.units
     thesis = areas.get("thesis_eq_4_21")
     console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
@@ -134,12 +134,13 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
 _JUMP_NAMES = ("s", "velocity", "acceleration", "jerk")
 
 
-def junction_table(junctions: list[dict[str, Any]], checks: dict[str, Any]) -> Any:
+def junction_table(junctions: list[dict[str, Any]], lift_unit: str) -> Any:
     """report.json's ``motion.junctions`` as a rich table: where, which laws, the order of
     continuity reached (C0 … C3) against the order promised, and the first jump."""
     from rich.table import Table
 
-    lab = {"velocity": "/rad", "acceleration": "/rad²", "jerk": "/rad³", "s": ""}
+    lab = {"velocity": f" {lift_unit}/rad", "acceleration": f" {lift_unit}/rad²", "jerk": f" {lift_unit}/rad³",
+           "s": f" {lift_unit}"}
     t = Table(title="segment junctions (continuity of s, s′, s″, s‴)")
     for col in ("at", "from → to", "reached", "promised", "first jump"):
         t.add_column(col, justify="right" if col in ("at",) else "left")
