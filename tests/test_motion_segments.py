@@ -482,3 +482,27 @@ def test_toml_round_trip_of_every_new_field():
     text = to_toml(s)
     assert "points = [[50.0, 3.5]]" in text and "table = [[0.0, 10.0], [5.0, " in text
     assert load_spec(text) == s
+
+
+def test_the_documented_table_example():
+    """docs/examples/table_cam.toml: its CSV (relative to it) is fitted within its tolerance by the
+    numbers docs/motion.md quotes, every junction C2, every check passing."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    s = load_spec(root / "docs" / "examples" / "table_cam.toml")
+    prog = MotionProgram.from_spec(s)
+    info = prog.infos[1]
+    assert (info["points"], info["spans"]) == (121, 13) and info["max_error"] <= 1e-3
+    assert [j.order for j in prog.junctions()] == [2, 2, 2, 2]
+    assert run_checks(s).passed
+
+
+def test_the_packaging_example():
+    from generators.spec.examples import example_spec
+
+    s = example_spec("packaging")
+    prog = MotionProgram.from_spec(s)
+    assert prog.infos[2]["velocity"] == pytest.approx(22.0 / math.radians(120.0), rel=1e-12)
+    assert [j.order for j in prog.junctions()] == [2] * 6
+    assert run_checks(s).passed
