@@ -279,7 +279,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("max |acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
         ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
     ]
-    sections.append(("motion", "Follower motion", fig["kinematics"] + _quantity_table(report, motion_rows)))
+    sections.append(("motion", "Follower motion", fig["kinematics"] + _quantity_table(report, motion_rows)
+                     + _segments_table(report, lu) + _junctions_table(report, lu)))
     pa_rows = [
         ("max |φ| (design)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
         ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
@@ -532,6 +533,73 @@ def _checks_section(report: Mapping[str, Any]) -> str:
             out.append(f"<tr><td>{html.escape(name.replace('_', ' '))}</td>{_num_cell(report, prefix + '.value')}"
                        f"<td>{html.escape(str(e.get('unit', '')))}</td>{at}</tr>")
         out.append("</table>")
+    return "".join(out)
+
+
+#: report.json motion.segments keys of the solved laws, shown per segment: (key, label, unit kind)
+_SEGMENT_DETAILS = (
+    ("degree", "polynomial degree", ""), ("conditions", "conditions", ""),
+    ("velocity", "cruise velocity", "/rad"), ("start_blend_deg", "start blend", "deg"),
+    ("end_blend_deg", "end blend", "deg"), ("points", "table points", ""), ("spans", "knot spans", ""),
+    ("order", "B-spline order", ""), ("max_error", "fit: max |s_fit − s_i|", "lift"),
+    ("max_error_at_deg", "at cam angle", "deg"), ("rms_error", "fit: rms error", "lift"),
+    ("tolerance", "table_tolerance", "lift"),
+)
+
+
+def _segments_table(report: Mapping[str, Any], lu: str) -> str:
+    """The motion segments whose laws were solved or fitted (polynomial, constant_velocity, table):
+    what they came out as (report.json ``motion.segments``)."""
+    segs = report.get("motion", {}).get("segments")
+    if not isinstance(segs, list):
+        return ""
+    rows = []
+    for i, seg in enumerate(segs):
+        if seg.get("law") not in ("polynomial", "constant_velocity", "table"):
+            continue
+        for key, label, unit in _SEGMENT_DETAILS:
+            if key in seg:
+                u = lu if unit == "lift" else (lu + unit if unit.startswith("/") else unit)
+                rows.append(f"<tr><td>{i}</td><td>{html.escape(str(seg['law']))}</td><td>{html.escape(label)}</td>"
+                            f"{_num_cell(report, f'motion.segments.{i}.{key}')}<td>{html.escape(u)}</td></tr>")
+        if "coefficients" in seg:
+            coef = ", ".join(f"{c:.6g}" for c in seg["coefficients"])
+            rows.append(f"<tr><td>{i}</td><td>polynomial</td><td>coefficients a₀ … a_d of s = Σ a_k x^k, "
+                        f"x = (θ − θ_start)/span</td><td class=\"coef\">"
+                        f"{html.escape(coef)}</td><td>{html.escape(lu)}</td></tr>")
+    if not rows:
+        return ""
+    return ("<h3>Solved and fitted segments</h3>"
+            '<table class="segments"><tr><th>#</th><th>law</th><th>quantity</th><th>value</th><th>unit</th></tr>'
+            + "".join(rows) + "</table>")
+
+
+def _junctions_table(report: Mapping[str, Any], lu: str) -> str:
+    """report.json ``motion.junctions``: one row per segment boundary with the jumps of s′, s″, s‴,
+    the order of continuity reached and the order the laws promise."""
+    junctions = report.get("motion", {}).get("junctions")
+    if not isinstance(junctions, list) or not junctions:
+        return ""
+    out = ["<h3>Segment junctions</h3>",
+           '<p class="note">Jumps are right − left of s′, s″, s‴ (per radian) where one segment ends and the '
+           "next starts; C<i>n</i>: s … s<sup>(n)</sup> continuous. A junction fails when it reaches less than "
+           "the laws on either side promise (the <code>continuity</code> check).</p>",
+           '<table class="junctions"><tr><th>at cam angle [deg]</th><th>from → to</th>'
+           f"<th>Δs′ [{html.escape(lu)}/rad]</th><th>Δs″ [{html.escape(lu)}/rad²]</th>"
+           f"<th>Δs‴ [{html.escape(lu)}/rad³]</th><th>reached C<i>n</i></th><th>promised C<i>n</i></th><th>met</th></tr>"]
+    for i, j in enumerate(junctions):
+        pre = f"motion.junctions.{i}"
+        ok = bool(j.get("ok"))
+        cls = "pass" if ok else "fail"
+        out.append(
+            f'<tr class="{cls}">{_num_cell(report, pre + ".at_deg")}'
+            f"<td>motion[{j.get('from')}] {html.escape(str(j.get('from_law')))} → motion[{j.get('to')}] "
+            f"{html.escape(str(j.get('to_law')))}</td>"
+            f"{_num_cell(report, pre + '.jumps.velocity')}{_num_cell(report, pre + '.jumps.acceleration')}"
+            f"{_num_cell(report, pre + '.jumps.jerk')}{_num_cell(report, pre + '.order')}"
+            f"{_num_cell(report, pre + '.promised')}"
+            f"{_num_cell(report, pre + '.ok')}</tr>")
+    out.append("</table>")
     return "".join(out)
 
 

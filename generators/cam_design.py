@@ -205,6 +205,7 @@ class CamDesign:
                 "max_velocity": maxima["velocity"],
                 "max_acceleration": maxima["acceleration"],
                 "max_jerk": maxima["jerk"],
+                **prog.report(),
             },
             "profile": self._profile_summary(),
             "area": self.area,

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from cam_workbench.freecad import properties as props
+from generators.errors import SpecError
 from generators.spec.params import param, params_of
 from generators.spec import SECTIONS, CamSpec
 
@@ -59,8 +60,14 @@ def test_absent_values():
     assert fps["motion[].law"].absent == ""
     assert "0 = not given" in fps["pitch.segments"].tooltip()
     # only optional fields for which 0 is a meaningful value need an "Enabled" flag: a flat
-    # face's offset (0 = the face through the follower's axis) and a segment's control start
-    assert [f.flag for f in fps.values() if f.flag] == ["FollowerFaceOffsetEnabled", "MotionControlStartEnabled"]
+    # face's offset (0 = the face through the follower's axis), a segment's control start, the
+    # end continuity and derivatives of a polynomial/table segment (absent = the neighbour's, 0 = 0)
+    # and a table's start angle
+    assert [f.flag for f in fps.values() if f.flag] == [
+        "FollowerFaceOffsetEnabled", "MotionControlStartEnabled", "MotionStartContinuityEnabled",
+        "MotionEndContinuityEnabled", "MotionStartVelocityEnabled", "MotionEndVelocityEnabled",
+        "MotionStartAccelerationEnabled", "MotionEndAccelerationEnabled", "MotionStartJerkEnabled",
+        "MotionEndJerkEnabled", "MotionTableStartEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [
@@ -299,3 +306,29 @@ def test_validation_names_a_bad_control_point():
     with pytest.raises(SpecError) as e:
         CamSpec.from_dict({**data, "motion": bad})
     assert M.row_message(e.value, bad).startswith("row 1, control_x")
+
+
+def test_points_fields_are_text_rows_with_the_lift_in_storage_units():
+    """A list-of-pairs field (a polynomial's points, a motion table) is one text entry per motion row,
+    "angle, lift; angle, lift", the lift column converted like the lift itself (mm stored)."""
+    fps = {f.path: f for f in props.field_properties()}
+    for path in ("motion[].points", "motion[].table"):
+        fp = fps[path]
+        assert fp.type == "App::PropertyStringList" and fp.absent == "" and fp.flag is None
+        assert "separated by semicolons" in fp.tooltip()
+    fp = fps["motion[].table"]
+    rows = ((0.0, 0.0), (30.0, 0.5), (60.0, 1.0))
+    text = props._stored_item(fp, rows, "in")
+    assert text == "0.0, 0.0; 30.0, 12.7; 60.0, 25.4"
+    assert props._read_item(fp, text, True, "in", "motion[1].table") == rows
+    assert props._read_item(fp, "", True, "mm", "motion[1].table") is None
+    with pytest.raises(SpecError, match=r"motion\[1\]\.table\[1\]"):
+        props._read_item(fp, "0, 0; 30", True, "mm", "motion[1].table")
+    assert fps["motion[].start_velocity"].factor("in") == 25.4
+
+
+def test_motion_editor_reads_points_cells():
+    from cam_workbench.freecad.motion_editor import _parse
+
+    assert _parse("0, 0; 30, 2.5", "points") == [[0.0, 0.0], [30.0, 2.5]]
+    assert _parse("0, 0; 30", "points") == "0, 0; 30"        # left for the spec's rule to name

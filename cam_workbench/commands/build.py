@@ -61,6 +61,9 @@ def _print_summary(s: dict, out: Path) -> None:
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
                                  f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
+    cont = ck["results"].get("continuity")
+    if cont and cont["status"] == "fail":
+        print(f"  warning: a segment junction breaks its laws' promise: {cont['note']}")
     it = s["interpolator"]
     print(f"  interpolator: {it['commands']} commands (Δt = {it['sample_period']:g} s), max deviation "
           f"{it['max_deviation']:.3g} {lu}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "

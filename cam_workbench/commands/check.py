@@ -12,6 +12,7 @@ from exporters.report_json import report_json_text
 from generators.checks.areas import area_summary
 from generators.checks.design import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
+from generators.motion import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
@@ -54,6 +55,7 @@ def run(args: argparse.Namespace) -> int:
             raise          # a cam that cannot be made though its checks pass: exit 2, nothing written
         error = exc
         summary = {"units": spec.units, "spec_digest": spec_digest(spec), "areas": area_summary(spec),
+                   "motion": MotionProgram.from_spec(spec).report(),
                    "checks": checks_only.to_dict(), "spec": spec.to_dict(),
                    "buildable": {"ok": False, "message": str(exc), "at_deg": exc.angle_deg}}
     out = Path(args.output)
@@ -63,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
     args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
-    print_table(checks, spec, out, report["areas"])
+    print_table(checks, spec, out, report["areas"], report.get("motion", {}).get("junctions"))
     if error is not None:
         print(f"the cam cannot be made: {error}")
     return 0 if checks["passed"] else EXIT_CHECK_FAILED
@@ -81,13 +83,17 @@ def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[st
             old = None
         if isinstance(old, dict) and old.get("spec_digest") == digest:
             old["checks"] = summary["checks"]
+            if isinstance(summary.get("motion"), dict):     # the same cam: refresh what older reports lack
+                old.setdefault("motion", {}).update(
+                    {k: summary["motion"][k] for k in ("segments", "junctions") if k in summary["motion"]})
             return old
     return summary
 
 
-def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float]) -> None:
+def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float],
+                junctions: list[dict[str, Any]] | None = None) -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
-    Values") — the values printed are report.json's own."""
+    Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
     from rich.console import Console
     from rich.table import Table
 
@@ -111,6 +117,8 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
     for name, e in checks["extremes"].items():
         ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
     console.print(ext)
+    if junctions:
+        console.print(junction_table(junctions, spec.units if spec.follower.motion == "translating" else "deg"))
     u = spec.units
     thesis = areas.get("thesis_eq_4_21")
     console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
@@ -121,3 +129,26 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(f"{verdict} — checks written to {out}/report.json")
 
+
+
+_JUMP_NAMES = ("s", "velocity", "acceleration", "jerk")
+
+
+def junction_table(junctions: list[dict[str, Any]], lift_unit: str) -> Any:
+    """report.json's ``motion.junctions`` as a rich table: where, which laws, the order of
+    continuity reached (C0 … C3) against the order promised, and the first jump."""
+    from rich.table import Table
+
+    lab = {"velocity": f" {lift_unit}/rad", "acceleration": f" {lift_unit}/rad²", "jerk": f" {lift_unit}/rad³",
+           "s": f" {lift_unit}"}
+    t = Table(title="segment junctions (continuity of s, s′, s″, s‴)")
+    for col in ("at", "from → to", "reached", "promised", "first jump"):
+        t.add_column(col, justify="right" if col in ("at",) else "left")
+    for j in junctions:
+        order = int(j["order"])
+        first = _JUMP_NAMES[order + 1] if order < 3 else None
+        jump = "—" if first is None else f"{first} {j['jumps'][first]:+.4g}{lab[first]}"
+        mark = "[green]" if j["ok"] else "[bold red]"
+        t.add_row(f"{j['at_deg']:.3f}°", f"motion[{j['from']}] {j['from_law']} → motion[{j['to']}] {j['to_law']}",
+                  f"{mark}C{max(order, 0) if order >= 0 else '-1'}[/]", f"C{j['promised']}", jump)
+    return t

@@ -294,7 +294,8 @@ class MotionEditorPanel:
                 combo.currentIndexChanged.connect(lambda *_: self.refresh())
                 self.table.setCellWidget(r, c, combo)
             else:
-                text = "" if value is None else (f"{value:.12g}" if isinstance(value, float) else str(value))
+                text = "" if value is None else (f"{value:.12g}" if isinstance(value, float) else
+                                                 props.format_points(value) if p.kind == "points" else str(value))
                 self.table.setItem(r, c, QtGui.QTableWidgetItem(text))
 
     def _table_row(self, r: int) -> dict[str, Any]:
@@ -526,6 +527,11 @@ def _parse(text: str, kind: str) -> Any:
             return float(text)
         except ValueError:
             return text
+    if kind == "points":         # "angle, lift; angle, lift" (a polynomial's points, a motion table)
+        try:
+            return [list(r) for r in props.parse_points(text, "")]
+        except SpecError:
+            return text           # the spec's validation names the row
     if kind == "int":
         try:
             return int(text)

@@ -59,6 +59,10 @@ UNIT_STORAGE: dict[str, tuple[str, str, float, float]] = {
     "torsional_stiffness": ("", "N·mm/rad", 1.0, LBF_N * MM_PER_INCH),              # N·mm/rad, lbf·in/rad
     # lbf·in·s² = (lbf·s²/in)·in²: the mass factor × (25.4 mm)²
     "inertia": ("", "kg·mm²", 1.0, LBF_N / (MM_PER_INCH * 1e-3) * MM_PER_INCH**2),  # kg·mm², lbf·in·s²
+    # a motion segment's end velocity, acceleration, jerk per radian: lift units, stored as lengths
+    "reduced_velocity": ("", "mm/rad", 1.0, MM_PER_INCH),
+    "reduced_acceleration": ("", "mm/rad²", 1.0, MM_PER_INCH),
+    "reduced_jerk": ("", "mm/rad³", 1.0, MM_PER_INCH),
 }
 #: Unit kinds that feature version 3 kept as plain numbers in the spec's units (converted by
 #: :func:`migrate_lift_and_torque_units`).
@@ -66,7 +70,7 @@ _V3_PLAIN_KINDS = ("torque", "torsional_stiffness", "inertia")
 #: Property type of a non-list field by value kind (float fields are refined by unit).
 _LIST_TYPES = {"float": "App::PropertyFloatList", "int": "App::PropertyIntegerList",
                "str": "App::PropertyStringList", "bool": "App::PropertyBoolList",
-               "floats": "App::PropertyStringList"}
+               "floats": "App::PropertyStringList", "points": "App::PropertyStringList"}
 _INT_MAX = 2**31 - 1
 _FLOAT_MAX = 1e300
 #: Marks a field that is not optional (so it needs no "absent" representation).
@@ -98,6 +102,8 @@ def _absent_value(p: Param, is_list: bool) -> Any:
         return "" if not (p.choices and "" in p.choices) else None
     if p.kind == "floats":
         return "" if is_list else ()
+    if p.kind == "points":
+        return ""
     return None
 
 
@@ -151,7 +157,7 @@ class FieldProperty:
     def factor(self, units: str, lift: str = "length") -> float:
         """Stored value per unit of the spec's ``units`` ("mm" or "in"); 1 for values stored as
         the spec gives them (degrees, and a lift in the arm's degrees: ``lift`` = "angle")."""
-        if self.param.kind not in ("float", "floats") or self.param.unit not in UNIT_STORAGE:
+        if self.param.kind not in ("float", "floats", "points") or self.param.unit not in UNIT_STORAGE:
             return 1.0
         if self.is_lift and lift == "angle":
             return 1.0
@@ -199,6 +205,9 @@ class FieldProperty:
             facts.append("one entry per row; edit with the motion editor")
             if p.kind == "floats":
                 facts.append("numbers separated by commas")
+            if p.kind == "points":
+                facts.append("rows \"angle, lift\" separated by semicolons (angles in degrees, lifts stored "
+                             "as lengths in mm)")
         parts.append("(" + "; ".join(facts) + ")")
         return " ".join(parts)
 
@@ -230,6 +239,8 @@ def _scalar_type(p: Param) -> str:
         return "App::PropertyBool"
     if p.kind == "floats":
         return "App::PropertyFloatList"
+    if p.kind == "points":
+        return "App::PropertyString"
     raise TypeError(f"no FreeCAD property type for spec kind {p.kind!r}")
 
 
@@ -434,7 +445,7 @@ def _zero(fp: FieldProperty) -> Any:
     k = fp.param.kind
     if k == "str":
         return fp.param.choices[0] if fp.param.choices else ""
-    return {"float": 0.0, "int": 0, "bool": False, "floats": ()}[k]
+    return {"float": 0.0, "int": 0, "bool": False, "floats": (), "points": ""}[k]
 
 
 def _stored_scalar(fp: FieldProperty, value: Any, units: str, lift: str = "length") -> Any:
@@ -455,6 +466,8 @@ def _stored_item(fp: FieldProperty, value: Any, units: str, lift: str = "length"
     f = fp.factor(units, lift)
     if k == "floats":
         return ", ".join(repr(float(v) * f) for v in value)
+    if k == "points":
+        return format_points(value, f)
     if k == "float":
         return float(value) * f
     return value
@@ -521,6 +534,26 @@ def parse_floats(text: str, path: str) -> tuple[float, ...]:
     return tuple(out)
 
 
+def format_points(rows: Any, factor: float = 1.0) -> str:
+    """[[angle, lift], …] as the text of a list property entry: "0.0, 0.0; 30.0, 5.2" (the lift
+    column × ``factor``: its storage unit)."""
+    return "; ".join(f"{float(a)!r}, {float(b) * factor!r}" for a, b in rows)
+
+
+def parse_points(text: str, path: str, factor: float = 1.0) -> tuple[tuple[float, float], ...]:
+    """"0, 0; 30, 5.2" → ((0.0, 0.0), (30.0, 5.2)) with the lift column / ``factor``.
+
+    Raises:
+        SpecError: a row is not two numbers (named by its index, e.g. ``table[2]``)."""
+    out = []
+    for i, row in enumerate(r for r in text.split(";") if r.strip()):
+        vals = parse_floats(row, f"{path}[{i}]")
+        if len(vals) != 2:
+            raise SpecError(f"{path}[{i}]", f"must be two numbers \"angle, lift\", got {row.strip()!r}")
+        out.append((vals[0], unscale(vals[1], factor)))
+    return tuple(out)
+
+
 def format_floats(values: Any) -> str:
     """Floats as the comma-separated text of a list property entry (shortest exact form)."""
     return ", ".join(repr(float(v)) for v in values)
@@ -536,6 +569,9 @@ def _read_item(fp: FieldProperty, raw: Any, given: bool, units: str, path: str,
         if not text:
             return None if fp.absent == "" else ()
         return tuple(unscale(v, f) for v in parse_floats(text, path))
+    if fp.param.kind == "points":
+        text = str(raw).strip()
+        return parse_points(text, path, f) if text else None
     if fp.absent is not _NOT_OPTIONAL and fp.absent is not None and raw == fp.absent:
         return None
     if fp.param.kind == "float":

@@ -17,7 +17,8 @@
   undercut).
 
 Integrals are Gauss–Legendre per motion segment; on a B-spline segment they run over the
-parameter u per knot span, where ½ r² θ′ is a polynomial and the rule is exact.
+parameter u per knot span, where ½ r² θ′ is a polynomial and the rule is exact (at least 16 nodes
+per span, and at least 64 per segment, as a closed form gets).
 """
 from __future__ import annotations
 
@@ -47,8 +48,10 @@ def _integrate_kin(program: MotionProgram, integrand: Callable[[np.ndarray, Any]
         seg_idx = None
         curve = program.curves[k] if program.curves else None
         if curve is not None:
-            xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_KNOT_SPAN)
             br = np.unique(curve.knots)
+            # a lift of few knot spans (a polynomial segment: one) gets as many nodes as a closed form
+            nodes = max(GAUSS_PER_KNOT_SPAN, -(-GAUSS_CLOSED_FORM // (len(br) - 1)))
+            xg, wg = np.polynomial.legendre.leggauss(nodes)
             lo, hi = br[:-1], br[1:]
             u = (0.5 * (hi - lo)[:, None] * (xg[None, :] + 1) + lo[:, None]).ravel()
             w = (0.5 * (hi - lo)[:, None] * wg[None, :]).ravel()

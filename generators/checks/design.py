@@ -323,6 +323,11 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
             "oscillation", "smallest reduced velocity in the direction of travel (rise ↑, return ↓)",
             "min", vmin, _deg(t), 0.0, lab["reduced_velocity"], "pass" if vmin >= -tol else "fail"))
 
+    # continuity at the segment junctions (the laws' promises, checks.min_continuity)
+    cont = continuity_check(model.program, cfg.min_continuity, lab)
+    if cont is not None:
+        results.append(cont)
+
     # contact stress (Eq. 3.6, 5.13)
     if fol.contact != "knife" and model.has_load:
         v, t, _ = _extreme(st.stress, st, model, lambda s: s.stress, refine)
@@ -345,6 +350,63 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
     extremes = _extremes(st, model, refine, lab)
     return DesignChecks(tuple(results), extremes, sampling, samples if sampling == "dense" else THESIS_NODES,
                         u, st)
+
+
+ORDER_WORDS = {-1: "position", 0: "velocity", 1: "acceleration", 2: "jerk"}
+_DERIVATIVE_UNITS = ("length", "reduced_velocity", "reduced_acceleration", "reduced_jerk")
+
+
+def junction_text(j: Any, program: MotionProgram, lab: dict[str, str], required: int | None = None) -> str:
+    """One line about a junction: where, which segments, the first jump and the promise, e.g.
+    ``motion[0] → motion[1] (constant_velocity) at 60°: velocity jumps by 7.639 mm/rad (0 → 7.639);
+    constant_velocity promises C2``."""
+    names = (lambda k: program.laws[k] or "dwell")
+    head = f"motion[{j.left}] ({names(j.left)}) → motion[{j.right}] ({names(j.right)}) at {j.at_deg:.4g}°"
+    if j.order >= 3:
+        return f"{head}: C3 (s, s′, s″, s‴ continuous)"
+    n = j.order + 1
+    unit = lab["lift"] if n == 0 else lab[_DERIVATIVE_UNITS[n]]
+    text = (f"{head}: {ORDER_WORDS[j.order]} jumps by {_g(j.jumps[n])} {unit} "
+            f"({_g(j.values_left[n])} → {_g(j.values_right[n])}); C{max(j.order, 0)}")
+    req = j.promised if required is None else required
+    if j.order < j.promised:
+        who = list(dict.fromkeys(names(k) for k, e in ((j.left, 1), (j.right, 0))
+                                 if program.laws[k] is not None and program.promise(k)[e] == j.promised))
+        text += f", but {' and '.join(who)} promise{'s' if len(who) == 1 else ''} C{j.promised}"
+    elif j.order < req:
+        text += f", below checks.min_continuity = {req}"
+    return text
+
+
+def _g(v: float) -> str:
+    t = f"{v:.4g}"
+    return "0" if t == "-0" else t
+
+
+def continuity_check(program: MotionProgram, min_continuity: int | None, lab: dict[str, str]
+                     ) -> CheckResult | None:
+    """The order of continuity reached at every segment junction against the order the laws on
+    either side promise (and ``checks.min_continuity``).  Reported when it can fail: when the
+    program has a law solved from boundary conditions or fitted, or ``min_continuity`` is given
+    (dwell-to-dwell closed-form and B-spline laws meet their promises by construction)."""
+    from ..motion.segments import MATCHING_LAWS
+
+    junctions = program.junctions()
+    required = [max(j.promised, min_continuity if min_continuity is not None else -1) for j in junctions]
+    short = [(j, r) for j, r in zip(junctions, required) if j.order < r]
+    if not short and min_continuity is None and not any(law in MATCHING_LAWS for law in program.laws):
+        return None
+    worst, req = min(zip(junctions, required), key=lambda jr: (jr[0].order - jr[1], jr[0].index))
+    if short:
+        note = "; ".join(junction_text(j, program, lab, r) for j, r in short[:3])
+        if len(short) > 3:
+            note += f"; and {len(short) - 3} more junctions"
+    else:
+        note = f"lowest: {junction_text(worst, program, lab, req)}"
+    return CheckResult(
+        "continuity", "lowest order of continuity at a segment junction (0 position, 1 velocity, 2 acceleration, "
+        "3 jerk continuous) against what the laws there promise", "min", float(worst.order), worst.at_deg % 360.0,
+        float(req), "", "fail" if short else "pass", note)
 
 
 def _pitch_curvature_checks(spec: CamSpec, model: StateModel, st: CamState, cs: CheckSamples, refine: bool,

@@ -18,6 +18,7 @@ which converges for every polygon whose control θ increase (then θ'(u) > 0).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -125,17 +126,49 @@ class BSplineLift:
         order: k (degree k − 1).
         x: (n+1,) control-point cam angles [rad] from the segment start; x[0] = 0, x[-1] = span.
         y: (n+1,) control-point normalised lifts.
+        knots: (n + k + 1,) knot vector; default (None) the thesis' uniform clamped knots
+            (Eq. 2.12).  Piecewise laws (a constant-velocity segment with blended ends,
+            :mod:`generators.motion.segments`) give clamped knots of their own.
     """
 
     order: int
     x: np.ndarray
     y: np.ndarray
-    knots: np.ndarray = field(init=False, repr=False)
+    knots: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "x", np.asarray(self.x, dtype=float))
         object.__setattr__(self, "y", np.asarray(self.y, dtype=float))
-        object.__setattr__(self, "knots", clamped_uniform_knots(len(self.x), self.order))
+        if self.knots is None:
+            object.__setattr__(self, "knots", clamped_uniform_knots(len(self.x), self.order))
+        else:
+            knots = np.asarray(self.knots, dtype=float)
+            if knots.shape != (len(self.x) + self.order,):
+                raise ValueError(f"{len(self.x)} control points of order {self.order} need "
+                                 f"{len(self.x) + self.order} knots, got {knots.shape[0]}")
+            object.__setattr__(self, "knots", knots)
+
+    @cached_property
+    def _linear_breaks(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(u, θ) at the distinct knots when θ(u) is linear on every knot span (the lifts solved or
+        fitted with θ(u) linear: :mod:`generators.motion.segments`), else None.  Exact test: θ(u) of
+        degree p equals the chord on a span iff it does at p + 1 points of it."""
+        ub = np.unique(self.knots)
+        p = self.degree
+        frac = np.linspace(0.0, 1.0, p + 1)[1:-1] if p > 1 else np.array([])
+        u = (ub[:-1, None] + (ub[1:] - ub[:-1])[:, None] * frac[None, :]).ravel()
+        th = self.parametric(np.concatenate([ub, u]), 0)[0][0]
+        tb, tu = th[:ub.shape[0]], th[ub.shape[0]:]
+        if np.any(np.diff(tb) <= 0):
+            return None
+        chord = np.interp(u, ub, tb)
+        if np.any(np.abs(tu - chord) > 1e-13 * max(abs(self.span), 1e-300)):
+            return None
+        return ub, tb
+
+    def with_points(self, x: np.ndarray, y: np.ndarray) -> "BSplineLift":
+        """The same B-spline (order and knots) with new control points."""
+        return BSplineLift(self.order, x, y, self.knots)
 
     @property
     def degree(self) -> int:
@@ -168,7 +201,7 @@ class BSplineLift:
     @cached_property
     def _table(self) -> tuple[np.ndarray, np.ndarray]:
         """θ on a grid of 32 parameters per knot span (starting guesses and brackets)."""
-        u = np.linspace(0.0, self.u_max, 32 * int(round(self.u_max)) + 1)
+        u = np.linspace(0.0, self.u_max, 32 * max(1, int(round(self.u_max))) + 1)
         return u, self.parametric(u, 0)[0][0]
 
     def u_of_theta(self, theta: np.ndarray, tol: float = 1e-15, max_iter: int = 100) -> np.ndarray:
@@ -176,6 +209,9 @@ class BSplineLift:
         table's bracket (bisection whenever a Newton step would leave it).  θ is clipped to
         the segment [x₀, x_n]."""
         theta = np.clip(np.atleast_1d(np.asarray(theta, dtype=float)), self.x[0], self.x[-1])
+        breaks = self._linear_breaks
+        if breaks is not None:              # θ(u) linear per span: no iteration
+            return np.interp(theta, breaks[1], breaks[0])
         ut, tt = self._table
         j = np.clip(np.searchsorted(tt, theta, side="right"), 1, len(tt) - 1)
         lo, hi = ut[j - 1].copy(), ut[j].copy()
@@ -208,10 +244,54 @@ class BSplineLift:
 
     def evaluate(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """y and dy/dθ, d²y/dθ², d³y/dθ³ [per rad] at cam angles ``theta`` [rad, from the
-        segment start] — thesis Eq. 2.37–2.39 at the parameter u solving θ(u) = θ."""
+        segment start] — thesis Eq. 2.37–2.39 at the parameter u solving θ(u) = θ.  When θ(u) is
+        linear on every knot span, y is evaluated per span as a polynomial in θ (Horner, centred on
+        the span: the same numbers without the basis recursion)."""
         theta = np.asarray(theta, dtype=float)
+        if self._power_table is not None:
+            return tuple(v.reshape(theta.shape) for v in self._evaluate_power(theta.ravel()))  # type: ignore
         u = self.u_of_theta(theta.ravel())
         return tuple(v.reshape(theta.shape) for v in self.derivatives_at(u))  # type: ignore[return-value]
+
+    @cached_property
+    def _power_table(self) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]] | None:
+        """(θ at the distinct knots, θ at the span centres, per derivative order n = 0…3 the
+        (spans, p + 1 − n) coefficients of d^n y/dθ^n as a polynomial in θ − θ_centre), or None
+        unless θ(u) is linear on every span."""
+        breaks = self._linear_breaks
+        if breaks is None:
+            return None
+        ub, tb = breaks
+        p = self.degree
+        mid_u = 0.5 * (ub[:-1] + ub[1:])
+        slope = np.diff(tb) / np.diff(ub)                        # dθ/du on each span
+        ders = self.parametric(mid_u, p)[1]                        # (p + 1, spans): d^m y/du^m
+        m = np.arange(p + 1)
+        fact = np.array([math.factorial(int(k)) for k in m], dtype=float)
+        c = (ders / fact[:, None] / slope[None, :] ** m[:, None]).T  # in θ − θ_mid
+        tables = []
+        for n in range(4):
+            if n > p:
+                tables.append(np.zeros((c.shape[0], 1)))
+                continue
+            k = np.arange(p + 1 - n)
+            falling = np.array([math.perm(int(j + n), n) for j in k], dtype=float)
+            tables.append(c[:, n:] * falling[None, :])
+        return tb, np.interp(mid_u, ub, tb), tables
+
+    def _evaluate_power(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        tb, mid, tables = self._power_table  # type: ignore[misc]
+        theta = np.clip(theta, self.x[0], self.x[-1])
+        j = np.clip(np.searchsorted(tb, theta, side="right") - 1, 0, tb.shape[0] - 2)
+        d = theta - mid[j]
+        out = []
+        for coef in tables:
+            rows = coef[j]
+            acc = rows[:, -1].copy()
+            for m in range(coef.shape[1] - 2, -1, -1):
+                acc = acc * d + rows[:, m]
+            out.append(acc)
+        return tuple(out)  # type: ignore[return-value]
 
     def derivatives_at(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(y, y', y'', y''') with respect to θ at parameters u (thesis Eq. 2.37–2.39)."""
@@ -238,7 +318,8 @@ class BSplineLift:
         k = self.order
         t = self.knots
         n = self.n_points
-        return (k - 1) * np.diff(self.x) / (t[k:n + k - 1] - t[1:n])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (k - 1) * np.diff(self.x) / (t[k:n + k - 1] - t[1:n])
 
 
 # ---- from a spec segment --------------------------------------------------------------

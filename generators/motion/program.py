@@ -8,11 +8,14 @@ Multiply by ω, ω², ω³ (rad/s) for true velocity, acceleration and jerk.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
-from .bspline_law import BSplineLift, lift_from_segment
+from .bspline_law import BSplineLift
 from .laws import evaluate_law
+from .segments import ORDER_NAMES, build_segments, law_promise
 from ..spec.model import CamSpec, MotionSegment
 
 TWO_PI = 2.0 * np.pi
@@ -42,8 +45,16 @@ class MotionProgram:
     lifts: np.ndarray    # (n,) signed lift: +h rise, −h return, 0 dwell
     laws: tuple[str | None, ...]
     kinds: tuple[str, ...]
-    #: per segment: the B-spline lift of a law = "bspline" segment (thesis §2.6), else None
+    #: per segment: the B-spline lift of a law = "bspline" segment (thesis §2.6) and of the laws
+    #: solved from boundary conditions or fitted (polynomial, constant_velocity, table:
+    #: :mod:`generators.motion.segments`, θ(u) linear), else None
     curves: tuple[BSplineLift | None, ...] = ()
+    #: per segment: the order of continuity its (start, end) promise (:func:`law_promise`);
+    #: empty: derived from the laws
+    promises: tuple[tuple[int, int], ...] = ()
+    #: per segment: what a solved law came out as (polynomial degree and coefficients, cruise
+    #: velocity, table fit error), else None
+    infos: tuple[dict[str, Any] | None, ...] = ()
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "MotionProgram":
@@ -52,6 +63,14 @@ class MotionProgram:
 
     @classmethod
     def from_segments(cls, segments: tuple[MotionSegment, ...] | list[MotionSegment]) -> "MotionProgram":
+        """The program of the motion segments (solved once per distinct program: cached).
+
+        Raises:
+            SpecError: a segment that cannot be solved (see :func:`build_segments`)."""
+        return _program(tuple(segments))
+
+    @classmethod
+    def _build(cls, segments: tuple[MotionSegment, ...]) -> "MotionProgram":
         spans_deg = np.array([s.angle for s in segments], dtype=float)
         # Close exactly: spans are validated to sum to 360 within 1e-9°.
         spans = np.deg2rad(spans_deg) * (TWO_PI / np.deg2rad(spans_deg.sum()))
@@ -61,12 +80,50 @@ class MotionProgram:
             for s in segments
         ])
         levels = np.concatenate([[0.0], np.cumsum(signed)[:-1]])
-        curves = tuple(
-            lift_from_segment(s, f"motion[{k}]", float(starts[k]), float(spans[k]))
-            if s.law == "bspline" else None
-            for k, s in enumerate(segments))
+        built = build_segments(segments, starts, spans, levels, signed)
         return cls(starts, spans, levels, signed, tuple(s.law for s in segments),
-                   tuple(s.kind for s in segments), curves)
+                   tuple(s.kind for s in segments), built.curves, built.promises, built.infos)
+
+    def promise(self, k: int) -> tuple[int, int]:
+        """(start, end) order of continuity segment ``k``'s law promises."""
+        if self.promises:
+            return self.promises[k]
+        p = law_promise(self.laws[k], self.curves[k] if self.curves else None)
+        return (p, p)
+
+    def junctions(self) -> list["Junction"]:
+        """Every segment boundary (the last segment's end meets the first's start at 0°): the
+        one-sided s, s′, s″, s‴ on both sides, their jumps, the order of continuity reached and
+        the order the two laws promise."""
+        n = len(self.starts)
+        right_seg = np.arange(n)
+        left_seg = (right_seg - 1) % n
+        kl = self.evaluate(np.where(right_seg == 0, TWO_PI, self.starts), left_seg)
+        kr = self.evaluate(self.starts, right_seg)
+        left = np.stack([kl.s, kl.ds, kl.d2s, kl.d3s], axis=1)
+        right = np.stack([kr.s, kr.ds, kr.d2s, kr.d3s], axis=1)
+        jump = right - left
+        # a jump counts when above 1e-6 of the larger side or of the adjacent segments' scale |h|/β^n
+        ref = np.zeros((n, 4))
+        for side in (left_seg, right_seg):
+            h = np.abs(self.lifts[side])
+            beta = self.spans[side]
+            ref = np.maximum(ref, h[:, None] / beta[:, None] ** np.arange(4)[None, :])
+        tol = 1e-6 * np.maximum(np.maximum(np.abs(left), np.abs(right)), ref)
+        ok = np.abs(jump) <= tol
+        out = []
+        for j in range(n):
+            a, b = int(left_seg[j]), int(right_seg[j])
+            reached = -1
+            for order in range(4):
+                if not ok[j, order]:
+                    break
+                reached = order
+            promised = min(self.promise(a)[1], self.promise(b)[0])
+            out.append(Junction(j, a, b, float(np.rad2deg(self.starts[j])), self.laws[a], self.laws[b],
+                                tuple(float(v) for v in left[j]), tuple(float(v) for v in right[j]),
+                                tuple(float(v) for v in jump[j]), reached, promised))
+        return out
 
     @property
     def boundaries(self) -> np.ndarray:
@@ -121,6 +178,23 @@ class MotionProgram:
             d3s[m] = h * f3 / beta**3
         return Kinematics(theta, s, ds, d2s, d3s)
 
+    def report(self) -> dict[str, Any]:
+        """report.json's ``motion.segments`` (each segment's span, levels, promised continuity and
+        what a solved law came out as) and ``motion.junctions`` (:meth:`junctions`)."""
+        segs = []
+        for k in range(len(self.starts)):
+            entry: dict[str, Any] = {
+                "index": k, "kind": self.kinds[k], "law": self.laws[k] or "dwell",
+                "start_deg": float(np.rad2deg(self.starts[k])), "span_deg": float(np.rad2deg(self.spans[k])),
+                "start_level": float(self.levels[k]), "end_level": float(self.levels[k] + self.lifts[k]),
+                "promised_continuity": list(self.promise(k)),
+            }
+            info = self.infos[k] if self.infos else None
+            if info:
+                entry.update({key: v for key, v in info.items() if key != "law"})
+            segs.append(_plain(entry))
+        return {"segments": segs, "junctions": [j.to_dict() for j in self.junctions()]}
+
     def s(self, theta: np.ndarray | float) -> np.ndarray:
         """Follower displacement only."""
         return self.evaluate(theta).s
@@ -144,6 +218,63 @@ class MotionProgram:
             n = samples_per_segment if self.laws[k] is not None else 2
             parts.append(self.starts[k] + self.spans[k] * np.linspace(0.0, 1.0, n))
         return np.concatenate(parts)
+
+
+def _plain(v: Any) -> Any:
+    """numpy scalars and arrays in a report entry as plain Python numbers and lists."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.floating):
+        return float(v)
+    return v
+
+
+@lru_cache(maxsize=64)
+def _program(segments: tuple[MotionSegment, ...]) -> MotionProgram:
+    return MotionProgram._build(segments)
+
+
+@dataclass(frozen=True)
+class Junction:
+    """Where segment ``left`` ends and segment ``right`` starts.
+
+    ``values_left``/``values_right`` are (s, s′, s″, s‴) on either side, ``jumps`` right − left;
+    ``order`` is the highest n with s … s^(n) continuous (−1: s itself jumps; 3: up to the jerk,
+    the highest derivative the program carries); ``promised`` the lower of the orders the two
+    laws promise at this end (:func:`~generators.motion.segments.law_promise`)."""
+
+    index: int
+    left: int
+    right: int
+    at_deg: float
+    law_left: str | None
+    law_right: str | None
+    values_left: tuple[float, float, float, float]
+    values_right: tuple[float, float, float, float]
+    jumps: tuple[float, float, float, float]
+    order: int
+    promised: int
+
+    @property
+    def ok(self) -> bool:
+        return self.order >= self.promised
+
+    @property
+    def first_jump(self) -> str | None:
+        """The lowest derivative that jumps ("velocity", …), or None."""
+        return ORDER_NAMES[self.order + 1] if self.order < 3 else None
+
+    def to_dict(self) -> dict[str, Any]:
+        names = ("s", "velocity", "acceleration", "jerk")
+        return {"index": self.index, "at_deg": self.at_deg, "from": self.left, "to": self.right,
+                "from_law": self.law_left or "dwell", "to_law": self.law_right or "dwell",
+                "left": dict(zip(names, self.values_left)), "right": dict(zip(names, self.values_right)),
+                "jumps": dict(zip(names, self.jumps)), "order": self.order, "promised": self.promised,
+                "ok": self.ok}
 
 
 def wrap_angle(theta: np.ndarray | float) -> np.ndarray:

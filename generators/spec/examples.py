@@ -13,6 +13,9 @@
   preload torque and a 500 N·mm/rad spring, arm inertia 2000 kg·mm²; it passes every check.
 * ``flat`` — the default's motion program with a translating flat-faced follower (face 40 mm
   wide), the valve-train follower; it passes every check (its smallest ρ = R_b + s + s″ is 29.3 mm).
+* ``packaging`` — a packaging machine's working stroke: a 22 mm constant-velocity rise over 120°
+  entered and left through polynomial rises that take its velocity (Norton's SVAJ method), then a
+  polynomial return; every junction is C², and it passes every check.
 """
 from __future__ import annotations
 
@@ -48,8 +51,26 @@ OSCILLATING_SPEC_DICT: dict[str, Any] = _with_follower(
 FLAT_SPEC_DICT: dict[str, Any] = _with_follower(
     {"kind": "flat", "face_width": 40.0, "mass": 0.5, "preload": 20.0, "spring_rate": 1.0})
 
+PACKAGING_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"base_radius": 60.0, "thickness": 12.0, "bore_diameter": 16.0, "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "roller_radius": 8.0, "mass": 0.5, "preload": 30.0, "spring_rate": 1.0},
+    "motion": [
+        {"kind": "dwell", "angle": 25.0},
+        # from rest into the working stroke: the polynomial takes the stroke's velocity at its end
+        {"kind": "rise", "angle": 45.0, "lift": 4.0, "law": "polynomial"},
+        {"kind": "rise", "angle": 120.0, "lift": 22.0, "law": "constant_velocity"},
+        {"kind": "rise", "angle": 45.0, "lift": 4.0, "law": "polynomial"},
+        {"kind": "dwell", "angle": 25.0},
+        {"kind": "return", "angle": 100.0, "lift": 30.0, "law": "polynomial"},
+    ],
+    "pitch": {"tolerance": 1e-4},
+    "material": {"allowable_stress": 1000.0},
+}
+
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
-                                       "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT}
+                                       "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
+                                       "packaging": PACKAGING_SPEC_DICT}
 
 
 def example_dict(name: str) -> dict[str, Any]:

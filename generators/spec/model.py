@@ -18,12 +18,27 @@ from typing import Any, Mapping
 from ..errors import SpecError
 from .params import REQUIRED, Param, param, params_of
 
-LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
-#: The laws implemented by :mod:`generators.laws` (closed forms); "bspline" is the thesis'
-#: parametric B-spline (:mod:`generators.bspline_law`), shaped by control points.
-CLOSED_FORM_LAWS = LAWS[:-1]
+LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
+        "polynomial", "constant_velocity", "table")
+#: The laws implemented by :mod:`generators.motion.laws` (closed forms); "bspline" is the thesis'
+#: parametric B-spline (:mod:`generators.motion.bspline_law`), shaped by control points;
+#: "polynomial", "constant_velocity" and "table" are solved from boundary conditions or fitted to
+#: points (:mod:`generators.motion.segments`).
+CLOSED_FORM_LAWS = LAWS[:6]
 #: Motion-segment fields that only a law = "bspline" segment may have.
 BSPLINE_FIELDS = ("order", "control_x", "control_y", "control_frame", "control_start")
+#: Motion-segment fields of the laws solved from boundary conditions, with the laws that take them.
+SEGMENT_LAW_FIELDS: dict[str, tuple[str, ...]] = {
+    "start_continuity": ("polynomial", "constant_velocity", "table"),
+    "end_continuity": ("polynomial", "constant_velocity", "table"),
+    "start_velocity": ("polynomial", "table"), "end_velocity": ("polynomial", "table"),
+    "start_acceleration": ("polynomial", "table"), "end_acceleration": ("polynomial", "table"),
+    "start_jerk": ("polynomial", "table"), "end_jerk": ("polynomial", "table"),
+    "points": ("polynomial",),
+    "start_blend": ("constant_velocity",), "end_blend": ("constant_velocity",),
+    "table": ("table",), "table_file": ("table",), "table_start": ("table",), "table_tolerance": ("table",),
+    "order": ("bspline", "table"),
+}
 
 SPAN_TOL_DEG = 1e-9
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
@@ -146,8 +161,11 @@ class MotionSegment:
                          unit="angle", gt=0, group="Motion")
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
                                unit="length", gt=0, optional=True, group="Motion")
-    law: str | None = param("Motion law (rise/return only)", kind="str", choices=LAWS,
-                            optional=True, group="Motion")
+    law: str | None = param(
+        "Motion law (rise/return only): a closed form, \"bspline\" (control points), \"polynomial\" (the "
+        "lowest-degree polynomial meeting the end conditions and points), \"constant_velocity\" (with blended "
+        "ends) or \"table\" (a B-spline fitted to (angle, lift) points)", kind="str", choices=LAWS,
+        optional=True, group="Motion")
     junctions: int | None = param(
         "Number of PH segments spanning this motion segment (non-uniform junction spacing, "
         "as the paper's case 3); when any segment has it, all must",
@@ -161,12 +179,15 @@ class MotionSegment:
             for name in ("lift", "law"):
                 if name in data:
                     raise SpecError(f"{path}.{name}", "must be absent for a dwell")
+        if "table" in data and "table_file" in data:
+            raise SpecError(f"{path}.table_file", "is exclusive with table: give the points inline or as a file")
 
     # ---- law = "bspline" (thesis §2.5–2.7) ----
     order: int | None = param(
         "B-spline order k (degree k − 1) of a law = \"bspline\" segment; the first and last k − 1 "
         "control points sit at the end levels, so derivatives 1 … k − 2 vanish at both ends; "
-        "default 5 (the thesis: zero velocity, acceleration and jerk)",
+        "default 5 (the thesis: zero velocity, acceleration and jerk). With law = \"table\": the "
+        "fit's order (≥ 4 for C²; default 5)",
         kind="int", ge=3, le=10, optional=True, group="Motion",
     )
     control_x: tuple[float, ...] | None = param(
@@ -192,6 +213,66 @@ class MotionSegment:
         "it). For designs whose cycle starts elsewhere (thesis Examples 4 and 6 start at −20°)",
         unit="angle", optional=True, group="Motion",
     )
+    # ---- laws solved from boundary conditions: polynomial, constant_velocity, table ----
+    start_continuity: int | None = param(
+        "Polynomial, constant_velocity, table: derivatives of s the segment's start takes from the previous "
+        "segment's end — 1 velocity, 2 and acceleration (default), 3 and jerk, 0 none (free). Between dwells "
+        "a polynomial with 2 at both ends is the 3-4-5 law, with 3 the 4-5-6-7 law",
+        kind="int", ge=0, le=3, optional=True, group="Motion")
+    end_continuity: int | None = param(
+        "As start_continuity, for the segment's end and the next segment's start",
+        kind="int", ge=0, le=3, optional=True, group="Motion")
+    start_velocity: float | None = param(
+        "Polynomial, table: s′ at the segment's start, per radian of cam rotation (lift units/rad); absent: "
+        "the previous segment's (to start_continuity) or free",
+        unit="reduced_velocity", optional=True, group="Motion")
+    end_velocity: float | None = param(
+        "Polynomial, table: s′ at the segment's end (lift units/rad); absent: the next segment's or free",
+        unit="reduced_velocity", optional=True, group="Motion")
+    start_acceleration: float | None = param(
+        "Polynomial, table: s″ at the segment's start (lift units/rad²); absent: the previous segment's or free",
+        unit="reduced_acceleration", optional=True, group="Motion")
+    end_acceleration: float | None = param(
+        "Polynomial, table: s″ at the segment's end (lift units/rad²); absent: the next segment's or free",
+        unit="reduced_acceleration", optional=True, group="Motion")
+    start_jerk: float | None = param(
+        "Polynomial, table: s‴ at the segment's start (lift units/rad³); absent: the previous segment's "
+        "(start_continuity 3) or free",
+        unit="reduced_jerk", optional=True, group="Motion")
+    end_jerk: float | None = param(
+        "Polynomial, table: s‴ at the segment's end (lift units/rad³); absent: the next segment's "
+        "(end_continuity 3) or free",
+        unit="reduced_jerk", optional=True, group="Motion")
+    points: tuple[tuple[float, float], ...] | None = param(
+        "Polynomial: interior points [[angle, s], …] the polynomial passes through: degrees from the segment "
+        "start (strictly inside it) and the follower displacement s there (lift units, measured from zero "
+        "lift like the program)",
+        kind="points", unit="length", optional=True, group="Motion")
+    start_blend: float | None = param(
+        "Constant velocity: angle over which the start blends from the previous segment's motion into the "
+        "constant velocity (a polynomial meeting both to start_continuity); absent: no blend",
+        unit="angle", gt=0, optional=True, group="Motion")
+    end_blend: float | None = param(
+        "Constant velocity: angle over which the constant velocity blends into the next segment's motion "
+        "(to end_continuity); absent: no blend",
+        unit="angle", gt=0, optional=True, group="Motion")
+    table: tuple[tuple[float, float], ...] | None = param(
+        "Table: [[angle, s], …] points the segment's B-spline is fitted to: degrees from the segment start "
+        "(or from table_start) and the follower displacement s (lift units, from zero lift)",
+        kind="points", unit="length", optional=True, group="Motion")
+    table_file: str | None = param(
+        "Table: a CSV file of angle, s rows (comma, semicolon or space separated; a header line and # "
+        "comments skipped), relative to the spec file; read into `table` when the spec is loaded",
+        kind="str", optional=True, group="Motion")
+    table_start: float | None = param(
+        "Table: the table angle at which this segment starts; rows outside the segment are then ignored, so "
+        "one table of a whole cycle can serve several segments (absent: angles from the segment start, "
+        "and every row must lie inside it)",
+        unit="angle", optional=True, group="Motion")
+    table_tolerance: float | None = param(
+        "Table: largest allowed distance |s_fit − s| of the fit from a table point (default 0.1% of the "
+        "lift); the fewest knot spans meeting it are used",
+        unit="length", gt=0, optional=True, group="Motion")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -281,6 +362,11 @@ class ChecksSection:
         kind="str", choices=("dense", "thesis71"), default="dense", group="Checks")
     samples: int = param("Samples per rise or return in dense sampling (ends included)",
                          kind="int", ge=11, le=100001, default=1001, group="Checks")
+    min_continuity: int | None = param(
+        "Order of continuity every segment junction must reach (1 velocity, 2 acceleration, 3 jerk "
+        "continuous), besides what the two laws there promise (absent: only their promise; 2 is Norton's "
+        "fundamental law of cam design, which a harmonic rise next to a dwell breaks)",
+        kind="int", ge=1, le=3, optional=True, group="Checks")
 
 
 DEFAULT_SEGMENTS = 60
@@ -531,11 +617,15 @@ class CamSpec:
 
     # ---- construction -------------------------------------------------------------
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> "CamSpec":
-        """Build and validate a spec from the TOML structure as nested dicts/lists."""
+    def from_dict(cls, data: Mapping[str, Any], *, base_dir: str | Path | None = None) -> "CamSpec":
+        """Build and validate a spec from the TOML structure as nested dicts/lists.
+
+        ``base_dir``: the folder a ``motion[].table_file`` is relative to (:func:`load_spec` gives
+        the spec file's; default the working directory).  The file is read into ``table``."""
         if not isinstance(data, Mapping):
             raise SpecError("spec", f"must be a table of sections, got {type(data).__name__}")
         _reject_unknown("", data, {"units", *SECTIONS})
+        data = _inline_table_files(data, base_dir)
         values: dict[str, Any] = {"units": params_of(CamSpec)["units"].check("units", data.get("units", "mm"))}
         for name, (section_cls, is_list, required) in SECTIONS.items():
             if name not in data:
@@ -666,6 +756,39 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
         where = here
 
 
+def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) -> Mapping[str, Any]:
+    """``data`` with every ``motion[i].table_file`` read into ``motion[i].table`` (a copy; the
+    spec then holds the points themselves, so its TOML, digest and reports do not depend on the file)."""
+    motion = data.get("motion")
+    if not isinstance(motion, (list, tuple)) or not any(
+            isinstance(m, Mapping) and "table_file" in m for m in motion):
+        return data
+    from ..motion.table import TableError, read_csv
+
+    rows = []
+    for i, m in enumerate(motion):
+        if isinstance(m, Mapping) and "table_file" in m:
+            path = f"motion[{i}].table_file"
+            name = m["table_file"]
+            if not isinstance(name, str) or not name.strip():
+                raise SpecError(path, f"must be a file name, got {name!r}")
+            if "table" in m:
+                raise SpecError(path, "is exclusive with table: give the points inline or as a file")
+            f = Path(name).expanduser()
+            if not f.is_absolute():
+                f = Path(base_dir or ".") / f
+            try:
+                table = read_csv(f)
+            except TableError as exc:
+                raise SpecError(path, str(exc)) from None
+            m = {k: v for k, v in m.items() if k != "table_file"}
+            m["table"] = [list(r) for r in table]
+        rows.append(m)
+    out = dict(data)
+    out["motion"] = rows
+    return out
+
+
 def _reject_unknown(prefix: str, data: Mapping[str, Any], known: set[str]) -> None:
     for key in data:
         if key not in known:
@@ -776,8 +899,13 @@ def _validate_motion(spec: CamSpec) -> None:
         total += seg.angle
         if seg.law != "bspline":
             for name in BSPLINE_FIELDS:
-                if getattr(seg, name) is not None:
-                    raise SpecError(f"{p}.{name}", 'must be absent unless law = "bspline"')
+                if getattr(seg, name) is not None and seg.law not in SEGMENT_LAW_FIELDS.get(name, ()):
+                    raise SpecError(f"{p}.{name}", 'must be absent unless law = "bspline"'
+                                    + (' or "table"' if name == "order" else ""))
+        for name, laws in SEGMENT_LAW_FIELDS.items():
+            if name not in BSPLINE_FIELDS and getattr(seg, name) is not None and seg.law not in laws:
+                raise SpecError(f"{p}.{name}", "applies to law = " + " or ".join(f'"{w}"' for w in laws)
+                                + (f" only, not {seg.law!r}" if seg.law else " only"))
         if seg.kind == "dwell":
             if seg.lift is not None:
                 raise SpecError(f"{p}.lift", "must be absent for a dwell")
@@ -794,6 +922,12 @@ def _validate_motion(spec: CamSpec) -> None:
             from ..motion.bspline_law import lift_from_segment
 
             lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
+        if seg.law == "table":
+            if seg.table is None:
+                raise SpecError(f"{p}.table", 'is required for law = "table" (inline [[angle, s], …] rows, '
+                                "or table_file)")
+            if seg.order is not None and seg.order < 4:
+                raise SpecError(f"{p}.order", f"a table fit needs order ≥ 4 (C² inside the segment), got {seg.order}")
         lifts.append(seg.lift)
         level += seg.lift if seg.kind == "rise" else -seg.lift
         scale = max(lifts)
@@ -808,6 +942,11 @@ def _validate_motion(spec: CamSpec) -> None:
     if abs(level) > 1e-9 * max(lifts):
         raise SpecError("motion",
                         f"program does not close: total rise − total fall = {level:g}, must be 0")
+    # the laws solved from boundary conditions or fitted, s ≥ 0 inside every segment, the program's
+    # junction values (generators.motion.segments): errors name the field
+    from ..motion.program import MotionProgram
+
+    MotionProgram.from_segments(spec.motion)
     has_j = [seg.junctions is not None for seg in spec.motion]
     if any(has_j) and not all(has_j):
         missing = has_j.index(False)
@@ -1030,7 +1169,7 @@ def load_spec(source: str | Path | Mapping[str, Any]) -> CamSpec:
         raise SpecError(where, f"is not valid TOML ({exc})") from None
     except RecursionError:
         raise SpecError(where, "is nested too deeply to be a cam spec") from None
-    return CamSpec.from_dict(data)
+    return CamSpec.from_dict(data, base_dir=p.parent if p is not None else None)
 
 
 #: A spec file larger than this is refused before it is read.

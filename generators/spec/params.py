@@ -29,6 +29,11 @@ UNIT_NAMES: dict[str, dict[str, str]] = {
     "torque": {"mm": "N·mm", "in": "lbf·in"},
     "torsional_stiffness": {"mm": "N·mm/rad", "in": "lbf·in/rad"},
     "inertia": {"mm": "kg·mm²", "in": "lbf·in·s²"},
+    # reduced (per radian of cam rotation) follower velocity, acceleration, jerk: lift units
+    # (length, or degrees of arm rotation for an oscillating follower) per rad^n
+    "reduced_velocity": {"mm": "mm/rad", "in": "in/rad"},
+    "reduced_acceleration": {"mm": "mm/rad²", "in": "in/rad²"},
+    "reduced_jerk": {"mm": "mm/rad³", "in": "in/rad³"},
     "": {"mm": "", "in": ""},
 }
 
@@ -38,8 +43,11 @@ UNIT_NAMES: dict[str, dict[str, str]] = {
 MAX_MAGNITUDE: dict[str, float] = {
     "length": 1.0e5, "angle": 1.0e4, "speed": 1.0e5, "force": 1.0e9, "mass": 1.0e6, "stiffness": 1.0e9,
     "stress": 1.0e12, "time": 1.0e3, "feed": 1.0e6, "spindle": 1.0e6, "density": 1.0e3, "torque": 1.0e12,
-    "torsional_stiffness": 1.0e12, "inertia": 1.0e12, "": 1.0e9,
+    "torsional_stiffness": 1.0e12, "inertia": 1.0e12, "reduced_velocity": 1.0e7, "reduced_acceleration": 1.0e9,
+    "reduced_jerk": 1.0e11, "": 1.0e9,
 }
+#: Most rows of a "points" field (a motion table, a polynomial's interior points).
+MAX_POINT_ROWS = 20000
 #: Smallest magnitude of a strictly positive value (``gt=0``) of each unit kind: below it a
 #: G-code word or a geometric tolerance rounds to nothing.
 MIN_POSITIVE: dict[str, float] = {"length": 1.0e-9, "feed": 1.0e-3, "spindle": 1.0, "speed": 1.0e-6,
@@ -62,7 +70,8 @@ class Param:
 
     Attributes:
         doc: one-line description (shown in CLI help, FreeCAD tooltips, docs).
-        kind: value type: "float", "int", "str", "bool", "floats" (list of floats).
+        kind: value type: "float", "int", "str", "bool", "floats" (list of floats),
+            "points" (list of [cam angle in degrees, lift] rows; ``unit`` is the lift's).
         unit: unit kind (a key of :data:`UNIT_NAMES`), "" for dimensionless.
         default: default value, or :data:`REQUIRED`.
         choices: allowed values for "str" fields.
@@ -127,6 +136,22 @@ class Param:
             if len(value) > 1000:
                 raise SpecError(path, f"must have at most 1000 entries, got {len(value)}")
             value = tuple(_as_float(f"{path}[{i}]", v) for i, v in enumerate(value))
+        elif k == "points":
+            if not isinstance(value, (list, tuple)):
+                raise SpecError(path, f"must be a list of [angle, lift] rows, got {_short(value)}")
+            if len(value) > MAX_POINT_ROWS:
+                raise SpecError(path, f"must have at most {MAX_POINT_ROWS} rows, got {len(value)}")
+            rows = []
+            for i, row in enumerate(value):
+                if not isinstance(row, (list, tuple)) or len(row) != 2:
+                    raise SpecError(f"{path}[{i}]", f"must be an [angle, lift] pair, got {_short(row)}")
+                a, b = (_as_float(f"{path}[{i}][{j}]", v) for j, v in enumerate(row))
+                top = MAX_MAGNITUDE.get(self.unit, MAX_MAGNITUDE[""])
+                if abs(a) > MAX_MAGNITUDE["angle"] or abs(b) > top:
+                    raise SpecError(f"{path}[{i}]", f"must be within ±{MAX_MAGNITUDE['angle']:g}° and ±{top:g}, "
+                                                    f"got {_short(row)}")
+                rows.append((a, b))
+            value = tuple(rows)
         if k in ("float", "int"):
             self._check_bounds(path, value)
         return value

@@ -85,6 +85,13 @@ reference, including the fields added since.
 - `law = "bspline"` needs `control_x` and `control_y`; `order`, `control_*` are only allowed with it;
   θ(u) must increase (the offending control point is named); fixed control lifts must sit at the
   end levels; `control_start` only with `control_frame = "absolute_rad"` (see below).
+- `law = "polynomial"`, `"constant_velocity"`, `"table"` (see below): `start_/end_continuity` with these
+  three; `start_/end_velocity`, `_acceleration`, `_jerk` with polynomial and table; `points` with
+  polynomial (inside the segment, one lift per angle); `start_blend`, `end_blend` with
+  constant_velocity (together less than `angle`); `table` or `table_file` (exclusive), `table_start`,
+  `table_tolerance` and `order` (≥ 4) with table.  Conditions that do not determine a polynomial, a
+  fit that misses a point by more than `table_tolerance`, a segment that takes s below 0 and a blend
+  that would need a backward cruise are errors naming the field.
 - `drawing.dxf_version = "R12"` needs `drawing.curves` = "arcs" or "polyline" (R12 has no SPLINE).
 - `machining.sample_period`: at most 10⁷ commands per turn at the rotary speed
   (`machining.rotary_speed_rpm`, default `cam.speed_rpm`).
@@ -132,6 +139,26 @@ control_y = [0.0772, 0.6242, 0.9094]
 A design whose cycle starts elsewhere (the thesis' Examples 4 and 6 start at −20°) gives each
 segment's start in its own frame with `control_start` (degrees).
 
+## Polynomial, constant-velocity and table segments
+
+Segments that take their ends from their neighbours, so that rises, returns and constant-velocity
+strokes can follow each other without dwells (the full story, with examples:
+[motion.md](motion.md)):
+
+- `law = "polynomial"` (Norton's SVAJ method): the lowest-degree polynomial meeting s at both ends,
+  the derivatives each end takes from its neighbour (`start_continuity`/`end_continuity`, default 2:
+  velocity and acceleration) or gets from the spec (`start_velocity` … `end_jerk`, per radian), and the
+  interior `points`.  Between dwells it is the 3-4-5 law; with continuity 3 the 4-5-6-7 law.
+- `law = "constant_velocity"`: s′ = V over the segment, V from the lift; `start_blend`/`end_blend`
+  degrees at the ends blend from and into the neighbours' motion (a polynomial to the continuity).
+- `law = "table"`: a B-spline of order `order` (default 5) fitted by least squares to `table` (or the
+  CSV `table_file`) with the fewest uniform knot spans that keep every point within
+  `table_tolerance`; its ends are held to the levels and the neighbours' derivatives.
+
+Every junction's continuity (jumps of s′, s″, s‴ and the order reached) is reported in report.json
+`motion.junctions` and checked by the `continuity` check against what the laws on either side promise
+(and `checks.min_continuity`).
+
 ## Design checks (`cam-workbench check`, report.json `checks`)
 
 Evaluated on the design intent at `checks.samples` equally spaced cam angles per rise/return
@@ -147,6 +174,7 @@ every check reports its extreme, the cam angle, the limit and pass / fail / skip
 | `curvature` | smallest convex pitch radius of curvature ρ (Eq. 3.7) | ≥ `checks.undercut_factor` × roller radius (Eq. 5.7) |
 | `undercut` | ρ − r_f, the cam surface's radius, and the roller envelope crossing itself | > 0, no crossing |
 | `convexity` (with `checks.convex`) | smallest pitch curvature κ = 1/ρ (thesis Eq. 5.7 read with signed ρ) | ≥ 0 |
+| `continuity` (with a polynomial, constant_velocity or table segment, or `checks.min_continuity`) | lowest order of continuity reached at a segment junction (0: the velocity jumps … 3: s‴ continuous) | ≥ the order the laws there promise (cycloidal 2, harmonic 1, poly4567 3, bspline k − 2, the solved laws their continuity) and ≥ `checks.min_continuity` |
 
 Units: N, kg, mm and MPa in a mm spec (M_f·s″ω² is kg·mm/s² = 10⁻³ N), lbf, lbf·s²/in, in and
 psi in an inch spec (the thesis' "0.02 slugs" is 0.02 lbf·s²/in).  Separation and stress are

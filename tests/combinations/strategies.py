@@ -5,20 +5,52 @@ borderline ones (small base radius: undercut, large pressure angles), which must
 refusal or a result whose checks fail — never an internal error."""
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from hypothesis import strategies as st
 
-LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline")
+LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
+        "polynomial", "constant_velocity", "table")
 DXF_VERSIONS = ("R12", "R2000", "R2004", "R2007", "R2010", "R2013", "R2018")
 
 
-def _segment(kind: str, angle: float, lift: float | None, law: str | None, y: float) -> dict[str, Any]:
+def _segment(kind: str, angle: float, lift: float | None, law: str | None, y: float, level: float = 0.0,
+             variant: int = 0) -> dict[str, Any]:
+    """One segment; ``level`` is s at its start (a table's points are absolute lifts), ``variant``
+    (0–5) picks among a law's options (continuity, interior points, blends)."""
     seg: dict[str, Any] = {"kind": kind, "angle": angle}
     if kind != "dwell":
         seg.update(lift=lift, law=law)
         if law == "bspline":
             seg.update(order=5, control_x=[angle * j / 8 for j in range(1, 8)], control_y=[y])
+        sign = 1.0 if kind == "rise" else -1.0
+        if law == "polynomial":
+            if variant in (1, 4):
+                seg.update(start_continuity=3, end_continuity=3)          # 4-5-6-7 between dwells
+            if variant in (2, 4):                                         # a point on the 3-4-5 curve moved by y
+                x = 0.5
+                seg["points"] = [[angle * x, level + sign * lift * (0.5 + 0.2 * (y - 0.5))]]
+            if variant == 3:
+                seg["end_continuity"] = 1                                  # acceleration free at the end
+        elif law == "constant_velocity":
+            blends = {0: (0.2, 0.2), 1: (0.3, 0.1), 2: (0.15, None), 3: (None, 0.15), 4: (0.25, 0.25), 5: (0.2, 0.2)}
+            b0, b1 = blends[variant]
+            if b0:
+                seg["start_blend"] = angle * b0
+            if b1:
+                seg["end_blend"] = angle * b1
+            if variant == 5:
+                seg.update(start_continuity=3, end_continuity=3)
+        elif law == "table":                                            # a sampled cycloid, every 3°
+            n = max(8, int(angle / 3.0))
+            xs = [j / n for j in range(n + 1)]
+            f = [x - math.sin(2 * math.pi * x) / (2 * math.pi) for x in xs]
+            seg["table"] = [[angle * x, level + sign * lift * fx] for x, fx in zip(xs, f)]
+            if variant in (1, 3):
+                seg["order"] = 6
+            if variant == 2:
+                seg["table_tolerance"] = lift * 1e-2
     return seg
 
 
@@ -36,10 +68,13 @@ def motion_programs(draw: Any, lift: float) -> list[dict[str, Any]]:
     rises = [i for i, k in enumerate(kinds) if k == "rise"]
     parts = [lift / len(rises)] * len(rises)
     segs = []
+    level = 0.0
     for i, k in enumerate(kinds):
         law = draw(st.sampled_from(LAWS)) if k != "dwell" else None
         h = None if k == "dwell" else (parts[rises.index(i)] if k == "rise" else lift)
-        segs.append(_segment(k, angles[i], h, law, draw(st.floats(0.3, 0.7))))
+        segs.append(_segment(k, angles[i], h, law, draw(st.floats(0.3, 0.7)), level,
+                             draw(st.integers(0, 5)) if law in ("polynomial", "constant_velocity", "table") else 0))
+        level += 0.0 if h is None else (h if k == "rise" else -h)
     return segs
 
 
