@@ -28,7 +28,7 @@ from scipy.optimize import brentq
 
 from ..motion.program import MotionProgram
 from .model import TrainModel
-from .periodic import CamInput, PeriodicResponse, fourier_eval
+from .periodic import CamInput, PeriodicResponse
 
 TWO_PI = 2.0 * math.pi
 #: a revolution repeats the one before when its end state differs by less than this, relative to
@@ -83,10 +83,15 @@ class _Phases:
         self.wd = wn * np.sqrt(complex(1.0 - zeta * zeta))
         self.wn2 = wn * wn
         self.flight_w = model.flight_frequency
-        k = np.arange(periodic.error_spectrum.size)
-        # q_p = u + e: e and ė as Fourier series (u from the program itself)
-        self.err_k = periodic.error_spectrum
-        self.derr_k = 1j * k * periodic.error_spectrum
+        # q_p = u + e between samples: e and e′ as Fourier series (u from the program itself), the
+        # harmonics summed only as far as they count: the rest bounds the error by 1e-14 of e's range
+        spec = periodic.error_spectrum
+        k = np.arange(spec.size)
+        tail = np.cumsum((np.abs(spec) * (1.0 + k))[::-1])[::-1]
+        scale = max(float(np.ptp(periodic.error)), float(np.max(np.abs(periodic.error))), 1e-300)
+        keep = int(np.searchsorted(-tail, -1e-14 * scale)) + 1
+        self.k = k[:keep]
+        self.err_k = spec[:keep] * np.where(self.k == 0, 1.0, 2.0)
 
     # ---- the drive and the particular solution at any time ---------------------------------
     def drive(self, t: float) -> tuple[float, float]:
@@ -95,12 +100,10 @@ class _Phases:
         c = self.m.lift_scale
         return c * float(k.s[0]), c * float(k.ds[0]) * self.omega
 
-    def particular(self, t: float) -> tuple[float, float]:
-        u, du = self.drive(t)
-        th = self.omega * t
-        e = float(fourier_eval(self.err_k, th, self.n)[0])
-        de = float(fourier_eval(self.err_k, th, self.n, 1)[0]) * self.omega
-        return u + e, du + de
+    def particular(self, t: float, drive: tuple[float, float] | None = None) -> tuple[float, float]:
+        u, du = self.drive(t) if drive is None else drive
+        z = np.exp(1j * (self.omega * t) * self.k) * self.err_k
+        return u + float(z.real.sum()), du + float((1j * self.k * z).real.sum()) * self.omega
 
     # ---- the phases' closed forms at grid indices or at one time ---------------------------
     def contact(self, tau: np.ndarray, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
@@ -182,7 +185,7 @@ def separated_response(model: TrainModel, inp: CamInput, periodic: PeriodicRespo
             # refine the switch between the phase's last grid time before it (or its start) and t_hit
             t_hi = t_rev + j_hit * dt
             t_lo = max(t0, t_hi - dt)
-            f = _switch_function(ph, on_cam, t0, z, anchor)
+            f = _switch_function(ph, on_cam, t0, z, anchor, j_hit, t_rev)
             f_lo, f_hi = f(t_lo), f(t_hi)
             t_sw = (brentq(f, t_lo, t_hi, xtol=1e-14 * (1.0 + abs(t_hi)), rtol=4 * np.finfo(float).eps)
                     if f_lo > 0 > f_hi else t_hi)
@@ -225,24 +228,78 @@ def separated_response(model: TrainModel, inp: CamInput, periodic: PeriodicRespo
 
 
 def _state(ph: _Phases, on_cam: bool, t0: float, z: tuple[float, float], anchor: tuple[float, float],
-           t: float) -> tuple[float, float]:
+           t: float, drive: tuple[float, float] | None = None) -> tuple[float, float]:
     """(q, q̇) at time t of the phase that began at t0 in state z (``anchor``: the periodic
-    solution at t0)."""
+    solution at t0; ``drive``: (u, u̇) at t when already known)."""
     tau = np.array([t - t0])
     if on_cam:
         qh, vh = ph.contact(tau, z[0] - anchor[0], z[1] - anchor[1])
-        qp, vp = ph.particular(t)
+        qp, vp = ph.particular(t, drive)
         return qp + float(qh[0]), vp + float(vh[0])
     q, v = ph.flight(tau, *z)
     return float(q[0]), float(v[0])
 
 
-def _switch_function(ph: _Phases, on_cam: bool, t0: float, z: tuple[float, float], anchor: tuple[float, float]):
-    """The function whose sign change from + to − ends the phase: the load on the cam; off the
-    cam −min(k_f δ, load), which turns negative once the follower lands."""
+def _hermite5(y0: float, v0: float, a0: float, y1: float, v1: float, a1: float, h: float):
+    """The quintic on [0, h] with value, slope and curvature y, v, a at both ends: (value, slope) at τ."""
+    d = y1 - y0
+    V0, V1, A0, A1 = v0 * h, v1 * h, a0 * h * h, a1 * h * h
+    c = (y0, V0, 0.5 * A0, 10 * d - 6 * V0 - 4 * V1 - 1.5 * A0 + 0.5 * A1,
+         -15 * d + 8 * V0 + 7 * V1 + 1.5 * A0 - A1, 6 * d - 3 * V0 - 3 * V1 - 0.5 * A0 + 0.5 * A1)
+
+    def at(tau: float) -> tuple[float, float]:
+        s = tau / h
+        y = c[0] + s * (c[1] + s * (c[2] + s * (c[3] + s * (c[4] + s * c[5]))))
+        dy = c[1] + s * (2 * c[2] + s * (3 * c[3] + s * (4 * c[4] + s * 5 * c[5])))
+        return y, dy / h
+
+    return at
+
+
+def _local_drive(ph: _Phases, j: int):
+    """(u, u̇) and the periodic solution (q_p, q̇_p) between grid times j − 1 and j as quintics
+    through their values and first two time derivatives at both ends (q̈_p from the equation of
+    motion) — exact to ~(ω_n Δt)⁶/46 080 of the vibration with 16 samples per natural period —
+    or None when a motion segment ends inside (its derivatives jump there)."""
+    n, inp, per, w = ph.n, ph.inp, ph.p, ph.omega
+    i0, i1 = (j - 1) % n, j % n
+    if inp.segment[i0] != inp.segment[i1]:
+        return None
+    m = ph.m
+    u = [inp.u[i0], inp.u[i1]]
+    du = [w * inp.du[i0], w * inp.du[i1]]
+    ddu = [w * w * inp.d2u[i0], w * w * inp.d2u[i1]]
+    qp = [per.q[i0], per.q[i1]]
+    vp = [per.velocity[i0], per.velocity[i1]]
+    ap = [(m.stiffness * (u[k] - qp[k]) + m.damping * (du[k] - vp[k]) - m.preload - m.spring_rate * qp[k]) / m.inertia
+          for k in (0, 1)]
+    return (_hermite5(u[0], du[0], ddu[0], u[1], du[1], ddu[1], ph.dt),
+            _hermite5(qp[0], vp[0], ap[0], qp[1], vp[1], ap[1], ph.dt))
+
+
+def _switch_function(ph: _Phases, on_cam: bool, t0: float, z: tuple[float, float], anchor: tuple[float, float],
+                     j: int, t_rev: float):
+    """The function whose sign change from + to − ends the phase between grid times j − 1 and j:
+    the load on the cam; off the cam −min(k_f δ, load), which turns negative once the follower
+    lands.  Inside one motion segment the drive and the periodic solution come from their local
+    quintics (no program or Fourier evaluation per call), else exactly."""
+    local = _local_drive(ph, j)
+    t_left = t_rev + (j - 1) * ph.dt
+
     def f(t: float) -> float:
-        q, v = _state(ph, on_cam, t0, z, anchor, t)
-        u, du = ph.drive(t)
+        if local is None:
+            u, du = ph.drive(t)
+            q, v = _state(ph, on_cam, t0, z, anchor, t, (u, du))
+        else:
+            u, du = local[0](t - t_left)
+            tau = np.array([t - t0])
+            if on_cam:
+                qh, vh = ph.contact(tau, z[0] - anchor[0], z[1] - anchor[1])
+                qp, vp = local[1](t - t_left)
+                q, v = qp + float(qh[0]), vp + float(vh[0])
+            else:
+                qf, vf = ph.flight(tau, *z)
+                q, v = float(qf[0]), float(vf[0])
         g = ph.load(u, du, q, v)
         return g if on_cam else -min(ph.m.stiffness * (u - q), g)
 
