@@ -435,3 +435,94 @@ def test_dynamics_are_not_in_the_digest():
     from generators.spec import spec_digest
 
     assert spec_digest(spec) == spec_digest(spec.replace(**{"dynamics.stiffness": 10.0, "ecam.step": 2.0}))
+
+
+# ---- motions and trains beyond the examples ---------------------------------------------------
+def _other(kind: str, motion: str, laws: tuple[str, str], direction: str = "ccw") -> CamSpec:
+    d = example_dict("oscillating" if motion == "oscillating" else "default")
+    d["cam"]["direction"] = direction
+    if motion == "translating":
+        d["follower"] = {"kind": kind, "mass": 0.8, "preload": 40.0, "spring_rate": 2.0}
+        if kind == "roller":
+            d["follower"].update(roller_radius=6.0, offset=-5.0)
+        d["dynamics"] = {"stiffness": 800.0, "damping_ratio": 0.1, "sweep_points": 30}
+    else:
+        d["follower"]["kind"] = kind
+        if kind == "flat":
+            for f in ("arm_length", "roller_radius"):
+                d["follower"].pop(f, None)
+            d["follower"]["face_offset"] = 5.0
+        elif kind == "knife":
+            d["follower"].pop("roller_radius")
+        d["dynamics"] = {"torsional_stiffness": 5.0e5, "damping_ratio": 0.1, "sweep_points": 30}
+    lift = 12.0 if motion == "oscillating" else 20.0
+    d["motion"] = [{"kind": "dwell", "angle": 20.0}, {"kind": "rise", "angle": 100.0, "lift": lift, "law": laws[0]},
+                   {"kind": "dwell", "angle": 40.0}, {"kind": "rise", "angle": 60.0, "lift": lift / 2, "law": laws[1]},
+                   {"kind": "return", "angle": 120.0, "lift": 1.5 * lift, "law": laws[0]},
+                   {"kind": "dwell", "angle": 20.0}]
+    return CamSpec.from_dict(d)
+
+
+OTHER = [("roller", "translating", ("poly345", "modified_trapezoid"), "cw"),
+         ("knife", "translating", ("modified_sine", "poly4567"), "ccw"),
+         ("flat", "translating", ("cycloidal", "harmonic"), "ccw"),
+         ("knife", "oscillating", ("poly4567", "poly345"), "cw"),
+         ("flat", "oscillating", ("modified_sine", "cycloidal"), "ccw")]
+
+
+@pytest.mark.parametrize("kind, motion, laws, direction", OTHER)
+def test_other_trains_obey_their_equation_of_motion(kind, motion, laws, direction):
+    """Multi-level programs, other laws, knives and faces, cw cams: the periodic solution satisfies
+    J q̈ = Q − P − k_s q with q̈ differentiated here spectrally from the positions; the rigid train
+    does no work over a revolution; the torque is Q·u′; the jump speed lies below the rigid one's
+    second bracket of the sweep, and the follower keeps contact below it."""
+    spec = _other(kind, motion, laws, direction)
+    fol = follower_of(spec)
+    r0 = analyse_dynamics(spec)
+    rpm = 0.6 * r0.jump.rpm
+    r = analyse_dynamics(spec, speed_rpm=rpm, sweep=False)
+    assert r.contact_kept
+    m = train_model(spec, fol)
+    w = rpm * RPM
+    n = r.theta.size
+    k = np.fft.rfftfreq(n, 1.0 / n)
+    q = np.radians(r.position) if motion == "oscillating" else r.position
+    qdd = np.fft.irfft(-(k * w) ** 2 * np.fft.rfft(q), n)
+    Q = r.periodic.load
+    resid = m.inertia * qdd - (Q - m.preload - m.spring_rate * q)
+    assert np.max(np.abs(resid)) < 1e-6 * np.max(np.abs(Q))
+    s = r.summary()
+    # (the mean of equal samples: exact for smooth integrands, O(h²) where a law's acceleration or
+    # jerk jumps, as here)
+    assert abs(s["torque"]["rigid"]["work_per_revolution"]) < 1e-6 * s["torque"]["rigid"]["rms"]
+    assert np.max(np.abs(r.torque - Q * r.inp.du)) < 1e-12 * np.max(np.abs(r.torque))
+    assert r0.jump.rigid_rpm is not None and 0.5 * r0.jump.rigid_rpm < r0.jump.rpm < 1.5 * r0.jump.rigid_rpm
+    assert analyse_dynamics(spec, speed_rpm=1.02 * r0.jump.rpm, sweep=False).separated is not None
+
+
+def test_an_inch_spec_gives_the_same_physics():
+    """The default cam in inches (lbf, lbf·s²/in, lbf/in): the same forces in lbf, the same jump
+    speed and natural frequency."""
+    N_PER_LBF, MM = 4.4482216152605, 25.4
+    mm = default_spec().replace(**{"dynamics.stiffness": 2000.0, "dynamics.sweep_points": 40})
+    d = mm.to_dict()
+    d["units"] = "in"
+    d["cam"].update(base_radius=40.0 / MM, thickness=10.0 / MM, bore_diameter=12.0 / MM)
+    # kg·mm/s² = 1e-3 N, so 0.5 kg pulls 0.5e-3 N per mm/s²: 0.5e-3·25.4 / 4.448 lbf per in/s²
+    d["follower"].update(roller_radius=8.0 / MM, mass=0.5e-3 * MM / N_PER_LBF, preload=20.0 / N_PER_LBF,
+                         spring_rate=1.0 * MM / N_PER_LBF)
+    d["dynamics"]["stiffness"] = 2000.0 * MM / N_PER_LBF
+    for seg in d["motion"]:
+        if "lift" in seg:
+            seg["lift"] = 20.0 / MM
+    d.pop("material", None)
+    d.pop("machining", None)
+    d.pop("drawing", None)
+    inch = CamSpec.from_dict(d)
+    a, b = analyse_dynamics(mm, speed_rpm=300.0).summary(), analyse_dynamics(inch, speed_rpm=300.0).summary()
+    assert b["model"]["natural_frequency_hz"] == pytest.approx(a["model"]["natural_frequency_hz"], rel=1e-12)
+    assert b["contact"]["min_force"] * N_PER_LBF == pytest.approx(a["contact"]["min_force"], rel=1e-9)
+    assert b["torque"]["dynamic"]["max"] * N_PER_LBF * MM == pytest.approx(a["torque"]["dynamic"]["max"], rel=1e-9)
+    assert b["error"]["max"] * MM == pytest.approx(a["error"]["max"], rel=1e-9)
+    assert b["jump_speed"]["rpm"] == pytest.approx(a["jump_speed"]["rpm"], rel=1e-9)
+    assert b["contact"]["unit"] == "lbf" and b["torque"]["unit"] == "lbf·in" and b["error"]["unit"] == "in"

@@ -239,3 +239,22 @@ def test_bad_options_name_the_field(options, field):
     with pytest.raises(SpecError) as err:
         ecam_table(default_spec(), **options)
     assert str(err.value).startswith(field + ":")
+
+
+def test_a_bspline_lift_law_in_inches():
+    """The thesis' Example 5 (B-spline rise and return, inches): the linear table's error is
+    h²/8·max|s″| to the step's O(h²) and the quintic table's far below it; lifts in inches."""
+    from generators.spec import load_spec
+
+    from .conftest import ROOT
+
+    spec = load_spec(ROOT / "tests" / "fixtures" / "thesis_ex5_final.toml")
+    prog = MotionProgram.from_spec(spec)
+    lin = ecam_table(spec, "lenze", step=0.5, program=prog)
+    quin = ecam_table(spec, "codesys", step=0.5, program=prog)
+    th = np.linspace(0, 2 * np.pi, 200001)
+    a = np.max(np.abs(prog.evaluate(th).d2s))
+    h = math.radians(0.5)
+    assert lin.lift_unit == "in" and "y = follower lift [in]" in lin.text
+    assert lin.deviation.max_error == pytest.approx(h * h / 8 * a, rel=0.02)
+    assert quin.deviation.max_error < 1e-3 * lin.deviation.max_error
