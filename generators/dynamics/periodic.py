@@ -90,31 +90,6 @@ def cam_input(program: MotionProgram, follower: Follower, n: int) -> CamInput:
                     follower.force_per_load(kin), np.fft.rfft(u) / n, seg)
 
 
-def _weights(m: int, n: int) -> np.ndarray:
-    w = np.full(m, 2.0)
-    w[0] = 1.0
-    if n % 2 == 0:
-        w[-1] = 1.0
-    return w
-
-
-def fourier_eval(coeffs: np.ndarray, theta: np.ndarray | float, n: int, derivative: int = 0) -> np.ndarray:
-    """The real periodic function Re Σ w_k C_k e^{ikθ} (the inverse of ``rfft(f)/n``) and its
-    θ-derivatives at any angles (vectorised; the Nyquist term is taken as irfft takes it)."""
-    theta = np.atleast_1d(np.asarray(theta, float))
-    k = np.arange(coeffs.shape[-1])
-    c = coeffs * _weights(coeffs.shape[-1], n) * (1j * k) ** derivative
-    if n % 2 == 0:
-        c = c.copy()
-        c[-1] = c[-1].real if derivative % 2 == 0 else 0.0
-    out = np.empty(theta.shape)
-    step = max(1, SWEEP_CHUNK_VALUES // max(1, k.size))
-    for a in range(0, theta.size, step):          # chunks of angles, each one matrix product
-        t = theta.ravel()[a:a + step]
-        out.ravel()[a:a + step] = (np.exp(1j * np.outer(t, k)) @ c).real
-    return out
-
-
 @dataclass(frozen=True)
 class Harmonics:
     """Transfer of u's harmonics to the contact load and the error at one or more speeds."""
