@@ -13,6 +13,8 @@ Stages (each adds its section to the summary, in this order):
 * machining — the G-code program, the command table, the interpolator: ``interpolator``,
   ``machining``;
 * drawing — the DXF document: ``drawing``;
+* dynamics — only when asked for (``dynamics.enabled``, ``cam-workbench dynamics``): the follower
+  train at speed, ``dynamics``;
 * report — report.json, report.html and the plots, written by :func:`write_outputs`.
 """
 from __future__ import annotations
@@ -124,14 +126,29 @@ def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     return doc, info
 
 
+def dynamics_stage(design: CamDesign, summary: dict[str, Any],
+                   progress: Callable[[int, int, str], None] | None = None) -> Any:
+    """The follower train at speed (:func:`generators.dynamics.analyse_dynamics`), adding the
+    ``dynamics`` section to ``summary``; returns the result (its θ-series, for the figures)."""
+    from generators.dynamics import analyse_dynamics
+
+    result = analyse_dynamics(design.spec, design.program, progress=progress, follower=design.follower)
+    summary["dynamics"] = result.summary()
+    return result
+
+
 def run_pipeline(spec: CamSpec, *, solid: bool = True, machining: bool = True, drawing: bool = True,
                  design: CamDesign | None = None,
-                 progress: Callable[[int, float], None] | None = None) -> CamOutputs:
+                 progress: Callable[[int, float], None] | None = None, dynamics: bool | None = None,
+                 dynamics_progress: Callable[[int, int, str], None] | None = None) -> CamOutputs:
     """Run the stages for ``spec`` (nothing is written): design, then optionally the solid,
-    the machining and the drawing, each adding its section to the one summary."""
+    the machining and the drawing, each adding its section to the one summary; the dynamics
+    when ``dynamics`` (default: the spec's ``dynamics.enabled``)."""
     design = design if design is not None else design_stage(spec, progress)
     summary = summary_stage(design)
     out = CamOutputs(spec=spec, design=design, summary=summary)
+    if spec.dynamics.enabled if dynamics is None else dynamics:
+        out.extra["dynamics"] = dynamics_stage(design, summary, dynamics_progress)
     if solid:
         out.shape, out.step_shape, summary["solid"] = solid_stage(design)
     if machining:
@@ -169,7 +186,8 @@ def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
     from exporters.report_html import report_plots
 
-    return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design)))
+    return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
+                            outputs.extra.get("dynamics")))
 
 
 def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
@@ -182,11 +200,12 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
 
     design, summary = outputs.design, outputs.summary
     series = optional_series(design)
-    names = [p.png_name for p in report_plots(design, summary, series)]
+    dyn = outputs.extra.get("dynamics")
+    names = [p.png_name for p in report_plots(design, summary, series, dyn)]
     files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=names)
     text = report_json_text(summary, files)
     report = json.loads(text)
-    html_text, pngs = render_report(design, report, series, progress=progress)
+    html_text, pngs = render_report(design, report, series, progress=progress, dynamics=dyn)
     out.add_text(JSON_NAME, text)
     out.add_text(HTML_NAME, html_text)
     for name in names:

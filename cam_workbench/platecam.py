@@ -154,6 +154,33 @@ class PlateCam:
 
         return write_outputs(self.outputs(), folder)
 
+    def dynamics(self, speed_rpm: float | None = None, *, sweep: bool | None = None, **fields: Any) -> Any:
+        """The follower train at speed (docs/dynamics.md): a
+        :class:`generators.dynamics.DynamicsResult` whose ``summary()`` is report.json's ``dynamics``
+        section.  ``fields`` set ``[dynamics]`` fields by name, e.g. ``stiffness=2000``,
+        ``damping_ratio=0.08``; ``speed_rpm`` the cam speed; ``sweep=False`` skips the jump-speed sweep.
+
+        Raises:
+            SpecError: the train lacks its data (naming the field).
+        """
+        from generators.dynamics import analyse_dynamics
+
+        spec = self.spec.replace(**{f"dynamics.{k}": v for k, v in fields.items()}) if fields else self.spec
+        return analyse_dynamics(spec, self.design.program, speed_rpm=speed_rpm, sweep=sweep,
+                                follower=self.design.follower)
+
+    def ecam(self, format: str | None = None, path: str | os.PathLike[str] | None = None, **options: Any) -> Any:
+        """The electronic-cam table of the cam's motion (docs/ecam.md): an
+        :class:`exporters.ecam.EcamTable` (its ``text``, ``points``, ``deviation``), written
+        atomically to ``path`` when given.  ``format``: "csv", "codesys", "beckhoff" or "lenze";
+        ``options``: ``table``, ``step``, ``boundaries``, ``name`` (default: the spec's ``[ecam]``)."""
+        from exporters.ecam import ecam_table
+
+        table = ecam_table(self.spec, format, program=self.design.program, **options)
+        if path is not None:
+            table.write(path)
+        return table
+
     @property
     def area(self) -> float:
         """Cross-section area (profile minus bore) by Green's theorem on the exact NURBS."""

@@ -15,6 +15,8 @@ figure                     what it shows
 :func:`deviation_figure`   interpolation error s_actual − s (paper Fig. 5/7)
 :func:`series_figure`      any θ-series (contact force, Hertz stress …) with limits
 :func:`convergence_figure` an optimiser's objective and constraint violation
+:func:`dynamics_figure`    contact force, camshaft torque and displacement error at speed
+:func:`jump_speed_figure`  smallest contact force against the cam speed (the jump speed)
 =========================  =======================================================
 """
 from __future__ import annotations
@@ -457,5 +459,102 @@ def convergence_figure(iterations: np.ndarray, objective: np.ndarray, objective_
         ax2.grid(alpha=0.25)
         ax2.tick_params(labelsize=7)
     axes[-1, 0].set_xlabel("iteration", fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+# ---- follower dynamics -------------------------------------------------------------------------
+#: SVG ids of the dynamics figures' marks: the operating speed, the jump speeds, the smallest force
+DYNAMICS_GIDS = {"speed": "dyn-speed", "jump": "dyn-jump-speed", "rigid_jump": "dyn-rigid-jump-speed",
+                 "min_force": "dyn-min-force"}
+
+
+def _program_marks(ax: Any, program: Any, labels: bool = False) -> None:
+    b = np.rad2deg(program.boundaries)
+    for x in b[1:-1]:
+        ax.axvline(x, color="0.75", lw=0.6, zorder=0)
+    if labels:
+        for k, kind in enumerate(program.kinds):
+            ax.text(0.5 * (b[k] + b[k + 1]), 1.02, kind, transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize=7, color="0.35")
+
+
+def _off_cam(ax: Any, deg: np.ndarray, on_cam: np.ndarray) -> None:
+    """Shade where the follower is off the cam."""
+    off = ~np.asarray(on_cam, bool)
+    if off.any():
+        ax.fill_between(deg, 0, 1, where=off, transform=ax.get_xaxis_transform(), color=COLORS["a"],
+                        alpha=0.12, lw=0, label="off the cam")
+
+
+def dynamics_figure(result: Any, section: Mapping[str, Any]) -> Any:
+    """The follower train over one steady-state revolution (:class:`generators.dynamics.DynamicsResult`):
+    the normal contact force, rigid and dynamic; the camshaft torque, rigid and dynamic; the
+    displacement error q − s and its vibration about the quasi-static deflection. ``section`` is
+    report.json's ``dynamics`` section: the marked smallest force is its value at its angle."""
+    plt = _plt()
+    deg = result.theta_deg
+    c = section["contact"]
+    scale, unit = small_unit(result.units, result.lift_unit)
+    fig, axes = plt.subplots(3, 1, figsize=(9, 8.2), sharex=True)
+    ax = axes[0]
+    _program_marks(ax, result.program, labels=True)
+    _off_cam(ax, deg, result.on_cam)
+    ax.plot(deg, result.rigid_force, color="0.45", lw=0.9, ls="--", label="rigid follower")
+    ax.plot(deg, result.force, color=COLORS["s"], lw=1.1, label=f"dynamic at {section['speed_rpm']:.4g} rpm")
+    ax.axhline(0.0, color=COLORS["limit"], lw=0.8, ls=":")
+    ax.plot([c["min_force_at_deg"]], [c["min_force"]], "o", ms=5, mfc=COLORS["fail" if not c["kept"] else "pass"],
+            mec="k", mew=0.6, gid=DYNAMICS_GIDS["min_force"], zorder=9)
+    ax.annotate(f"min {c['min_force']:.4g} {c['unit']} at {c['min_force_at_deg']:.1f}°",
+                (c["min_force_at_deg"], c["min_force"]), xytext=(8, 8), textcoords="offset points", fontsize=7)
+    ax.set_ylabel(f"contact force [{c['unit']}]", fontsize=8)
+    ax.legend(fontsize=7, loc="upper right")
+    _angle_axis(ax, last=False)
+    ax = axes[1]
+    _program_marks(ax, result.program)
+    _off_cam(ax, deg, result.on_cam)
+    tu = section["torque"]["unit"]
+    ax.plot(deg, result.rigid_torque, color="0.45", lw=0.9, ls="--", label="rigid")
+    ax.plot(deg, result.torque, color=COLORS["a"], lw=1.1, label="dynamic")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_ylabel(f"camshaft torque [{tu}]", fontsize=8)
+    ax.legend(fontsize=7, loc="upper right")
+    _angle_axis(ax, last=False)
+    ax = axes[2]
+    _program_marks(ax, result.program)
+    _off_cam(ax, deg, result.on_cam)
+    ax.plot(deg, result.error * scale, color=COLORS["v"], lw=1.0, label="q − s")
+    ax.plot(deg, result.vibration * scale, color=COLORS["j"], lw=0.8, label="vibration about the quasi-static deflection")
+    ax.set_ylabel(f"displacement error [{unit}]", fontsize=8)
+    ax.legend(fontsize=7, loc="lower right")
+    _angle_axis(ax)
+    fig.tight_layout()
+    return fig
+
+
+def jump_speed_figure(result: Any, section: Mapping[str, Any]) -> Any:
+    """The jump-speed curve: the smallest contact force over the cycle against the cam speed, with
+    the analysis speed and the jump speeds (dynamic and rigid) of report.json's ``dynamics``
+    section marked."""
+    plt = _plt()
+    jp = section["jump_speed"]
+    sweep = jp["sweep"]
+    fig, ax = plt.subplots(figsize=(9, 3.8))
+    ax.plot(sweep["speeds_rpm"], sweep["min_force"], "-o", ms=2, lw=1.0, color=COLORS["s"],
+            label="smallest contact force over a revolution (< 0: the cam would have to pull)")
+    ax.axhline(0.0, color=COLORS["limit"], lw=0.8, ls=":")
+    ax.axvline(section["speed_rpm"], color=COLORS["v"], lw=1.0, gid=DYNAMICS_GIDS["speed"],
+               label=f"analysis speed {section['speed_rpm']:.4g} rpm")
+    if jp["rpm"] is not None:
+        ax.axvline(jp["rpm"], color=COLORS["a"], lw=1.2, ls="--", gid=DYNAMICS_GIDS["jump"],
+                   label=f"jump speed {jp['rpm']:.5g} rpm")
+    if jp["rigid_rpm"] is not None and jp["sweep_from_rpm"] <= jp["rigid_rpm"] <= jp["sweep_to_rpm"]:
+        ax.axvline(jp["rigid_rpm"], color="0.45", lw=0.9, ls=":", gid=DYNAMICS_GIDS["rigid_jump"],
+                   label=f"rigid follower's {jp['rigid_rpm']:.5g} rpm")
+    ax.set_xlabel("cam speed [rpm]", fontsize=8)
+    ax.set_ylabel(f"min contact force [{section['contact']['unit']}]", fontsize=8)
+    ax.grid(alpha=0.25)
+    ax.tick_params(labelsize=7)
+    ax.legend(fontsize=7, loc="lower left")
     fig.tight_layout()
     return fig

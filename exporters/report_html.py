@@ -23,6 +23,10 @@ always                          the cam drawing with the follower, key numbers, 
 ``report["interpolator"]``      the rotational interpolator's commands (paper §3.2): the
                                 follower motion they give (finite differences at Δt) against
                                 the design, their deviation, and the maxima as in Table 2
+``report["dynamics"]``          the follower train at speed: verdict (``contact.kept``), its
+                                numbers, residual vibration; with the :class:`DynamicsResult`
+                                (``dynamics=``) the force/torque/error figure and the
+                                jump-speed curve
 ``report["optimise"]``          optimiser: its scalar entries as a table and, when
                                 ``"history"`` is a list of ``{"iteration", "objective",
                                 "max_violation"}``, the convergence figure
@@ -87,8 +91,9 @@ FORCE_STRESS_KEYS = ("contact_force", "contact_stress")
 
 
 def report_plots(design: CamDesign, report: Mapping[str, Any],
-                 series: Mapping[str, Series] | None = None) -> list[Plot]:
-    """The figures this report will have, in order (optional ones only with their data)."""
+                 series: Mapping[str, Series] | None = None, dynamics: Any = None) -> list[Plot]:
+    """The figures this report will have, in order (optional ones only with their data);
+    ``dynamics``: the :class:`generators.dynamics.DynamicsResult` behind ``report["dynamics"]``."""
     series = series or {}
     u = design.spec.units
     fol = design.follower.describe()
@@ -174,6 +179,25 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             lambda: interpolator_plots.deviation_figure(accuracy(), "deg" if fol["lift_unit"] == "angle" else u,
                                                         junction_angles=design.pitch.angles,
                                                         junction_label=ticks)))
+    dyn = report.get("dynamics")
+    if dynamics is not None and isinstance(dyn, Mapping):
+        u_small = plots.small_unit(u, design.follower.lift_unit)[1]
+        out.append(Plot(
+            "dynamics", "Follower dynamics at speed",
+            f"One steady-state revolution at {float(dyn['speed_rpm']):.4g} rpm of the follower train as a spring–mass–"
+            "damper (docs/dynamics.md): the normal contact force and the camshaft torque of the rigid follower "
+            f"(dashed) and of the elastic train, and the displacement error q − s [{u_small}] with its vibration "
+            "about the quasi-static deflection. Shaded: off the cam. The marked point is report.json's "
+            "dynamics.contact.min_force at its cam angle.",
+            lambda: plots.dynamics_figure(dynamics, dyn)))
+        if isinstance(dyn.get("jump_speed"), Mapping):
+            out.append(Plot(
+                "jump_speed", "Jump speed",
+                "The smallest contact force over a revolution of the periodic steady state against the cam "
+                "speed (the sweep of dynamics.sweep_points speeds); the jump speed is where it first reaches 0 "
+                "(refined by Brent's method between two speeds of the sweep). Lines: the analysis speed, the jump "
+                "speed and the rigid follower's.",
+                lambda: plots.jump_speed_figure(dynamics, dyn)))
     hist = _history(report)
     if hist is not None:
         it, obj, viol = hist
@@ -186,7 +210,8 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
 
 def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[str, Series] | None = None,
-                  *, progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
+                  *, progress: Callable[[str], None] | None = None,
+                  dynamics: Any = None) -> tuple[str, dict[str, bytes]]:
     """The HTML text and the PNG files ({name: bytes}) of the report.
 
     Args:
@@ -195,10 +220,11 @@ def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[
             shows exactly what the file holds).
         series: optional θ-series (see the module docstring).
         progress: called with each figure's title before it is drawn.
+        dynamics: the DynamicsResult behind ``report["dynamics"]`` (its figures).
     """
     figures: dict[str, str] = {}
     pngs: dict[str, bytes] = {}
-    plot_list = report_plots(design, report, series)
+    plot_list = report_plots(design, report, series, dynamics)
     for p in plot_list:
         if progress is not None:
             progress(p.title)
@@ -336,6 +362,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
                      fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
     if "force_stress" in fig:
         sections.append(("force", "Contact force and stress", fig["force_stress"]))
+    if isinstance(report.get("dynamics"), Mapping):
+        sections.append(("dynamics", "Follower dynamics", _dynamics_section(report, fig)))
     if "interpolator_kinematics" in fig:
         ip_rows = [
             ("cam speed", "interpolator.speed_rpm", "rpm", None),
@@ -600,6 +628,85 @@ def _junctions_table(report: Mapping[str, Any], lu: str) -> str:
             f"{_num_cell(report, pre + '.promised')}"
             f"{_num_cell(report, pre + '.ok')}</tr>")
     out.append("</table>")
+    return "".join(out)
+
+
+def _dynamics_section(report: Mapping[str, Any], fig: Mapping[str, str]) -> str:
+    """report.json's ``dynamics`` section: the verdict, the numbers, residual vibration, figures."""
+    d = report["dynamics"]
+    kept = d["contact"]["kept"] is True
+    speed = format_number(d["speed_rpm"])
+    text = (f"the follower stays on the cam at {speed} rpm" if kept else
+            f"the follower LEAVES the cam at {speed} rpm")
+    out = [f'<p><span class="verdict {"pass" if kept else "fail"}" id="dynamics-verdict" '
+           f'data-key="dynamics.contact.kept" data-value="{"true" if kept else "false"}">{html.escape(text)}</span></p>']
+    m = d["model"]
+    fu = d["contact"]["unit"]
+    lu = d["error"]["unit"]
+    tu = d["torque"]["unit"]
+    rows = [
+        ("analysis speed", "dynamics.speed_rpm", "rpm", None),
+        ("effective " + ("inertia" if m["coordinate"] == "arm angle" else "mass"), "dynamics.model.mass",
+         m["mass_unit"], None),
+        ("train stiffness k_f", "dynamics.model.stiffness", m["stiffness_unit"], None),
+        ("return spring rate", "dynamics.model.spring_rate", m["stiffness_unit"], None),
+        ("preload", "dynamics.model.preload", m["preload_unit"], None),
+        ("damping ratio ζ", "dynamics.model.damping_ratio", "", None),
+        ("natural frequency of the train on the cam", "dynamics.model.natural_frequency_hz", "Hz", None),
+        ("natural frequency / cam frequency", "dynamics.model.frequency_ratio", "", None),
+        ("samples per revolution", "dynamics.model.samples", "", None),
+        ("smallest contact force (dynamic)", "dynamics.contact.min_force", fu, "dynamics.contact.min_force_at_deg"),
+        ("largest contact force (dynamic)", "dynamics.contact.max_force", fu, "dynamics.contact.max_force_at_deg"),
+        ("smallest contact force (rigid follower)", "dynamics.contact.rigid_min_force", fu,
+         "dynamics.contact.rigid_min_force_at_deg"),
+        ("largest contact force (rigid follower)", "dynamics.contact.rigid_max_force", fu,
+         "dynamics.contact.rigid_max_force_at_deg"),
+        ("cam rotation with the follower off the cam", "dynamics.contact.off_cam_deg", "deg", None),
+        ("largest gap off the cam", "dynamics.contact.max_gap", lu, "dynamics.contact.max_gap_at_deg"),
+        ("largest landing speed", "dynamics.contact.max_landing_speed", f"{lu}/s", None),
+        ("largest displacement error |q − s|", "dynamics.error.max", lu, "dynamics.error.at_deg"),
+        ("largest vibration about the quasi-static deflection", "dynamics.error.max_vibration", lu,
+         "dynamics.error.vibration_at_deg"),
+        ("jump speed", "dynamics.jump_speed.rpm", "rpm", None),
+        ("jump speed / analysis speed", "dynamics.jump_speed.ratio_to_speed", "", None),
+        ("rigid follower's jump speed", "dynamics.jump_speed.rigid_rpm", "rpm", None),
+        ("sweep from", "dynamics.jump_speed.sweep_from_rpm", "rpm", None),
+        ("sweep to", "dynamics.jump_speed.sweep_to_rpm", "rpm", None),
+        ("sweep speeds", "dynamics.jump_speed.sweep_points", "", None),
+        ("camshaft torque, largest (rigid)", "dynamics.torque.rigid.max", tu, "dynamics.torque.rigid.max_at_deg"),
+        ("camshaft torque, smallest (rigid)", "dynamics.torque.rigid.min", tu, "dynamics.torque.rigid.min_at_deg"),
+        ("camshaft torque, RMS (rigid)", "dynamics.torque.rigid.rms", tu, None),
+        ("work per revolution (rigid)", "dynamics.torque.rigid.work_per_revolution", tu, None),
+        ("camshaft torque, largest (dynamic)", "dynamics.torque.dynamic.max", tu,
+         "dynamics.torque.dynamic.max_at_deg"),
+        ("camshaft torque, smallest (dynamic)", "dynamics.torque.dynamic.min", tu,
+         "dynamics.torque.dynamic.min_at_deg"),
+        ("camshaft torque, RMS (dynamic)", "dynamics.torque.dynamic.rms", tu, None),
+        ("work per revolution (dynamic: the damper's and the landings' losses)",
+         "dynamics.torque.dynamic.work_per_revolution", tu, None),
+        ("revolutions run (0: periodic solve)", "dynamics.steady_state.revolutions", "", None),
+        ("steady state reached", "dynamics.steady_state.periodic", "", None),
+    ]
+    out.append(fig.get("dynamics", ""))
+    out.append(_quantity_table(report, rows))
+    notes = [f'<span data-key="dynamics.steady_state.method">{html.escape(str(d["steady_state"]["method"]))}</span>']
+    jp = d.get("jump_speed")
+    if isinstance(jp, Mapping) and jp.get("note"):
+        notes.append(f'<span data-key="dynamics.jump_speed.note">{html.escape(str(jp["note"]))}</span>')
+    out.append('<p class="note">' + ". ".join(notes) + ".</p>")
+    res = d.get("residual_vibration") or []
+    if res:
+        out.append("<h3>Residual vibration after each rise and return</h3>")
+        out.append('<table class="residual"><tr><th>after</th><th>into</th><th>largest vibration</th><th>unit</th>'
+                   "<th>at cam angle [deg]</th></tr>")
+        for i, r in enumerate(res):
+            key = f"dynamics.residual_vibration.{i}"
+            out.append(f"<tr><td>motion[{int(r['after'])}] ({html.escape(str(r['kind']))})</td>"
+                       f"<td>motion[{int(r['next'])}] ({html.escape(str(r['next_kind']))})</td>"
+                       f"{_num_cell(report, key + '.amplitude')}<td>{html.escape(lu)}</td>"
+                       f"{_num_cell(report, key + '.at_deg')}</tr>")
+        out.append("</table>")
+    out.append(fig.get("jump_speed", ""))
     return "".join(out)
 
 

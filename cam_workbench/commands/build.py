@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, design_for, plot_progress, require_ocp, spec_from_args
+from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
+                     spec_from_args)
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -28,7 +29,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     require_ocp("build")
-    outputs = run_pipeline(spec, design=design_for(spec))
+    design = design_for(spec)
+    bar, dcb = dynamics_progress(spec)
+    with bar:
+        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
@@ -64,6 +68,15 @@ def _print_summary(s: dict, out: Path) -> None:
     cont = ck["results"].get("continuity")
     if cont and cont["status"] == "fail":
         print(f"  warning: a segment junction breaks its laws' promise: {cont['note']}")
+    if "dynamics" in s:
+        d = s["dynamics"]
+        c, jp = d["contact"], d.get("jump_speed")
+        jump = "" if jp is None else (f"; jump speed {jp['rpm']:.5g} rpm" if jp["rpm"] is not None
+                                      else f"; jump speed: {jp['note']}")
+        print(f"  dynamics at {d['speed_rpm']:.5g} rpm: "
+              + ("the follower stays on the cam" if c["kept"] else f"the follower LEAVES the cam for {c['off_cam_deg']:.4g}°")
+              + f", smallest contact force {c['min_force']:.4g} {c['unit']} (rigid {c['rigid_min_force']:.4g}){jump} "
+              "(see `cam-workbench dynamics`)")
     it = s["interpolator"]
     print(f"  interpolator: {it['commands']} commands (Δt = {it['sample_period']:g} s), max deviation "
           f"{it['max_deviation']:.3g} {lu}; max v {it['velocity']['max']:.5g}, a {it['acceleration']['max']:.5g}, "

@@ -109,3 +109,15 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
         prog.update(task, description=f"plotting: {title}")
 
     return prog, callback
+
+
+def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], None] | None]:
+    """A rich progress bar over the jump-speed sweep when the spec asks for its dynamics
+    (``dynamics.enabled``), else a no-op context and no callback."""
+    import contextlib
+
+    if not (spec.dynamics.enabled and spec.dynamics.sweep_points > 0):
+        return contextlib.nullcontext(), None
+    from .dynamics_cmd import sweep_progress
+
+    return sweep_progress()

@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 
 from ..pipeline import HTML_NAME, JSON_NAME, plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, design_for, plot_progress, require_ocp, spec_from_args
+from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
+                     spec_from_args)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,7 +28,10 @@ def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     require_ocp("report")
     # the same numbers as `build` (every stage runs); only the report files are written
-    outputs = run_pipeline(spec, design=design_for(spec))
+    design = design_for(spec)
+    bar, dcb = dynamics_progress(spec)
+    with bar:
+        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
     outputs.step_shape = outputs.machining = outputs.dxf = None
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))

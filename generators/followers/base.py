@@ -32,6 +32,7 @@ the lift off the touching point.
 """
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Any
@@ -205,6 +206,16 @@ class Follower(ABC):
         """Normal contact force [force unit] that keeps the follower on the cam at cam speed
         ``omega`` [rad/s] (thesis Eq. 3.5 for a translating follower; ≤ 0: it leaves); ``phi``:
         the pressure angle at ``k`` when already known."""
+
+    def force_per_load(self, k: Kinematics) -> np.ndarray:
+        """The normal contact force [force unit] per unit of the follower's generalised load — the
+        unit of ``load.preload``: a force along the line of motion (translating), a torque about the
+        pivot (oscillating) — at the design contact of ``k``: 1/cos φ, 1/(L·cos φ), 1/lever, …
+
+        It is :meth:`contact_force` of this follower loaded by a unit preload alone, so every kind
+        gives it through its own force law (the dynamics read it: :mod:`generators.dynamics`)."""
+        unit = dataclasses.replace(self, load=LoadSpec(preload=1.0, mass_force=self.load.mass_force))
+        return np.asarray(unit.contact_force(k, 0.0), dtype=float)
 
     def contact_stress(self, force: np.ndarray, k: Kinematics, length: float, moduli: tuple,
                        rho: np.ndarray | None = None) -> np.ndarray:

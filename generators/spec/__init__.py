@@ -6,7 +6,7 @@ from .model import (  # noqa: F401
     CamSection, FollowerSection, MotionSegment, PitchSection, STEEL_MODULUS, MaterialSection,
     ChecksSection, DEFAULT_SEGMENTS, DXF_VERSIONS, DrawingSection, WORK_OFFSETS,
     MAX_COMMANDS_PER_REV, MachiningSection, OBJECTIVES, OPTIMISE_ALGORITHMS, OPTIMISE_VARIABLES,
-    OptimiseSection, SECTIONS, CamSpec, validate, MAX_MOTION_SEGMENTS, optimise_variables,
+    OptimiseSection, DynamicsSection, EcamSection, ECAM_TABLES, SECTIONS, CamSpec, validate, MAX_MOTION_SEGMENTS, optimise_variables,
     optimise_control_rows, load_spec, MAX_SPEC_BYTES, default_spec, DEFAULT_SPEC_DICT, to_toml,
     dict_to_toml, spec_digest,
 )

@@ -581,6 +581,83 @@ class OptimiseSection:
                               group="Optimise")
 
 
+#: Where the jump-speed sweep starts by default: this fraction of its top speed.
+SWEEP_LOW_FRACTION = 0.05
+#: Formats of `cam-workbench ecam` and the tables each can write (the first is its default).
+ECAM_TABLES: dict[str, tuple[str, ...]] = {
+    "csv": ("points",),
+    "codesys": ("xyva", "poly5"),
+    "beckhoff": ("motion_function", "position_table"),
+    "lenze": ("points",),
+}
+
+
+@dataclass(frozen=True, kw_only=True)
+class DynamicsSection:
+    """`[dynamics]`: the follower train as a spring–mass–damper at speed — dynamic contact force, separation, the jump speed, residual vibration and the camshaft torque (docs/dynamics.md)."""
+
+    enabled: bool = param(
+        "Analyse the dynamics in build, report, check and PlateCam.report() (report.json's dynamics section, the "
+        "report's figures); `cam-workbench dynamics` analyses them whatever this says",
+        kind="bool", default=False, group="Dynamics")
+    speed_rpm: float | None = param("Cam speed of the analysis (default cam.speed_rpm)", unit="speed", gt=0,
+                                    optional=True, group="Dynamics")
+    mass: float | None = param(
+        "Translating: effective mass of the follower train (default follower.mass); count about a third of the "
+        "return spring's own mass", unit="mass", gt=0, optional=True, group="Dynamics")
+    arm_inertia: float | None = param(
+        "Oscillating: effective moment of inertia of the arm train about the pivot (default follower.arm_inertia)",
+        unit="inertia", gt=0, optional=True, group="Dynamics")
+    stiffness: float | None = param(
+        "Translating: stiffness k_f of the follower train between the cam contact and the lumped mass (roller, "
+        "pin, stem, rocker); required for the dynamics of a translating follower",
+        unit="stiffness", gt=0, optional=True, group="Dynamics")
+    torsional_stiffness: float | None = param(
+        "Oscillating: torsional stiffness of the arm train about the pivot between the cam contact and the lumped "
+        "inertia; required for the dynamics of an oscillating follower",
+        unit="torsional_stiffness", gt=0, optional=True, group="Dynamics")
+    damping_ratio: float = param(
+        "Damping ratio ζ of the follower train: a damper c = 2ζ·√(m·(k_f + k)) beside the train's spring",
+        ge=0, lt=1, default=0.05, group="Dynamics")
+    revolutions: int = param(
+        "Most cam revolutions of the time integration when the follower leaves the cam (it stops as soon as one "
+        "revolution repeats the one before)", kind="int", ge=1, le=1000, default=40, group="Dynamics")
+    samples: int | None = param(
+        "Samples per cam revolution of the periodic solve (default: 16 per natural period, at least 4096)",
+        kind="int", ge=256, le=1048576, optional=True, group="Dynamics")
+    sweep_min_rpm: float | None = param(
+        f"Lowest cam speed of the jump-speed sweep (default {SWEEP_LOW_FRACTION:g} × sweep_max_rpm)",
+        unit="speed", gt=0, optional=True, group="Dynamics")
+    sweep_max_rpm: float | None = param(
+        "Highest cam speed of the jump-speed sweep (default twice the rigid follower's jump speed, at least "
+        "twice the analysis speed)", unit="speed", gt=0, optional=True, group="Dynamics")
+    sweep_points: int = param("Cam speeds of the jump-speed sweep (0: no sweep)", kind="int", ge=0, le=10000,
+                              default=100, group="Dynamics")
+
+
+@dataclass(frozen=True, kw_only=True)
+class EcamSection:
+    """`[ecam]`: electronic-cam tables for servo motion controllers, written by `cam-workbench ecam` (docs/ecam.md)."""
+
+    format: str = param("Table format: a CSV of θ, s, s′, s″, s‴; CODESYS SoftMotion; Beckhoff TwinCAT NC Camming; "
+                        "Lenze Global Drive Cam Loader", kind="str", choices=tuple(ECAM_TABLES), default="csv",
+                        group="Ecam")
+    table: str = param(
+        "Which table of the format: codesys \"xyva\" (SMC_CAMXYVA points) or \"poly5\" (CamBuilder Poly5 "
+        "segments); beckhoff \"motion_function\" (MC_MotionFunctionPoint, 5th-order polynomials) or "
+        "\"position_table\" (master/slave positions); csv and lenze \"points\"; \"auto\": the format's first",
+        kind="str", choices=("auto", "points", "xyva", "poly5", "motion_function", "position_table"),
+        default="auto", group="Ecam")
+    step: float = param("Master step between table points in cam degrees", unit="angle", ge=0.001, le=90,
+                        default=1.0, group="Ecam")
+    boundaries: bool = param(
+        "Also put a point at every motion-segment boundary (where a law's acceleration or jerk may jump); the "
+        "table is then not equidistant unless the boundaries fall on the step", kind="bool", default=True,
+        group="Ecam")
+    name: str = param("Name of the cam in the PLC code (an IEC 61131-3 identifier)", kind="str", default="Cam",
+                      group="Ecam")
+
+
 #: Spec sections: TOML name → (dataclass, is an array of tables, required).  A new section
 #: is a dataclass declared with ``param`` fields, an entry here and a field of CamSpec.
 SECTIONS: dict[str, tuple[type, bool, bool]] = {
@@ -594,6 +671,8 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "drawing": (DrawingSection, False, False),
     "machining": (MachiningSection, False, False),
     "optimise": (OptimiseSection, False, False),
+    "dynamics": (DynamicsSection, False, False),
+    "ecam": (EcamSection, False, False),
 }
 
 
@@ -614,6 +693,8 @@ class CamSpec:
     drawing: DrawingSection = field(default_factory=DrawingSection)
     machining: MachiningSection = field(default_factory=MachiningSection)
     optimise: OptimiseSection = field(default_factory=OptimiseSection)
+    dynamics: DynamicsSection = field(default_factory=DynamicsSection)
+    ecam: EcamSection = field(default_factory=EcamSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -847,6 +928,28 @@ def validate(spec: CamSpec) -> None:
     _validate_drawing(spec)
     _validate_machining(spec)
     _validate_optimise(spec)
+    from ..dynamics.model import validate_dynamics   # the train's rules (and, when enabled, its data)
+
+    validate_dynamics(spec)
+    _validate_ecam(spec)
+
+
+#: The most points an e-cam table may have (CODESYS counts its elements in an INT).
+MAX_ECAM_POINTS = 200_000
+_IEC_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,63}$")
+
+
+def _validate_ecam(spec: CamSpec) -> None:
+    ec = spec.ecam
+    if ec.table != "auto" and ec.table not in ECAM_TABLES[ec.format]:
+        raise SpecError("ecam.table", f"{ec.table!r} is not a table of ecam.format = {ec.format!r} (its tables: "
+                        f"{', '.join(ECAM_TABLES[ec.format])})")
+    if not _IEC_IDENTIFIER.match(ec.name) or "__" in ec.name:
+        raise SpecError("ecam.name", f"must be an IEC 61131-3 identifier (a letter or _, then letters, digits, "
+                        f"single underscores; at most 64 characters), got {ec.name!r}")
+    points = math.ceil(360.0 / ec.step - 1e-9) + 1
+    if points > MAX_ECAM_POINTS:
+        raise SpecError("ecam.step", f"gives {points} table points; at most {MAX_ECAM_POINTS}")
 
 
 #: fields that only one follower motion may have (a typo or a leftover must not be ignored)
@@ -1261,19 +1364,20 @@ def _toml_value(v: Any) -> str:
 
 __all__ = [
     "CamSpec", "CamSection", "FollowerSection", "MotionSegment", "PitchSection", "MaterialSection",
-    "ChecksSection", "MachiningSection", "DrawingSection", "OptimiseSection", "Param",
+    "ChecksSection", "MachiningSection", "DrawingSection", "OptimiseSection", "DynamicsSection", "EcamSection",
+    "ECAM_TABLES", "Param",
     "load_spec", "default_spec", "to_toml", "validate", "LAWS", "DEFAULT_SEGMENTS", "SECTIONS",
     "spec_digest",
 ]
 
 
 def spec_digest(spec: CamSpec) -> str:
-    """SHA-256 of the spec's canonical TOML without ``[checks]`` and ``[optimise]`` (how to check
-    or optimise, not what):
+    """SHA-256 of the spec's canonical TOML without ``[checks]``, ``[optimise]``, ``[dynamics]`` and
+    ``[ecam]`` (how to check, optimise, analyse or export, not what):
     names the cam a report was made from."""
     import hashlib
 
     data = spec.to_dict()
-    data.pop("checks", None)
-    data.pop("optimise", None)
+    for how in ("checks", "optimise", "dynamics", "ecam"):
+        data.pop(how, None)
     return hashlib.sha256(dict_to_toml(data).encode("utf-8")).hexdigest()

@@ -1,0 +1,201 @@
+"""``cam-workbench dynamics``: the follower train at speed — dynamic contact force, separation,
+the jump speed (a sweep with a progress bar and a bisection), residual vibration and the camshaft
+torque — printed as tables and written as report.json's ``dynamics`` section (merged into a
+report.json of the same cam, as ``check`` merges its checks), ``dynamics.csv`` (the θ-series) and
+the two figures.  Exit status 3 when the follower leaves the cam at the analysis speed."""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from exporters.atomic import OutputSet
+from exporters.report_json import report_json_text
+from generators.dynamics import analyse_dynamics, validate_dynamics
+from generators.followers import follower_of
+from generators.motion.program import MotionProgram
+from generators.spec import CamSpec, spec_digest
+
+from .common import add_spec_arguments, spec_from_args
+
+EXIT_CONTACT_LOST = 3
+CSV_NAME = "dynamics.csv"
+PLOTS = ("plot_dynamics.png", "plot_jump_speed.png")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "dynamics", help="follower dynamics at speed: contact force, separation, jump speed, camshaft torque",
+        description="Model the follower train as a spring–mass–damper (effective mass, train stiffness, damping "
+                    "ratio, return spring and preload: the spec's [dynamics] and [follower]) driven by the cam at "
+                    "its speed, solve its steady state (a periodic solve on the cam; revolution after revolution "
+                    "when the follower leaves it) and print the dynamic contact force, where the follower leaves the "
+                    "cam, the displacement error, the residual vibration after each rise and return, the camshaft "
+                    "torque (rigid and dynamic) and the jump speed (a sweep of cam speeds with a progress bar, then "
+                    "a bisection). Writes report.json's dynamics section (merged into a report.json of the same "
+                    f"cam), {CSV_NAME} and the figures {', '.join(PLOTS)} into the output folder. docs/dynamics.md",
+        epilog="exit status: 0 the follower stays on the cam, 3 it leaves the cam at the analysis speed (the files "
+               "are written), 2 bad input (nothing written).",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("--speed", type=float, metavar="RPM", help="cam speed of the analysis (dynamics.speed_rpm)")
+    p.add_argument("--no-sweep", action="store_true", help="skip the jump-speed sweep (dynamics.sweep_points = 0)")
+    p.add_argument("-o", "--output", default="out", metavar="OUT",
+                   help="output folder (created if needed; default: out)")
+    p.set_defaults(run=run)
+
+
+def sweep_progress() -> tuple[Any, Any]:
+    """A rich progress bar over the jump-speed sweep and bisection, and its callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                   TimeElapsedColumn(), transient=True)
+    task = bar.add_task("jump-speed sweep", total=None)
+
+    def callback(done: int, total: int, what: str) -> None:
+        bar.update(task, completed=done, total=total, description=what)
+
+    return bar, callback
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = spec_from_args(args)
+    changes: dict[str, Any] = {}
+    if args.speed is not None:
+        changes["dynamics.speed_rpm"] = args.speed
+    if args.no_sweep:
+        changes["dynamics.sweep_points"] = 0
+    if changes:
+        spec = spec.replace(**changes)
+    validate_dynamics(spec, required=True)          # bad input: exit 2 naming the field, nothing written
+    program = MotionProgram.from_spec(spec)
+    bar, cb = sweep_progress()
+    with bar:
+        result = analyse_dynamics(spec, program, progress=cb)
+    section = result.summary()
+    out = Path(args.output)
+    report = merged_report(out / "report.json", spec, section)
+    figures = _figures(result, section)
+    with OutputSet(out, digest=spec_digest(spec), command="dynamics", merge=True) as o:
+        o.add_text("report.json", report_json_text(report))
+        o.add_text(CSV_NAME, series_csv(result))
+        for name, data in figures.items():
+            o.add_bytes(name, data)
+    kept = report["dynamics"]["contact"]["kept"]
+    args.status = 0 if kept else EXIT_CONTACT_LOST
+    print_tables(report["dynamics"], out)
+    return 0 if kept else EXIT_CONTACT_LOST
+
+
+def merged_report(path: Path, spec: CamSpec, section: dict[str, Any]) -> dict[str, Any]:
+    """report.json with the fresh ``dynamics`` section: merged into the existing report when it
+    was written for the same cam (same ``spec_digest``), else the cam's follower and spec with it."""
+    digest = spec_digest(spec)
+    if path.exists():
+        try:
+            old = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            old = None
+        if isinstance(old, dict) and old.get("spec_digest") == digest:
+            old["dynamics"] = section
+            return json.loads(report_json_text(old))
+    return json.loads(report_json_text({"units": spec.units, "spec_digest": digest,
+                                        "follower": follower_of(spec).describe(), "dynamics": section,
+                                        "spec": spec.to_dict()}))
+
+
+def series_csv(result: Any) -> str:
+    """The θ-series of one steady-state revolution as CSV (spec units; angles in degrees)."""
+    import numpy as np
+
+    s = result.series()
+    lu = "deg" if result.lift_unit == "angle" else result.units
+    from generators.spec.params import unit_name
+
+    fu, tu = unit_name("force", result.units), unit_name("torque", result.units)
+    head = [("theta [deg]", "theta_deg"), (f"s [{lu}]", "lift"), (f"q [{lu}]", "position"),
+            (f"q - s [{lu}]", "error"), (f"vibration [{lu}]", "vibration"),
+            (f"rigid force [{fu}]", "rigid_force"), (f"force [{fu}]", "force"),
+            (f"rigid torque [{tu}]", "rigid_torque"), (f"torque [{tu}]", "torque"), ("on cam", "on_cam")]
+    cols = np.column_stack([s[k] for _h, k in head])
+    lines = [",".join(h for h, _k in head)]
+    lines += [",".join(repr(float(v)) for v in row) for row in cols]
+    return "\n".join(lines) + "\n"
+
+
+def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
+    from exporters import plots
+
+    out = {}
+    makers = [(PLOTS[0], lambda: plots.dynamics_figure(result, section))]
+    if "jump_speed" in section:
+        makers.append((PLOTS[1], lambda: plots.jump_speed_figure(result, section)))
+    for name, make in makers:
+        fig = make()
+        try:
+            out[name] = plots.figure_bytes(fig, "png", dpi=130)
+        finally:
+            plots.close(fig)
+    return out
+
+
+def print_tables(d: dict[str, Any], out: Path) -> None:
+    """report.json's ``dynamics`` section as tables — the values printed are report.json's own."""
+    from rich.console import Console
+    from rich.markup import escape
+    from rich.table import Table
+
+    from exporters.report_html import format_number as fmt
+
+    con = Console(soft_wrap=True)
+    c, m, e, tq = d["contact"], d["model"], d["error"], d["torque"]
+    lu, fu, tu = e["unit"], c["unit"], tq["unit"]
+    table = Table(title=f"follower dynamics at {fmt(d['speed_rpm'])} rpm")
+    for col in ("quantity", "value", "unit", "at"):
+        table.add_column(col, justify="left" if col == "quantity" else "right")
+    rows = [
+        ("natural frequency of the train", m["natural_frequency_hz"], "Hz", None),
+        ("natural frequency / cam frequency", m["frequency_ratio"], "", None),
+        ("smallest contact force (dynamic)", c["min_force"], fu, c["min_force_at_deg"]),
+        ("largest contact force (dynamic)", c["max_force"], fu, c["max_force_at_deg"]),
+        ("smallest contact force (rigid)", c["rigid_min_force"], fu, c["rigid_min_force_at_deg"]),
+        ("largest contact force (rigid)", c["rigid_max_force"], fu, c["rigid_max_force_at_deg"]),
+        ("largest displacement error |q − s|", e["max"], lu, e["at_deg"]),
+        ("largest vibration", e["max_vibration"], lu, e["vibration_at_deg"]),
+        ("camshaft torque max (rigid)", tq["rigid"]["max"], tu, tq["rigid"]["max_at_deg"]),
+        ("camshaft torque max (dynamic)", tq["dynamic"]["max"], tu, tq["dynamic"]["max_at_deg"]),
+        ("camshaft torque RMS (dynamic)", tq["dynamic"]["rms"], tu, None),
+        ("work per revolution (dynamic)", tq["dynamic"]["work_per_revolution"], tu, None),
+    ]
+    if not c["kept"]:
+        rows += [("off the cam", c["off_cam_deg"], "deg", None), ("largest gap", c["max_gap"], lu, c["max_gap_at_deg"]),
+                 ("largest landing speed", c["max_landing_speed"], c["landing_speed_unit"], None)]
+    for label, v, unit, at in rows:
+        table.add_row(label, fmt(v), unit, "—" if at is None else f"{fmt(at)}°")
+    con.print(table)
+    res = d["residual_vibration"]
+    if res:
+        rt = Table(title="residual vibration")
+        for col in ("after", "into", "largest vibration", "at"):
+            rt.add_column(col, justify="left" if col in ("after", "into") else "right")
+        for r in res:
+            rt.add_row(f"motion[{r['after']}] {r['kind']}", f"motion[{r['next']}] {r['next_kind']}",
+                       f"{fmt(r['amplitude'])} {lu}", f"{fmt(r['at_deg'])}°")
+        con.print(rt)
+    jp = d.get("jump_speed")
+    if jp is not None:
+        rigid = "—" if jp["rigid_rpm"] is None else fmt(jp["rigid_rpm"])
+        if jp["rpm"] is not None:
+            con.print(escape(f"jump speed: {fmt(jp['rpm'])} rpm ({fmt(jp['ratio_to_speed'])} × the analysis speed); "
+                             f"rigid follower: {rigid} rpm; sweep {fmt(jp['sweep_from_rpm'])}–{fmt(jp['sweep_to_rpm'])} "
+                             f"rpm, {jp['sweep_points']} speeds"))
+        else:
+            con.print(escape(f"jump speed: not found — {jp['note']}; rigid follower: {rigid} rpm"))
+    st = d["steady_state"]
+    con.print(escape(f"steady state: {st['method']}" + (f", {st['revolutions']} revolutions" if st["revolutions"] else "")
+                     + ("" if st["periodic"] else " — NOT periodic yet" + (f" ({st['note']})" if st.get("note") else ""))))
+    verdict = ("[green]the follower stays on the cam[/]" if c["kept"] else
+               f"[bold red]the follower LEAVES the cam ({escape(fmt(c['off_cam_deg']))}° of the revolution)[/]")
+    con.print(f"{verdict} — written to {escape(str(out))}/: report.json, {CSV_NAME}, {', '.join(PLOTS[:1 + ('jump_speed' in d)])}")

@@ -1,0 +1,78 @@
+"""``cam-workbench ecam``: the electronic-cam table of the spec's motion for a servo motion
+controller — a CSV of θ, s, s′, s″, s‴, CODESYS SoftMotion (XYVA points or CamBuilder Poly5
+segments), Beckhoff TwinCAT NC Camming (motion function or position table) or a Lenze Cam Loader
+point table — with the deviation of the table's own interpolation from the exact motion."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from exporters.ecam import ecam_table
+from generators.spec import ECAM_TABLES
+
+from .common import add_spec_arguments, spec_from_args
+
+TABLES = sorted({t for ts in ECAM_TABLES.values() for t in ts})
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "ecam", help="write an electronic-cam table: CSV, CODESYS, Beckhoff or Lenze",
+        description="Sample the motion program as the cam table a servo motion controller reads and write it:\n"
+                    "  csv       θ [deg], s, s', s'', s''' (per radian) at every point\n"
+                    "  codesys   --table xyva: a GVL with SMC_CAMXYVA points and their MC_CAM_REF;\n"
+                    "            --table poly5: a PROGRAM building the cam with the CamBuilder's Poly5 segments\n"
+                    "  beckhoff  --table motion_function: MC_MotionFunctionPoint, 5th-order polynomials;\n"
+                    "            --table position_table: master/slave rows for linear interpolation\n"
+                    "  lenze     the Global Drive Cam Loader's x y point file\n"
+                    "Master = cam angle [deg] 0 ... 360, slave = follower lift (mm, in, or arm degrees). The "
+                    "deviation of the table's own interpolation from the exact motion is measured on the numbers "
+                    "as written, printed and stated in the file. Defaults come from the spec's [ecam]. "
+                    "Nothing is written on bad input. docs/ecam.md",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("--format", choices=tuple(ECAM_TABLES), help="table format (ecam.format)")
+    p.add_argument("--table", choices=("auto", *TABLES), help="which table of the format (ecam.table)")
+    p.add_argument("--step", type=float, metavar="DEG", help="master step between points in cam degrees (ecam.step)")
+    p.add_argument("--no-boundaries", action="store_true",
+                   help="no extra points at the motion segments' boundaries (ecam.boundaries = false)")
+    p.add_argument("--name", metavar="NAME", help="the cam's name in the PLC code (ecam.name)")
+    p.add_argument("--json", action="store_true", help="print the deviation summary as JSON")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="output file (written atomically); omitted: standard output, the summary on standard error")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = spec_from_args(args)
+    table = ecam_table(spec, args.format, table=args.table, step=args.step,
+                       boundaries=False if args.no_boundaries else None, name=args.name)
+    summary = table.summary()
+    text = json.dumps(summary, indent=2) if args.json else describe(summary)
+    if args.output:
+        table.write(Path(args.output))
+        print(text)
+        if not args.json:
+            print(f"written to {args.output}")
+    else:
+        sys.stdout.write(table.text)
+        print(text, file=sys.stderr)
+    return 0
+
+
+def describe(s: dict) -> str:
+    """The summary in words: what was written and each interpolation's deviation (the numbers are
+    the summary's, to the digits the file's comment states)."""
+    lu = s["lift_unit"]
+    lines = [f"{s['format']} {s['table']}: {s['points']} points, step {s['step_deg']:g}°, "
+             f"{'equidistant' if s['equidistant'] else 'not equidistant'}"]
+    for kind, d in s["deviation"].items():
+        acc = ("" if d["max_acceleration_error"] is None else
+               f"; Y'' {d['max_acceleration_error']:.3g} {lu}/deg^2 at {d['acceleration_at_deg']:.4f} deg")
+        own = " (the controller's)" if kind == s["interpolation"] else ""
+        lines.append(f"  {kind} interpolation{own}: max deviation {d['max_error']:.3g} {lu} at {d['at_deg']:.4f} deg; "
+                     f"Y' {d['max_velocity_error']:.3g} {lu}/deg at {d['velocity_at_deg']:.4f} deg{acc}")
+    lines += [f"  note: {n}" for n in s["notes"]]
+    return "\n".join(lines)

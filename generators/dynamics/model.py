@@ -1,0 +1,142 @@
+"""The follower train as one degree of freedom: its numbers, read from the spec through the
+follower interface, and the spec's rules for them.
+
+The coordinate q is the follower's own: the lift along the line of motion for a translating
+follower (spec length), the arm's rotation in **radians** for an oscillating one
+(``Follower.lift_scale`` turns the spec's lift into q).  The cam drives the contact end of the train
+along u(θ) = lift_scale·s(θ); the lumped mass (or inertia) sits at q::
+
+        cam ── u ──[ k_f ‖ c ]── q: J ── return spring k_s, preload P ── frame
+
+    J q̈ = Q − P − k_s q,       Q = k_f (u − q) + c (u̇ − q̇)       while Q > 0 (contact),
+    J q̈ =   − P − k_s q,       Q = 0                               while the follower is off the cam.
+
+Q is the generalised contact load (a force along the line of motion, a torque about the pivot);
+the normal contact force is Q times :meth:`Follower.force_per_load` (1/cos φ, 1/(L·cos φ), …), and
+the camshaft torque is T = Q·u′ (virtual work: T·ω = Q·u̇, no friction).  With k_f → ∞ the
+model is the rigid follower of the design checks: Q → J ü + P + k_s u (thesis Eq. 3.5).
+
+J = mass × ``LoadSpec.mass_force`` (kg·mm/s² = 10⁻³ N), so forces come out in the spec's force
+unit and torques in its torque unit; c = 2ζ·√(J·(k_f + k_s)).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import SpecError
+from ..followers import Follower, follower_of
+from ..spec.model import CamSpec
+
+TWO_PI = 2.0 * math.pi
+
+#: the [dynamics] fields of each coordinate kind: (inertia, stiffness), and the follower field
+#: the inertia defaults to
+TRAIN_FIELDS = {"length": ("mass", "stiffness", "mass"),
+                "angle": ("arm_inertia", "torsional_stiffness", "arm_inertia")}
+
+
+@dataclass(frozen=True)
+class TrainModel:
+    """The single-degree-of-freedom follower train in the follower's coordinate q.
+
+    Attributes:
+        inertia: J [force·s² per unit of q] (mass or moment of inertia × mass_force).
+        stiffness: k_f, the train between the cam contact and the mass [force per unit of q].
+        spring_rate: k_s, the return spring [force per unit of q].
+        preload: P, the return spring's load at q = 0 [force].
+        damping_ratio: ζ; the damper c = 2ζ√(J(k_f + k_s)) sits beside k_f.
+        lift_scale: spec lift unit → q (1 for lengths, π/180 for arm degrees).
+        coordinate: "length" or "angle".
+        mass_force: the factor that turned the spec's mass into J (to report it back).
+    """
+
+    inertia: float
+    stiffness: float
+    spring_rate: float
+    preload: float
+    damping_ratio: float
+    lift_scale: float = 1.0
+    coordinate: str = "length"
+    mass_force: float = 1.0
+
+    @property
+    def total_stiffness(self) -> float:
+        """K = k_f + k_s: the stiffness the mass sees while the follower is on the cam."""
+        return self.stiffness + self.spring_rate
+
+    @property
+    def natural_frequency(self) -> float:
+        """ω_n = √(K/J) [rad/s] of the train on the cam."""
+        return math.sqrt(self.total_stiffness / self.inertia)
+
+    @property
+    def damping(self) -> float:
+        """c = 2ζ√(J K) [force·s per unit of q]."""
+        return 2.0 * self.damping_ratio * math.sqrt(self.inertia * self.total_stiffness)
+
+    @property
+    def flight_frequency(self) -> float:
+        """Ω = √(k_s/J) [rad/s]: the mass on its return spring alone, off the cam."""
+        return math.sqrt(self.spring_rate / self.inertia)
+
+    @property
+    def spec_inertia(self) -> float:
+        """J in the spec's mass (or inertia) unit."""
+        return self.inertia / self.mass_force
+
+
+def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
+    """The follower train of ``spec``: the follower's load (preload, return spring, its unit
+    factor) and ``[dynamics]``'s inertia, stiffness and damping.
+
+    Raises:
+        SpecError: the dynamics lack their data (naming the field).
+    """
+    validate_dynamics(spec, required=True)
+    fol = follower or follower_of(spec)
+    inertia_field, stiffness_field, follower_field = TRAIN_FIELDS[fol.lift_unit]
+    dy = spec.dynamics
+    inertia = getattr(dy, inertia_field) or getattr(spec.follower, follower_field)
+    ld = fol.load
+    return TrainModel(inertia=inertia * ld.mass_force, stiffness=float(getattr(dy, stiffness_field)),
+                      spring_rate=ld.rate, preload=ld.preload, damping_ratio=dy.damping_ratio,
+                      lift_scale=fol.lift_scale, coordinate=fol.lift_unit, mass_force=ld.mass_force)
+
+
+def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
+    """The rules of ``[dynamics]``: fields of the other follower motion are refused, the sweep's
+    range must be a range, and — when ``dynamics.enabled`` or ``required`` (``cam-workbench
+    dynamics``) — the train must have its stiffness and a mass.
+
+    Raises:
+        SpecError: naming the field and the rule.
+    """
+    dy = spec.dynamics
+    coordinate = "angle" if spec.follower.motion == "oscillating" else "length"
+    mine = TRAIN_FIELDS[coordinate]
+    other = TRAIN_FIELDS["length" if coordinate == "angle" else "angle"]
+    motion = spec.follower.motion
+    for name in other[:2]:
+        if getattr(dy, name) is not None:
+            raise SpecError(f"dynamics.{name}", f"does not apply to a {motion} follower: give dynamics.{mine[other.index(name)]}")
+    lo, hi = dy.sweep_min_rpm, dy.sweep_max_rpm
+    if lo is not None and hi is not None and not lo < hi:
+        raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({lo:g}), got {hi:g}")
+    if not (dy.enabled or required):
+        return
+    inertia_field, stiffness_field, follower_field = mine
+    if getattr(dy, stiffness_field) is None:
+        raise SpecError(f"dynamics.{stiffness_field}",
+                        f"is required for the dynamics of a {motion} follower (the follower train's stiffness "
+                        "between the cam contact and the lumped mass)")
+    if not (getattr(dy, inertia_field) or getattr(spec.follower, follower_field)):
+        raise SpecError(f"dynamics.{inertia_field}",
+                        f"the follower train needs a {inertia_field.replace('_', ' ')} > 0 for the dynamics: give "
+                        f"dynamics.{inertia_field} or follower.{follower_field}")
+
+
+def analysis_speed(spec: CamSpec) -> float:
+    """The cam speed of the analysis [rad/s]: ``dynamics.speed_rpm`` or ``cam.speed_rpm``."""
+    rpm = spec.dynamics.speed_rpm if spec.dynamics.speed_rpm is not None else spec.cam.speed_rpm
+    return rpm * TWO_PI / 60.0
