@@ -52,6 +52,15 @@ def import_distributed(what: str = "running on Dask") -> Any:
     return distributed
 
 
+def dask_available() -> bool:
+    """Dask's distributed scheduler is importable."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 class _DaskContext:
     """The task context on a Dask worker (pickled with the task)."""
 
@@ -270,7 +279,11 @@ def dask_executor(workers: int | None = None, scheduler: str | None = None, *,
         except (OSError, TimeoutError):
             client.close()
             raise SpecError("--scheduler", f"the Dask scheduler at {scheduler} has no workers") from None
-        n = sum(w.get("nthreads", 1) for w in client.scheduler_info(n_workers=-1)["workers"].values())
+        try:
+            info = client.scheduler_info(n_workers=-1)
+        except TypeError:          # before distributed 2025: every worker without asking
+            info = client.scheduler_info()
+        n = sum(w.get("nthreads", 1) for w in info["workers"].values())
         address = scheduler
     else:
         n = workers or default_workers()

@@ -54,14 +54,6 @@ BATCH_FIRST = ("name", "spec", "folder", "status", "error")
 
 
 # ---- choosing where the work runs ------------------------------------------------------------
-def dask_available() -> bool:
-    try:
-        import distributed  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 @contextlib.contextmanager
 def executor_scope(executor: Executor | None = None, workers: int | None = None, scheduler: str | None = None,
                    tasks: int | None = None, note: Callable[[str], Any] | None = None) -> Iterator[Executor]:
@@ -75,7 +67,7 @@ def executor_scope(executor: Executor | None = None, workers: int | None = None,
         yield SerialExecutor()
         return
     if scheduler is None and workers is None:
-        from .parallel import default_workers
+        from .parallel import dask_available, default_workers
 
         n = default_workers() if tasks is None else min(default_workers(), max(tasks, 1))
         if n <= 1:
