@@ -287,9 +287,12 @@ def dask_executor(workers: int | None = None, scheduler: str | None = None, *,
         address = scheduler
     else:
         n = workers or default_workers()
+        # no dashboard; the scheduler's own HTTP server (health, metrics) on a port the system
+        # picks, not 8787: another cluster of this machine may have that
         cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                            dashboard_address=None, memory_limit=memory_limit,
-                                           silence_logs=logging.ERROR)
+                                           silence_logs=logging.ERROR,
+                                           scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
         client = distributed.Client(cluster, set_as_default=False)
         address = cluster.scheduler_address
     try:
