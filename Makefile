@@ -13,8 +13,9 @@ export PIP_CACHE_DIR ?= $(CACHE)/pip
 # The dev venv: the project editable with the [cadquery] extra (CadQuery 2.8 and its one OCP,
 # cadquery-ocp 7.9) pinned by dev-constraints.txt, and the test tools. Never build123d here: it
 # brings the other OCP build (docs/install.md). The tests that need build123d or OCP 8 run in
-# clean venvs of their own (tests/test_install_envs.py).
-DEV_EXTRAS := cadquery,test
+# clean venvs of their own (tests/test_install_envs.py). The [dask] extra: the studies' parallel
+# runs and Parquet tables, which the tests drive with a real scheduler and workers.
+DEV_EXTRAS := cadquery,test,dask
 # Debian packages the test suite drives for real (installed by `make test` when root).
 DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap
 # FreeCAD 1.0 (Debian trixie) and 1.1 (Debian unstable): root filesystems made by mmdebstrap

@@ -8,16 +8,20 @@ import sys
 from .conftest import ROOT
 
 FORBIDDEN = ["OCP", "cadquery", "build123d", "FreeCAD", "Part", "ezdxf", "matplotlib",
-             "cam_workbench", "exporters", "rich", "tqdm", "nlopt"]
+             "cam_workbench", "exporters", "rich", "tqdm", "nlopt", "dask", "distributed", "pyarrow"]
 #: The only module allowed to import nlopt (lazily, inside the functions that run a solver).
 NLOPT_ALLOWED = ("generators/optimise/run.py",)
 
 
 def test_generators_imports_no_cad_or_file_format_module():
     code = (
-        "import sys, generators, generators.optimise\n"
+        "import sys, generators, generators.optimise, generators.studies.sweep\n"
         "from generators import default_spec, design_cam\n"
         "d = design_cam(default_spec()); d.summary()\n"
+        "from generators.studies.grid import Grid, parse_vary\n"
+        "from generators.studies.sweep import run_sweep\n"
+        "from generators.studies.sizing import SizingSettings\n"
+        "run_sweep(default_spec(), Grid((parse_vary('motion[1].law=harmonic,cycloidal'),)), sizing=SizingSettings(tol=1.0))\n"
         f"bad = [m for m in {FORBIDDEN!r} if m in sys.modules]\n"
         "print(','.join(bad))\n"
     )
@@ -28,7 +32,7 @@ def test_generators_imports_no_cad_or_file_format_module():
 
 def test_no_upward_imports_in_source():
     pattern = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP|FreeCAD|Part|ezdxf|matplotlib|"
-                         r"cam_workbench|exporters)\b", re.M)
+                         r"cam_workbench|exporters|dask|distributed|pyarrow)\b", re.M)
     for path in (ROOT / "generators").rglob("*.py"):
         assert not pattern.search(path.read_text()), path
     freecad = ROOT / "cam_workbench" / "freecad"
@@ -95,3 +99,27 @@ def test_only_the_optimiser_imports_nlopt():
             assert any_import.search(text) and not top_level.search(text), rel
         else:
             assert not any_import.search(text), f"{rel} imports nlopt"
+
+
+def test_only_the_parallel_module_imports_dask():
+    """Dask is the upper layer's engine (issue 16): ``cam_workbench/parallel.py`` is the one module
+    that imports ``dask``/``distributed`` (lazily, like every optional dependency); generators gets an
+    executor passed in, and the FreeCAD workbench never loads Dask."""
+    any_import = re.compile(r"^\s*(import|from)\s+(dask|distributed)\b", re.M)
+    top_level = re.compile(r"^(import|from)\s+(dask|distributed)\b", re.M)
+    offenders = []
+    for top in ("cam_workbench", "exporters", "generators"):
+        for path in (ROOT / top).rglob("*.py"):
+            rel = path.relative_to(ROOT).as_posix()
+            text = path.read_text(encoding="utf-8")
+            if rel == "cam_workbench/parallel.py":
+                assert any_import.search(text) and not top_level.search(text), rel
+            elif any_import.search(text):
+                offenders.append(rel)
+    assert not offenders, offenders
+    code = ("import sys, cam_workbench.cli, cam_workbench.studies, cam_workbench.parallel\n"
+            "cam_workbench.cli.build_parser()\n"
+            "print(','.join(m for m in ('dask', 'distributed', 'pyarrow') if m in sys.modules))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == ""

@@ -121,3 +121,49 @@ def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], Non
     from .dynamics_cmd import sweep_progress
 
     return sweep_progress()
+
+
+def add_parallel_arguments(p: argparse.ArgumentParser, what: str) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS``: where ``what`` runs (Dask, docs/studies.md)."""
+    p.add_argument("--workers", type=int, metavar="N", default=None,
+                   help=f"run {what} on a local Dask cluster of N worker processes (default: one per CPU, "
+                        "no more than there are tasks; in this process when that is one or Dask is not "
+                        "installed); 0: in this process, without Dask")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help=f"run {what} on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers "
+                        "must have the same cam-workbench installed)")
+
+
+def check_parallel_arguments(args: argparse.Namespace) -> None:
+    """Refuse bad ``--workers``/``--scheduler`` before any work (exit 2)."""
+    if args.workers is not None and args.workers < 0:
+        raise SpecError("--workers", f"must be ≥ 0, got {args.workers}")
+    if args.scheduler is not None and args.workers not in (None,):
+        raise SpecError("--scheduler", "give --workers or --scheduler, not both")
+    if args.scheduler is not None or (args.workers or 0) >= 1:
+        from ..parallel import import_distributed
+
+        import_distributed(f"--{'scheduler' if args.scheduler else 'workers'}")
+
+
+def note(text: str) -> None:
+    """One line on standard error (a note, not an error)."""
+    import sys
+
+    print(f"note: {text}", file=sys.stderr)
+
+
+def count_progress(total: int, description: str, unit: str) -> tuple[Any, Callable[[int, int], None]]:
+    """A rich progress bar over ``total`` items (designs, cams, points) and its callback
+    ``(done, total)``."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    prog = Progress(TextColumn("{task.description}"), BarColumn(),
+                    TextColumn("{task.completed}/{task.total} " + unit), TimeElapsedColumn(),
+                    TextColumn("eta"), TimeRemainingColumn(), transient=True)
+    task = prog.add_task(description, total=total)
+
+    def callback(done: int, n: int) -> None:
+        prog.update(task, completed=done, total=n)
+
+    return prog, callback

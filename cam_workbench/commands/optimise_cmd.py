@@ -13,7 +13,8 @@ from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import add_spec_arguments, plot_progress, require_ocp, spec_from_args
+from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, note, plot_progress,
+                     require_ocp, spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -41,6 +42,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "'base_radius,pivot_distance,arm_length' or 'control_points'")
     p.add_argument("--algorithm", choices=OPTIMISE_ALGORITHMS, help="override optimise.algorithm")
     p.add_argument("--max-evaluations", type=int, metavar="N", help="override optimise.max_evaluations")
+    p.add_argument("--multistart", type=int, metavar="N", help="override optimise.multistart (extra random starts)")
+    p.add_argument("--seed", type=int, metavar="N", help="override optimise.seed")
+    add_parallel_arguments(p, "the multistart's starts")
     p.add_argument("-o", "--output", default="out", metavar="OUT",
                    help="output folder (created if needed; default: out)")
     p.set_defaults(run=run)
@@ -63,11 +67,15 @@ def _progress_bar(budget: int) -> tuple[Any, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..studies import executor_scope
+
+    check_parallel_arguments(args)
     spec = spec_from_args(args)
     require_ocp("optimise")
     changes: dict[str, Any] = {}
-    if args.max_evaluations is not None:
-        changes["max_evaluations"] = args.max_evaluations
+    for name in ("max_evaluations", "multistart", "seed"):
+        if getattr(args, name) is not None:
+            changes[name] = getattr(args, name)
     # validate the overrides before any work (bad input: exit 2, nothing written)
     over = {f"optimise.{k}": v for k, v in (("objective", args.objective), ("variables", args.variables),
                                                ("algorithm", args.algorithm)) if v is not None}
@@ -77,8 +85,9 @@ def run(args: argparse.Namespace) -> int:
     cfg = spec.optimise
     budget = cfg.max_evaluations * (1 + cfg.multistart)
     bar, cb = _progress_bar(budget)
-    with bar:
-        result = optimise(spec, progress=cb)
+    # the starts on Dask (the same result as one after another); a single start runs here
+    with executor_scope(None, args.workers, args.scheduler, tasks=1 + cfg.multistart, note=note) as ex, bar:
+        result = optimise(spec, progress=cb, executor=ex)
     # the optimised cam through the one pipeline: the folder holds its full set of files
     outputs = run_pipeline(result.spec)
     outputs.summary["optimise"] = result.report()

@@ -34,6 +34,7 @@ that worker thread too: post updates to the GUI thread from it).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 import time
@@ -46,6 +47,7 @@ from ..checks.areas import area_summary, pitch_area, profile_area, thesis_area
 from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
 from ..spec.model import CamSpec
+from ..studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
 from .kinds import force_reference, kind_model
 from .model import SmoothModel
 from .objectives import PEAK, SURROGATE, TIME, UNITS, Objective, describe, make_objective
@@ -525,9 +527,189 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
 
 
 # ---- the driver ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class StartJob:
+    """One local run of an optimisation, as :func:`run_start` takes it: plain values, so that it
+    can run in another process or on another machine with the same result.
+
+    ``index`` 0 is the run from the spec's own design (with the objective's phases: the size
+    stand-in and the orientation scan of a machining time, ISRES first for ``isres``); index k ≥ 1
+    is ``multistart``'s random start k + 1 from ``z`` (scaled variables, drawn by
+    :func:`optimise` before any run, in start order)."""
+
+    index: int
+    spec: CamSpec                  # the settings applied
+    z: np.ndarray | None           # the random start (scaled); None for index 0
+    budget: int                    # the whole optimisation's budget (the progress bar's total)
+
+
+@dataclass
+class StartOutcome:
+    """What one :class:`StartJob` gave: its result (None when it was cancelled), the key
+    :func:`optimise` picks the best result by, and its evaluations, history and best points."""
+
+    index: int
+    p: np.ndarray | None
+    key: tuple[bool, float] | None     # (fails the dense check or no finite value, final value); None: not valid
+    solver_status: str
+    solver_ok: bool
+    messages: list[str]
+    evaluations: int
+    history: list[dict[str, Any]]
+    best_feasible: tuple[float, np.ndarray] | None
+    best_any: tuple[float, float, np.ndarray] | None
+    windows: int | None
+    cancelled: bool
+
+
+class _CancelFlag:
+    """The tracker's ``cancel`` for a job: asks the executor's task context."""
+
+    def __init__(self, ctx: TaskContext):
+        self._ctx = ctx
+
+    def is_set(self) -> bool:
+        return self._ctx.cancelled()
+
+
+class _StartRunner:
+    """The solver phases of one start (what :func:`optimise` did in one process before the
+    starts could run anywhere)."""
+
+    def __init__(self, spec: CamSpec, tracker: Tracker):
+        self.cfg = spec.optimise
+        self.space = DesignSpace(spec)
+        self.model = SmoothModel(self.space)
+        self.obj = make_objective(self.cfg.objective, self.model)
+        self.tracker = tracker
+        self.messages: list[str] = []
+        self.last: tuple[str, bool] = ("", False)     # the latest solver run: (status text, converged)
+        self.windows: int | None = None
+        algo = self.cfg.algorithm
+        if self.cfg.objective in TIME:
+            self.local = "bobyqa" if algo in ("auto", "isres") else algo
+        else:
+            self.local = "slsqp" if algo in ("auto", "isres") else algo
+
+    def solve_local(self, prob: ScaledProblem, z0: np.ndarray, local_algo: str, maxeval: int) -> np.ndarray:
+        if local_algo in LOCAL_GRADIENT or local_algo in ("cobyla", "isres"):
+            z, msg, ok = _run_nlopt(prob, local_algo, z0, self.cfg, maxeval, self.tracker)
+        else:
+            z, msg, ok = _run_penalty(prob, z0, self.cfg, maxeval, self.tracker)
+        self.messages.append(msg)
+        self.last = (msg, ok)
+        return z
+
+    def solve_phase(self, o: Objective, local_algo: str, p0: np.ndarray, phase: str, global_first: bool = False,
+                    final: bool = True) -> np.ndarray:
+        """Solve; while the independent dense check fails, re-solve from there with twice the
+        windows (at most ``refine_rounds`` times)."""
+        cfg, space, tracker = self.cfg, self.space, self.tracker
+        p = p0
+        windows = min(cfg.windows, CCSA_WINDOWS) if local_algo in ("mma", "ccsaq") else cfg.windows
+        rounds = cfg.refine_rounds if local_algo not in ("mma", "ccsaq") else min(cfg.refine_rounds, 1)
+        for rnd in range(rounds + 1 if final else 1):
+            tracker.phase = phase if rnd == 0 else f"{phase} ({windows} windows)"
+            prob = ScaledProblem(space, self.model, o, cfg.constraint_margin, _objective_value(o, space, p), windows)
+            z0 = space.to_z(p)
+            if prob.epigraph:
+                z0 = np.append(z0, prob.t0(p))
+            if global_first and rnd == 0:
+                z0 = self.solve_local(prob, z0, "isres", cfg.max_evaluations)
+            z = self.solve_local(prob, z0, local_algo, cfg.max_evaluations)
+            p_prev = p
+            p = _polish(space, prob.p_of(z))
+            bf = tracker.best_feasible
+            if bf is not None and bf[0] < _objective_value(o, space, p) * (1 - 1e-12):
+                p = _polish(space, bf[1])          # derivative-free runs end near, not at, their best
+            if not space.is_valid(p):
+                # a run that ended outside the follower's geometry (the arm cannot reach the prime
+                # circle, …) — only possible when it stopped early and infeasible: keep its start
+                self.messages.append(f"{tracker.phase}: the run ended outside the follower's geometry "
+                                     f"({space.invalid_reason(p)}); its starting design kept")
+                p = p_prev
+            self.windows = windows
+            if not final or (space.is_valid(p) and run_checks(space.spec_at(p)).passed):
+                break
+            windows *= 2
+        return p
+
+    def first(self) -> np.ndarray:
+        """The run from the spec's own design, with the objective's phases."""
+        cfg, space, tracker = self.cfg, self.space, self.tracker
+        algo = cfg.algorithm
+        p = space.p0.copy()
+        phase = "isres + " + self.local if algo == "isres" else self.local
+        if cfg.objective in TIME and algo == "auto":
+            sur = make_objective(SURROGATE[cfg.objective], self.model)
+            p = self.solve_phase(sur, "slsqp", p, f"slsqp on {sur.name}", final=False)
+            tracker.new_objective()
+            if space.b_index is not None:
+                tracker.phase = "orientation scan"
+                p = _orientation_scan(self.obj, space, self.model, p, tracker)
+        return self.solve_phase(self.obj, self.local, p, phase, global_first=(algo == "isres"))
+
+
+def run_start(job: StartJob, ctx: TaskContext) -> StartOutcome:
+    """Run one start of an optimisation (the task :func:`optimise` hands its executor): every
+    evaluation reports a :class:`Progress` (as a dict) through ``ctx.report``, and the run stops
+    with its best points when ``ctx.cancelled()`` says so.  Its result does not depend on the
+    process it runs in."""
+    tracker = Tracker(job.budget, lambda p: ctx.report(dataclasses.asdict(p)), _CancelFlag(ctx))
+    runner = _StartRunner(job.spec, tracker)
+    space = runner.space
+    p: np.ndarray | None = None
+    key: tuple[bool, float] | None = None
+    cancelled = False
+    try:
+        if job.index == 0:
+            p = runner.first()
+        else:
+            tracker.phase = f"start {job.index + 1}"
+            p = runner.solve_phase(runner.obj, runner.local, space.to_p(np.asarray(job.z, dtype=float)),
+                                   f"start {job.index + 1}")
+        key = _pick_key(runner.cfg.objective, space, p)
+    except Cancelled:
+        p, key, cancelled = None, None, True
+    return StartOutcome(index=job.index, p=p, key=key, solver_status=runner.last[0], solver_ok=runner.last[1],
+                        messages=runner.messages, evaluations=tracker.evaluations, history=tracker.history,
+                        best_feasible=tracker.best_feasible, best_any=tracker.best_any, windows=runner.windows,
+                        cancelled=cancelled)
+
+
+class _Progress:
+    """The progress of every start together, for the caller's callback (called in the caller's
+    thread): evaluations summed over the starts, the best feasible objective of any start."""
+
+    def __init__(self, budget: int, progress: Callable[[Progress], Any] | None, cancel: threading.Event | None):
+        self.budget = budget
+        self.progress = progress
+        self.cancel = cancel
+        self.counts: dict[int, int] = {}
+        self.bests: dict[int, float] = {}
+        self.stop = False
+
+    def on_progress(self, index: int, info: dict[str, Any]) -> None:
+        self.counts[index] = int(info["evaluations"])
+        if info["best"] is None:
+            self.bests.pop(index, None)
+        else:
+            self.bests[index] = float(info["best"])
+        if self.progress is None:
+            return
+        best = min(self.bests.values()) if self.bests else None
+        if self.progress(Progress(sum(self.counts.values()), self.budget, info["phase"], info["objective"],
+                                  info["max_violation"], best)) is False:
+            self.stop = True
+
+    def should_stop(self) -> bool:
+        return self.stop or (self.cancel is not None and self.cancel.is_set())
+
+
 def optimise(spec: CamSpec, objective: str | None = None, variables: str | None = None,
              algorithm: str | None = None, *, progress: Callable[[Progress], Any] | None = None,
-             cancel: threading.Event | None = None, **settings: Any) -> OptimiseResult:
+             cancel: threading.Event | None = None, executor: Executor | None = None,
+             **settings: Any) -> OptimiseResult:
     """Optimise ``spec`` (thesis Ch. 5): returns the optimised spec, history and report.
 
     Args:
@@ -536,7 +718,14 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             ``algorithm``; ``settings`` override any other ``optimise.*`` field by name
             (e.g. ``max_evaluations=500``, ``multistart=4``).
         progress: called after every evaluation with a :class:`Progress`; return False to cancel.
+            With a parallel executor it is called in this thread, a few times a second per
+            running start, with the evaluations of all starts together.
         cancel: a ``threading.Event``; setting it cancels the run (from any thread).
+        executor: where the starts run (:mod:`generators.studies.executor`); None runs them one
+            after another in this process.  ``multistart``'s random starts are drawn here, before
+            any run, and the best result is picked by the same rule whatever ran where, so the
+            result is the same as without an executor (e.g. Dask's:
+            ``cam_workbench.parallel.dask_executor(workers=4)``).
 
     Raises:
         SpecError: a bad setting (field and rule named).
@@ -561,9 +750,6 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     algo = cfg.algorithm
     runs = 1 + cfg.multistart
     budget = cfg.max_evaluations * runs * (2 if cfg.objective in TIME and algo == "auto" else 1)
-    tracker = Tracker(budget, progress, cancel)
-    messages: list[str] = []
-    last: list[tuple[str, bool]] = [("", False)]     # the latest solver run: (status text, converged)
     details: dict[str, Any] = {}
     p_init = space.p0.copy()
     f_init_model = _objective_value(obj, space, p_init)
@@ -571,91 +757,67 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     # is refused here, before any solver work, by the CamError that says why
     v0 = final_value(cfg.objective, spec)
 
-    def solve_local(prob: ScaledProblem, z0: np.ndarray, local_algo: str, maxeval: int) -> np.ndarray:
-        if local_algo in LOCAL_GRADIENT or local_algo in ("cobyla", "isres"):
-            z, msg, ok = _run_nlopt(prob, local_algo, z0, cfg, maxeval, tracker)
+    # every start's random numbers first, in start order: the runs may then go anywhere
+    jobs = [StartJob(0, spec, None, budget)]
+    skipped: dict[int, str] = {}
+    rng = np.random.default_rng(cfg.seed)
+    for i in range(cfg.multistart):
+        z_rand = _random_start(space, rng)
+        if z_rand is None:
+            skipped[i + 1] = f"start {i + 2}: no random design of the box builds (skipped)"
         else:
-            z, msg, ok = _run_penalty(prob, z0, cfg, maxeval, tracker)
-        messages.append(msg)
-        last[0] = (msg, ok)
-        return z
-
-    def solve_phase(o: Objective, local_algo: str, p0: np.ndarray, phase: str, global_first: bool = False,
-                    final: bool = True) -> np.ndarray:
-        """Solve; while the independent dense check fails, re-solve from there with twice the
-        windows (at most ``refine_rounds`` times)."""
-        p = p0
-        windows = min(cfg.windows, CCSA_WINDOWS) if local_algo in ("mma", "ccsaq") else cfg.windows
-        rounds = cfg.refine_rounds if local_algo not in ("mma", "ccsaq") else min(cfg.refine_rounds, 1)
-        for rnd in range(rounds + 1 if final else 1):
-            tracker.phase = phase if rnd == 0 else f"{phase} ({windows} windows)"
-            prob = ScaledProblem(space, model, o, cfg.constraint_margin, _objective_value(o, space, p), windows)
-            z0 = space.to_z(p)
-            if prob.epigraph:
-                z0 = np.append(z0, prob.t0(p))
-            if global_first and rnd == 0:
-                z0 = solve_local(prob, z0, "isres", cfg.max_evaluations)
-            z = solve_local(prob, z0, local_algo, cfg.max_evaluations)
-            p_prev = p
-            p = _polish(space, prob.p_of(z))
-            bf = tracker.best_feasible
-            if bf is not None and bf[0] < _objective_value(o, space, p) * (1 - 1e-12):
-                p = _polish(space, bf[1])          # derivative-free runs end near, not at, their best
-            if not space.is_valid(p):
-                # a run that ended outside the follower's geometry (the arm cannot reach the prime
-                # circle, …) — only possible when it stopped early and infeasible: keep its start
-                messages.append(f"{tracker.phase}: the run ended outside the follower's geometry "
-                                f"({space.invalid_reason(p)}); its starting design kept")
-                p = p_prev
-            details["windows"] = windows
-            if not final or (space.is_valid(p) and run_checks(space.spec_at(p)).passed):
-                break
-            windows *= 2
-        return p
-
+            jobs.append(StartJob(i + 1, spec, z_rand, budget))
+    agg = _Progress(budget, progress, cancel)
+    ran = (executor or SerialExecutor()).run(run_start, jobs, on_progress=agg.on_progress,
+                                             should_stop=agg.should_stop)
+    outcomes: dict[int, StartOutcome] = {o.index: o for o in ran if o is not NOT_RUN}
+    cancelled = len(outcomes) < len(jobs) or any(o.cancelled for o in outcomes.values())
+    messages: list[str] = []
+    history: list[dict[str, Any]] = []
+    evaluations = 0
+    for k in range(runs):
+        if k in skipped:
+            messages.append(skipped[k])
+        if k in outcomes:
+            o = outcomes[k]
+            messages.extend(o.messages)
+            for h in o.history:
+                history.append({**h, "iteration": evaluations + h["iteration"]})
+            evaluations += o.evaluations
     status = "converged"
-    p_best = p_init
-    try:
-        if cfg.objective in TIME:
-            local = "bobyqa" if algo in ("auto", "isres") else algo
-            p = p_init
-            if algo == "auto":
-                sur = make_objective(SURROGATE[cfg.objective], model)
-                p = solve_phase(sur, "slsqp", p, f"slsqp on {sur.name}", final=False)
-                tracker.new_objective()
-                if space.b_index is not None:
-                    tracker.phase = "orientation scan"
-                    p = _orientation_scan(obj, space, model, p, tracker)
-            p = solve_phase(obj, local, p, "isres + " + local if algo == "isres" else local,
-                            global_first=(algo == "isres"))
-        else:
-            local = "slsqp" if algo in ("auto", "isres") else algo
-            p = solve_phase(obj, local, p_init, "isres + " + local if algo == "isres" else local,
-                            global_first=(algo == "isres"))
-        candidates = [p]
-        ends = [last[0]]
-        rng = np.random.default_rng(cfg.seed)
-        for i in range(cfg.multistart):
-            z_rand = _random_start(space, rng)
-            if z_rand is None:
-                messages.append(f"start {i + 2}: no random design of the box builds (skipped)")
-                continue
-            tracker.phase = f"start {i + 2}"
-            candidates.append(solve_phase(obj, local, space.to_p(z_rand), f"start {i + 2}"))
-            ends.append(last[0])
-        k_best = _pick(cfg.objective, space, candidates)
-        p_best = candidates[k_best]
-        solver_status, solver_ok = ends[k_best]
-    except Cancelled:
+    if not cancelled:
+        best: tuple[tuple[bool, float], int] | None = None
+        for k in sorted(outcomes):          # the first best in start order
+            key = outcomes[k].key
+            if key is not None and (best is None or key < best[0]):
+                best = (key, k)
+        chosen = outcomes[best[1] if best is not None else 0]
+        p_best = chosen.p
+        solver_status, solver_ok = chosen.solver_status, chosen.solver_ok
+        if chosen.windows is not None:
+            details["windows"] = chosen.windows
+    else:
         status = "cancelled"
         solver_status, solver_ok = "cancelled (forced stop after the evaluation in progress)", False
-        if tracker.best_feasible is not None:
-            p_best = tracker.best_feasible[1]
-        elif tracker.best_any is not None:
-            p_best = tracker.best_any[2]
+        best_feasible: tuple[float, np.ndarray] | None = None
+        best_any: tuple[float, float, np.ndarray] | None = None
+        for k in sorted(outcomes):          # as one tracker over the starts in order would see them
+            o = outcomes[k]
+            if o.best_feasible is not None and (best_feasible is None or o.best_feasible[0] < best_feasible[0]):
+                best_feasible = o.best_feasible
+            if o.best_any is not None and (best_any is None or (max(o.best_any[0], 0), o.best_any[1])
+                                           < (max(best_any[0], 0), best_any[1])):
+                best_any = o.best_any
+        p_best = p_init
+        if best_feasible is not None:
+            p_best = best_feasible[1]
+        elif best_any is not None:
+            p_best = best_any[2]
         p_best = _polish(space, p_best)
         if not space.is_valid(p_best):
             p_best = p_init
+        if 0 in outcomes and outcomes[0].windows is not None:
+            details["windows"] = outcomes[0].windows
     final_spec = space.spec_at(p_best)
     try:
         v1 = final_value(cfg.objective, final_spec)
@@ -673,10 +835,11 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
                                    "final": thesis_cutting_time(final_spec).summary()}
     details["constraint_margin"] = cfg.constraint_margin
     details["model_objective_initial"] = f_init_model
+    details["workers"] = int(getattr(executor, "workers", 1)) if executor is not None else 1
     if status != "cancelled":
         if not checks.passed:
             status = "infeasible"
-        elif tracker.evaluations >= budget:
+        elif evaluations >= budget:
             status = "budget exhausted"
         elif not solver_ok:
             status = "stopped"            # the solver's own text says why (e.g. roundoff limited)
@@ -686,7 +849,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     return OptimiseResult(
         spec=final_spec, initial_spec=spec, objective=cfg.objective, algorithm=algo,
         initial_value=v0, value=v1, variables=space.labels, initial_design=p_init, design=p_best,
-        history=tracker.history, evaluations=tracker.evaluations, time_s=time.perf_counter() - t_start,
+        history=history, evaluations=evaluations, time_s=time.perf_counter() - t_start,
         status=status, message=message, checks=checks, initial_checks=initial_checks, details=details,
         solver_status=solver_status)
 
@@ -793,18 +956,25 @@ def _random_point(space: DesignSpace, rng: np.random.Generator) -> np.ndarray:
     return space.to_z(np.clip(p, space.lower, space.upper))
 
 
+def _pick_key(objective: str, space: DesignSpace, p: np.ndarray) -> tuple[bool, float] | None:
+    """How :func:`optimise` ranks a start's result: (fails the dense check or has no finite
+    objective, the objective) — smaller is better; None for a design outside the follower's
+    geometry (never picked)."""
+    if not space.is_valid(p):
+        return None
+    spec = space.spec_at(p)
+    try:
+        value = final_value(objective, spec)
+    except CamError:           # gcode_time: a candidate that cannot be built comes last
+        value = math.inf
+    return (not run_checks(spec).passed or not math.isfinite(value), value)
+
+
 def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> int:
     """The index of the best candidate: passing the dense check first, then the smallest objective."""
     best = None
     for i, p in enumerate(candidates):
-        if not space.is_valid(p):
-            continue
-        spec = space.spec_at(p)
-        try:
-            value = final_value(objective, spec)
-        except CamError:           # gcode_time: a candidate that cannot be built comes last
-            value = math.inf
-        key = (not run_checks(spec).passed or not math.isfinite(value), value)
-        if best is None or key < best[0]:
+        key = _pick_key(objective, space, p)
+        if key is not None and (best is None or key < best[0]):
             best = (key, i)
     return best[1]

@@ -1,0 +1,83 @@
+"""``cam-workbench batch``: many specs built as ``build`` builds one, each into its own subfolder,
+with a summary table (CSV, Parquet) of every cam's key numbers and checks; on Dask or here."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from .common import add_parallel_arguments, check_parallel_arguments, count_progress, note, parse_value, require_ocp
+
+EXIT_CHECK_FAILED = 3
+EXIT_SOME_FAILED = 4
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "batch", help="build many specs, each into its own subfolder, with a summary table (CSV, Parquet)",
+        description="Build every spec (TOML files, and the *.toml files of folders, sorted by name) with the "
+                    "same pipeline as `build`: OUT/<name>/ gets cam.step, cam.dxf, cam.nc, commands.csv, "
+                    "report.json, report.html and the plots (<name>: the file's name without .toml; -2, -3 "
+                    "for repeats). OUT/summary.csv and OUT/summary.parquet hold one row per spec: its status "
+                    "(ok, bad input, cannot be made, error, cancelled) and message, and its key numbers and "
+                    "checks (base radius, pressure angle, radii of curvature, area, volume, every check's "
+                    "value, limit and status); OUT/study.json says how it ran. A bad spec is a row saying "
+                    "why and does not stop the others. The cams are built in parallel on Dask (--workers, "
+                    "--scheduler), each folder written as its cam is done.",
+        epilog="exit status: 0 every cam built and passing every design check; 3 every cam built, some "
+               "failing a design check (the table says which); 4 some specs could not be built (bad input, "
+               "cannot be made, internal error: their rows say why; the others are written); 2 bad command "
+               "line or OUT holding other files (nothing written); 130 interrupted (Ctrl-C: the cams done "
+               "stay, the summary marks the rest cancelled).",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("specs", nargs="+", metavar="SPEC", help="spec files (TOML) and folders of them")
+    p.add_argument("-o", "--output", default="batch", metavar="OUT",
+                   help="output folder (created if needed; default: batch)")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
+                   help="override a field of every spec, e.g. --set cam.thickness=12 (repeatable)")
+    add_parallel_arguments(p, "the builds")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from generators.errors import SpecError
+
+    from ..studies import batch, collect_specs
+
+    check_parallel_arguments(args)
+    require_ocp("batch")
+    changes: dict[str, Any] = {}
+    for item in args.overrides:
+        if "=" not in item:
+            raise SpecError(item, "--set needs FIELD=VALUE")
+        key, value = item.split("=", 1)
+        changes[key.strip()] = parse_value(value, key.strip())
+    jobs = collect_specs(args.specs)                 # no spec at all: exit 2 before any work
+    bar, cb = count_progress(len(jobs), "building", "cams")
+    with bar:
+        table = batch(args.specs, args.output, changes=changes or None, workers=args.workers,
+                      scheduler=args.scheduler, progress=cb, note=note)
+    return _report(table, Path(args.output))
+
+
+def _report(table: Any, out: Path) -> int:
+    from rich.console import Console
+    from rich.markup import escape
+
+    con = Console(soft_wrap=True)
+    rows = table.rows
+    ok = [r for r in rows if r["status"] == "ok"]
+    bad = [r for r in rows if r["status"] != "ok"]
+    failing = [r for r in ok if not r.get("checks_passed")]
+    for r in bad:
+        con.print(escape(f"{r['name']}: {r['status']}: {r['error']}"), style="red")
+    for r in failing:
+        con.print(escape(f"{r['name']}: fails {r['failed_checks'].replace(';', ', ')}"), style="yellow")
+    m = table.meta
+    con.print(escape(f"{len(ok)} of {len(rows)} cams built into {out}/ ({len(failing)} failing a design check, "
+                     f"{len(bad)} not built) in {m['time_s']:.1f} s on {m['workers']} worker"
+                     f"{'s' if m['workers'] != 1 else ''}; summary: {out}/summary.csv"
+                     + (", summary.parquet" if (out / "summary.parquet").exists() else "")))
+    if bad:
+        return EXIT_SOME_FAILED
+    return EXIT_CHECK_FAILED if failing else 0

@@ -1,0 +1,323 @@
+"""``cam-workbench batch`` and ``sweep`` (issue 16), and ``optimise --workers``, as a user runs
+them: real processes, a real local Dask cluster (``--workers 2``), a real scheduler with two
+workers on the loopback address (``--scheduler``), Ctrl-C as SIGINT.  Exit statuses as
+docs/cli.md gives them; bad input exits 2 with one line naming the option and writes nothing."""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from generators.examples import example_dict
+from generators.spec import dict_to_toml
+
+from .conftest import ROOT, requires_ocp
+from .dask_cluster import loopback_cluster
+
+CLI = [sys.executable, "-m", "cam_workbench.cli"]
+ENV = dict(os.environ, PYTHONPATH=str(ROOT))
+needs_dask = pytest.mark.skipif(not __import__("importlib").util.find_spec("distributed"),
+                                reason="Dask is not installed")
+
+
+def run(*args, cwd=None, timeout=900):
+    return subprocess.run([*CLI, *map(str, args)], capture_output=True, text=True, cwd=cwd, env=ENV,
+                          timeout=timeout)
+
+
+def rows(path: Path) -> list[dict[str, str]]:
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.fixture(scope="module")
+def specs(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("specs")
+    for name in ("default", "flat", "paper"):
+        (folder / f"{name}.toml").write_text(dict_to_toml(example_dict(name)))
+    (folder / "broken.toml").write_text("[cam]\nbase_radius = 40\n")       # no follower, no motion
+    return folder
+
+
+@pytest.fixture(scope="module")
+def scheduler(tmp_path_factory):
+    yield from loopback_cluster(tmp_path_factory.mktemp("dask-cluster"))
+
+
+# ---- batch ------------------------------------------------------------------------------------
+@requires_ocp
+@needs_dask
+def test_batch_builds_each_spec_reports_the_bad_one_and_runs_on_a_local_cluster(specs, tmp_path):
+    missing = tmp_path / "nowhere.toml"
+    out0, out2 = tmp_path / "b0", tmp_path / "b2"
+    res0 = run("batch", specs, missing, "-o", out0, "--workers", 0)
+    res2 = run("batch", specs, missing, "-o", out2, "--workers", 2)
+    for res in (res0, res2):
+        assert res.returncode == 4, res.stdout + res.stderr          # some specs could not be built
+        assert "broken: bad input: cam.thickness: is required" in res.stdout
+    assert (out0 / "summary.csv").read_text() == (out2 / "summary.csv").read_text()
+    table = rows(out0 / "summary.csv")
+    assert [r["name"] for r in table] == ["broken", "default", "flat", "paper", "nowhere"]
+    status = {r["name"]: r["status"] for r in table}
+    assert status == {"broken": "bad input", "default": "ok", "flat": "ok", "paper": "ok", "nowhere": "bad input"}
+    by = {r["name"]: r for r in table}
+    assert "file not found" in by["nowhere"]["error"]
+    assert by["default"]["checks_passed"] == "true" and by["paper"]["checks_passed"] == "false"
+    assert by["paper"]["failed_checks"] == "pressure_angle"
+    assert float(by["paper"]["check_pressure_angle"]) > 30.0
+    assert by["flat"]["follower"] == "translating flat-faced" and by["flat"]["check_cusp_status"] == "pass"
+    # every built cam's folder is the output set `build` writes, and its numbers are the table's
+    for name in ("default", "flat", "paper"):
+        report = json.loads((out0 / name / "report.json").read_text())
+        assert (out0 / name / "cam.step").read_text().startswith("ISO-10303-21")
+        assert report["solid"]["valid"] and by[name]["solid_valid"] == "true"
+        assert float(by[name]["area"]) == report["area"] and float(by[name]["volume"]) == report["volume"]
+        assert float(by[name]["pressure_angle_deg"]) == report["pressure_angle"]["max_deg"]
+        assert float(by[name]["base_radius"]) == report["spec"]["cam"]["base_radius"]
+    assert not (out0 / "broken").exists() and not (out0 / "nowhere").exists()
+    pq = pytest.importorskip("pyarrow.parquet")
+    pt = pq.read_table(out0 / "summary.parquet")
+    assert pt.column_names == list(table[0]) and pt.column("area").to_pylist()[1] == float(by["default"]["area"])
+    meta = json.loads((out2 / "study.json").read_text())
+    assert meta["workers"] == 2 and meta["built"] == 3 and json.loads((out0 / "study.json").read_text())["workers"] == 1
+    manifest = json.loads((out0 / ".cam-workbench.json").read_text())
+    assert manifest["command"] == "batch"
+    assert sorted(manifest["files"]) == ["default", "flat", "paper", "study.json", "summary.csv", "summary.parquet"]
+
+    # again into the same folder, one cam: exit 0; the earlier run's other cams are gone
+    res = run("batch", specs / "default.toml", "-o", out0, "--workers", 0)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert sorted(p.name for p in out0.iterdir()) == [".cam-workbench.json", "default", "study.json",
+                                                     "summary.csv", "summary.parquet"]
+    # a cam failing a design check: exit 3
+    res = run("batch", specs / "paper.toml", "-o", tmp_path / "b3", "--workers", 0)
+    assert res.returncode == 3 and "paper: fails pressure_angle" in res.stdout
+
+
+@pytest.mark.parametrize("args, words", [
+    (["batch", "{empty}"], "folder holds no *.toml spec files"),
+    (["batch", "{spec}", "-o", "{file}"], "is a file"),
+    (["batch", "{spec}", "-o", "{foreign}"], "holds files that are not a cam-workbench output"),
+    (["batch", "{spec}", "--workers", "-1"], "--workers: must be ≥ 0"),
+    (["batch", "{spec}", "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--scheduler: give --workers or"),
+    (["sweep", "--vary", "motion[1].lift"], "--vary: 'motion[1].lift': write FIELD=START:STOP:COUNT"),
+    (["sweep", "--vary", "motion[7].lift=1:2:3"], "index 7 is out of range"),
+    (["sweep", "--vary", "cam.radius=1:2:3"], "unknown field"),
+    (["sweep", "--vary", "cam.base_radius=30:40:3", "--size", "base_radius"], "what the study sets itself"),
+    (["sweep", "--vary", "motion[1].law=harmonic", "--size", "base_radius", "--size-checks", "bogus"],
+     "--size-checks: unknown check 'bogus'"),
+    (["sweep", "--vary", "motion[1].law=harmonic", "--size", "base_radius", "--size-checks", "cusp"],
+     "--size-checks: cusp is not a check of this follower"),
+    (["sweep", "--vary", "motion[1].law=harmonic", "--size", "base_radius", "--tol", "0"], "--tol: must be > 0"),
+    (["sweep", "--vary", "motion[1].law=harmonic", "--size", "base_radius", "--build"], "--build"),
+    (["sweep"], "--vary: give at least one"),
+])
+def test_bad_input_exits_2_and_writes_nothing(args, words, specs, tmp_path):
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "file").write_text("x")
+    (tmp_path / "foreign").mkdir()
+    (tmp_path / "foreign" / "mine.txt").write_text("mine")
+    subs = {"{empty}": tmp_path / "empty", "{spec}": specs / "default.toml", "{file}": tmp_path / "file",
+            "{foreign}": tmp_path / "foreign"}
+    args = [str(subs.get(a, a)) for a in args]
+    if "-o" not in args:
+        args += ["-o", str(tmp_path / "out")]
+    before = sorted(str(p) for p in tmp_path.rglob("*"))
+    res = run(*args)
+    assert res.returncode == 2, res.stdout + res.stderr
+    assert words in res.stderr and len(res.stderr.strip().splitlines()) == 1, res.stderr
+    assert sorted(str(p) for p in tmp_path.rglob("*")) == before
+
+
+# ---- sweep ------------------------------------------------------------------------------------
+FLAT = """units = "mm"
+[cam]
+base_radius = 40.0
+thickness = 10.0
+bore_diameter = 12.0
+[follower]
+kind = "flat"
+face_width = 400.0
+[[motion]]
+kind = "rise"
+angle = 60.0
+lift = 20.0
+law = "harmonic"
+[[motion]]
+kind = "dwell"
+angle = 120.0
+[[motion]]
+kind = "return"
+angle = 60.0
+lift = 20.0
+law = "harmonic"
+[[motion]]
+kind = "dwell"
+angle = 120.0
+"""
+SIZE_ARGS = ["--vary", "motion[0].angle,motion[2].angle=60:90:4", "--balance", "motion[1].angle",
+             "--vary", "motion[0].lift,motion[2].lift=10,20", "--size", "base_radius", "--size-checks", "cusp"]
+
+
+@needs_dask
+def test_sizing_sweep_writes_the_table_and_the_chart_on_the_scheduler(tmp_path, scheduler):
+    """A flat face's cusp-free radius h(π²/(2β²) − 1) over β × h: the table (with --workers 0, and
+    with --scheduler on the loopback cluster: the same bytes), the Parquet copy, the chart."""
+    spec = tmp_path / "flat.toml"
+    spec.write_text(FLAT)
+    res = run("sweep", spec, *SIZE_ARGS, "-o", tmp_path / "s0", "--workers", 0)
+    assert res.returncode == 0, res.stdout + res.stderr
+    res2 = run("sweep", spec, *SIZE_ARGS, "-o", tmp_path / "s2", "--scheduler", scheduler)
+    assert res2.returncode == 0, res2.stdout + res2.stderr
+    assert (tmp_path / "s0" / "sizing.csv").read_bytes() == (tmp_path / "s2" / "sizing.csv").read_bytes()
+    table = rows(tmp_path / "s0" / "sizing.csv")
+    assert len(table) == 8
+    for r in table:
+        b, h = math.radians(float(r["motion[0].angle"])), float(r["motion[0].lift"])
+        expected = h * (math.pi**2 / (2 * b * b) - 1)
+        assert r["status"] == "ok" and r["binding_checks"] in ("cusp", "") or r["binding_checks"].startswith("spec")
+        if expected > 6.0 + 0.01:                # above the bore's floor (R_b > 6 mm)
+            assert expected < float(r["min_base_radius"]) <= expected + 0.01 + 1e-9
+            assert r["binding_checks"] == "cusp"
+    png = (tmp_path / "s0" / "sizing_chart.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    meta = json.loads((tmp_path / "s2" / "study.json").read_text())
+    assert meta["kind"] == "sizing" and meta["workers"] == 2 and meta["tolerance"] == 0.01
+    assert meta["checks"] == ["cusp"]
+    assert "smallest R_b" in res.stdout and "8 of 8 points evaluated" in res.stdout
+
+
+def test_evaluate_sweep_exit_4_when_points_are_bad(tmp_path):
+    out = tmp_path / "ev"
+    res = run("sweep", "--vary", "motion[1].lift=15,20", "--vary", "motion[1].law=harmonic,cycloidal", "-o", out,
+              "--workers", 0)
+    assert res.returncode == 4, res.stdout + res.stderr
+    table = rows(out / "sweep.csv")
+    assert [(r["motion[1].lift"], r["motion[1].law"], r["status"]) for r in table] == [
+        ("15", "harmonic", "bad input"), ("15", "cycloidal", "bad input"),
+        ("20", "harmonic", "ok"), ("20", "cycloidal", "ok")]
+    assert "motion[3].lift: the follower would go 5 below zero lift" in table[0]["error"]
+    assert sorted(p.name for p in out.iterdir()) == [".cam-workbench.json", "study.json", "sweep.csv",
+                                                    "sweep.parquet"]
+
+
+@requires_ocp
+def test_sweep_build_writes_every_point(tmp_path):
+    out = tmp_path / "built"
+    res = run("sweep", "--vary", "motion[1].law,motion[3].law=harmonic,poly345", "--build", "-o", out,
+              "--workers", 0)
+    assert res.returncode == 0, res.stdout + res.stderr
+    table = rows(out / "summary.csv")
+    assert [(r["name"], r["motion[1].law"], r["folder"], r["status"]) for r in table] == [
+        ("point-1", "harmonic", "point-1", "ok"), ("point-2", "poly345", "point-2", "ok")]
+    for r in table:
+        report = json.loads((out / r["folder"] / "report.json").read_text())
+        assert report["spec"]["motion"][1]["law"] == r["motion[1].law"] == report["spec"]["motion"][3]["law"]
+        assert float(r["pressure_angle_deg"]) == report["pressure_angle"]["max_deg"]
+
+
+# ---- optimise --workers -----------------------------------------------------------------------
+@requires_ocp
+@needs_dask
+def test_optimise_multistart_on_a_local_cluster_writes_the_sequential_result(tmp_path):
+    args = ["optimise", "--example", "paper", "--variables", "base_radius,offset", "--multistart", 5, "--seed", 4]
+    a = run(*args, "-o", tmp_path / "o0", "--workers", 0)
+    b = run(*args, "-o", tmp_path / "o2", "--workers", 2)
+    assert a.returncode == b.returncode == 0, a.stderr + b.stderr
+    assert (tmp_path / "o0" / "optimised.toml").read_text() == (tmp_path / "o2" / "optimised.toml").read_text()
+    ra = json.loads((tmp_path / "o0" / "report.json").read_text())["optimise"]
+    rb = json.loads((tmp_path / "o2" / "report.json").read_text())["optimise"]
+    for key in ("final_value", "status", "message", "evaluations", "history", "variables"):
+        assert ra[key] == rb[key], key
+    assert (ra["workers"], rb["workers"]) == (1, 2)
+
+
+# ---- Ctrl-C -----------------------------------------------------------------------------------
+def _children(pid: int) -> list[int]:
+    import psutil
+
+    try:
+        return [c.pid for c in psutil.Process(pid).children(recursive=True)]
+    except psutil.NoSuchProcess:
+        return []
+
+
+def _gone(pids: list[int], timeout: float = 30.0) -> bool:
+    import psutil
+
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        alive = [p for p in pids if psutil.pid_exists(p) and psutil.Process(p).status() != psutil.STATUS_ZOMBIE]
+        if not alive:
+            return True
+        time.sleep(0.2)
+    return False
+
+
+@requires_ocp
+@needs_dask
+def test_ctrl_c_stops_a_batch_on_a_local_cluster(specs, tmp_path):
+    """SIGINT after the first cam is written: exit 130, the cams done stay, the summary marks the
+    rest cancelled, and the local cluster's processes are gone."""
+    many = tmp_path / "many"
+    many.mkdir()
+    for k in range(8):
+        (many / f"cam{k}.toml").write_text(dict_to_toml(example_dict("default" if k % 2 else "flat")))
+    out = tmp_path / "out"
+    p = subprocess.Popen([*CLI, "batch", str(many), "-o", str(out), "--workers", "2"], env=ENV,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 600
+        while time.monotonic() < deadline and not any((out / f"cam{k}" / "report.json").exists() for k in range(8)):
+            assert p.poll() is None, p.communicate()
+            time.sleep(0.2)
+        kids = _children(p.pid)
+        assert kids                                    # the local cluster's processes
+        p.send_signal(signal.SIGINT)
+        stdout, stderr = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 130, stdout + stderr
+    assert "interrupted" in stderr
+    table = rows(out / "summary.csv")
+    done = [r for r in table if r["status"] == "ok"]
+    assert done and len(done) < 8 and all(r["status"] in ("ok", "cancelled") for r in table)
+    for r in done:
+        assert (out / r["name"] / "report.json").exists()
+    for r in table:
+        if r["status"] == "cancelled":
+            assert not (out / r["name"]).exists()
+    assert _gone(kids)
+
+
+@needs_dask
+def test_ctrl_c_stops_a_sweep_and_writes_nothing(tmp_path):
+    out = tmp_path / "out"
+    p = subprocess.Popen([*CLI, "sweep", "--vary", "motion[1].angle,motion[3].angle=60:140:200", "--balance",
+                          "motion[2].angle", "--vary", "motion[1].law,motion[3].law=cycloidal,harmonic",
+                          "--size", "base_radius", "--tol", "1e-4", "-o", str(out), "--workers", "2"],
+                         env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and len(_children(p.pid)) < 2:
+            assert p.poll() is None, p.communicate()
+            time.sleep(0.2)
+        time.sleep(3.0)                                # the workers are at it
+        kids = _children(p.pid)
+        p.send_signal(signal.SIGINT)
+        stdout, stderr = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 130, stdout + stderr
+    assert not out.exists()
+    assert _gone(kids)
