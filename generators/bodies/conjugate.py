@@ -75,7 +75,7 @@ class ConjugateBody:
         second = second_cam(design)
         bore = bore_loop(spec)
         holes = (bore,) if bore else ()
-        z2 = (-gap - t, -gap)
+        z2 = (-gap - t, 0.0 - gap)
         # the keyway and holes must leave material in both cams (SpecError naming the field)
         features = feature_checks(design, lambda a: np.minimum(profile_radius_along(design.profile, a),
                                                                profile_radius_along(second.profile, a)),
@@ -326,11 +326,12 @@ def validate_conjugate(spec) -> None:
 
     psi0 = math.degrees(zero_lift_arm_angle(spec.cam.base_radius, fol.pivot_distance, fol.arm_length))
     psi2 = (psi0 + c.arm_angle + 180.0) % 360.0 - 180.0   # the second arm's angle at zero lift, in [−180°, 180°)
+    lo = (-180.0 + h - psi0 + 180.0) % 360.0 - 180.0     # the allowed arm angles, from lo to lo + 180° − h
     if not (-180.0 + h < psi2 < 0.0):
         raise SpecError("conjugate.arm_angle", f"the second arm must stay on the other side of the line through the "
                         f"pivot and the cam axis over the whole lift: its angle ψ₀ + arm_angle = {psi2:.4g}° must lie "
-                        f"in ({-180.0 + h:.4g}°, 0°) (ψ₀ = {psi0:.4g}°, largest lift {h:g}°): arm_angle in "
-                        f"({-180.0 + h - psi0:.4g}°, {-psi0:.4g}°)")
+                        f"in ({-180.0 + h:.4g}°, 0°) (ψ₀ = {psi0:.4g}°, largest lift {h:g}°): arm_angle between "
+                        f"{lo:.4g}° and {lo + 180.0 - h:.4g}° (modulo 360°)")
     L2 = c.arm_length if c.arm_length is not None else fol.arm_length
     reach = abs(fol.pivot_distance + L2 * complex(math.cos(math.radians(psi2 - h)), math.sin(math.radians(psi2 - h))))
     if not reach > clear:

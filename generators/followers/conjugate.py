@@ -176,8 +176,8 @@ class YokeRoller(SecondRoller):
         return self.sense * (-np.arccos(np.clip(self.offset / r, -1.0, 1.0)) - np.angle(p))
 
     def label(self) -> str:
-        return (f"yoke's second roller r = {self.roller_radius:g}, {self.roller_distance:g} below the first on "
-                f"the line x = {self.offset:g}")
+        return (f"yoke's second roller r = {self.roller_radius:g} on the line x = {self.offset:g}, "
+                f"{self.roller_distance:g} below the first")
 
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "roller_distance": self.roller_distance, "offset": self.offset}
@@ -222,8 +222,8 @@ class ArmPairRoller(SecondRoller):
         return self.sense * (-alpha - np.angle(p))
 
     def label(self) -> str:
-        return (f"second arm's roller r = {self.roller_radius:g}, arm L = {self.arm_length:g} at "
-                f"{math.degrees(self.arm_angle):g}° from the first")
+        return (f"second arm's roller r = {self.roller_radius:g}, at {math.degrees(self.arm_angle):g}° from the "
+                f"first, arm L = {self.arm_length:g}")
 
     def describe(self) -> dict[str, Any]:
         return {**super().describe(), "arm_angle_deg": math.degrees(self.arm_angle), "arm_length": self.arm_length,
