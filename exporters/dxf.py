@@ -19,6 +19,9 @@ BORE                      the central hole
 CENTERLINES               axes through the rotation centre, the follower axis at θ = 0
 DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R; rendered by
                           ezdxf's dimension machinery) and the thickness/profile note
+PROFILE_2, PITCH_2        a conjugate pair's second cam (below the first): its profile (the exact
+                          offset of its own PH pitch curve, drawn as PROFILE) and pitch curve
+SPACER, HUB, HOLES, …     the body's other loops (groove walls, rim, hub, holes, timing mark)
 TITLE                     the title block — key parameters, the numbers and the checks
                           verdict of the summary dict that becomes report.json (spec
                           digest, deviations, errors, pressure angle, failed checks) and
@@ -62,6 +65,9 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "HOLES": (7, "Continuous", 35),
     "HUB": (8, "DASHED", 25),                   # below the plate (hidden line)
     "TIMING_MARK": (6, "Continuous", 18),
+    "PROFILE_2": (2, "Continuous", 50),         # a conjugate pair's second cam (below the first)
+    "PITCH_2": (1, "DASHED2", 18),              # its pitch curve (the second roller's centre)
+    "SPACER": (8, "HIDDEN", 25),                # between the cams
 }
 
 _INSUNITS = {"mm": 4, "in": 1}
@@ -254,7 +260,9 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
             msp.add_circle((0, 0), r_bore, dxfattribs={"layer": "BORE"})
     else:
         outer_wall = _body_loops(msp, body, dr.curves, tol, r12, dr.spline_closed_flag)
-    _centerlines(msp, design, r_max, h)
+        for layer, curve in body.extra.get("drawing_curves", {}).items():
+            _export_curve(msp, curve if curve.area() > 0 else curve.reversed(), layer, dr.curves, tol, r12, False)
+    _centerlines(msp, design, _drawn_radius(design, r_max), h)
     if dr.dimensions:
         _dimensions(msp, design, r_max, p_max, h, units)
     if dr.title_block:
@@ -273,7 +281,14 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
 
 #: body loop role → DXF layer (the profile itself is drawn above, with its claim)
 _ROLE_LAYERS = {"bore": "BORE", "rim": "OUTLINE", "groove_outer": "PROFILE_OUTER", "hole": "HOLES",
-                "hub": "HUB", "timing_mark": "TIMING_MARK"}
+                "hub": "HUB", "timing_mark": "TIMING_MARK", "profile_2": "PROFILE_2", "spacer": "SPACER"}
+
+
+def _drawn_radius(design: CamDesign, r_max: float) -> float:
+    """The largest radius of anything the body draws (the profile's, or a rim's, a second cam's)."""
+    if design.body is None:
+        return r_max
+    return max([r_max] + [float(np.max(np.abs(loop.points(16)))) for loop in design.body.loops()])
 
 
 def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_flag: bool) -> Any:
@@ -466,6 +481,7 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("LARGEST RADIUS", f"{f(prof['max_radius'])}"),
         ("AREA / VOLUME", f"{summary['area']:.6g} {u}2 / {summary['volume']:.6g} {u}3"),
     ]
+    rows += _second_cam_rows(summary, u, f)
     if isinstance(checks, dict) and "passed" in checks:
         rows.append(("DESIGN CHECKS", _checks_cell(checks)))
     rows += [
@@ -473,6 +489,27 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("SOFTWARE", f"cam_workbench {__version__}"),
     ]
     return rows
+
+
+def _second_cam_rows(summary: dict[str, Any], u: str, f: Any) -> list[tuple[str, str]]:
+    """A conjugate pair's rows: where the second cam is, its roller, profile and pressure angle,
+    and the distance error between the rollers (report.json ``body``)."""
+    body = summary.get("body")
+    second = body.get("second_cam") if isinstance(body, dict) else None
+    if not isinstance(second, dict):
+        return []
+    z0, z1 = second["z"]
+    err = body["roller_distance_error"]
+    lu = "DEG" if err["lift_unit"] == "deg" else u
+    pa = second["pressure_angle"]
+    return [
+        ("SECOND CAM (LAYER PROFILE_2)", f"Z {f(z0)} TO {f(z1)}: {str(second['follower']['label']).upper()}"),
+        ("SECOND CAM PROFILE", f"EXACT OFFSET OF ITS PH PITCH CURVE, MAX ERROR {second['profile']['max_error']:.3e} {u}; "
+                               f"LARGEST RADIUS {f(second['profile']['max_radius'])}"),
+        ("SECOND CAM PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°"),
+        ("ROLLER DISTANCE ERROR", f"{err['max']:.3e} {u} AT {err['at_deg']:.2f}° (PH DEVIATIONS "
+                                  f"{err['first_cam_deviation']:.2e} + {err['second_cam_deviation']:.2e} {lu})"),
+    ]
 
 
 def _checks_cell(checks: dict[str, Any]) -> str:

@@ -87,11 +87,14 @@ def _exact_word(design: CamDesign) -> str:
 
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
-                  summary: Mapping[str, Any] | None = None, tool_text: str | None = None) -> None:
+                  summary: Mapping[str, Any] | None = None, tool_text: str | None = None,
+                  which: str | None = None) -> None:
     spec = design.spec
     u = spec.units
     lu = "deg" if design.follower.lift_unit == "angle" else u
     w.comment(f"cam_workbench {__version__}: {design.spec.cam.body} cam, {mode_text}")
+    if which:
+        w.comment(which)
     w.comment(f"cam: base radius {spec.cam.base_radius:.6g} {u}, thickness {spec.cam.thickness:g} {u}, "
               f"{spec.cam.direction}, follower: {design.follower.label()} [{u}]")
     motion = " / ".join(
@@ -160,13 +163,14 @@ def _moves(path: Path2D, d: int) -> Iterable[str]:
 
 
 def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *,
-                    summary: Mapping[str, Any] | None = None) -> str:
+                    summary: Mapping[str, Any] | None = None, which: str | None = None) -> str:
     """The XY contour-milling program (text); ``summary`` (the dict that becomes
-    report.json) adds its key numbers and checks verdict to the header comments."""
+    report.json) adds its key numbers and checks verdict to the header comments; ``which``: a
+    comment saying which cam of a body this is (a conjugate pair's)."""
     u = plan.units
     d = _DECIMALS[u]
     w = _Writer(plan.line_numbers)
-    _cam_comments(w, design, plan, "XY contour milling", summary)
+    _cam_comments(w, design, plan, "XY contour milling", summary, which=which)
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], "
               f"max distance from the {_exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
@@ -230,13 +234,13 @@ def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
 
 
 def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
-                   summary: Mapping[str, Any] | None = None) -> str:
+                   summary: Mapping[str, Any] | None = None, which: str | None = None) -> str:
     """The XC rotary program (text): G93 inverse-time blocks, one per interpolator command;
-    ``summary`` as for :func:`contour_program`."""
+    ``summary`` and ``which`` as for :func:`contour_program`."""
     u = plan.units
     d = _DECIMALS[u]
     w = _Writer(plan.line_numbers)
-    _cam_comments(w, design, plan, "XC rotary machining", summary)
+    _cam_comments(w, design, plan, "XC rotary machining", summary, which=which)
     cmds = path.commands
     w.comment(f"interpolator: {cmds.n} commands per revolution, dt = {plan.sample_period:g} s, "
               f"{plan.rotary_speed_rpm:g} rpm, {cmds.step_deg:.4g} deg per block; blocks within "

@@ -1,11 +1,17 @@
 """Everything ``build`` writes about machining, computed before anything is written:
 the G-code program (``cam.nc``), the command table (``commands.csv``), the interpolator
 plots, and the ``interpolator`` and ``machining`` sections of report.json.
+
+A conjugate pair gets two programs, one per cam, both of ``machining.program``: ``cam.nc``
+cuts the first cam, ``cam2.nc`` the second — each as its own plate (Z0 on that cam's top face,
+the cam frame seen from +Z, the same tool), the second's XC program on a line through the C
+axis.  Report: ``machining.second_cam``.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Mapping
 
 from generators.cam_design import CamDesign
 from generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
@@ -18,6 +24,8 @@ from .gcode import contour_program, groove_program, rotary_program
 from .interpolator_plots import PLOT_FILES, deviation_figure, kinematics_figure, write_png
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
+#: a conjugate pair's second cam's program
+SECOND_FILE = "cam2.nc"
 
 
 @dataclass
@@ -31,17 +39,23 @@ class MachiningOutputs:
     figures: dict[str, Any] = field(repr=False)
     interpolator_summary: dict[str, Any]
     machining_summary: dict[str, Any]
+    #: a conjugate pair's second cam's program (``cam2.nc``), else None
+    second_gcode: str | None = None
 
     @property
     def files(self) -> dict[str, str]:
         """report.json ``files`` entries."""
         out = dict(FILES)
+        if self.second_gcode is not None:
+            out["gcode_second"] = SECOND_FILE
         out.update({f"plot_{k}": PLOT_FILES[k] for k in self.figures})
         return out
 
     def write(self, out: OutputSet) -> None:
         """Add every file to ``out`` (committed with the others, or not at all)."""
         out.add_text(FILES["gcode"], self.gcode)
+        if self.second_gcode is not None:
+            out.add_text(SECOND_FILE, self.second_gcode)
         out.add_text(FILES["commands"], self.commands_csv)
         for key, fig in self.figures.items():
             out.add(PLOT_FILES[key], lambda p, f=fig: write_png(f, p))
@@ -71,10 +85,11 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         gcode = groove_program(design, plan, path, summary=summary)
     elif plan.program == "xy":
         path = contour_path(design, plan)
-        gcode = contour_program(design, plan, path, summary=summary)
+        gcode = contour_program(design, plan, path, summary=summary, which=_first_cam_words(design))
     else:
         path = rotary_path(design, plan, acc.commands)
-        gcode = rotary_program(design, plan, path, summary=summary)
+        gcode = rotary_program(design, plan, path, summary=summary, which=_first_cam_words(design))
+    second = _second_cam_program(design, plan, acc, summary)
     interp = acc.summary()
     tol = spec.pitch.tolerance
     interp["pitch_tolerance"] = tol
@@ -92,6 +107,8 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         "tool_centre_fit_error": tool_centre_fit_error(design, plan),
         plan.program: path.summary(),
     }
+    if second is not None:
+        mach["second_cam"] = second[1]
     figures = {}
     if plots:
         figures = {
@@ -101,4 +118,54 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         }
     return MachiningOutputs(plan=plan, accuracy=acc, gcode=gcode,
                             commands_csv=commands_csv_text(acc.commands, spec.units), figures=figures,
-                            interpolator_summary=interp, machining_summary=mach)
+                            interpolator_summary=interp, machining_summary=mach,
+                            second_gcode=None if second is None else second[0])
+
+
+def second_cam_of(design: CamDesign) -> CamDesign | None:
+    """The second cam of a body that has one (a conjugate pair), else None."""
+    body = design.body
+    return None if body is None else body.extra.get("second_cam")
+
+
+def _first_cam_words(design: CamDesign) -> str | None:
+    if second_cam_of(design) is None:
+        return None
+    return f"the first cam of the conjugate pair, 0 <= z <= {design.spec.cam.thickness:g}; the second is in {SECOND_FILE}"
+
+
+def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: InterpolatorAccuracy,
+                        summary: Mapping[str, Any] | None) -> tuple[str, dict[str, Any]] | None:
+    """(``cam2.nc``'s text, ``machining.second_cam``) for a conjugate pair, else None: the
+    second cam cut with the same tool and settings, its own roller's offset, the XC program on a
+    line through the C axis.
+
+    Raises:
+        GeometryError: the tool would gouge the second cam.
+    """
+    second = second_cam_of(design)
+    if second is None:
+        return None
+    from generators.machining.plan import check_tool_fits
+
+    spec = design.spec
+    plan2 = dataclasses.replace(plan, roller_radius=second.follower.profile_offset, rotary_line="axis")
+    check_tool_fits(second, plan2.tool_radius)
+    s2 = None
+    body = summary.get("body") if summary is not None else None
+    if isinstance(body, Mapping) and isinstance(body.get("second_cam"), Mapping):
+        s2 = {**body["second_cam"], "units": spec.units, "checks": summary.get("checks"),
+              "spec_digest": summary.get("spec_digest")}
+    gap, t = spec.conjugate.gap, spec.cam.thickness
+    which = (f"the second cam of the conjugate pair, {-gap - t:g} <= z <= {-gap:g}: cut as its own plate, Z0 on its "
+             "top face [the face towards the first cam], the cam frame seen from +Z as for the first cam")
+    if plan.program == "xy":
+        path = contour_path(second, plan2)
+        text = contour_program(second, plan2, path, summary=s2, which=which)
+    else:
+        path = rotary_path(second, plan2, acc.commands)
+        text = rotary_program(second, plan2, path, summary=s2, which=which)
+    return text, {"file": SECOND_FILE, "roller_radius": plan2.roller_radius, "tool_radius": plan2.tool_radius,
+                  "tool_centre_offset": plan2.centre_offset, "rotary_line": plan2.rotary_line
+                  if plan.program == "xc" else None, "gcode_lines": text.count("\n"),
+                  "tool_centre_fit_error": tool_centre_fit_error(second, plan2), plan.program: path.summary()}

@@ -9,6 +9,8 @@ figure                     what it shows
 =========================  =======================================================
 :func:`cam_figure`         cam drawing beside s, v, a, j (the README picture)
 :func:`cam_drawing_figure` the cam with its pitch curve, circles and the follower
+:func:`conjugate_figure`   a conjugate pair: both cams, pitch curves and rollers
+:func:`roller_distance_figure`  a conjugate pair's lift errors and the distance error between the rollers
 :func:`kinematics_figure`  s, v, a, j over the cycle at the spec's speed
 :func:`pressure_angle_figure`  φ(θ) (thesis Eq. 3.4) and the built curve's φ
 :func:`curvature_figure`   radius of curvature of pitch curve and profile (Eq. 3.7)
@@ -161,7 +163,7 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
         ax.fill(c.real + r * np.cos(t), c.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=5)
         ax.plot(c.real + r * np.cos(t), c.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=6)
     for a, b, role in sk.segments:
-        lw = {"stem": 3, "arm": 3, "face": 2.2}[role]
+        lw = {"stem": 3, "arm": 3, "face": 2.2, "yoke": 3}[role]
         ax.plot([a.real, b.real], [a.imag, b.imag], color=COLORS["follower"], lw=lw, zorder=6,
                 solid_capstyle="round", label=label)
         label = None
@@ -178,6 +180,91 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     ax.set_ylabel(f"y [{u}]")
     ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
     ax.grid(alpha=0.2)
+
+
+def conjugate_figure(design: CamDesign, second: CamDesign, follower_angle_deg: float = 75.0) -> Any:
+    """A conjugate pair seen from +Z: the first cam (filled) over the second (below it, hatched
+    outline), both pitch curves, and the follower at ``follower_angle_deg`` with both rollers —
+    the yoke joining them, or both arms on their pivot."""
+    plt = _plt()
+    spec = design.spec
+    u = spec.units
+    fig, ax = plt.subplots(figsize=(6.8, 6.8))
+    t = np.linspace(0, 2 * np.pi, 400)
+    _, p1 = design.profile.sample(32)
+    _, p2 = second.profile.sample(32)
+    ax.fill(p2[:, 0], p2[:, 1], color="#f3d9b1", zorder=1, label="second cam (below the first)")
+    ax.plot(p2[:, 0], p2[:, 1], color="#a05a00", lw=1.1, zorder=2)
+    ax.fill(p1[:, 0], p1[:, 1], color="#b8c7d9", alpha=0.85, zorder=3, label="first cam")
+    ax.plot(p1[:, 0], p1[:, 1], color=COLORS["profile"], lw=1.2, zorder=4)
+    for d, style, name in ((design, "--", "first"), (second, "-.", "second")):
+        _, q = d.pitch_nurbs.sample(32)
+        ax.plot(q[:, 0], q[:, 1], style, color=COLORS["pitch"], lw=0.8, zorder=5,
+                label=f"{name} pitch curve (PH)")
+    if spec.cam.bore_diameter > 0:
+        rb = spec.cam.bore_diameter / 2
+        ax.fill(rb * np.cos(t), rb * np.sin(t), color="white", zorder=6)
+        ax.plot(rb * np.cos(t), rb * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=6)
+    th = np.deg2rad(follower_angle_deg)
+    k = design.program.evaluate(np.array([th]))
+    size = spec.max_lift * (spec.cam.base_radius * design.follower.lift_scale
+                            if design.follower.lift_unit == "angle" else 1.0) + 2 * design.follower.profile_offset
+    label = f"follower at θ = {follower_angle_deg:g}°"
+    for fol in (design.follower, second.follower):
+        sk = fol.sketch(th, k, size)
+        for c, r in sk.circles:
+            ax.fill(c.real + r * np.cos(t), c.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=7)
+            ax.plot(c.real + r * np.cos(t), c.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=8)
+        for a, b, _role in sk.segments:
+            ax.plot([a.real, b.real], [a.imag, b.imag], color=COLORS["follower"], lw=3, zorder=8,
+                    solid_capstyle="round", label=label)
+            label = None
+        if sk.pivot is not None:
+            ax.plot([sk.pivot.real], [sk.pivot.imag], "o", ms=7, mfc="white", mec=COLORS["follower"], mew=1.5,
+                    zorder=9)
+        ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=9)
+    ax.plot([0], [0], "+", color="k", ms=10)
+    ax.set_aspect("equal")
+    ax.set_title(f"conjugate cams, {design.follower.describe()['label']} {u}\nand the "
+                 f"{second.follower.label()} {u}", fontsize=8.5)
+    ax.set_xlabel(f"x [{u}]")
+    ax.set_ylabel(f"y [{u}]")
+    ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
+    ax.grid(alpha=0.2)
+    return fig
+
+
+def roller_distance_figure(design: CamDesign, error: Any) -> Any:
+    """A conjugate pair over the cycle: each built pitch curve's lift error s_actual − s (its PH
+    deviation) and the distance error between the rollers that follows from them
+    (:class:`generators.bodies.conjugate.RollerDistanceError`), with the bound the two
+    deviations set."""
+    plt = _plt()
+    u = design.spec.units
+    scale, unit = small_unit(u, design.follower.lift_unit)
+    lscale, lunit = _small_length_scale(u)
+    deg = np.rad2deg(error.theta)
+    s = design.program.s(error.theta)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.6), sharex=True)
+    _segment_marks(a1, design, labels=True)
+    a1.plot(deg, (error.s1 - s) * scale, color=COLORS["s"], lw=0.8, label="first cam: s₁ − s")
+    a1.plot(deg, (error.s2 - s) * scale, color=COLORS["a"], lw=0.8, label="second cam: s₂ − s")
+    a1.set_ylabel(f"lift error [{unit}]", fontsize=8)
+    a1.legend(fontsize=7, loc="lower left")
+    _angle_axis(a1, last=False)
+    _segment_marks(a2, design)
+    a2.plot(deg, error.distance * lscale, color=COLORS["j"], lw=0.9)
+    k = int(np.argmax(np.abs(error.distance)))
+    a2.plot([deg[k]], [error.distance[k] * lscale], "o", ms=4, color=COLORS["a"])
+    right = deg[k] > 240
+    a2.annotate(f"max |error| = {abs(error.distance[k]) * lscale:.4g} {lunit} at {deg[k]:.2f}°",
+                (deg[k], error.distance[k] * lscale), xytext=(-8 if right else 8, 0), textcoords="offset points",
+                fontsize=8, va="center", ha="right" if right else "left")
+    a2.axhline(0, color="0.3", lw=0.6)
+    a2.set_ylabel(f"distance error [{lunit}]\n+ interference, − play", fontsize=8)
+    _angle_axis(a2)
+    fig.tight_layout()
+    return fig
 
 
 def cam_drawing_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:

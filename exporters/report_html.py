@@ -27,6 +27,9 @@ always                          the cam drawing with the follower, key numbers, 
                                 numbers, residual vibration; with the :class:`DynamicsResult`
                                 (``dynamics=``) the force/torque/error figure and the
                                 jump-speed curve
+``report["body"]["second_cam"]``  a conjugate pair: both cams with both rollers, the second
+                                cam's numbers, the lift errors of both built pitch curves and
+                                the distance error between the rollers (figures and table)
 ``report["optimise"]``          optimiser: its scalar entries as a table and, when
                                 ``"history"`` is a list of ``{"iteration", "objective",
                                 "max_violation"}``, the convergence figure
@@ -198,6 +201,30 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
                 "(refined by Brent's method between two speeds of the sweep). Lines: the analysis speed, the jump "
                 "speed and the rigid follower's.",
                 lambda: plots.jump_speed_figure(dynamics, dyn)))
+    second = _second_cam(design, report)
+    if second is not None:
+        err_cache: dict[str, Any] = {}
+
+        def error() -> Any:
+            if "err" not in err_cache:
+                from generators.bodies.conjugate import roller_distance_error
+
+                err_cache["err"] = roller_distance_error(design.pitch, second.pitch)
+            return err_cache["err"]
+
+        out.append(Plot(
+            "conjugate", "The conjugate pair",
+            "Seen from +Z: the first cam (blue) over the second (below it, orange), each the exact offset of its "
+            "own PH pitch curve (dashed: the first roller's centre, dash-dotted: the second's), and the follower "
+            "with both rollers where it stands at 75° of cam rotation.",
+            lambda: plots.conjugate_figure(design, second)))
+        out.append(Plot(
+            "roller_distance", "Distance error between the rollers",
+            f"Top: the lift each built pitch curve gives the follower minus the design's [{small}] (each curve's "
+            "PH deviation, the follower touching it: Eq. 13 generalised). Bottom: the distance error between the "
+            "rollers that follows — the second roller's centre where the first cam puts the follower minus where "
+            "the second cam wants it, along its path (report.json body.roller_distance_error).",
+            lambda: plots.roller_distance_figure(design, error())))
     hist = _history(report)
     if hist is not None:
         it, obj, viol = hist
@@ -207,6 +234,14 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
                         (" and the largest constraint violation." if viol is not None else "."),
                         lambda: plots.convergence_figure(it, obj, name, viol)))
     return out
+
+
+def _second_cam(design: CamDesign, report: Mapping[str, Any]) -> CamDesign | None:
+    """A conjugate pair's second cam (designed), when the report has its numbers."""
+    body = report.get("body")
+    if design.body is None or not isinstance(body, Mapping) or not isinstance(body.get("second_cam"), Mapping):
+        return None
+    return design.body.extra.get("second_cam")
 
 
 def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[str, Series] | None = None,
@@ -360,6 +395,42 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
                     "the built solid.</p>")
     sections.append(("accuracy", "Interpolation error and accuracy",
                      fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
+    if "conjugate" in fig:
+        lu2 = "deg" if report["body"]["roller_distance_error"]["lift_unit"] == "deg" else u
+        cj_rows = [
+            ("second roller", "body.second_cam.follower.label", "", None),
+            ("second cam from z", "body.second_cam.z.0", u, None),
+            ("second cam to z", "body.second_cam.z.1", u, None),
+            ("axial gap", "body.gap", u, None),
+            ("spacer diameter", "body.spacer_diameter", u, None),
+            ("second cam: max |φ| (design)", "body.second_cam.pressure_angle.max_deg", "deg",
+             "body.second_cam.pressure_angle.at_deg"),
+            ("second cam: max |φ| (built curve)", "body.second_cam.pressure_angle.as_built.max_deg", "deg",
+             "body.second_cam.pressure_angle.as_built.at_deg"),
+            ("second cam: min convex pitch radius", "body.second_cam.curvature.min_pitch_radius", u,
+             "body.second_cam.curvature.at_deg"),
+            ("second cam: min convex profile radius", "body.second_cam.curvature.min_profile_radius", u,
+             "body.second_cam.curvature.at_deg"),
+            ("second cam: smallest radius", "body.second_cam.profile.min_radius", u, None),
+            ("second cam: largest radius", "body.second_cam.profile.max_radius", u,
+             "body.second_cam.profile.max_radius_at_deg"),
+            ("second cam: PH segments M", "body.second_cam.pitch.segments", "", None),
+            ("second cam: max |s_actual − s|", "body.second_cam.pitch.max_deviation", lu2,
+             "body.second_cam.pitch.max_deviation_at_deg"),
+            ("second cam: profile's max distance from the design-intent profile",
+             "body.second_cam.profile.max_error", u, "body.second_cam.profile.max_error_at_deg"),
+            ("distance error between the rollers: max", "body.roller_distance_error.max", u,
+             "body.roller_distance_error.at_deg"),
+            ("largest interference", "body.roller_distance_error.largest_interference", u, None),
+            ("largest play", "body.roller_distance_error.largest_play", u, None),
+            ("max |s₁ − s₂| (lift)", "body.roller_distance_error.lift_max", lu2,
+             "body.roller_distance_error.lift_at_deg"),
+            ("bound: first + second cam's max deviation", "body.roller_distance_error.lift_bound", lu2, None),
+            ("share of the turn the first cam drives", "body.drive.first_cam_share", "", None),
+            ("share of the turn the second cam drives", "body.drive.second_cam_share", "", None),
+        ]
+        sections.append(("conjugate", "Conjugate cams", fig["conjugate"] + _quantity_table(report, cj_rows)
+                         + fig["roller_distance"]))
     if "force_stress" in fig:
         sections.append(("force", "Contact force and stress", fig["force_stress"]))
     if isinstance(report.get("dynamics"), Mapping):

@@ -132,8 +132,48 @@ class CamDesign:
         th = self.program.dense_angles(samples_per_segment)
         return th, self.program.evaluate(th)
 
+    @property
+    def profile_inset(self) -> float:
+        """How far inside the pitch curve the profile NURBS lies: the follower's roller radius,
+        plus the body's own inset (half a groove's clearance)."""
+        return self.follower.profile_offset + body_of(self.spec).profile_inset(self.spec)
+
     def summary(self) -> dict[str, Any]:
         """The numbers of ``report.json`` (without the ``files`` section)."""
+        spec = self.spec
+        geo = self.geometry
+        sections = self.cam_sections()
+        maxima = self.program.maxima(spec.cam.speed_rpm * 2 * np.pi / 60)
+        return {
+            "units": spec.units,
+            "spec_digest": spec_digest(spec),
+            **{k: sections[k] for k in ("pitch", "pressure_angle", "curvature", "follower")},
+            "motion": {
+                "lift_unit": "deg" if geo.lift_unit == "angle" else spec.units,
+                "max_lift": spec.max_lift,
+                "max_velocity": maxima["velocity"],
+                "max_acceleration": maxima["acceleration"],
+                "max_jerk": maxima["jerk"],
+                **self.program.report(),
+            },
+            "profile": sections["profile"],
+            "area": self.area,
+            "volume": self.volume,
+            "areas": {
+                # design intent (motion + follower), thesis Eq. 4.21–4.27 and exact
+                **area_summary(spec, self.program),
+                # the built profile (exact NURBS, Green's theorem)
+                "built_profile": self.profile_area,
+                "built_cross_section": self.area,
+            },
+            "checks": self.design_checks.to_dict(),
+            "body": _plain({**self.body_report, "volume": self.volume, "top_face_area": self.area})
+            if self.body is not None else None,
+        }
+
+    def cam_sections(self) -> dict[str, Any]:
+        """The report sections of this cam's own curves: ``pitch``, ``pressure_angle``,
+        ``curvature``, ``follower`` and ``profile`` (for a conjugate pair, each cam's)."""
         spec = self.spec
         geo = self.geometry
         th, k = self.design_kinematics()
@@ -158,10 +198,8 @@ class CamDesign:
         b_convex = np.where(cs.radius > 0, cs.radius, np.inf)
         ib = int(np.argmin(b_convex))
         b_concave = np.where(cs.radius < 0, -cs.radius, np.inf)
-        rr = profile_inset(spec)            # the profile's (for a groove: the inner wall's) inset
+        rr = self.profile_inset            # the profile's (for a groove: the inner wall's) inset
         phi_b, at_b = self._as_built_pressure_angle()
-        omega = spec.cam.speed_rpm * 2 * np.pi / 60
-        maxima = self.program.maxima(omega)
         curvature: dict[str, Any] = {
             "min_pitch_radius": -neg_rc,
             "min_profile_radius": -neg_rc - rr,
@@ -175,8 +213,6 @@ class CamDesign:
             },
         }
         return {
-            "units": spec.units,
-            "spec_digest": spec_digest(spec),
             "pitch": {
                 "representation": spec.pitch.representation,
                 "segments": self.pitch.M,
@@ -199,27 +235,7 @@ class CamDesign:
             },
             "curvature": curvature,
             "follower": geo.describe(),
-            "motion": {
-                "lift_unit": "deg" if geo.lift_unit == "angle" else spec.units,
-                "max_lift": spec.max_lift,
-                "max_velocity": maxima["velocity"],
-                "max_acceleration": maxima["acceleration"],
-                "max_jerk": maxima["jerk"],
-                **prog.report(),
-            },
             "profile": self._profile_summary(),
-            "area": self.area,
-            "volume": self.volume,
-            "areas": {
-                # design intent (motion + follower), thesis Eq. 4.21–4.27 and exact
-                **area_summary(spec, self.program),
-                # the built profile (exact NURBS, Green's theorem)
-                "built_profile": self.profile_area,
-                "built_cross_section": self.area,
-            },
-            "checks": self.design_checks.to_dict(),
-            "body": _plain({**self.body_report, "volume": self.volume, "top_face_area": self.area})
-            if self.body is not None else None,
         }
 
     @property
@@ -228,7 +244,7 @@ class CamDesign:
         return self.checks if self.checks is not None else run_checks(self.spec, program=self.program)
 
     def _profile_summary(self) -> dict[str, Any]:
-        rr = profile_inset(self.spec)
+        rr = self.profile_inset
         r_max, _, r_max_at = self.max_profile_radius()
         err, at = built_profile_error(self.profile, self.pitch, rr)
         out: dict[str, Any] = {
@@ -303,11 +319,13 @@ class BSplineProfile:
     errors: ProfileErrors
 
 
-def refuse_undercut(checks: DesignChecks, roller_radius: float) -> None:
+def refuse_undercut(checks: DesignChecks, roller_radius: float, name: str = "undercut",
+                    curvature: str = "curvature") -> None:
     """Raise the design checks' own undercut failure as a GeometryError (the numbers and the
-    cam angle ``cam-workbench check`` prints), so that a cam is never built past it."""
+    cam angle ``cam-workbench check`` prints), so that a cam is never built past it; ``name`` and
+    ``curvature``: the checks of another cam of the body (a conjugate pair's second cam)."""
     try:
-        r = checks["undercut"]
+        r = checks[name]
     except KeyError:
         return
     if r.status != "fail":
@@ -315,7 +333,7 @@ def refuse_undercut(checks: DesignChecks, roller_radius: float) -> None:
     parts = []
     at = r.at_deg
     if r.value is not None and r.value <= 0:
-        at = checks["curvature"].at_deg        # where the convex pitch radius is smallest
+        at = checks[curvature].at_deg        # where the convex pitch radius is smallest
         parts.append(f"undercut at cam angle {at:.3f}°: roller radius {roller_radius:g} ≥ smallest convex "
                      f"pitch radius of curvature {r.value + roller_radius:.6g} (cam surface {r.value:.6g})")
     if r.note:

@@ -85,3 +85,15 @@ def _print_summary(s: dict, out: Path) -> None:
         print(f"  warning: {it['warning']}")
     m = s["machining"]
     print(f"  cam.nc: {m['program']} program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")
+    body = s.get("body") or {}
+    second = body.get("second_cam")
+    if isinstance(second, dict):
+        err = body["roller_distance_error"]
+        print(f"  second cam (z {second['z'][0]:g} to {second['z'][1]:g}): {second['follower']['label']} {u}; max "
+              f"deviation {second['pitch']['max_deviation']:.3g} {lu}, pressure angle max "
+              f"{second['pressure_angle']['max_deg']:.2f}° at {second['pressure_angle']['at_deg']:.2f}°")
+        print(f"  distance error between the rollers: max {err['max']:.3g} {u} at {err['at_deg']:.2f}° "
+              f"(the two curves' deviations {err['first_cam_deviation']:.3g} + {err['second_cam_deviation']:.3g} {lu})")
+        m2 = m.get("second_cam") or {}
+        if m2:
+            print(f"  {m2['file']}: the second cam's {m['program']} program, {m2['gcode_lines']} lines")

@@ -28,6 +28,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
     p.add_argument("--mode", choices=MODES, default="xy", help="program to write (default: xy)")
+    p.add_argument("--cam", choices=("first", "second"), default="first",
+                   help="a conjugate pair (cam.body = \"conjugate\"): the program of the first cam (default) or "
+                        "of the second (build writes both: cam.nc and cam2.nc); the command table is the "
+                        "follower's, one for both")
     p.add_argument("-o", "--output", metavar="OUT",
                    help="output file (written atomically); omitted: standard output")
     p.set_defaults(run=run)
@@ -39,7 +43,17 @@ def run(args: argparse.Namespace) -> int:
         spec = spec.replace(**{"machining.program": args.mode})
     # the same machining stage `build` runs: cam.nc and commands.csv are these texts
     outputs = run_pipeline(spec, solid=False, machining=True, drawing=False, design=design_for(spec))
-    text = outputs.machining.commands_csv if args.mode == "csv" else outputs.machining.gcode
+    if args.mode == "csv":
+        text = outputs.machining.commands_csv
+    elif args.cam == "second":
+        text = outputs.machining.second_gcode
+        if text is None:
+            from generators.errors import SpecError
+
+            raise SpecError("cam.body", f'--cam second needs a conjugate pair (cam.body = "conjugate"), got '
+                            f'"{spec.cam.body}"')
+    else:
+        text = outputs.machining.gcode
     if args.output:
         write_text_atomic(Path(args.output), text)
         print(f"{args.mode} program written to {args.output}", file=sys.stderr)

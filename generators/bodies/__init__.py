@@ -1,17 +1,19 @@
 """Cam bodies: which curves bound which faces, as plain data (:mod:`.base`), one module per body —
-:mod:`.plate` (the outside profile) and :mod:`.groove` (a groove in a disc's face) — with the
+:mod:`.plate` (the outside profile), :mod:`.groove` (a groove in a disc's face) and :mod:`.conjugate`
+(two plate cams driving one follower through two rollers) — with the
 features every body can carry (:mod:`.features`: bore and keyway, hub, mounting holes, timing
 mark).  :func:`body_of` is the one place that maps ``cam.body`` to its class."""
 from __future__ import annotations
 
 from .base import Arc, BodyGeometry, Curve, Line, Loop, Prism
+from .conjugate import ConjugateBody, refuse_stray_fields, validate_conjugate
 from .groove import GrooveBody, validate_groove
 from .plate import PlateBody
 
 #: cam.body → the body
-BODY_KINDS = {"plate": PlateBody, "groove": GrooveBody}
+BODY_KINDS = {"plate": PlateBody, "groove": GrooveBody, "conjugate": ConjugateBody}
 #: cam.body → its own spec rules (beyond the fields' declarations)
-BODY_RULES = {"groove": validate_groove}
+BODY_RULES = {"groove": validate_groove, "conjugate": validate_conjugate}
 
 
 def body_of(spec):
@@ -31,6 +33,8 @@ def validate_body(spec) -> None:
     rule = BODY_RULES.get(cam.body)
     if rule is not None:
         rule(spec)
+    if cam.body != "conjugate":
+        refuse_stray_fields(spec)
     if cam.body != "groove" and cam.outer_diameter is not None:
         raise SpecError("cam.outer_diameter", "applies to groove cams only (cam.body = \"groove\")")
     if (cam.keyway is not None or cam.keyway_width is not None) and cam.bore_diameter <= 0:
@@ -63,5 +67,5 @@ def validate_body(spec) -> None:
         raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({cam.thickness:g})")
 
 
-__all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "Curve", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
+__all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
            "body_of", "validate_body"]

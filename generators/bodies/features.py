@@ -114,14 +114,15 @@ def bore_extent(spec) -> float:
     return math.hypot(r + depth, w / 2)
 
 
-def hub_prism(spec) -> Prism | None:
-    """The hub below the plate (−hub_length ≤ z ≤ 0), bored as the plate."""
+def hub_prism(spec, z_top: float = 0.0) -> Prism | None:
+    """The hub below the plate (z_top − hub_length ≤ z ≤ z_top; z_top = 0: under the plate's
+    bottom face), bored as the plate."""
     cam = spec.cam
     if not cam.hub_diameter or not cam.hub_length:
         return None
     bore = bore_loop(spec)
-    return Prism(Loop.circle(cam.hub_diameter / 2, role="hub"), (bore,) if bore else (), -cam.hub_length, 0.0,
-                 "add", "hub")
+    return Prism(Loop.circle(cam.hub_diameter / 2, role="hub"), (bore,) if bore else (), z_top - cam.hub_length,
+                 z_top, "add", "hub")
 
 
 def mounting_holes(spec, z0: float, z1: float) -> list[Prism]:

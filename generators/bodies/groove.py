@@ -49,6 +49,20 @@ class GrooveBody:
         return {"depth": groove_depth(spec), "tool_radius": 0.75 * half_width(spec)}
 
     @staticmethod
+    def further_followers(spec) -> tuple:
+        return ()
+
+    @staticmethod
+    def reverse_contact_stress(model, force: np.ndarray, rho: np.ndarray) -> np.ndarray:
+        """Hertz stress where the force is negative, taken by the groove's outer wall: the roller
+        (radius r) against a surface of signed radius −(ρ + r) (concave where the pitch curve is
+        convex)."""
+        from ..followers.load import hertz_stress
+
+        r = model.follower.profile_offset
+        return hertz_stress(-force, r, -(rho + r), model.contact_length, *model.moduli)
+
+    @staticmethod
     def geometry(design) -> BodyGeometry:
         spec = design.spec
         t = spec.cam.thickness
@@ -121,10 +135,11 @@ def cam_angle_at_parameter(design, u: float) -> float:
     return float(design.pitch.cam_angle_at(np.array([seg]), np.array([min(max(u - seg, 0.0), 1.0)]))[0])
 
 
-def drive_sides(design) -> dict[str, Any]:
-    """Which wall drives the follower where: the inner wall while the contact force needed to
-    follow the motion is positive (pushing the follower out), the outer wall while it is negative;
-    the cam angles [deg] where it changes side and each wall's share of the turn."""
+def force_sides(design) -> dict[str, Any]:
+    """Where the contact force needed to follow the motion is positive (pushing the follower away
+    from the cam axis) and where negative (pulling it back): the cam angles [deg] where it changes
+    sign (the zero crossings, interpolated linearly between samples every 0.05°) and each sign's
+    share of the turn (a zero force counts as positive)."""
     from ..checks.design import StateModel
 
     model = StateModel(design.spec, design.program)
@@ -137,7 +152,16 @@ def drive_sides(design) -> dict[str, Any]:
     # linear interpolation of the zero crossing
     at = th[flips] - f[flips] * (th[flips + 1] - th[flips]) / (f[flips + 1] - f[flips])
     return {"changes_at_deg": [float(np.rad2deg(a)) for a in at],
-            "inner_wall_share": float(np.mean(sign[:-1] > 0)), "outer_wall_share": float(np.mean(sign[:-1] < 0)),
+            "positive_share": float(np.mean(sign[:-1] > 0)), "negative_share": float(np.mean(sign[:-1] < 0))}
+
+
+def drive_sides(design) -> dict[str, Any]:
+    """Which wall drives the follower where: the inner wall while the contact force needed to
+    follow the motion is positive (pushing the follower out), the outer wall while it is negative;
+    the cam angles [deg] where it changes side and each wall's share of the turn."""
+    sides = force_sides(design)
+    return {"changes_at_deg": sides["changes_at_deg"],
+            "inner_wall_share": sides["positive_share"], "outer_wall_share": sides["negative_share"],
             "note": "the inner wall drives while the force pushes the follower out, the outer wall while it pulls it in"
             if design.follower.has_load else "no follower load given: the force is the inertia's alone"}
 

@@ -30,6 +30,12 @@ class PlateBody:
         return {"depth": spec.cam.thickness, "tool_radius": None}
 
     @staticmethod
+    def further_followers(spec) -> tuple:
+        """(suffix, follower) of every further cam's roller the design checks cover (a plate has
+        one cam)."""
+        return ()
+
+    @staticmethod
     def geometry(design) -> BodyGeometry:
         spec = design.spec
         t = spec.cam.thickness

@@ -32,6 +32,7 @@ g ≤ 0 over all sample points (thesis Eq. 5.2–5.13 in a smooth form).
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -110,10 +111,12 @@ class StateModel:
     """The spec's numbers the checks need, and :meth:`state` that evaluates them at any θ
     through the follower's interface (:class:`generators.followers.base.Follower`)."""
 
-    def __init__(self, spec: CamSpec, program: MotionProgram | None = None):
+    def __init__(self, spec: CamSpec, program: MotionProgram | None = None, follower: Follower | None = None):
         self.spec = spec
         self.program = program or MotionProgram.from_spec(spec)
-        self.follower: Follower = follower_of(spec)
+        #: the follower (roller) whose contact with its cam is checked: the spec's own, or the
+        #: second roller of a conjugate pair
+        self.follower: Follower = follower or follower_of(spec)
         self.omega = spec.cam.speed_rpm * TWO_PI / 60.0
         fol = spec.follower
         width = fol.roller_width if spec.is_roller else None
@@ -124,8 +127,10 @@ class StateModel:
         self.direction = np.sign(self.program.lifts)
         from ..bodies import body_of
 
-        #: a groove holds the roller both ways: no separation, and the contact changes wall
-        self.form_closed = body_of(spec).closure == "form"
+        #: a groove or a conjugate pair holds the follower both ways: no separation, and where the
+        #: contact force changes sign the other wall (the other cam) takes the load
+        self.body = body_of(spec)
+        self.form_closed = self.body.closure == "form"
 
     @property
     def geometry(self) -> Follower:
@@ -146,11 +151,9 @@ class StateModel:
         prof = rho - fol.profile_offset
         stress = fol.contact_stress(force, k, self.contact_length, self.moduli, rho)
         if self.form_closed:
-            # a negative force is taken by the groove's outer wall: the roller (radius r) against a
-            # surface of signed radius −(ρ + r) (concave where the pitch curve is convex)
-            r = fol.profile_offset
-            outer = hertz_stress(-force, r, -(rho + r), self.contact_length, *self.moduli)
-            stress = np.where(force >= 0, stress, outer)
+            # a negative force is taken by the other side: the groove's outer wall, or the other cam
+            other = self.body.reverse_contact_stress(self, force, rho)
+            stress = np.where(force >= 0, stress, other)
         return CamState(theta, seg, k, phi, force, rho, prof, stress, k.ds * self.direction[seg])
 
 
@@ -268,14 +271,19 @@ def refine_max_zoom(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, values
 
 
 def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | None = None,
-               program: MotionProgram | None = None) -> DesignChecks:
+               program: MotionProgram | None = None, follower: Follower | None = None) -> DesignChecks:
     """Evaluate every design check of ``spec`` (``[checks]`` gives the limits and sampling;
-    ``sampling``/``samples`` override it)."""
+    ``sampling``/``samples`` override it).
+
+    A body with more than one cam (a conjugate pair) adds the checks of each further roller on
+    its cam — pressure angle, contact stress, curvature, undercut — named with the cam's suffix
+    (``pressure_angle_cam2``, …: :data:`CAM_SUFFIXES`).  ``follower``: check that follower alone
+    (the body's further cams are then not added)."""
     cfg = spec.checks
     sampling = sampling or cfg.sampling
     samples = samples or cfg.samples
     refine = sampling == "dense"
-    model = StateModel(spec, program)
+    model = StateModel(spec, program, follower)
     cs = check_samples(model.program, sampling, samples)
     st = model.state(cs.theta, cs.segment)
     u = spec.units
@@ -348,6 +356,14 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
     else:
         results.extend(_pitch_curvature_checks(spec, model, st, cs, refine, cfg, lab))
     extremes = _extremes(st, model, refine, lab)
+    if follower is None:
+        for suffix, other in model.body.further_followers(spec):
+            sub = run_checks(spec, sampling=sampling, samples=samples, program=model.program, follower=other)
+            for r in sub.results:
+                if r.name in PER_CAM_CHECKS:
+                    results.append(dataclasses.replace(r, name=f"{r.name}_{suffix}",
+                                                       description=f"{CAM_SUFFIXES[suffix]}: {r.description}"))
+            extremes.update({f"{k}_{suffix}": v for k, v in sub.extremes.items() if k in PER_CAM_EXTREMES})
     return DesignChecks(tuple(results), extremes, sampling, samples if sampling == "dense" else THESIS_NODES,
                         u, st)
 
@@ -407,6 +423,22 @@ def continuity_check(program: MotionProgram, min_continuity: int | None, lab: di
         "continuity", "lowest order of continuity at a segment junction (0 position, 1 velocity, 2 acceleration, "
         "3 jerk continuous) against what the laws there promise", "min", float(worst.order), worst.at_deg % 360.0,
         float(req), "", "fail" if short else "pass", note)
+
+
+#: the suffix of a further cam's check names → the cam in words
+CAM_SUFFIXES = {"cam2": "second cam"}
+#: the checks each cam of a body has of its own (the others — separation, oscillation — are the motion's)
+PER_CAM_CHECKS = ("pressure_angle", "contact_stress", "curvature", "convexity", "undercut")
+#: the extremes each cam has of its own
+PER_CAM_EXTREMES = ("force", "pressure_angle", "contact_stress", "min_concave_pitch_radius")
+
+
+def base_check_name(name: str) -> str:
+    """A check's name without a further cam's suffix (``undercut_cam2`` → ``undercut``)."""
+    for suffix in CAM_SUFFIXES:
+        if name.endswith("_" + suffix):
+            return name[: -len(suffix) - 1]
+    return name
 
 
 def _pitch_curvature_checks(spec: CamSpec, model: StateModel, st: CamState, cs: CheckSamples, refine: bool,
@@ -526,7 +558,7 @@ def limit_sign(name: str, kind: str) -> str:
     undercut: ρ − r_f > 0), "≥" for the other min checks (oscillation, curvature, convexity)."""
     if kind == "max":
         return "≤"
-    return ">" if name in STRICT_MIN_CHECKS else "≥"
+    return ">" if base_check_name(name) in STRICT_MIN_CHECKS else "≥"
 
 
 def _finite(v: float) -> float | None:

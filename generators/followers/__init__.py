@@ -10,6 +10,7 @@ import math
 from typing import Callable
 
 from .base import Follower, LoadSpec
+from .conjugate import ArmPairRoller, SecondRoller, YokeRoller, second_roller_of
 from .flat import OscillatingFlatFollower, TranslatingFlatFollower
 from .oscillating import OscillatingFollower
 from .translating import FollowerGeometry, TranslatingFollower
@@ -95,6 +96,6 @@ def validate_follower(spec) -> None:
                         f"at {extent:.4g}°: the lift must stay below it (a smaller lift, or move the pivot)")
 
 
-__all__ = ["Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
-           "TranslatingFlatFollower", "TranslatingFollower", "follower_class", "follower_of",
-           "force_reference"]
+__all__ = ["ArmPairRoller", "Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
+           "SecondRoller", "TranslatingFlatFollower", "TranslatingFollower", "YokeRoller", "follower_class", "follower_of",
+           "force_reference", "second_roller_of"]

@@ -68,12 +68,13 @@ def smallest_concave_profile_radius(design: CamDesign) -> tuple[float, float]:
     """(smallest concave radius of curvature of the profile, cam angle [deg] where it occurs);
     (inf, nan) for a profile without concave parts.  The profile is the pitch curve moved
     inward by the roller radius, so its concave radii are the pitch curve's plus the roller
-    radius (as-built curvature, sampled on every PH segment)."""
+    radius (as-built curvature, sampled on every PH segment; the design's own roller: a conjugate
+    pair's second cam has its own)."""
     cs = design.curvature_samples
     concave = cs.radius < 0
     if not concave.any():
         return float("inf"), float("nan")
-    rad = np.where(concave, -cs.radius, np.inf) + design.spec.roller_radius
+    rad = np.where(concave, -cs.radius, np.inf) + design.follower.profile_offset
     k = int(np.argmin(rad))
     return float(rad[k]), float(cs.cam_angle_deg[k])
 

@@ -135,19 +135,26 @@ class PitchCurve:
         return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
-def build_pitch_for_segments(spec: CamSpec, segments: int | None = None) -> PitchCurve:
-    """The PH pitch curve with a given uniform M (or the spec's junctions)."""
-    angles = junction_angles(spec, segments)
-    prog = MotionProgram.from_spec(spec)
-    fol = follower_of(spec)
-    q = fol.points(angles, prog.evaluate(angles))
-    spline = solve_closed_ph_spline(q)
-    return PitchCurve(spline, angles, prog, fol)
+def build_pitch_curve(program: MotionProgram, follower: Follower, angles: np.ndarray) -> PitchCurve:
+    """The closed C² PH spline through the follower's design points at the junction ``angles``
+    [rad] (paper Eq. 9–11), as a :class:`PitchCurve` — from plain values, no spec: the pitch curve
+    of any follower (the second roller of a conjugate pair too)."""
+    angles = np.asarray(angles, dtype=float)
+    q = follower.points(angles, program.evaluate(angles))
+    return PitchCurve(solve_closed_ph_spline(q), angles, program, follower)
+
+
+def build_pitch_for_segments(spec: CamSpec, segments: int | None = None,
+                             follower: Follower | None = None) -> PitchCurve:
+    """The PH pitch curve with a given uniform M (or the spec's junctions); ``follower``: another
+    follower than the spec's own (the second roller of a conjugate pair)."""
+    return build_pitch_curve(MotionProgram.from_spec(spec), follower or follower_of(spec),
+                             junction_angles(spec, segments))
 
 
 def segments_for_tolerance(
     spec: CamSpec, tolerance: float, *, step_deg: float = DEFAULT_STEP_DEG,
-    progress: Callable[[int, float], None] | None = None,
+    progress: Callable[[int, float], None] | None = None, follower: Follower | None = None,
 ) -> tuple[PitchCurve, float, float]:
     """Smallest uniform M ≥ 8 whose max deviation is ≤ ``tolerance``.
 
@@ -163,7 +170,7 @@ def segments_for_tolerance(
         SpecError: no M up to 20000 meets the tolerance.
     """
     for m in range(8, MAX_TOLERANCE_SEGMENTS + 1):
-        pc = build_pitch_for_segments(spec, m)
+        pc = build_pitch_for_segments(spec, m, follower)
         n_coarse = -(-pc.deviation_count(step_deg) // 5)
         coarse, _ = pc.max_deviation(n=n_coarse)
         if progress is not None:

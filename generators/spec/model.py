@@ -42,7 +42,7 @@ SEGMENT_LAW_FIELDS: dict[str, tuple[str, ...]] = {
 
 SPAN_TOL_DEG = 1e-9
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
-BODIES = ("plate", "groove")
+BODIES = ("plate", "groove", "conjugate")
 KEYWAYS = ("DIN6885", "ANSI")
 #: Fields whose unit is the follower's lift unit (``Follower.lift_unit``): a length (``units``) for
 #: translating followers, degrees of arm rotation for oscillating ones, whatever ``units`` says.
@@ -68,8 +68,10 @@ class CamSection:
                              default=60.0, group="Cam")
     # ---- the body and its features (CAM_SPEC.md "Cam bodies") ----
     body: str = param(
-        "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it) or \"groove\" (a "
-        "disc with the roller running in a groove cut into its top face: positive drive)", kind="str",
+        "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it), \"groove\" (a "
+        "disc with the roller running in a groove cut into its top face: positive drive) or \"conjugate\" (two "
+        "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate])",
+        kind="str",
         choices=BODIES, default="plate", group="Cam")
     outer_diameter: float | None = param("Groove cam: diameter of the disc", unit="length", gt=0, optional=True,
                                          group="Cam")
@@ -287,6 +289,31 @@ class GrooveSection:
     min_wall: float | None = param(
         "Smallest material allowed between the groove and the rim, and between the groove and the bore (or hub "
         "holes) (default 3 mm, 0.12 in)", unit="length", ge=0, optional=True, group="Groove")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ConjugateSection:
+    """`[conjugate]`: the second cam and roller of a conjugate (dual) cam pair (cam.body = "conjugate")."""
+
+    roller_distance: float | None = param(
+        "Translating yoke: distance between the two roller centres along the follower's line of motion; the "
+        "second roller sits on the other side of the cam axis", unit="length", gt=0, optional=True,
+        group="Conjugate")
+    arm_angle: float | None = param(
+        "Oscillating arm pair: angle from the first arm to the second about the same pivot, counter-clockwise "
+        "positive seen from +Z; the second arm lies on the other side of the line through the pivot and the "
+        "cam axis", unit="angle", optional=True, group="Conjugate")
+    arm_length: float | None = param(
+        "Oscillating arm pair: length of the second arm, pivot to the second roller's centre (default: "
+        "follower.arm_length)", unit="length", gt=0, optional=True, group="Conjugate")
+    roller_radius: float | None = param("Radius of the second roller (default: follower.roller_radius)",
+                                        unit="length", gt=0, optional=True, group="Conjugate")
+    gap: float = param("Axial gap between the cams: the first cam spans 0 ≤ z ≤ cam.thickness, the second "
+                       "−gap − cam.thickness ≤ z ≤ −gap", unit="length", ge=0, default=0.0, group="Conjugate")
+    spacer_diameter: float | None = param(
+        "Diameter of the spacer that fills the gap and joins the cams into one solid (default: inside both "
+        "cams' smallest radius, around the mounting holes)", unit="length", gt=0, optional=True,
+        group="Conjugate")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -666,6 +693,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "motion": (MotionSegment, True, True),
     "pitch": (PitchSection, False, False),
     "groove": (GrooveSection, False, False),
+    "conjugate": (ConjugateSection, False, False),
     "material": (MaterialSection, False, False),
     "checks": (ChecksSection, False, False),
     "drawing": (DrawingSection, False, False),
@@ -688,6 +716,7 @@ class CamSpec:
     motion: tuple[MotionSegment, ...]
     pitch: PitchSection = field(default_factory=PitchSection)
     groove: GrooveSection = field(default_factory=GrooveSection)
+    conjugate: ConjugateSection = field(default_factory=ConjugateSection)
     material: MaterialSection = field(default_factory=MaterialSection)
     checks: ChecksSection = field(default_factory=ChecksSection)
     drawing: DrawingSection = field(default_factory=DrawingSection)
