@@ -62,12 +62,15 @@ def test_absent_values():
     # only optional fields for which 0 is a meaningful value need an "Enabled" flag: a flat
     # face's offset (0 = the face through the follower's axis), a segment's control start, the
     # end continuity and derivatives of a polynomial/table segment (absent = the neighbour's, 0 = 0)
-    # and a table's start angle
+    # and a table's start angle;
     assert [f.flag for f in fps.values() if f.flag] == [
         "FollowerFaceOffsetEnabled", "MotionControlStartEnabled", "MotionStartContinuityEnabled",
         "MotionEndContinuityEnabled", "MotionStartVelocityEnabled", "MotionEndVelocityEnabled",
         "MotionStartAccelerationEnabled", "MotionEndAccelerationEnabled", "MotionStartJerkEnabled",
-        "MotionEndJerkEnabled", "MotionTableStartEnabled"]
+        "MotionEndJerkEnabled", "MotionTableStartEnabled",
+        # a groove's clearance and smallest wall (0 = none, absent = the unit's default), a conjugate
+        # arm pair's angle (0 is an angle)
+        "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [

@@ -75,11 +75,71 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
 
 
 def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
-    """The cam: the profile face (with the bore) extruded by the thickness along +Z."""
+    """The cam: its body's prisms (:mod:`generators.bodies`) fused and cut in order, as
+    ``cam_workbench.occ_build.cam_solid`` does — for a plain plate cam the profile face (with
+    the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
+    exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
     from FreeCAD import Vector
 
-    face = profile_face(design, scale)
-    return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
+    body = design.body
+    if body is None or (body.kind == "plate" and len(body.prisms) == 1
+                        and all(h.is_circle for h in body.prisms[0].holes)):
+        face = profile_face(design, scale)
+        return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
+    shape = None
+    for prism in body.prisms:
+        solid = region_face(prism.outer, prism.holes, scale, prism.z0 * scale).extrude(
+            Vector(0, 0, (prism.z1 - prism.z0) * scale))
+        if shape is None:
+            shape = solid
+        elif prism.op == "add":
+            shape = shape.fuse(solid)
+        else:
+            shape = shape.cut(solid)
+    shape = shape.removeSplitter() if len(shape.Solids) == 1 else shape
+    return shape.Solids[0] if len(shape.Solids) == 1 else shape
+
+
+def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
+    """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one
+    edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
+    import Part
+    from FreeCAD import Vector
+
+    from generators.bodies import Arc, Curve, Line
+
+    edges: list[Any] = []
+    for piece in loop.pieces:
+        if isinstance(piece, Curve):
+            edges.extend(nurbs_wire(piece.nurbs, scale, z).Edges)
+        elif isinstance(piece, Arc):
+            c = piece.centre
+            circ = Part.Circle(Vector(c.real * scale, c.imag * scale, z), Vector(0, 0, 1), piece.radius * scale)
+            if abs(abs(piece.a1 - piece.a0) - 2 * np.pi) < 1e-12:
+                edges.append(circ.toShape())
+            else:
+                a, b = sorted((piece.a0, piece.a1))
+                edge = Part.ArcOfCircle(circ, float(a), float(b)).toShape()
+                edges.append(edge if piece.a1 > piece.a0 else edge.reversed())
+        elif isinstance(piece, Line):
+            a, b = piece.start, piece.end
+            edges.append(Part.LineSegment(Vector(a.real * scale, a.imag * scale, z),
+                                          Vector(b.real * scale, b.imag * scale, z)).toShape())
+    wire = Part.Wire(Part.__sortEdges__(edges)) if len(edges) > 1 else Part.Wire(edges)
+    if not wire.isClosed():
+        raise RuntimeError(f"the {loop.role or 'loop'} edges do not join into a closed wire")
+    return wire
+
+
+def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0) -> Any:
+    """The planar region inside ``outer`` minus ``holes`` (body loops) at height ``z`` [mm]."""
+    import Part
+
+    face = Part.Face([loop_wire(outer, scale, z)] + [loop_wire(h, scale, z) for h in holes],
+                     "Part::FaceMakerBullseye")
+    if not face.isValid():
+        raise RuntimeError(f"FreeCAD could not make a valid face from the {outer.role or 'loop'}")
+    return face
 
 
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:

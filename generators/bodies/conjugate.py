@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import GeometryError, SpecError
 from ..followers.conjugate import second_roller_of
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, hub_prism, mounting_holes, timing_mark
+from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark
 from .plate import feature_checks, profile_radius_along, zero_angle
 
 #: the suffix of the second cam's check names (``pressure_angle_cam2``, …)
@@ -89,8 +89,9 @@ class ConjugateBody:
         if hub is not None:
             prisms.append(hub)
         prisms += _holes(spec, r_sp, z2, t)
-        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * cam.timing_mark_width,
-                           design.min_profile_radius - 1.5 * cam.timing_mark_width, t)
+        w_mark = resolved(spec, "cam", "timing_mark_width")
+        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * w_mark,
+                           design.min_profile_radius - 1.5 * w_mark, t)
         if mark is not None:
             prisms.append(mark)
         return BodyGeometry("conjugate", tuple(prisms), {

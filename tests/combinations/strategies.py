@@ -178,7 +178,10 @@ def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float
     else:
         inner = base - roller
     if bore > 0 and draw(st.booleans()):
-        if draw(st.booleans()):
+        # the standards' tables cover DIN 6885-1: 6 < d ≤ 230 mm, ANSI B17.1: 5/16 < d ≤ 6 1/2 in
+        # (outside them the spec is refused: tests/test_bodies.py); explicit sizes elsewhere
+        in_table = 6.0 < bore <= 230.0 if spec["units"] == "mm" else 0.3125 < bore <= 6.5
+        if not in_table or draw(st.booleans()):
             cam["keyway_width"], cam["keyway_depth"] = 0.25 * bore, 0.12 * bore
         else:
             cam["keyway"] = "DIN6885" if spec["units"] == "mm" else "ANSI"
