@@ -469,7 +469,11 @@ def test_both_programs_through_rs274(tmp_path, case, program):
                 tau = np.arange(8) / 8
                 xs = pos[:-1, 0:1] + np.diff(pos[:, 0])[:, None] * tau
                 cs = np.deg2rad(pos[:-1, 3:4] + np.diff(pos[:, 3])[:, None] * tau)
-                pts = (np.exp(-1j * cs) * (-pos[:-1, 1:2] + 1j * xs)).ravel()
+                # the tool centre in the cam frame (fixed-frame point (−Y, X) turned back by C), with
+                # the revolution's last point: the path closes on its start
+                pts = np.append((np.exp(-1j * cs) * (-pos[:-1, 1:2] + 1j * xs)).ravel(),
+                                np.exp(-1j * np.deg2rad(pos[-1, 3])) * (-pos[-1, 1] + 1j * pos[-1, 0]))
+                assert abs(pts[-1] - pts[0]) <= 2 * PRINT_QUANTUM
                 assert two_sided(pts, exact) <= allowance
             # the second cam's tool runs on a line through the C axis (machine Y = 0)
             if cam is second:
