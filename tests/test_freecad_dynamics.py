@@ -25,7 +25,8 @@ import pytest
 from generators.spec import default_spec, to_toml
 
 from .conftest import ROOT
-from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
+from .freecad_support import (cli_env, fc_home, requires_freecad_gui, requires_freecadcmd,  # noqa: F401
+                              run_freecad_gui, run_freecadcmd)
 
 pytestmark = requires_freecadcmd
 
@@ -150,7 +151,8 @@ def _assert_rows_equal_report(rows, d):
         assert r["value"] == pytest.approx(ref, rel=1e-9, abs=1e-9 * scale.get(unit, 0.0)), r
         shown = {fmt_number(ref * (1 + t)) for t in (-1e-9, 0.0, 1e-9)}
         if r["path"] == ["speed_rpm"]:   # the verdict, which names the speed
-            assert any(r["cells"][1].endswith(f" at {x} rpm") for x in shown), r
+            assert any(r["cells"][0] == f"follower at {x} rpm (the analysis speed)" for x in shown), r
+            assert r["cells"][1] == ("stays on the cam" if d["contact"]["kept"] else "LEAVES the cam"), r
         else:
             assert r["cells"][1] in shown, r
         if r["at_path"] is not None:
@@ -170,8 +172,7 @@ def test_dynamics_rows_equal_report_json_of_the_cli(fc, tmp_path):
     n = _assert_rows_equal_report(rows, d)
     by = {row["cells"][0]: row for row in rows}
     assert n >= 20
-    assert by["contact at the analysis speed"]["cells"] == [
-        "contact at the analysis speed", "the follower stays on the cam at 60 rpm", "rpm", "—", "pass"]
+    assert rows[0]["cells"] == ["follower at 60 rpm (the analysis speed)", "stays on the cam", "rpm", "—", "pass"]
     jump = by["jump speed (contact first lost)"]
     assert jump["cells"][1:] == ["487.468", "rpm", "—", "pass"] and jump["value"] == pytest.approx(487.47, abs=0.01)
     assert d["jump_speed"]["rpm"] == pytest.approx(487.47, abs=0.01)
@@ -199,7 +200,7 @@ def test_a_follower_leaving_the_cam_is_never_shown_as_passing(fc, tmp_path):
     assert d["contact"]["kept"] is False and got["kept"] is False and got["ok"] is False
     _assert_rows_equal_report(got["rows"], d)
     first = got["rows"][0]
-    assert first["cells"][1] == "the follower LEAVES the cam at 500 rpm" and first["status"] == "FAIL"
+    assert first["cells"] == ["follower at 500 rpm (the analysis speed)", "LEAVES the cam", "rpm", "—", "FAIL"]
     assert got["dynamics_verdict"].startswith("the follower LEAVES the cam at 500 rpm (")
     assert "the follower LEAVES the cam at 500 rpm" in got["verdict"] and "all checks pass" not in got["verdict"]
     by = {row["cells"][0]: row for row in got["rows"]}
@@ -270,3 +271,107 @@ def test_ecam_dialog_and_command_offer_every_kind(fc):
 
     assert (Path(r["icon_dir"]) / icon).is_file()
     assert Path(r["icon_dir"]).resolve().is_relative_to(ROOT) or (ROOT / "cam_workbench" / "freecad" / "icons" / icon).is_file()
+
+
+GUI = r"""
+import os
+ART, OUT, SPECS = {art!r}, {out!r}, {specs!r}
+R = RESULT
+state = {{}}
+
+def setup():
+    mw.resize(1400, 900)
+    FreeCADGui.activateWorkbench("CamWorkbench")
+    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
+    R["menu"] = [a.text() for a in menus[0].actions() if a.text()] if menus else []
+    from generators.spec import load_spec
+    from cam_workbench.freecad.feature import create
+    doc = FreeCAD.newDocument("Dyn")
+    state["cam"] = create(doc, load_spec(SPECS["leaves"]), name="DynLeaves")
+    doc.recompute()
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(state["cam"])
+    FreeCADGui.runCommand("CamWorkbench_CheckDesign")
+
+def check_dialog():
+    d = [w for w in QtGui.QApplication.topLevelWidgets() if w.isVisible() and w.objectName() == "CamWorkbenchCheckDesign"]
+    if not d:
+        raise NotYet("check dialog")
+    d = d[0]
+    d.move(30, 30)
+    tabs = d.findChild(QtGui.QTabWidget)
+    R["tabs"] = [tabs.tabText(i) for i in range(tabs.count())]
+    tabs.setCurrentIndex(R["tabs"].index("Follower dynamics"))
+    t = d.findChild(QtGui.QTableWidget, "dynamics")
+    R["headers"] = [t.horizontalHeaderItem(c).text() for c in range(t.columnCount())]
+    R["table"] = [[t.item(r, c).text() for c in range(t.columnCount())] for r in range(t.rowCount())]
+    R["fail_colour"] = t.item(0, 4).foreground().color().name()
+    R["verdict"] = d.findChild(QtGui.QLabel, "dynamics_verdict").text()
+    R["head"] = d.findChildren(QtGui.QLabel)[0].text()
+    R["steady"] = d.findChild(QtGui.QLabel, "dynamics_steady_state").text()
+    state["check"] = d
+
+def check_shot():
+    shot("freecad_gui_check_design_dynamics.png")
+    state.pop("check").close()
+    FreeCADGui.runCommand("CamWorkbench_ExportEcam")
+
+def ecam_dialog():
+    from cam_workbench.freecad.export_dialog import active_dialogs
+    ds = [x for x in active_dialogs() if x.dialog.isVisible()]
+    if not ds:
+        raise NotYet("export dialog")
+    d = state["export"] = ds[-1]
+    R["ecam_dialog"] = {{"title": d.dialog.windowTitle(), "radios": list(d.radios), "kind": d.kind,
+                        "rows": [d.values.item(r, 0).text() for r in range(d.values.rowCount())]}}
+    d.radios["ecam_codesys_xyva"].setChecked(True)
+    R["ecam_path"] = d.path.text()
+    d.path.setText(os.path.join(OUT, "gui_xyva.st"))
+    d.start()
+
+def ecam_written():
+    d = state["export"]
+    if d.running or d.result is None and d.error is None:
+        raise NotYet("ecam export")
+    R["ecam"] = {{"status": d.status.text(), "error": d.error,
+                 "details": [[d.details.item(r, c).text() for c in range(2)] for r in range(d.details.rowCount())],
+                 "details_visible": d.details.isVisible()}}
+    shot("freecad_gui_export_ecam.png")
+    d.dialog.close()
+    R["report_view"] = report_text()
+
+steps = [(setup, 1000), (check_dialog, 500), (check_shot, 800), (ecam_dialog, 300), (ecam_written, 300)]
+"""
+
+
+@requires_freecad_gui
+def test_dynamics_and_ecam_in_the_freecad_gui(fc, tmp_path, fc_home, artifacts):
+    """In the real GUI: Check design of the 500 rpm cam has a Follower dynamics tab whose table is
+    the rows the headless run computed (the follower LEAVES the cam, in red, and the dialog's
+    heading says so); the e-cam export dialog offers every table, writes CODESYS XYVA through the
+    CLI and shows the CLI's measured deviation."""
+    r_fc, out, specs = fc
+    gui_out = tmp_path / "out"
+    gui_out.mkdir()
+    run = run_freecad_gui(GUI.format(art=str(artifacts), out=str(gui_out), specs=specs), tmp_path, fc_home)
+    r = run.check().result
+    assert "Export e-cam table…" in r["menu"]
+    assert r["tabs"] == ["Design checks", "Buildability and geometry", "Follower dynamics"]
+    assert r["headers"] == ["quantity", "value", "unit", "at cam angle", "status"]
+    assert r["table"] == [row["cells"] for row in r_fc["leaves"]["rows"]]
+    assert r["table"][0][1:] == ["LEAVES the cam", "rpm", "—", "FAIL"]
+    assert r["steady"].startswith("steady state: exact piecewise solution") and "4 revolutions" in r["steady"]
+    assert r["fail_colour"] == "#c62828"
+    assert r["verdict"].startswith("the follower LEAVES the cam at 500 rpm (")
+    assert "the follower LEAVES the cam at 500 rpm" in r["head"]
+    e = r["ecam_dialog"]
+    assert e["title"] == "Export e-cam table — DynLeaves" and e["radios"] == list(ECAM_KINDS)
+    assert e["kind"] == "ecam_csv" and e["rows"][:2] == ["Units", "Table (this export)"]
+    assert r["ecam_path"].endswith("DynLeaves_codesys_xyva.st")
+    assert r["ecam"]["error"] is None and r["ecam"]["status"] == f"Written: {gui_out / 'gui_xyva.st'}"
+    assert r["ecam"]["details_visible"] and r["ecam"]["details"][0] == ["table", "codesys xyva"]
+    assert r["ecam"]["details"][2][0] == "quintic interpolation (the controller's): max deviation"
+    assert "Traceback" not in r["report_view"] and "Traceback" not in run.console
+    assert "Export e-cam table (CODESYS XYVA): written" in r["report_view"]
+    for name in ("freecad_gui_check_design_dynamics.png", "freecad_gui_export_ecam.png"):
+        assert (artifacts / name).stat().st_size > 10_000, name

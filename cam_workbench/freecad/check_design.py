@@ -182,9 +182,11 @@ class DesignReport:
                                                     for n, v, a, u in self.extremes))
         if self.dynamics_enabled:
             lines.append(f"  follower dynamics: {self.dynamics_verdict()}")
-            for r in self.dynamics[1:]:
+            for r in self.dynamics:
                 c = r.cells()
-                lines.append(f"    {c[0]:<44} {c[1]:>14} {c[2]:<8} at {c[3]:>9}  {c[4]}")
+                lines.append(f"    {c[0]:<44} {c[1]:>16} {c[2]:<8} at {c[3]:>9}  {c[4]}")
+            if self.dynamics_dict is not None:
+                lines.append(f"    {steady_state_text(self.dynamics_dict)}")
         for group, item, value, status in self.rows:
             lines.append(f"  {group:<15} {item:<38} {value:<30} {status}")
         return "\n".join(lines)
@@ -245,10 +247,9 @@ def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
     c, m, e, tq, rpm = d["contact"], d["model"], d["error"], d["torque"], d["speed_rpm"]
     fu, lu, tu = c["unit"], e["unit"], tq["unit"]
     kept = bool(c["kept"])
-    verdict = (f"the follower stays on the cam at {fmt_number(rpm)} rpm" if kept else
-               f"the follower LEAVES the cam at {fmt_number(rpm)} rpm")
-    rows = [DynamicsRow("contact at the analysis speed", rpm, "rpm", status="pass" if kept else "FAIL",
-                        path=("speed_rpm",), text=verdict)]
+    rows = [DynamicsRow(f"follower at {fmt_number(rpm)} rpm (the analysis speed)", rpm, "rpm",
+                        status="pass" if kept else "FAIL", path=("speed_rpm",),
+                        text="stays on the cam" if kept else "LEAVES the cam")]
     jp = d.get("jump_speed")
     if jp is not None:
         if jp["rpm"] is not None:
@@ -299,11 +300,14 @@ def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
                                 f"(in motion[{r['next']}] {r['next_kind']})", r["amplitude"], lu, r["at_deg"],
                                 path=("residual_vibration", i, "amplitude"),
                                 at_path=("residual_vibration", i, "at_deg")))
-    st = d["steady_state"]
-    rows.append(DynamicsRow("steady state", None, "", text=st["method"] + (
-        f", {st['revolutions']} revolutions" if st["revolutions"] else "") + (
-        "" if st["periodic"] else " — NOT periodic yet")))
     return rows
+
+
+def steady_state_text(d: dict[str, Any]) -> str:
+    """How report.json's ``dynamics`` section was solved (``steady_state``), in words."""
+    st = d["steady_state"]
+    return ("steady state: " + st["method"] + (f", {st['revolutions']} revolutions" if st["revolutions"] else "")
+            + ("" if st["periodic"] else " — NOT periodic yet" + (f" ({st['note']})" if st.get("note") else "")))
 
 
 def _add_dynamics(report: DesignReport, spec: Any, progress: Any) -> None:
@@ -567,8 +571,16 @@ def _dynamics_page(report: DesignReport) -> Any:
             "the numbers of report.json's dynamics section (cam-workbench dynamics):")
         about.setWordWrap(True)
         lay.addWidget(about)
-        lay.addWidget(_table("dynamics", ["quantity", "value", "unit", "at cam angle", "status"],
-                             [r.cells() for r in report.dynamics], status_col=4), 1)
+        table = _table("dynamics", ["quantity", "value", "unit", "at cam angle", "status"],
+                       [r.cells() for r in report.dynamics], status_col=4)
+        for r, row in enumerate(report.dynamics):
+            if row.path is not None:
+                table.item(r, 0).setToolTip("report.json: dynamics." + ".".join(str(k) for k in row.path))
+        lay.addWidget(table, 1)
+        steady = QtGui.QLabel(steady_state_text(report.dynamics_dict))
+        steady.setObjectName("dynamics_steady_state")
+        steady.setWordWrap(True)
+        lay.addWidget(steady)
     else:
         lay.addStretch(1)
     return page

@@ -60,7 +60,10 @@ class ExportDialog:
             current = _current_kind(obj, kinds)
             for k in kinds:
                 kind = exports.KINDS[k]
-                rb = QtGui.QRadioButton(f"{kind.title.split('(')[-1].rstrip(')')}: {kind.description}")
+                short = kind.title.split('(')[-1].rstrip(')')
+                # the e-cam tables: a short label (six of them), the description as tooltip
+                rb = QtGui.QRadioButton(short if group == "ecam" else f"{short}: {kind.description}")
+                rb.setToolTip(kind.description)
                 rb.setChecked(k == (current if current in kinds else kinds[0]))
                 rb.toggled.connect(lambda on, k=k: on and self._kind_changed(k))
                 bl.addWidget(rb)
@@ -229,6 +232,8 @@ class ExportDialog:
         self.details.resizeColumnsToContents()
         self.details.horizontalHeader().setStretchLastSection(True)
         self.details.setVisible(True)
+        if self.dialog.height() < 680:
+            self.dialog.resize(self.dialog.width(), 680)
 
     def _show_error(self, text: str) -> None:
         self.error = text
