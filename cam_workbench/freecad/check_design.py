@@ -565,7 +565,8 @@ def _dynamics_page(report: DesignReport) -> Any:
     if report.dynamics_dict is not None:
         m = report.dynamics_dict["model"]
         about = QtGui.QLabel(
-            f"One-degree-of-freedom follower train (docs/dynamics.md): mass {fmt_number(m['mass'])} {m['mass_unit']}, "
+            f"One-degree-of-freedom follower train (docs/dynamics.md): "
+            f"{'arm inertia' if m['coordinate'] == 'arm angle' else 'mass'} {fmt_number(m['mass'])} {m['mass_unit']}, "
             f"stiffness {fmt_number(m['stiffness'])} {m['stiffness_unit']}, damping ratio "
             f"{fmt_number(m['damping_ratio'])}, return spring and preload from the Follower load properties; "
             "the numbers of report.json's dynamics section (cam-workbench dynamics):")
