@@ -215,7 +215,8 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     (artifacts / "freecad_gui_round2_report_view.txt").write_text(r.get("report_view", ""))
     assert r["menu"] == ["New plate cam", "New plate cam from spec…", "Edit motion program", "Optimise", "Check design",
                          "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
-                         "Export command table (CSV)…", "Design report (HTML)…", "Export spec (TOML)…"]
+                         "Export command table (CSV)…", "Export e-cam table…", "Design report (HTML)…",
+                         "Export spec (TOML)…"]
     assert r["new"]["status"] == "ok"
     # the rise's control polygon: P1 … P9, lifts of P1–P3 and P7–P9 fixed at 0 and 1
     pts = r["points"]

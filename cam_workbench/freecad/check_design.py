@@ -11,6 +11,11 @@ own Python runs them):
   read from the dict that is report.json's ``checks`` section;
 - the **extremes** (the thesis' "Maximum Values": force, pressure angle, stress, reduced
   velocity, acceleration and jerk, signed, with their cam angles);
+- the **follower dynamics** when the feature's ``DynamicsEnabled`` (spec ``dynamics.enabled``) is on:
+  the rows of report.json's ``dynamics`` section (``generators.dynamics.analyse_dynamics(...).summary()``,
+  the function ``cam-workbench dynamics`` and ``build`` call) — whether the follower stays on the cam,
+  the jump speed, the contact forces, the displacement error, the camshaft torque and the residual
+  vibration; bad ``[dynamics]`` input shows the library's message naming the field;
 - the **buildability** checks of ``design_cam`` (undercut or cusp, self-intersection, bore,
   which raise with the cam angle), the design numbers — lifts, their errors and derivatives in
   the follower's lift unit (report.json's ``motion.lift_unit``: the arm's degrees for an
@@ -57,6 +62,34 @@ class CheckRow:
                 self.status, self.note]
 
 
+@dataclass(frozen=True)
+class DynamicsRow:
+    """One row of the Follower dynamics table: a number of report.json's ``dynamics`` section
+    (``path``: its keys there, e.g. ``("contact", "min_force")``; ``at_path`` the keys of its cam
+    angle) or, with ``path`` None, a line of text (the verdict)."""
+
+    quantity: str
+    value: float | None
+    unit: str
+    at_deg: float | None = None
+    status: str = ""               # "pass", "FAIL" or "" (information)
+    path: tuple[Any, ...] | None = None
+    at_path: tuple[Any, ...] | None = None
+    text: str | None = None        # shown instead of the value (the verdict, a note)
+
+    def cells(self) -> list[str]:
+        """quantity, value, unit, at cam angle, status."""
+        value = self.text if self.text is not None else fmt_number(self.value)
+        return [self.quantity, value, self.unit, "—" if self.at_deg is None else f"{self.at_deg:.3f}°", self.status]
+
+
+def fmt_number(v: float | None) -> str:
+    """A dynamics number as the table shows it: six significant digits (report.html's format)."""
+    if v is None:
+        return "—"
+    return f"{v:.6g}"
+
+
 @dataclass
 class DesignReport:
     """Everything Check design shows.  ``rows`` are (group, item, value, status) of the
@@ -74,6 +107,33 @@ class DesignReport:
     #: report.json's ``follower`` section (``Follower.describe()``; None for a bad spec)
     follower: dict[str, Any] | None = None
     units: str = ""
+    #: the feature's dynamics.enabled: the Follower dynamics table is shown
+    dynamics_enabled: bool = False
+    #: report.json's ``dynamics`` section (None when not enabled or not analysed)
+    dynamics_dict: dict[str, Any] | None = None
+    dynamics: list[DynamicsRow] = field(default_factory=list)
+    #: why the dynamics could not be analysed (the library's message, the field named as the property)
+    dynamics_error: str | None = None
+
+    @property
+    def contact_kept(self) -> bool | None:
+        """report.json's ``dynamics.contact.kept`` (None without dynamics)."""
+        return None if self.dynamics_dict is None else bool(self.dynamics_dict["contact"]["kept"])
+
+    def dynamics_verdict(self) -> str:
+        """The follower stays on the cam / LEAVES the cam at N rpm (or why it was not analysed)."""
+        if not self.dynamics_enabled:
+            return ""
+        if self.dynamics_error is not None:
+            return f"follower dynamics not analysed: {self.dynamics_error}"
+        d = self.dynamics_dict
+        if d is None:
+            return ""
+        rpm = fmt_number(d["speed_rpm"])
+        if d["contact"]["kept"]:
+            return f"the follower stays on the cam at {rpm} rpm"
+        return (f"the follower LEAVES the cam at {rpm} rpm "
+                f"({fmt_number(d['contact']['off_cam_deg'])}° of the revolution off the cam)")
 
     @property
     def follower_text(self) -> str:
@@ -103,6 +163,8 @@ class DesignReport:
             parts.append(self.error)
         elif not self.buildable:
             parts.append("buildability check failed")
+        if self.dynamics_error is not None or self.contact_kept is False:
+            parts.append(self.dynamics_verdict())
         return "; ".join(parts) if parts else "all checks pass"
 
     def text(self) -> str:
@@ -118,6 +180,13 @@ class DesignReport:
         if self.extremes:
             lines.append("  extremes: " + "; ".join(f"{n.replace('_', ' ')} {fmt_value(v, u)} at {a:.3f}°"
                                                     for n, v, a, u in self.extremes))
+        if self.dynamics_enabled:
+            lines.append(f"  follower dynamics: {self.dynamics_verdict()}")
+            for r in self.dynamics:
+                c = r.cells()
+                lines.append(f"    {c[0]:<44} {c[1]:>16} {c[2]:<8} at {c[3]:>9}  {c[4]}")
+            if self.dynamics_dict is not None:
+                lines.append(f"    {steady_state_text(self.dynamics_dict)}")
         for group, item, value, status in self.rows:
             lines.append(f"  {group:<15} {item:<38} {value:<30} {status}")
         return "\n".join(lines)
@@ -129,20 +198,132 @@ def _sampling_text(checks: dict[str, Any]) -> str:
     return f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema"
 
 
-def design_report(obj: Any) -> DesignReport:
-    """Run the design checks and design the feature's cam (no shape is changed)."""
+def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
+    """Run the design checks, design the feature's cam (no shape is changed) and, when the
+    feature's ``DynamicsEnabled`` is on, analyse the follower dynamics (``dynamics_progress(done,
+    total, what)`` follows the jump-speed sweep)."""
+    dynamics_error = None
     try:
         spec = props.spec_of(obj)
     except SpecError as exc:
         msg = f"{props.describe_field(exc.field)}: {exc.rule}"
-        return DesignReport(False, msg, checks_error=msg)
+        spec = _spec_without_dynamics(obj) if exc.field.startswith("dynamics.") else None
+        if spec is None:
+            return DesignReport(False, msg, checks_error=msg)
+        dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
     from generators.followers import follower_of
 
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
     _add_buildability(report, obj, spec)
-    report.ok = report.checks_error is None and not report.failed_checks and report.buildable
+    report.dynamics_enabled = bool(getattr(obj, "DynamicsEnabled", False))
+    if dynamics_error is not None:
+        report.dynamics_enabled = True
+        report.dynamics_error = dynamics_error
+    elif report.dynamics_enabled:
+        _add_dynamics(report, spec, dynamics_progress)
+    report.ok = (report.checks_error is None and not report.failed_checks and report.buildable
+                 and report.dynamics_error is None and report.contact_kept is not False)
     return report
+
+
+def _spec_without_dynamics(obj: Any) -> Any:
+    """The feature's spec without its ``[dynamics]`` (which break a rule), or None when the rest
+    breaks one too."""
+    from generators.spec import CamSpec
+
+    data = props.spec_dict(obj)
+    data.pop("dynamics", None)
+    try:
+        return CamSpec.from_dict(data)
+    except SpecError:
+        return None
+
+
+def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
+    """The rows of the Follower dynamics table from report.json's ``dynamics`` section
+    (``DynamicsResult.summary()``): every number is the section's own, with its unit and, where
+    the section gives one, its cam angle.  No FreeCAD needed."""
+    c, m, e, tq, rpm = d["contact"], d["model"], d["error"], d["torque"], d["speed_rpm"]
+    fu, lu, tu = c["unit"], e["unit"], tq["unit"]
+    kept = bool(c["kept"])
+    rows = [DynamicsRow(f"follower at {fmt_number(rpm)} rpm (the analysis speed)", rpm, "rpm",
+                        status="pass" if kept else "FAIL", path=("speed_rpm",),
+                        text="stays on the cam" if kept else "LEAVES the cam")]
+    jp = d.get("jump_speed")
+    if jp is not None:
+        if jp["rpm"] is not None:
+            rows.append(DynamicsRow("jump speed (contact first lost)", jp["rpm"], "rpm",
+                                    status="pass" if jp["rpm"] > rpm else "FAIL", path=("jump_speed", "rpm")))
+            rows.append(DynamicsRow("jump speed / analysis speed", jp["ratio_to_speed"], "",
+                                    path=("jump_speed", "ratio_to_speed")))
+        else:
+            rows.append(DynamicsRow("jump speed (contact first lost)", None, "rpm", path=("jump_speed", "rpm"),
+                                    text=f"not found: {jp['note']}"))
+        if jp["rigid_rpm"] is not None:
+            rows.append(DynamicsRow("jump speed of the rigid follower", jp["rigid_rpm"], "rpm",
+                                    path=("jump_speed", "rigid_rpm")))
+    rows.append(DynamicsRow("natural frequency of the train", m["natural_frequency_hz"], "Hz",
+                            path=("model", "natural_frequency_hz")))
+
+    def at(quantity: str, section: str, key: str, unit: str, at_key: str, *prefix: str) -> DynamicsRow:
+        src = d[section]
+        for p in prefix:
+            src = src[p]
+        return DynamicsRow(quantity, src[key], unit, src[at_key], path=(section, *prefix, key),
+                           at_path=(section, *prefix, at_key))
+
+    rows += [
+        at("smallest contact force (dynamic)", "contact", "min_force", fu, "min_force_at_deg"),
+        at("largest contact force (dynamic)", "contact", "max_force", fu, "max_force_at_deg"),
+        at("smallest contact force (rigid)", "contact", "rigid_min_force", fu, "rigid_min_force_at_deg"),
+        at("largest contact force (rigid)", "contact", "rigid_max_force", fu, "rigid_max_force_at_deg"),
+        at("largest displacement error |q − s|", "error", "max", lu, "at_deg"),
+        at("largest vibration", "error", "max_vibration", lu, "vibration_at_deg"),
+    ]
+    if not kept:
+        rows.append(DynamicsRow("off the cam", c["off_cam_deg"], "deg", status="FAIL", path=("contact", "off_cam_deg")))
+        rows.append(at("largest gap", "contact", "max_gap", lu, "max_gap_at_deg"))
+        if c.get("max_landing_speed") is not None:
+            rows.append(DynamicsRow("largest landing speed", c["max_landing_speed"], c["landing_speed_unit"],
+                                    path=("contact", "max_landing_speed")))
+    for which in ("rigid", "dynamic"):
+        rows += [
+            at(f"camshaft torque max ({which})", "torque", "max", tu, "max_at_deg", which),
+            at(f"camshaft torque min ({which})", "torque", "min", tu, "min_at_deg", which),
+            DynamicsRow(f"camshaft torque RMS ({which})", tq[which]["rms"], tu, path=("torque", which, "rms")),
+        ]
+    rows.append(DynamicsRow("work per revolution (dynamic)", tq["dynamic"]["work_per_revolution"], tu,
+                            path=("torque", "dynamic", "work_per_revolution")))
+    for i, r in enumerate(d["residual_vibration"]):
+        rows.append(DynamicsRow(f"residual vibration after motion[{r['after']}] {r['kind']} "
+                                f"(in motion[{r['next']}] {r['next_kind']})", r["amplitude"], lu, r["at_deg"],
+                                path=("residual_vibration", i, "amplitude"),
+                                at_path=("residual_vibration", i, "at_deg")))
+    return rows
+
+
+def steady_state_text(d: dict[str, Any]) -> str:
+    """How report.json's ``dynamics`` section was solved (``steady_state``), in words."""
+    st = d["steady_state"]
+    return ("steady state: " + st["method"] + (f", {st['revolutions']} revolutions" if st["revolutions"] else "")
+            + ("" if st["periodic"] else " — NOT periodic yet" + (f" ({st['note']})" if st.get("note") else "")))
+
+
+def _add_dynamics(report: DesignReport, spec: Any, progress: Any) -> None:
+    from generators.dynamics import analyse_dynamics
+
+    try:
+        # the function `cam-workbench dynamics` and `build` call: its summary() is report.json's section
+        section = analyse_dynamics(spec, progress=progress).summary()
+    except SpecError as exc:
+        report.dynamics_error = f"{props.describe_field(exc.field)}: {exc.rule}"
+        return
+    except CamError as exc:
+        report.dynamics_error = str(exc)
+        return
+    report.dynamics_dict = section
+    report.dynamics = dynamics_rows(section)
 
 
 def check_rows(checks: Any) -> list[CheckRow]:
@@ -299,7 +480,16 @@ def show_report(obj: Any) -> DesignReport:
     import FreeCADGui
     from PySide import QtGui
 
-    report = design_report(obj)
+    from PySide import QtCore
+
+    if getattr(obj, "DynamicsEnabled", False):
+        FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the follower dynamics "
+                                     "(with the jump-speed sweep)…\n")
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    try:
+        report = design_report(obj)
+    finally:
+        QtGui.QApplication.restoreOverrideCursor()
     out = FreeCAD.Console.PrintMessage if report.ok else FreeCAD.Console.PrintWarning
     out(f"{obj.Label}: check design: {report.text()}\n")
     dlg = QtGui.QDialog(FreeCADGui.getMainWindow())
@@ -345,6 +535,8 @@ def show_report(obj: Any) -> DesignReport:
     bl.addWidget(_table("buildability", ["group", "check / quantity", "value", "status"],
                         [list(r) for r in report.rows], status_col=3))
     tabs.addTab(build_page, "Buildability and geometry")
+    if report.dynamics_enabled:
+        tabs.addTab(_dynamics_page(report), "Follower dynamics")
     layout.addWidget(tabs)
     close = QtGui.QPushButton("Close")
     close.clicked.connect(dlg.accept)
@@ -355,6 +547,44 @@ def show_report(obj: Any) -> DesignReport:
     _DIALOGS.append(dlg)
     dlg.finished.connect(lambda *_: _DIALOGS.remove(dlg) if dlg in _DIALOGS else None)
     return report
+
+
+def _dynamics_page(report: DesignReport) -> Any:
+    """The Follower dynamics tab: the verdict, then report.json's ``dynamics`` numbers."""
+    from PySide import QtGui
+
+    page = QtGui.QWidget()
+    page.setObjectName("dynamics_page")
+    lay = QtGui.QVBoxLayout(page)
+    head = QtGui.QLabel(report.dynamics_verdict())
+    head.setObjectName("dynamics_verdict")
+    head.setWordWrap(True)
+    good = report.dynamics_error is None and report.contact_kept is not False
+    head.setStyleSheet("font-weight: bold; color: " + (_GREEN if good else _RED))
+    lay.addWidget(head)
+    if report.dynamics_dict is not None:
+        m = report.dynamics_dict["model"]
+        about = QtGui.QLabel(
+            f"One-degree-of-freedom follower train (docs/dynamics.md): "
+            f"{'arm inertia' if m['coordinate'] == 'arm angle' else 'mass'} {fmt_number(m['mass'])} {m['mass_unit']}, "
+            f"stiffness {fmt_number(m['stiffness'])} {m['stiffness_unit']}, damping ratio "
+            f"{fmt_number(m['damping_ratio'])}, return spring and preload from the Follower load properties; "
+            "the numbers of report.json's dynamics section (cam-workbench dynamics):")
+        about.setWordWrap(True)
+        lay.addWidget(about)
+        table = _table("dynamics", ["quantity", "value", "unit", "at cam angle", "status"],
+                       [r.cells() for r in report.dynamics], status_col=4)
+        for r, row in enumerate(report.dynamics):
+            if row.path is not None:
+                table.item(r, 0).setToolTip("report.json: dynamics." + ".".join(str(k) for k in row.path))
+        lay.addWidget(table, 1)
+        steady = QtGui.QLabel(steady_state_text(report.dynamics_dict))
+        steady.setObjectName("dynamics_steady_state")
+        steady.setWordWrap(True)
+        lay.addWidget(steady)
+    else:
+        lay.addStretch(1)
+    return page
 
 
 _DIALOGS: list[Any] = []  # keep non-modal dialogs alive until closed

@@ -156,7 +156,8 @@ class CheckDesign(Command):
     menu_text = "Check design"
     tooltip = ("Design checks of the cam (thesis Ch. 3): pressure angle, separation, oscillation, "
                "contact stress, curvature and undercut — value, cam angle, limit, pass/fail — the "
-               "extremes, and the buildability checks and FreeCAD's solid check")
+               "extremes, the buildability checks and FreeCAD's solid check, and with DynamicsEnabled the "
+               "follower dynamics (contact at speed, jump speed, contact force, camshaft torque)")
     icon = "CheckDesign.svg"
 
     def run(self) -> None:
@@ -260,6 +261,16 @@ class ExportCommandTable(_Export):
     group = "csv"
 
 
+class ExportEcam(_Export):
+    menu_text = "Export e-cam table…"
+    tooltip = ("Write the motion as an electronic-cam table for a servo motion controller: CSV (θ, s, s′, s″, s‴), "
+               "CODESYS SoftMotion (XYVA points or Poly5 segments), Beckhoff TwinCAT (motion function or position "
+               "table) or Lenze Cam Loader points, with the Ecam properties (step, boundaries, name); shows the "
+               "measured deviation of the table's interpolation from the exact motion")
+    icon = "ExportEcam.svg"
+    group = "ecam"
+
+
 class DesignReport(_Export):
     menu_text = "Design report (HTML)…"
     tooltip = ("Write the design report into a folder: report.html (self-contained: spec, plots of "
@@ -280,6 +291,7 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_ExportDxf": ExportDxf,
     "CamWorkbench_ExportGcode": ExportGcode,
     "CamWorkbench_ExportCommandTable": ExportCommandTable,
+    "CamWorkbench_ExportEcam": ExportEcam,
     "CamWorkbench_DesignReport": DesignReport,
     "CamWorkbench_ExportSpec": ExportSpec,
 }
@@ -288,7 +300,7 @@ LAYOUT = ["CamWorkbench_NewPlateCam", "CamWorkbench_NewPlateCamFromSpec", "Separ
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
           "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
-          "CamWorkbench_ExportCommandTable", "Separator",
+          "CamWorkbench_ExportCommandTable", "CamWorkbench_ExportEcam", "Separator",
           "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]
 #: Toolbar: the everyday commands.
 TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_Optimise",

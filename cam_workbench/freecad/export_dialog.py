@@ -1,4 +1,4 @@
-"""The export dialog (GUI only): DXF, G-code (XY or XC), command table, design report.
+"""The export dialog (GUI only): DXF, G-code (XY or XC), command table, e-cam tables, design report.
 
 A small non-modal dialog: what will be written, the feature's properties it uses (the
 ``[drawing]`` or ``[machining]`` values — change them in the property editor), the output
@@ -21,6 +21,13 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "gcode": ("gcode_xy", "gcode_xc"),
     "csv": ("csv",),
     "report": ("report",),
+    "ecam": ("ecam_csv", "ecam_codesys_xyva", "ecam_codesys_poly5", "ecam_beckhoff_motion_function",
+             "ecam_beckhoff_position_table", "ecam_lenze"),
+}
+#: The dialog's title and its choice box's title for a group of several kinds.
+GROUP_TITLES: dict[str, tuple[str, str]] = {
+    "gcode": ("Export G-code", "Program"),
+    "ecam": ("Export e-cam table", "Table"),
 }
 _GREEN, _RED = "#1a7f37", "#c62828"
 _DIALOGS: list[Any] = []  # keep non-modal dialogs alive until closed
@@ -39,7 +46,8 @@ class ExportDialog:
         self._thread: threading.Thread | None = None
         self._outcome: dict[str, Any] = {}
         first = exports.KINDS[kinds[0]]
-        title = "Export G-code" if len(kinds) > 1 else first.title
+        group = next((g for g, ks in GROUPS.items() if ks == kinds), "")
+        title, box_title = GROUP_TITLES.get(group, (first.title, "Export"))
         self.title = title
         dlg = self.dialog = QtGui.QDialog(FreeCADGui.getMainWindow())
         dlg.setObjectName("CamWorkbenchExport")
@@ -47,12 +55,15 @@ class ExportDialog:
         layout = QtGui.QVBoxLayout(dlg)
         self.radios: dict[str, Any] = {}
         if len(kinds) > 1:
-            box = QtGui.QGroupBox("Program")
+            box = QtGui.QGroupBox(box_title)
             bl = QtGui.QVBoxLayout(box)
-            current = {"xy": "gcode_xy", "xc": "gcode_xc"}.get(str(getattr(obj, "MachiningProgram", "xy")))
+            current = _current_kind(obj, kinds)
             for k in kinds:
                 kind = exports.KINDS[k]
-                rb = QtGui.QRadioButton(f"{kind.title.split('(')[-1].rstrip(')')}: {kind.description}")
+                short = kind.title.split('(')[-1].rstrip(')')
+                # the e-cam tables: a short label (six of them), the description as tooltip
+                rb = QtGui.QRadioButton(short if group == "ecam" else f"{short}: {kind.description}")
+                rb.setToolTip(kind.description)
                 rb.setChecked(k == (current if current in kinds else kinds[0]))
                 rb.toggled.connect(lambda on, k=k: on and self._kind_changed(k))
                 bl.addWidget(rb)
@@ -66,6 +77,7 @@ class ExportDialog:
                                       "properties (change them in the property editor):"))
         self.values = QtGui.QTableWidget(0, 2)
         self.values.setHorizontalHeaderLabels(["property", "value"])
+        self.values.setObjectName("values")
         self.values.verticalHeader().setVisible(False)
         self.values.horizontalHeader().setStretchLastSection(True)
         self.values.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
@@ -88,6 +100,15 @@ class ExportDialog:
         self.status.setWordWrap(True)
         self.status.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         layout.addWidget(self.status)
+        # what the command line reported about the file (an e-cam table: its measured deviation)
+        self.details = QtGui.QTableWidget(0, 2)
+        self.details.setObjectName("details")
+        self.details.setHorizontalHeaderLabels(["written", "the command line's numbers"])
+        self.details.verticalHeader().setVisible(False)
+        self.details.horizontalHeader().setStretchLastSection(True)
+        self.details.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self.details.setVisible(False)
+        layout.addWidget(self.details, 1)
         buttons = QtGui.QDialogButtonBox()
         self.export_button = buttons.addButton("Export", QtGui.QDialogButtonBox.AcceptRole)
         self.close_button = buttons.addButton("Close", QtGui.QDialogButtonBox.RejectRole)
@@ -149,6 +170,7 @@ class ExportDialog:
             return
         self.result, self.error = None, None
         self._outcome = {}
+        self.details.setVisible(False)
         self.export_button.setEnabled(False)
         self.busy.setVisible(True)
         self.status.setStyleSheet("")
@@ -196,6 +218,22 @@ class ExportDialog:
         self.status.setStyleSheet(f"color: {_GREEN}")
         self.status.setText(f"Written: {where}{files}")
         FreeCAD.Console.PrintMessage(f"{self.obj.Label}: {title}: written {where}{files}\n")
+        if result.details:
+            self._show_details(result.details)
+            FreeCAD.Console.PrintMessage("".join(f"  {k}: {v}\n" for k, v in result.details))
+
+    def _show_details(self, rows: tuple[tuple[str, str], ...]) -> None:
+        from PySide import QtGui
+
+        self.details.setRowCount(len(rows))
+        for r, (name, value) in enumerate(rows):
+            self.details.setItem(r, 0, QtGui.QTableWidgetItem(name))
+            self.details.setItem(r, 1, QtGui.QTableWidgetItem(value))
+        self.details.resizeColumnsToContents()
+        self.details.horizontalHeader().setStretchLastSection(True)
+        self.details.setVisible(True)
+        if self.dialog.height() < 680:
+            self.dialog.resize(self.dialog.width(), 680)
 
     def _show_error(self, text: str) -> None:
         self.error = text
@@ -207,6 +245,19 @@ class ExportDialog:
         self.dialog.show()
         _DIALOGS.append(self)
         self.dialog.finished.connect(lambda *_: _DIALOGS.remove(self) if self in _DIALOGS else None)
+
+
+def _current_kind(obj: Any, kinds: tuple[str, ...]) -> str | None:
+    """The kind the feature's properties choose (MachiningProgram; EcamFormat and EcamTable)."""
+    if "gcode_xy" in kinds:
+        return {"xy": "gcode_xy", "xc": "gcode_xc"}.get(str(getattr(obj, "MachiningProgram", "xy")))
+    fmt, table = str(getattr(obj, "EcamFormat", "")), str(getattr(obj, "EcamTable", "auto"))
+    for k in kinds:
+        a = exports.KINDS[k].args
+        if "--format" in a and a[a.index("--format") + 1] == fmt and (
+                table == "auto" or a[a.index("--table") + 1] == table):
+            return k  # the first table of the format for "auto", as the CLI picks it
+    return None
 
 
 def open_export_dialog(obj: Any, group: str) -> ExportDialog:

@@ -1,4 +1,4 @@
-"""DXF, G-code, command-table and design-report exports from FreeCAD, made by the CLI.
+"""DXF, G-code, command-table, e-cam-table and design-report exports from FreeCAD, made by the CLI.
 
 FreeCAD's own Python cannot make all of these files as the CLI does (measured on Debian's
 FreeCAD 0.20.2, Python 3.11, numpy 1.24, scipy 1.10 — docs/freecad.md):
@@ -74,6 +74,31 @@ KINDS: dict[str, ExportKind] = {k.key: k for k in (
     ExportKind("csv", "Export command table (CSV)", ("gcode", "--mode", "csv"), ".csv",
                "Command table (*.csv)", "{label}_commands.csv",
                "the rotational interpolator's raw commands (paper Eq. 15), one row per sample period"),
+    # electronic-cam tables (`cam-workbench ecam`, docs/ecam.md): one kind per format and table; the
+    # step, boundaries and PLC name are the Ecam properties; --json: the CLI's deviation summary
+    ExportKind("ecam_csv", "Export e-cam table (CSV)", ("ecam", "--format", "csv", "--table", "points", "--json"),
+               ".csv", "E-cam table (*.csv)", "{label}_ecam.csv",
+               "the electronic-cam table as CSV: θ [deg], s, s′, s″, s‴ (per radian) at every point"),
+    ExportKind("ecam_codesys_xyva", "Export e-cam table (CODESYS XYVA)",
+               ("ecam", "--format", "codesys", "--table", "xyva", "--json"), ".st", "Structured Text (*.st)",
+               "{label}_codesys_xyva.st",
+               "CODESYS SoftMotion: a global variable list with SMC_CAMXYVA points and their MC_CAM_REF "
+               "(5th-degree polynomials between the points)"),
+    ExportKind("ecam_codesys_poly5", "Export e-cam table (CODESYS Poly5)",
+               ("ecam", "--format", "codesys", "--table", "poly5", "--json"), ".st", "Structured Text (*.st)",
+               "{label}_codesys_poly5.st",
+               "CODESYS SoftMotion: a PROGRAM building the cam with the CamBuilder's Poly5 segments"),
+    ExportKind("ecam_beckhoff_motion_function", "Export e-cam table (Beckhoff motion function)",
+               ("ecam", "--format", "beckhoff", "--table", "motion_function", "--json"), ".st",
+               "Structured Text (*.st)", "{label}_beckhoff_mf.st",
+               "Beckhoff TwinCAT NC Camming: MC_MotionFunctionPoint array, 5th-order polynomials, and its MC_CAM_REF"),
+    ExportKind("ecam_beckhoff_position_table", "Export e-cam table (Beckhoff position table)",
+               ("ecam", "--format", "beckhoff", "--table", "position_table", "--json"), ".st",
+               "Structured Text (*.st)", "{label}_beckhoff_table.st",
+               "Beckhoff TwinCAT: a master/slave position table (linear interpolation) and its MC_CAM_REF"),
+    ExportKind("ecam_lenze", "Export e-cam table (Lenze)", ("ecam", "--format", "lenze", "--table", "points", "--json"),
+               ".txt", "Lenze Cam Loader points (*.txt)", "{label}_lenze.txt",
+               "Lenze Global Drive Cam Loader: one x y point per line (linear interpolation)"),
     ExportKind("report", "Design report (HTML)", ("report",), "", "", "{label}_report",
                "the design report: report.html (self-contained), report.json and the plots as PNG, "
                "into a folder"),
@@ -96,6 +121,8 @@ class ExportResult:
     files: tuple[str, ...]         # what was written (names)
     message: str                   # the CLI's own summary
     argv: tuple[str, ...]
+    #: (item, value) rows of what the CLI reported (an e-cam table: points and measured deviations)
+    details: tuple[tuple[str, str], ...] = ()
 
 
 def _python_cli(python: str) -> tuple[str, ...]:
@@ -258,7 +285,40 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
         if not out.is_file():
             raise ExportError(f"the command line reported success but {out} is missing")
         files = (out.name,)
-    return ExportResult(out, files, said, tuple(argv))
+    details: tuple[tuple[str, str], ...] = ()
+    if is_ecam(kind):
+        try:
+            details = tuple(ecam_rows(json.loads(res.stdout)))
+        except (ValueError, KeyError, TypeError):
+            raise ExportError(f"the command line wrote {out} but its summary is unreadable: "
+                              f"{' | '.join(said.splitlines()[-4:])}") from None
+    return ExportResult(out, files, said, tuple(argv), details)
+
+
+def is_ecam(kind: str) -> bool:
+    """An electronic-cam table kind (``cam-workbench ecam``)."""
+    return KINDS[kind].args[0] == "ecam"
+
+
+def ecam_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """(item, value) rows of ``cam-workbench ecam --json``'s summary (``EcamTable.summary()``):
+    the table written and the measured deviation of each interpolation from the exact motion,
+    with its cam angle — the CLI's own numbers, shown to the digits it prints them."""
+    lu = summary["lift_unit"]
+    rows = [("table", f"{summary['format']} {summary['table']}"),
+            ("points", f"{summary['points']}, step {summary['step_deg']:g}°, "
+                       f"{'equidistant' if summary['equidistant'] else 'not equidistant'}")]
+    for interp, d in summary["deviation"].items():
+        own = " (the controller's)" if interp == summary["interpolation"] else ""
+        rows.append((f"{interp} interpolation{own}: max deviation",
+                     f"{d['max_error']:.3g} {lu} at {d['at_deg']:.4f}°"))
+        rows.append((f"{interp} interpolation: max slope error Y′",
+                     f"{d['max_velocity_error']:.3g} {lu}/deg at {d['velocity_at_deg']:.4f}°"))
+        if d.get("max_acceleration_error") is not None:
+            rows.append((f"{interp} interpolation: max Y″ error",
+                         f"{d['max_acceleration_error']:.3g} {lu}/deg² at {d['acceleration_at_deg']:.4f}°"))
+    rows += [("note", n) for n in summary.get("notes", [])]
+    return rows
 
 
 def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
@@ -267,11 +327,16 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     from generators.spec.params import unit_name
 
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
-                "csv": ("machining",), "report": ("checks", "material")}[kind]
+                "csv": ("machining",), "report": ("checks", "material")}.get(kind, ("ecam",))
     only = {"csv": ("rotary_speed_rpm", "sample_period")}.get(kind)
+    if is_ecam(kind):   # the format and table are the kind's own
+        only = ("step", "boundaries", "name")
     data = props.spec_dict(obj)
     units = props.units_of(obj)
     rows = [("Units", units)]
+    if is_ecam(kind):
+        a = KINDS[kind].args
+        rows.append(("Table (this export)", f"{a[a.index('--format') + 1]} {a[a.index('--table') + 1]}"))
     for fp in props.field_properties():
         if fp.section not in sections or (only and fp.field not in only):
             continue
@@ -296,5 +361,5 @@ def suggested(obj: Any, kind: str) -> Path:
 
 
 __all__ = ["Cli", "ExportError", "ExportKind", "ExportResult", "KINDS", "cli_message", "command_line",
-           "export", "find_cli", "suggested", "summary_rows", "target_path"]
+           "ecam_rows", "export", "find_cli", "is_ecam", "suggested", "summary_rows", "target_path"]
 
