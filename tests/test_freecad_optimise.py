@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 
 from generators import load_spec, to_toml
-from generators.spec.examples import example_spec
+from generators.spec.examples import example_dict, example_spec
 from generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
@@ -318,3 +318,40 @@ def test_default_bounds_are_the_library_defaults():
         O.run_spec(spec, O.Settings(**{**O.settings_of(spec).__dict__, "offset_max": 20.0}))
     assert info.value.field == "optimise.offset_max"
     assert to_toml(O.run_spec(spec, O.settings_of(spec))).count("[optimise]") == 1
+
+
+@pytest.mark.parametrize("example, flat_arm, expected", [
+    ("oscillating", None, [["base_radius", 1, True], ["pivot_distance", 1, True], ["arm_length", 1, True]]),
+    ("flat", None, [["base_radius", 1, True], ["offset", 1, True]]),
+    ("oscillating_flat", None, [["base_radius", 1, True], ["pivot_distance", 1, True], ["arm_length", 1, False],
+                                ["face_offset", 1, True]]),
+    ("oscillating_flat", 50.0, [["base_radius", 1, True], ["pivot_distance", 1, True], ["arm_length", 1, True],
+                                ["face_offset", 1, True]]),
+])
+def test_panel_offers_the_followers_own_position_variables(example, flat_arm, expected):
+    """The panel's variables are the follower kind's (library rule ``follower_variable_rule``): an arm's
+    pivot distance and length, never a translating offset; a flat arm's length only when given; the
+    chosen ones become ``optimise.variables`` that the library accepts."""
+    from cam_workbench.freecad import optimiser as O
+    from generators.optimise import optimise
+    from generators.spec import CamSpec
+
+    if example == "oscillating_flat":
+        d = example_dict("default")
+        d["follower"] = {"kind": "flat", "motion": "oscillating", "pivot_distance": 70.0, "face_offset": 5.0,
+                         "arm_inertia": 2000.0, "preload_torque": 800.0}
+        if flat_arm is not None:
+            d["follower"]["arm_length"] = flat_arm
+        for m in d["motion"]:
+            if "lift" in m:
+                m["lift"] = 12.0
+        spec = CamSpec.from_dict(d)
+    else:
+        spec = example_spec(example)
+    choices = [c for c in O.variable_choices(spec) if c.token != "orientation"]
+    assert [[c.token, c.count, c.enabled] for c in choices] == expected
+    tokens = {c.token for c in choices if c.enabled}
+    text = O.variables_text(spec, tokens)
+    assert text == ", ".join(c.token for c in choices if c.enabled)
+    res = optimise(spec.replace(**{"optimise.variables": text, "optimise.max_evaluations": 10}))
+    assert {v["name"] for v in res.report()["variables"]} == {("cam." if t == "base_radius" else "follower.") + t for t in tokens}

@@ -89,10 +89,21 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
     from generators.motion.bspline_law import fixed_end_points
     from generators.motion import MotionProgram
 
+    from generators.spec.model import FOLLOWER_VARIABLES, follower_variable_rule
+
     objective = objective or spec.optimise.objective
     u = spec.units
-    out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True),
-           VariableChoice("offset", f"Follower offset e [{u}]", 1, True)]
+    out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True)]
+    # the follower's position: offset (translating), pivot distance and arm length (oscillating),
+    # the face's offset from the pivot (oscillating flat face) — only those its kind has
+    labels = {"offset": f"Follower offset e [{u}]", "pivot_distance": f"Pivot distance d [{u}]",
+              "arm_length": f"Arm length L [{u}]", "face_offset": f"Face offset from the pivot [{u}]"}
+    for name in FOLLOWER_VARIABLES:
+        rule = follower_variable_rule(spec, name)
+        if rule is None:
+            out.append(VariableChoice(name, labels[name], 1, True))
+        elif spec.follower.motion == "oscillating" and name == "arm_length":
+            out.append(VariableChoice(name, labels[name], 1, False, rule))
     program = MotionProgram.from_spec(spec)
     for k in _bspline_rows(spec):
         curve = program.curves[k]
@@ -117,7 +128,8 @@ def selected_tokens(spec: CamSpec) -> set[str]:
 
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
-    out = {k for k in ("base_radius", "offset", "orientation") if k in kinds}
+    out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "orientation")
+           if k in kinds}
     for kind, ks in rows.items():
         out |= {f"motion[{k}].{kind}" for k in ks}
     return out
@@ -131,8 +143,9 @@ def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str |
     ctrl = [t for t in choices if t.startswith("motion[")]
     if ctrl and all(t in chosen for t in ctrl):
         chosen = [t for t in chosen if not t.startswith("motion[")]
-        chosen.insert(2 if "offset" in chosen else 1 if "base_radius" in chosen else 0, "control_points")
-        chosen = [t for t in ("base_radius", "offset", "control_points", "orientation") if t in chosen]
+        chosen.append("control_points")
+        chosen = [t for t in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset",
+                              "control_points", "orientation") if t in chosen]
     return ", ".join(chosen)
 
 
