@@ -378,6 +378,15 @@ def cylindrical_solid(design: Any) -> Any:
     return solids[0] if len(solids) == 1 else shape
 
 
+def body_measures(design: Any, shape: Any) -> dict[str, Any]:
+    """What the solid stage measures of a body beyond volume and face area: a cylindrical cam's
+    built wall faces against the exact walls (``wall_error``); nothing for the prism bodies."""
+    body = design.body
+    if body is None or getattr(body, "prismatic", True):
+        return {}
+    return {"wall_error": cylindrical_wall_error(design, shape)}
+
+
 def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 9) -> dict[str, Any]:
     """Distance of the built wall faces of ``shape`` from the exact walls: every B-spline face
     sampled on a grid of its own (u, v) range (OCCT's evaluator), each point's distance from the

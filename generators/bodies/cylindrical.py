@@ -336,6 +336,8 @@ class CylindricalDesign:
     checks_report: dict
     #: the cam is not a plane cam: the pipeline skips the plane-only stages (drawing, interpolator)
     plane = False
+    #: no fitted B-spline pitch curve (the plane cams' ``pitch.representation = "bspline"``)
+    bspline = None
 
     @property
     def layout(self) -> CylinderLayout:
