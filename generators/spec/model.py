@@ -883,8 +883,11 @@ def _cylindrical_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
     cam = data.get("cam")
     if not isinstance(cam, Mapping) or cam.get("body") != "cylindrical":
         return data
-    fill = {k: cam[src] for k, src in (("base_radius", "cylinder_radius"), ("thickness", "length"))
-            if k not in cam and src in cam}
+    pairs = (("base_radius", "cylinder_radius"), ("thickness", "length"))
+    for k, src in pairs:
+        if src not in cam:
+            raise SpecError(f"cam.{src}", "is required for a cylindrical cam")
+    fill = {k: cam[src] for k, src in pairs if k not in cam}
     if not fill:
         return data
     out = dict(data)
