@@ -182,6 +182,14 @@ class CylindricalMachiningOutputs:
     gcode: str
     machining_summary: dict[str, Any]
     interpolator_summary: Any = None
+    second_gcode: str | None = None
+
+    @property
+    def commands_csv(self) -> str:
+        from generators.errors import SpecError
+
+        raise SpecError("--mode", "a cylindrical cam has no interpolator command table (its program is the 4-axis "
+                        "X-Z-A one)")
 
     @property
     def files(self) -> dict[str, str]:
