@@ -387,7 +387,7 @@ def body_measures(design: Any, shape: Any) -> dict[str, Any]:
     return {"wall_error": cylindrical_wall_error(design, shape)}
 
 
-def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 9) -> dict[str, Any]:
+def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 15) -> dict[str, Any]:
     """Distance of the built wall faces of ``shape`` from the exact walls: every B-spline face
     sampled on a grid of its own (u, v) range (OCCT's evaluator), each point's distance from the
     exact wall of its side (:meth:`CylindricalDesign.wall_distance_error`, the developed offset at
