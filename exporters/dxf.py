@@ -67,7 +67,7 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "TIMING_MARK": (6, "Continuous", 18),
     "PROFILE_2": (2, "Continuous", 50),         # a conjugate pair's second cam (below the first)
     "PITCH_2": (1, "DASHED2", 18),              # its pitch curve (the second roller's centre)
-    "SPACER": (8, "HIDDEN", 25),                # between the cams
+    "SPACER": (8, "DASHED", 25),                # between the cams (hidden line)
 }
 
 _INSUNITS = {"mm": 4, "in": 1}

@@ -138,8 +138,14 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
         prof_label = "cam (exact offset NURBS profile)" if rr > 0 else "cam (profile = PH pitch curve)"
     else:
         prof_label = "cam (fitted offset B-spline profile)" if rr > 0 else "cam (profile = fitted B-spline)"
-    ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label=prof_label)
-    ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
+    body = design.body
+    drawn_body = body is not None and not (body.kind == "plate" and len(body.prisms) == 1
+                                           and all(h.is_circle for h in body.prisms[0].holes))
+    if drawn_body:
+        _draw_body_top(ax, design, prof_label)
+    else:
+        ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label=prof_label)
+        ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
     if not flat:
         ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
                 label=f"pitch curve ({_pitch_words(design)})")
@@ -150,7 +156,7 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     if rr > 0 or flat:
         r0 = rb - rr
         ax.plot(r0 * np.cos(t), r0 * np.sin(t), "-.", color="0.6", lw=0.6, label="base circle")
-    if spec.cam.bore_diameter > 0:
+    if spec.cam.bore_diameter > 0 and not drawn_body:
         rbore = spec.cam.bore_diameter / 2
         ax.fill(rbore * np.cos(t), rbore * np.sin(t), color="white", zorder=3)
         ax.plot(rbore * np.cos(t), rbore * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=4)
@@ -173,13 +179,40 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
-    ax.set_title(f"plate cam, {desc['label']} {u}\n"
+    ax.set_title(f"{spec.cam.body} cam, {desc['label']} {u}\n"
                  + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else
                     f"{design.pitch.M} B-spline knot spans"), fontsize=9)
     ax.set_xlabel(f"x [{u}]")
     ax.set_ylabel(f"y [{u}]")
     ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
     ax.grid(alpha=0.2)
+
+
+def _draw_body_top(ax: Any, design: CamDesign, prof_label: str) -> None:
+    """The body seen from +Z: every prism region that reaches the top face, material filled and
+    cuts (a groove between its walls, the bore with its keyway, holes, the timing mark) white, in
+    the body's order; a groove's walls labelled as the exact offsets they are."""
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
+    body = design.body
+    top = body.z_range[1]
+    first_add = True
+    for prism in body.prisms:
+        if not prism.z0 < top <= prism.z1 + 1e-12:
+            continue
+        loops = [prism.outer.points()] + [h.points()[::-1] for h in prism.holes]
+        verts = np.concatenate([np.column_stack([p.real, p.imag]) for p in loops])
+        codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(p) - 1) for p in loops])
+        add = prism.op == "add"
+        label = None
+        if add and first_add:
+            label = ("groove cam (walls: the pitch curve's exact offsets ±(r + c/2))" if body.kind == "groove"
+                     else prof_label)
+            first_add = False
+        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="#b8c7d9" if add else "white",
+                               edgecolor=COLORS["profile"], lw=1.0, zorder=1 if add else 3, label=label))
+    ax.autoscale_view()
 
 
 def conjugate_figure(design: CamDesign, second: CamDesign, follower_angle_deg: float = 75.0) -> Any:

@@ -87,7 +87,7 @@ def test_audit_finds_no_errors(drawings, name):
     used = {e.dxf.layer for e in msp}
     # the body's layers (a groove's outer wall and rim, holes, hub, timing mark) carry entities
     # only when the body has them; tests/test_bodies.py holds those against the body
-    body_only = {"PROFILE_OUTER", "OUTLINE", "HOLES", "HUB", "TIMING_MARK"}
+    body_only = {"PROFILE_OUTER", "OUTLINE", "HOLES", "HUB", "TIMING_MARK", "PROFILE_2", "PITCH_2", "SPACER"}
     expected = set(LAYERS) - body_only - ({"PRIME_CIRCLE"} if "knife" in name else set())
     assert expected <= used
 

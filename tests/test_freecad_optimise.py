@@ -243,7 +243,8 @@ def test_cancel_stops_at_the_next_evaluation_and_changes_nothing(runs):
     assert c["at_cancel"] <= c["evaluations"] <= c["at_cancel"] + 2, c
     assert c["after"] == c["before"]
     e = runs["early"]
-    assert e["status"] == "cancelled" and e["evaluations"] == 1 and e["feasible"] is False
+    # cancelled before it starts: no evaluation, or the one already under way; the start's verdict kept
+    assert e["status"] == "cancelled" and e["evaluations"] <= 1 and e["feasible"] is False
     assert e["failed"] == ["separation"]
 
 

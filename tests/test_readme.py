@@ -163,6 +163,26 @@ assert part.is_valid and len(part.solids()) == 1
 assert abs(part.volume - (cam.volume + math.pi * (14 ** 2 - 6 ** 2) * 8)) < 1e-6 * part.volume
 assert os.path.getsize("cam_hub.step") > 10_000
 """,
+    "Cam bodies: plate, groove, conjugate": """
+assert groove.is_valid() and pair.is_valid()
+assert round(body["rim_wall"]["value"], 2) == 6.95 and body["groove_width"] == 16.1
+assert [round(a) for a in body["drive"]["changes_at_deg"]] == [90, 150, 210, 270]
+rde = pair.report()["body"]["roller_distance_error"]
+assert f"{rde['max']:.1e}" == "9.9e-05" and rde["max"] <= rde["lift_bound"]
+""",
+    "Motion design: polynomials, constant-velocity strokes, tables": """
+assert round(rep["segments"][2]["velocity"], 1) == 10.5 and [j["order"] for j in rep["junctions"]] == [2] * 6
+assert pack.report()["checks"]["passed"]
+""",
+    "Follower dynamics and electronic cams": """
+assert round(d["jump_speed"]["rpm"], 1) == 487.5 and round(d["jump_speed"]["rigid_rpm"], 1) == 492.1
+assert round(d["contact"]["min_force"], 2) == 19.99 and d["contact"]["kept"]
+assert f"{table.deviation.max_error:.2e}" == "1.09e-03"
+""",
+    "Design studies: batches, sweeps, sizing charts": """
+rb = [r["min_base_radius"] for r in table.rows]
+assert len(rb) == 5 and all(b2 > b1 for b1, b2 in zip(rb, rb[1:]))   # more lift, a larger cam
+""",
     "Optimise": """
 rep = res.report()
 assert res.feasible and smaller.is_valid()

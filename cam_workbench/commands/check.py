@@ -103,7 +103,9 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
             else f"{checks['samples_per_segment']} samples per rise/return, refined extrema")
     table = Table(title=f"design checks ({mode})")
     for col in ("check", "value", "at", "limit", "status"):
-        table.add_column(col, justify="left" if col in ("check", "status") else "right")
+        # the check's name is never cut: a second cam's "pressure_angle_cam2" must not read as the first's
+        table.add_column(col, justify="left" if col in ("check", "status") else "right",
+                         overflow="fold", min_width=7 if col == "status" else None)
     style = {"pass": "green", "fail": "bold red", "skipped": "yellow"}
     for name, r in checks["results"].items():
         limit = "—" if r["limit"] is None else f"{limit_sign(name, r['kind'])} {format_value(r['limit'], r['unit'])}"

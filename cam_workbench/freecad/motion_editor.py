@@ -266,7 +266,10 @@ class MotionEditorPanel:
 
     def _header(self, field: str, p: Any) -> str:
         lift_angle = self.lift == "angle" and f"{SECTION}[].{field}" in LIFT_FIELDS
-        unit = "°" if p.unit == "angle" or lift_angle else unit_name(p.unit, self.units)
+        # an arm's lifts are degrees: its derivatives per radian of cam rotation °/rad, °/rad², °/rad³
+        per_rad = {"reduced_velocity": "/rad", "reduced_acceleration": "/rad²", "reduced_jerk": "/rad³"}
+        unit = ("°" + per_rad.get(p.unit, "") if lift_angle else
+                "°" if p.unit == "angle" else unit_name(p.unit, self.units))
         return f"{field} [{unit}]" if unit else field
 
     # -- table <-> rows

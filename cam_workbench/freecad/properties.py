@@ -784,8 +784,8 @@ def migrate_lift_and_torque_units(obj: Any) -> list[str]:
         elif fp.is_lift and lift == "angle":
             f_old = fp.factor(units, "length")   # version 3 stored the degrees as lengths
             if fp.is_list:
-                if f_old != 1.0:
-                    setattr(obj, fp.name, [unscale(float(v), f_old) for v in getattr(obj, fp.name)])
+                if f_old != 1.0 and any(str(v).strip() for v in getattr(obj, fp.name)):
+                    setattr(obj, fp.name, [_unscale_entry(fp, v, f_old) for v in getattr(obj, fp.name)])
                     done.append(fp.name)
                 continue
             old = float(_value(getattr(obj, fp.name)))
@@ -793,6 +793,19 @@ def migrate_lift_and_torque_units(obj: Any) -> list[str]:
             setattr(obj, fp.name, unscale(old, f_old))
             done.append(fp.name)
     return done
+
+
+def _unscale_entry(fp: FieldProperty, v: Any, factor: float) -> Any:
+    """A list property's entry stored × ``factor`` brought back to the spec's number (a float, a
+    "1.0, 2.0" value list or a "0, 0; 30, 5.2" points text; empty entries stay empty)."""
+    if fp.param.kind == "float":
+        return unscale(float(v), factor)
+    text = str(v).strip()
+    if not text:
+        return v
+    if fp.param.kind == "points":
+        return format_points(parse_points(text, fp.path, factor))
+    return ", ".join(repr(unscale(x, factor)) for x in parse_floats(text, fp.path))
 
 
 def refresh_tooltips(obj: Any) -> None:

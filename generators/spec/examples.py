@@ -16,6 +16,13 @@
 * ``packaging`` — a packaging machine's working stroke: a 22 mm constant-velocity rise over 120°
   entered and left through polynomial rises that take its velocity (Norton's SVAJ method), then a
   polynomial return; every junction is C², and it passes every check.
+* ``groove`` — the default's motion in a groove (face) cam: a 150 mm disc, 12 mm thick, the
+  8 mm roller running in an 8 mm deep groove 16.1 mm wide (clearance 0.1 mm), a 16 mm bore keyed
+  by DIN 6885-1 (5 × 2.3 mm), a 36 mm hub 10 mm long, four 5 mm holes on a 34 mm circle and a
+  timing mark; positive drive: no return spring.
+* ``conjugate`` — the default's motion on a conjugate pair: a translating yoke (offset 5 mm) with
+  its 8 mm roller on the first cam and a 6 mm roller 106 mm away on the other side of the axis on
+  the second, 3 mm below it; both rollers touch at every angle, no spring.
 """
 from __future__ import annotations
 
@@ -68,6 +75,23 @@ PACKAGING_SPEC_DICT: dict[str, Any] = {
     "material": {"allowable_stress": 1000.0},
 }
 
+GROOVE_SPEC_DICT: dict[str, Any] = {
+    **copy.deepcopy({k: v for k, v in DEFAULT_SPEC_DICT.items() if k not in ("cam", "follower")}),
+    "cam": {**DEFAULT_SPEC_DICT["cam"], "body": "groove", "outer_diameter": 150.0, "thickness": 12.0,
+            "bore_diameter": 16.0, "keyway": "DIN6885", "hub_diameter": 36.0, "hub_length": 10.0,
+            "mounting_holes": 4, "mounting_hole_diameter": 5.0, "mounting_circle_diameter": 34.0,
+            "timing_mark": True},
+    "follower": {"kind": "roller", "roller_radius": 8.0, "mass": 0.5},
+    "groove": {"depth": 8.0, "clearance": 0.1, "min_wall": 3.0},
+}
+
+CONJUGATE_SPEC_DICT: dict[str, Any] = {
+    **copy.deepcopy({k: v for k, v in DEFAULT_SPEC_DICT.items() if k not in ("cam", "follower")}),
+    "cam": {**DEFAULT_SPEC_DICT["cam"], "body": "conjugate", "bore_diameter": 12.0},
+    "follower": {"kind": "roller", "roller_radius": 8.0, "offset": 5.0, "mass": 0.5},
+    "conjugate": {"roller_distance": 106.0, "roller_radius": 6.0, "gap": 3.0},
+}
+
 #: a cylindrical (barrel) cam: a groove around a cylinder, the roller's axis radial, the follower moving
 #: along the cam axis (docs/bodies.md)
 CYLINDRICAL_SPEC_DICT: dict[str, Any] = {
@@ -88,7 +112,8 @@ CYLINDRICAL_SPEC_DICT: dict[str, Any] = {
 
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
-                                       "packaging": PACKAGING_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT}
+                                       "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
+                                       "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT}
 
 
 def example_dict(name: str) -> dict[str, Any]:

@@ -47,7 +47,10 @@ KEYWAYS = ("DIN6885", "ANSI")
 #: Fields whose unit is the follower's lift unit (``Follower.lift_unit``): a length (``units``) for
 #: translating followers, degrees of arm rotation for oscillating ones, whatever ``units`` says.
 #: Their declarations say unit "length"; readers that convert units (the FreeCAD properties) read this.
-LIFT_FIELDS = ("motion[].lift", "pitch.tolerance")
+LIFT_FIELDS = ("motion[].lift", "pitch.tolerance", "motion[].control_y", "motion[].points", "motion[].table",
+               "motion[].table_tolerance", "motion[].start_velocity", "motion[].end_velocity",
+               "motion[].start_acceleration", "motion[].end_acceleration", "motion[].start_jerk",
+               "motion[].end_jerk")
 
 
 @dataclass(frozen=True, kw_only=True)
