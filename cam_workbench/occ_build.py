@@ -144,6 +144,8 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     (``exact_offset=False``: what STEP can hold — OCCT's STEP writer has no mapping for
     offset curves and writes an empty model)."""
     body = design.body
+    if body is not None and not getattr(body, "prismatic", True):
+        return cylindrical_solid(design)
     plain_plate = body is None or (body.kind == "plate" and len(body.prisms) == 1
                                    and all(h.is_circle for h in body.prisms[0].holes))
     kernel_offset = exact_offset and design.bspline is not None and design.spec.roller_radius > 0 and \
@@ -285,3 +287,128 @@ def face_area_shoelace(face: Any, samples_per_edge: int = 400) -> float:
         total += 0.5 * float(np.sum(pts[:-1, 0] * pts[1:, 1] - pts[1:, 0] * pts[:-1, 1]))
         ex.Next()
     return abs(total)
+
+
+# ---- the cylindrical (barrel) cam -----------------------------------------------------------
+def wall_surface_geom(wall: Any) -> Any:
+    """A ``Geom_BSplineSurface`` with exactly the data of a body's wall surface
+    (:class:`generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3))."""
+    ku, mu = np.unique(wall.knots_u, return_counts=True)
+    kv, mv = np.unique(wall.knots_v, return_counts=True)
+    return occ.Geom_BSplineSurface(occ.pnt_array2(wall.poles.tolist()), occ.real_array(ku.tolist()),
+                                   occ.real_array(kv.tolist()), occ.int_array(mu.tolist()), occ.int_array(mv.tolist()),
+                                   wall.degree_u, wall.degree_v, False, False)
+
+
+def wall_faces(geometry: Any) -> list[tuple[Any, Any]]:
+    """(wall surface data, ``TopoDS_Face`` on its natural bounds) for every wall face."""
+    out = []
+    for wall in geometry.walls:
+        mk = occ.BRepBuilderAPI_MakeFace(wall_surface_geom(wall), 1e-7)
+        if not mk.IsDone():
+            raise RuntimeError("OCCT could not make a face from a groove wall surface")
+        out.append((wall, mk.Face()))
+    return out
+
+
+def _sewn_shell(faces: list[Any], tolerance: float = 1e-6) -> Any:
+    sew = occ.BRepBuilderAPI_Sewing(tolerance)
+    for f in faces:
+        sew.Add(f)
+    sew.Perform()
+    return sew.SewedShape()
+
+
+def _cylinder(radius: float, z0: float, z1: float) -> Any:
+    ax = occ.gp_Ax2(occ.gp_Pnt(0, 0, z0), occ.gp_Dir(0, 0, 1))
+    return occ.BRepPrimAPI_MakeCylinder(ax, radius, z1 - z0).Shape()
+
+
+def _solids(shape: Any) -> list[Any]:
+    out = []
+    exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
+    while exp.More():
+        out.append(occ.topods_solid(exp.Current()))
+        exp.Next()
+    return out
+
+
+def cylindrical_solid(design: Any) -> Any:
+    """The cylindrical cam as a ``TopoDS_Solid``: the cylinder (bored) minus the groove.
+
+    The groove is cut out of an annulus spanning a little more than the groove's depth
+    (the walls' radial range) by the two walls — each one shell sewn from its per-segment
+    B-spline faces — with ``BRepAlgoAPI_Splitter``; the piece between the walls (the one that holds
+    the pitch point at θ = 0) is the groove, cut from the cylinder."""
+    geo = design.body
+    lay = geo.layout
+    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
+    annulus = _boolean(occ.BRepAlgoAPI_Cut, _cylinder(lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius),
+                                                      -margin, lay.length + margin),
+                       _cylinder(lay.bottom_radius, -2 * margin, lay.length + 2 * margin))
+    faces = wall_faces(geo)
+    tools = occ.TopTools_ListOfShape()
+    for side in (-1, 1):
+        tools.Append(_sewn_shell([f for w, f in faces if w.side == side]))
+    args = occ.TopTools_ListOfShape()
+    args.Append(annulus)
+    split = occ.BRepAlgoAPI_Splitter()
+    split.SetArguments(args)
+    split.SetTools(tools)
+    split.Build()
+    if not split.IsDone():
+        raise RuntimeError("OCCT could not split the annulus by the groove walls")
+    # the pitch point at θ = 0: midway between the walls
+    k = design.program.evaluate(np.array([0.0]))
+    phi = float(lay.phi(np.array([0.0]))[0])
+    centre = occ.gp_Pnt(lay.pitch_radius * np.cos(phi), lay.pitch_radius * np.sin(phi), lay.z0 + float(k.s[0]))
+    groove = None
+    for piece in _solids(split.Shape()):
+        cls = occ.BRepClass3d_SolidClassifier(piece, centre, 1e-7)
+        if cls.State() == occ.TopAbs_IN:
+            groove = piece
+            break
+    if groove is None:
+        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
+    body = _cylinder(lay.outer_radius, 0.0, lay.length)
+    if lay.bore_radius > 0:
+        body = _boolean(occ.BRepAlgoAPI_Cut, body, _cylinder(lay.bore_radius, -margin, lay.length + margin))
+    shape = _boolean(occ.BRepAlgoAPI_Cut, body, groove)
+    solids = _solids(shape)
+    return solids[0] if len(solids) == 1 else shape
+
+
+def body_measures(design: Any, shape: Any) -> dict[str, Any]:
+    """What the solid stage measures of a body beyond volume and face area: a cylindrical cam's
+    built wall faces against the exact walls (``wall_error``); nothing for the prism bodies."""
+    body = design.body
+    if body is None or getattr(body, "prismatic", True):
+        return {}
+    return {"wall_error": cylindrical_wall_error(design, shape)}
+
+
+def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 15) -> dict[str, Any]:
+    """Distance of the built wall faces of ``shape`` from the exact walls: every B-spline face
+    sampled on a grid of its own (u, v) range (OCCT's evaluator), each point's distance from the
+    exact wall of its side (:meth:`CylindricalDesign.wall_distance_error`, the developed offset at
+    the point's radius) — the side told by which wall's surface the face lies on."""
+    lay = design.body.layout
+    worst, faces, n = 0.0, 0, 0
+    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
+    while fx.More():
+        face = occ.topods_face(fx.Current())
+        surf = occ.BRepAdaptor_Surface(face)
+        if surf.GetType() == occ.GeomAbs_BSplineSurface:
+            u = np.linspace(surf.FirstUParameter(), surf.LastUParameter(), per_direction)
+            v = np.linspace(surf.FirstVParameter(), surf.LastVParameter(), per_direction)
+            pts = np.array([[surf.Value(a, b).X(), surf.Value(a, b).Y(), surf.Value(a, b).Z()] for a in u for b in v])
+            err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
+            rho = np.hypot(pts[:, 0], pts[:, 1])
+            inside = (rho >= lay.bottom_radius - 1e-6) & (rho <= lay.outer_radius + 1e-6)
+            worst = max(worst, float(np.max(err[inside])) if inside.any() else 0.0)
+            faces += 1
+            n += int(inside.sum())
+        fx.Next()
+    return {"value": worst, "unit": design.spec.units, "faces": faces, "points": n,
+            "what": "built B-spline wall faces (OCCT's evaluator) vs the exact walls (developed offsets at each "
+                    "point's radius)"}

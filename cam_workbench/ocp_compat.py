@@ -60,6 +60,7 @@ RENAMED: dict[str, tuple[tuple[str, str], ...]] = {
     "Array1OfInteger": (("OCP.collections", "Array1_int"), ("OCP.TColStd", "TColStd_Array1OfInteger")),
     "Array1OfPnt": (("OCP.collections", "Array1_gp_Pnt"), ("OCP.TColgp", "TColgp_Array1OfPnt")),
     "Array1OfPnt2d": (("OCP.collections", "Array1_gp_Pnt2d"), ("OCP.TColgp", "TColgp_Array1OfPnt2d")),
+    "Array2OfPnt": (("OCP.collections", "Array2_gp_Pnt"), ("OCP.TColgp", "TColgp_Array2OfPnt")),
 }
 
 #: OCP names that are the same in every supported version; each lives in the OCP module named
@@ -68,8 +69,10 @@ SAME: tuple[str, ...] = (
     "BRep_Builder", "BRepAdaptor_Curve", "BRepAlgoAPI_Cut", "BRepAlgoAPI_Fuse", "BRepAdaptor_Surface", "BRepBndLib",
     "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeWire",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
+    "BRepAlgoAPI_Splitter", "BRepBuilderAPI_Sewing", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
+    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "TopTools_ListOfShape",
     "Geom_BSplineCurve", "Geom_OffsetCurve", "Geom2d_BSplineCurve", "Geom2d_OffsetCurve",
-    "GeomAbs_BSplineCurve", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
+    "GeomAbs_BSplineCurve", "GeomAbs_BSplineSurface", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
     "IFSelect_RetDone", "Interface_Static", "Message", "Message_Gravity",
     "STEPControl_AsIs", "STEPControl_Controller", "STEPControl_Reader", "STEPControl_Writer",
     "TopAbs_EDGE", "TopAbs_FACE", "TopAbs_REVERSED", "TopAbs_SOLID", "TopExp_Explorer", "TopoDS",
@@ -77,7 +80,7 @@ SAME: tuple[str, ...] = (
 )
 
 __all__ = sorted({*RENAMED, *SAME, "INSTALL_HINT", "OCP_DISTRIBUTIONS", "available", "require",
-                  "version", "distributions", "describe", "real_array", "int_array", "pnt_array",
+                  "version", "distributions", "describe", "real_array", "int_array", "pnt_array", "pnt_array2",
                   "pnt2d_array", "topods_edge", "topods_wire", "topods_face", "topods_solid",
                   "volume_properties", "surface_properties", "add_to_box", "box_limits", "is_valid", "main",
                   "init_step", "static_set", "static_get", "message_printers"})
@@ -206,6 +209,17 @@ def _array1(cls: Any, values: Sequence[Any]) -> Any:
     arr = cls(1, len(values))
     for i, v in enumerate(values, start=1):
         arr.SetValue(i, v)
+    return arr
+
+
+def pnt_array2(grid: Any) -> Any:
+    """``TColgp_Array2OfPnt`` / ``Array2_gp_Pnt`` (1-based rows and columns) of the points
+    ``grid[i][j] = (x, y, z)``."""
+    rows, cols = len(grid), len(grid[0])
+    arr = _ns().Array2OfPnt(1, rows, 1, cols)
+    for i, row in enumerate(grid, start=1):
+        for j, (x, y, z) in enumerate(row, start=1):
+            arr.SetValue(i, j, _ns().gp_Pnt(float(x), float(y), float(z)))
     return arr
 
 

@@ -92,6 +92,7 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     # how far the kernel's integrals are from the exact (Green's theorem) numbers
     solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
     solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
+    solid.update(occ_build.body_measures(design, shape))
     if design.bspline is not None:
         solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
         solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
@@ -151,10 +152,15 @@ def run_pipeline(spec: CamSpec, *, solid: bool = True, machining: bool = True, d
         out.extra["dynamics"] = dynamics_stage(design, summary, dynamics_progress)
     if solid:
         out.shape, out.step_shape, summary["solid"] = solid_stage(design)
+        if "wall_error" in summary["solid"] and isinstance(summary.get("body"), dict):
+            summary["body"]["wall_error"] = summary["solid"]["wall_error"]
     if machining:
         out.machining = machining_stage(design, summary)
-    if drawing:
+    plane = getattr(design, "plane", True)
+    if drawing and plane:
         out.dxf = drawing_stage(design, summary)
+    elif drawing:
+        summary["drawing"] = {"written": False, "note": f"no DXF drawing of a {design.spec.cam.body} cam yet"}
     return out
 
 
@@ -182,10 +188,24 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
     return out
 
 
+def plain_report_html(report: dict[str, Any]) -> str:
+    """report.html of a cam the full report does not cover yet (a cylindrical cam): report.json's
+    numbers on one page."""
+    import html
+
+    body = report.get("body") or {}
+    title = f"{body.get('kind', 'cam')} cam"
+    return ("<!doctype html><html><head><meta charset=\"utf-8\"><title>" + html.escape(title) + "</title></head>"
+            "<body><h1>" + html.escape(title) + "</h1><pre>" + html.escape(json.dumps(report, indent=1))
+            + "</pre></body></html>\n")
+
+
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
     from exporters.report_html import report_plots
 
+    if not getattr(outputs.design, "plane", True):
+        return 0
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
                             outputs.extra.get("dynamics")))
 
@@ -199,6 +219,12 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     from exporters.report_json import report_json_text
 
     design, summary = outputs.design, outputs.summary
+    if not getattr(design, "plane", True):             # not a plane cam: report.json and a plain page
+        files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[])
+        text = report_json_text(summary, files)
+        out.add_text(JSON_NAME, text)
+        out.add_text(HTML_NAME, plain_report_html(json.loads(text)))
+        return json.loads(text)
     series = optional_series(design)
     dyn = outputs.extra.get("dynamics")
     names = [p.png_name for p in report_plots(design, summary, series, dyn)]

@@ -70,6 +70,8 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
         SpecError: a machining setting cannot be met (lead radius, sample period).
     """
+    if not getattr(design, "plane", True):        # a body that is not a plane cam: its own program
+        return cylindrical_outputs(design, summary)
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
@@ -169,3 +171,40 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
                   "tool_centre_offset": plan2.centre_offset, "rotary_line": plan2.rotary_line
                   if plan.program == "xc" else None, "gcode_lines": text.count("\n"),
                   "tool_centre_fit_error": tool_centre_fit_error(second, plan2), plan.program: path.summary()}
+
+
+@dataclass
+class CylindricalMachiningOutputs:
+    """A cylindrical cam's machining output: the 4-axis X-Z-A program (``cam.nc``) and its report
+    section (no interpolator, no command table: the cam is not turned against a follower line)."""
+
+    path: Any
+    gcode: str
+    machining_summary: dict[str, Any]
+    interpolator_summary: Any = None
+    second_gcode: str | None = None
+
+    @property
+    def commands_csv(self) -> str:
+        from generators.errors import SpecError
+
+        raise SpecError("--mode", "a cylindrical cam has no interpolator command table (its program is the 4-axis "
+                        "X-Z-A one)")
+
+    @property
+    def files(self) -> dict[str, str]:
+        return {"gcode": FILES["gcode"]}
+
+    def write(self, out: OutputSet) -> None:
+        out.add_text(FILES["gcode"], self.gcode)
+
+
+def cylindrical_outputs(design: Any, summary: dict[str, Any] | None = None) -> CylindricalMachiningOutputs:
+    """The groove program of a cylindrical cam (:mod:`generators.machining.cylindrical`)."""
+    from generators.machining.cylindrical import cylindrical_path
+
+    from .gcode import cylindrical_program
+
+    path = cylindrical_path(design)
+    gcode = cylindrical_program(design, path, summary=summary)
+    return CylindricalMachiningOutputs(path, gcode, {**path.summary(), "gcode_lines": gcode.count("\n")})

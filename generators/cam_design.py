@@ -406,6 +406,9 @@ def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None =
         GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
         SolveError: the PH spline did not converge.
     """
+    own = getattr(body_of(spec), "design", None)
+    if own is not None:                  # a body that is not a plane cam designs itself (cylindrical)
+        return own(spec)
     if spec.pitch.representation == "bspline":
         return _design_bspline(spec, progress)
     checks = checked_intent(spec)

@@ -42,6 +42,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print_summary(s: dict, out: Path) -> None:
+    if "pitch" not in s:          # not a plane cam (cylindrical): its body's numbers
+        _print_body_summary(s, out)
+        return
     u = s["units"]
     lu = s["motion"]["lift_unit"]
     p = s["pitch"]
@@ -97,3 +100,27 @@ def _print_summary(s: dict, out: Path) -> None:
         m2 = m.get("second_cam") or {}
         if m2:
             print(f"  {m2['file']}: the second cam's {m['program']} program, {m2['gcode_lines']} lines")
+
+
+def _print_body_summary(s: dict, out: Path) -> None:
+    """The summary of a cam that is not a plane cam (a cylindrical cam)."""
+    u = s["units"]
+    f = s["files"]
+    b = s["body"]
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}")
+    print(f"  {b['kind']} cam: pitch radius {b['pitch_radius']:g} {u}, outer radius {b['outer_radius']:g} {u}, "
+          f"length {b['length']:g} {u}; groove {b['groove_width']:g} {u} wide, {b['groove_depth']:g} {u} deep")
+    pa = s["pressure_angle"]
+    print(f"  pressure angle: max {pa['max_deg']:.2f}° at {pa['at_deg']:.2f}° (pitch radius), "
+          f"{pa['bottom_max_deg']:.2f}° at the groove's bottom")
+    we = b.get("wall_error")
+    if we:
+        print(f"  wall faces within {we['value']:.3g} {u} of the exact walls ({we['faces']} faces, {we['points']} points)")
+    sol = s.get("solid") or {}
+    print(f"  volume {s['volume']:.6g} {u}³ (kernel {sol.get('volume_rel_diff', float('nan')):+.2e} relative)")
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    m = s.get("machining") or {}
+    if m:
+        print(f"  cam.nc: 4-axis X-Z-A program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")
+    print("  no DXF drawing for this body")

@@ -16,7 +16,7 @@ from generators.motion import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, spec_from_args
+from .common import add_spec_arguments, design_for, refuse_own_design, spec_from_args
 
 EXIT_CHECK_FAILED = 3
 
@@ -42,6 +42,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    refuse_own_design(spec, "check")
     if args.sampling:
         spec = spec.replace(**{"checks.sampling": args.sampling})
     try:

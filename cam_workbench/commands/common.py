@@ -60,6 +60,16 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
     return spec.replace(**changes) if changes else spec
 
 
+def refuse_own_design(spec: CamSpec, command: str) -> None:
+    """A body that designs itself (not a plane cam: a cylindrical cam) is covered by ``build``,
+    ``report`` and ``gcode`` only; the other commands refuse it naming ``cam.body`` (exit 2)."""
+    from generators.bodies import body_of
+
+    if getattr(body_of(spec), "design", None) is not None:
+        raise SpecError("cam.body", f"cam-workbench {command} does not cover {spec.cam.body} cams yet "
+                        "(build, report and gcode do)")
+
+
 def require_ocp(command: str) -> None:
     """Before any work: the commands that build the solid (build, report, optimise) need OCP;
     without it they exit 2 with one line naming the extras that bring it (nothing written)."""

@@ -9,7 +9,7 @@ from generators.spec.params import params_of
 from generators.spec import DrawingSection
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, spec_from_args
+from .common import add_spec_arguments, design_for, refuse_own_design, spec_from_args
 
 _DECL = params_of(DrawingSection)
 
@@ -46,6 +46,7 @@ def output_file(arg: str) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    refuse_own_design(spec, "dxf")
     changes = {}
     if args.curves is not None:
         changes["drawing.curves"] = args.curves

@@ -17,7 +17,7 @@ from generators.followers import follower_of
 from generators.motion.program import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
-from .common import add_spec_arguments, spec_from_args
+from .common import add_spec_arguments, refuse_own_design, spec_from_args
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -62,6 +62,7 @@ def sweep_progress() -> tuple[Any, Any]:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
+    refuse_own_design(spec, "dynamics")
     changes: dict[str, Any] = {}
     if args.speed is not None:
         changes["dynamics.speed_rpm"] = args.speed

@@ -14,7 +14,7 @@ from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, note, plot_progress,
-                     require_ocp, spec_from_args)
+                     refuse_own_design, require_ocp, spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -71,6 +71,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_parallel_arguments(args)
     spec = spec_from_args(args)
+    refuse_own_design(spec, "optimise")
     require_ocp("optimise")
     changes: dict[str, Any] = {}
     for name in ("max_evaluations", "multistart", "seed"):

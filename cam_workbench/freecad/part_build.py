@@ -82,6 +82,11 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
     from FreeCAD import Vector
 
     body = design.body
+    if body is not None and not getattr(body, "prismatic", True):
+        from generators.errors import SpecError
+
+        raise SpecError("cam.body", f"the FreeCAD feature does not build {body.kind} cams yet: use "
+                        "`cam-workbench build` or the Python API (design_cam, occ_build.cam_solid)")
     if body is None or (body.kind == "plate" and len(body.prisms) == 1
                         and all(h.is_circle for h in body.prisms[0].holes)):
         face = profile_face(design, scale)

@@ -1,19 +1,23 @@
 """Cam bodies: which curves bound which faces, as plain data (:mod:`.base`), one module per body —
 :mod:`.plate` (the outside profile), :mod:`.groove` (a groove in a disc's face) and :mod:`.conjugate`
-(two plate cams driving one follower through two rollers) — with the
+(two plate cams driving one follower through two rollers) and :mod:`.cylindrical` (a groove around a
+cylinder, the follower moving along the cam axis; not a stack of prisms) — with the
 features every body can carry (:mod:`.features`: bore and keyway, hub, mounting holes, timing
 mark).  :func:`body_of` is the one place that maps ``cam.body`` to its class."""
 from __future__ import annotations
 
 from .base import Arc, BodyGeometry, Curve, Line, Loop, Prism
 from .conjugate import ConjugateBody, refuse_stray_fields, validate_conjugate
+from .cylindrical import CylindricalBody, validate_cylindrical
 from .groove import GrooveBody, validate_groove
 from .plate import PlateBody
 
 #: cam.body → the body
-BODY_KINDS = {"plate": PlateBody, "groove": GrooveBody, "conjugate": ConjugateBody}
+BODY_KINDS = {"plate": PlateBody, "groove": GrooveBody, "conjugate": ConjugateBody, "cylindrical": CylindricalBody}
 #: cam.body → its own spec rules (beyond the fields' declarations)
-BODY_RULES = {"groove": validate_groove, "conjugate": validate_conjugate}
+BODY_RULES = {"groove": validate_groove, "conjugate": validate_conjugate, "cylindrical": validate_cylindrical}
+#: cam.body → the [cam] fields only it reads (an error on any other body)
+BODY_FIELDS = {"groove": ("outer_diameter",), "cylindrical": ("outer_diameter", "cylinder_radius", "length")}
 
 
 def body_of(spec):
@@ -35,8 +39,12 @@ def validate_body(spec) -> None:
         rule(spec)
     if cam.body != "conjugate":
         refuse_stray_fields(spec)
-    if cam.body != "groove" and cam.outer_diameter is not None:
-        raise SpecError("cam.outer_diameter", "applies to groove cams only (cam.body = \"groove\")")
+    for name in sorted({n for names in BODY_FIELDS.values() for n in names}):
+        owners = [b for b, names in BODY_FIELDS.items() if name in names]
+        if cam.body not in owners and getattr(cam, name) is not None:
+            which = " and ".join(owners)
+            raise SpecError(f"cam.{name}", f"applies to {which} cams only (cam.body = "
+                            + " or ".join(f'"{b}"' for b in owners) + ")")
     if (cam.keyway is not None or cam.keyway_width is not None) and cam.bore_diameter <= 0:
         raise SpecError("cam.keyway" if cam.keyway is not None else "cam.keyway_width",
                         "needs a bore: cam.bore_diameter > 0")
@@ -67,5 +75,5 @@ def validate_body(spec) -> None:
         raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({cam.thickness:g})")
 
 
-__all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
+__all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "CylindricalBody", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
            "body_of", "validate_body"]

@@ -92,10 +92,28 @@ CONJUGATE_SPEC_DICT: dict[str, Any] = {
     "conjugate": {"roller_distance": 106.0, "roller_radius": 6.0, "gap": 3.0},
 }
 
+#: a cylindrical (barrel) cam: a groove around a cylinder, the roller's axis radial, the follower moving
+#: along the cam axis (docs/bodies.md)
+CYLINDRICAL_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"body": "cylindrical", "cylinder_radius": 40.0, "length": 60.0, "bore_diameter": 20.0,
+            "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "roller_radius": 5.0},
+    "motion": [
+        {"kind": "dwell", "angle": 30.0},
+        {"kind": "rise", "angle": 120.0, "lift": 20.0, "law": "cycloidal"},
+        {"kind": "dwell", "angle": 60.0},
+        {"kind": "return", "angle": 120.0, "lift": 20.0, "law": "cycloidal"},
+        {"kind": "dwell", "angle": 30.0},
+    ],
+    "groove": {"depth": 8.0, "clearance": 0.05, "min_wall": 3.0},
+    "machining": {"passes": 2},
+}
+
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
-                                       "conjugate": CONJUGATE_SPEC_DICT}
+                                       "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT}
 
 
 def example_dict(name: str) -> dict[str, Any]:

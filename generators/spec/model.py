@@ -42,7 +42,7 @@ SEGMENT_LAW_FIELDS: dict[str, tuple[str, ...]] = {
 
 SPAN_TOL_DEG = 1e-9
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
-BODIES = ("plate", "groove", "conjugate")
+BODIES = ("plate", "groove", "conjugate", "cylindrical")
 KEYWAYS = ("DIN6885", "ANSI")
 #: Fields whose unit is the follower's lift unit (``Follower.lift_unit``): a length (``units``) for
 #: translating followers, degrees of arm rotation for oscillating ones, whatever ``units`` says.
@@ -73,11 +73,21 @@ class CamSection:
     body: str = param(
         "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it), \"groove\" (a "
         "disc with the roller running in a groove cut into its top face: positive drive) or \"conjugate\" (two "
-        "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate])",
+        "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate]) or "
+        "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis; "
+        "see cam.cylinder_radius, cam.length and [groove])",
         kind="str",
         choices=BODIES, default="plate", group="Cam")
-    outer_diameter: float | None = param("Groove cam: diameter of the disc", unit="length", gt=0, optional=True,
-                                         group="Cam")
+    outer_diameter: float | None = param(
+        "Groove cam: diameter of the disc; cylindrical cam: the cylinder's outer diameter (default: the pitch "
+        "radius at mid-depth of the groove, 2·cylinder_radius + groove.depth)", unit="length", gt=0, optional=True,
+        group="Cam")
+    cylinder_radius: float | None = param(
+        "Cylindrical cam: pitch radius R_p of the groove on the cylinder (the pressure angle tan φ = s′/R_p is "
+        "checked there); cam.base_radius takes this value", unit="length", gt=0, optional=True, group="Cam")
+    length: float | None = param(
+        "Cylindrical cam: axial length of the cylinder (0 ≤ z ≤ length); cam.thickness takes this value",
+        unit="length", gt=0, optional=True, group="Cam")
     hub_diameter: float | None = param("Hub diameter (the hub stands below the plate, bored as it is)",
                                        unit="length", gt=0, optional=True, group="Cam")
     hub_length: float | None = param("Hub length along the cam axis", unit="length", gt=0, optional=True,
@@ -739,6 +749,7 @@ class CamSpec:
             raise SpecError("spec", f"must be a table of sections, got {type(data).__name__}")
         _reject_unknown("", data, {"units", *SECTIONS})
         data = _inline_table_files(data, base_dir)
+        data = _cylindrical_defaults(data)
         values: dict[str, Any] = {"units": params_of(CamSpec)["units"].check("units", data.get("units", "mm"))}
         for name, (section_cls, is_list, required) in SECTIONS.items():
             if name not in data:
@@ -867,6 +878,24 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
                 raise SpecError(path, f"{here} is a list of tables: write {here}[i].{parts[i + 1]}")
             node = nxt
         where = here
+
+
+def _cylindrical_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
+    """A cylindrical cam's ``cam.base_radius`` and ``cam.thickness`` are its ``cylinder_radius`` and
+    ``length``: filled in when absent (a copy); when given they must agree (the body's rules)."""
+    cam = data.get("cam")
+    if not isinstance(cam, Mapping) or cam.get("body") != "cylindrical":
+        return data
+    pairs = (("base_radius", "cylinder_radius"), ("thickness", "length"))
+    for k, src in pairs:
+        if src not in cam:
+            raise SpecError(f"cam.{src}", "is required for a cylindrical cam")
+    fill = {k: cam[src] for k, src in pairs if k not in cam}
+    if not fill:
+        return data
+    out = dict(data)
+    out["cam"] = {**cam, **fill}
+    return out
 
 
 def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) -> Mapping[str, Any]:
