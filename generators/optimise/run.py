@@ -179,7 +179,9 @@ def worst_constraint(checks: DesignChecks, spec: CamSpec) -> dict[str, Any]:
     for r in checks.results:
         if r.value is None or r.limit is None or r.status == "skipped":
             continue
-        if r.name == "oscillation":      # zero at every flat stretch: not a margin
+        if r.name in ("oscillation", "continuity"):
+            # oscillation is zero at every flat stretch, continuity an order the motion fixes (the
+            # design variables do not move it): neither is a margin
             continue
         scale = max(abs(r.limit), 1e-12) if r.name != "separation" else force_reference(spec)
         margin = (r.value - r.limit) / scale if r.kind == "max" else (r.limit - r.value) / scale
