@@ -347,10 +347,10 @@ def cylindrical_solid(design: Any) -> Any:
                                                       -margin, lay.length + margin),
                        _cylinder(lay.bottom_radius, -2 * margin, lay.length + 2 * margin))
     faces = wall_faces(geo)
-    tools = occ.TopTools_ListOfShape()
+    tools = occ.ListOfShape()
     for side in (-1, 1):
         tools.Append(_sewn_shell([f for w, f in faces if w.side == side]))
-    args = occ.TopTools_ListOfShape()
+    args = occ.ListOfShape()
     args.Append(annulus)
     split = occ.BRepAlgoAPI_Splitter()
     split.SetArguments(args)

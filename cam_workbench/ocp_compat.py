@@ -61,6 +61,7 @@ RENAMED: dict[str, tuple[tuple[str, str], ...]] = {
     "Array1OfPnt": (("OCP.collections", "Array1_gp_Pnt"), ("OCP.TColgp", "TColgp_Array1OfPnt")),
     "Array1OfPnt2d": (("OCP.collections", "Array1_gp_Pnt2d"), ("OCP.TColgp", "TColgp_Array1OfPnt2d")),
     "Array2OfPnt": (("OCP.collections", "Array2_gp_Pnt"), ("OCP.TColgp", "TColgp_Array2OfPnt")),
+    "ListOfShape": (("OCP.collections", "List_TopoDS_Shape"), ("OCP.TopTools", "TopTools_ListOfShape")),
 }
 
 #: OCP names that are the same in every supported version; each lives in the OCP module named
@@ -70,7 +71,7 @@ SAME: tuple[str, ...] = (
     "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeWire",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
     "BRepAlgoAPI_Splitter", "BRepBuilderAPI_Sewing", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
-    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "TopTools_ListOfShape",
+    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL",
     "Geom_BSplineCurve", "Geom_OffsetCurve", "Geom2d_BSplineCurve", "Geom2d_OffsetCurve",
     "GeomAbs_BSplineCurve", "GeomAbs_BSplineSurface", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
     "IFSelect_RetDone", "Interface_Static", "Message", "Message_Gravity",
