@@ -108,7 +108,16 @@ bridge_exe() {  # make host executable $2 run (on the host) from its path inside
     local root="$1" exe="$2"
     case "$exe" in /*) ;; *) return 0 ;; esac
     [ -x "$exe" ] || return 0
-    make_path "$root" "$exe" file
+    # Where the chroot's path resolution leaves what the host and the root share: a virtual
+    # environment's python is a symlink into the host's interpreter (/root/.pyenv/…, /usr/bin/…),
+    # which inside the root dangles or names the root's own Python.  Relative links are followed
+    # (they stay in the shared folder); the bridge goes on the first absolute link target.
+    local at="$exe" t
+    while [ -L "$at" ]; do
+        t="$(readlink "$at")"
+        case "$t" in /*) at="$t"; break ;; *) at="$(dirname "$at")/$t" ;; esac
+    done
+    make_path "$root" "$at" file
     local script="$RUNTMP/bridge.$RANDOM$RANDOM"
     cat > "$script" <<EOF
 #!/bin/sh
@@ -117,7 +126,7 @@ d="\$(pwd)"
 exec chroot /run/camwb-host /bin/sh -c 'cd "\$0" 2>/dev/null || cd /; exec "\$@"' "\$d" "$exe" "\$@"
 EOF
     chmod 755 "$script"
-    mount --bind "$script" "$root$exe"
+    mount --bind "$script" "$root$at"
 }
 
 inside() {  # in the private mount namespace
