@@ -53,9 +53,10 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
     spec = load_spec(args.spec) if args.spec else example_spec(args.example or "default")
     changes = {}
     for item in args.overrides:
-        if "=" not in item:
-            raise SpecError(item, "--set needs FIELD=VALUE")
-        key, value = item.split("=", 1)
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            # the message names --set: there is no field to name (and an odd item is no field name)
+            raise SpecError("--set", f"needs FIELD=VALUE, e.g. cam.base_radius=30, got {item!r}")
         changes[key.strip()] = parse_value(value, key.strip())
     return spec.replace(**changes) if changes else spec
 

@@ -9,7 +9,7 @@ import numpy as np
 from scipy.interpolate import BSpline
 
 #: a clean refusal names a spec field (dotted path) or a cam angle, on one line
-REFUSAL = re.compile(r"^error: (?:[A-Za-z_][\w\[\]\.]*|-o|--example|--set|/\S+)(?:: | )|°")
+REFUSAL = re.compile(r"^error: (?:[A-Za-z_][\w\[\]\.\-]*|-o|--example|--set|/\S+)(?:: | )|°")
 
 
 def nurbs_points(curve, n: int = 20000) -> np.ndarray:
