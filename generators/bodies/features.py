@@ -145,10 +145,38 @@ def timing_mark(spec, angle: float, r_in: float, r_out: float, z_top: float) -> 
     if not cam.timing_mark:
         return None
     w, d = resolved(spec, "cam", "timing_mark_width"), resolved(spec, "cam", "timing_mark_depth")
+    r_in, r_out = _clear_of_holes(spec, angle, r_in, r_out, w)
     u, n = np.exp(1j * angle), np.exp(1j * (angle + np.pi / 2))
     pts = [r_in * u - w / 2 * n, r_out * u - w / 2 * n, r_out * u + w / 2 * n, r_in * u + w / 2 * n]
     loop = Loop(tuple(Line(complex(a), complex(b)) for a, b in zip(pts, pts[1:] + pts[:1])), role="timing_mark")
     return Prism(loop, (), z_top - d, z_top, "cut", "timing_mark")
+
+
+def _clear_of_holes(spec, angle: float, r_in: float, r_out: float, w: float) -> tuple[float, float]:
+    """The longest stretch of the mark's ray [r_in, r_out] that keeps w clear of every mounting
+    hole (the first hole sits at +Y, where a radial follower's mark runs): a mark crossing a hole
+    would cut material the hole already removed, and the body's volume (Σ ± prisms) counts cuts
+    that do not overlap.
+
+    Raises:
+        SpecError: no stretch of at least 2·w is left (``cam.timing_mark``)."""
+    cam = spec.cam
+    n = cam.mounting_holes or 0
+    pieces = [(r_in, r_out)]
+    if n > 0:
+        rc, rh = cam.mounting_circle_diameter / 2, cam.mounting_hole_diameter / 2
+        for a in KEY_ANGLE + 2 * np.pi * np.arange(n) / n:
+            along, across = rc * math.cos(a - angle), abs(rc * math.sin(a - angle))
+            if across >= rh + w or along <= 0:
+                continue
+            # every point of the strip with |r − along| ≥ rh + w is more than rh from the centre
+            lo, hi = along - (rh + w), along + (rh + w)
+            pieces = [q for a0, a1 in pieces for q in ((a0, min(a1, lo)), (max(a0, hi), a1)) if q[1] > q[0]]
+    best = max(pieces, key=lambda q: q[1] - q[0], default=None)
+    if best is None or best[1] - best[0] < 2 * w:
+        raise SpecError("cam.timing_mark", f"no room for a {w:g} wide mark along the follower's line at θ = 0 "
+                        "between the bore, the mounting holes and the profile (leave it out, or move the holes)")
+    return best
 
 
 def hole_ligaments(spec, inner_radius_at, bore: float) -> dict:
