@@ -193,3 +193,17 @@ def hole_ligaments(spec, inner_radius_at, bore: float) -> dict:
     outer = float(np.min(inner_radius_at(rays.ravel()))) - (rc + rh)
     between = 2 * rc * math.sin(math.pi / n) - 2 * rh if n > 1 else float("inf")
     return {"to_bore": rc - rh - bore, "to_outer": outer, "between": between}
+
+
+def plate_features(design, t: float) -> list[Prism]:
+    """The features of a body whose top face is the plate's (0 ≤ z ≤ t): the hub below it, the
+    mounting holes through it and the timing mark from the bore (and keyway) to the profile."""
+    from .plate import zero_angle
+
+    spec = design.spec
+    out = [p for p in (hub_prism(spec),) if p is not None]
+    out += mounting_holes(spec, 0.0, t)
+    mw = resolved(spec, "cam", "timing_mark_width")
+    mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * mw,
+                       design.min_profile_radius - 1.5 * mw, t)
+    return out + ([mark] if mark is not None else [])

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import GeometryError, SpecError
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, resolved, hub_prism, mounting_holes, timing_mark
+from .features import bore_extent, bore_loop, plate_features, resolved
 from .plate import feature_checks, profile_radius_along, zero_angle
 
 
@@ -73,14 +73,7 @@ class GrooveBody:
         prisms = [Prism(Loop.circle(r_out, role="rim"), (bore,) if bore else (), 0.0, t, "add", "disc"),
                   Prism(Loop.nurbs(outer, "groove_outer"), (Loop.nurbs(inner, "groove_inner"),), t - groove_depth(spec),
                         t, "cut", "groove")]
-        hub = hub_prism(spec)
-        if hub is not None:
-            prisms.append(hub)
-        prisms += mounting_holes(spec, 0.0, t)
-        mw = resolved(spec, "cam", "timing_mark_width")
-        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * mw, design.min_profile_radius - 1.5 * mw, t)
-        if mark is not None:
-            prisms.append(mark)
+        prisms += plate_features(design, t)
         return BodyGeometry("groove", tuple(prisms), {"outer_wall": outer})
 
     @staticmethod

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SpecError
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, resolved, hole_ligaments, hub_prism, mounting_holes, timing_mark
+from .features import bore_extent, bore_loop, hole_ligaments, plate_features
 
 
 class PlateBody:
@@ -41,14 +41,7 @@ class PlateBody:
         t = spec.cam.thickness
         bore = bore_loop(spec)
         prisms = [Prism(Loop.nurbs(design.profile, "profile"), (bore,) if bore else (), 0.0, t, "add", "plate")]
-        hub = hub_prism(spec)
-        if hub is not None:
-            prisms.append(hub)
-        prisms += mounting_holes(spec, 0.0, t)
-        mw = resolved(spec, "cam", "timing_mark_width")
-        mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * mw, design.min_profile_radius - 1.5 * mw, t)
-        if mark is not None:
-            prisms.append(mark)
+        prisms += plate_features(design, t)
         return BodyGeometry("plate", tuple(prisms))
 
     @staticmethod
