@@ -204,6 +204,10 @@ def test_distance_error_between_the_rollers(case):
     spec = design.spec
     second = design.body.extra["second_cam"]
     rep = design.body_report["roller_distance_error"]
+    # units as the rest of report.json: the distance in the spec's unit, the lift error in the
+    # follower's lift unit (an arm's degrees)
+    assert rep["unit"] == spec.units
+    assert rep["lift_unit"] == (spec.units if spec.follower.motion == "translating" else "deg")
     p1, p2 = nurbs_points(design.pitch_nurbs, 60000), nurbs_points(second.pitch_nurbs, 60000)
     delta = 1 if spec.cam.direction == "ccw" else -1
     th = np.append(np.linspace(0, 2 * np.pi, 181)[:-1], np.deg2rad(rep["at_deg"]))

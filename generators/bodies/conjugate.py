@@ -118,7 +118,7 @@ class ConjugateBody:
             "second_cam": {"z": [-gap - t, -gap], "roller_radius": fol2.profile_offset,
                            "profile_area": second.profile_area, "min_radius": second.min_profile_radius,
                            "max_radius": sections["profile"]["max_radius"], **sections},
-            "roller_distance_error": roller_distance_error(design.pitch, second.pitch).summary(),
+            "roller_distance_error": roller_distance_error(design.pitch, second.pitch).summary(spec.units),
             "drive": drive_cams(design),
             **geometry.extra["features"],
         }
@@ -229,7 +229,9 @@ class RollerDistanceError:
     dev2: tuple[float, float]
     lift_unit: str
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self, units: str) -> dict[str, Any]:
+        """The report's numbers; ``units`` is the spec's length unit ("mm" or "in"): the distance
+        error's unit, and the lift error's unless the lift is an arm angle (then "deg")."""
         k = int(np.argmax(np.abs(self.distance)))
         dl = self.s1 - self.s2
         j = int(np.argmax(np.abs(dl)))
@@ -238,7 +240,7 @@ class RollerDistanceError:
             "largest_interference": float(max(np.max(self.distance), 0.0)),
             "largest_play": float(max(-np.min(self.distance), 0.0)),
             "lift_max": float(abs(dl[j])), "lift_at_deg": float(np.rad2deg(self.theta[j])),
-            "lift_unit": "deg" if self.lift_unit == "angle" else "length",
+            "unit": units, "lift_unit": "deg" if self.lift_unit == "angle" else units,
             "first_cam_deviation": self.dev1[0], "second_cam_deviation": self.dev2[0],
             # |s₁ − s₂| ≤ |s₁ − s| + |s₂ − s|: the lift error is bounded by the two curves' deviations
             "lift_bound": self.dev1[0] + self.dev2[0],
