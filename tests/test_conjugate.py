@@ -531,6 +531,8 @@ def test_cli_build_gcode_check(tmp_path):
     (lambda: arm_dict(**{"conjugate.arm_angle": 71.8, "conjugate.arm_length": 60.0, "conjugate.roller_radius": 12.0}),
      "conjugate.arm_angle", "does not fit"),
     (lambda: yoke_dict(**{"follower.kind": "knife"}), "cam.body", "needs a roller follower"),
+    # a spacer thinner than 0.01 mm (the fuzzer's 1.2e-38 mm crashed the kernel's prism)
+    (lambda: yoke_dict(**{"conjugate.gap": 1.1754943508222875e-38}), "conjugate.gap", "at least 0.01 mm"),
     (lambda: {**yoke_dict(), "pitch": {"representation": "bspline"}}, "pitch.representation", '"ph"'),
     (lambda: {**copy.deepcopy(DEFAULT_SPEC_DICT), "conjugate": {"gap": 2.0}}, "conjugate.gap",
      "applies to conjugate cams only"),

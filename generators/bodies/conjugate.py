@@ -285,6 +285,10 @@ def drive_cams(design) -> dict[str, Any]:
 
 
 # ---- the spec's rules --------------------------------------------------------------------------
+#: the thinnest spacer between the cams [mm] (conjugate.gap is 0 or at least this)
+MIN_GAP_MM = 0.01
+
+
 def validate_conjugate(spec) -> None:
     """The conjugate body's own rules (called by the spec's validation): a roller follower on PH
     pitch curves; the second roller's position given for the follower's motion and placed so
@@ -299,6 +303,10 @@ def validate_conjugate(spec) -> None:
         raise SpecError("cam.body", f'a conjugate pair needs a roller follower, got follower.kind = "{fol.kind}"')
     if spec.pitch.representation != "ph":
         raise SpecError("pitch.representation", 'a conjugate pair is built on PH pitch curves (exact offsets): "ph"')
+    smallest = MIN_GAP_MM if spec.units == "mm" else MIN_GAP_MM / 25.4
+    if 0 < c.gap < smallest:
+        raise SpecError("conjugate.gap", f"must be 0 (the cams face to face) or at least {smallest:g} {spec.units} "
+                        f"(a thinner spacer cannot be made), got {c.gap:g}")
     r2 = c.roller_radius if c.roller_radius is not None else fol.roller_radius
     clear = r2 + spec.cam.bore_diameter / 2          # the second roller's centre must stay this far from the axis
     h = spec.max_lift

@@ -322,7 +322,7 @@ class ConjugateSection:
     roller_radius: float | None = param("Radius of the second roller (default: follower.roller_radius)",
                                         unit="length", gt=0, optional=True, group="Conjugate")
     gap: float = param("Axial gap between the cams: the first cam spans 0 ≤ z ≤ cam.thickness, the second "
-                       "−gap − cam.thickness ≤ z ≤ −gap", unit="length", ge=0, default=0.0, group="Conjugate")
+                       "−gap − cam.thickness ≤ z ≤ −gap; 0 (face to face) or at least 0.01 mm (0.0004 in)", unit="length", ge=0, default=0.0, group="Conjugate")
     spacer_diameter: float | None = param(
         "Diameter of the spacer that fills the gap and joins the cams into one solid (default: inside both "
         "cams' smallest radius, around the mounting holes)", unit="length", gt=0, optional=True,

@@ -111,5 +111,14 @@ def check_design(design, summary: dict) -> None:
     # is off by its own measured error
     slack = 5e-6 * scale + (summary["profile"].get("fitted_vs_kernel_offset") or 0.0) * 2
     assert np.max(np.abs(d - inset)) <= slack + 2e-5 * scale, float(np.max(np.abs(d - inset)))
+    if spec.cam.body == "conjugate":
+        # the second cam: its profile at its own roller's radius from its own pitch curve, and the
+        # distance error between the rollers within the two curves' PH deviations
+        second = design.body.extra["second_cam"]
+        r2 = second.follower.profile_offset
+        d2 = polyline_distance(nurbs_points(second.profile)[::20], nurbs_points(second.pitch_nurbs, 40000))
+        assert np.max(np.abs(d2 - r2)) <= slack + 2e-5 * scale, float(np.max(np.abs(d2 - r2)))
+        rde = summary["body"]["roller_distance_error"]
+        assert rde["lift_max"] <= rde["lift_bound"] * (1 + 1e-9) + 1e-12, rde
     ck = run_checks(spec)
     assert summary["checks"]["passed"] == ck.passed and summary["checks"]["failed"] == ck.failed
