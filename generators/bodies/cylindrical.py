@@ -1,5 +1,9 @@
 """The cylindrical (barrel) cam: a groove around a cylinder drives a roller whose axis is radial;
-the follower translates parallel to the cam axis and the lift s(θ) is its axial displacement.
+the follower translates parallel to the cam axis (the lift s(θ) is its axial displacement) or swings
+on an arm about a radial pivot (the lift is the arm's angle in degrees).  Below, the translating
+follower; the oscillating one (and the general centre line C_ρ with u, Z the roller centre's developed
+path) is defined in :mod:`.cylinder_path` — every function here takes C_ρ from there, the
+translating follower being its special case u = 0, Z = z₀ + s.
 
 Frame (the cam frame of CAM_SPEC.md): the cam axis is Z, the cylinder spans 0 ≤ z ≤ cam.length
 (``cam.thickness`` is the same number), the follower's roller sits on the +Y side of the fixed
@@ -26,15 +30,16 @@ and, in the OCCT solid, on the built faces (``cam_workbench.occ_build``: ``wall_
 
 **Volume** (independent of the surfaces): at radius ρ the groove's developed cross-section is
 the band between the offsets ±w/2 of C_ρ, whose area over one turn is exactly w·ℓ(ρ),
-ℓ(ρ) = ∫₀^2π √(ρ² + s′²) dθ (the curvature terms of the two offsets cancel); the volume element
+ℓ(ρ) = ∫₀^2π |C_ρ′| dθ = ∫₀^2π √(ρ² + s′²) dθ (the curvature terms of the two offsets cancel); the volume element
 is dx·dz·dρ, so V_groove = w ∫_{R_b}^{R_o} ℓ(ρ) dρ and the cam's V = π(R_o² − r_bore²)·L − V_groove.
 
 **Pressure angle** of the translating follower: the angle between the groove's normal and the
 axial direction, tan φ = s′/ρ (s′ per radian): reported at the pitch radius (the design check) and
 at the groove's bottom (the largest).
+Oscillating: between the groove's normal and the roller's motion, perpendicular to the arm.
 
 What this body does not carry: hub, keyway, mounting holes and the timing mark (refused naming
-the field); oscillating followers (refused); the DXF drawing (not written).
+the field); the DXF drawing (not written).
 """
 from __future__ import annotations
 
