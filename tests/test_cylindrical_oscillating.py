@@ -68,23 +68,24 @@ def arm(theta):
     return b, db, -D + ARM * np.cos(b), ZP + ARM * np.sin(b), -ARM * np.sin(b) * db, ARM * np.cos(b) * db
 
 
-def centre_line(rho, theta):
-    """C_ρ(θ) (ccw cam) and C_ρ′."""
+def centre_line(rho, theta, sense=1):
+    """C_ρ(θ) and C_ρ′ (sense +1: ccw cam, −1: cw — the cam surface under the roller moves the other
+    way round, so the roller's u and the cam angle both change sign in the cam frame's x)."""
     _, _, u, z, du, dz = arm(theta)
     k = rho / RP
-    return rho * (np.pi / 2 - theta) + k * u, z, -k * (RP - du), dz
+    return sense * (rho * (np.pi / 2 * sense - theta) + k * u), z, -sense * k * (RP - du), dz
 
 
-def wall_distance(point):
+def wall_distance(point, sense=1):
     """(distance of a 3D point from C_ρ at its own radius) − w/2, and the side (+1: above C_ρ)."""
     x, y, z = point
     rho = math.hypot(x, y)
     psi = math.atan2(y, x)
-    th0 = np.pi / 2 - psi
+    th0 = sense * (np.pi / 2 - psi)
     grid = th0 + np.linspace(-0.8, 0.8, 4001)
 
     def d2v(th):
-        cx, cz, _, _ = centre_line(rho, th)
+        cx, cz, _, _ = centre_line(rho, th, sense)
         dx = rho * ((cx / rho - psi + np.pi) % (2 * np.pi) - np.pi)
         return dx ** 2 + (cz - z) ** 2
 
@@ -92,7 +93,7 @@ def wall_distance(point):
     res = optimize.minimize_scalar(lambda t: float(d2v(np.atleast_1d(t))[0]),
                                    bounds=(grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]),
                                    method="bounded", options={"xatol": 1e-13})
-    _, cz, _, _ = centre_line(rho, np.atleast_1d(res.x))
+    _, cz, _, _ = centre_line(rho, np.atleast_1d(res.x), sense)
     return math.sqrt(res.fun) - W2, (1 if z > cz[0] else -1)
 
 
@@ -160,6 +161,43 @@ def test_wall_surface_data_against_the_exact_walls(design):
                 worst = max(worst, abs(err))
     assert worst <= 1e-6, worst
     assert design.body_report["wall_fit_error"]["value"] <= 1e-6
+
+
+def test_undercut_curvature(design):
+    """C_ρ's radius of curvature (the undercut check) against central differences of the test's C_ρ′."""
+    from generators.bodies.cylindrical import developed_curvature_radius
+
+    th = np.deg2rad(np.array([40.0, 77.0, 105.0, 150.0, 171.0, 222.0, 300.0, 347.0]))
+    h = 1e-5
+    for rho in (RB, RO):
+        _, _, dx, dz = centre_line(rho, th)
+        _, _, dxp, dzp = centre_line(rho, th + h)
+        _, _, dxm, dzm = centre_line(rho, th - h)
+        d2x, d2z = (dxp - dxm) / (2 * h), (dzp - dzm) / (2 * h)
+        expect = np.hypot(dx, dz) ** 3 / np.abs(dx * d2z - dz * d2x)
+        got = developed_curvature_radius(design.layout, design.program, rho, th)
+        assert np.allclose(got, expect, rtol=1e-6), (got, expect)
+    rc = design.body_report["min_developed_curvature_radius"]
+    assert rc["value"] > W2 and rc["at_radius"] == RB
+
+
+def test_cw_cam_mirrors_the_ccw_one(design):
+    """direction = "cw": the walls at w/2 from the cw centre line, the volume the ccw one's (mirror image)."""
+    d = copy.deepcopy(EXAMPLES["cylindrical_oscillating"])
+    d["cam"]["direction"] = "cw"
+    cw = design_cam(CamSpec.from_dict(d))
+    th = np.linspace(0, 2 * np.pi, 25)[:-1] + 0.021
+    worst = 0.0
+    for rho in (RB, RP, RO):
+        for side in (-1, 1):
+            for p in cw.wall_points(side, th, np.full(th.shape, rho)):
+                err, sd = wall_distance(p, sense=-1)
+                assert sd == side
+                worst = max(worst, abs(err))
+    assert worst <= 1e-9, worst
+    assert cw.volume == pytest.approx(design.volume, rel=1e-12)
+    assert cw.summary()["pressure_angle"]["max_deg"] == pytest.approx(design.summary()["pressure_angle"]["max_deg"],
+                                                                      abs=1e-9)
 
 
 def _groove_closed_form():
