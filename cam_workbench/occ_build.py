@@ -359,9 +359,7 @@ def cylindrical_solid(design: Any) -> Any:
     if not split.IsDone():
         raise RuntimeError("OCCT could not split the annulus by the groove walls")
     # the pitch point at θ = 0: midway between the walls
-    k = design.program.evaluate(np.array([0.0]))
-    phi = float(lay.phi(np.array([0.0]))[0])
-    centre = occ.gp_Pnt(lay.pitch_radius * np.cos(phi), lay.pitch_radius * np.sin(phi), lay.z0 + float(k.s[0]))
+    centre = occ.gp_Pnt(*lay.centre_point(design.program, 0.0))
     groove = None
     for piece in _solids(split.Shape()):
         cls = occ.BRepClass3d_SolidClassifier(piece, centre, 1e-7)

@@ -257,9 +257,10 @@ def test_refusals_through_the_cli(tmp_path, changes, message):
     assert "Traceback" not in res.stderr and not (tmp_path / "out").exists()
 
 
-def test_oscillating_refused():
+def test_oscillating_arm_that_cannot_reach_refused():
+    """Oscillating followers are accepted (tests/test_cylindrical_oscillating.py); this arm is too short."""
     d = cyl_dict(**{"follower.motion": "oscillating", "follower.pivot_distance": 60.0, "follower.arm_length": 40.0})
-    with pytest.raises(SpecError, match="follower.motion: a cylindrical cam supports a translating"):
+    with pytest.raises(SpecError, match="follower.arm_length: the arm cannot reach"):
         CamSpec.from_dict(d)
 
 

@@ -74,7 +74,8 @@ class CamSection:
         "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it), \"groove\" (a "
         "disc with the roller running in a groove cut into its top face: positive drive) or \"conjugate\" (two "
         "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate]) or "
-        "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis; "
+        "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis or "
+        "swinging on an arm about a radial pivot; "
         "see cam.cylinder_radius, cam.length and [groove])",
         kind="str",
         choices=BODIES, default="plate", group="Cam")
@@ -143,11 +144,14 @@ class FollowerSection:
         unit="stiffness", ge=0, default=0.0, group="Follower load")
     # ---- oscillating followers (CAM_SPEC.md "Follower motion and kinds") ----
     pivot_distance: float | None = param(
-        "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame",
+        "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame; "
+        "cylindrical cam: the radial pivot's distance along the circumference (developed at the pitch radius) "
+        "from the +Y generator, where the roller centre is at mid-lift (pivot upstream of the roller)",
         unit="length", gt=0, optional=True, group="Follower arm")
     arm_length: float | None = param(
         "Oscillating: arm length L from the pivot to the roller centre / knife tip; for a flat face the "
-        "position of the face's centre along it (default: the middle of the contact's travel)",
+        "position of the face's centre along it (default: the middle of the contact's travel); cylindrical "
+        "cam: ≥ pivot_distance, the arm's arc in the developed pitch plane",
         unit="length", gt=0, optional=True, group="Follower arm")
     face_offset: float | None = param(
         "Oscillating flat face: distance from the pivot to the face line, positive with the face between "
