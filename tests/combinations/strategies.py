@@ -225,3 +225,44 @@ def _conjugate(draw: Any, spec: dict[str, Any], roller: float, u: float) -> None
         psi0 = math.degrees(zero_lift_arm_angle(cam["base_radius"], fol["pivot_distance"], fol["arm_length"]))
         psi2 = -180.0 + h + (180.0 - h) * draw(st.floats(0.3, 0.7))
         spec["conjugate"]["arm_angle"] = (psi2 - psi0 + 180.0) % 360.0 - 180.0
+
+
+@st.composite
+def cylindrical_specs(draw: Any) -> dict[str, Any]:
+    """A cylindrical (barrel) cam over its options: a translating roller along the cam axis or an
+    oscillating arm about a radial pivot, every motion program, mm or inch, ccw or cw, an outer
+    diameter or the default, a bore, the groove's clearance, the 4-axis program's passes and tool —
+    sized so that most draws build and some are refused (undercut, pressure angle, length)."""
+    units = draw(st.sampled_from(["mm", "in"]))
+    u = 1.0 if units == "mm" else 1 / 25.4
+    motion = draw(st.sampled_from(["translating", "translating", "oscillating"]))
+    rp = draw(st.floats(25.0, 60.0)) * u
+    roller = draw(st.floats(3.0, 8.0)) * u
+    depth = roller * draw(st.floats(0.8, 1.6))
+    clearance = draw(st.sampled_from([None, 0.02, 0.1])) 
+    w = 2 * roller + (clearance if clearance is not None else 0.05) * u
+    follower: dict[str, Any] = {"kind": "roller", "roller_radius": roller}
+    if motion == "translating":
+        lift = draw(st.floats(5.0, 25.0)) * u
+        travel = lift
+    else:
+        arm = draw(st.floats(30.0, 80.0)) * u
+        d = arm * draw(st.floats(0.8, 1.0))
+        lift = draw(st.floats(10.0, 35.0))                                  # arm degrees
+        follower.update(motion="oscillating", arm_length=arm, pivot_distance=d)
+        travel = 2 * arm * math.sin(math.radians(lift) / 2)
+    length = travel + w + 2 * 3.0 * u + draw(st.floats(1.0, 20.0)) * u
+    cam: dict[str, Any] = {"body": "cylindrical", "cylinder_radius": rp, "length": length,
+                           "bore_diameter": draw(st.sampled_from([0.0, 0.3, 0.6])) * rp,
+                           "direction": draw(st.sampled_from(["ccw", "cw"])),
+                           "speed_rpm": draw(st.sampled_from([30.0, 60.0, 300.0]))}
+    if draw(st.booleans()):
+        cam["outer_diameter"] = 2 * (rp + depth * draw(st.floats(0.1, 0.9)))
+    groove: dict[str, Any] = {"depth": depth}
+    if clearance is not None:
+        groove["clearance"] = clearance * u
+    spec: dict[str, Any] = {"units": units, "cam": cam, "follower": follower, "motion": draw(motion_programs(lift)),
+                            "groove": groove, "machining": {"passes": draw(st.integers(1, 3))}}
+    if draw(st.booleans()):
+        spec["machining"]["tool_radius"] = roller * draw(st.sampled_from([0.5, 0.8]))
+    return spec
