@@ -83,10 +83,7 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
 
     body = design.body
     if body is not None and not getattr(body, "prismatic", True):
-        from generators.errors import SpecError
-
-        raise SpecError("cam.body", f"the FreeCAD feature does not build {body.kind} cams yet: use "
-                        "`cam-workbench build` or the Python API (design_cam, occ_build.cam_solid)")
+        return cylindrical_solid(design, scale)
     if body is None or (body.kind == "plate" and len(body.prisms) == 1
                         and all(h.is_circle for h in body.prisms[0].holes)):
         face = profile_face(design, scale)
@@ -102,6 +99,79 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
         else:
             shape = shape.cut(solid)
     shape = shape.removeSplitter() if len(shape.Solids) == 1 else shape
+    return shape.Solids[0] if len(shape.Solids) == 1 else shape
+
+
+def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
+    """Body prisms (:class:`generators.bodies.Prism`) extruded and fused or cut in order."""
+    from FreeCAD import Vector
+
+    shape = None
+    for prism in prisms:
+        solid = region_face(prism.outer, prism.holes, scale, prism.z0 * scale).extrude(
+            Vector(0, 0, (prism.z1 - prism.z0) * scale))
+        if shape is None:
+            shape = solid
+        else:
+            shape = shape.fuse(solid) if prism.op == "add" else shape.cut(solid)
+    return shape
+
+
+# ---- the cylindrical (barrel) cam -----------------------------------------------------------
+def wall_surface(wall: Any, scale: float = 1.0) -> Any:
+    """A ``Part.BSplineSurface`` with exactly the data of a groove wall
+    (:class:`generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
+    degrees 5 × 5), the poles scaled to mm."""
+    import Part
+    from FreeCAD import Vector
+
+    ku, mu = np.unique(wall.knots_u, return_counts=True)
+    kv, mv = np.unique(wall.knots_v, return_counts=True)
+    poles = [[Vector(*p) for p in row] for row in (np.asarray(wall.poles, dtype=float) * scale).tolist()]
+    surf = Part.BSplineSurface()
+    surf.buildFromPolesMultsKnots(poles, [int(m) for m in mu], [int(m) for m in mv], [float(k) for k in ku],
+                                  [float(k) for k in kv], False, False, int(wall.degree_u), int(wall.degree_v))
+    return surf
+
+
+def _cylinder(radius: float, z0: float, z1: float) -> Any:
+    import Part
+    from FreeCAD import Vector
+
+    return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
+
+
+def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
+    """The cylindrical cam, as ``occ_build.cylindrical_solid`` builds it with OCP: the body's stack
+    of prisms (the keyed, bored cylinder, its hub, mounting holes and timing mark) minus the groove
+    — the piece of an annulus slightly wider than the groove's depth between the two walls (each
+    one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
+    by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
+    import Part
+    from FreeCAD import Vector
+
+    geo = design.body
+    lay = geo.layout
+    k = scale
+    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
+    annulus = _cylinder((lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius)) * k, -margin * k,
+                        (lay.length + margin) * k).cut(
+        _cylinder(lay.bottom_radius * k, -2 * margin * k, (lay.length + 2 * margin) * k))
+    shells = []
+    for side in (-1, 1):
+        faces = [Part.Face(wall_surface(w, k)) for w in geo.walls if w.side == side]
+        sewn = Part.Compound(faces)
+        sewn.sewShape(1e-6 * k)
+        shells.append(sewn.Shells[0] if sewn.Shells else sewn)
+    pieces = annulus.generalFuse(shells, 0.0)[0].Solids
+    th0 = np.array([0.0])
+    phi = float(lay.phi(th0)[0])
+    zc = lay.z0 + float(design.program.evaluate(th0).s[0])
+    centre = Vector(lay.pitch_radius * np.cos(phi) * k, lay.pitch_radius * np.sin(phi) * k, zc * k)
+    groove = next((p for p in pieces if p.isInside(centre, 1e-7, True)), None)
+    if groove is None:
+        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
+    shape = prism_stack(geo.stack, k).cut(groove)
     return shape.Solids[0] if len(shape.Solids) == 1 else shape
 
 
