@@ -218,12 +218,39 @@ def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0)
 
 
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment."""
+    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment;
+    a cylindrical cam's: the roller's centre line on the pitch cylinder (:func:`cylindrical_pitch_wire`)."""
+    if not getattr(design, "plane", True):
+        return cylindrical_pitch_wire(design, scale)
     return nurbs_wire(design.pitch_nurbs, scale)
 
 
+def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 61) -> Any:
+    """A cylindrical cam's pitch curve: where the roller's axis meets the pitch cylinder,
+    (R_p cos φ(θ), R_p sin φ(θ), z₀ + s(θ)), one interpolating B-spline edge per motion segment
+    (a reference curve for the eye; the walls are built from the exact data)."""
+    import Part
+    from FreeCAD import Vector
+
+    lay = design.layout
+    b = design.program.boundaries
+    edges = []
+    for seg in range(len(design.program.starts)):
+        th = np.linspace(float(b[seg]), float(b[seg + 1]), per_segment)
+        k = design.program.evaluate(th, np.full(th.shape, seg))
+        phi = lay.phi(th)
+        pts = np.stack([lay.pitch_radius * np.cos(phi), lay.pitch_radius * np.sin(phi), lay.z0 + k.s], axis=-1) * scale
+        c = Part.BSplineCurve()
+        c.interpolate([Vector(*p) for p in pts.tolist()])
+        edges.append(c.toShape())
+    return Part.Wire(edges)
+
+
 def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The base (prime) circle of radius R_b traced by the follower point at zero lift."""
+    """The base (prime) circle of radius R_b traced by the follower point at zero lift (a
+    cylindrical cam's: the pitch circle R_p at the zero-lift height z₀)."""
+    if not getattr(design, "plane", True):
+        return circle_wire(design.layout.pitch_radius * scale, design.layout.z0 * scale)
     return circle_wire(design.spec.cam.base_radius * scale)
 
 
@@ -248,6 +275,8 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     import Part
     from FreeCAD import Vector
 
+    if not getattr(design, "plane", True):
+        return cylindrical_follower_shape(design, scale, angle_deg)
     spec = design.spec
     fol = design.follower
     th = np.deg2rad(angle_deg)
@@ -265,6 +294,30 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
         shapes.append(Part.Circle(at(sk.pivot), normal, PIVOT_MARK * spec.cam.base_radius * scale).toShape())
         shapes.append(Part.Vertex(at(sk.pivot)))
     shapes.append(Part.Vertex(at(sk.point)))
+    return Part.Compound(shapes)
+
+
+def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
+    """A cylindrical cam's roller where it stands at ``angle_deg`` of cam rotation, in the cam's
+    frame: its radial axis (from the groove's bottom to a roller's radius beyond the cylinder), the
+    roller's end circles (radius r, in the planes normal to the axis at R_b and R_o) and the
+    follower point (the roller's centre on the pitch cylinder, a vertex)."""
+    import Part
+    from FreeCAD import Vector
+
+    lay = design.layout
+    r = design.spec.roller_radius
+    th = np.array([np.deg2rad(angle_deg)])
+    phi = float(lay.phi(th)[0])
+    z = lay.z0 + float(design.program.evaluate(th).s[0])
+    u = Vector(np.cos(phi), np.sin(phi), 0)
+
+    def at(rho: float) -> Any:
+        return Vector(rho * np.cos(phi) * scale, rho * np.sin(phi) * scale, z * scale)
+
+    shapes = [Part.Circle(at(rho), u, r * scale).toShape() for rho in (lay.bottom_radius, lay.outer_radius)]
+    shapes.append(Part.LineSegment(at(lay.bottom_radius), at(lay.outer_radius + r)).toShape())
+    shapes.append(Part.Vertex(at(lay.pitch_radius)))
     return Part.Compound(shapes)
 
 
