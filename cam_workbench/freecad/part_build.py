@@ -175,6 +175,26 @@ def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
     return shape.Solids[0] if len(shape.Solids) == 1 else shape
 
 
+def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, float] | None = None) -> Any:
+    """Points (n, 3) [mm] on every B-spline face of ``shape`` (a cylindrical cam's groove walls),
+    on a grid of each face's own (u, v) range, by FreeCAD's evaluator; with ``radii`` (mm) only
+    those whose distance from the cam axis lies within them."""
+    pts = []
+    for f in shape.Faces:
+        if f.Surface.TypeId != "Part::GeomBSplineSurface":
+            continue
+        u0, u1, v0, v1 = f.ParameterRange
+        for a in np.linspace(u0, u1, per_direction).tolist():
+            for b in np.linspace(v0, v1, per_direction).tolist():
+                p = f.valueAt(a, b)
+                pts.append((p.x, p.y, p.z))
+    out = np.array(pts, dtype=float).reshape(-1, 3)
+    if radii is not None:
+        rho = np.hypot(out[:, 0], out[:, 1])
+        out = out[(rho >= radii[0]) & (rho <= radii[1])]
+    return out
+
+
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
     """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
