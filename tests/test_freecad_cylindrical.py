@@ -32,7 +32,24 @@ from .test_cylindrical_features import closed_form_volume, featured
 
 pytestmark = requires_freecadcmd
 
-SPECS = {"example": copy.deepcopy(EXAMPLES["cylindrical"]), "featured": featured()}
+MM_PER_IN = 25.4
+
+
+def _inch() -> dict:
+    """An inch cam: ANSI B17.1 keyway (a ¾ in bore: W = 3/16 in), hub, timing mark."""
+    d = copy.deepcopy(EXAMPLES["cylindrical"])
+    d["units"] = "in"
+    d["cam"].update(cylinder_radius=1.6, length=2.4, bore_diameter=0.75, keyway="ANSI", hub_diameter=1.4,
+                    hub_length=0.5, timing_mark=True)
+    d["follower"]["roller_radius"] = 0.2
+    d["groove"] = {"depth": 0.32, "clearance": 0.002, "min_wall": 0.12}
+    for m in d["motion"]:
+        if "lift" in m:
+            m["lift"] = 0.8
+    return d
+
+
+SPECS = {"example": copy.deepcopy(EXAMPLES["cylindrical"]), "featured": featured(), "inch": _inch()}
 
 BODY = """
 import FreeCAD
@@ -94,12 +111,15 @@ def test_solid_volume(run, reports, name):
     assert r["status"] == "ok", r["status"]
     assert r["valid"] and r["solids"] == 1
     assert "cylindrical" in r["body_choices"]
-    rel = r["volume"] / reports[name]["volume"] - 1
+    k = MM_PER_IN if name == "inch" else 1.0
+    rel = r["volume"] / (reports[name]["volume"] * k ** 3) - 1
     print(f"FreeCAD {'.'.join(run['version'])} {name}: volume vs report.json {rel:.3e} relative")
     assert abs(rel) <= 1e-6
     if name == "featured":
         assert r["volume"] == pytest.approx(closed_form_volume(), rel=1e-6)
         assert r["z"] == pytest.approx([-15.0, 60.0], abs=1e-6)
+    elif name == "inch":
+        assert r["z"] == pytest.approx([-0.5 * k, 2.4 * k], abs=1e-6)
     else:
         assert r["z"] == pytest.approx([0.0, 60.0], abs=1e-6)
 
@@ -107,14 +127,18 @@ def test_solid_volume(run, reports, name):
 @pytest.mark.parametrize("name", sorted(SPECS))
 def test_walls_of_freecads_solid(run, name):
     design = design_cam(CamSpec.from_dict(SPECS[name]))
-    pts = np.array(run[name]["wall"])
+    lay = design.layout
+    k = MM_PER_IN if name == "inch" else 1.0
+    pts = np.array(run[name]["wall"]) / k                  # FreeCAD's mm → the spec's unit
     rho = np.hypot(pts[:, 0], pts[:, 1])
-    pts = pts[(rho >= RB - 1e-9) & (rho <= RO + 1e-9)]
+    pts = pts[(rho >= lay.bottom_radius - 1e-9) & (rho <= lay.outer_radius + 1e-9)]
     assert len(pts) > 500
-    err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
+    err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts)) * k
     print(f"FreeCAD {'.'.join(run['version'])} {name}: wall faces vs exact walls {err.max():.3e} mm "
           f"({len(pts)} points)")
     assert err.max() <= 1e-6
+    if name == "inch":
+        return
     # a subset by this file's own minimisation (scipy, the closed-form lift)
     for p in pts[:: max(1, len(pts) // 60)]:
         assert abs(wall_distance(p)[0]) <= 1e-6
