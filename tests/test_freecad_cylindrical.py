@@ -2,7 +2,7 @@
 
 Two cams — the example, and the example with a DIN 6885-1 keyway, a hub, four mounting holes and the
 timing mark — are created with ``feature.create`` (what the GUI command calls) and recomputed.  Each
-holds one valid solid whose volume equals ``cam-workbench build``'s report.json volume (run here
+holds one valid solid whose volume equals ``cam-workbench report``'s report.json volume (run here
 through the CLI) and the closed form of tests/test_cylindrical_features.py; points of FreeCAD's own
 B-spline wall faces are within 1e-6 mm of the exact walls (the developed offsets at each point's
 radius, measured by the library's ``wall_distance_error`` and, for a subset, by this file's
@@ -91,14 +91,14 @@ def run(tmp_path_factory, fc_home):  # noqa: F811
 
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory):
-    """report.json of `cam-workbench build` for each spec."""
+    """report.json of `cam-workbench report` for each spec."""
     from generators.spec import dict_to_toml
 
     out = {}
     for name, d in SPECS.items():
         tmp = tmp_path_factory.mktemp(f"cli_{name}")
         (tmp / "c.toml").write_text(dict_to_toml(d))
-        res = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "build", str(tmp / "c.toml"), "-o",
+        res = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "report", str(tmp / "c.toml"), "-o",
                               str(tmp / "out")], capture_output=True, text=True, cwd=ROOT, env=cli_env())
         assert res.returncode == 0, res.stderr
         out[name] = json.loads((tmp / "out" / "report.json").read_text())
