@@ -57,8 +57,7 @@ import numpy as np
 
 from ..errors import GeometryError, SpecError
 from .base import Loop, Prism
-from .features import KEY_ANGLE, bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, \
-    timing_mark
+from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
 NODES_PER_RAD = 45.0
@@ -505,7 +504,7 @@ def feature_report(spec, layout: CylinderLayout) -> dict[str, Any]:
     return out
 
 
-def _validate_features(spec, ro: float, rb: float, min_wall: float, w: float) -> None:
+def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
     """Hub, keyway, holes and timing mark of a cylindrical cam (SpecError naming the field)."""
     cam = spec.cam
     if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
@@ -574,6 +573,6 @@ def validate_cylindrical(spec) -> None:
     if not cam.length >= need:
         raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
                         f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
-    _validate_features(spec, ro, rb, min_wall, w)
+    _validate_features(spec, rb, min_wall, w)
     if spec.dynamics.enabled:
         raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
