@@ -242,8 +242,6 @@ def _cli(tmp_path, d):
     ({"groove.depth": None}, "groove.depth: is required for a cylindrical cam"),
     ({"cam.cylinder_radius": None}, "cam.cylinder_radius: is required"),
     ({"cam.length": None}, "cam.length: is required"),
-    ({"cam.keyway": "DIN6885"}, "cam.keyway: is not supported on a cylindrical cam"),
-    ({"cam.hub_diameter": 30.0, "cam.hub_length": 10.0}, "cam.hub_diameter: is not supported"),
     ({"cam.outer_diameter": 100.0}, "cam.outer_diameter: the pitch radius"),
     ({"cam.thickness": 12.0}, "cam.thickness: is the cylinder's length"),
     ({"follower.offset": 3.0}, "follower.offset: does not apply to a cylindrical cam"),

@@ -38,8 +38,19 @@ axial direction, tan φ = s′/ρ (s′ per radian): reported at the pitch radiu
 at the groove's bottom (the largest).
 Oscillating: between the groove's normal and the roller's motion, perpendicular to the arm.
 
-What this body does not carry: hub, keyway, mounting holes and the timing mark (refused naming
-the field); the DXF drawing (not written).
+**Features** (plain data, :func:`cylinder_prisms`): the cylinder is a prism of the circle R_o
+with the bore — keyed by :mod:`.features` as the plate and groove bodies are — from z = 0 to L; the
+hub (``cam.hub_diameter`` × ``cam.hub_length``) stands on the z < 0 end face, bored and keyed the
+same (the keyway runs the full length of body and hub); ``cam.mounting_holes`` axial holes on the
+circle ``cam.mounting_circle_diameter`` go through the cylinder (0 ≤ z ≤ L) and must clear the
+bore (and keyway) and stay inside R_b − ``groove.min_wall``; the timing mark is a slot
+``timing_mark_depth`` deep in the end face z = L on the ray of θ = 0 (φ(0) = π/2, +Y, where the
+keyway and the first hole point), from the bore to R_o less 1.5 mark widths, kept clear of the
+holes as :func:`.features.timing_mark` does.  None of them meets the groove (the holes stay inside
+R_b − min_wall, the mark is shallower than the groove's distance from the end face), so the exact
+volume is Σ ± prism volumes (arcs and lines: closed-form areas) − V_groove.
+
+What this body does not carry: the DXF drawing (not written).
 """
 from __future__ import annotations
 
@@ -52,7 +63,8 @@ import numpy as np
 from ..errors import GeometryError, SpecError
 from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
                             centre_line, expand, mid_arm_angle, pressure_angle)
-from .features import resolved
+from .base import Loop, Prism
+from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
 NODES_PER_RAD = 45.0
@@ -271,30 +283,36 @@ class CylindricalGeometry:
     #: the radial range the wall surfaces span: a little beyond the groove, so that they cut through
     wall_rho: tuple[float, float]
     groove_volume: float
+    #: the cylinder (bored, keyed), the hub, the mounting holes and the timing mark as prisms applied in
+    #: order (:func:`cylinder_prisms`); the groove is cut after them
+    stack: tuple[Prism, ...] = ()
     kind: str = "cylindrical"
     prismatic: bool = False
     extra: dict = field(default_factory=dict)
 
     @property
     def volume(self) -> float:
-        lay = self.layout
-        return math.pi * (lay.outer_radius ** 2 - lay.bore_radius ** 2) * lay.length - self.groove_volume
+        """Exact volume [length³]: Σ ± the stack's prism volumes (closed-form areas × heights) − V_groove."""
+        return float(sum(p.volume if p.op == "add" else -p.volume for p in self.stack)) - self.groove_volume
 
     def face_area_at(self, z: float) -> float:
-        """Area of the end face (z = 0 or z = length): the annulus (the groove stays inside)."""
-        lay = self.layout
-        return math.pi * (lay.outer_radius ** 2 - lay.bore_radius ** 2)
+        """Area of the planar face at height ``z`` seen from above (z = length: the end face, the
+        annulus less the keyway, the holes and the timing mark; the groove stays inside)."""
+        return float(sum((p.area if p.op == "add" else -p.area) for p in self.stack if p.z0 < z <= p.z1 + 1e-12))
 
     @property
     def z_range(self) -> tuple[float, float]:
-        return 0.0, self.layout.length
+        return min([0.0] + [p.z0 for p in self.stack]), self.layout.length
 
     @property
     def prisms(self) -> tuple:
+        """None: the body is not a stack of prisms alone (the plane-cam readers skip it); the
+        features are in :attr:`stack`."""
         return ()
 
     def has(self, role: str) -> bool:
-        return False
+        """Whether the stack holds a prism of ``role`` ("hub", "hole0", "timing_mark", …)."""
+        return any(p.role == role for p in self.stack)
 
     def loops(self) -> list:
         return []
@@ -488,7 +506,7 @@ class CylindricalBody:
         rho = (layout.bottom_radius - margin, layout.outer_radius + margin)
         walls = wall_surfaces(layout, program, *rho)
         vg = groove_volume(layout, program)
-        geometry = CylindricalGeometry(layout, walls, rho, vg)
+        geometry = CylindricalGeometry(layout, walls, rho, vg, cylinder_prisms(spec, layout))
         fit = wall_fit_error(geometry, program)
         body_report = {
             "kind": "cylindrical", "closure": "form",
@@ -497,7 +515,7 @@ class CylindricalBody:
             "groove_depth": depth, "z0": layout.z0, "lift_range": list(layout.path.z_range()), "follower_path": layout.path.describe(),
             "axis": "Z (cam frame); the roller on +Y of the fixed frame, its axis radial",
             "walls": report["walls"], "min_developed_curvature_radius": report["min_developed_curvature_radius"],
-            "groove_volume": vg,
+            "groove_volume": vg, "features": feature_report(spec, layout),
             "wall_surfaces": {"faces": len(walls), "degree": [DEGREE_THETA, DEGREE_RHO],
                               "rho_range": list(rho), "nodes_per_rad": NODES_PER_RAD, "rho_nodes": RHO_NODES},
             "wall_fit_error": {"value": fit, "unit": spec.units,
@@ -533,6 +551,76 @@ def wall_fit_error(geometry: CylindricalGeometry, program, per_face: int = 9) ->
     return worst
 
 
+def cylinder_prisms(spec, layout: CylinderLayout) -> tuple[Prism, ...]:
+    """The cylinder (circle R_o less the keyed bore, 0 ≤ z ≤ L), the hub below z = 0, the mounting
+    holes through 0 ≤ z ≤ L and the timing mark in the end face z = L, as prisms in the order they
+    are applied (lengths in the spec's unit).
+
+    Raises:
+        SpecError: no room for the timing mark between the bore and the holes (``cam.timing_mark``)."""
+    bore = bore_loop(spec)
+    out = [Prism(Loop.circle(layout.outer_radius, role="cylinder"), (bore,) if bore else (), 0.0, layout.length,
+                 "add", "cylinder")]
+    hub = hub_prism(spec, 0.0)
+    if hub is not None:
+        out.append(hub)
+    out += mounting_holes(spec, 0.0, layout.length)
+    mw = resolved(spec, "cam", "timing_mark_width")
+    # on the ray of θ = 0: φ(0) = π/2 for either sense (the roller on +Y), as the keyway
+    mark = timing_mark(spec, float(layout.phi(np.array([0.0]))[0]), bore_extent(spec) + 1.5 * mw,
+                       layout.outer_radius - 1.5 * mw, layout.length)
+    if mark is not None:
+        out.append(mark)
+    return tuple(out)
+
+
+def feature_report(spec, layout: CylinderLayout) -> dict[str, Any]:
+    """The material around the features (report.json ``body.features``, spec lengths): the keyway's
+    reach, the mounting holes' ligaments to the bore, to R_b − groove.min_wall and to each other."""
+    cam = spec.cam
+    out: dict[str, Any] = {"bore_extent": bore_extent(spec)}
+    if cam.hub_diameter:
+        out["hub"] = {"diameter": cam.hub_diameter, "length": cam.hub_length}
+    if cam.mounting_holes:
+        limit = layout.bottom_radius - resolved(spec, "groove", "min_wall")
+        out["hole_ligaments"] = hole_ligaments(spec, lambda a: np.full(np.shape(a), limit), bore_extent(spec))
+    return out
+
+
+def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
+    """Hub, keyway, holes and timing mark of a cylindrical cam (SpecError naming the field)."""
+    cam = spec.cam
+    if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
+            or (cam.mounting_holes and None in (cam.mounting_hole_diameter, cam.mounting_circle_diameter)):
+        return                     # the shared feature rules (bodies.validate_body) name the field next
+    reach = bore_extent(spec)
+    if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
+        name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
+        raise SpecError(name, f"the keyway reaches {reach:.4g} from the axis: it must leave groove.min_wall "
+                        f"({min_wall:g}) to the groove's bottom (radius {rb:.4g})")
+    if cam.mounting_holes:
+        limit = rb - min_wall
+        lig = hole_ligaments(spec, lambda a: np.full(np.shape(a), limit), reach)
+        rules = {"to_bore": f"must clear the bore and keyway (radius {reach:.4g})",
+                 "to_outer": f"must stay inside the groove's bottom radius {rb:.4g} less groove.min_wall "
+                             f"{min_wall:g} (radius {limit:.4g})",
+                 "between": "must not run into each other"}
+        for key, rule in rules.items():
+            if not lig[key] > 0:
+                raise SpecError("cam.mounting_circle_diameter", f"the mounting holes (diameter "
+                                f"{cam.mounting_hole_diameter:g} on a circle of {cam.mounting_circle_diameter:g}) "
+                                f"{rule}: {lig[key]:.4g} of material left")
+    if cam.timing_mark:
+        depth = resolved(spec, "cam", "timing_mark_depth")
+        fol = spec.follower
+        travel = (2 * fol.pivot_distance * math.sin(math.radians(spec.max_lift) / 2)
+                  if fol.motion == "oscillating" else spec.max_lift)      # the roller centre's axial travel
+        room = (cam.length - travel - w) / 2
+        if not depth < room:
+            raise SpecError("cam.timing_mark_depth", f"must be < the groove's distance from the end face "
+                            f"({room:.4g}), got {depth:g}")
+
+
 def validate_cylindrical(spec) -> None:
     """The cylindrical body's own rules (called by the spec's validation)."""
     cam, fol = spec.cam, spec.follower
@@ -549,14 +637,6 @@ def validate_cylindrical(spec) -> None:
     if cam.thickness != cam.length:
         raise SpecError("cam.thickness", f"is the cylinder's length for a cylindrical cam: leave it out or give "
                         f"cam.length ({cam.length:g}), got {cam.thickness:g}")
-    for name in ("hub_diameter", "hub_length", "keyway", "keyway_width", "keyway_depth", "mounting_hole_diameter",
-                 "mounting_circle_diameter"):
-        if getattr(cam, name) is not None:
-            raise SpecError(f"cam.{name}", "is not supported on a cylindrical cam yet")
-    if cam.mounting_holes:
-        raise SpecError("cam.mounting_holes", "is not supported on a cylindrical cam yet")
-    if cam.timing_mark:
-        raise SpecError("cam.timing_mark", "is not supported on a cylindrical cam yet")
     if spec.groove.depth is None:
         raise SpecError("groove.depth", "is required for a cylindrical cam")
     depth = spec.groove.depth
@@ -583,6 +663,7 @@ def validate_cylindrical(spec) -> None:
         if not cam.length >= need:
             raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
                             f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
+    _validate_features(spec, rb, min_wall, w)
     if spec.dynamics.enabled:
         raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
 
