@@ -154,6 +154,14 @@ class PlateCam:
 
         return write_outputs(self.outputs(), folder)
 
+    def checks(self) -> dict[str, Any]:
+        """report.json's ``checks`` section (the numbers ``cam-workbench check`` prints), without
+        building the solid; for every body, the cylindrical cam's own checks included."""
+        from .pipeline import run_pipeline
+
+        return run_pipeline(self.spec, solid=False, machining=False, drawing=False, design=self.design,
+                            dynamics=False).summary["checks"]
+
     def dynamics(self, speed_rpm: float | None = None, *, sweep: bool | None = None, **fields: Any) -> Any:
         """The follower train at speed (docs/dynamics.md): a
         :class:`generators.dynamics.DynamicsResult` whose ``summary()`` is report.json's ``dynamics``

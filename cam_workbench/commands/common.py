@@ -71,6 +71,13 @@ def refuse_own_design(spec: CamSpec, command: str) -> None:
                         "(build, report and gcode do)")
 
 
+def own_design(spec: CamSpec) -> bool:
+    """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
+    from generators.bodies import body_of
+
+    return getattr(body_of(spec), "design", None) is not None
+
+
 def require_ocp(command: str) -> None:
     """Before any work: the commands that build the solid (build, report, optimise) need OCP;
     without it they exit 2 with one line naming the extras that bring it (nothing written)."""

@@ -268,9 +268,10 @@ def pressure_angles(layout: CylinderLayout, program, rho: float, th: np.ndarray)
     return np.rad2deg(np.arctan2(program.evaluate(th).ds, rho))
 
 
-def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
-    """Undercut (refused, GeometryError with the cam angle), pressure angle and walls: the body's
-    report numbers and a ``checks`` section in report.json's shape."""
+def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -> dict[str, Any]:
+    """Undercut (refused, GeometryError with the cam angle, unless ``refuse`` is False: then the
+    ``undercut`` check fails), pressure angle and walls: the body's report numbers and a ``checks``
+    section in report.json's shape."""
     th = program.dense_angles(2001)
     w2 = layout.half_width
     # the wall on the concave side folds where the developed curve's radius of curvature ≤ w/2;
@@ -282,7 +283,7 @@ def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
         i = int(np.argmin(rc))
         if rc[i] < worst[0]:
             worst = (float(rc[i]), float(np.rad2deg(th[i]) % 360), float(r))
-    if worst[0] <= w2:
+    if worst[0] <= w2 and refuse:
         raise GeometryError("undercut", f"the groove's wall is undercut at cam angle {worst[1]:.2f}°: the developed "
                             f"centre line's radius of curvature at radius {worst[2]:.4g} is {worst[0]:.4g} ≤ half the "
                             f"groove width {w2:g} — a smaller roller, a larger cam.cylinder_radius or a gentler motion",
@@ -498,3 +499,12 @@ def validate_cylindrical(spec) -> None:
                         f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
     if spec.dynamics.enabled:
         raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
+
+
+def cylinder_checks(spec) -> dict[str, Any]:
+    """The cylindrical cam's design checks (report.json's ``checks`` section) without refusing an
+    undercut wall (its check fails instead): what ``cam-workbench check`` shows for a cam that
+    cannot be made."""
+    from ..motion.program import MotionProgram
+
+    return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
