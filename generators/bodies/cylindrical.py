@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import GeometryError, SpecError
+from ..followers.translating import TranslatingFollower
 from .features import resolved
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
@@ -345,6 +346,11 @@ class CylindricalDesign:
         return self.body.layout
 
     @property
+    def follower(self) -> "Any":
+        """The translating roller along the cam axis (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(self.spec)
+
+    @property
     def volume(self) -> float:
         return self.body.volume
 
@@ -384,6 +390,14 @@ class CylindricalBody:
 
     kind = "cylindrical"
     closure = "form"
+    #: the follower dynamics treat the groove as holding the roller both ways: the load changes
+    #: wall where the contact force changes sign (no separation, no jump speed)
+    dynamics_form_closed = True
+
+    @staticmethod
+    def own_follower(spec):
+        """The follower the dynamics drive (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(spec)
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -497,8 +511,6 @@ def validate_cylindrical(spec) -> None:
     if not cam.length >= need:
         raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
                         f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
-    if spec.dynamics.enabled:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
 
 
 def cylinder_checks(spec) -> dict[str, Any]:
@@ -508,3 +520,31 @@ def cylinder_checks(spec) -> dict[str, Any]:
     from ..motion.program import MotionProgram
 
     return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
+
+
+
+@dataclass(frozen=True)
+class CylindricalFollower(TranslatingFollower):
+    """The cylindrical cam's translating roller, its lift s along the cam axis; ``s0`` holds the
+    pitch radius R_p.  The pressure angle is tan φ = s′/R_p (s′ per radian), so the normal contact
+    force is F = Q/cos φ for the axial load Q, and the camshaft torque T = Q·s′ (virtual work)."""
+
+    pressure_angle_text = "φ = atan(s′/R_p) (cylindrical cam: the lift along the cam axis)"
+
+    def pressure_angle(self, k):
+        """φ [rad] = atan(s′/R_p), signed."""
+        return np.arctan2(k.ds, self.s0)
+
+    def radius_of_curvature(self, k):
+        """Radius of curvature of the developed pitch line: (R_p² + s′²)^{3/2}/(R_p·s″)."""
+        with np.errstate(divide="ignore"):
+            return np.hypot(self.s0, k.ds) ** 3 / (self.s0 * k.d2s)
+
+    def label(self) -> str:
+        return f"translating roller r = {self.roller_radius:g}, along the cam axis"
+
+
+def cylindrical_follower(spec) -> CylindricalFollower:
+    """The follower of a cylindrical cam's spec (:class:`CylindricalFollower`)."""
+    base = TranslatingFollower.from_spec(spec)
+    return CylindricalFollower(0.0, spec.cam.cylinder_radius, base.sense, base.roller_radius, base.load)
