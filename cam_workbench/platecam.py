@@ -128,7 +128,10 @@ class PlateCam:
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
-        from exporters.dxf import export_dxf
+        if getattr(self.design, "plane", True):
+            from exporters.dxf import export_dxf
+        else:                          # a cylindrical cam: developed, side and end views
+            from exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
 
         export_dxf(self.design, path)
         return Path(path)
