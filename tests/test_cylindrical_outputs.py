@@ -264,3 +264,47 @@ def test_ecam_equals_the_plate_cams(tmp_path):
     assert a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr
     text = (tmp_path / "c.csv").read_text()
     assert text == (tmp_path / "p.csv").read_text() and len(text.splitlines()) > 300
+
+
+# ---- sweep / batch / --set --------------------------------------------------------------------------
+def test_set_cylinder_radius_moves_the_base_radius():
+    from generators.spec.examples import example_spec
+
+    s = example_spec("cylindrical").replace(**{"cam.cylinder_radius": 45.0, "cam.length": 70.0})
+    assert (s.cam.base_radius, s.cam.thickness) == (45.0, 70.0)
+
+
+def test_sweep_cylinder_radius(tmp_path):
+    import csv
+
+    res = run("sweep", "--example", "cylindrical", "--vary", "cam.cylinder_radius=36:44:3", "--workers", "0",
+              "-o", str(tmp_path / "s"))
+    assert res.returncode == 0, res.stdout + res.stderr
+    rows = list(csv.DictReader((tmp_path / "s" / "sweep.csv").open()))
+    assert [float(r["cam.cylinder_radius"]) for r in rows] == [36.0, 40.0, 44.0]
+    for r in rows:
+        rp = float(r["cam.cylinder_radius"])
+        assert r["status"] == "ok" and float(r["base_radius"]) == rp
+        assert float(r["pressure_angle_deg"]) == pytest.approx(math.degrees(math.atan(DS_MAX / rp)), abs=1e-9)
+        # the cylinder keeps its outer radius R_p + depth/2 and groove bottom R_p − depth/2
+        assert float(r["outer_radius"]) == pytest.approx(rp + 4.0, abs=1e-12)
+
+
+def test_sweep_size_refused(tmp_path):
+    res = run("sweep", "--example", "cylindrical", "--vary", "motion[1].lift=10:20:2", "--size", "base_radius",
+              "--workers", "0", "-o", str(tmp_path / "s"))
+    assert res.returncode == 2 and "--size" in res.stderr and "Traceback" not in res.stderr
+    assert not (tmp_path / "s").exists()
+
+
+@requires_ocp
+def test_batch_builds_a_cylindrical_cam(tmp_path):
+    import csv
+
+    (tmp_path / "c.toml").write_text(dict_to_toml(EXAMPLES["cylindrical"]))
+    res = run("batch", str(tmp_path / "c.toml"), "--workers", "0", "-o", str(tmp_path / "b"))
+    assert res.returncode == 0, res.stdout + res.stderr
+    row = list(csv.DictReader((tmp_path / "b" / "summary.csv").open()))[0]
+    rep = json.loads((tmp_path / "b" / "c" / "report.json").read_text())
+    assert row["status"] == "ok" and float(row["pressure_angle_deg"]) == rep["pressure_angle"]["max_deg"]
+    assert (tmp_path / "b" / "c" / "cam.dxf").exists() and (tmp_path / "b" / "c" / "cam.step").exists()
