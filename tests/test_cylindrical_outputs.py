@@ -308,3 +308,23 @@ def test_batch_builds_a_cylindrical_cam(tmp_path):
     rep = json.loads((tmp_path / "b" / "c" / "report.json").read_text())
     assert row["status"] == "ok" and float(row["pressure_angle_deg"]) == rep["pressure_angle"]["max_deg"]
     assert (tmp_path / "b" / "c" / "cam.dxf").exists() and (tmp_path / "b" / "c" / "cam.step").exists()
+
+
+# ---- the README picture -------------------------------------------------------------------------------
+def test_cylindrical_figure_draws_the_walls(tmp_path):
+    from exporters import plots
+    from generators import design_cam
+
+    fig = plots.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
+    try:
+        developed = fig.axes[1]
+        walls = [ln for ln in developed.get_lines() if ln.get_color() == "#1f3a5f"]
+        assert len(walls) == 2
+        for ln, side in zip(walls, (-1, 1)):
+            pts = np.column_stack(ln.get_data())[::97]
+            d, s = _distance_to_centre_line(RO, pts)
+            assert np.max(np.abs(d - W2)) < 1e-9 and np.all(s == side)
+        png = plots.figure_bytes(fig, "png", dpi=60)
+        assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    finally:
+        plots.close(fig)
