@@ -346,7 +346,7 @@ class CylindricalDesign:
         return self.body.layout
 
     @property
-    def follower(self) -> "Any":
+    def follower(self) -> "CylindricalFollower":
         """The translating roller along the cam axis (:func:`cylindrical_follower`)."""
         return cylindrical_follower(self.spec)
 
@@ -395,7 +395,7 @@ class CylindricalBody:
     dynamics_form_closed = True
 
     @staticmethod
-    def own_follower(spec):
+    def own_follower(spec) -> "CylindricalFollower":
         """The follower the dynamics drive (:func:`cylindrical_follower`)."""
         return cylindrical_follower(spec)
 
@@ -531,12 +531,12 @@ class CylindricalFollower(TranslatingFollower):
 
     pressure_angle_text = "φ = atan(s′/R_p) (cylindrical cam: the lift along the cam axis)"
 
-    def pressure_angle(self, k):
+    def pressure_angle(self, k: Any) -> np.ndarray:
         """φ [rad] = atan(s′/R_p), signed."""
         return np.arctan2(k.ds, self.s0)
 
-    def radius_of_curvature(self, k):
-        """Radius of curvature of the developed pitch line: (R_p² + s′²)^{3/2}/(R_p·s″)."""
+    def radius_of_curvature(self, k: Any) -> np.ndarray:
+        """Radius of curvature [length] of the developed pitch line: (R_p² + s′²)^{3/2}/(R_p·s″)."""
         with np.errstate(divide="ignore"):
             return np.hypot(self.s0, k.ds) ** 3 / (self.s0 * k.d2s)
 
