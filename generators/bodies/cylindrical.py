@@ -34,7 +34,8 @@ axial direction, tan φ = s′/ρ (s′ per radian): reported at the pitch radiu
 at the groove's bottom (the largest).
 
 What this body does not carry: hub, keyway, mounting holes and the timing mark (refused naming
-the field); oscillating followers (refused); the DXF drawing (not written).
+the field); oscillating followers (refused).  Its drawing: :mod:`exporters.dxf_cylindrical`; its
+follower for the force laws and the dynamics: :class:`CylindricalFollower` (tan φ = s′/R_p).
 """
 from __future__ import annotations
 
