@@ -50,7 +50,9 @@ holes as :func:`.features.timing_mark` does.  None of them meets the groove (the
 R_b − min_wall, the mark is shallower than the groove's distance from the end face), so the exact
 volume is Σ ± prism volumes (arcs and lines: closed-form areas) − V_groove.
 
-What this body does not carry: the DXF drawing (not written).
+Its drawing: :mod:`exporters.dxf_cylindrical`; its follower for the force laws and the dynamics of a
+translating roller: :class:`CylindricalFollower` (tan φ = s′/R_p).  What it does not carry: the
+dynamics of an oscillating arm (refused naming ``follower.motion``).
 """
 from __future__ import annotations
 
@@ -65,6 +67,7 @@ from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerP
                             centre_line, expand, mid_arm_angle, pressure_angle)
 from .base import Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
+from ..followers.translating import TranslatingFollower
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
 NODES_PER_RAD = 45.0
@@ -336,9 +339,10 @@ def pressure_angles(layout: CylinderLayout, program, rho: float, th: np.ndarray)
     return np.rad2deg(pressure_angle(layout.pitch_radius, pk, rho))
 
 
-def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
-    """Undercut (refused, GeometryError with the cam angle), pressure angle and walls: the body's
-    report numbers and a ``checks`` section in report.json's shape."""
+def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -> dict[str, Any]:
+    """Undercut (refused, GeometryError with the cam angle, unless ``refuse`` is False: then the
+    ``undercut`` check fails), pressure angle and walls: the body's report numbers and a ``checks``
+    section in report.json's shape."""
     th = program.dense_angles(2001)
     w2 = layout.half_width
     oscillating = layout.path.motion == "oscillating"
@@ -362,7 +366,7 @@ def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
         i = int(np.argmin(rc))
         if rc[i] < worst[0]:
             worst = (float(rc[i]), float(np.rad2deg(th[i]) % 360), float(r))
-    if worst[0] <= w2:
+    if worst[0] <= w2 and refuse:
         raise GeometryError("undercut", f"the groove's wall is undercut at cam angle {worst[1]:.2f}°: the developed "
                             f"centre line's radius of curvature at radius {worst[2]:.4g} is {worst[0]:.4g} ≤ half the "
                             f"groove width {w2:g} — a smaller roller, a larger cam.cylinder_radius or a gentler motion",
@@ -435,6 +439,11 @@ class CylindricalDesign:
         return self.body.layout
 
     @property
+    def follower(self) -> "CylindricalFollower":
+        """The translating roller along the cam axis (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(self.spec)
+
+    @property
     def volume(self) -> float:
         return self.body.volume
 
@@ -484,6 +493,14 @@ class CylindricalBody:
 
     kind = "cylindrical"
     closure = "form"
+    #: the follower dynamics treat the groove as holding the roller both ways: the load changes
+    #: wall where the contact force changes sign (no separation, no jump speed)
+    dynamics_form_closed = True
+
+    @staticmethod
+    def own_follower(spec) -> "CylindricalFollower":
+        """The follower the dynamics drive (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(spec)
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -664,8 +681,9 @@ def validate_cylindrical(spec) -> None:
             raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
                             f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
     _validate_features(spec, rb, min_wall, w)
-    if spec.dynamics.enabled:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
+    if spec.dynamics.enabled and fol.motion == "oscillating":
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
 
 
 def _validate_arm(spec) -> float:
@@ -689,3 +707,44 @@ def _validate_arm(spec) -> float:
                         f"roller's axial motion reverses): arccos(pivot_distance/arm_length) = {bm:.4g}° plus half the "
                         f"lift {h / 2:g}° must stay below 90°")
     return 2 * d * math.sin(math.radians(h) / 2)
+
+
+def cylinder_checks(spec) -> dict[str, Any]:
+    """The cylindrical cam's design checks (report.json's ``checks`` section) without refusing an
+    undercut wall (its check fails instead): what ``cam-workbench check`` shows for a cam that
+    cannot be made."""
+    from ..motion.program import MotionProgram
+
+    return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
+
+
+
+@dataclass(frozen=True)
+class CylindricalFollower(TranslatingFollower):
+    """The cylindrical cam's translating roller, its lift s along the cam axis; ``s0`` holds the
+    pitch radius R_p.  The pressure angle is tan φ = s′/R_p (s′ per radian), so the normal contact
+    force is F = Q/cos φ for the axial load Q, and the camshaft torque T = Q·s′ (virtual work)."""
+
+    pressure_angle_text = "φ = atan(s′/R_p) (cylindrical cam: the lift along the cam axis)"
+
+    def pressure_angle(self, k: Any) -> np.ndarray:
+        """φ [rad] = atan(s′/R_p), signed."""
+        return np.arctan2(k.ds, self.s0)
+
+    def radius_of_curvature(self, k: Any) -> np.ndarray:
+        """Radius of curvature [length] of the developed pitch line: (R_p² + s′²)^{3/2}/(R_p·s″)."""
+        with np.errstate(divide="ignore"):
+            return np.hypot(self.s0, k.ds) ** 3 / (self.s0 * k.d2s)
+
+    def label(self) -> str:
+        return f"translating roller r = {self.roller_radius:g}, along the cam axis"
+
+
+def cylindrical_follower(spec) -> CylindricalFollower:
+    """The follower of a cylindrical cam's spec (:class:`CylindricalFollower`): a translating roller
+    (an oscillating arm's force laws are not modelled: SpecError naming ``follower.motion``)."""
+    if spec.follower.motion != "translating":
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
+    base = TranslatingFollower.from_spec(spec)
+    return CylindricalFollower(0.0, spec.cam.cylinder_radius, base.sense, base.roller_radius, base.load)

@@ -795,6 +795,7 @@ class CamSpec:
         data = self.to_dict()
         for path, value in changes.items():
             _set_path(data, path, value)
+        follow_cylinder_fields(data, changes)
         return CamSpec.from_dict(data)
 
     # ---- derived quantities ---------------------------------------------------------
@@ -882,6 +883,18 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
                 raise SpecError(path, f"{here} is a list of tables: write {here}[i].{parts[i + 1]}")
             node = nxt
         where = here
+
+
+def follow_cylinder_fields(data: dict[str, Any], changes: Mapping[str, Any]) -> None:
+    """In a spec dict of a cylindrical cam whose ``changes`` (dotted paths) set cam.cylinder_radius or
+    cam.length but not cam.base_radius or cam.thickness, make those follow (in place): they are the
+    same numbers (the body's rules)."""
+    cam = data.get("cam")
+    if not isinstance(cam, dict) or cam.get("body") != "cylindrical":
+        return
+    for k, src in (("base_radius", "cylinder_radius"), ("thickness", "length")):
+        if f"cam.{src}" in changes and f"cam.{k}" not in changes and src in cam:
+            cam[k] = cam[src]
 
 
 def _cylindrical_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
