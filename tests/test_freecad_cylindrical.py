@@ -49,7 +49,8 @@ def _inch() -> dict:
     return d
 
 
-SPECS = {"example": copy.deepcopy(EXAMPLES["cylindrical"]), "featured": featured(), "inch": _inch()}
+SPECS = {"example": copy.deepcopy(EXAMPLES["cylindrical"]), "featured": featured(), "inch": _inch(),
+         "oscillating": copy.deepcopy(EXAMPLES["cylindrical_oscillating"])}
 
 BODY = """
 import FreeCAD
@@ -120,6 +121,8 @@ def test_solid_volume(run, reports, name):
         assert r["z"] == pytest.approx([-15.0, 60.0], abs=1e-6)
     elif name == "inch":
         assert r["z"] == pytest.approx([-0.5 * k, 2.4 * k], abs=1e-6)
+    elif name == "oscillating":
+        assert r["z"] == pytest.approx([0.0, 50.0], abs=1e-6)
     else:
         assert r["z"] == pytest.approx([0.0, 60.0], abs=1e-6)
 
@@ -139,9 +142,13 @@ def test_walls_of_freecads_solid(run, name):
     assert err.max() <= 1e-6
     if name == "inch":
         return
-    # a subset by this file's own minimisation (scipy, the closed-form lift)
+    # a subset by an independent minimisation (scipy, the closed-form lift; the arm's path for the
+    # oscillating follower: tests/test_cylindrical_oscillating.py)
+    from .test_cylindrical_oscillating import wall_distance as arm_wall_distance
+
+    own = arm_wall_distance if name == "oscillating" else wall_distance
     for p in pts[:: max(1, len(pts) // 60)]:
-        assert abs(wall_distance(p)[0]) <= 1e-6
+        assert abs(own(p)[0]) <= 1e-6
 
 
 @pytest.mark.parametrize("name", sorted(SPECS))
@@ -192,3 +199,16 @@ def test_property_change_recomputes(run):
     assert r["status"] == "ok" and r["valid"]
     assert r["volume"] == pytest.approx(design.volume, rel=1e-6)
     assert math.isfinite(r["volume"])
+
+
+def test_oscillating_roller_drawn_on_its_arc(run):
+    """The arm's roller at θ = 0 (a dwell at zero lift): β = β_m − h/2, its centre at
+    u = −d + L cos β along the circumference, Z = Z_p + L sin β (tests/test_cylindrical_oscillating.py's
+    definition), i.e. at the polar angle π/2 + u/R_p of the pitch cylinder."""
+    from .test_cylindrical_oscillating import ARM, BETA_M, D, H, RP as RPO, ZP
+
+    b = BETA_M - math.radians(H) / 2
+    u, z = -D + ARM * math.cos(b), ZP + ARM * math.sin(b)
+    psi = math.pi / 2 + u / RPO
+    r = run["oscillating"]
+    assert r["follower_vertices"][-1] == pytest.approx([RPO * math.cos(psi), RPO * math.sin(psi), z], abs=1e-9)

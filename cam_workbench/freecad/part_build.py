@@ -164,10 +164,8 @@ def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
         sewn.sewShape(1e-6 * k)
         shells.append(sewn.Shells[0] if sewn.Shells else sewn)
     pieces = annulus.generalFuse(shells, 0.0)[0].Solids
-    th0 = np.array([0.0])
-    phi = float(lay.phi(th0)[0])
-    zc = lay.z0 + float(design.program.evaluate(th0).s[0])
-    centre = Vector(lay.pitch_radius * np.cos(phi) * k, lay.pitch_radius * np.sin(phi) * k, zc * k)
+    cx, cy, cz = lay.centre_point(design.program, 0.0)          # the roller centre at θ = 0 (its own path)
+    centre = Vector(cx * k, cy * k, cz * k)
     groove = next((p for p in pieces if p.isInside(centre, 1e-7, True)), None)
     if groove is None:
         raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
@@ -257,9 +255,9 @@ def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 6
     edges = []
     for seg in range(len(design.program.starts)):
         th = np.linspace(float(b[seg]), float(b[seg + 1]), per_segment)
-        k = design.program.evaluate(th, np.full(th.shape, seg))
-        phi = lay.phi(th)
-        pts = np.stack([lay.pitch_radius * np.cos(phi), lay.pitch_radius * np.sin(phi), lay.z0 + k.s], axis=-1) * scale
+        c = lay.centre_line(design.program, th, lay.pitch_radius, np.full(th.shape, seg))
+        psi = c.x / lay.pitch_radius                 # C_{R_p} wrapped onto the pitch cylinder
+        pts = np.stack([lay.pitch_radius * np.cos(psi), lay.pitch_radius * np.sin(psi), c.z], axis=-1) * scale
         c = Part.BSplineCurve()
         c.interpolate([Vector(*p) for p in pts.tolist()])
         edges.append(c.toShape())
@@ -327,9 +325,8 @@ def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float
 
     lay = design.layout
     r = design.spec.roller_radius
-    th = np.array([np.deg2rad(angle_deg)])
-    phi = float(lay.phi(th)[0])
-    z = lay.z0 + float(design.program.evaluate(th).s[0])
+    cx, cy, z = lay.centre_point(design.program, float(np.deg2rad(angle_deg)))
+    phi = float(np.arctan2(cy, cx))
     u = Vector(np.cos(phi), np.sin(phi), 0)
 
     def at(rho: float) -> Any:

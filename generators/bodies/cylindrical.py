@@ -373,7 +373,7 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
                             worst[1])
     phi_p = pressure_angles(layout, program, layout.pitch_radius, th)
     phi_b = pressure_angles(layout, program, layout.bottom_radius, th)
-    ip, ib = int(np.argmax(np.abs(phi_p))), int(np.argmax(np.abs(phi_b)))
+    ip, ib = _first_largest(np.abs(phi_p)), _first_largest(np.abs(phi_b))
     limit = spec.checks.max_pressure_angle
     factor = spec.checks.undercut_factor
     if oscillating:
@@ -407,6 +407,12 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
                 "formula": formula}
     return {"checks": checks, "walls": walls, "pressure_angle": pressure,
             "min_developed_curvature_radius": {"value": worst[0], "at_deg": worst[1], "at_radius": worst[2]}}
+
+
+def _first_largest(a: np.ndarray) -> int:
+    """Index of the first sample within 1e-12 (relative) of the largest: a symmetric motion's equal
+    extremes are reported at the first cam angle in every numpy build (not by round-off)."""
+    return int(np.argmax(a >= np.max(a) * (1 - 1e-12)))
 
 
 def _result(description, kind, value, at, limit, unit) -> dict[str, Any]:
