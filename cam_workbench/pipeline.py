@@ -188,24 +188,14 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
     return out
 
 
-def plain_report_html(report: dict[str, Any]) -> str:
-    """report.html of a cam the full report does not cover yet (a cylindrical cam): report.json's
-    numbers on one page."""
-    import html
-
-    body = report.get("body") or {}
-    title = f"{body.get('kind', 'cam')} cam"
-    return ("<!doctype html><html><head><meta charset=\"utf-8\"><title>" + html.escape(title) + "</title></head>"
-            "<body><h1>" + html.escape(title) + "</h1><pre>" + html.escape(json.dumps(report, indent=1))
-            + "</pre></body></html>\n")
-
-
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
     from exporters.report_html import report_plots
 
     if not getattr(outputs.design, "plane", True):
-        return 0
+        from exporters.report_cylindrical import FIGURES
+
+        return len(FIGURES)
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
                             outputs.extra.get("dynamics")))
 
@@ -219,12 +209,18 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     from exporters.report_json import report_json_text
 
     design, summary = outputs.design, outputs.summary
-    if not getattr(design, "plane", True):             # not a plane cam: report.json and a plain page
-        files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[])
+    if not getattr(design, "plane", True):             # a cylindrical cam: its own page and figures
+        from exporters.report_cylindrical import FIGURES, render_cylindrical_report
+
+        files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
         text = report_json_text(summary, files)
+        report = json.loads(text)
+        html_text, pngs = render_cylindrical_report(design, report, progress=progress)
         out.add_text(JSON_NAME, text)
-        out.add_text(HTML_NAME, plain_report_html(json.loads(text)))
-        return json.loads(text)
+        out.add_text(HTML_NAME, html_text)
+        for name, _ in FIGURES:
+            out.add_bytes(name, pngs[name])
+        return report
     series = optional_series(design)
     dyn = outputs.extra.get("dynamics")
     names = [p.png_name for p in report_plots(design, summary, series, dyn)]

@@ -328,3 +328,50 @@ def test_cylindrical_figure_draws_the_walls(tmp_path):
         assert png[:8] == b"\x89PNG\r\n\x1a\n"
     finally:
         plots.close(fig)
+
+
+# ---- report.html ------------------------------------------------------------------------------------
+@requires_ocp
+@pytest.mark.parametrize("example", ["cylindrical", "cylindrical_oscillating"])
+def test_report_page_shows_report_json(tmp_path, example):
+    """report.html of a cylindrical cam: the checks' verdict is report.json's, every number cell holds
+    exactly report.json's value (data-key), both figures are in the page and written as PNGs, and
+    headless Chromium builds the page with both SVGs."""
+    import shutil
+
+    from generators.checks.claims import checks_verdict
+
+    from .test_report import Page, lookup
+
+    res = run("report", "--example", example, "-o", str(tmp_path / "r"))
+    assert res.returncode == 0, res.stderr
+    report = json.loads((tmp_path / "r" / "report.json").read_text())
+    text = (tmp_path / "r" / "report.html").read_text(encoding="utf-8")
+    page = Page()
+    page.feed(text)
+    assert not page.errors and not page.resources, (page.errors, page.resources)
+    assert ("verdict pass" in text) == report["checks"]["passed"] and checks_verdict(report["checks"]) in text
+    keys = set()
+    for attrs, shown in page.cells:
+        key = attrs["data-key"]
+        keys.add(key)
+        value = lookup(report, key)
+        if "data-value" in attrs and not isinstance(value, (bool, type(None))):
+            assert float(attrs["data-value"]) == value, key
+            assert float(shown) == pytest.approx(value, rel=5e-6), key
+        elif "data-value" not in attrs:
+            assert shown == value, key
+    for key in ("body.wall_error.value", "body.wall_fit_error.value", "drawing.developed_fit_error.value",
+                "checks.results.pressure_angle.value", "volume", "solid.volume_rel_diff"):
+        assert key in keys, key
+    assert report["files"]["plots"] == ["plot_cylinder.png", "plot_pressure_angle.png"]
+    for name in report["files"]["plots"]:
+        assert page.figures.get(f"fig-{name[5:-4]}") == 1 and (tmp_path / "r" / name).stat().st_size > 10000
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium:   # make test installs it (as root); the page's DOM as a browser builds it
+        dom = subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                              f"--user-data-dir={tmp_path / 'profile'}", "--dump-dom",
+                              (tmp_path / "r" / "report.html").resolve().as_uri()],
+                             capture_output=True, text=True, timeout=120)
+        assert dom.returncode == 0 and dom.stdout.count("<svg") >= 2
+        assert 'id="fig-cylinder"' in dom.stdout and 'id="fig-pressure_angle"' in dom.stdout

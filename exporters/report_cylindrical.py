@@ -1,0 +1,114 @@
+"""report.html of a cylindrical (barrel) cam: the checks' verdict and table, the body's numbers
+(radii, groove, the walls' measured errors, the drawing's and the program's errors) and two
+figures — the cylinder with its walls beside the developed view, and the pressure angle at the
+pitch and the bottom radius over the cycle.  Every number on the page is read from report.json
+(``data-key`` names the field), as in the plane cams' report (:mod:`exporters.report_html`)."""
+from __future__ import annotations
+
+import html
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+from . import plots
+from .report_html import CSS, _checks_section, _inline_svg, _quantity_table
+
+#: (name of the PNG, title) of the figures
+FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
+           ("plot_pressure_angle.png", "Pressure angle over the cycle"))
+
+
+def pressure_angle_figure(design: Any, report: Mapping[str, Any]) -> Any:
+    """The pressure angle [deg] at R_p and R_b against the cam angle, with the limit of report.json."""
+    from generators.bodies.cylindrical import pressure_angles
+
+    lay = design.layout
+    th = design.program.dense_angles(721)
+    deg = np.rad2deg(th)
+    fig, ax = _figure()
+    ax.plot(deg, pressure_angles(lay, design.program, lay.pitch_radius, th), color="#1f3a5f",
+            label=f"at the pitch radius R_p = {lay.pitch_radius:g}")
+    ax.plot(deg, pressure_angles(lay, design.program, lay.bottom_radius, th), "--", color="#c8871e",
+            label=f"at the groove's bottom R_b = {lay.bottom_radius:.4g}")
+    limit = report["checks"]["results"]["pressure_angle"].get("limit")
+    if limit is not None:
+        for sgn in (1, -1):
+            ax.axhline(sgn * limit, color="#c0392b", lw=0.8, ls=":", label="limit" if sgn == 1 else None)
+    ax.set_xlabel("cam angle θ [deg]")
+    ax.set_ylabel("pressure angle φ [deg]")
+    ax.set_xlim(0, 360)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def _figure() -> tuple[Any, Any]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 3.2))
+    return fig, fig.add_subplot(1, 1, 1)
+
+
+def render_cylindrical_report(design: Any, report: Mapping[str, Any],
+                              progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
+    """The HTML text and the PNG files ({name: bytes}) of a cylindrical cam's report."""
+    makers = {"plot_cylinder.png": lambda: plots.cylindrical_figure(design),
+              "plot_pressure_angle.png": lambda: pressure_angle_figure(design, report)}
+    svgs, pngs = {}, {}
+    for name, title in FIGURES:
+        if progress is not None:
+            progress(title)
+        fig = makers[name]()
+        try:
+            svgs[name] = _inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), name.split(".")[0])
+            pngs[name] = plots.figure_bytes(fig, "png", dpi=130)
+        finally:
+            plots.close(fig)
+    return _page(report, svgs), pngs
+
+
+def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
+    u = report.get("units", "")
+    body = report.get("body") or {}
+    fol = report.get("follower") or {}
+    lu = (report.get("motion") or {}).get("lift_unit", u)
+    rows = [
+        ("follower", "follower.label", "", None),
+        ("pitch radius R_p", "body.pitch_radius", u, None),
+        ("outer radius R_o", "body.outer_radius", u, None),
+        ("groove bottom radius R_b", "body.bottom_radius", u, None),
+        ("length", "body.length", u, None),
+        ("groove width (2r + clearance)", "body.groove_width", u, None),
+        ("groove depth", "body.groove_depth", u, None),
+        ("largest lift", "motion.max_lift", lu, None),
+        ("volume (exact: closed form)", "volume", f"{u}³", None),
+        ("OCCT solid vs the exact volume (relative)", "solid.volume_rel_diff", "", None),
+        ("wall data vs the exact walls", "body.wall_fit_error.value", u, None),
+        ("built wall faces vs the exact walls", "body.wall_error.value", u, None),
+        ("DXF developed walls vs the exact curves", "drawing.developed_fit_error.value", u, None),
+        ("G-code chords vs the tool path", "machining.max_chord_error", u, None),
+        ("finished wall vs the exact wall at R_b (radial tool offset)", "machining.finish_wall_deviation.bottom_radius",
+         u, None),
+        ("finished wall vs the exact wall at R_o", "machining.finish_wall_deviation.outer_radius", u, None),
+        ("smallest radius of curvature of the developed centre line",
+         "body.min_developed_curvature_radius.value", u, "body.min_developed_curvature_radius.at_deg"),
+        ("material from the groove to the bore", "body.walls.groove_bottom_to_bore", u, None),
+        ("material from the groove to the end z = 0", "body.walls.bottom_to_end", u, None),
+        ("material from the groove to the end z = L", "body.walls.top_to_end", u, None),
+    ]
+    title = f"Cylindrical cam — {fol.get('label', '')}"
+    figs = "".join(f'<figure id="fig-{name[5:-4]}" data-png="{name}">{svgs[name]}<figcaption>{html.escape(t)} '
+                   f'({name})</figcaption></figure>' for name, t in FIGURES)
+    approx = html.escape(str(body.get("approximation", "")))
+    return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
+            + f"</title><style>{CSS}</style></head><body><main>"
+            f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
+            '<h2 id="checks">Design checks</h2>' + _checks_section(report)
+            + '<h2 id="body">The cylinder</h2>' + _quantity_table(report, rows)
+            + f'<p class="note">{approx}</p>'
+            + '<h2 id="figures">Figures</h2>' + figs
+            + "</main></body></html>\n")
