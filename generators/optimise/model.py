@@ -108,7 +108,8 @@ class SmoothModel:
         self.sense = self.kind.sense
         self.rr = self.kind.rr
         self.families = list(self.kind.families)
-        blocks = {b.motion_index: b for b in space.blocks}
+        # B-spline blocks and polynomial point blocks share one interface (arrays, y_jac, x_cols, y_cols)
+        blocks = {b.motion_index: b for b in (*space.blocks, *space.point_blocks)}
         self.segments: list[SegmentNodes] = []
         for k in range(len(prog.starts)):
             curve = prog.curves[k] if prog.curves else None
@@ -193,11 +194,12 @@ class SmoothModel:
             dv[:, cols] = -lift * (y1 / t1**2)[:, None] * b1i
             da[:, cols] = lift * (((y2 / t1**3) - 3 * n2 / t1**4)[:, None] * b1i - (y1 / t1**3)[:, None] * b2i)
         if blk is not None and blk.y_cols.size:
-            fr = blk.y_free
+            jy = blk.y_jac                       # ∂y/∂p[y_cols]: a selection, or a polynomial's Φᵀ/h
             cols = blk.y_cols
-            ds[:, cols] = lift * b0[:, fr]
-            dv[:, cols] = lift * b1[:, fr] / t1[:, None]
-            da[:, cols] = lift * (t1[:, None] * b2[:, fr] - t2[:, None] * b1[:, fr]) / (t1**3)[:, None]
+            c0, c1, c2 = b0 @ jy, b1 @ jy, b2 @ jy
+            ds[:, cols] = lift * c0
+            dv[:, cols] = lift * c1 / t1[:, None]
+            da[:, cols] = lift * (t1[:, None] * c2 - t2[:, None] * c1) / (t1**3)[:, None]
         return Kin(s, v, a, t1, ds, dv, da, dt1)
 
     # ---- the checks at nodes ------------------------------------------------------------------
