@@ -17,9 +17,12 @@ smooth model's kinematics, checks, integrals and exact gradients take it unchang
 Bounds: each s_i within the segment's lift range [low, low + h] (and within
 ``optimise.point_shift_max`` of its start when given), widened to contain the start.
 
-Monotonic lift: on a rise s′ ≥ 0, on a return s′ ≤ 0, imposed as linear rows at
-:data:`MONOTONIC_SAMPLES` equally spaced interior angles (s′ is linear in q) — sampled, so s′ may dip
-below 0 between samples by a little where it touches 0 (the ends' conditions hold exactly).
+Monotonic lift: on a rise s′ ≥ 0, on a return s′ ≤ 0 (the design check "oscillation"), imposed as
+linear rows (s′ is linear in q) on the Bernstein coefficients of s′ raised to degree
+:data:`MONOTONIC_DEGREE`: those coefficients are samples of s′ at x = j/D in the limit (they converge
+to s′(j/D) as O(1/D)), and their signs bound s′'s everywhere (the convex hull) — so the rows are
+sufficient, never let s′ dip between samples as plain sampling would, and cost at most O(1/D) of the
+feasible set (a rise whose s′ just touches 0 inside is approached to within that).
 """
 from __future__ import annotations
 
@@ -29,13 +32,13 @@ import numpy as np
 
 from ..errors import SpecError
 from ..motion.bspline_law import BSplineLift
-from ..motion.polynomial import bernstein_rows
+from ..motion.polynomial import elevate
 from ..motion.program import MotionProgram
 from ..motion.segments import ORDER_NAMES, polynomial_dependants, polynomial_point_basis
 from ..spec.model import CamSpec
 
-#: Interior angles per segment at which the monotonic-lift rows are imposed (x = j/(N + 1)).
-MONOTONIC_SAMPLES = 64
+#: Degree to which s′ is raised for the monotonic-lift rows (D + 1 rows per segment, less the ends).
+MONOTONIC_DEGREE = 128
 
 
 @dataclass(frozen=True)
@@ -78,16 +81,21 @@ class PointBlock:
         return np.asarray(p[self.y_cols], dtype=float)
 
     def monotonic_rows(self, n: int) -> tuple[np.ndarray, np.ndarray]:
-        """(A, c) with A·p ≤ c ⇔ −sgn·s′ ≤ 0 at the sample angles, normalised by h/β
-        (s′ = (h/β) Σ y_j B′_j(x))."""
+        """(A, c) with A·p ≤ c ⇔ −sgn × every Bernstein coefficient of s′ raised to degree
+        :data:`MONOTONIC_DEGREE` ≤ 0, in units of h/β (s′ = (h/β)·d·Σ Δy_j B_j,d−1(x)); rows that
+        no variable moves (the ends, whose s′ the conditions fix) are left out."""
         sgn = 1.0 if self.kind == "rise" else -1.0
-        x = np.arange(1, MONOTONIC_SAMPLES + 1) / (MONOTONIC_SAMPLES + 1)
-        b1 = bernstein_rows(self.order - 1, x, 1)                 # d/dx of B_j
-        a_local = -sgn * (b1 @ self.y_map)                          # (M, m)
-        c = sgn * (b1 @ (self.y - self.y_map @ self.s0))
-        a = np.zeros((x.size, n))
-        a[:, self.y_cols] = a_local
-        return a, c
+        d = self.order - 1
+        diff = d * (np.eye(d + 1)[1:] - np.eye(d + 1)[:-1])            # (d, d+1): y → Bernstein of y′
+        raise_to = max(MONOTONIC_DEGREE, d - 1)
+        elev = np.column_stack([elevate(e, raise_to) for e in np.eye(d)])   # (D+1, d)
+        m = elev @ diff                                                  # (D+1, d+1)
+        a_local = -sgn * (m @ self.y_map)
+        c = sgn * (m @ (self.y - self.y_map @ self.s0))
+        keep = np.max(np.abs(a_local), axis=1) > 1e-12 * max(1.0, float(np.max(np.abs(a_local))))
+        a = np.zeros((int(keep.sum()), n))
+        a[:, self.y_cols] = a_local[keep]
+        return a, c[keep]
 
 
 def point_block(spec: CamSpec, program: MotionProgram, k: int, first_col: int) -> PointBlock:
