@@ -5,7 +5,8 @@ calls, so scripts and tests drive the same code:
 
 - :func:`variable_choices` — the design variables that mean something for a cam (base
   radius and offset always; the control angles and free lifts of each ``law = "bspline"``
-  rise/return; the blank orientation only for ``machining_time``), and
+  rise/return; the interior points' lifts of each ``law = "polynomial"`` rise/return that has
+  points; the blank orientation only for ``machining_time``), and
   :func:`variables_text` / :func:`selected_tokens` to and from ``optimise.variables``;
 - :func:`settings_of` / :func:`default_bounds` — the panel's starting values: the feature's
   ``Optimise`` properties (the spec's ``[optimise]`` section), the bounds the library takes when
@@ -116,6 +117,13 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
         out.append(VariableChoice(f"motion[{k}].control_y",
                                   f"{what}: free lifts P{nfix}y … P{n - nfix}y", free, free > 0,
                                   "" if free > 0 else "no free lift at this order"))
+    # a polynomial rise/return's interior points: their lifts (the angles stay)
+    for k, seg in enumerate(spec.motion):
+        if seg.law == "polynomial" and seg.points:
+            angles = ", ".join(f"{a:g}°" for a, _s in seg.points)
+            out.append(VariableChoice(f"motion[{k}].points",
+                                      f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
+                                      len(seg.points), True))
     orient = objective == "machining_time"
     out.append(VariableChoice("orientation", "Blank orientation on the NC table", 1, orient,
                               "" if orient else "only changes the machining time (thesis model)"))
@@ -140,12 +148,13 @@ def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str |
     ``control_points`` when every B-spline row's angles and lifts are chosen."""
     choices = {c.token: c for c in variable_choices(spec, objective) if c.enabled}
     chosen = [c for c in choices if c in set(tokens)]
-    ctrl = [t for t in choices if t.startswith("motion[")]
+    ctrl = [t for t in choices if t.startswith("motion[") and ".control_" in t]
     if ctrl and all(t in chosen for t in ctrl):
+        rest = [t for t in chosen if t.startswith("motion[") and t not in ctrl]
         chosen = [t for t in chosen if not t.startswith("motion[")]
         chosen.append("control_points")
         chosen = [t for t in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset",
-                              "control_points", "orientation") if t in chosen]
+                              "control_points", "orientation") if t in chosen] + rest
     return ", ".join(chosen)
 
 
