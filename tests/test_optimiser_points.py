@@ -236,3 +236,16 @@ def test_cli_and_api_give_the_same_result(tmp_path):
     back = load_spec(out / "optimised.toml")
     assert back.motion[1].points == api.spec.motion[1].points
     assert f"{var['name']:28s} {var['initial']:12.6g} → {var['final']:12.6g}" in res.stdout
+
+
+def test_docs_quote_the_measured_numbers():
+    """docs/optimiser.md's polynomial-points paragraph quotes these runs."""
+    from .conftest import ROOT
+
+    doc = " ".join((ROOT / "docs" / "optimiser.md").read_text(encoding="utf-8").split())
+    peak = optimise(cam())
+    assert (f"ends at s = {peak.design[0]:.3f} mm" in doc
+            and f"peak |s″| {peak.value:.4f} mm/rad² against {peak.initial_value:.4f}" in doc)
+    assert f"in {peak.evaluations} evaluations" in doc
+    area = optimise(cam(points=((40.0, 3.0), (80.0, 7.0)), variables="points", objective="area"))
+    assert f"to {area.design[0]:.3f} and {area.design[1]:.3f} mm ({area.evaluations} evaluations" in doc

@@ -39,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--objective", choices=OBJECTIVES, help="override optimise.objective")
     p.add_argument("--variables", metavar="LIST",
                    help="override optimise.variables, e.g. 'base_radius,offset', "
-                        "'base_radius,pivot_distance,arm_length' or 'control_points'")
+                        "'base_radius,pivot_distance,arm_length', 'control_points' or 'motion[1].points'")
     p.add_argument("--algorithm", choices=OPTIMISE_ALGORITHMS, help="override optimise.algorithm")
     p.add_argument("--max-evaluations", type=int, metavar="N", help="override optimise.max_evaluations")
     p.add_argument("--multistart", type=int, metavar="N", help="override optimise.multistart (extra random starts)")
