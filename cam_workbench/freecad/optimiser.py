@@ -50,6 +50,7 @@ OBJECTIVE_LABELS = {
     "gcode_time": "G-code time (this project's XY contour program)",
     "peak_acceleration": "Peak acceleration (largest |s″|)",
     "peak_pressure_angle": "Peak pressure angle (largest |φ|)",
+    "outer_diameter": "Outer diameter (a groove cam's disc, rim wall ≥ groove.min_wall)",
 }
 ALGORITHM_LABELS = {
     "auto": "auto: SLSQP with exact gradients (times: SLSQP on a stand-in, then BOBYQA)",
@@ -124,6 +125,13 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
             out.append(VariableChoice(f"motion[{k}].points",
                                       f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
                                       len(seg.points), True))
+    # a groove cam's disc and groove
+    from generators.spec.model import body_variable_rule
+
+    body_labels = {"outer_diameter": f"Disc outer diameter [{u}]", "clearance": f"Groove clearance [{u}]"}
+    for name, label in body_labels.items():
+        if body_variable_rule(spec, name) is None:
+            out.append(VariableChoice(name, label, 1, True))
     orient = objective == "machining_time"
     out.append(VariableChoice("orientation", "Blank orientation on the NC table", 1, orient,
                               "" if orient else "only changes the machining time (thesis model)"))
@@ -136,8 +144,8 @@ def selected_tokens(spec: CamSpec) -> set[str]:
 
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
-    out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "orientation")
-           if k in kinds}
+    out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
+                       "clearance", "orientation") if k in kinds}
     for kind, ks in rows.items():
         out |= {f"motion[{k}].{kind}" for k in ks}
     return out
@@ -154,7 +162,7 @@ def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str |
         chosen = [t for t in chosen if not t.startswith("motion[")]
         chosen.append("control_points")
         chosen = [t for t in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset",
-                              "control_points", "orientation") if t in chosen] + rest
+                              "control_points", "outer_diameter", "clearance", "orientation") if t in chosen] + rest
     return ", ".join(chosen)
 
 

@@ -873,6 +873,8 @@ def final_value(objective: str, spec: CamSpec) -> float:
         from ..machining.cutting_time import contour_time
 
         return contour_time(design_cam(spec)).time
+    if objective == "outer_diameter":
+        return float(spec.cam.outer_diameter)
     ext = run_checks(spec).extremes
     if objective == "peak_acceleration":
         return abs(float(ext["reduced_acceleration"]["value"]))

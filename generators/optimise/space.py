@@ -33,9 +33,13 @@ import numpy as np
 from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError
 from ..motion.program import MotionProgram
-from ..spec.model import CamSpec, optimise_control_rows, optimise_variables
+from ..spec.model import BODY_VARIABLES, CamSpec, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
 from .points import PointBlock, curve_at, point_block, point_bounds
+
+
+#: spec path of each body design variable (a groove cam)
+BODY_PATHS = {"outer_diameter": "cam.outer_diameter", "clearance": "groove.clearance"}
 
 
 @dataclass(frozen=True)
@@ -165,6 +169,19 @@ class DesignSpace:
             point_blocks.append(pb)
         #: polynomial rows whose interior points' lifts are variables (:mod:`.points`)
         self.point_blocks = tuple(point_blocks)
+        #: a groove cam's body variables (cam.outer_diameter, groove.clearance): their columns in p
+        self.body_cols: dict[str, int] = {}
+        for name in BODY_VARIABLES:
+            if name not in self.kinds:
+                continue
+            v0 = self.body_start(name)
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            default_lo = 0.5 * v0 if name == "outer_diameter" else 0.0
+            default_hi = 2.0 * v0 if v0 > 0 else 2.0 * spec.roller_radius
+            self.body_cols[name] = len(p0)
+            labels.append(BODY_PATHS[name])
+            p0.append(v0), lo.append(lo_b if lo_b is not None else default_lo)
+            hi.append(hi_b if hi_b is not None else default_hi)
         if "orientation" in self.kinds:
             self.b_index = len(p0)
             b0 = math.radians(opt.blank_orientation)
@@ -187,6 +204,19 @@ class DesignSpace:
         self.scale = np.where(self.scale > 0, self.scale, 1e-9 * np.maximum(1.0, np.abs(self.start)))
         self.gap = gap
         self.linear_A, self.linear_c = self._linear_constraints()
+
+    def body_start(self, name: str) -> float:
+        """The spec's cam.outer_diameter or groove.clearance (its default when absent)."""
+        from ..bodies.features import resolved
+
+        if name == "outer_diameter":
+            return float(self.spec.cam.outer_diameter)
+        return float(resolved(self.spec, "groove", "clearance"))
+
+    def body_value(self, p: np.ndarray, name: str) -> Any:
+        """outer_diameter or clearance at design p (the spec's when not a variable)."""
+        c = self.body_cols.get(name)
+        return p[c] if c is not None else self.body_start(name)
 
     def check_start(self) -> None:
         """Refuse a starting design outside the bounds the spec gives (the default bounds
@@ -214,6 +244,15 @@ class DesignSpace:
                 raise SpecError("optimise.base_radius_max",
                                 f"must be ≥ cam.base_radius of the starting design ({r0:g} {units}), "
                                 f"got {opt.base_radius_max:g}")
+        for name, c in self.body_cols.items():
+            v0 = float(self.start[c])
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            if lo_b is not None and v0 < lo_b:
+                raise SpecError(f"optimise.{name}_min",
+                                f"must be ≤ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {lo_b:g}")
+            if hi_b is not None and v0 > hi_b:
+                raise SpecError(f"optimise.{name}_max",
+                                f"must be ≥ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {hi_b:g}")
         for name, c in zip(self.geometry_names, self.geometry_cols):
             if c is None or name not in ("pivot_distance", "arm_length", "face_offset"):
                 continue
@@ -302,6 +341,8 @@ class DesignSpace:
                 full = seg.control_y is not None and len(seg.control_y) == n - 1
                 cy = y[1:-1] if full else y[blk.y_free]
                 changes[f"motion[{k}].control_y"] = [float(v) for v in cy]
+        for name, c in self.body_cols.items():
+            changes[BODY_PATHS[name]] = float(p[c])
         for pb in self.point_blocks:
             changes[f"motion[{pb.motion_index}].points"] = [[float(a), float(s)]
                                                             for a, s in zip(pb.angles_deg, pb.lifts(p))]

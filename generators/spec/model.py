@@ -515,11 +515,13 @@ class MachiningSection:
 #: curve), the true profile cross-section, the thesis' cutting time (Eq. 4.4–4.20), the time of the
 #: project's own XY G-code contour, and the largest |s″| or |φ| (smoothest cam).
 OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acceleration",
-              "peak_pressure_angle")
+              "peak_pressure_angle", "outer_diameter")
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
 OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "control_x",
-                      "control_y", "control_points", "points", "orientation")
+                      "control_y", "control_points", "points", "outer_diameter", "clearance", "orientation")
+#: The design variables that are the cam body's own (a groove cam's disc and groove), in order.
+BODY_VARIABLES = ("outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
 #: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
@@ -539,7 +541,8 @@ class OptimiseSection:
         "the true cam cross-section inside the profile; "
         "\"machining_time\" = the thesis' cutting time (Eq. 4.4–4.20); \"gcode_time\" = the time of this "
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
-        "machining_time needs a translating follower",
+        "machining_time needs a translating follower; \"outer_diameter\" = a groove cam's disc diameter "
+        "(cam.body = \"groove\", with outer_diameter among the variables)",
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
@@ -548,7 +551,8 @@ class OptimiseSection:
         "of each B-spline rise/return; motion[k].control_x, motion[k].control_y, motion[k].control_points: "
         "those of segment k only), points (the lifts s of the interior points of every law = \"polynomial\" "
         "rise/return that has points; motion[k].points: segment k's), orientation (the blank on the NC table; "
-        "machining_time only); \"auto\" = "
+        "machining_time only), outer_diameter and clearance (a groove cam's cam.outer_diameter and "
+        "groove.clearance: cam.body = \"groove\"); \"auto\" = "
         "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
         "face pivot_distance and face_offset), control_points (+ orientation for machining_time); polynomial "
         "points only when named (they are often the designer's requirements)",
@@ -603,6 +607,18 @@ class OptimiseSection:
         "Bound of |follower.face_offset| (oscillating flat face; default: half the base-radius lower bound, or "
         "|face_offset| of the starting design when larger)", unit="length", gt=0, optional=True,
         group="Optimise")
+    outer_diameter_min: float | None = param(
+        "Lower bound of a groove cam's cam.outer_diameter (default: half the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
+    outer_diameter_max: float | None = param(
+        "Upper bound of a groove cam's cam.outer_diameter (default: twice the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
+    clearance_min: float | None = param(
+        "Lower bound of a groove cam's groove.clearance (default 0; the fit the roller needs in its groove "
+        "belongs here)", unit="length", ge=0, optional=True, group="Optimise")
+    clearance_max: float | None = param(
+        "Upper bound of a groove cam's groove.clearance (default: twice the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
     point_shift_max: float | None = param(
         "Bound of how far each polynomial interior point's lift (variables points, motion[k].points) may move "
         "from its starting value (default: no bound but the segment's own lift range, from its lower to its "
@@ -1256,7 +1272,7 @@ def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
     control_x, control_y, orientation."""
     names, _rows = _parse_variables(spec)
     return tuple(n for n in ("base_radius", *FOLLOWER_VARIABLES, "control_x", "control_y", "points",
-                             "orientation") if n in names)
+                             *BODY_VARIABLES, "orientation") if n in names)
 
 
 def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
@@ -1286,15 +1302,42 @@ def follower_variable_rule(spec: CamSpec, name: str) -> str | None:
     return None
 
 
+def body_variable_rule(spec: CamSpec, name: str) -> str | None:
+    """Why the body field ``name`` (outer_diameter, clearance) cannot be a design variable of
+    ``spec``'s body, or None when it can (a groove cam: its disc and its groove)."""
+    if name not in BODY_VARIABLES:
+        return None
+    body = spec.cam.body
+    if body == "groove":
+        return None
+    if body == "cylindrical":
+        return (f"{name} of a cylindrical cam is not a design variable yet: the optimiser designs plane cams "
+                '(cam.body = "plate" or "groove")')
+    return (f'{name} is a groove cam\'s (cam.body = "groove": the disc\'s cam.outer_diameter, '
+            f'groove.clearance); this cam\'s body is "{body}", which has none')
+
+
 def _validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")
     for name in names:
-        rule = follower_variable_rule(spec, name)
+        rule = follower_variable_rule(spec, name) or body_variable_rule(spec, name)
         if rule:
             raise SpecError("optimise.variables", rule)
+    if opt.objective == "outer_diameter":
+        if spec.cam.body != "groove":
+            raise SpecError("optimise.objective",
+                            f'outer_diameter is a groove cam\'s disc (cam.body = "groove"); this cam\'s body is '
+                            f'"{spec.cam.body}"')
+        if "outer_diameter" not in names:
+            raise SpecError("optimise.variables",
+                            "objective outer_diameter needs outer_diameter among the variables")
+    for name in ("outer_diameter", "clearance"):
+        lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+        if lo_b is not None and hi_b is not None and not lo_b < hi_b:
+            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({lo_b:g}), got {hi_b:g}")
     fol = spec.follower
     if opt.objective == "machining_time" and fol.motion != "translating":
         raise SpecError("optimise.objective",
