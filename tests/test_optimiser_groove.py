@@ -135,3 +135,15 @@ def test_cli_and_api_give_the_same_disc(tmp_path):
               "-o", str(tmp_path / "never"))
     assert bad.returncode == 2 and "optimise.variables" in bad.stderr and not (tmp_path / "never").exists()
     assert "Traceback" not in bad.stderr
+
+
+def test_panel_offers_the_body_variables_of_a_groove_cam_only():
+    from cam_workbench.freecad import optimiser as O
+
+    tokens = [c.token for c in O.variable_choices(groove(variables="outer_diameter", objective="outer_diameter"))]
+    assert "outer_diameter" in tokens and "clearance" in tokens
+    plain = [c.token for c in O.variable_choices(groove(body="plate", variables="base_radius"))]
+    assert "outer_diameter" not in plain and "clearance" not in plain
+    spec = groove(variables="base_radius, outer_diameter, clearance", objective="outer_diameter")
+    assert O.selected_tokens(spec) >= {"base_radius", "outer_diameter", "clearance"}
+    assert O.variables_text(spec, ["outer_diameter", "base_radius", "clearance"]) == "base_radius, outer_diameter, clearance"
