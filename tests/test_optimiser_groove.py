@@ -87,6 +87,10 @@ def test_clearance_goes_to_its_lower_bound_and_base_radius_to_its_limit(bore):
     design = dict(zip(res.variables, res.design))
     assert design["groove.clearance"] == pytest.approx(0.1, abs=1e-9)
     assert design["cam.base_radius"] == pytest.approx(max(rb, bore / 2 + WALL + R_F + 0.1 / 2), rel=3e-4)
+    from .conftest import ROOT
+
+    doc = " ".join((ROOT / "docs" / "optimiser.md").read_text(encoding="utf-8").split())
+    assert f"30° pressure-angle limit ({rb:.3f} mm, root-found there)" in doc
     assert res.value == pytest.approx(smallest_disc(design["cam.base_radius"], 0.0, 0.1), rel=2e-4)
     assert res.checks.passed
     rep = design_cam(res.spec).body_report
