@@ -519,9 +519,12 @@ OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acce
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
 OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "control_x",
-                      "control_y", "control_points", "points", "outer_diameter", "clearance", "orientation")
+                      "control_y", "control_points", "points", "outer_diameter", "clearance", "cylinder_radius",
+                      "orientation")
 #: The design variables that are the cam body's own (a groove cam's disc and groove), in order.
 BODY_VARIABLES = ("outer_diameter", "clearance")
+#: A cylindrical cam's design variables (its own optimiser: :mod:`generators.optimise.cylindrical`).
+CYLINDER_VARIABLES = ("cylinder_radius", "outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
 #: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
@@ -1272,7 +1275,7 @@ def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
     control_x, control_y, orientation."""
     names, _rows = _parse_variables(spec)
     return tuple(n for n in ("base_radius", *FOLLOWER_VARIABLES, "control_x", "control_y", "points",
-                             *BODY_VARIABLES, "orientation") if n in names)
+                             *BODY_VARIABLES, "cylinder_radius", "orientation") if n in names)
 
 
 def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
@@ -1305,14 +1308,12 @@ def follower_variable_rule(spec: CamSpec, name: str) -> str | None:
 def body_variable_rule(spec: CamSpec, name: str) -> str | None:
     """Why the body field ``name`` (outer_diameter, clearance) cannot be a design variable of
     ``spec``'s body, or None when it can (a groove cam: its disc and its groove)."""
-    if name not in BODY_VARIABLES:
-        return None
     body = spec.cam.body
-    if body == "groove":
+    if name == "cylinder_radius":
+        return None if body == "cylindrical" else (
+            f'cylinder_radius is a cylindrical cam\'s (cam.body = "cylindrical"); this cam\'s body is "{body}"')
+    if name not in BODY_VARIABLES or body in ("groove", "cylindrical"):
         return None
-    if body == "cylindrical":
-        return (f"{name} of a cylindrical cam is not a design variable yet: the optimiser designs plane cams "
-                '(cam.body = "plate" or "groove")')
     return (f'{name} is a groove cam\'s (cam.body = "groove": the disc\'s cam.outer_diameter, '
             f'groove.clearance); this cam\'s body is "{body}", which has none')
 
@@ -1326,11 +1327,11 @@ def _validate_optimise(spec: CamSpec) -> None:
         rule = follower_variable_rule(spec, name) or body_variable_rule(spec, name)
         if rule:
             raise SpecError("optimise.variables", rule)
-    if opt.objective == "outer_diameter":
+    if opt.objective == "outer_diameter" and spec.cam.body != "cylindrical":
         if spec.cam.body != "groove":
             raise SpecError("optimise.objective",
-                            f'outer_diameter is a groove cam\'s disc (cam.body = "groove"); this cam\'s body is '
-                            f'"{spec.cam.body}"')
+                            f'outer_diameter is a groove cam\'s disc or a cylindrical cam\'s cylinder (cam.body = '
+                            f'"groove" or "cylindrical"); this cam\'s body is "{spec.cam.body}"')
         if "outer_diameter" not in names:
             raise SpecError("optimise.variables",
                             "objective outer_diameter needs outer_diameter among the variables")
