@@ -151,3 +151,73 @@ def test_panel_offers_the_body_variables_of_a_groove_cam_only():
     spec = groove(variables="base_radius, outer_diameter, clearance", objective="outer_diameter")
     assert O.selected_tokens(spec) >= {"base_radius", "outer_diameter", "clearance"}
     assert O.variables_text(spec, ["outer_diameter", "base_radius", "clearance"]) == "base_radius, outer_diameter, clearance"
+
+
+# ---- cylindrical cams: their own design, COBYLA on the body's checks ----------------------------
+def test_cylindrical_smallest_cylinder_is_the_pressure_angle_limit():
+    """The example barrel cam (cycloidal rise of 20 mm over 120°): the pressure angle at the pitch
+    radius, tan φ = s′/R_p, is largest where s′ = 2h/β, so the smallest R_p for 30° is
+    (2h/β)/tan 30° and the smallest cylinder has R_o = R_p (the pitch radius within the groove)."""
+    from generators.spec.examples import example_spec
+
+    res = optimise(example_spec("cylindrical"), objective="outer_diameter",
+                   variables="cylinder_radius, outer_diameter")
+    rp = (2 * 20.0 / math.radians(120)) / math.tan(math.radians(30))
+    design = dict(zip(res.variables, res.design))
+    assert design["cam.cylinder_radius"] == pytest.approx(rp, rel=3e-4)
+    assert res.value == pytest.approx(2 * rp, rel=3e-4) and res.value >= 2 * rp
+    assert res.checks.passed and res.status == "converged"
+    assert res.spec.cam.base_radius == res.spec.cam.cylinder_radius
+    from generators.bodies.cylindrical import CylindricalBody
+
+    rep = CylindricalBody.design(res.spec).checks_report["checks"]
+    assert rep["passed"] and rep["results"]["pressure_angle"]["value"] <= 30.0
+
+
+@pytest.mark.parametrize("changes, field, says", [
+    ({"objective": "area"}, "optimise.objective", "optimised for outer_diameter"),
+    ({"objective": "outer_diameter", "variables": "base_radius, outer_diameter"}, "optimise.variables",
+     "a cylindrical cam's design variables are cylinder_radius, outer_diameter, clearance"),
+    ({"objective": "outer_diameter", "variables": "cylinder_radius"}, "optimise.variables",
+     "needs outer_diameter among the variables"),
+    ({"objective": "outer_diameter", "algorithm": "slsqp"}, "optimise.algorithm", "cobyla"),
+])
+def test_cylindrical_refusals(changes, field, says):
+    from generators.spec.examples import example_spec
+
+    with pytest.raises(SpecError) as exc:
+        optimise(example_spec("cylindrical"), **changes)
+    assert exc.value.field == field and says in exc.value.rule
+
+
+def test_cylinder_radius_is_a_cylindrical_cams_only():
+    with pytest.raises(SpecError) as exc:
+        groove(variables="cylinder_radius")
+    assert exc.value.field == "optimise.variables" and "cylinder_radius is a cylindrical cam's" in exc.value.rule
+
+
+@requires_ocp
+def test_cylindrical_cli_and_api_agree(tmp_path):
+    from generators.spec.examples import example_spec
+
+    out = tmp_path / "cyl"
+    res = run("optimise", "--example", "cylindrical", "--objective", "outer_diameter", "--variables",
+              "cylinder_radius,outer_diameter", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    rep = json.loads((out / "report.json").read_text())["optimise"]
+    api = optimise(example_spec("cylindrical"), objective="outer_diameter", variables="cylinder_radius, outer_diameter")
+    assert rep["final_value"] == pytest.approx(api.value, rel=1e-12) and rep["feasible"] is True
+    assert load_spec(out / "optimised.toml").cam.cylinder_radius == pytest.approx(api.spec.cam.cylinder_radius, rel=1e-12)
+    assert f"outer_diameter: {rep['initial_value']:.6g} → {rep['final_value']:.6g} mm" in res.stdout
+    bad = run("optimise", "--example", "cylindrical", "-o", str(tmp_path / "never"))
+    assert bad.returncode == 2 and "optimise.objective" in bad.stderr and not (tmp_path / "never").exists()
+
+
+def test_docs_quote_the_cylindrical_run():
+    from generators.spec.examples import example_spec
+
+    from .conftest import ROOT
+
+    res = optimise(example_spec("cylindrical"), objective="outer_diameter")
+    doc = " ".join((ROOT / "docs" / "optimiser.md").read_text(encoding="utf-8").split())
+    assert f"outer diameter {res.initial_value:.4g} → {res.value:.4g} mm in {res.evaluations} evaluations" in doc

@@ -545,7 +545,8 @@ class OptimiseSection:
         "\"machining_time\" = the thesis' cutting time (Eq. 4.4–4.20); \"gcode_time\" = the time of this "
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
         "machining_time needs a translating follower; \"outer_diameter\" = a groove cam's disc diameter "
-        "(cam.body = \"groove\", with outer_diameter among the variables)",
+        "(cam.body = \"groove\", with outer_diameter among the variables) or a cylindrical cam's cylinder (its "
+        "only objective)",
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
@@ -555,7 +556,8 @@ class OptimiseSection:
         "those of segment k only), points (the lifts s of the interior points of every law = \"polynomial\" "
         "rise/return that has points; motion[k].points: segment k's), orientation (the blank on the NC table; "
         "machining_time only), outer_diameter and clearance (a groove cam's cam.outer_diameter and "
-        "groove.clearance: cam.body = \"groove\"); \"auto\" = "
+        "groove.clearance: cam.body = \"groove\"; a cylindrical cam's: cylinder_radius, outer_diameter, "
+        "clearance, \"auto\" = the first two); \"auto\" = "
         "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
         "face pivot_distance and face_offset), control_points (+ orientation for machining_time); polynomial "
         "points only when named (they are often the designer's requirements)",
