@@ -221,3 +221,10 @@ def test_docs_quote_the_cylindrical_run():
     res = optimise(example_spec("cylindrical"), objective="outer_diameter")
     doc = " ".join((ROOT / "docs" / "optimiser.md").read_text(encoding="utf-8").split())
     assert f"outer diameter {res.initial_value:.4g} → {res.value:.4g} mm in {res.evaluations} evaluations" in doc
+
+
+def test_panel_offers_outer_diameter_for_a_groove_cam_only():
+    from cam_workbench.freecad import optimiser as O
+
+    assert "outer_diameter" in O.objective_choices(groove(variables="outer_diameter"))
+    assert "outer_diameter" not in O.objective_choices(groove(body="plate", variables="base_radius"))

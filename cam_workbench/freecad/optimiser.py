@@ -66,6 +66,12 @@ NON_SMOOTH = ("machining_time", "gcode_time")
 assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
 
 
+def objective_choices(spec: CamSpec) -> tuple[str, ...]:
+    """The objectives the panel offers for ``spec``: every one, outer_diameter only for a groove
+    cam (its disc; ``cam.body = "groove"``)."""
+    return tuple(o for o in OBJECTIVES if o != "outer_diameter" or spec.cam.body == "groove")
+
+
 class ApplyError(CamError):
     """The result cannot be applied (the cam changed, or it fails a check and was not confirmed)."""
 
@@ -485,7 +491,7 @@ def apply_result(obj: Any, result: Any, allow_failing: bool = False) -> None:
     doc.commitTransaction()
 
 
-__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS",
+__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS", "objective_choices",
            "OptimiseJob", "Settings", "VariableChoice", "apply_result", "bound_is_default", "changed_since",
            "check_comparison", "default_bounds", "figures", "history_arrays", "run", "run_spec",
            "selected_tokens", "settings_of", "variable_choices", "variables_text"]
