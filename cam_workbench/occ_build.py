@@ -333,8 +333,21 @@ def _solids(shape: Any) -> list[Any]:
     return out
 
 
+def _prism_stack(prisms: Any) -> Any:
+    """Body prisms (:class:`generators.bodies.Prism`) extruded and fused or cut in order."""
+    shape = None
+    for prism in prisms:
+        solid = _extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)
+        if shape is None:
+            shape = solid
+        else:
+            shape = _boolean(occ.BRepAlgoAPI_Fuse if prism.op == "add" else occ.BRepAlgoAPI_Cut, shape, solid)
+    return shape
+
+
 def cylindrical_solid(design: Any) -> Any:
-    """The cylindrical cam as a ``TopoDS_Solid``: the cylinder (bored) minus the groove.
+    """The cylindrical cam as a ``TopoDS_Solid``: the cylinder (bored and keyed, with its hub, mounting
+    holes and timing mark: the body's ``stack`` of prisms) minus the groove.
 
     The groove is cut out of an annulus spanning a little more than the groove's depth
     (the walls' radial range) by the two walls — each one shell sewn from its per-segment
@@ -359,9 +372,7 @@ def cylindrical_solid(design: Any) -> Any:
     if not split.IsDone():
         raise RuntimeError("OCCT could not split the annulus by the groove walls")
     # the pitch point at θ = 0: midway between the walls
-    k = design.program.evaluate(np.array([0.0]))
-    phi = float(lay.phi(np.array([0.0]))[0])
-    centre = occ.gp_Pnt(lay.pitch_radius * np.cos(phi), lay.pitch_radius * np.sin(phi), lay.z0 + float(k.s[0]))
+    centre = occ.gp_Pnt(*lay.centre_point(design.program, 0.0))
     groove = None
     for piece in _solids(split.Shape()):
         cls = occ.BRepClass3d_SolidClassifier(piece, centre, 1e-7)
@@ -370,10 +381,7 @@ def cylindrical_solid(design: Any) -> Any:
             break
     if groove is None:
         raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
-    body = _cylinder(lay.outer_radius, 0.0, lay.length)
-    if lay.bore_radius > 0:
-        body = _boolean(occ.BRepAlgoAPI_Cut, body, _cylinder(lay.bore_radius, -margin, lay.length + margin))
-    shape = _boolean(occ.BRepAlgoAPI_Cut, body, groove)
+    shape = _boolean(occ.BRepAlgoAPI_Cut, _prism_stack(geo.stack), groove)
     solids = _solids(shape)
     return solids[0] if len(solids) == 1 else shape
 

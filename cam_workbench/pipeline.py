@@ -120,7 +120,10 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
-    from exporters.dxf import build_dxf
+    if getattr(design, "plane", True):
+        from exporters.dxf import build_dxf
+    else:                                   # a cylindrical cam: developed, side and end views
+        from exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
 
     doc, info = build_dxf(design, summary)
     summary["drawing"] = info.summary()
@@ -156,11 +159,8 @@ def run_pipeline(spec: CamSpec, *, solid: bool = True, machining: bool = True, d
             summary["body"]["wall_error"] = summary["solid"]["wall_error"]
     if machining:
         out.machining = machining_stage(design, summary)
-    plane = getattr(design, "plane", True)
-    if drawing and plane:
+    if drawing:
         out.dxf = drawing_stage(design, summary)
-    elif drawing:
-        summary["drawing"] = {"written": False, "note": f"no DXF drawing of a {design.spec.cam.body} cam yet"}
     return out
 
 

@@ -128,7 +128,10 @@ class PlateCam:
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
-        from exporters.dxf import export_dxf
+        if getattr(self.design, "plane", True):
+            from exporters.dxf import export_dxf
+        else:                          # a cylindrical cam: developed, side and end views
+            from exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
 
         export_dxf(self.design, path)
         return Path(path)
@@ -153,6 +156,14 @@ class PlateCam:
         from .pipeline import write_outputs
 
         return write_outputs(self.outputs(), folder)
+
+    def checks(self) -> dict[str, Any]:
+        """report.json's ``checks`` section (the numbers ``cam-workbench check`` prints), without
+        building the solid; for every body, the cylindrical cam's own checks included."""
+        from .pipeline import run_pipeline
+
+        return run_pipeline(self.spec, solid=False, machining=False, drawing=False, design=self.design,
+                            dynamics=False).summary["checks"]
 
     def dynamics(self, speed_rpm: float | None = None, *, sweep: bool | None = None, **fields: Any) -> Any:
         """The follower train at speed (docs/dynamics.md): a

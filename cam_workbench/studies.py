@@ -355,6 +355,9 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
     """
     grid = make_grid(vary, balance)
     sizing = None
+    if size and spec.cam.body == "cylindrical":
+        raise SpecError("--size", "sizes cam.base_radius of a plane cam; a cylindrical cam's pitch radius is "
+                                  "cam.cylinder_radius: sweep it with --vary cam.cylinder_radius=…")
     if size:
         if build is not None:
             raise SpecError("--build", "builds the grid's cams as they are; it cannot be combined with --size")

@@ -320,9 +320,14 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     w.comment(f"cylinder: pitch radius {lay.pitch_radius:g} {u}, outer radius {lay.outer_radius:g} {u}, length "
               f"{lay.length:g} {u}, {spec.cam.direction}; groove {path.groove_width:g} {u} wide to radius "
               f"{lay.bottom_radius:g} {u}")
-    motion = " / ".join(f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {u} {m.law}" if m.lift is not None else "")
+    oscillating = getattr(lay.path, "motion", "translating") == "oscillating"
+    lu = "deg of arm" if oscillating else u
+    motion = " / ".join(f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
                         for m in spec.motion)
     w.comment(f"motion: {motion}")
+    if oscillating:
+        w.comment(f"follower: oscillating roller, radial pivot {lay.path.pivot_distance:g} {u} upstream along the "
+                  f"circumference, arm {lay.path.arm_length:g} {u}: the tool follows the roller centre's developed arc")
     w.comment("machine: X along the cam axis [X = cam z], Z radial [tool tip distance from the cam axis, Z0 on "
               "the axis], A = cam rotation in deg [A = theta for a ccw cam]; the tool stands where the roller does")
     w.comment(f"tool radius {path.tool_radius:g} {u}; {len(path.passes)} passes per level at tool-centre offsets "

@@ -678,3 +678,67 @@ def jump_speed_figure(result: Any, section: Mapping[str, Any]) -> Any:
     ax.legend(fontsize=7, loc="lower left")
     fig.tight_layout()
     return fig
+
+
+def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
+    """A cylindrical (barrel) cam: a 3D view of the cylinder with its groove (the walls at the outer
+    radius and at the groove's bottom, the exact wall points of
+    :func:`generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
+    beside the developed view (x = ρ·ψ [length], z): the walls at R_o, the pitch line at R_p."""
+    from exporters.dxf_cylindrical import developed_points
+
+    plt = _plt()
+    lay = design.layout
+    u = design.spec.units
+    fig = plt.figure(figsize=(11, 5))
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    ro, rb, length = lay.outer_radius, lay.bottom_radius, lay.length
+    psi = np.linspace(0, 2 * np.pi, 121)
+    zz = np.linspace(0, length, 2)
+    P, Z = np.meshgrid(psi, zz)
+    ax.plot_surface(ro * np.cos(P), ro * np.sin(P), Z, color="#b4c7dc", alpha=0.35, linewidth=0)
+    for z in (0.0, length):
+        ax.plot(ro * np.cos(psi), ro * np.sin(psi), z, color="#1f3a5f", lw=0.8)
+        ax.plot(lay.bore_radius * np.cos(psi), lay.bore_radius * np.sin(psi), z, color="#1f3a5f", lw=0.6)
+    th = np.linspace(0, 2 * np.pi, 1441)
+    for side in (-1, 1):
+        for rho, lw, alpha in ((ro, 1.4, 1.0), (rb, 0.8, 0.6)):
+            p = design.wall_points(side, th, rho)
+            ax.plot(p[:, 0], p[:, 1], p[:, 2], color="#1f3a5f", lw=lw, alpha=alpha)
+    t0 = np.deg2rad(follower_angle_deg)
+    cx, cy, zc = lay.centre_point(design.program, float(t0))      # the roller centre on the pitch cylinder
+    phi0 = float(np.arctan2(cy, cx))
+    a = np.linspace(0, 2 * np.pi, 61)
+    r = design.spec.roller_radius
+    # the roller (its axis radial through the pitch point) in the cylinder's tangent plane, at R_o
+    tx, ty = -np.sin(phi0), np.cos(phi0)
+    ax.plot(ro * np.cos(phi0) + r * np.cos(a) * tx, ro * np.sin(phi0) + r * np.cos(a) * ty, zc + r * np.sin(a),
+            color="#c8871e", lw=2.0)
+    ax.plot([ro * np.cos(phi0), (ro + 2.5 * r) * np.cos(phi0)], [ro * np.sin(phi0), (ro + 2.5 * r) * np.sin(phi0)],
+            [zc, zc], color="#8b5e14", lw=3)
+    ax.set_box_aspect((1, 1, length / (2 * ro)))
+    ax.set_xlabel(f"x [{u}]", fontsize=8)
+    ax.set_ylabel(f"y [{u}]", fontsize=8)
+    ax.set_zlabel(f"z [{u}]", fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.view_init(elev=18, azim=20)
+    ax.set_title(f"cylindrical cam: R_p = {lay.pitch_radius:g}, R_o = {ro:g}, L = {length:g} {u}\n"
+                 f"groove {2 * lay.half_width:g} wide, {ro - rb:g} deep; roller at θ = {follower_angle_deg:g}°",
+                 fontsize=9)
+    ad = fig.add_subplot(1, 2, 2)
+    for side in (-1, 1):
+        p = developed_points(design, ro, side, th)
+        ad.plot(p[:, 0], p[:, 1], color="#1f3a5f", lw=1.2, label="walls at R_o (±w/2)" if side == -1 else None)
+    p = developed_points(design, lay.pitch_radius, 0, th)
+    ad.plot(p[:, 0], p[:, 1], "--", color="#c0392b", lw=1.0, label="pitch line at R_p")
+    x0, x1 = sorted((ro * float(lay.phi(0.0)), ro * float(lay.phi(2 * np.pi))))
+    ad.plot([x0, x1, x1, x0, x0], [0, 0, length, length, 0], color="0.3", lw=0.8, label="cylinder, developed at R_o")
+    ad.set_aspect("equal")
+    ad.set_xlabel(f"x = ρ·ψ [{u}] along the circumference", fontsize=8)
+    ad.set_ylabel(f"z [{u}] along the cam axis", fontsize=8)
+    ad.tick_params(labelsize=7)
+    ad.grid(alpha=0.25)
+    ad.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=3)
+    ad.set_title("developed view (the DXF's view)", fontsize=9)
+    fig.tight_layout()
+    return fig

@@ -204,6 +204,10 @@ def test_distance_error_between_the_rollers(case):
     spec = design.spec
     second = design.body.extra["second_cam"]
     rep = design.body_report["roller_distance_error"]
+    # units as the rest of report.json: the distance in the spec's unit, the lift error in the
+    # follower's lift unit (an arm's degrees)
+    assert rep["unit"] == spec.units
+    assert rep["lift_unit"] == (spec.units if spec.follower.motion == "translating" else "deg")
     p1, p2 = nurbs_points(design.pitch_nurbs, 60000), nurbs_points(second.pitch_nurbs, 60000)
     delta = 1 if spec.cam.direction == "ccw" else -1
     th = np.append(np.linspace(0, 2 * np.pi, 181)[:-1], np.deg2rad(rep["at_deg"]))
@@ -527,6 +531,8 @@ def test_cli_build_gcode_check(tmp_path):
     (lambda: arm_dict(**{"conjugate.arm_angle": 71.8, "conjugate.arm_length": 60.0, "conjugate.roller_radius": 12.0}),
      "conjugate.arm_angle", "does not fit"),
     (lambda: yoke_dict(**{"follower.kind": "knife"}), "cam.body", "needs a roller follower"),
+    # a spacer thinner than 0.01 mm (the fuzzer's 1.2e-38 mm crashed the kernel's prism)
+    (lambda: yoke_dict(**{"conjugate.gap": 1.1754943508222875e-38}), "conjugate.gap", "at least 0.01 mm"),
     (lambda: {**yoke_dict(), "pitch": {"representation": "bspline"}}, "pitch.representation", '"ph"'),
     (lambda: {**copy.deepcopy(DEFAULT_SPEC_DICT), "conjugate": {"gap": 2.0}}, "conjugate.gap",
      "applies to conjugate cams only"),

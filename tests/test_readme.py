@@ -170,6 +170,13 @@ assert [round(a) for a in body["drive"]["changes_at_deg"]] == [90, 150, 210, 270
 rde = pair.report()["body"]["roller_distance_error"]
 assert f"{rde['max']:.1e}" == "9.9e-05" and rde["max"] <= rde["lift_bound"]
 """,
+    "Cylindrical (barrel) cams": """
+import ezdxf
+assert round(barrel.checks()["results"]["pressure_angle"]["value"], 1) == 25.5
+assert [round(a) for a in d["contact"]["drive"]["rigid"]["changes_at_deg"]] == [90, 150, 210, 270]
+assert d["contact"]["kept"] and "jump_speed" not in d
+assert not ezdxf.readfile("barrel.dxf").audit().has_errors
+""",
     "Motion design: polynomials, constant-velocity strokes, tables": """
 assert round(rep["segments"][2]["velocity"], 1) == 10.5 and [j["order"] for j in rep["junctions"]] == [2] * 6
 assert pack.report()["checks"]["passed"]

@@ -123,4 +123,8 @@ def _print_body_summary(s: dict, out: Path) -> None:
     m = s.get("machining") or {}
     if m:
         print(f"  cam.nc: 4-axis X-Z-A program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")
-    print("  no DXF drawing for this body")
+    dr = s.get("drawing") or {}
+    fit = dr.get("developed_fit_error")
+    if fit:
+        print(f"  cam.dxf: developed walls as cubic splines within {fit['value']:.3g} {u} of the exact walls "
+              f"(pitch line {fit['pitch_line']:.3g} {u}), side and end views")

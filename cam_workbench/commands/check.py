@@ -16,7 +16,7 @@ from generators.motion import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, refuse_own_design, spec_from_args
+from .common import add_spec_arguments, design_for, own_design, spec_from_args
 
 EXIT_CHECK_FAILED = 3
 
@@ -42,7 +42,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    refuse_own_design(spec, "check")
     if args.sampling:
         spec = spec.replace(**{"checks.sampling": args.sampling})
     try:
@@ -51,13 +50,22 @@ def run(args: argparse.Namespace) -> int:
                                design=design_for(spec)).summary
         error = None
     except GeometryError as exc:
-        checks_only = run_checks(spec)
-        if checks_only.passed:
+        if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
+            from generators.bodies.cylindrical import cylinder_checks
+
+            checks_dict = cylinder_checks(spec)
+            areas = None
+        else:
+            checks_only = run_checks(spec)
+            checks_dict = checks_only.to_dict()
+            areas = area_summary(spec)
+        if checks_dict["passed"]:
             raise          # a cam that cannot be made though its checks pass: exit 2, nothing written
         error = exc
-        summary = {"units": spec.units, "spec_digest": spec_digest(spec), "areas": area_summary(spec),
+        summary = {"units": spec.units, "spec_digest": spec_digest(spec),
+                   **({"areas": areas} if areas is not None else {}),
                    "motion": MotionProgram.from_spec(spec).report(),
-                   "checks": checks_only.to_dict(), "spec": spec.to_dict(),
+                   "checks": checks_dict, "spec": spec.to_dict(),
                    "buildable": {"ok": False, "message": str(exc), "at_deg": exc.angle_deg}}
     out = Path(args.output)
     report = merged_report(out / "report.json", spec, summary)
@@ -66,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
     args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
-    print_table(checks, spec, out, report["areas"], report.get("motion", {}).get("junctions"))
+    print_table(checks, spec, out, report.get("areas"), report.get("motion", {}).get("junctions"))
     if error is not None:
         print(f"the cam cannot be made: {error}")
     return 0 if checks["passed"] else EXIT_CHECK_FAILED
@@ -91,7 +99,7 @@ def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[st
     return summary
 
 
-def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float],
+def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float] | None,
                 junctions: list[dict[str, Any]] | None = None) -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
     Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
@@ -119,15 +127,17 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
         ext.add_column(col, justify="left" if col == "quantity" else "right")
     for name, e in checks["extremes"].items():
         ext.add_row(name.replace("_", " "), format_value(e["value"], e["unit"]), f"{e['at_deg']:.3f}°")
-    console.print(ext)
+    if checks["extremes"]:
+        console.print(ext)
     if junctions:
         console.print(junction_table(junctions, spec.units if spec.follower.motion == "translating" else "deg"))
     u = spec.units
-    thesis = areas.get("thesis_eq_4_21")
-    console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
-                   else f"area inside the {'pitch curve' if spec.follower.kind != 'flat' else 'profile'}: "
-                        f"{areas['pitch_curve']:.6g} {u}²; ")
-                  + f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
+    thesis = areas.get("thesis_eq_4_21") if areas else None
+    if areas is not None:       # a cylindrical cam has no plane cross-section
+        console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
+                       else f"area inside the {'pitch curve' if spec.follower.kind != 'flat' else 'profile'}: "
+                            f"{areas['pitch_curve']:.6g} {u}²; ")
+                      + f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
     verdict = ("[green]all checks pass[/]" if checks["passed"]
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(f"{verdict} — checks written to {out}/report.json")

@@ -5,7 +5,7 @@ import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
-from generators.spec.examples import example_spec
+from generators.spec.examples import EXAMPLES, example_spec
 from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
@@ -17,8 +17,9 @@ def add_spec_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("spec", nargs="?", metavar="SPEC",
                    help="cam spec (TOML); omitted: the built-in example named by --example")
     p.add_argument("--example", metavar="NAME", default=None,
-                   help="a built-in cam instead of SPEC: 'default' (passes every check; the default) or "
-                        "'paper' (Jahanpour & Dolatabadi 2014, Table 1 case 2, 5 mm roller)")
+                   help="a built-in cam instead of SPEC: 'default' (passes every check; the default), "
+                        "'paper' (Jahanpour & Dolatabadi 2014, Table 1 case 2, 5 mm roller), or one of "
+                        f"{', '.join(repr(n) for n in EXAMPLES if n not in ('default', 'paper'))}")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a spec field, e.g. --set cam.base_radius=30 or "
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
@@ -62,13 +63,20 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
 
 
 def refuse_own_design(spec: CamSpec, command: str) -> None:
-    """A body that designs itself (not a plane cam: a cylindrical cam) is covered by ``build``,
-    ``report`` and ``gcode`` only; the other commands refuse it naming ``cam.body`` (exit 2)."""
+    """For the commands that do not cover a body that designs itself (a cylindrical cam; every command
+    but ``optimise`` does): refuse it naming ``cam.body`` (exit 2)."""
     from generators.bodies import body_of
 
     if getattr(body_of(spec), "design", None) is not None:
         raise SpecError("cam.body", f"cam-workbench {command} does not cover {spec.cam.body} cams yet "
-                        "(build, report and gcode do)")
+                        "(the other commands do)")
+
+
+def own_design(spec: CamSpec) -> bool:
+    """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
+    from generators.bodies import body_of
+
+    return getattr(body_of(spec), "design", None) is not None
 
 
 def require_ocp(command: str) -> None:

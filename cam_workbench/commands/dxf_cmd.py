@@ -9,7 +9,7 @@ from generators.spec.params import params_of
 from generators.spec import DrawingSection
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, refuse_own_design, spec_from_args
+from .common import add_spec_arguments, design_for, spec_from_args
 
 _DECL = params_of(DrawingSection)
 
@@ -46,7 +46,6 @@ def output_file(arg: str) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    refuse_own_design(spec, "dxf")
     changes = {}
     if args.curves is not None:
         changes["drawing.curves"] = args.curves
@@ -75,6 +74,11 @@ def describe(d: dict, units: str) -> str:
     """One line on how the profile went into the DXF (for the CLI), from report.json's
     ``drawing`` section: "exact" only where the profile NURBS is exact (``profile_curve``
     says what it is; a fitted profile comes with its measured error)."""
+    fit = d.get("developed_fit_error")
+    if fit is not None:            # a cylindrical cam: the developed walls and pitch line, fitted
+        return (f"WALL_LOWER, WALL_UPPER: {d['splines']} cubic SPLINEs with the PITCH line, fitted to the developed "
+                f"walls at the outer radius: max fit error {fit['value']:.3g} {units} (pitch line "
+                f"{fit['pitch_line']:.3g} {units}), not exact ({d['file_version']})")
     curve = d.get("profile_curve")
     if d["curves"] == "spline":
         what = curve if curve else ("exact profile NURBS" if d.get("exact") else "profile NURBS")

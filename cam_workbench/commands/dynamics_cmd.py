@@ -17,7 +17,7 @@ from generators.followers import follower_of
 from generators.motion.program import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
-from .common import add_spec_arguments, refuse_own_design, spec_from_args
+from .common import add_spec_arguments, spec_from_args
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -62,7 +62,6 @@ def sweep_progress() -> tuple[Any, Any]:
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    refuse_own_design(spec, "dynamics")
     changes: dict[str, Any] = {}
     if args.speed is not None:
         changes["dynamics.speed_rpm"] = args.speed
@@ -103,8 +102,17 @@ def merged_report(path: Path, spec: CamSpec, section: dict[str, Any]) -> dict[st
             old["dynamics"] = section
             return json.loads(report_json_text(old))
     return json.loads(report_json_text({"units": spec.units, "spec_digest": digest,
-                                        "follower": follower_of(spec).describe(), "dynamics": section,
+                                        "follower": train_follower(spec).describe(), "dynamics": section,
                                         "spec": spec.to_dict()}))
+
+
+def train_follower(spec: CamSpec) -> Any:
+    """The follower the dynamics drive: the body's own (a cylindrical cam's roller along its axis)
+    or the spec's."""
+    from generators.bodies import body_of
+
+    own = getattr(body_of(spec), "own_follower", None)
+    return own(spec) if own is not None else follower_of(spec)
 
 
 def series_csv(result: Any) -> str:
@@ -197,6 +205,11 @@ def print_tables(d: dict[str, Any], out: Path) -> None:
     st = d["steady_state"]
     con.print(escape(f"steady state: {st['method']}" + (f", {st['revolutions']} revolutions" if st["revolutions"] else "")
                      + ("" if st["periodic"] else " — NOT periodic yet" + (f" ({st['note']})" if st.get("note") else ""))))
+    drive = c.get("drive")
+    if drive is not None:
+        at = ", ".join(f"{fmt(a)}°" for a in drive["changes_at_deg"]) or "nowhere"
+        con.print(escape(f"form closure: the load changes wall at {at} (dynamic force; positive share "
+                         f"{fmt(drive['positive_share'])}, negative share {fmt(drive['negative_share'])})"))
     verdict = ("[green]the follower stays on the cam[/]" if c["kept"] else
                f"[bold red]the follower LEAVES the cam ({escape(fmt(c['off_cam_deg']))}° of the revolution)[/]")
     con.print(f"{verdict} — written to {escape(str(out))}/: report.json, {CSV_NAME}, {', '.join(PLOTS[:1 + ('jump_speed' in d)])}")

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, count_progress, note,
-                     refuse_own_design, spec_from_args)
+                     spec_from_args)
 
 EXIT_SOME_FAILED = 4
 
@@ -67,7 +67,6 @@ def run(args: argparse.Namespace) -> int:
 
     check_parallel_arguments(args)
     spec = spec_from_args(args)
-    refuse_own_design(spec, "sweep")
     grid: Grid = make_grid(args.vary, args.balance)
     grid.check(spec, fixed=("cam.base_radius",) if args.size else ())
     if args.build:

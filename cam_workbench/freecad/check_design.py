@@ -31,6 +31,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from generators.checks.claims import profile_claim
 from generators.checks.design import format_value as fmt_value
 from generators.checks.design import limit_sign
@@ -211,8 +213,11 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
         if spec is None:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
+    from generators.bodies import body_of
     from generators.followers import follower_of
 
+    if getattr(body_of(spec), "design", None) is not None:     # not a plane cam: a cylindrical cam
+        return _own_body_report(obj, spec, dynamics_error)
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
     _add_buildability(report, obj, spec)
@@ -225,6 +230,79 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
     report.ok = (report.checks_error is None and not report.failed_checks and report.buildable
                  and report.dynamics_error is None and report.contact_kept is not False)
     return report
+
+
+def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignReport:
+    """Check design of a body that designs itself (a cylindrical cam): its design checks are the
+    ``checks`` section of its report.json (``design.checks_report``: pressure angle at the pitch and
+    bottom radii, undercut of the developed centre line), its rows the body's numbers."""
+    from generators.cam_design import design_cam
+
+    report = DesignReport(True, units=spec.units)
+    if dynamics_error is not None:
+        report.dynamics_enabled, report.dynamics_error = True, dynamics_error
+    try:
+        design = design_cam(spec)
+    except GeometryError as exc:
+        where = f" at cam angle {exc.angle_deg:.2f}°" if exc.angle_deg is not None else ""
+        report.error = f"the cam cannot be made ({exc.kind}{where}): {exc}"
+        report.checks_error = report.error
+        report.rows.append(("Buildability", exc.kind.replace("_", " "), str(exc), "FAIL"))
+        report.ok = False
+        return report
+    except CamError as exc:
+        report.error = report.checks_error = f"the cam cannot be made: {exc}"
+        report.ok = False
+        return report
+    s = design.summary()
+    fol = dict(s["follower"])
+    fol.setdefault("pressure_angle_text", s["pressure_angle"]["formula"])
+    fol.setdefault("curvature_text", "of the developed centre line, (ρ² + s′²)^{3/2}/(ρ|s″|)")
+    report.follower = fol
+    checks = s["checks"]                      # report.json's checks section
+    report.checks_dict = checks
+    report.sampling = _sampling_text(checks)
+    report.checks = check_rows(checks)
+    report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
+                       for name, e in checks.get("extremes", {}).items()]
+    report.rows += cylindrical_rows(s)
+    report.rows += _kernel_rows(obj, design)
+    report.ok = not report.failed_checks and report.buildable and report.dynamics_error is None
+    return report
+
+
+def cylindrical_rows(s: dict[str, Any]) -> list[tuple[str, str, str, str]]:
+    """The design numbers of a cylindrical cam from its report.json (``design.summary()``)."""
+    u, b = s["units"], s["body"]
+    w, cr, pa, m = b["walls"], b["min_developed_curvature_radius"], s["pressure_angle"], s["motion"]
+    rows = [
+        ("Buildability", "undercut (developed centre line vs half the groove width)",
+         f"min radius {cr['value']:.4g} {u} at {cr['at_deg']:.2f}° (radius {cr['at_radius']:.4g})", "pass"),
+        ("Buildability", "groove bottom to bore", f"{w['groove_bottom_to_bore']:.4g} {u}", "pass"),
+        ("Buildability", "groove to the end faces", f"{min(w['bottom_to_end'], w['top_to_end']):.4g} {u}", "pass"),
+        ("Cylinder", "pitch / outer / bottom radius",
+         f"{b['pitch_radius']:.6g} / {b['outer_radius']:.6g} / {b['bottom_radius']:.6g} {u}", ""),
+        ("Cylinder", "length, lift range", f"{b['length']:.6g} {u}, z {b['lift_range'][0]:.6g} … "
+                                           f"{b['lift_range'][1]:.6g} {u}", ""),
+        ("Groove", "width × depth", f"{b['groove_width']:.6g} × {b['groove_depth']:.6g} {u}", ""),
+        ("Groove", "wall surfaces", f"{b['wall_surfaces']['faces']} B-spline faces, degree "
+                                    f"{b['wall_surfaces']['degree'][0]}×{b['wall_surfaces']['degree'][1]}", ""),
+        ("Groove", "wall data vs exact walls", f"{b['wall_fit_error']['value']:.3g} {u}", ""),
+        ("Pressure angle", "max |φ| at the pitch radius", f"{pa['max_deg']:.3f}° at {pa['at_deg']:.2f}°", ""),
+        ("Pressure angle", "max |φ| at the groove's bottom",
+         f"{pa['bottom_max_deg']:.3f}° at {pa['bottom_at_deg']:.2f}°", ""),
+        ("Motion", "max lift", f"{m['max_lift']:.6g} {m['lift_unit']}", ""),
+        ("Motion", "max velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
+        ("Motion", "max acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
+        ("Motion", "max jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
+    ]
+    lig = b.get("features", {}).get("hole_ligaments")
+    if lig:
+        rows.append(("Features", "hole ligaments (bore / groove − min wall / between)",
+                     f"{lig['to_bore']:.4g} / {lig['to_outer']:.4g} / {lig['between']:.4g} {u}", "pass"))
+    rows += [("Body", "end face area", f"{s['area']:.8g} {u}²", ""),
+             ("Body", "volume", f"{s['volume']:.8g} {u}³", "")]
+    return rows
 
 
 def _spec_without_dynamics(obj: Any) -> Any:
@@ -437,10 +515,20 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
     exact = design.volume * scale**3
     rel = abs(shape.Volume - exact) / exact
     valid = shape.isValid() and len(shape.Solids) == 1
-    return [
+    rows = [
         ("FreeCAD solid", "valid, one solid", "yes" if valid else "no", "pass" if valid else "FAIL"),
         ("FreeCAD solid", "kernel volume vs exact", f"{rel:.2e} relative", ""),
     ]
+    if not getattr(design, "plane", True):
+        from . import part_build
+
+        lay = design.layout
+        pts = part_build.wall_face_points(shape, radii=((lay.bottom_radius - 1e-6) * scale,
+                                                        (lay.outer_radius + 1e-6) * scale)) / scale
+        err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
+        rows.append(("FreeCAD solid", "wall faces vs exact walls", f"{float(np.max(err)):.3g} {design.spec.units} "
+                     f"({len(pts)} points)", ""))
+    return rows
 
 
 # ---- the dialog (GUI only) ------------------------------------------------------------------

@@ -158,12 +158,19 @@ class PlateCamFeature(Stateless):
         for ref in references_of(obj):
             update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
+        obj.CrossSectionArea = float(design.area) * scale * scale
+        if not getattr(design, "plane", True):
+            # a cylindrical cam: no PH pitch curve (its walls are B-spline surfaces of the exact
+            # offsets, see body.wall_fit_error); the area is its end face's at z = length
+            obj.JunctionCount = 0
+            set_lift_results(obj, "length")
+            obj.MaxDeviation = 0.0
+            return
         obj.JunctionCount = int(design.pitch.M)
         lift = design.follower.lift_unit
         set_lift_results(obj, lift)
         # a lift's error in the lift's unit: mm (FreeCAD's lengths) or degrees
         obj.MaxDeviation = float(design.max_deviation[0]) * (scale if lift == "length" else 1.0)
-        obj.CrossSectionArea = float(design.area) * scale * scale
 
     def _fail(self, obj: Any, text: str) -> None:
         kept = "no shape yet" if obj.Shape.isNull() else "The last good shape is kept"

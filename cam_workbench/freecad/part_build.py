@@ -83,10 +83,7 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
 
     body = design.body
     if body is not None and not getattr(body, "prismatic", True):
-        from generators.errors import SpecError
-
-        raise SpecError("cam.body", f"the FreeCAD feature does not build {body.kind} cams yet: use "
-                        "`cam-workbench build` or the Python API (design_cam, occ_build.cam_solid)")
+        return cylindrical_solid(design, scale)
     if body is None or (body.kind == "plate" and len(body.prisms) == 1
                         and all(h.is_circle for h in body.prisms[0].holes)):
         face = profile_face(design, scale)
@@ -103,6 +100,97 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
             shape = shape.cut(solid)
     shape = shape.removeSplitter() if len(shape.Solids) == 1 else shape
     return shape.Solids[0] if len(shape.Solids) == 1 else shape
+
+
+def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
+    """Body prisms (:class:`generators.bodies.Prism`) extruded and fused or cut in order."""
+    from FreeCAD import Vector
+
+    shape = None
+    for prism in prisms:
+        solid = region_face(prism.outer, prism.holes, scale, prism.z0 * scale).extrude(
+            Vector(0, 0, (prism.z1 - prism.z0) * scale))
+        if shape is None:
+            shape = solid
+        else:
+            shape = shape.fuse(solid) if prism.op == "add" else shape.cut(solid)
+    return shape
+
+
+# ---- the cylindrical (barrel) cam -----------------------------------------------------------
+def wall_surface(wall: Any, scale: float = 1.0) -> Any:
+    """A ``Part.BSplineSurface`` with exactly the data of a groove wall
+    (:class:`generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
+    degrees 5 × 5), the poles scaled to mm."""
+    import Part
+    from FreeCAD import Vector
+
+    ku, mu = np.unique(wall.knots_u, return_counts=True)
+    kv, mv = np.unique(wall.knots_v, return_counts=True)
+    poles = [[Vector(*p) for p in row] for row in (np.asarray(wall.poles, dtype=float) * scale).tolist()]
+    surf = Part.BSplineSurface()
+    surf.buildFromPolesMultsKnots(poles, [int(m) for m in mu], [int(m) for m in mv], [float(k) for k in ku],
+                                  [float(k) for k in kv], False, False, int(wall.degree_u), int(wall.degree_v))
+    return surf
+
+
+def _cylinder(radius: float, z0: float, z1: float) -> Any:
+    import Part
+    from FreeCAD import Vector
+
+    return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
+
+
+def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
+    """The cylindrical cam, as ``occ_build.cylindrical_solid`` builds it with OCP: the body's stack
+    of prisms (the keyed, bored cylinder, its hub, mounting holes and timing mark) minus the groove
+    — the piece of an annulus slightly wider than the groove's depth between the two walls (each
+    one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
+    by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
+    import Part
+    from FreeCAD import Vector
+
+    geo = design.body
+    lay = geo.layout
+    k = scale
+    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
+    annulus = _cylinder((lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius)) * k, -margin * k,
+                        (lay.length + margin) * k).cut(
+        _cylinder(lay.bottom_radius * k, -2 * margin * k, (lay.length + 2 * margin) * k))
+    shells = []
+    for side in (-1, 1):
+        faces = [Part.Face(wall_surface(w, k)) for w in geo.walls if w.side == side]
+        sewn = Part.Compound(faces)
+        sewn.sewShape(1e-6 * k)
+        shells.append(sewn.Shells[0] if sewn.Shells else sewn)
+    pieces = annulus.generalFuse(shells, 0.0)[0].Solids
+    cx, cy, cz = lay.centre_point(design.program, 0.0)          # the roller centre at θ = 0 (its own path)
+    centre = Vector(cx * k, cy * k, cz * k)
+    groove = next((p for p in pieces if p.isInside(centre, 1e-7, True)), None)
+    if groove is None:
+        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
+    shape = prism_stack(geo.stack, k).cut(groove)
+    return shape.Solids[0] if len(shape.Solids) == 1 else shape
+
+
+def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, float] | None = None) -> Any:
+    """Points (n, 3) [mm] on every B-spline face of ``shape`` (a cylindrical cam's groove walls),
+    on a grid of each face's own (u, v) range, by FreeCAD's evaluator; with ``radii`` (mm) only
+    those whose distance from the cam axis lies within them."""
+    pts = []
+    for f in shape.Faces:
+        if f.Surface.TypeId != "Part::GeomBSplineSurface":
+            continue
+        u0, u1, v0, v1 = f.ParameterRange
+        for a in np.linspace(u0, u1, per_direction).tolist():
+            for b in np.linspace(v0, v1, per_direction).tolist():
+                p = f.valueAt(a, b)
+                pts.append((p.x, p.y, p.z))
+    out = np.array(pts, dtype=float).reshape(-1, 3)
+    if radii is not None:
+        rho = np.hypot(out[:, 0], out[:, 1])
+        out = out[(rho >= radii[0]) & (rho <= radii[1])]
+    return out
 
 
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
@@ -148,12 +236,39 @@ def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0)
 
 
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment."""
+    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment;
+    a cylindrical cam's: the roller's centre line on the pitch cylinder (:func:`cylindrical_pitch_wire`)."""
+    if not getattr(design, "plane", True):
+        return cylindrical_pitch_wire(design, scale)
     return nurbs_wire(design.pitch_nurbs, scale)
 
 
+def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 61) -> Any:
+    """A cylindrical cam's pitch curve: where the roller's axis meets the pitch cylinder,
+    (R_p cos φ(θ), R_p sin φ(θ), z₀ + s(θ)), one interpolating B-spline edge per motion segment
+    (a reference curve for the eye; the walls are built from the exact data)."""
+    import Part
+    from FreeCAD import Vector
+
+    lay = design.layout
+    b = design.program.boundaries
+    edges = []
+    for seg in range(len(design.program.starts)):
+        th = np.linspace(float(b[seg]), float(b[seg + 1]), per_segment)
+        c = lay.centre_line(design.program, th, lay.pitch_radius, np.full(th.shape, seg))
+        psi = c.x / lay.pitch_radius                 # C_{R_p} wrapped onto the pitch cylinder
+        pts = np.stack([lay.pitch_radius * np.cos(psi), lay.pitch_radius * np.sin(psi), c.z], axis=-1) * scale
+        c = Part.BSplineCurve()
+        c.interpolate([Vector(*p) for p in pts.tolist()])
+        edges.append(c.toShape())
+    return Part.Wire(edges)
+
+
 def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The base (prime) circle of radius R_b traced by the follower point at zero lift."""
+    """The base (prime) circle of radius R_b traced by the follower point at zero lift (a
+    cylindrical cam's: the pitch circle R_p at the zero-lift height z₀)."""
+    if not getattr(design, "plane", True):
+        return circle_wire(design.layout.pitch_radius * scale, design.layout.z0 * scale)
     return circle_wire(design.spec.cam.base_radius * scale)
 
 
@@ -178,6 +293,8 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     import Part
     from FreeCAD import Vector
 
+    if not getattr(design, "plane", True):
+        return cylindrical_follower_shape(design, scale, angle_deg)
     spec = design.spec
     fol = design.follower
     th = np.deg2rad(angle_deg)
@@ -195,6 +312,29 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
         shapes.append(Part.Circle(at(sk.pivot), normal, PIVOT_MARK * spec.cam.base_radius * scale).toShape())
         shapes.append(Part.Vertex(at(sk.pivot)))
     shapes.append(Part.Vertex(at(sk.point)))
+    return Part.Compound(shapes)
+
+
+def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
+    """A cylindrical cam's roller where it stands at ``angle_deg`` of cam rotation, in the cam's
+    frame: its radial axis (from the groove's bottom to a roller's radius beyond the cylinder), the
+    roller's end circles (radius r, in the planes normal to the axis at R_b and R_o) and the
+    follower point (the roller's centre on the pitch cylinder, a vertex)."""
+    import Part
+    from FreeCAD import Vector
+
+    lay = design.layout
+    r = design.spec.roller_radius
+    cx, cy, z = lay.centre_point(design.program, float(np.deg2rad(angle_deg)))
+    phi = float(np.arctan2(cy, cx))
+    u = Vector(np.cos(phi), np.sin(phi), 0)
+
+    def at(rho: float) -> Any:
+        return Vector(rho * np.cos(phi) * scale, rho * np.sin(phi) * scale, z * scale)
+
+    shapes = [Part.Circle(at(rho), u, r * scale).toShape() for rho in (lay.bottom_radius, lay.outer_radius)]
+    shapes.append(Part.LineSegment(at(lay.bottom_radius), at(lay.outer_radius + r)).toShape())
+    shapes.append(Part.Vertex(at(lay.pitch_radius)))
     return Part.Compound(shapes)
 
 

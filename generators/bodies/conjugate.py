@@ -118,7 +118,7 @@ class ConjugateBody:
             "second_cam": {"z": [-gap - t, -gap], "roller_radius": fol2.profile_offset,
                            "profile_area": second.profile_area, "min_radius": second.min_profile_radius,
                            "max_radius": sections["profile"]["max_radius"], **sections},
-            "roller_distance_error": roller_distance_error(design.pitch, second.pitch).summary(),
+            "roller_distance_error": roller_distance_error(design.pitch, second.pitch).summary(spec.units),
             "drive": drive_cams(design),
             **geometry.extra["features"],
         }
@@ -229,7 +229,9 @@ class RollerDistanceError:
     dev2: tuple[float, float]
     lift_unit: str
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self, units: str) -> dict[str, Any]:
+        """The report's numbers; ``units`` is the spec's length unit ("mm" or "in"): the distance
+        error's unit, and the lift error's unless the lift is an arm angle (then "deg")."""
         k = int(np.argmax(np.abs(self.distance)))
         dl = self.s1 - self.s2
         j = int(np.argmax(np.abs(dl)))
@@ -238,7 +240,7 @@ class RollerDistanceError:
             "largest_interference": float(max(np.max(self.distance), 0.0)),
             "largest_play": float(max(-np.min(self.distance), 0.0)),
             "lift_max": float(abs(dl[j])), "lift_at_deg": float(np.rad2deg(self.theta[j])),
-            "lift_unit": "deg" if self.lift_unit == "angle" else "length",
+            "unit": units, "lift_unit": "deg" if self.lift_unit == "angle" else units,
             "first_cam_deviation": self.dev1[0], "second_cam_deviation": self.dev2[0],
             # |s₁ − s₂| ≤ |s₁ − s| + |s₂ − s|: the lift error is bounded by the two curves' deviations
             "lift_bound": self.dev1[0] + self.dev2[0],
@@ -283,6 +285,10 @@ def drive_cams(design) -> dict[str, Any]:
 
 
 # ---- the spec's rules --------------------------------------------------------------------------
+#: the thinnest spacer between the cams [mm] (conjugate.gap is 0 or at least this)
+MIN_GAP_MM = 0.01
+
+
 def validate_conjugate(spec) -> None:
     """The conjugate body's own rules (called by the spec's validation): a roller follower on PH
     pitch curves; the second roller's position given for the follower's motion and placed so
@@ -297,6 +303,10 @@ def validate_conjugate(spec) -> None:
         raise SpecError("cam.body", f'a conjugate pair needs a roller follower, got follower.kind = "{fol.kind}"')
     if spec.pitch.representation != "ph":
         raise SpecError("pitch.representation", 'a conjugate pair is built on PH pitch curves (exact offsets): "ph"')
+    smallest = MIN_GAP_MM if spec.units == "mm" else MIN_GAP_MM / 25.4
+    if 0 < c.gap < smallest:
+        raise SpecError("conjugate.gap", f"must be 0 (the cams face to face) or at least {smallest:g} {spec.units} "
+                        f"(a thinner spacer cannot be made), got {c.gap:g}")
     r2 = c.roller_radius if c.roller_radius is not None else fol.roller_radius
     clear = r2 + spec.cam.bore_diameter / 2          # the second roller's centre must stay this far from the axis
     h = spec.max_lift

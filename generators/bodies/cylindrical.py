@@ -1,5 +1,9 @@
 """The cylindrical (barrel) cam: a groove around a cylinder drives a roller whose axis is radial;
-the follower translates parallel to the cam axis and the lift s(θ) is its axial displacement.
+the follower translates parallel to the cam axis (the lift s(θ) is its axial displacement) or swings
+on an arm about a radial pivot (the lift is the arm's angle in degrees).  Below, the translating
+follower; the oscillating one (and the general centre line C_ρ with u, Z the roller centre's developed
+path) is defined in :mod:`.cylinder_path` — every function here takes C_ρ from there, the
+translating follower being its special case u = 0, Z = z₀ + s.
 
 Frame (the cam frame of CAM_SPEC.md): the cam axis is Z, the cylinder spans 0 ≤ z ≤ cam.length
 (``cam.thickness`` is the same number), the follower's roller sits on the +Y side of the fixed
@@ -26,15 +30,29 @@ and, in the OCCT solid, on the built faces (``cam_workbench.occ_build``: ``wall_
 
 **Volume** (independent of the surfaces): at radius ρ the groove's developed cross-section is
 the band between the offsets ±w/2 of C_ρ, whose area over one turn is exactly w·ℓ(ρ),
-ℓ(ρ) = ∫₀^2π √(ρ² + s′²) dθ (the curvature terms of the two offsets cancel); the volume element
+ℓ(ρ) = ∫₀^2π |C_ρ′| dθ = ∫₀^2π √(ρ² + s′²) dθ (the curvature terms of the two offsets cancel); the volume element
 is dx·dz·dρ, so V_groove = w ∫_{R_b}^{R_o} ℓ(ρ) dρ and the cam's V = π(R_o² − r_bore²)·L − V_groove.
 
 **Pressure angle** of the translating follower: the angle between the groove's normal and the
 axial direction, tan φ = s′/ρ (s′ per radian): reported at the pitch radius (the design check) and
 at the groove's bottom (the largest).
+Oscillating: between the groove's normal and the roller's motion, perpendicular to the arm.
 
-What this body does not carry: hub, keyway, mounting holes and the timing mark (refused naming
-the field); oscillating followers (refused); the DXF drawing (not written).
+**Features** (plain data, :func:`cylinder_prisms`): the cylinder is a prism of the circle R_o
+with the bore — keyed by :mod:`.features` as the plate and groove bodies are — from z = 0 to L; the
+hub (``cam.hub_diameter`` × ``cam.hub_length``) stands on the z < 0 end face, bored and keyed the
+same (the keyway runs the full length of body and hub); ``cam.mounting_holes`` axial holes on the
+circle ``cam.mounting_circle_diameter`` go through the cylinder (0 ≤ z ≤ L) and must clear the
+bore (and keyway) and stay inside R_b − ``groove.min_wall``; the timing mark is a slot
+``timing_mark_depth`` deep in the end face z = L on the ray of θ = 0 (φ(0) = π/2, +Y, where the
+keyway and the first hole point), from the bore to R_o less 1.5 mark widths, kept clear of the
+holes as :func:`.features.timing_mark` does.  None of them meets the groove (the holes stay inside
+R_b − min_wall, the mark is shallower than the groove's distance from the end face), so the exact
+volume is Σ ± prism volumes (arcs and lines: closed-form areas) − V_groove.
+
+Its drawing: :mod:`exporters.dxf_cylindrical`; its follower for the force laws and the dynamics of a
+translating roller: :class:`CylindricalFollower` (tan φ = s′/R_p).  What it does not carry: the
+dynamics of an oscillating arm (refused naming ``follower.motion``).
 """
 from __future__ import annotations
 
@@ -45,7 +63,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import GeometryError, SpecError
-from .features import resolved
+from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
+                            centre_line, expand, mid_arm_angle, pressure_angle)
+from .base import Loop, Prism
+from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
+from ..followers.translating import TranslatingFollower
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
 NODES_PER_RAD = 45.0
@@ -61,16 +83,22 @@ def half_width(spec) -> float:
 
 @dataclass(frozen=True)
 class CylinderLayout:
-    """The cylinder's numbers (spec units)."""
+    """The cylinder's numbers (spec units) and the roller centre's developed path
+    (:mod:`.cylinder_path`: translating or oscillating)."""
 
     pitch_radius: float
     outer_radius: float
     bottom_radius: float
     length: float
-    z0: float
+    z0: float                    # the roller centre's axial position at zero lift
     half_width: float
     sense: int                   # δ: +1 ccw, −1 cw
     bore_radius: float
+    path: RollerPath | None = None       # None: the translating path u = 0, Z = z₀ + s
+
+    def __post_init__(self) -> None:
+        if self.path is None:
+            object.__setattr__(self, "path", TranslatingPath(self.z0, math.inf))
 
     @staticmethod
     def of(spec) -> "CylinderLayout":
@@ -78,21 +106,44 @@ class CylinderLayout:
         rp = cam.cylinder_radius
         depth = spec.groove.depth
         ro = cam.outer_diameter / 2 if cam.outer_diameter is not None else rp + depth / 2
-        return CylinderLayout(rp, ro, ro - depth, cam.length, (cam.length - spec.max_lift) / 2, half_width(spec),
-                              1 if cam.direction == "ccw" else -1, cam.bore_diameter / 2)
+        if spec.follower.motion == "oscillating":
+            f = spec.follower
+            path: RollerPath = OscillatingPath.of(f.pivot_distance, f.arm_length, spec.max_lift, cam.length)
+            z0 = path.z_range()[0]
+        else:
+            z0 = (cam.length - spec.max_lift) / 2
+            path = TranslatingPath(z0, spec.max_lift)
+        return CylinderLayout(rp, ro, ro - depth, cam.length, z0, half_width(spec),
+                              1 if cam.direction == "ccw" else -1, cam.bore_diameter / 2, path)
 
     def phi(self, theta: np.ndarray) -> np.ndarray:
-        """Cam-frame polar angle of the roller centre line at cam angle θ."""
+        """Cam-frame polar angle of the +Y generator (the roller centre line of a translating
+        follower) at cam angle θ."""
         return np.pi / 2 - self.sense * np.asarray(theta, dtype=float)
+
+    def centre_line(self, program, theta, rho, segment: np.ndarray | None = None) -> CentreLine:
+        """The developed centre line C_ρ(θ) (and C′, C″) at cam angles θ and radii ρ, broadcast."""
+        theta = np.asarray(theta, dtype=float)
+        k = program.evaluate(theta, segment) if segment is not None else program.evaluate(np.mod(theta, 2 * np.pi))
+        return self.centre_line_of(theta, self.path.evaluate(k), rho)
+
+    def centre_line_of(self, theta, pk: PathKinematics, rho) -> CentreLine:
+        """C_ρ from the path's kinematics ``pk`` at θ (shapes broadcast with ρ)."""
+        return centre_line(self.pitch_radius, self.sense, self.phi(theta), pk, rho)
+
+    def centre_point(self, program, theta: float) -> tuple[float, float, float]:
+        """The roller centre (cam frame, 3D) at cam angle θ: on the pitch cylinder."""
+        c = self.centre_line(program, np.array([theta]), self.pitch_radius)
+        psi = float(c.x[0]) / self.pitch_radius
+        return (self.pitch_radius * math.cos(psi), self.pitch_radius * math.sin(psi), float(c.z[0]))
 
 
 def wall_points(layout: CylinderLayout, program, side: int, theta: np.ndarray, rho: np.ndarray) -> np.ndarray:
-    """Exact points W_side(θ, ρ) (side +1: upper wall, −1: lower), broadcast over θ and ρ; (..., 3)."""
+    """Exact points W_side(θ, ρ) (side +1: upper wall, −1: lower), broadcast over θ and ρ; (..., 3):
+    C_ρ(θ) offset by side·w/2 along its developed normal, mapped onto the cylinder of radius ρ."""
     theta, rho = np.broadcast_arrays(np.asarray(theta, dtype=float), np.asarray(rho, dtype=float))
-    k = program.evaluate(theta)
-    norm = np.hypot(rho, k.ds)
-    x = rho * layout.phi(theta) + side * layout.half_width * layout.sense * k.ds / norm
-    z = layout.z0 + k.s + side * layout.half_width * rho / norm
+    c = layout.centre_line(program, theta, rho)
+    x, z = c.offset(layout.sense, side * layout.half_width)
     psi = x / rho
     return np.stack([rho * np.cos(psi), rho * np.sin(psi), z], axis=-1)
 
@@ -105,19 +156,24 @@ def wall_distance_error(layout: CylinderLayout, program, side: int, points: np.n
     rho = np.hypot(p[:, 0], p[:, 1])
     psi = np.arctan2(p[:, 1], p[:, 0])
     zp = p[:, 2]
-    # start: the cam angle whose centre line passes through the point's polar angle
+    rp = layout.pitch_radius
+    # start: the cam angle whose centre line passes through the point's polar angle,
+    # ψ = φ(θ) + δu(θ)/R_p, by fixed-point steps (|u′| < R_p)
     theta = layout.sense * (np.pi / 2 - psi)
+    base = theta
+    for _ in range(4):
+        pk = layout.path.evaluate(program.evaluate(np.mod(theta, 2 * np.pi)))
+        theta = base + pk.u / rp
     for _ in range(iterations):
-        k = program.evaluate(np.mod(theta, 2 * np.pi))
-        dx = rho * _wrap(layout.phi(theta) - psi)            # developed x of C − P
-        dz = layout.z0 + k.s - zp
-        xp, zp1 = -layout.sense * rho, k.ds                  # C′
-        g = dx * xp + dz * zp1
-        dg = xp * xp + zp1 * zp1 + dz * k.d2s
+        c = layout.centre_line(program, theta, rho)
+        dx = rho * _wrap(c.x / rho - psi)                   # developed x of C − P
+        dz = c.z - zp
+        g = dx * c.dx + dz * c.dz
+        dg = c.dx * c.dx + c.dz * c.dz + dx * c.d2x + dz * c.d2z
         theta = theta - g / dg
-    k = program.evaluate(np.mod(theta, 2 * np.pi))
-    dx = rho * _wrap(layout.phi(theta) - psi)
-    dz = layout.z0 + k.s - zp
+    c = layout.centre_line(program, theta, rho)
+    dx = rho * _wrap(c.x / rho - psi)
+    dz = c.z - zp
     return np.abs(np.hypot(dx, dz) - layout.half_width)
 
 
@@ -183,18 +239,18 @@ def wall_surfaces(layout: CylinderLayout, program, rho0: float, rho1: float) -> 
 
 
 def _points_from_kinematics(layout, side, th, k, rho) -> np.ndarray:
-    """wall_points with the kinematics already evaluated (one-sided at segment ends)."""
-    r = rho[None, :]
-    ds, s = k.ds[:, None], k.s[:, None]
-    norm = np.hypot(r, ds)
-    x = r * layout.phi(th)[:, None] + side * layout.half_width * layout.sense * ds / norm
-    z = layout.z0 + s + side * layout.half_width * r / norm
+    """wall_points with the kinematics already evaluated (one-sided at segment ends): θ of shape
+    (n,), ρ of shape (m,); (n, m, 3)."""
+    c = layout.centre_line_of(th[:, None], expand(layout.path.evaluate(k)), rho[None, :])
+    x, z = c.offset(layout.sense, side * layout.half_width)
+    r = np.broadcast_to(rho[None, :], x.shape)
     psi = x / r
     return np.stack([r * np.cos(psi), r * np.sin(psi), np.broadcast_to(z, psi.shape)], axis=-1)
 
 
-def developed_length(program, rho: float, n_per_segment: int = 41) -> float:
-    """ℓ(ρ) = ∫₀^2π √(ρ² + s′²) dθ, Gauss–Legendre per motion segment."""
+def developed_length(program, rho: float, n_per_segment: int = 41, layout: CylinderLayout | None = None) -> float:
+    """ℓ(ρ) = ∫₀^2π |C_ρ′| dθ, Gauss–Legendre per motion segment (translating: |C_ρ′| = √(ρ² + s′²);
+    ``layout`` None: the translating follower)."""
     x, wts = np.polynomial.legendre.leggauss(n_per_segment)
     b = program.boundaries
     total = 0.0
@@ -202,7 +258,11 @@ def developed_length(program, rho: float, n_per_segment: int = 41) -> float:
         a, c = b[seg], b[seg + 1]
         th = (a + c) / 2 + (c - a) / 2 * x
         k = program.evaluate(th, np.full(th.shape, seg))
-        total += (c - a) / 2 * float(np.sum(wts * np.hypot(rho, k.ds)))
+        if layout is None:
+            speed = np.hypot(rho, k.ds)
+        else:
+            speed = layout.centre_line_of(th, layout.path.evaluate(k), rho).speed
+        total += (c - a) / 2 * float(np.sum(wts * speed))
     return total
 
 
@@ -211,7 +271,8 @@ def groove_volume(layout: CylinderLayout, program) -> float:
     x, wts = np.polynomial.legendre.leggauss(12)
     a, b = layout.bottom_radius, layout.outer_radius
     rho = (a + b) / 2 + (b - a) / 2 * x
-    return 2 * layout.half_width * (b - a) / 2 * float(sum(w * developed_length(program, r) for w, r in zip(wts, rho)))
+    return 2 * layout.half_width * (b - a) / 2 * float(sum(w * developed_length(program, r, layout=layout)
+                                                           for w, r in zip(wts, rho)))
 
 
 @dataclass(frozen=True)
@@ -225,30 +286,36 @@ class CylindricalGeometry:
     #: the radial range the wall surfaces span: a little beyond the groove, so that they cut through
     wall_rho: tuple[float, float]
     groove_volume: float
+    #: the cylinder (bored, keyed), the hub, the mounting holes and the timing mark as prisms applied in
+    #: order (:func:`cylinder_prisms`); the groove is cut after them
+    stack: tuple[Prism, ...] = ()
     kind: str = "cylindrical"
     prismatic: bool = False
     extra: dict = field(default_factory=dict)
 
     @property
     def volume(self) -> float:
-        lay = self.layout
-        return math.pi * (lay.outer_radius ** 2 - lay.bore_radius ** 2) * lay.length - self.groove_volume
+        """Exact volume [length³]: Σ ± the stack's prism volumes (closed-form areas × heights) − V_groove."""
+        return float(sum(p.volume if p.op == "add" else -p.volume for p in self.stack)) - self.groove_volume
 
     def face_area_at(self, z: float) -> float:
-        """Area of the end face (z = 0 or z = length): the annulus (the groove stays inside)."""
-        lay = self.layout
-        return math.pi * (lay.outer_radius ** 2 - lay.bore_radius ** 2)
+        """Area of the planar face at height ``z`` seen from above (z = length: the end face, the
+        annulus less the keyway, the holes and the timing mark; the groove stays inside)."""
+        return float(sum((p.area if p.op == "add" else -p.area) for p in self.stack if p.z0 < z <= p.z1 + 1e-12))
 
     @property
     def z_range(self) -> tuple[float, float]:
-        return 0.0, self.layout.length
+        return min([0.0] + [p.z0 for p in self.stack]), self.layout.length
 
     @property
     def prisms(self) -> tuple:
+        """None: the body is not a stack of prisms alone (the plane-cam readers skip it); the
+        features are in :attr:`stack`."""
         return ()
 
     def has(self, role: str) -> bool:
-        return False
+        """Whether the stack holds a prism of ``role`` ("hub", "hole0", "timing_mark", …)."""
+        return any(p.role == role for p in self.stack)
 
     def loops(self) -> list:
         return []
@@ -256,23 +323,40 @@ class CylindricalGeometry:
 
 # ---- checks -----------------------------------------------------------------------------------
 def developed_curvature_radius(layout: CylinderLayout, program, rho: float, th: np.ndarray) -> np.ndarray:
-    """|radius of curvature| of C_ρ at θ: (ρ² + s′²)^{3/2} / (ρ·|s″|) (inf where s″ = 0)."""
-    k = program.evaluate(th)
-    num = np.hypot(rho, k.ds) ** 3
-    den = rho * np.abs(k.d2s)
+    """|radius of curvature| of C_ρ at θ: |C′|³ / |x′z″ − z′x″| (inf where that is 0); translating:
+    (ρ² + s′²)^{3/2} / (ρ·|s″|)."""
+    c = layout.centre_line(program, th, rho)
+    num = c.speed ** 3
+    den = np.abs(c.dx * c.d2z - c.dz * c.d2x)
     return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.inf)
 
 
 def pressure_angles(layout: CylinderLayout, program, rho: float, th: np.ndarray) -> np.ndarray:
-    """Signed pressure angle [deg] at radius ρ: atan(s′/ρ)."""
-    return np.rad2deg(np.arctan2(program.evaluate(th).ds, rho))
+    """Signed pressure angle [deg] at radius ρ: between the groove's normal and the roller's direction
+    of motion (translating: atan(s′/ρ); oscillating: perpendicular to the arm, see
+    :func:`.cylinder_path.pressure_angle`)."""
+    pk = layout.path.evaluate(program.evaluate(th))
+    return np.rad2deg(pressure_angle(layout.pitch_radius, pk, rho))
 
 
-def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
-    """Undercut (refused, GeometryError with the cam angle), pressure angle and walls: the body's
-    report numbers and a ``checks`` section in report.json's shape."""
+def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -> dict[str, Any]:
+    """Undercut (refused, GeometryError with the cam angle, unless ``refuse`` is False: then the
+    ``undercut`` check fails), pressure angle and walls: the body's report numbers and a ``checks``
+    section in report.json's shape."""
     th = program.dense_angles(2001)
     w2 = layout.half_width
+    oscillating = layout.path.motion == "oscillating"
+    if oscillating:
+        # the developed centre line must advance with the cam: |u′| < R_p (else it turns back on itself)
+        pk = layout.path.evaluate(program.evaluate(th))
+        q = layout.pitch_radius - pk.du
+        i = int(np.argmin(q))
+        if not q[i] > 0:
+            at = float(np.rad2deg(th[i]) % 360)
+            raise GeometryError("path", f"the roller would move along the circumference faster than the cam surface "
+                                f"at cam angle {at:.2f}° (the arm's tangential speed {-pk.du[i]:.4g} per rad ≥ "
+                                f"cam.cylinder_radius {layout.pitch_radius:g}): a gentler motion or a shorter arm",
+                                at)
     # the wall on the concave side folds where the developed curve's radius of curvature ≤ w/2;
     # smallest at the smallest radius the walls reach
     radii = np.linspace(layout.bottom_radius, layout.outer_radius, 5)
@@ -282,21 +366,31 @@ def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
         i = int(np.argmin(rc))
         if rc[i] < worst[0]:
             worst = (float(rc[i]), float(np.rad2deg(th[i]) % 360), float(r))
-    if worst[0] <= w2:
+    if worst[0] <= w2 and refuse:
         raise GeometryError("undercut", f"the groove's wall is undercut at cam angle {worst[1]:.2f}°: the developed "
                             f"centre line's radius of curvature at radius {worst[2]:.4g} is {worst[0]:.4g} ≤ half the "
                             f"groove width {w2:g} — a smaller roller, a larger cam.cylinder_radius or a gentler motion",
                             worst[1])
     phi_p = pressure_angles(layout, program, layout.pitch_radius, th)
     phi_b = pressure_angles(layout, program, layout.bottom_radius, th)
-    ip, ib = int(np.argmax(np.abs(phi_p))), int(np.argmax(np.abs(phi_b)))
+    ip, ib = _first_largest(np.abs(phi_p)), _first_largest(np.abs(phi_b))
     limit = spec.checks.max_pressure_angle
     factor = spec.checks.undercut_factor
+    if oscillating:
+        what_p = ("Pressure angle at the pitch radius: between the groove's normal and the roller centre's motion, "
+                  "perpendicular to the arm: tan φ = (L β′ + R_p sin β)/(R_p cos β)")
+        what_b = "Pressure angle at the groove's bottom radius (the roller's section there, moving with the arm)"
+        formula = ("between the groove's normal and the roller's motion perpendicular to the arm (developed pitch "
+                   "plane): tan φ = (L β′ + R_p sin β)/(R_p cos β), β′ per radian")
+    else:
+        what_p = "Pressure angle at the pitch radius, tan φ = s′/R_p (s′ per radian)"
+        what_b = "Pressure angle at the groove's bottom radius, tan φ = s′/R_b"
+        formula = "tan φ = s′/ρ (translating follower along the cam axis, s′ per radian)"
     results = {
-        "pressure_angle": _result("Pressure angle at the pitch radius, tan φ = s′/R_p (s′ per radian)", "max",
-                                  abs(float(phi_p[ip])), float(np.rad2deg(th[ip]) % 360), limit, "deg"),
-        "pressure_angle_bottom": _result("Pressure angle at the groove's bottom radius, tan φ = s′/R_b", "max",
-                                         abs(float(phi_b[ib])), float(np.rad2deg(th[ib]) % 360), None, "deg"),
+        "pressure_angle": _result(what_p, "max", abs(float(phi_p[ip])), float(np.rad2deg(th[ip]) % 360), limit,
+                                  "deg"),
+        "pressure_angle_bottom": _result(what_b, "max", abs(float(phi_b[ib])), float(np.rad2deg(th[ib]) % 360), None,
+                                         "deg"),
         "undercut": _result("Smallest radius of curvature of the developed centre line (over the groove's depth), "
                             "against undercut_factor × groove half width", "min", worst[0], worst[1],
                             factor * w2, spec.units),
@@ -304,14 +398,21 @@ def check_cylinder(spec, program, layout: CylinderLayout) -> dict[str, Any]:
     failed = [k for k, r in results.items() if r["status"] == "fail"]
     checks = {"passed": not failed, "failed": failed, "sampling": "dense", "samples_per_segment": 2001,
               "points": int(th.shape[0]), "results": results, "extremes": {}}
-    walls = {"bottom_to_end": layout.z0 - w2, "top_to_end": layout.length - (layout.z0 + spec.max_lift + w2),
+    zlo, zhi = layout.path.z_range()
+    walls = {"bottom_to_end": zlo - w2, "top_to_end": layout.length - (zhi + w2),
              "groove_bottom_to_bore": layout.bottom_radius - layout.bore_radius}
     pressure = {"max_deg": abs(float(phi_p[ip])), "signed_deg": float(phi_p[ip]),
                 "at_deg": float(np.rad2deg(th[ip]) % 360), "at_radius": layout.pitch_radius,
                 "bottom_max_deg": abs(float(phi_b[ib])), "bottom_at_deg": float(np.rad2deg(th[ib]) % 360),
-                "formula": "tan φ = s′/ρ (translating follower along the cam axis, s′ per radian)"}
+                "formula": formula}
     return {"checks": checks, "walls": walls, "pressure_angle": pressure,
             "min_developed_curvature_radius": {"value": worst[0], "at_deg": worst[1], "at_radius": worst[2]}}
+
+
+def _first_largest(a: np.ndarray) -> int:
+    """Index of the first sample within 1e-12 (relative) of the largest: a symmetric motion's equal
+    extremes are reported at the first cam angle in every numpy build (not by round-off)."""
+    return int(np.argmax(a >= np.max(a) * (1 - 1e-12)))
 
 
 def _result(description, kind, value, at, limit, unit) -> dict[str, Any]:
@@ -344,6 +445,11 @@ class CylindricalDesign:
         return self.body.layout
 
     @property
+    def follower(self) -> "CylindricalFollower":
+        """The translating roller along the cam axis (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(self.spec)
+
+    @property
     def volume(self) -> float:
         return self.body.volume
 
@@ -357,6 +463,16 @@ class CylindricalDesign:
     def wall_distance_error(self, side: int, points: np.ndarray) -> np.ndarray:
         return wall_distance_error(self.layout, self.program, side, points)
 
+    def _follower(self) -> dict[str, Any]:
+        r = self.spec.roller_radius
+        path = self.layout.path
+        if path.motion == "oscillating":
+            return {"kind": "roller", "motion": "oscillating", "roller_radius": r,
+                    "label": f"oscillating roller r = {r:g}, pivot d = {path.pivot_distance:g}, arm L = "
+                             f"{path.arm_length:g} (radial pivot, developed pitch plane)", **path.describe()}
+        return {"kind": "roller", "motion": "translating", "label": f"translating roller r = {r:g}, along the cam "
+                "axis", "roller_radius": r}
+
     def summary(self) -> dict[str, Any]:
         from ..spec.model import spec_digest
 
@@ -366,9 +482,9 @@ class CylindricalDesign:
             "units": spec.units,
             "spec_digest": spec_digest(spec),
             "pressure_angle": self.checks_report["pressure_angle"],
-            "follower": {"kind": "roller", "motion": "translating", "label": f"translating roller r = "
-                         f"{spec.roller_radius:g}, along the cam axis", "roller_radius": spec.roller_radius},
-            "motion": {"lift_unit": spec.units, "max_lift": spec.max_lift, "max_velocity": maxima["velocity"],
+            "follower": self._follower(),
+            "motion": {"lift_unit": "deg" if self.layout.path.motion == "oscillating" else spec.units,
+                       "max_lift": spec.max_lift, "max_velocity": maxima["velocity"],
                        "max_acceleration": maxima["acceleration"], "max_jerk": maxima["jerk"],
                        **self.program.report()},
             "area": self.area,
@@ -383,6 +499,14 @@ class CylindricalBody:
 
     kind = "cylindrical"
     closure = "form"
+    #: the follower dynamics treat the groove as holding the roller both ways: the load changes
+    #: wall where the contact force changes sign (no separation, no jump speed)
+    dynamics_form_closed = True
+
+    @staticmethod
+    def own_follower(spec) -> "CylindricalFollower":
+        """The follower the dynamics drive (:func:`cylindrical_follower`)."""
+        return cylindrical_follower(spec)
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -405,16 +529,16 @@ class CylindricalBody:
         rho = (layout.bottom_radius - margin, layout.outer_radius + margin)
         walls = wall_surfaces(layout, program, *rho)
         vg = groove_volume(layout, program)
-        geometry = CylindricalGeometry(layout, walls, rho, vg)
+        geometry = CylindricalGeometry(layout, walls, rho, vg, cylinder_prisms(spec, layout))
         fit = wall_fit_error(geometry, program)
         body_report = {
             "kind": "cylindrical", "closure": "form",
             "pitch_radius": layout.pitch_radius, "outer_radius": layout.outer_radius,
             "bottom_radius": layout.bottom_radius, "length": layout.length, "groove_width": 2 * layout.half_width,
-            "groove_depth": depth, "z0": layout.z0, "lift_range": [layout.z0, layout.z0 + spec.max_lift],
+            "groove_depth": depth, "z0": layout.z0, "lift_range": list(layout.path.z_range()), "follower_path": layout.path.describe(),
             "axis": "Z (cam frame); the roller on +Y of the fixed frame, its axis radial",
             "walls": report["walls"], "min_developed_curvature_radius": report["min_developed_curvature_radius"],
-            "groove_volume": vg,
+            "groove_volume": vg, "features": feature_report(spec, layout),
             "wall_surfaces": {"faces": len(walls), "degree": [DEGREE_THETA, DEGREE_RHO],
                               "rho_range": list(rho), "nodes_per_rad": NODES_PER_RAD, "rho_nodes": RHO_NODES},
             "wall_fit_error": {"value": fit, "unit": spec.units,
@@ -450,14 +574,81 @@ def wall_fit_error(geometry: CylindricalGeometry, program, per_face: int = 9) ->
     return worst
 
 
+def cylinder_prisms(spec, layout: CylinderLayout) -> tuple[Prism, ...]:
+    """The cylinder (circle R_o less the keyed bore, 0 ≤ z ≤ L), the hub below z = 0, the mounting
+    holes through 0 ≤ z ≤ L and the timing mark in the end face z = L, as prisms in the order they
+    are applied (lengths in the spec's unit).
+
+    Raises:
+        SpecError: no room for the timing mark between the bore and the holes (``cam.timing_mark``)."""
+    bore = bore_loop(spec)
+    out = [Prism(Loop.circle(layout.outer_radius, role="cylinder"), (bore,) if bore else (), 0.0, layout.length,
+                 "add", "cylinder")]
+    hub = hub_prism(spec, 0.0)
+    if hub is not None:
+        out.append(hub)
+    out += mounting_holes(spec, 0.0, layout.length)
+    mw = resolved(spec, "cam", "timing_mark_width")
+    # on the ray of θ = 0: φ(0) = π/2 for either sense (the roller on +Y), as the keyway
+    mark = timing_mark(spec, float(layout.phi(np.array([0.0]))[0]), bore_extent(spec) + 1.5 * mw,
+                       layout.outer_radius - 1.5 * mw, layout.length)
+    if mark is not None:
+        out.append(mark)
+    return tuple(out)
+
+
+def feature_report(spec, layout: CylinderLayout) -> dict[str, Any]:
+    """The material around the features (report.json ``body.features``, spec lengths): the keyway's
+    reach, the mounting holes' ligaments to the bore, to R_b − groove.min_wall and to each other."""
+    cam = spec.cam
+    out: dict[str, Any] = {"bore_extent": bore_extent(spec)}
+    if cam.hub_diameter:
+        out["hub"] = {"diameter": cam.hub_diameter, "length": cam.hub_length}
+    if cam.mounting_holes:
+        limit = layout.bottom_radius - resolved(spec, "groove", "min_wall")
+        out["hole_ligaments"] = hole_ligaments(spec, lambda a: np.full(np.shape(a), limit), bore_extent(spec))
+    return out
+
+
+def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
+    """Hub, keyway, holes and timing mark of a cylindrical cam (SpecError naming the field)."""
+    cam = spec.cam
+    if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
+            or (cam.mounting_holes and None in (cam.mounting_hole_diameter, cam.mounting_circle_diameter)):
+        return                     # the shared feature rules (bodies.validate_body) name the field next
+    reach = bore_extent(spec)
+    if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
+        name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
+        raise SpecError(name, f"the keyway reaches {reach:.4g} from the axis: it must leave groove.min_wall "
+                        f"({min_wall:g}) to the groove's bottom (radius {rb:.4g})")
+    if cam.mounting_holes:
+        limit = rb - min_wall
+        lig = hole_ligaments(spec, lambda a: np.full(np.shape(a), limit), reach)
+        rules = {"to_bore": f"must clear the bore and keyway (radius {reach:.4g})",
+                 "to_outer": f"must stay inside the groove's bottom radius {rb:.4g} less groove.min_wall "
+                             f"{min_wall:g} (radius {limit:.4g})",
+                 "between": "must not run into each other"}
+        for key, rule in rules.items():
+            if not lig[key] > 0:
+                raise SpecError("cam.mounting_circle_diameter", f"the mounting holes (diameter "
+                                f"{cam.mounting_hole_diameter:g} on a circle of {cam.mounting_circle_diameter:g}) "
+                                f"{rule}: {lig[key]:.4g} of material left")
+    if cam.timing_mark:
+        depth = resolved(spec, "cam", "timing_mark_depth")
+        fol = spec.follower
+        travel = (2 * fol.pivot_distance * math.sin(math.radians(spec.max_lift) / 2)
+                  if fol.motion == "oscillating" else spec.max_lift)      # the roller centre's axial travel
+        room = (cam.length - travel - w) / 2
+        if not depth < room:
+            raise SpecError("cam.timing_mark_depth", f"must be < the groove's distance from the end face "
+                            f"({room:.4g}), got {depth:g}")
+
+
 def validate_cylindrical(spec) -> None:
     """The cylindrical body's own rules (called by the spec's validation)."""
     cam, fol = spec.cam, spec.follower
     if fol.kind != "roller":
         raise SpecError("follower.kind", f'a cylindrical cam needs a roller follower, got "{fol.kind}"')
-    if fol.motion != "translating":
-        raise SpecError("follower.motion", 'a cylindrical cam supports a translating follower (its lift along the '
-                        'cam axis) only; an oscillating one is not supported yet')
     if fol.offset != 0:
         raise SpecError("follower.offset", "does not apply to a cylindrical cam (the roller axis is radial)")
     for name in ("cylinder_radius", "length"):
@@ -469,14 +660,6 @@ def validate_cylindrical(spec) -> None:
     if cam.thickness != cam.length:
         raise SpecError("cam.thickness", f"is the cylinder's length for a cylindrical cam: leave it out or give "
                         f"cam.length ({cam.length:g}), got {cam.thickness:g}")
-    for name in ("hub_diameter", "hub_length", "keyway", "keyway_width", "keyway_depth", "mounting_hole_diameter",
-                 "mounting_circle_diameter"):
-        if getattr(cam, name) is not None:
-            raise SpecError(f"cam.{name}", "is not supported on a cylindrical cam yet")
-    if cam.mounting_holes:
-        raise SpecError("cam.mounting_holes", "is not supported on a cylindrical cam yet")
-    if cam.timing_mark:
-        raise SpecError("cam.timing_mark", "is not supported on a cylindrical cam yet")
     if spec.groove.depth is None:
         raise SpecError("groove.depth", "is required for a cylindrical cam")
     depth = spec.groove.depth
@@ -492,9 +675,82 @@ def validate_cylindrical(spec) -> None:
                         f"({min_wall:g}) to the bore (radius {cam.bore_diameter / 2:g}): depth < "
                         f"{ro - cam.bore_diameter / 2 - min_wall:.4g}")
     w = 2 * half_width(spec)
-    need = spec.max_lift + w + 2 * min_wall
-    if not cam.length >= need:
-        raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
-                        f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
-    if spec.dynamics.enabled:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover cylindrical cams yet")
+    if fol.motion == "oscillating":
+        travel = _validate_arm(spec)
+        if not cam.length >= travel + w + 2 * min_wall:
+            raise SpecError("cam.length", f"the roller's axial travel 2·pivot_distance·sin(lift/2) = {travel:.6g} "
+                            f"plus the groove width {w:g} plus groove.min_wall {min_wall:g} at both ends needs "
+                            f"cam.length ≥ {travel + w + 2 * min_wall:.6g}, got {cam.length:g}")
+    else:
+        need = spec.max_lift + w + 2 * min_wall
+        if not cam.length >= need:
+            raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
+                            f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
+    _validate_features(spec, rb, min_wall, w)
+    if spec.dynamics.enabled and fol.motion == "oscillating":
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
+
+
+def _validate_arm(spec) -> float:
+    """An oscillating roller on a cylindrical cam (see :mod:`.cylinder_path`): d ≤ L, the arm within
+    90° of the circumference over the lift; returns the roller's axial travel 2d·sin(s_max/2)."""
+    fol = spec.follower
+    d, L = fol.pivot_distance, fol.arm_length
+    if not d <= L:
+        raise SpecError("follower.arm_length", f"the arm cannot reach the +Y generator of the pitch cylinder (the "
+                        f"roller's line at mid-lift): a cylindrical cam needs arm_length ≥ pivot_distance (the pivot's "
+                        f"distance along the circumference), got L = {L:g} < d = {d:g}")
+    bm = math.degrees(mid_arm_angle(d, L))
+    h = spec.max_lift
+    if not bm + h / 2 < 90.0:
+        level, top, at = 0.0, 0.0, 0
+        for i, seg in enumerate(spec.motion):
+            level += (seg.lift or 0.0) * (1 if seg.kind == "rise" else -1 if seg.kind == "return" else 0)
+            if level > top:
+                top, at = level, i
+        raise SpecError(f"motion[{at}].lift", f"the arm would turn past the perpendicular to the cam axis (the "
+                        f"roller's axial motion reverses): arccos(pivot_distance/arm_length) = {bm:.4g}° plus half the "
+                        f"lift {h / 2:g}° must stay below 90°")
+    return 2 * d * math.sin(math.radians(h) / 2)
+
+
+def cylinder_checks(spec) -> dict[str, Any]:
+    """The cylindrical cam's design checks (report.json's ``checks`` section) without refusing an
+    undercut wall (its check fails instead): what ``cam-workbench check`` shows for a cam that
+    cannot be made."""
+    from ..motion.program import MotionProgram
+
+    return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
+
+
+
+@dataclass(frozen=True)
+class CylindricalFollower(TranslatingFollower):
+    """The cylindrical cam's translating roller, its lift s along the cam axis; ``s0`` holds the
+    pitch radius R_p.  The pressure angle is tan φ = s′/R_p (s′ per radian), so the normal contact
+    force is F = Q/cos φ for the axial load Q, and the camshaft torque T = Q·s′ (virtual work)."""
+
+    pressure_angle_text = "φ = atan(s′/R_p) (cylindrical cam: the lift along the cam axis)"
+
+    def pressure_angle(self, k: Any) -> np.ndarray:
+        """φ [rad] = atan(s′/R_p), signed."""
+        return np.arctan2(k.ds, self.s0)
+
+    def radius_of_curvature(self, k: Any) -> np.ndarray:
+        """Radius of curvature [length] of the developed pitch line: (R_p² + s′²)^{3/2}/(R_p·s″)."""
+        with np.errstate(divide="ignore"):
+            return np.hypot(self.s0, k.ds) ** 3 / (self.s0 * k.d2s)
+
+    def label(self) -> str:
+        return f"translating roller r = {self.roller_radius:g}, along the cam axis"
+
+
+def cylindrical_follower(spec) -> CylindricalFollower:
+    """The follower of a cylindrical cam's spec (:class:`CylindricalFollower`): a translating roller
+    (an oscillating arm's force laws are not modelled: SpecError naming ``follower.motion``)."""
+    if spec.follower.motion != "translating":
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
+    base = TranslatingFollower.from_spec(spec)
+    return CylindricalFollower(0.0, spec.cam.cylinder_radius, base.sense, base.roller_radius, base.load)

@@ -80,6 +80,9 @@ class DynamicsResult:
     program: MotionProgram = field(repr=False)
     units: str = "mm"
     lift_unit: str = "length"
+    #: the body holds the follower both ways (a cylindrical cam's groove): no separation, the load
+    #: changes wall where the contact force changes sign
+    form_closed: bool = False
 
     @property
     def speed_rpm(self) -> float:
@@ -136,6 +139,14 @@ class DynamicsResult:
             "rigid_max_force": rmax, "rigid_max_force_at_deg": rmax_at,
             "unit": force_u,
         }
+        if self.form_closed:
+            contact["closure"] = "form"
+            contact["drive"] = {
+                **sign_changes(self.force, self.theta),
+                "rigid": sign_changes(self.rigid_force, self.theta),
+                "note": "form closure: the groove holds the roller both ways; the wall that drives changes where "
+                        "the contact force changes sign (positive: pushing the follower along +s, the lower wall; "
+                        "negative: the upper wall)"}
         steady: dict[str, Any]
         if self.separated is None:
             steady = {"method": "periodic solve (harmonic balance, exact for the linear train on the cam)",
@@ -202,6 +213,21 @@ class DynamicsResult:
                 "on_cam": self.on_cam.astype(float)}
 
 
+def sign_changes(force: np.ndarray, theta: np.ndarray) -> dict[str, Any]:
+    """Where a periodic force sampled at equal angles ``theta`` [rad] changes sign: the cam angles
+    [deg] of its zero crossings (linear between samples, the last sample joined to the first) and
+    the share of the turn it is positive (a zero counts as positive) and negative."""
+    f = np.asarray(force, float)
+    g = np.roll(f, -1)
+    t1 = np.append(theta[1:], theta[0] + TWO_PI)
+    sign = np.where(f < 0, -1, 1)
+    flips = np.nonzero(sign != np.roll(sign, -1))[0]
+    at = theta[flips] - f[flips] * (t1[flips] - theta[flips]) / (g[flips] - f[flips])
+    deg = np.mod(np.rad2deg(at), 360.0)
+    return {"changes_at_deg": [float(a) for a in np.sort(deg)],
+            "positive_share": float(np.mean(sign > 0)), "negative_share": float(np.mean(sign < 0))}
+
+
 def _deg(theta: float) -> float:
     d = float(np.rad2deg(theta)) % 360.0
     return 0.0 if abs(d - 360.0) < 1e-9 else d
@@ -238,7 +264,12 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         SpecError: the spec lacks the train's data (naming the field).
         SolveError: an undamped train resonates exactly.
     """
-    fol = follower or follower_of(spec)
+    from ..bodies import body_of
+
+    body = body_of(spec)
+    own = getattr(body, "own_follower", None)
+    fol = follower or (own(spec) if own is not None else follower_of(spec))
+    form_closed = bool(getattr(body, "dynamics_form_closed", False))
     model = train_model(spec, fol)
     program = program or MotionProgram.from_spec(spec)
     dy = spec.dynamics
@@ -250,7 +281,7 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
     rigid_load = model.inertia * inp.d2u * omega**2 + model.preload + model.spring_rate * inp.u
     fmin = float(np.min(per.load * inp.lever))
     separated = None
-    if fmin <= 0:
+    if fmin <= 0 and not form_closed:
         separated = separated_response(model, inp, per, program, omega, dy.revolutions)
         q, load, on_cam = separated.q, separated.load, separated.on_cam
     else:
@@ -259,7 +290,7 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
     err = q - inp.u
     jump = None
     do_sweep = dy.sweep_points > 0 if sweep is None else sweep
-    if do_sweep and dy.sweep_points > 0:
+    if do_sweep and dy.sweep_points > 0 and not form_closed:     # form closure: no jump
         rigid = rigid_jump_speed(model, program, inp)
         lo, hi = sweep_range(model, omega, rigid, dy.sweep_min_rpm, dy.sweep_max_rpm, SWEEP_LOW_FRACTION)
         n_sweep = min(sample_count(model, lo, dy.samples), max(SWEEP_MAX_SAMPLES, n if dy.samples else 0))
@@ -271,4 +302,4 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         vibration=(err - quasi_static) / c, force=load * inp.lever, rigid_force=rigid_load * inp.lever,
         torque=load * inp.du, rigid_torque=rigid_load * inp.du, on_cam=on_cam, periodic=per,
         separated=separated, jump=jump, inp=inp, program=program, units=spec.units,
-        lift_unit=fol.lift_unit)
+        lift_unit=fol.lift_unit, form_closed=form_closed)

@@ -125,10 +125,13 @@ def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
         raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({lo:g}), got {hi:g}")
     if not (dy.enabled or required):
         return
+    if spec.cam.body == "cylindrical" and motion != "translating":
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
     inertia_field, stiffness_field, follower_field = mine
     if getattr(dy, stiffness_field) is None:
         raise SpecError(f"dynamics.{stiffness_field}",
-                        f"is required for the dynamics of a {motion} follower (the follower train's stiffness "
+                        f"is required for the dynamics of {'an' if motion == 'oscillating' else 'a'} {motion} follower (the follower train's stiffness "
                         "between the cam contact and the lumped mass)")
     if not (getattr(dy, inertia_field) or getattr(spec.follower, follower_field)):
         raise SpecError(f"dynamics.{inertia_field}",

@@ -66,7 +66,7 @@ def validate_follower(spec) -> None:
     from ..errors import SpecError
 
     fol = spec.follower
-    if fol.motion != "oscillating":
+    if fol.motion != "oscillating" or spec.cam.body == "cylindrical":    # the cylinder's arm: its body's rules
         return
     d, rb = fol.pivot_distance, spec.cam.base_radius
     if fol.kind == "flat":

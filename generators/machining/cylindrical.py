@@ -2,7 +2,9 @@
 the tool's axis radial (machine Z, pointing at the cam axis: Z = the tool tip's distance from the
 cam axis, Z0 on the axis), A the cam's rotation about its axis [deg].
 
-The tool sits where the roller sits: at machine A the cam has turned by A (A = θ for a ccw cam, −θ for
+The developed pitch curve C_Rp is the roller centre's path (``generators/bodies/cylinder_path.py``): for a
+translating follower (R_p·φ(θ), z₀ + s), for an oscillating one the arm's arc in the developed pitch
+plane.  The tool sits where the roller sits: at machine A the cam has turned by A (A = θ for a ccw cam, −θ for
 cw), so the cam-frame polar angle under the tool is ψ = π/2 − A.  A tool centre line at (ψ_t, z_t)
 is reached with A = 90° − ψ_t (unwrapped, continuous over the turn) and X = z_t.
 
@@ -76,12 +78,10 @@ class CylindricalPath:
 
 
 def _centre_path(lay: CylinderLayout, program, d: float, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(ψ_t, z_t) of the tool centre line offset by d (+: towards +z) from C_Rp, at cam angles θ."""
+    """(ψ_t, z_t) of the tool centre line offset by d (+: towards +z) from C_Rp, at cam angles θ
+    (C_Rp: the roller centre's developed path at the pitch radius, translating or oscillating)."""
     rp = lay.pitch_radius
-    k = program.evaluate(np.mod(theta, 2 * np.pi))
-    norm = np.hypot(rp, k.ds)
-    x = rp * lay.phi(theta) + d * lay.sense * k.ds / norm
-    z = lay.z0 + k.s + d * rp / norm
+    x, z = lay.centre_line(program, theta, rp).offset(lay.sense, d)
     return x / rp, z
 
 
@@ -123,7 +123,7 @@ def finish_deviation(lay: CylinderLayout, program, rt: float, radius: float, n: 
         w = wall_points(lay, program, side, th, np.full(th.shape, radius))
         wpsi = np.arctan2(w[:, 1], w[:, 0])
         # unwrap the wall's angle next to the centre path's
-        ref = lay.phi(th)
+        ref = lay.centre_line(program, th, radius).x / radius
         wpsi = ref + ((wpsi - ref + np.pi) % (2 * np.pi) - np.pi)
         q = np.column_stack([radius * wpsi, w[:, 2]])
         # the path is periodic in x with 2πρ: query with the copies

@@ -110,10 +110,29 @@ CYLINDRICAL_SPEC_DICT: dict[str, Any] = {
     "machining": {"passes": 2},
 }
 
+#: a cylindrical cam driving an oscillating roller: the arm's pivot axis radial, the arm swinging in the
+#: developed pitch plane (generators/bodies/cylinder_path.py, docs/bodies.md); the lift is the arm's angle
+CYLINDRICAL_OSCILLATING_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"body": "cylindrical", "cylinder_radius": 40.0, "length": 50.0, "bore_diameter": 20.0,
+            "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "roller_radius": 5.0, "motion": "oscillating", "pivot_distance": 50.0,
+                 "arm_length": 50.0},
+    "motion": [
+        {"kind": "dwell", "angle": 30.0},
+        {"kind": "rise", "angle": 150.0, "lift": 30.0, "law": "cycloidal"},
+        {"kind": "dwell", "angle": 30.0},
+        {"kind": "return", "angle": 150.0, "lift": 30.0, "law": "cycloidal"},
+    ],
+    "groove": {"depth": 8.0, "clearance": 0.05, "min_wall": 3.0},
+    "machining": {"passes": 2},
+}
+
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
-                                       "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT}
+                                       "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT,
+                                       "cylindrical_oscillating": CYLINDRICAL_OSCILLATING_SPEC_DICT}
 
 
 def example_dict(name: str) -> dict[str, Any]:

@@ -74,7 +74,8 @@ class CamSection:
         "The cam body: \"plate\" (the outside profile, a spring keeps the follower on it), \"groove\" (a "
         "disc with the roller running in a groove cut into its top face: positive drive) or \"conjugate\" (two "
         "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate]) or "
-        "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis; "
+        "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis or "
+        "swinging on an arm about a radial pivot; "
         "see cam.cylinder_radius, cam.length and [groove])",
         kind="str",
         choices=BODIES, default="plate", group="Cam")
@@ -143,11 +144,14 @@ class FollowerSection:
         unit="stiffness", ge=0, default=0.0, group="Follower load")
     # ---- oscillating followers (CAM_SPEC.md "Follower motion and kinds") ----
     pivot_distance: float | None = param(
-        "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame",
+        "Oscillating: distance d from the cam axis to the arm's pivot, which sits at (d, 0) in the fixed frame; "
+        "cylindrical cam: the radial pivot's distance along the circumference (developed at the pitch radius) "
+        "from the +Y generator, where the roller centre is at mid-lift (pivot upstream of the roller)",
         unit="length", gt=0, optional=True, group="Follower arm")
     arm_length: float | None = param(
         "Oscillating: arm length L from the pivot to the roller centre / knife tip; for a flat face the "
-        "position of the face's centre along it (default: the middle of the contact's travel)",
+        "position of the face's centre along it (default: the middle of the contact's travel); cylindrical "
+        "cam: ≥ pivot_distance, the arm's arc in the developed pitch plane",
         unit="length", gt=0, optional=True, group="Follower arm")
     face_offset: float | None = param(
         "Oscillating flat face: distance from the pivot to the face line, positive with the face between "
@@ -322,7 +326,7 @@ class ConjugateSection:
     roller_radius: float | None = param("Radius of the second roller (default: follower.roller_radius)",
                                         unit="length", gt=0, optional=True, group="Conjugate")
     gap: float = param("Axial gap between the cams: the first cam spans 0 ≤ z ≤ cam.thickness, the second "
-                       "−gap − cam.thickness ≤ z ≤ −gap", unit="length", ge=0, default=0.0, group="Conjugate")
+                       "−gap − cam.thickness ≤ z ≤ −gap; 0 (face to face) or at least 0.01 mm (0.0004 in)", unit="length", ge=0, default=0.0, group="Conjugate")
     spacer_diameter: float | None = param(
         "Diameter of the spacer that fills the gap and joins the cams into one solid (default: inside both "
         "cams' smallest radius, around the mounting holes)", unit="length", gt=0, optional=True,
@@ -819,6 +823,7 @@ class CamSpec:
         data = self.to_dict()
         for path, value in changes.items():
             _set_path(data, path, value)
+        follow_cylinder_fields(data, changes)
         return CamSpec.from_dict(data)
 
     # ---- derived quantities ---------------------------------------------------------
@@ -906,6 +911,18 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
                 raise SpecError(path, f"{here} is a list of tables: write {here}[i].{parts[i + 1]}")
             node = nxt
         where = here
+
+
+def follow_cylinder_fields(data: dict[str, Any], changes: Mapping[str, Any]) -> None:
+    """In a spec dict of a cylindrical cam whose ``changes`` (dotted paths) set cam.cylinder_radius or
+    cam.length but not cam.base_radius or cam.thickness, make those follow (in place): they are the
+    same numbers (the body's rules)."""
+    cam = data.get("cam")
+    if not isinstance(cam, dict) or cam.get("body") != "cylindrical":
+        return
+    for k, src in (("base_radius", "cylinder_radius"), ("thickness", "length")):
+        if f"cam.{src}" in changes and f"cam.{k}" not in changes and src in cam:
+            cam[k] = cam[src]
 
 
 def _cylindrical_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:

@@ -204,6 +204,9 @@ def apply_changes(spec: CamSpec, changes: Mapping[str, Any], balance: str | None
     data = spec.to_dict()
     for path, value in changes.items():
         _set_path(data, path, value)
+    from ..spec.model import follow_cylinder_fields
+
+    follow_cylinder_fields(data, changes)
     if balance is not None:
         k = int(re.fullmatch(r"motion\[(\d+)\]\.angle", balance).group(1))  # type: ignore[union-attr]
         rest = 0.0

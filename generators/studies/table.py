@@ -87,7 +87,18 @@ def checks_row(checks: Mapping[str, Any]) -> dict[str, Any]:
 def summary_row(summary: Mapping[str, Any], base_radius: float) -> dict[str, Any]:
     """The key numbers of one designed cam from its summary (``CamDesign.summary()`` or
     report.json)."""
-    pa, cv, mo = summary["pressure_angle"], summary["curvature"], summary["motion"]
+    pa, mo = summary["pressure_angle"], summary["motion"]
+    body = summary.get("body") or {}
+    if body.get("kind") == "cylindrical":      # no plane profile: the cylinder's own numbers
+        row = {"units": summary["units"], "follower": summary["follower"]["label"],
+               "base_radius": float(base_radius), "max_lift": mo["max_lift"],
+               "pressure_angle_deg": pa["max_deg"], "pressure_angle_at_deg": pa["at_deg"],
+               "pressure_angle_bottom_deg": pa["bottom_max_deg"],
+               "min_developed_curvature_radius": body["min_developed_curvature_radius"]["value"],
+               "outer_radius": body["outer_radius"], "area": summary["area"], "volume": summary["volume"]}
+        row.update(checks_row(summary["checks"]))
+        return row
+    cv = summary["curvature"]
     row: dict[str, Any] = {
         "units": summary["units"],
         "follower": summary["follower"]["name"],

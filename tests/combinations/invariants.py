@@ -111,5 +111,48 @@ def check_design(design, summary: dict) -> None:
     # is off by its own measured error
     slack = 5e-6 * scale + (summary["profile"].get("fitted_vs_kernel_offset") or 0.0) * 2
     assert np.max(np.abs(d - inset)) <= slack + 2e-5 * scale, float(np.max(np.abs(d - inset)))
+    if spec.cam.body == "conjugate":
+        # the second cam: its profile at its own roller's radius from its own pitch curve, and the
+        # distance error between the rollers within the two curves' PH deviations
+        second = design.body.extra["second_cam"]
+        r2 = second.follower.profile_offset
+        d2 = polyline_distance(nurbs_points(second.profile)[::20], nurbs_points(second.pitch_nurbs, 40000))
+        assert np.max(np.abs(d2 - r2)) <= slack + 2e-5 * scale, float(np.max(np.abs(d2 - r2)))
+        rde = summary["body"]["roller_distance_error"]
+        assert rde["lift_max"] <= rde["lift_bound"] * (1 + 1e-9) + 1e-12, rde
     ck = run_checks(spec)
     assert summary["checks"]["passed"] == ck.passed and summary["checks"]["failed"] == ck.failed
+
+
+def cylindrical_volume(spec) -> float:
+    """A cylindrical cam's volume computed here from its definition (docs/bodies.md): the bored
+    cylinder minus the groove, whose volume is w ∫ ℓ(ρ) dρ over its depth, ℓ(ρ) the length of the
+    developed centre line C_ρ over a turn (the offsets' curvature terms cancel).  C_ρ′ comes from
+    the roller centre's path — (0, s′) along the axis, or the arm's (−L sin β β′, L cos β β′),
+    β′ = s′·π/180 — scaled by ρ/R_p along the circumference; s′ by central differences of the
+    motion on a fine periodic grid (the motion program is the input, not the body's code)."""
+    from generators.bodies.features import resolved
+    from generators.motion.program import MotionProgram
+
+    cam, fol = spec.cam, spec.follower
+    rp, depth = cam.cylinder_radius, spec.groove.depth
+    ro = cam.outer_diameter / 2 if cam.outer_diameter is not None else rp + depth / 2
+    w = 2 * spec.roller_radius + resolved(spec, "groove", "clearance")
+    n = 40000
+    h = 2 * np.pi / n
+    th = h * np.arange(n)
+    s = MotionProgram.from_spec(spec).s(th)
+    ds = (np.roll(s, -1) - np.roll(s, 1)) / (2 * h)
+    if fol.motion == "translating":
+        du, dz = np.zeros_like(ds), ds
+    else:
+        L, d, smax = fol.arm_length, fol.pivot_distance, spec.max_lift
+        beta = np.arccos(d / L) + np.deg2rad(s - smax / 2)
+        db = np.deg2rad(ds)
+        du, dz = -L * np.sin(beta) * db, L * np.cos(beta) * db
+    x, wts = np.polynomial.legendre.leggauss(12)
+    rb = ro - depth
+    rho = (ro + rb) / 2 + (ro - rb) / 2 * x
+    ell = np.array([h * np.sum(np.hypot(r / rp * (rp - du), dz)) for r in rho])
+    groove = w * (ro - rb) / 2 * float(np.sum(wts * ell))
+    return float(np.pi * (ro**2 - (cam.bore_diameter / 2) ** 2) * cam.length - groove)

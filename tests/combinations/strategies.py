@@ -167,7 +167,10 @@ def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float
     timing mark — sized from the cam so that most draws fit and some do not (a clean refusal)."""
     cam = spec["cam"]
     bore = cam["bore_diameter"]
-    if kind == "roller" and draw(st.integers(0, 3)) == 0:
+    pick = draw(st.integers(0, 5)) if kind == "roller" else 5
+    if pick == 1:
+        _conjugate(draw, spec, roller, u)
+    if pick == 0:
         cam["body"] = "groove"
         reach = base + lift + roller + 0.5 * u
         cam["outer_diameter"] = 2 * reach + 2 * draw(st.floats(3.0, 15.0)) * u
@@ -194,3 +197,72 @@ def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float
         cam.update(mounting_holes=n, mounting_circle_diameter=r_in + r_out,
                    mounting_hole_diameter=max((r_out - r_in) * draw(st.floats(0.2, 0.6)), 0.5 * u))
     cam["timing_mark"] = draw(st.booleans())
+
+
+def _conjugate(draw: Any, spec: dict[str, Any], roller: float, u: float) -> None:
+    """A conjugate pair (PH pitch curves): a translating yoke's second roller a little beyond the
+    cam's far side, or an oscillating arm pair's second arm on the other side of the line through
+    the pivot and the axis (some draws do not fit: a clean refusal naming the field)."""
+    import math
+
+    from generators.followers.oscillating import zero_lift_arm_angle
+
+    cam, fol = spec["cam"], spec["follower"]
+    cam["body"] = "conjugate"
+    spec["pitch"]["representation"] = "ph"
+    r2 = roller * draw(st.sampled_from([1.0, 0.6, 1.3]))
+    spec["conjugate"] = {"roller_radius": r2, "gap": draw(st.sampled_from([0.0, 0.5, 3.0])) * u}
+    clear = r2 + cam["bore_diameter"] / 2
+    h = max(m.get("lift") or 0.0 for m in spec["motion"])          # the return's lift: the largest
+    if fol.get("motion", "translating") == "translating":
+        e, base = fol.get("offset", 0.0), cam["base_radius"]
+        s0 = math.sqrt(max(base * base - e * e, 0.0))
+        # the second roller about as far from the axis at the top of the lift as the first at the
+        # bottom (a second cam of about the first's size), sometimes closer (undercut: a refusal)
+        far = max(s0 * draw(st.sampled_from([1.0, 1.0, 0.7, 0.4])), clear + abs(e) + 0.5 * u)
+        spec["conjugate"]["roller_distance"] = s0 + h + far
+    else:
+        psi0 = math.degrees(zero_lift_arm_angle(cam["base_radius"], fol["pivot_distance"], fol["arm_length"]))
+        psi2 = -180.0 + h + (180.0 - h) * draw(st.floats(0.3, 0.7))
+        spec["conjugate"]["arm_angle"] = (psi2 - psi0 + 180.0) % 360.0 - 180.0
+
+
+@st.composite
+def cylindrical_specs(draw: Any) -> dict[str, Any]:
+    """A cylindrical (barrel) cam over its options: a translating roller along the cam axis or an
+    oscillating arm about a radial pivot, every motion program, mm or inch, ccw or cw, an outer
+    diameter or the default, a bore, the groove's clearance, the 4-axis program's passes and tool —
+    sized so that most draws build and some are refused (undercut, pressure angle, length)."""
+    units = draw(st.sampled_from(["mm", "in"]))
+    u = 1.0 if units == "mm" else 1 / 25.4
+    motion = draw(st.sampled_from(["translating", "translating", "oscillating"]))
+    rp = draw(st.floats(25.0, 60.0)) * u
+    roller = draw(st.floats(3.0, 8.0)) * u
+    depth = roller * draw(st.floats(0.8, 1.6))
+    clearance = draw(st.sampled_from([None, 0.02, 0.1])) 
+    w = 2 * roller + (clearance if clearance is not None else 0.05) * u
+    follower: dict[str, Any] = {"kind": "roller", "roller_radius": roller}
+    if motion == "translating":
+        lift = draw(st.floats(5.0, 25.0)) * u
+        travel = lift
+    else:
+        arm = draw(st.floats(30.0, 80.0)) * u
+        d = arm * draw(st.floats(0.8, 1.0))
+        lift = draw(st.floats(10.0, 35.0))                                  # arm degrees
+        follower.update(motion="oscillating", arm_length=arm, pivot_distance=d)
+        travel = 2 * arm * math.sin(math.radians(lift) / 2)
+    length = travel + w + 2 * 3.0 * u + draw(st.floats(1.0, 20.0)) * u
+    cam: dict[str, Any] = {"body": "cylindrical", "cylinder_radius": rp, "length": length,
+                           "bore_diameter": draw(st.sampled_from([0.0, 0.3, 0.6])) * rp,
+                           "direction": draw(st.sampled_from(["ccw", "cw"])),
+                           "speed_rpm": draw(st.sampled_from([30.0, 60.0, 300.0]))}
+    if draw(st.booleans()):
+        cam["outer_diameter"] = 2 * (rp + depth * draw(st.floats(0.1, 0.9)))
+    groove: dict[str, Any] = {"depth": depth}
+    if clearance is not None:
+        groove["clearance"] = clearance * u
+    spec: dict[str, Any] = {"units": units, "cam": cam, "follower": follower, "motion": draw(motion_programs(lift)),
+                            "groove": groove, "machining": {"passes": draw(st.integers(1, 3))}}
+    if draw(st.booleans()):
+        spec["machining"]["tool_radius"] = roller * draw(st.sampled_from([0.5, 0.8]))
+    return spec

@@ -12,8 +12,8 @@ from generators.errors import GeometryError, SpecError, SolveError
 
 from ..conftest import requires_ocp
 from .conftest import examples
-from .invariants import check_design, check_solid
-from .strategies import specs
+from .invariants import check_design, check_solid, cylindrical_volume
+from .strategies import cylindrical_specs, specs
 
 
 @requires_ocp
@@ -43,6 +43,38 @@ def test_platecam_any_valid_spec(tmp_path_factory, d):
     assert abs(kernel_volume(cam.shape) / report["volume"] - 1) < 5e-5, (kernel_volume(cam.shape), report["volume"])
     assert json.loads(json.dumps(report)) is not None            # report.json can hold it
     out = tmp_path_factory.mktemp("api")
+    written = cam.export(out / "set")
+    assert written["checks"] == json.loads(json.dumps(report["checks"]))
+    assert (out / "set" / "cam.step").stat().st_size > 0
+
+
+@requires_ocp
+@settings(max_examples=examples(8, 200))
+@given(cylindrical_specs())
+def test_cylindrical_any_valid_spec(tmp_path_factory, d):
+    """Cylindrical cams over their options: a valid solid with the volume computed here from the
+    groove's definition, walls within their reported error of the exact walls, a STEP file that
+    reads back — or a clean refusal."""
+    from cam_workbench import PlateCam
+    from cam_workbench.occ_build import kernel_volume
+
+    try:
+        cam = PlateCam(d)
+        report = cam.report()
+    except SpecError as exc:
+        assert exc.field and str(exc).startswith(exc.field), str(exc)
+        return
+    except (GeometryError, SolveError) as exc:
+        assert "°" in str(exc) or getattr(exc, "angle_deg", None) is not None, str(exc)
+        return
+    check_solid(cam.shape)
+    v = cylindrical_volume(cam.spec)
+    assert abs(report["volume"] / v - 1) < 1e-6, (report["volume"], v)
+    assert abs(kernel_volume(cam.shape) / v - 1) < 1e-5, (kernel_volume(cam.shape), v)
+    wall = report["body"]["wall_error"]
+    scale = cam.spec.cam.cylinder_radius
+    assert wall["value"] <= 1e-5 * scale, wall
+    out = tmp_path_factory.mktemp("cyl")
     written = cam.export(out / "set")
     assert written["checks"] == json.loads(json.dumps(report["checks"]))
     assert (out / "set" / "cam.step").stat().st_size > 0

@@ -18,7 +18,7 @@ from ..conftest import ROOT, requires_ocp
 from ..rs274 import RS274
 from .conftest import examples
 from .invariants import REFUSAL
-from .strategies import specs
+from .strategies import cylindrical_specs, specs
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 EXTRA = ("gcode_xy", "gcode_xc", "gcode_csv", "dxf", "report", "optimise")
@@ -92,3 +92,64 @@ def test_cli_commands_agree(tmp_path_factory, d, extra):
     else:
         r = cli("optimise", str(tmp / "cam.toml"), "--max-evaluations", "10", "-o", str(tmp / "opt"))
         assert_clean(r, (0, 2, 3))
+
+
+CYL_EXTRA = ("gcode", "dxf", "report", "dynamics", "ecam")
+
+
+@requires_ocp
+@settings(max_examples=examples(6, 150))
+@given(cylindrical_specs(), st.sampled_from(CYL_EXTRA))
+def test_cli_cylindrical_commands_agree(tmp_path_factory, d, extra):
+    """Cylindrical cams through `build`, `check` and one more command: exit 0/3 with outputs that
+    agree with report.json, or a clean refusal (exit 2, nothing written); the 4-axis program
+    through rs274, the DXF audited."""
+    tmp = tmp_path_factory.mktemp("cli_cyl")
+    try:
+        spec = CamSpec.from_dict(d)
+    except SpecError as exc:
+        assert exc.field and str(exc).startswith(exc.field), str(exc)
+        return
+    (tmp / "cam.toml").write_text(to_toml(spec), encoding="utf-8")
+    b = cli("build", str(tmp / "cam.toml"), "-o", str(tmp / "build"))
+    assert_clean(b, (0, 2))
+    c = cli("check", str(tmp / "cam.toml"), "-o", str(tmp / "check"))
+    assert_clean(c, (0, 2, 3))
+    if b.returncode == 2:
+        assert not (tmp / "build").exists()
+        return
+    built = json.loads((tmp / "build" / "report.json").read_text())
+    checked = json.loads((tmp / "check" / "report.json").read_text())
+    assert c.returncode == (0 if built["checks"]["passed"] else 3)
+    assert checked["checks"] == built["checks"]
+    if extra == "gcode":
+        g = cli("gcode", str(tmp / "cam.toml"), "-o", str(tmp / "p.nc"))
+        assert_clean(g, (0, 2))
+        if g.returncode == 0 and RS274 is not None:
+            from ..rs274 import run_rs274
+
+            m = spec.machining
+            tool = m.tool_radius if m.tool_radius is not None else spec.roller_radius
+            run = run_rs274((tmp / "p.nc").read_text(), tmp, tool_diameter=2 * tool)
+            assert run.motions and run.units == spec.units
+    elif extra == "dxf":
+        r = cli("dxf", str(tmp / "cam.toml"), "-o", str(tmp / "d.dxf"))
+        assert_clean(r, (0,))
+        import ezdxf
+
+        assert not ezdxf.readfile(tmp / "d.dxf").audit().has_errors
+    elif extra == "report":
+        r = cli("report", str(tmp / "cam.toml"), "-o", str(tmp / "rep"))
+        assert_clean(r, (0,))
+        rep = json.loads((tmp / "rep" / "report.json").read_text())
+        assert {k: v for k, v in rep.items() if k != "files"} == {k: v for k, v in built.items() if k != "files"}
+    elif extra == "dynamics":
+        r = cli("dynamics", str(tmp / "cam.toml"), "--set", "dynamics.mass=1.0", "--set", "dynamics.stiffness=1000",
+                "--no-sweep",
+                "-o", str(tmp / "dyn"))
+        assert_clean(r, (0, 2, 3))
+        if r.returncode == 2:
+            assert spec.follower.motion == "oscillating" and "follower.motion" in r.stderr
+    else:
+        r = cli("ecam", str(tmp / "cam.toml"), "-o", str(tmp / "e.csv"))
+        assert_clean(r, (0,))

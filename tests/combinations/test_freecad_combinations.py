@@ -13,7 +13,7 @@ from generators.spec import CamSpec
 
 from ..freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 from .conftest import examples
-from .strategies import specs
+from .strategies import cylindrical_specs, specs
 
 pytestmark = requires_freecadcmd
 
@@ -33,6 +33,18 @@ RESULT.update(status=cam.Status, null=s.isNull(),
 @settings(max_examples=examples(8, 80))
 @given(specs())
 def test_freecad_feature_any_valid_spec(tmp_path_factory, fc_home, d):  # noqa: F811
+    _feature_agrees(tmp_path_factory, fc_home, d)
+
+
+@settings(max_examples=examples(3, 40))
+@given(cylindrical_specs())
+def test_freecad_cylindrical_any_valid_spec(tmp_path_factory, fc_home, d):  # noqa: F811
+    """Cylindrical cams (translating and oscillating rollers) in the feature: FreeCAD's solid holds
+    the exact volume, or the feature shows the library's refusal."""
+    _feature_agrees(tmp_path_factory, fc_home, d)
+
+
+def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
     from generators.cam_design import design_cam
 
     try:

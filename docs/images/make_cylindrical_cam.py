@@ -1,0 +1,25 @@
+"""Draw docs/images/cylindrical_cam.png (the README's and docs/bodies.md's picture of the built-in
+cylindrical example) with :func:`exporters.plots.cylindrical_figure`:
+
+    PYTHONPATH=. python docs/images/make_cylindrical_cam.py
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from exporters import plots
+from generators import design_cam
+from generators.spec.examples import example_spec
+
+
+def main() -> Path:
+    """Write the picture next to this script; returns its path."""
+    fig = plots.cylindrical_figure(design_cam(example_spec("cylindrical")))
+    try:
+        return plots.save_figure(fig, Path(__file__).with_name("cylindrical_cam.png"), dpi=100)
+    finally:
+        plots.close(fig)
+
+
+if __name__ == "__main__":
+    print(main())
