@@ -228,3 +228,28 @@ def test_panel_offers_outer_diameter_for_a_groove_cam_only():
 
     assert "outer_diameter" in O.objective_choices(groove(variables="outer_diameter"))
     assert "outer_diameter" not in O.objective_choices(groove(body="plate", variables="base_radius"))
+
+
+def test_cylindrical_oscillating_arm_ends_at_its_pressure_angle_limit():
+    """The oscillating-arm barrel cam: the result passes the body's own checks with the pressure
+    angle at its 30° limit (to the margin), and a pitch radius 0.1 % smaller fails that check —
+    the body's own check function decides, not the optimiser's copy of it."""
+    from generators.bodies.cylindrical import CylindricalBody
+    from generators.spec.examples import example_spec
+
+    res = optimise(example_spec("cylindrical_oscillating"), objective="outer_diameter")
+    rep = CylindricalBody.design(res.spec).checks_report["checks"]
+    assert rep["passed"] and res.status == "converged"
+    assert rep["results"]["pressure_angle"]["value"] == pytest.approx(30.0, rel=2e-4)
+    rp = res.spec.cam.cylinder_radius
+    smaller = res.spec.replace(**{"cam.cylinder_radius": rp * 0.999, "cam.base_radius": rp * 0.999})
+    assert CylindricalBody.design(smaller).checks_report["checks"]["results"]["pressure_angle"]["status"] == "fail"
+
+
+def test_panel_offers_a_cylindrical_cams_own_variables():
+    from cam_workbench.freecad import optimiser as O
+    from generators.spec.examples import example_spec
+
+    spec = example_spec("cylindrical")
+    assert [c.token for c in O.variable_choices(spec)] == ["cylinder_radius", "outer_diameter", "clearance"]
+    assert O.objective_choices(spec) == ("outer_diameter",)

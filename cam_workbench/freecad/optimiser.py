@@ -68,7 +68,9 @@ assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set
 
 def objective_choices(spec: CamSpec) -> tuple[str, ...]:
     """The objectives the panel offers for ``spec``: every one, outer_diameter only for a groove
-    cam (its disc; ``cam.body = "groove"``)."""
+    cam (its disc; ``cam.body = "groove"``); a cylindrical cam: outer_diameter alone."""
+    if spec.cam.body == "cylindrical":
+        return ("outer_diameter",)
     return tuple(o for o in OBJECTIVES if o != "outer_diameter" or spec.cam.body == "groove")
 
 
@@ -101,6 +103,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
     objective = objective or spec.optimise.objective
     u = spec.units
+    if spec.cam.body == "cylindrical":          # its own optimiser: the cylinder's size only
+        return [VariableChoice("cylinder_radius", f"Pitch radius R_p [{u}]", 1, True),
+                VariableChoice("outer_diameter", f"Cylinder outer diameter [{u}]", 1, True),
+                VariableChoice("clearance", f"Groove clearance [{u}]", 1, True)]
     out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True)]
     # the follower's position: offset (translating), pivot distance and arm length (oscillating),
     # the face's offset from the pivot (oscillating flat face) — only those its kind has
@@ -151,7 +157,7 @@ def selected_tokens(spec: CamSpec) -> set[str]:
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
     out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
-                       "clearance", "orientation") if k in kinds}
+                       "clearance", "cylinder_radius", "orientation") if k in kinds}
     for kind, ks in rows.items():
         out |= {f"motion[{k}].{kind}" for k in ks}
     return out

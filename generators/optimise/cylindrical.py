@@ -11,7 +11,8 @@ own check functions on its dense angles (``program.dense_angles(2001)``, as
 * undercut of the developed centre line over the groove's depth (5 radii, R_o − depth … R_o):
                                                      1 − min ρ_c/(undercut_factor · w/2)
 * R_p within the groove: R_o − depth ≤ R_p ≤ R_o;  the groove's bottom leaves ``groove.min_wall`` to
-  the bore;  the cylinder's length holds the lift, the groove and min_wall at both ends.
+  the bore;  the groove leaves min_wall to both ends of the cylinder (the roller's path, translating or
+  an oscillating arm's, is the spec's: the length is not varied).
 
 The check values are maxima over samples (not differentiable in the usual sense), so the solver is
 nlopt's derivative-free COBYLA on the scaled variables (z ∈ [0, 1]); a handful of variables, some
@@ -21,6 +22,7 @@ hundred evaluations of a few milliseconds.  The result is re-checked by the body
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import Any, Callable
 
 import numpy as np
@@ -81,39 +83,37 @@ def _bounds(spec: CamSpec, names: tuple[str, ...], start: dict[str, float]) -> t
 
 def cylinder_constraints(spec: CamSpec, program: MotionProgram, values: dict[str, float]) -> dict[str, float]:
     """The normalised constraints g (≤ 0 feasible) of the cylindrical cam with ``values``
-    (cylinder_radius, outer_diameter, clearance) — see the module docstring."""
+    (cylinder_radius, outer_diameter, clearance) — see the module docstring.  The roller's path
+    (translating, or an oscillating arm's) is the spec's: the cylinder's length does not change."""
     rp, ro, c = values["cylinder_radius"], values["outer_diameter"] / 2, values["clearance"]
     depth = spec.groove.depth
     w2 = spec.roller_radius + c / 2
     wall = resolved(spec, "groove", "min_wall")
     th = program.dense_angles(SAMPLES)
-    lay = CylinderLayout(rp, ro, ro - depth, spec.cam.length, 0.0, w2, 1, spec.cam.bore_diameter / 2)
+    lay = replace(CylinderLayout.of(spec), pitch_radius=rp, outer_radius=ro, bottom_radius=ro - depth, half_width=w2)
     phi = float(np.max(np.abs(pressure_angles(lay, program, rp, th))))
     rc = min(float(np.min(developed_curvature_radius(lay, program, r, th)))
              for r in np.linspace(max(ro - depth, 1e-9), ro, 5))
-    need = spec.max_lift + 2 * w2 + 2 * wall
+    zlo, zhi = lay.path.z_range()
+    length = spec.cam.length
     return {"pressure_angle": phi / spec.checks.max_pressure_angle - 1.0,
             "undercut": 1.0 - rc / (spec.checks.undercut_factor * w2),
             "pitch_below_outer": (rp - ro) / rp,
             "pitch_above_bottom": (ro - depth - rp) / rp,
             "bore_wall": (spec.cam.bore_diameter / 2 + wall - (ro - depth)) / rp,
-            "length": (need - spec.cam.length) / spec.cam.length}
+            "bottom_end": (wall - (zlo - w2)) / length,
+            "top_end": (wall - (length - zhi - w2)) / length}
 
 
 def cylinder_checks(spec: CamSpec) -> DesignChecks:
-    """The body's own dense checks (:func:`check_cylinder`) as :class:`DesignChecks` (an undercut
-    it refuses is a failing ``undercut`` row)."""
+    """The body's own dense checks (:func:`check_cylinder`, an undercut a failing ``undercut`` row)
+    as :class:`DesignChecks`."""
     from ..bodies.cylindrical import check_cylinder
-    from ..errors import GeometryError
 
     program = MotionProgram.from_spec(spec)
-    try:
-        rep = check_cylinder(spec, program, CylinderLayout.of(spec))["checks"]["results"]
-        rows = [CheckResult(k, r["description"], r["kind"], r["value"], r["at_deg"], r["limit"], r["unit"],
-                            r["status"]) for k, r in rep.items()]
-    except GeometryError as exc:
-        rows = [CheckResult("undercut", str(exc), "min", None, getattr(exc, "at_deg", None), None, spec.units,
-                            "fail")]
+    rep = check_cylinder(spec, program, CylinderLayout.of(spec), refuse=False)["checks"]["results"]
+    rows = [CheckResult(k, r["description"], r["kind"], r["value"], r["at_deg"], r["limit"], r["unit"],
+                        r["status"]) for k, r in rep.items()]
     return DesignChecks(tuple(rows), {}, "dense", SAMPLES, spec.units, None)
 
 
