@@ -50,7 +50,7 @@ import numpy as np
 
 from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
-from ..spec.model import CamSpec
+from ..spec.model import BODY_VARIABLES, CamSpec, optimise_variables
 from . import jet
 from .jet import arccos, arctan, cos, sin, sqrt, where
 
@@ -106,8 +106,9 @@ class KindModel:
         self.length_ref = spec.cam.base_radius     # κ·R_b, ρ/R_b: curvature checks made dimensionless
         self.force_scale = force_reference(spec)
         self.margin = spec.optimise.constraint_margin
-        #: a groove cam: ``local`` also gives the pitch radius and curvature (the groove's rows)
-        self.groove = spec.cam.body == "groove"
+        #: a groove cam with body variables: ``local`` also gives the pitch radius and curvature (the
+        #: groove's rows of :meth:`SmoothModel.check_rows`)
+        self.groove = spec.cam.body == "groove" and bool(set(BODY_VARIABLES) & set(optimise_variables(spec)))
 
     # ---- what the kind checks ---------------------------------------------------------------
     @property
