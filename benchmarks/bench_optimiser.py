@@ -7,6 +7,7 @@ evaluation against the translating roller's).
 
     .venv/bin/python benchmarks/bench_optimiser.py          # everything
     .venv/bin/python benchmarks/bench_optimiser.py kinds    # the follower kinds only
+    .venv/bin/python benchmarks/bench_optimiser.py variables  # body variables, polynomial points
 """
 from __future__ import annotations
 
@@ -155,6 +156,40 @@ def kinds() -> None:
               f"{t_v / ref[1]:.2f}× |", flush=True)
 
 
+def new_variables() -> None:
+    """The cost of the design variables of issues 14–15: one evaluation of the constraint rows with
+    their Jacobian with and without a groove cam's body variables (3 more window channels) and a
+    polynomial rise's point lifts (the same Bézier segment, one more column), and the runs."""
+    import sys as _sys
+
+    _sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from generators.optimise.space import DesignSpace
+    from tests.test_optimiser_groove import groove
+    from tests.test_optimiser_points import cam
+
+    print("\n## New design variables: one evaluation of the rows + Jacobian (80 windows), and the run\n")
+    print("| problem | variables | rows + Jacobian [ms] | / without | run [s] | evaluations |")
+    print("|---|---|---:|---:|---:|---:|")
+    cases = [("groove cam, area", groove(variables="base_radius, offset", objective="area"), None),
+             ("groove cam, outer_diameter", groove(variables="base_radius, offset, outer_diameter, clearance",
+                                                   objective="outer_diameter", outer_diameter_min=40.0), 0),
+             ("polynomial rise, area", cam(variables="base_radius", objective="area"), None),
+             ("polynomial rise, area", cam(variables="base_radius, points", objective="area"), 2)]
+    ref = None
+    for label, spec, against in cases:
+        space = DesignSpace(spec)
+        model = SmoothModel(space)
+        t_j = best_of(lambda: model.check_rows(space.p0, True, 80), 20)
+        if against is None:
+            ref = t_j
+        t0 = time.perf_counter()
+        res = optimise(spec)
+        dt = time.perf_counter() - t0
+        ratio = f"{t_j / ref:.2f}×" if against is not None else ""
+        print(f"| {label} | {', '.join(space.labels)} | {t_j * 1e3:.2f} | {ratio} | {dt:.2f} | {res.evaluations} |",
+              flush=True)
+
+
 def best_of(fn, repeat: int) -> float:
     fn()
     times = []
@@ -168,6 +203,9 @@ def best_of(fn, repeat: int) -> float:
 def main() -> None:
     if sys.argv[1:] == ["kinds"]:
         kinds()
+        return
+    if sys.argv[1:] == ["variables"]:
+        new_variables()
         return
     print("## Minimum area from the thesis' initial designs (checks.convex = true), SLSQP\n")
     print("| example | gradients | time [s] | solver evaluations | model evaluations | area [in²] | "
@@ -183,6 +221,7 @@ def main() -> None:
                   f"{'pass' if res.feasible else 'FAIL: ' + ', '.join(res.checks.failed)} | {ratio} |")
     algorithms()
     kinds()
+    new_variables()
     spec = load_spec(FIX / "thesis_ex1_final.toml")
     print("\n## One evaluation (thesis Example 1's final design)\n")
     from generators.optimise.space import DesignSpace

@@ -5,7 +5,8 @@ calls, so scripts and tests drive the same code:
 
 - :func:`variable_choices` — the design variables that mean something for a cam (base
   radius and offset always; the control angles and free lifts of each ``law = "bspline"``
-  rise/return; the blank orientation only for ``machining_time``), and
+  rise/return; the interior points' lifts of each ``law = "polynomial"`` rise/return that has
+  points; the blank orientation only for ``machining_time``), and
   :func:`variables_text` / :func:`selected_tokens` to and from ``optimise.variables``;
 - :func:`settings_of` / :func:`default_bounds` — the panel's starting values: the feature's
   ``Optimise`` properties (the spec's ``[optimise]`` section), the bounds the library takes when
@@ -49,6 +50,7 @@ OBJECTIVE_LABELS = {
     "gcode_time": "G-code time (this project's XY contour program)",
     "peak_acceleration": "Peak acceleration (largest |s″|)",
     "peak_pressure_angle": "Peak pressure angle (largest |φ|)",
+    "outer_diameter": "Outer diameter (a groove cam's disc, rim wall ≥ groove.min_wall)",
 }
 ALGORITHM_LABELS = {
     "auto": "auto: SLSQP with exact gradients (times: SLSQP on a stand-in, then BOBYQA)",
@@ -62,6 +64,14 @@ ALGORITHM_LABELS = {
 GRADIENT_ALGORITHMS = ("slsqp", "mma", "ccsaq")
 NON_SMOOTH = ("machining_time", "gcode_time")
 assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
+
+
+def objective_choices(spec: CamSpec) -> tuple[str, ...]:
+    """The objectives the panel offers for ``spec``: every one, outer_diameter only for a groove
+    cam (its disc; ``cam.body = "groove"``); a cylindrical cam: outer_diameter alone."""
+    if spec.cam.body == "cylindrical":
+        return ("outer_diameter",)
+    return tuple(o for o in OBJECTIVES if o != "outer_diameter" or spec.cam.body == "groove")
 
 
 class ApplyError(CamError):
@@ -93,6 +103,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
     objective = objective or spec.optimise.objective
     u = spec.units
+    if spec.cam.body == "cylindrical":          # its own optimiser: the cylinder's size only
+        return [VariableChoice("cylinder_radius", f"Pitch radius R_p [{u}]", 1, True),
+                VariableChoice("outer_diameter", f"Cylinder outer diameter [{u}]", 1, True),
+                VariableChoice("clearance", f"Groove clearance [{u}]", 1, True)]
     out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True)]
     # the follower's position: offset (translating), pivot distance and arm length (oscillating),
     # the face's offset from the pivot (oscillating flat face) — only those its kind has
@@ -116,6 +130,20 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
         out.append(VariableChoice(f"motion[{k}].control_y",
                                   f"{what}: free lifts P{nfix}y … P{n - nfix}y", free, free > 0,
                                   "" if free > 0 else "no free lift at this order"))
+    # a polynomial rise/return's interior points: their lifts (the angles stay)
+    for k, seg in enumerate(spec.motion):
+        if seg.law == "polynomial" and seg.points:
+            angles = ", ".join(f"{a:g}°" for a, _s in seg.points)
+            out.append(VariableChoice(f"motion[{k}].points",
+                                      f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
+                                      len(seg.points), True))
+    # a groove cam's disc and groove
+    from generators.spec.model import body_variable_rule
+
+    body_labels = {"outer_diameter": f"Disc outer diameter [{u}]", "clearance": f"Groove clearance [{u}]"}
+    for name, label in body_labels.items():
+        if body_variable_rule(spec, name) is None:
+            out.append(VariableChoice(name, label, 1, True))
     orient = objective == "machining_time"
     out.append(VariableChoice("orientation", "Blank orientation on the NC table", 1, orient,
                               "" if orient else "only changes the machining time (thesis model)"))
@@ -128,8 +156,8 @@ def selected_tokens(spec: CamSpec) -> set[str]:
 
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
-    out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "orientation")
-           if k in kinds}
+    out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
+                       "clearance", "cylinder_radius", "orientation") if k in kinds}
     for kind, ks in rows.items():
         out |= {f"motion[{k}].{kind}" for k in ks}
     return out
@@ -140,12 +168,13 @@ def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str |
     ``control_points`` when every B-spline row's angles and lifts are chosen."""
     choices = {c.token: c for c in variable_choices(spec, objective) if c.enabled}
     chosen = [c for c in choices if c in set(tokens)]
-    ctrl = [t for t in choices if t.startswith("motion[")]
+    ctrl = [t for t in choices if t.startswith("motion[") and ".control_" in t]
     if ctrl and all(t in chosen for t in ctrl):
+        rest = [t for t in chosen if t.startswith("motion[") and t not in ctrl]
         chosen = [t for t in chosen if not t.startswith("motion[")]
         chosen.append("control_points")
         chosen = [t for t in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset",
-                              "control_points", "orientation") if t in chosen]
+                              "control_points", "outer_diameter", "clearance", "orientation") if t in chosen] + rest
     return ", ".join(chosen)
 
 
@@ -468,7 +497,7 @@ def apply_result(obj: Any, result: Any, allow_failing: bool = False) -> None:
     doc.commitTransaction()
 
 
-__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS",
+__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS", "objective_choices",
            "OptimiseJob", "Settings", "VariableChoice", "apply_result", "bound_is_default", "changed_since",
            "check_comparison", "default_bounds", "figures", "history_arrays", "run", "run_spec",
            "selected_tokens", "settings_of", "variable_choices", "variables_text"]

@@ -27,7 +27,7 @@ import time
 from typing import Any
 
 from generators.errors import SpecError
-from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS
+from generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
 from . import properties as props
@@ -62,9 +62,11 @@ class OptimiserPanel:
         pl = QtGui.QVBoxLayout(problem)
         form = QtGui.QFormLayout()
         self.objective = QtGui.QComboBox()
-        for name in OBJECTIVES:
+        objectives = opt.objective_choices(self.spec)
+        for name in objectives:
             self.objective.addItem(opt.OBJECTIVE_LABELS[name], name)
-        self.objective.setCurrentIndex(OBJECTIVES.index(self.defaults.objective))
+        self.objective.setCurrentIndex(objectives.index(self.defaults.objective)
+                                       if self.defaults.objective in objectives else 0)
         self.objective.setToolTip(props.field_tooltip("optimise.objective"))
         form.addRow("Objective:", self.objective)
         pl.addLayout(form)

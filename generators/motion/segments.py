@@ -345,3 +345,52 @@ def _check_nonnegative(p: _Plan) -> None:
     raise SpecError(f"{p.path}.{fld}",
                     f"the {seg.law} segment goes to s = {s[j]:.4g} at {math.degrees(p.start + th[0][j]):.4g}° "
                     "(cam angle): s must stay ≥ 0")
+
+
+# ---- polynomial points as design variables --------------------------------------------------------
+def polynomial_point_basis(seg: Any, path: str, span: float) -> np.ndarray:
+    """(m, d + 1): the Bernstein coefficients of a polynomial segment's s per unit of each of its
+    m interior points' lifts (``seg.points[i][1]``, lift units).
+
+    The SVAJ conditions are linear, s = s_fixed + Σ_i s_i·φ_i, and their matrix depends only on
+    which derivatives are conditioned where (the ends' fixed and matched entries, the points'
+    angles), not on the values: φ_i is the solution with point i's value 1 and every other right-hand
+    side 0.  ``span`` is the segment's angle [rad]."""
+    p = _Plan(0, seg, path, 0.0, span, 0.0, 1.0)
+    _plan_entries(p)
+    conds = [Condition(0.0, 0, 0.0, f"{path}.law"), Condition(1.0, 0, 0.0, f"{path}.lift")]
+    for e in (0, 1):
+        for order in (1, 2, 3):
+            if p.entries[e][order][0] != "free":
+                conds.append(Condition(float(e), order, 0.0, f"{path}.{END_FIELDS[(e, order)]}"))
+    pts = list(seg.points or ())
+    base = len(conds)
+    conds += [Condition(a / seg.angle, 0, 0.0, f"{path}.points[{i}]") for i, (a, _s) in enumerate(pts)]
+    out = []
+    for i in range(len(pts)):
+        unit = list(conds)
+        c = unit[base + i]
+        unit[base + i] = Condition(c.x, 0, 1.0, c.field)
+        out.append(solve_conditions(unit, span))
+    return np.array(out).reshape(len(pts), -1)
+
+
+def polynomial_dependants(segments: Sequence[Any], k: int) -> list[tuple[int, int, int]]:
+    """The (neighbour row, its end 0/1, derivative order) whose value is taken from polynomial
+    segment ``k``'s solved (free) end value: a neighbour law that matches a derivative segment ``k``
+    leaves free changes with ``k``'s points."""
+    n = len(segments)
+    plans = [_Plan(j, seg, f"motion[{j}]", 0.0, 1.0, 0.0, 1.0) for j, seg in enumerate(segments)]
+    for q in plans:
+        if q.seg.law in MATCHING_LAWS:          # the others' ends are their own (never "match")
+            _plan_entries(q)
+    p = plans[k]
+    out = []
+    for e in (0, 1):
+        q, qe = _neighbour(p, e, plans, n)
+        if q.index == k or q.seg.law not in MATCHING_LAWS:
+            continue
+        for order, entry in p.entries[e].items():
+            if entry[0] == "free" and q.entries[qe].get(order, ("fixed",))[0] == "match":
+                out.append((q.index, qe, order))
+    return out

@@ -50,7 +50,7 @@ import numpy as np
 
 from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
-from ..spec.model import CamSpec
+from ..spec.model import BODY_VARIABLES, CamSpec, optimise_variables
 from . import jet
 from .jet import arccos, arctan, cos, sin, sqrt, where
 
@@ -106,6 +106,9 @@ class KindModel:
         self.length_ref = spec.cam.base_radius     # κ·R_b, ρ/R_b: curvature checks made dimensionless
         self.force_scale = force_reference(spec)
         self.margin = spec.optimise.constraint_margin
+        #: a groove cam with body variables: ``local`` also gives the pitch radius and curvature (the
+        #: groove's rows of :meth:`SmoothModel.check_rows`)
+        self.groove = spec.cam.body == "groove" and bool(set(BODY_VARIABLES) & set(optimise_variables(spec)))
 
     # ---- what the kind checks ---------------------------------------------------------------
     @property
@@ -254,7 +257,10 @@ class TranslatingPointModel(KindModel):
         out["a"] = (a, zero, zero, zero, zero, zero + 1.0)
         gp = 2 * phi / self.phi_max**2
         out["pressure_angle"] = pack((phi / self.phi_max) ** 2 - 1.0, gp * ph_y, gp * ph_w, zero, zero)
-        if {"curvature", "convexity", "contact_stress"} & set(families):
+        if self.groove:
+            rad = (e * e + yy * yy) ** 0.5            # |pitch point| (any sign of e)
+            out["pitch_radius"] = pack(rad, yy / rad, zero, zero, zero, sg * e / rad)
+        if {"curvature", "convexity", "contact_stress"} & set(families) or self.groove:
             # κ = D/N, D = Y² + w(w + v) − Y s″, N = q^{3/2}  (thesis Eq. 3.7, inverted)
             dd = yy * yy + w * (w + v) - yy * a
             nn = q * sq
@@ -263,6 +269,8 @@ class TranslatingPointModel(KindModel):
             k_w = ((2 * w + v) - kap * 3 * w * sq) / nn
             k_v = w / nn
             k_a = -yy / nn
+            if self.groove:
+                out["kappa"] = pack(kap, k_y, k_w, k_v, k_a)
             if "curvature" in families:
                 c = self.factor * self.rr
                 out["curvature"] = pack(c * kap - 1.0, c * k_y, c * k_w, c * k_v, c * k_a)
@@ -356,9 +364,13 @@ class OscillatingPointModel(KindModel):
         phi = arctan(tan_phi)
         out: dict[str, Any] = {"phi": phi, "a": a + 0.0 * s, "pressure_angle": self._pressure(phi)}
         fam = self.families
-        if {"curvature", "convexity", "contact_stress"} & set(fam):
+        if self.groove:
+            out["pitch_radius"] = sqrt(fx * fx + fy * fy)
+        if {"curvature", "convexity", "contact_stress"} & set(fam) or self.groove:
             q = vx * vx + vy * vy
             kap = -dl * (vx * wy - vy * wx) / (q * sqrt(q))      # 1/ρ, ρ = |V|³/(−δ V×W)
+            if self.groove:
+                out["kappa"] = kap
             if "curvature" in fam:
                 out["curvature"] = self.factor * self.rr * kap - 1.0
             if "convexity" in fam:

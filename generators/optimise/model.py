@@ -108,7 +108,8 @@ class SmoothModel:
         self.sense = self.kind.sense
         self.rr = self.kind.rr
         self.families = list(self.kind.families)
-        blocks = {b.motion_index: b for b in space.blocks}
+        # B-spline blocks and polynomial point blocks share one interface (arrays, y_jac, x_cols, y_cols)
+        blocks = {b.motion_index: b for b in (*space.blocks, *space.point_blocks)}
         self.segments: list[SegmentNodes] = []
         for k in range(len(prog.starts)):
             curve = prog.curves[k] if prog.curves else None
@@ -193,11 +194,12 @@ class SmoothModel:
             dv[:, cols] = -lift * (y1 / t1**2)[:, None] * b1i
             da[:, cols] = lift * (((y2 / t1**3) - 3 * n2 / t1**4)[:, None] * b1i - (y1 / t1**3)[:, None] * b2i)
         if blk is not None and blk.y_cols.size:
-            fr = blk.y_free
+            jy = blk.y_jac                       # ∂y/∂p[y_cols]: a selection, or a polynomial's Φᵀ/h
             cols = blk.y_cols
-            ds[:, cols] = lift * b0[:, fr]
-            dv[:, cols] = lift * b1[:, fr] / t1[:, None]
-            da[:, cols] = lift * (t1[:, None] * b2[:, fr] - t2[:, None] * b1[:, fr]) / (t1**3)[:, None]
+            c0, c1, c2 = b0 @ jy, b1 @ jy, b2 @ jy
+            ds[:, cols] = lift * c0
+            dv[:, cols] = lift * c1 / t1[:, None]
+            da[:, cols] = lift * (t1[:, None] * c2 - t2[:, None] * c1) / (t1**3)[:, None]
         return Kin(s, v, a, t1, ds, dv, da, dt1)
 
     # ---- the checks at nodes ------------------------------------------------------------------
@@ -319,8 +321,9 @@ class SmoothModel:
         fams = [f for f in self.families if not f.startswith("face_span")]
         span = [f for f in self.families if f.startswith("face_span")]
         channels = tuple((f, 1.0) for f in fams + span)
-        vals, jac = self.window_max(p, channels + tuple(extra), grad, windows)
-        per = vals.size // (len(channels) + len(extra))
+        groove = self._groove_channels()
+        vals, jac = self.window_max(p, channels + groove + tuple(extra), grad, windows)
+        per = vals.size // (len(channels) + len(groove) + len(extra))
         nc = per * len(fams)
         rows: list[np.ndarray] = [vals[:nc]]
         jacs: list[np.ndarray] = [jac[:nc]] if grad else []
@@ -332,6 +335,12 @@ class SmoothModel:
             if grad:
                 jh, jl = jac[nc:nc + per], jac[nc + per:nc + 2 * per]
                 jacs += [jh + jl[j][None, :], jh[i][None, :] + jl]
+        if groove:
+            at = per * len(channels)
+            gv_, gj_ = self._groove_rows(p, vals[at:at + 3 * per], jac[at:at + 3 * per] if grad else None, grad)
+            rows.append(gv_)
+            if grad:
+                jacs.append(gj_)
         geo = self.design_scalars(p)
         gv, gj = self.kind.geometry_rows(geo, grad)
         if gv.size:
@@ -342,9 +351,60 @@ class SmoothModel:
                     if c is not None:
                         full[:, c] += gj[:, k]
                 jacs.append(full)
-        top = per * len(channels)
+        top = per * (len(channels) + len(groove))
         return (np.concatenate(rows), np.vstack(jacs) if grad else None, vals[top:],
                 jac[top:] if grad else None)
+
+    # ---- a groove cam's body rows ---------------------------------------------------------------
+    def _groove_channels(self) -> tuple[tuple[str, float], ...]:
+        """The window channels of a groove cam's rows when a body variable is in the design: the
+        pitch radius ±R/R_ref and −κ·R_ref (R_ref = the starting base radius)."""
+        if not self.space.body_cols:
+            return ()
+        ref = self.kind.length_ref
+        return (("pitch_radius", 1.0 / ref), ("pitch_radius", -1.0 / ref), ("kappa", -ref))
+
+    def _groove_rows(self, p: np.ndarray, vals: np.ndarray, jac: np.ndarray | None, grad: bool
+                     ) -> tuple[np.ndarray, np.ndarray | None]:
+        """A groove cam's rows per window (w = 2r + c the groove width, D the disc):
+
+        * rim:      (R + r + c/2 + min_wall)/(D/2) − 1 ≤ 0   (the outer wall's largest radius is the
+          pitch curve's + w/2 exactly: there the normal is radial)
+        * bore:     (bore + min_wall + r + c/2 − R)/R_ref ≤ 0 (likewise for the inner wall's smallest)
+        * undercut: −κ (r + c/2) − 1 ≤ 0                      (the outer wall folds where the concave
+          pitch radius is below w/2)
+
+        ``vals``/``jac``: the window maxima of :meth:`_groove_channels`, channel-major."""
+        from ..bodies.features import bore_extent, resolved
+
+        sp = self.space
+        spec = self.spec
+        ref = self.kind.length_ref
+        per = vals.size // 3
+        r_hi, r_lo, k_c = vals[:per] * ref, vals[per:2 * per] * ref, vals[2 * per:] / ref
+        diam = sp.body_value(p, "outer_diameter")
+        half = self.rr + 0.5 * sp.body_value(p, "clearance")
+        wall = resolved(spec, "groove", "min_wall")
+        rim_num = r_hi + half + wall
+        rim = rim_num / (0.5 * diam) - 1.0
+        bore = (bore_extent(spec) + wall + half + r_lo) / ref
+        under = k_c * half - 1.0
+        out = np.concatenate([rim, bore, under])
+        if not grad:
+            return out, None
+        j_hi, j_lo, j_k = jac[:per], jac[per:2 * per], jac[2 * per:]
+        d_rim = j_hi * ref / (0.5 * diam)
+        d_bore = j_lo.copy()
+        d_under = j_k * half / ref
+        cc = sp.body_cols.get("clearance")
+        if cc is not None:
+            d_rim[:, cc] += 0.5 / (0.5 * diam)
+            d_bore[:, cc] += 0.5 / ref
+            d_under[:, cc] += 0.5 * k_c
+        cd = sp.body_cols.get("outer_diameter")
+        if cd is not None:
+            d_rim[:, cd] -= rim_num / (0.5 * diam * diam)
+        return out, np.vstack([d_rim, d_bore, d_under])
 
     def window_max(self, p: np.ndarray, channels: tuple[tuple[str, float], ...], grad: bool = True,
                    windows: int = 40, per_window: int = 12) -> tuple[np.ndarray, np.ndarray | None]:

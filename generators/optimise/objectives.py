@@ -34,7 +34,8 @@ from ..machining.cutting_time import staircase_moves
 from ..errors import CamError
 from .model import SmoothModel
 
-SMOOTH = ("area", "profile_area", "peak_acceleration", "peak_pressure_angle", "thesis_length", "pitch_length")
+SMOOTH = ("area", "profile_area", "peak_acceleration", "peak_pressure_angle", "thesis_length", "pitch_length",
+          "outer_diameter")
 PEAK = ("peak_acceleration", "peak_pressure_angle")
 TIME = ("machining_time", "gcode_time")
 SURROGATE = {"machining_time": "thesis_length", "gcode_time": "pitch_length"}
@@ -48,6 +49,7 @@ DESCRIPTIONS = {
     "peak_pressure_angle": "largest |pressure angle| [deg]",
     "thesis_length": "length of the thesis' machining curve r = R_b + s (smooth stand-in for machining_time)",
     "pitch_length": "pitch-curve length (smooth stand-in for gcode_time)",
+    "outer_diameter": "groove cam's disc diameter cam.outer_diameter (rim wall >= groove.min_wall a constraint)",
 }
 #: "area" for every follower but the translating knife/roller (whose "area" is the thesis' Eq. 4.21)
 AREA_DESIGN_CURVE = ("cam area: the exact area inside the design curve, 1/2 |int F x V dtheta| (an oscillating "
@@ -65,7 +67,7 @@ def describe(name: str, spec: Any) -> str:
 
 UNITS = {"area": "length²", "profile_area": "length²", "machining_time": "s", "gcode_time": "s",
          "peak_acceleration": "length/rad²", "peak_pressure_angle": "deg", "thesis_length": "length",
-         "pitch_length": "length"}
+         "pitch_length": "length", "outer_diameter": "length"}
 
 
 @dataclass
@@ -99,6 +101,16 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
     if name == "peak_pressure_angle":
         return Objective(name, model, _peak_value(model, "phi"), True,
                          peak=lambda geo, kin: np.rad2deg(model.local(geo, kin.s, kin.v, kin.a, False)["phi"][0]))
+    if name == "outer_diameter":
+        col = sp.body_cols["outer_diameter"]
+
+        def diameter(p: np.ndarray, grad: bool) -> tuple[Any, np.ndarray | None]:
+            g = np.zeros(sp.n) if grad else None
+            if grad:
+                g[col] = 1.0
+            return p[col], g
+
+        return Objective(name, model, diameter, True)
     if name == "machining_time":
         opt = spec.optimise
         from ..machining.cutting_time import DEFAULT_TOLERANCE

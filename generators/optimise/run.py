@@ -744,6 +744,10 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
             raise SpecError(key, "unknown optimiser setting")
     spec = spec.replace(**changes) if changes else spec
+    if spec.cam.body == "cylindrical":          # its own design and checks: generators.optimise.cylindrical
+        from .cylindrical import optimise_cylindrical
+
+        return optimise_cylindrical(spec, progress=progress, cancel=cancel)
     cfg = spec.optimise
     space = DesignSpace(spec)
     space.check_start()
@@ -873,6 +877,8 @@ def final_value(objective: str, spec: CamSpec) -> float:
         from ..machining.cutting_time import contour_time
 
         return contour_time(design_cam(spec)).time
+    if objective == "outer_diameter":
+        return float(spec.cam.outer_diameter)
     ext = run_checks(spec).extremes
     if objective == "peak_acceleration":
         return abs(float(ext["reduced_acceleration"]["value"]))

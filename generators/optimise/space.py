@@ -33,8 +33,13 @@ import numpy as np
 from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError
 from ..motion.program import MotionProgram
-from ..spec.model import CamSpec, optimise_control_rows, optimise_variables
+from ..spec.model import BODY_VARIABLES, CamSpec, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
+from .points import PointBlock, curve_at, point_block, point_bounds
+
+
+#: spec path of each body design variable (a groove cam)
+BODY_PATHS = {"outer_diameter": "cam.outer_diameter", "clearance": "groove.clearance"}
 
 
 @dataclass(frozen=True)
@@ -57,6 +62,14 @@ class LiftBlock:
     @property
     def span(self) -> float:
         return float(self.x[-1])
+
+    @property
+    def y_jac(self) -> np.ndarray:
+        """(n+1, len(y_cols)): ∂y/∂(the block's lift variables), a selection of the free lifts."""
+        out = np.zeros((self.n_points, self.y_cols.size))
+        if self.y_cols.size:
+            out[self.y_free, np.arange(self.y_free.size)] = 1.0
+        return out
 
     def arrays(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The full control x and y (n+1 each) at design ``p`` (any dtype: complex for tests)."""
@@ -146,6 +159,29 @@ class DesignSpace:
                     p0.append(float(curve.y[i])), lo.append(0.0), hi.append(1.0)
             kind = "rise" if self.program.lifts[k] > 0 else "return"
             blocks.append(LiftBlock(k, kind, curve.order, curve.x.copy(), curve.y.copy(), xc, y_free, yc))
+        point_blocks: list[PointBlock] = []
+        for k in rows["points"]:
+            pb = point_block(spec, self.program, k, len(p0))
+            plo, phi = point_bounds(pb, opt.point_shift_max)
+            for i, a in enumerate(pb.angles_deg):
+                labels.append(f"motion[{k}].points[{i}]")
+                p0.append(float(pb.s0[i])), lo.append(float(plo[i])), hi.append(float(phi[i]))
+            point_blocks.append(pb)
+        #: polynomial rows whose interior points' lifts are variables (:mod:`.points`)
+        self.point_blocks = tuple(point_blocks)
+        #: a groove cam's body variables (cam.outer_diameter, groove.clearance): their columns in p
+        self.body_cols: dict[str, int] = {}
+        for name in BODY_VARIABLES:
+            if name not in self.kinds:
+                continue
+            v0 = self.body_start(name)
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            default_lo = 0.5 * v0 if name == "outer_diameter" else 0.0
+            default_hi = 2.0 * v0 if v0 > 0 else 2.0 * spec.roller_radius
+            self.body_cols[name] = len(p0)
+            labels.append(BODY_PATHS[name])
+            p0.append(v0), lo.append(lo_b if lo_b is not None else default_lo)
+            hi.append(hi_b if hi_b is not None else default_hi)
         if "orientation" in self.kinds:
             self.b_index = len(p0)
             b0 = math.radians(opt.blank_orientation)
@@ -164,8 +200,23 @@ class DesignSpace:
             self.upper = np.maximum(self.upper, self.start)
         self.p0 = self.start.copy()
         self.scale = self.upper - self.lower
+        # a lift bound collapsed onto its start (point_shift_max tiny): keep the scaling finite
+        self.scale = np.where(self.scale > 0, self.scale, 1e-9 * np.maximum(1.0, np.abs(self.start)))
         self.gap = gap
         self.linear_A, self.linear_c = self._linear_constraints()
+
+    def body_start(self, name: str) -> float:
+        """The spec's cam.outer_diameter or groove.clearance (its default when absent)."""
+        from ..bodies.features import resolved
+
+        if name == "outer_diameter":
+            return float(self.spec.cam.outer_diameter)
+        return float(resolved(self.spec, "groove", "clearance"))
+
+    def body_value(self, p: np.ndarray, name: str) -> Any:
+        """outer_diameter or clearance at design p (the spec's when not a variable)."""
+        c = self.body_cols.get(name)
+        return p[c] if c is not None else self.body_start(name)
 
     def check_start(self) -> None:
         """Refuse a starting design outside the bounds the spec gives (the default bounds
@@ -193,6 +244,15 @@ class DesignSpace:
                 raise SpecError("optimise.base_radius_max",
                                 f"must be ≥ cam.base_radius of the starting design ({r0:g} {units}), "
                                 f"got {opt.base_radius_max:g}")
+        for name, c in self.body_cols.items():
+            v0 = float(self.start[c])
+            lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+            if lo_b is not None and v0 < lo_b:
+                raise SpecError(f"optimise.{name}_min",
+                                f"must be ≤ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {lo_b:g}")
+            if hi_b is not None and v0 > hi_b:
+                raise SpecError(f"optimise.{name}_max",
+                                f"must be ≥ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {hi_b:g}")
         for name, c in zip(self.geometry_names, self.geometry_cols):
             if c is None or name not in ("pivot_distance", "arm_length", "face_offset"):
                 continue
@@ -224,8 +284,8 @@ class DesignSpace:
 
     @property
     def varies_shape(self) -> bool:
-        """True when some control point is a variable."""
-        return any(b.x_cols.size or b.y_cols.size for b in self.blocks)
+        """True when some control point (or polynomial point lift) is a variable."""
+        return any(b.x_cols.size or b.y_cols.size for b in self.blocks) or bool(self.point_blocks)
 
     # ---- the design at p ----------------------------------------------------------------------
     def base_radius(self, p: np.ndarray) -> Any:
@@ -248,6 +308,8 @@ class DesignSpace:
         for blk in self.blocks:
             x, y = blk.arrays(np.asarray(p, dtype=float))
             curves[blk.motion_index] = BSplineLift(blk.order, x, y)
+        for pb in self.point_blocks:
+            curves[pb.motion_index] = curve_at(pb, p)
         prog = self.program
         return MotionProgram(prog.starts, prog.spans, prog.levels, prog.lifts, prog.laws, prog.kinds, tuple(curves))
 
@@ -279,6 +341,11 @@ class DesignSpace:
                 full = seg.control_y is not None and len(seg.control_y) == n - 1
                 cy = y[1:-1] if full else y[blk.y_free]
                 changes[f"motion[{k}].control_y"] = [float(v) for v in cy]
+        for name, c in self.body_cols.items():
+            changes[BODY_PATHS[name]] = float(p[c])
+        for pb in self.point_blocks:
+            changes[f"motion[{pb.motion_index}].points"] = [[float(a), float(s)]
+                                                            for a, s in zip(pb.angles_deg, pb.lifts(p))]
         return self.spec.replace(**changes) if changes else self.spec
 
     def is_valid(self, p: np.ndarray) -> bool:
@@ -334,6 +401,10 @@ class DesignSpace:
                         c += sgn * blk.y[i + 1]
                     rows.append(a)
                     rhs.append(c)
+        for pb in self.point_blocks:
+            a, c = pb.monotonic_rows(self.n)
+            rows.extend(a)
+            rhs.extend(c)
         if not rows:
             return np.zeros((0, self.n)), np.zeros(0)
         return np.array(rows), np.array(rhs)

@@ -519,11 +519,16 @@ class MachiningSection:
 #: curve), the true profile cross-section, the thesis' cutting time (Eq. 4.4–4.20), the time of the
 #: project's own XY G-code contour, and the largest |s″| or |φ| (smoothest cam).
 OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acceleration",
-              "peak_pressure_angle")
+              "peak_pressure_angle", "outer_diameter")
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
 OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "control_x",
-                      "control_y", "control_points", "orientation")
+                      "control_y", "control_points", "points", "outer_diameter", "clearance", "cylinder_radius",
+                      "orientation")
+#: The design variables that are the cam body's own (a groove cam's disc and groove), in order.
+BODY_VARIABLES = ("outer_diameter", "clearance")
+#: A cylindrical cam's design variables (its own optimiser: :mod:`generators.optimise.cylindrical`).
+CYLINDER_VARIABLES = ("cylinder_radius", "outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
 #: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
@@ -543,16 +548,23 @@ class OptimiseSection:
         "the true cam cross-section inside the profile; "
         "\"machining_time\" = the thesis' cutting time (Eq. 4.4–4.20); \"gcode_time\" = the time of this "
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
-        "machining_time needs a translating follower",
+        "machining_time needs a translating follower; \"outer_diameter\" = a groove cam's disc diameter "
+        "(cam.body = \"groove\", with outer_diameter among the variables) or a cylindrical cam's cylinder (its "
+        "only objective)",
         kind="str", choices=OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
         "arm_length (oscillating followers; a flat face's arm_length, its centre, when given), face_offset "
         "(oscillating flat face), control_x, control_y (control_points = both: every free control coordinate "
         "of each B-spline rise/return; motion[k].control_x, motion[k].control_y, motion[k].control_points: "
-        "those of segment k only), orientation (the blank on the NC table; machining_time only); \"auto\" = "
+        "those of segment k only), points (the lifts s of the interior points of every law = \"polynomial\" "
+        "rise/return that has points; motion[k].points: segment k's), orientation (the blank on the NC table; "
+        "machining_time only), outer_diameter and clearance (a groove cam's cam.outer_diameter and "
+        "groove.clearance: cam.body = \"groove\"; a cylindrical cam's: cylinder_radius, outer_diameter, "
+        "clearance, \"auto\" = the first two); \"auto\" = "
         "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
-        "face pivot_distance and face_offset), control_points (+ orientation for machining_time)",
+        "face pivot_distance and face_offset), control_points (+ orientation for machining_time); polynomial "
+        "points only when named (they are often the designer's requirements)",
         kind="str", default="auto", group="Optimise")
     algorithm: str = param(
         "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
@@ -604,6 +616,22 @@ class OptimiseSection:
         "Bound of |follower.face_offset| (oscillating flat face; default: half the base-radius lower bound, or "
         "|face_offset| of the starting design when larger)", unit="length", gt=0, optional=True,
         group="Optimise")
+    outer_diameter_min: float | None = param(
+        "Lower bound of a groove cam's cam.outer_diameter (default: half the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
+    outer_diameter_max: float | None = param(
+        "Upper bound of a groove cam's cam.outer_diameter (default: twice the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
+    clearance_min: float | None = param(
+        "Lower bound of a groove cam's groove.clearance (default 0; the fit the roller needs in its groove "
+        "belongs here)", unit="length", ge=0, optional=True, group="Optimise")
+    clearance_max: float | None = param(
+        "Upper bound of a groove cam's groove.clearance (default: twice the initial)", unit="length", gt=0,
+        optional=True, group="Optimise")
+    point_shift_max: float | None = param(
+        "Bound of how far each polynomial interior point's lift (variables points, motion[k].points) may move "
+        "from its starting value (default: no bound but the segment's own lift range, from its lower to its "
+        "upper level)", unit="length", gt=0, optional=True, group="Optimise")
     control_gap: float = param(
         "Smallest angle between consecutive control-point angles of a B-spline rise/return (keeps θ(u) "
         "increasing: thesis §2.7)", unit="angle", gt=0, default=0.5, group="Optimise")
@@ -1187,20 +1215,27 @@ def _validate_machining(spec: CamSpec) -> None:
                         f"got {mc.chord_tolerance:g}")
 
 
-_SEGMENT_VARIABLE = re.compile(r"^motion\[(\d+)\]\.(control_x|control_y|control_points)$")
+_SEGMENT_VARIABLE = re.compile(r"^motion\[(\d+)\]\.(control_x|control_y|control_points|points)$")
+
+
+def _point_rows(spec: CamSpec) -> set[int]:
+    """Motion rows with law = "polynomial" and interior points (whose lifts can be varied)."""
+    return {k for k, seg in enumerate(spec.motion) if seg.law == "polynomial" and seg.points}
 
 
 def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
-    """(kinds, B-spline motion rows per control kind) of ``optimise.variables``."""
+    """(kinds, motion rows per per-segment kind: B-spline ``control_x``/``control_y``, polynomial
+    ``points``) of ``optimise.variables``."""
     opt = spec.optimise
     text = opt.variables.strip()
     bspline_rows = {k for k, seg in enumerate(spec.motion) if seg.law == "bspline"}
-    rows: dict[str, set[int]] = {"control_x": set(), "control_y": set()}
+    point_rows = _point_rows(spec)
+    rows: dict[str, set[int]] = {"control_x": set(), "control_y": set(), "points": set()}
     if text == "auto":
         fol = spec.follower
         key = "oscillating flat" if (fol.motion, fol.kind) == ("oscillating", "flat") else fol.motion
         names = {"base_radius", *AUTO_FOLLOWER_VARIABLES[key]}
-        rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows)}
+        rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows), "points": set()}
         if opt.objective == "machining_time":
             names.add("orientation")
     else:
@@ -1212,9 +1247,19 @@ def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
             m = _SEGMENT_VARIABLE.match(tok)
             if m:
                 k = int(m.group(1))
+                exists = k < len(spec.motion)
+                what = (f"has law = {spec.motion[k].law!r}" if exists and spec.motion[k].law
+                        else "is a dwell" if exists else f"does not exist ({len(spec.motion)} segments)")
+                if m.group(2) == "points":
+                    if k not in point_rows:
+                        if exists and spec.motion[k].law == "polynomial":
+                            what = "has no interior points (give motion[k].points)"
+                        raise SpecError("optimise.variables",
+                                        f"{tok}: motion[{k}] {what}; only a law = \"polynomial\" rise or return "
+                                        "with interior points has point lifts to vary")
+                    rows["points"].add(k)
+                    continue
                 if k not in bspline_rows:
-                    what = (f"has law = {spec.motion[k].law!r}" if k < len(spec.motion) and spec.motion[k].law
-                            else "is a dwell" if k < len(spec.motion) else f"does not exist ({len(spec.motion)} segments)")
                     raise SpecError("optimise.variables",
                                     f"{tok}: motion[{k}] {what}; only a law = \"bspline\" rise or return has control points")
                 kinds = ("control_x", "control_y") if m.group(2) == "control_points" else (m.group(2),)
@@ -1224,13 +1269,19 @@ def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
             if tok not in OPTIMISE_VARIABLES:
                 raise SpecError("optimise.variables",
                                 f"unknown design variable {tok!r} (known: auto, {', '.join(OPTIMISE_VARIABLES)}, "
-                                "motion[k].control_x / control_y / control_points)")
+                                "motion[k].control_x / control_y / control_points / points)")
             if tok in ("control_points", "control_x", "control_y"):
                 if not bspline_rows:
                     raise SpecError("optimise.variables",
                                     'control points need a law = "bspline" rise or return (other laws have none)')
                 for kind in (("control_x", "control_y") if tok == "control_points" else (tok,)):
                     rows[kind] |= bspline_rows
+            elif tok == "points":
+                if not point_rows:
+                    raise SpecError("optimise.variables",
+                                    'points need a law = "polynomial" rise or return with interior points '
+                                    "(motion[k].points)")
+                rows["points"] |= point_rows
             else:
                 names.add(tok)
     names |= {kind for kind, ks in rows.items() if ks}
@@ -1242,13 +1293,14 @@ def optimise_variables(spec: CamSpec) -> tuple[str, ...]:
     and the per-segment ``motion[k].…`` forms expanded), in the order base_radius, offset,
     control_x, control_y, orientation."""
     names, _rows = _parse_variables(spec)
-    return tuple(n for n in ("base_radius", *FOLLOWER_VARIABLES, "control_x", "control_y", "orientation")
-                 if n in names)
+    return tuple(n for n in ("base_radius", *FOLLOWER_VARIABLES, "control_x", "control_y", "points",
+                             *BODY_VARIABLES, "cylinder_radius", "orientation") if n in names)
 
 
 def optimise_control_rows(spec: CamSpec) -> dict[str, tuple[int, ...]]:
-    """The motion rows whose control angles (``"control_x"``) and lifts (``"control_y"``) are
-    design variables, by ``optimise.variables`` (every B-spline row for ``control_x`` etc.)."""
+    """The motion rows whose control angles (``"control_x"``) and lifts (``"control_y"``), or
+    polynomial point lifts (``"points"``), are design variables, by ``optimise.variables`` (every
+    B-spline row for ``control_x`` etc.)."""
     _names, rows = _parse_variables(spec)
     return {kind: tuple(sorted(ks)) for kind, ks in rows.items()}
 
@@ -1272,15 +1324,40 @@ def follower_variable_rule(spec: CamSpec, name: str) -> str | None:
     return None
 
 
+def body_variable_rule(spec: CamSpec, name: str) -> str | None:
+    """Why the body field ``name`` (outer_diameter, clearance) cannot be a design variable of
+    ``spec``'s body, or None when it can (a groove cam: its disc and its groove)."""
+    body = spec.cam.body
+    if name == "cylinder_radius":
+        return None if body == "cylindrical" else (
+            f'cylinder_radius is a cylindrical cam\'s (cam.body = "cylindrical"); this cam\'s body is "{body}"')
+    if name not in BODY_VARIABLES or body in ("groove", "cylindrical"):
+        return None
+    return (f'{name} is a groove cam\'s (cam.body = "groove": the disc\'s cam.outer_diameter, '
+            f'groove.clearance); this cam\'s body is "{body}", which has none')
+
+
 def _validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")
     for name in names:
-        rule = follower_variable_rule(spec, name)
+        rule = follower_variable_rule(spec, name) or body_variable_rule(spec, name)
         if rule:
             raise SpecError("optimise.variables", rule)
+    if opt.objective == "outer_diameter" and spec.cam.body != "cylindrical":
+        if spec.cam.body != "groove":
+            raise SpecError("optimise.objective",
+                            f'outer_diameter is a groove cam\'s disc or a cylindrical cam\'s cylinder (cam.body = '
+                            f'"groove" or "cylindrical"); this cam\'s body is "{spec.cam.body}"')
+        if "outer_diameter" not in names:
+            raise SpecError("optimise.variables",
+                            "objective outer_diameter needs outer_diameter among the variables")
+    for name in ("outer_diameter", "clearance"):
+        lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
+        if lo_b is not None and hi_b is not None and not lo_b < hi_b:
+            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({lo_b:g}), got {hi_b:g}")
     fol = spec.follower
     if opt.objective == "machining_time" and fol.motion != "translating":
         raise SpecError("optimise.objective",
