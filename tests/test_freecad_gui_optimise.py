@@ -74,7 +74,7 @@ def panel_state():
         "algorithms": [p.algorithm.itemData(i) for i in range(p.algorithm.count())],
         "variables": {{t: [cb.text(), cb.isEnabled(), cb.isChecked()] for t, cb in p.var_boxes.items()}},
         "count": p.var_count.text(),
-        "rb_min": p.rb_min.value(), "rb_max": p.rb_max.value(), "e_max": p.e_max.value(),
+        "rb_min": p.rb_min.value(), "rb_max": p.rb_max.value(), "e_max": p.e_max.value() if p.e_max is not None else None,
         "rb_title": p.rb_min_box.title(), "rb_note": p.rb_note.text(),
         "max_evals": p.max_evals.value(), "status": p.status.text(),
         "run_enabled": p.run_button.isEnabled(), "apply_enabled": p.apply_button.isEnabled(),

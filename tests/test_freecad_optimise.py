@@ -355,3 +355,19 @@ def test_panel_offers_the_followers_own_position_variables(example, flat_arm, ex
     assert text == ", ".join(c.token for c in choices if c.enabled)
     res = optimise(spec.replace(**{"optimise.variables": text, "optimise.max_evaluations": 10}))
     assert {v["name"] for v in res.report()["variables"]} == {("cam." if t == "base_radius" else "follower.") + t for t in tokens}
+
+
+def test_oscillating_follower_has_no_offset_bound():
+    """An arm has no offset: the panel's settings carry no |e| bound and write no optimise.offset_max
+    (the bounds of an arm's position are its Optimise properties); R_b's bounds are the library's."""
+    from cam_workbench.freecad import optimiser as O
+    from generators.optimise.space import DesignSpace
+
+    spec = example_spec("oscillating")
+    r_lo, r_hi, e_max = O.default_bounds(spec)
+    space = DesignSpace(spec.replace(**{"optimise.variables": "base_radius"}))
+    assert (r_lo, r_hi) == (float(space.lower[space.r_index]), float(space.upper[space.r_index]))
+    assert e_max is None
+    settings = O.settings_of(spec)
+    assert settings.offset_max is None and "optimise.offset_max" not in settings.changes()
+    assert O.run_spec(spec, settings).optimise.offset_max is None

@@ -62,16 +62,6 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
     return spec.replace(**changes) if changes else spec
 
 
-def refuse_own_design(spec: CamSpec, command: str) -> None:
-    """For the commands that do not cover a body that designs itself (a cylindrical cam; every command
-    but ``optimise`` does): refuse it naming ``cam.body`` (exit 2)."""
-    from generators.bodies import body_of
-
-    if getattr(body_of(spec), "design", None) is not None:
-        raise SpecError("cam.body", f"cam-workbench {command} does not cover {spec.cam.body} cams yet "
-                        "(the other commands do)")
-
-
 def own_design(spec: CamSpec) -> bool:
     """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
     from generators.bodies import body_of

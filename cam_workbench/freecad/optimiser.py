@@ -191,13 +191,15 @@ class Settings:
     seed: int
     base_radius_min: float
     base_radius_max: float
-    offset_max: float
+    #: None where the follower has no offset (an oscillating arm): no bound shown or written
+    offset_max: float | None
 
     def changes(self) -> dict[str, Any]:
-        return {f"optimise.{f.name}": getattr(self, f.name) for f in dataclasses.fields(self)}
+        return {f"optimise.{f.name}": getattr(self, f.name) for f in dataclasses.fields(self)
+                if not (f.name == "offset_max" and self.offset_max is None)}
 
 
-def default_bounds(spec: CamSpec) -> tuple[float, float, float]:
+def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
     """(R_b lower, R_b upper, |e| upper): the ones ``[optimise]`` gives, and for those it leaves
     out the library's defaults (``generators.optimise.space.DesignSpace``: ½ × and 2 × the
     initial R_b, the lower at least 1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower
@@ -206,13 +208,14 @@ def default_bounds(spec: CamSpec) -> tuple[float, float, float]:
     with the library's message naming the field."""
     from generators.optimise.space import DesignSpace
 
-    probe = spec.replace(**{"optimise.variables": "base_radius, offset",
+    translating = spec.follower.motion == "translating"       # only a translating follower has an offset
+    probe = spec.replace(**{"optimise.variables": "base_radius, offset" if translating else "base_radius",
                             "optimise.objective": "area", "optimise.algorithm": "auto"})
     space = DesignSpace(probe)
     opt = spec.optimise
     found = (float(space.lower[space.r_index]), float(space.upper[space.r_index]),
-             float(space.upper[space.e_index]))
-    given = (opt.base_radius_min, opt.base_radius_max, opt.offset_max)
+             float(space.upper[space.e_index]) if translating else None)
+    given = (opt.base_radius_min, opt.base_radius_max, opt.offset_max if translating else None)
     return tuple(float(g) if g is not None else f for g, f in zip(given, found))  # type: ignore[return-value]
 
 

@@ -95,7 +95,9 @@ class OptimiserPanel:
         bl = QtGui.QVBoxLayout(bounds)
         self.rb_min = self._length_spin(self.defaults.base_radius_min)
         self.rb_max = self._length_spin(self.defaults.base_radius_max)
-        self.e_max = self._length_spin(self.defaults.offset_max)
+        # an oscillating arm has no offset: no |e| bound (its position bounds are the Optimise properties)
+        self.e_max = (self._length_spin(self.defaults.offset_max) if self.defaults.offset_max is not None
+                      else None)
         self.rb_min_box = QtGui.QGroupBox("Smallest base radius R_b (shaft, hub, bore)")
         self.rb_min_box.setObjectName("BaseRadiusMin")
         self.rb_min_box.setStyleSheet("QGroupBox { font-weight: bold; }")
@@ -111,10 +113,13 @@ class OptimiserPanel:
         bl.addWidget(self.rb_min_box)
         bform = QtGui.QFormLayout()
         bform.addRow("Largest R_b:", self.rb_max)
-        bform.addRow("Largest |e|:", self.e_max)
+        if self.e_max is not None:
+            bform.addRow("Largest |e|:", self.e_max)
         bl.addLayout(bform)
         for spin, field in ((self.rb_min, "base_radius_min"), (self.rb_max, "base_radius_max"),
                             (self.e_max, "offset_max")):
+            if spin is None:
+                continue
             spin.setToolTip(props.field_tooltip(f"optimise.{field}"))
         self._rb_min_default = opt.bound_is_default(self.spec)
 
@@ -210,6 +215,8 @@ class OptimiserPanel:
             cb.clicked.connect(lambda *_: self._vars_clicked())
             cb.toggled.connect(lambda *_: self.refresh())
         for spin in (self.rb_max, self.e_max, self.max_evals, self.multistart, self.seed):
+            if spin is None:
+                continue
             spin.valueChanged.connect(lambda *_: self.refresh())
         self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
         self.refresh()
@@ -277,7 +284,7 @@ class OptimiserPanel:
                             algorithm=self.algorithm.currentData(), max_evaluations=self.max_evals.value(),
                             multistart=self.multistart.value(), seed=self.seed.value(),
                             base_radius_min=self.rb_min.value(), base_radius_max=self.rb_max.value(),
-                            offset_max=self.e_max.value())
+                            offset_max=self.e_max.value() if self.e_max is not None else None)
 
     def _vars_clicked(self) -> None:
         self._vars_touched = True
@@ -319,7 +326,8 @@ class OptimiserPanel:
         self.var_count.setText(f"{n} design variable{'s' if n != 1 else ''}")
         self.rb_min.setEnabled("base_radius" in tokens)
         self.rb_max.setEnabled("base_radius" in tokens)
-        self.e_max.setEnabled("offset" in tokens)
+        if self.e_max is not None:
+            self.e_max.setEnabled("offset" in tokens)
         if self._rb_min_default:
             self.rb_note.setText(
                 f"Shown: the library's default (½ × the initial R_b = {self.spec.cam.base_radius:g} {self.units}, "
