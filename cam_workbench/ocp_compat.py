@@ -273,9 +273,14 @@ def topods_solid(shape: Any) -> Any:
     return _static(_ns().TopoDS, "Solid")(shape)
 
 
-def volume_properties(shape: Any, props: Any) -> None:
-    """``BRepGProp.VolumeProperties_s(shape, props)``."""
-    _static(_ns().BRepGProp, "VolumeProperties")(shape, props)
+def volume_properties(shape: Any, props: Any, eps: float | None = None) -> None:
+    """``BRepGProp.VolumeProperties_s(shape, props)``; with ``eps`` the adaptive integration to
+    that relative error (``(shape, props, eps, OnlyClosed=False)``)."""
+    fn = _static(_ns().BRepGProp, "VolumeProperties")
+    if eps is None:
+        fn(shape, props)
+    else:
+        fn(shape, props, eps, False)
 
 
 def surface_properties(shape: Any, props: Any) -> None:

@@ -86,7 +86,9 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     solid: dict[str, Any] = {
         "valid": occ_build.is_valid(shape),
         "solids": occ_build.count_solids(shape),
-        "kernel_volume": occ_build.kernel_volume(shape),
+        # prisms: OCCT's Gauss rule is exact; wall surfaces (a cylindrical cam) need its adaptive rule
+        "kernel_volume": occ_build.kernel_volume(shape, None if getattr(design.body, "prismatic", True)
+                                                 else occ_build.SURFACE_VOLUME_EPS),
         "cross_section_area": occ_build.face_area(occ_build.planar_face_at(shape, t)),
     }
     # how far the kernel's integrals are from the exact (Green's theorem) numbers

@@ -164,6 +164,14 @@ def wall_distance_error(layout: CylinderLayout, program, side: int, points: np.n
     for _ in range(4):
         pk = layout.path.evaluate(program.evaluate(np.mod(theta, 2 * np.pi)))
         theta = base + pk.u / rp
+    # the foot point can sit well away from that (a steep groove: the offset w/2 runs along the
+    # circumference by w/2·sin φ): the nearest of a window of samples around it starts Newton
+    window = np.linspace(-0.75, 0.75, 61)
+    cand = theta[:, None] + window[None, :]
+    cw = layout.centre_line(program, cand.ravel(), np.repeat(rho, window.size))
+    d2 = ((rho[:, None] * _wrap(cw.x.reshape(cand.shape) / rho[:, None] - psi[:, None])) ** 2
+          + (cw.z.reshape(cand.shape) - zp[:, None]) ** 2)
+    theta = cand[np.arange(len(theta)), np.argmin(d2, axis=1)]
     for _ in range(iterations):
         c = layout.centre_line(program, theta, rho)
         dx = rho * _wrap(c.x / rho - psi)                   # developed x of C − P

@@ -70,7 +70,9 @@ def test_cylindrical_any_valid_spec(tmp_path_factory, d):
     check_solid(cam.shape)
     v = cylindrical_volume(cam.spec)
     assert abs(report["volume"] / v - 1) < 1e-6, (report["volume"], v)
-    assert abs(kernel_volume(cam.shape) / v - 1) < 1e-5, (kernel_volume(cam.shape), v)
+    kv = kernel_volume(cam.shape, 1e-6)             # OCCT's adaptive integration of the wall faces
+    assert abs(kv / v - 1) < 1e-6, (kv, v)
+    assert abs(report["solid"]["volume_rel_diff"]) < 1e-6, report["solid"]
     wall = report["body"]["wall_error"]
     scale = cam.spec.cam.cylinder_radius
     assert wall["value"] <= 1e-5 * scale, wall
