@@ -113,21 +113,23 @@ def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
         SpecError: naming the field and the rule.
     """
     dy = spec.dynamics
+    if (dy.enabled or required) and spec.cam.body == "cylindrical" and spec.follower.motion != "translating":
+        # first: no field of [dynamics] would make it work
+        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
+                        "only (an oscillating arm's train is not modelled yet)")
     coordinate = "angle" if spec.follower.motion == "oscillating" else "length"
     mine = TRAIN_FIELDS[coordinate]
     other = TRAIN_FIELDS["length" if coordinate == "angle" else "angle"]
     motion = spec.follower.motion
     for name in other[:2]:
         if getattr(dy, name) is not None:
-            raise SpecError(f"dynamics.{name}", f"does not apply to a {motion} follower: give dynamics.{mine[other.index(name)]}")
+            raise SpecError(f"dynamics.{name}", f"does not apply to {'an' if motion == 'oscillating' else 'a'} {motion} "
+                            f"follower: give dynamics.{mine[other.index(name)]}")
     lo, hi = dy.sweep_min_rpm, dy.sweep_max_rpm
     if lo is not None and hi is not None and not lo < hi:
         raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({lo:g}), got {hi:g}")
     if not (dy.enabled or required):
         return
-    if spec.cam.body == "cylindrical" and motion != "translating":
-        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
-                        "only (an oscillating arm's train is not modelled yet)")
     inertia_field, stiffness_field, follower_field = mine
     if getattr(dy, stiffness_field) is None:
         raise SpecError(f"dynamics.{stiffness_field}",
