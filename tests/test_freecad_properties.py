@@ -70,7 +70,9 @@ def test_absent_values():
         "MotionEndJerkEnabled", "MotionTableStartEnabled",
         # a groove's clearance and smallest wall (0 = none, absent = the unit's default), a conjugate
         # arm pair's angle (0 is an angle)
-        "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled"]
+        "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled",
+        # the optimiser's lower bound of a groove's clearance (0: a groove as wide as the roller)
+        "OptimiseClearanceMinEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [
