@@ -71,7 +71,7 @@ SAME: tuple[str, ...] = (
     "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeWire",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
     "BRepAlgoAPI_Splitter", "BRepBuilderAPI_Sewing", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
-    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL",
+    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "BRepTools", "TopoDS_Shape",
     "Geom_BSplineCurve", "Geom_OffsetCurve", "Geom2d_BSplineCurve", "Geom2d_OffsetCurve",
     "GeomAbs_BSplineCurve", "GeomAbs_BSplineSurface", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
     "IFSelect_RetDone", "Interface_Static", "Message", "Message_Gravity",
@@ -83,7 +83,7 @@ SAME: tuple[str, ...] = (
 __all__ = sorted({*RENAMED, *SAME, "INSTALL_HINT", "OCP_DISTRIBUTIONS", "available", "require",
                   "version", "distributions", "describe", "real_array", "int_array", "pnt_array", "pnt_array2",
                   "pnt2d_array", "topods_edge", "topods_wire", "topods_face", "topods_solid",
-                  "volume_properties", "surface_properties", "add_to_box", "box_limits", "is_valid", "main",
+                  "volume_properties", "surface_properties", "read_brep", "add_to_box", "box_limits", "is_valid", "main",
                   "init_step", "static_set", "static_get", "message_printers"})
 
 
@@ -281,6 +281,15 @@ def volume_properties(shape: Any, props: Any, eps: float | None = None) -> None:
         fn(shape, props)
     else:
         fn(shape, props, eps, False)
+
+
+def read_brep(path: str) -> Any:
+    """The shape of an OCCT BREP file (``BRepTools.Read_s``; FreeCAD's ``Shape.exportBrep``)."""
+    ns = _ns()
+    shape = ns.TopoDS_Shape()
+    if not _static(ns.BRepTools, "Read")(shape, str(path), ns.BRep_Builder()):
+        raise OSError(f"OCCT could not read the BREP file {path}")
+    return shape
 
 
 def surface_properties(shape: Any, props: Any) -> None:

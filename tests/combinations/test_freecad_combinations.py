@@ -86,13 +86,7 @@ def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
 
 def _adaptive_volume(path) -> float:
     """Volume of a BREP file by OCCT's adaptive integration (relative error 1e-7)."""
-    from OCP.BRep import BRep_Builder
-    from OCP.BRepTools import BRepTools
-    from OCP.TopoDS import TopoDS_Shape
-
+    from cam_workbench.ocp_compat import read_brep
     from cam_workbench.occ_build import kernel_volume
 
-    shape = TopoDS_Shape()
-    read = getattr(BRepTools, "Read_s", None) or BRepTools.Read
-    assert read(shape, str(path), BRep_Builder())
-    return kernel_volume(shape, 1e-7)
+    return kernel_volume(read_brep(path), 1e-7)
