@@ -742,3 +742,28 @@ def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
     ad.set_title("developed view (the DXF's view)", fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def cylindrical_pressure_angle_figure(design: Any, limit_deg: float | None) -> Any:
+    """A cylindrical cam's pressure angle [deg] at R_p and R_b against the cam angle, with the
+    check's limit (±``limit_deg``, report.json's)."""
+    from generators.bodies.cylindrical import pressure_angles
+
+    lay = design.layout
+    th = design.program.dense_angles(721)
+    deg = np.rad2deg(th)
+    fig, ax = _plt().subplots(figsize=(7.0, 3.2))
+    ax.plot(deg, pressure_angles(lay, design.program, lay.pitch_radius, th), color="#1f3a5f",
+            label=f"at the pitch radius R_p = {lay.pitch_radius:g}")
+    ax.plot(deg, pressure_angles(lay, design.program, lay.bottom_radius, th), "--", color="#c8871e",
+            label=f"at the groove's bottom R_b = {lay.bottom_radius:.4g}")
+    if limit_deg is not None:
+        for sgn in (1, -1):
+            ax.axhline(sgn * limit_deg, color="#c0392b", lw=0.8, ls=":", label="limit" if sgn == 1 else None)
+    ax.set_xlabel("cam angle θ [deg]")
+    ax.set_ylabel("pressure angle φ [deg]")
+    ax.set_xlim(0, 360)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig

@@ -8,8 +8,6 @@ from __future__ import annotations
 import html
 from typing import Any, Callable, Mapping
 
-import numpy as np
-
 from . import plots
 from .report_html import CSS, _checks_section, _inline_svg, _quantity_table
 
@@ -18,46 +16,12 @@ FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
            ("plot_pressure_angle.png", "Pressure angle over the cycle"))
 
 
-def pressure_angle_figure(design: Any, report: Mapping[str, Any]) -> Any:
-    """The pressure angle [deg] at R_p and R_b against the cam angle, with the limit of report.json."""
-    from generators.bodies.cylindrical import pressure_angles
-
-    lay = design.layout
-    th = design.program.dense_angles(721)
-    deg = np.rad2deg(th)
-    fig, ax = _figure()
-    ax.plot(deg, pressure_angles(lay, design.program, lay.pitch_radius, th), color="#1f3a5f",
-            label=f"at the pitch radius R_p = {lay.pitch_radius:g}")
-    ax.plot(deg, pressure_angles(lay, design.program, lay.bottom_radius, th), "--", color="#c8871e",
-            label=f"at the groove's bottom R_b = {lay.bottom_radius:.4g}")
-    limit = report["checks"]["results"]["pressure_angle"].get("limit")
-    if limit is not None:
-        for sgn in (1, -1):
-            ax.axhline(sgn * limit, color="#c0392b", lw=0.8, ls=":", label="limit" if sgn == 1 else None)
-    ax.set_xlabel("cam angle θ [deg]")
-    ax.set_ylabel("pressure angle φ [deg]")
-    ax.set_xlim(0, 360)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return fig
-
-
-def _figure() -> tuple[Any, Any]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(7.0, 3.2))
-    return fig, fig.add_subplot(1, 1, 1)
-
-
 def render_cylindrical_report(design: Any, report: Mapping[str, Any],
                               progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
     """The HTML text and the PNG files ({name: bytes}) of a cylindrical cam's report."""
     makers = {"plot_cylinder.png": lambda: plots.cylindrical_figure(design),
-              "plot_pressure_angle.png": lambda: pressure_angle_figure(design, report)}
+              "plot_pressure_angle.png": lambda: plots.cylindrical_pressure_angle_figure(
+                  design, report["checks"]["results"]["pressure_angle"].get("limit"))}
     svgs, pngs = {}, {}
     for name, title in FIGURES:
         if progress is not None:

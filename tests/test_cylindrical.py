@@ -163,19 +163,28 @@ def test_solid_valid_volume_walls_and_step(design, tmp_path):
     assert occ_build.is_valid(back) and occ_build.count_solids(back) == 1
     assert occ_build.kernel_volume(back) == pytest.approx(occ_build.kernel_volume(shape), rel=1e-7)
     # the re-read wall faces: points on them at the exact offset, checked here independently
-    worst, n = 0.0, 0
-    fx = occ.TopExp_Explorer(back, occ.TopAbs_FACE)
+    pts = bspline_face_points(back, 7, 7, RB, RO)
+    worst = max(abs(wall_distance(q)[0]) for q in pts)
+    assert len(pts) > 100 and worst <= 1e-6, (len(pts), worst)
+
+
+def bspline_face_points(shape, nu: int, nv: int, r0: float, r1: float) -> list[tuple[float, float, float]]:
+    """Points of every B-spline face of ``shape`` (OCCT's evaluator) on an nu × nv grid of its
+    parameters, those between the radii r0 and r1 (the groove's walls)."""
+    from cam_workbench import ocp_compat as occ
+
+    out = []
+    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
     while fx.More():
         surf = occ.BRepAdaptor_Surface(occ.topods_face(fx.Current()))
         if surf.GetType() == occ.GeomAbs_BSplineSurface:
-            for a in np.linspace(surf.FirstUParameter(), surf.LastUParameter(), 7):
-                for b in np.linspace(surf.FirstVParameter(), surf.LastVParameter(), 7):
+            for a in np.linspace(surf.FirstUParameter(), surf.LastUParameter(), nu):
+                for b in np.linspace(surf.FirstVParameter(), surf.LastVParameter(), nv):
                     q = surf.Value(a, b)
-                    if RB - 1e-9 <= math.hypot(q.X(), q.Y()) <= RO + 1e-9:
-                        worst = max(worst, abs(wall_distance((q.X(), q.Y(), q.Z()))[0]))
-                        n += 1
+                    if r0 - 1e-9 <= math.hypot(q.X(), q.Y()) <= r1 + 1e-9:
+                        out.append((q.X(), q.Y(), q.Z()))
         fx.Next()
-    assert n > 100 and worst <= 1e-6, (n, worst)
+    return out
 
 
 def _feeds(calls):

@@ -220,7 +220,6 @@ def test_volume_closed_form(design):
 @requires_ocp
 def test_solid_valid_volume_walls_and_step(design, tmp_path):
     from cam_workbench import occ_build
-    from cam_workbench import ocp_compat as occ
     from exporters.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
@@ -236,32 +235,11 @@ def test_solid_valid_volume_walls_and_step(design, tmp_path):
     assert occ_build.is_valid(back) and occ_build.count_solids(back) == 1
     # OCCT integrates the re-read B-spline faces afresh: within its accuracy (~1e-6) of the exact volume
     assert abs(occ_build.kernel_volume(back) / v - 1) <= 1e-6
-    worst, n = 0.0, 0
-    fx = occ.TopExp_Explorer(back, occ.TopAbs_FACE)
-    while fx.More():
-        surf = occ.BRepAdaptor_Surface(occ.topods_face(fx.Current()))
-        if surf.GetType() == occ.GeomAbs_BSplineSurface:
-            for a in np.linspace(surf.FirstUParameter(), surf.LastUParameter(), 6):
-                for b in np.linspace(surf.FirstVParameter(), surf.LastVParameter(), 5):
-                    q = surf.Value(a, b)
-                    if RB - 1e-9 <= math.hypot(q.X(), q.Y()) <= RO + 1e-9:
-                        worst = max(worst, abs(wall_distance((q.X(), q.Y(), q.Z()))[0]))
-                        n += 1
-        fx.Next()
-    assert n > 50 and worst <= 1e-6, (n, worst)
+    from .test_cylindrical import bspline_face_points
 
-
-def _feeds(calls):
-    out, tag = [], ""
-    for name, args in calls:
-        if name == "COMMENT":
-            text = args.strip().strip('"')
-            if not text.startswith("interpreter:"):
-                tag = text
-        elif name in ("STRAIGHT_FEED", "STRAIGHT_TRAVERSE"):
-            v = [float(a) for a in args.split(",")]
-            out.append((name, tag, v[0], v[2], v[3]))
-    return out
+    pts = bspline_face_points(back, 6, 5, RB, RO)
+    worst = max(abs(wall_distance(q)[0]) for q in pts)
+    assert len(pts) > 50 and worst <= 1e-6, (len(pts), worst)
 
 
 @requires_rs274
@@ -275,6 +253,8 @@ def test_gcode_through_rs274(design, tmp_path):
     path = cylindrical_path(design)
     run = run_rs274(cylindrical_program(design, path), tmp_path, path.tool_number, 2 * path.tool_radius)
     assert run.units == "mm"
+    from .test_cylindrical import _feeds
+
     feeds = _feeds(run.calls)
     th = np.linspace(-0.3, 2 * np.pi + 0.3, 400001)
     cx, cz, _, _ = centre_line(RP, th)

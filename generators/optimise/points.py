@@ -41,8 +41,24 @@ from ..spec.model import CamSpec
 MONOTONIC_DEGREE = 128
 
 
+class ControlPolygon:
+    """What the smooth model reads of a rise/return's control polygon ``x`` (angles from the segment
+    start [rad]): shared by the B-spline blocks (:class:`~generators.optimise.space.LiftBlock`) and
+    :class:`PointBlock`."""
+
+    x: np.ndarray
+
+    @property
+    def n_points(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def span(self) -> float:
+        return float(self.x[-1])
+
+
 @dataclass(frozen=True)
-class PointBlock:
+class PointBlock(ControlPolygon):
     """One polynomial rise/return whose point lifts are design variables (module docstring)."""
 
     motion_index: int
@@ -58,14 +74,6 @@ class PointBlock:
     height: float              # |lift| [lift units]
 
     x_cols = np.array([], dtype=int)      # the angles are never varied
-
-    @property
-    def n_points(self) -> int:
-        return int(self.x.shape[0])
-
-    @property
-    def span(self) -> float:
-        return float(self.x[-1])
 
     @property
     def y_jac(self) -> np.ndarray:

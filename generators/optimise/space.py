@@ -35,7 +35,7 @@ from ..errors import SpecError
 from ..motion.program import MotionProgram
 from ..spec.model import BODY_VARIABLES, CamSpec, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
-from .points import PointBlock, curve_at, point_block, point_bounds
+from .points import ControlPolygon, PointBlock, curve_at, point_block, point_bounds
 
 
 #: spec path of each body design variable (a groove cam)
@@ -43,7 +43,7 @@ BODY_PATHS = {"outer_diameter": "cam.outer_diameter", "clearance": "groove.clear
 
 
 @dataclass(frozen=True)
-class LiftBlock:
+class LiftBlock(ControlPolygon):
     """One B-spline rise/return and where its free coordinates sit in p."""
 
     motion_index: int
@@ -54,14 +54,6 @@ class LiftBlock:
     x_cols: np.ndarray         # positions in p of x[1 … n−1] (empty if not varied)
     y_free: np.ndarray         # indices into y of the free lifts k−1 … n−k+1
     y_cols: np.ndarray         # positions in p of y[y_free] (empty if not varied)
-
-    @property
-    def n_points(self) -> int:
-        return int(self.x.shape[0])
-
-    @property
-    def span(self) -> float:
-        return float(self.x[-1])
 
     @property
     def y_jac(self) -> np.ndarray:

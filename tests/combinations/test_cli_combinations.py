@@ -37,18 +37,17 @@ def assert_clean(res: subprocess.CompletedProcess, allowed=(0, 2, 3)) -> None:
         assert len(lines) == 1 and REFUSAL.search(lines[0]), res.stderr
 
 
-@requires_ocp
-@settings(max_examples=examples(8, 300))
-@given(specs(), st.sampled_from(EXTRA))
-def test_cli_commands_agree(tmp_path_factory, d, extra):
-    tmp = tmp_path_factory.mktemp("cli")
+def build_and_check(tmp, d) -> tuple[CamSpec, dict, dict, int] | None:
+    """The spec ``d`` written as TOML, then ``build`` and ``check``: (spec, built report.json,
+    checked report.json, check's exit status), or None after a clean refusal (a spec rule, or
+    build's exit 2 with nothing written)."""
     try:
         spec = CamSpec.from_dict(d)
     except SpecError as exc:
         # a drawn program the spec's rules refuse (a polynomial segment that dips below s = 0):
         # a clean refusal naming the field, as the API combinations check
         assert exc.field and str(exc).startswith(exc.field), str(exc)
-        return
+        return None
     (tmp / "cam.toml").write_text(to_toml(spec), encoding="utf-8")
     b = cli("build", str(tmp / "cam.toml"), "-o", str(tmp / "build"))
     assert_clean(b, (0, 2))
@@ -56,10 +55,22 @@ def test_cli_commands_agree(tmp_path_factory, d, extra):
     assert_clean(c, (0, 2, 3))
     if b.returncode == 2:
         assert not (tmp / "build").exists()
-        return
+        return None
     built = json.loads((tmp / "build" / "report.json").read_text())
-    assert c.returncode == (0 if built["checks"]["passed"] else 3)
     checked = json.loads((tmp / "check" / "report.json").read_text())
+    assert c.returncode == (0 if built["checks"]["passed"] else 3)
+    return spec, built, checked, c.returncode
+
+
+@requires_ocp
+@settings(max_examples=examples(8, 300))
+@given(specs(), st.sampled_from(EXTRA))
+def test_cli_commands_agree(tmp_path_factory, d, extra):
+    tmp = tmp_path_factory.mktemp("cli")
+    done = build_and_check(tmp, d)
+    if done is None:
+        return
+    spec, built, checked, _ = done
     for key in ("pitch", "pressure_angle", "curvature", "profile", "checks", "areas"):
         assert checked[key] == built[key], key
     html = (tmp / "build" / "report.html").read_text()
@@ -105,22 +116,10 @@ def test_cli_cylindrical_commands_agree(tmp_path_factory, d, extra):
     agree with report.json, or a clean refusal (exit 2, nothing written); the 4-axis program
     through rs274, the DXF audited."""
     tmp = tmp_path_factory.mktemp("cli_cyl")
-    try:
-        spec = CamSpec.from_dict(d)
-    except SpecError as exc:
-        assert exc.field and str(exc).startswith(exc.field), str(exc)
+    done = build_and_check(tmp, d)
+    if done is None:
         return
-    (tmp / "cam.toml").write_text(to_toml(spec), encoding="utf-8")
-    b = cli("build", str(tmp / "cam.toml"), "-o", str(tmp / "build"))
-    assert_clean(b, (0, 2))
-    c = cli("check", str(tmp / "cam.toml"), "-o", str(tmp / "check"))
-    assert_clean(c, (0, 2, 3))
-    if b.returncode == 2:
-        assert not (tmp / "build").exists()
-        return
-    built = json.loads((tmp / "build" / "report.json").read_text())
-    checked = json.loads((tmp / "check" / "report.json").read_text())
-    assert c.returncode == (0 if built["checks"]["passed"] else 3)
+    spec, built, checked, _ = done
     assert checked["checks"] == built["checks"]
     if extra == "gcode":
         g = cli("gcode", str(tmp / "cam.toml"), "-o", str(tmp / "p.nc"))
