@@ -74,7 +74,9 @@ BAD = [
      "machining.sample_period: gives 6e+07 commands per revolution"),
     (["--set", "machining.contour=spline"], "machining.contour: must be one of"),
     (["--set", "machining.chord_tolerance=0.00001", "--set", "machining.sample_period=0.0025",
-      "--set", "machining.program=xc"], "machining.sample_period: X–C blocks"),
+      "--set", "machining.program=xc"], "machining.rotary_speed_rpm: at 60 rpm (cam.speed_rpm; "
+                                        "machining.rotary_speed_rpm is not given) and machining.sample_period 0.0025 s "
+                                        "the XC blocks of 0.9° deviate"),
 ]
 
 

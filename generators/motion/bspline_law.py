@@ -337,7 +337,7 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
         start: the segment's start in the program [rad].
         span: the segment's span [rad].
     """
-    from ..errors import SpecError
+    from ..errors import SpecError, fmt_apart
 
     k = seg.order or DEFAULT_ORDER
     if seg.control_x is None:
@@ -380,7 +380,7 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
                     f"{path}.control_y[{i - 1}]",
                     f"control point P{i} must be at y = {want:g}: the {end} k − 1 = {nfix} control "
                     f"points of a {seg.kind} sit at its {'start' if i < nfix else 'end'} level so that "
-                    f"velocity … derivative {k - 2} vanish there (got {y[i]:g})")
+                    f"velocity … derivative {k - 2} vanish there (got {fmt_apart(y[i], want)})")
     else:
         raise SpecError(
             f"{path}.control_y",
@@ -395,7 +395,7 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     """θ(u) must increase: exact when every control θ increases (θ'(u) is then a positive
     combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
     control point of the non-increasing step nearest to its minimum is named."""
-    from ..errors import SpecError
+    from ..errors import SpecError, fmt_apart
 
     c = lift.theta_derivative_coefficients()
     if np.all(c > 0):
@@ -414,11 +414,12 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     xs = to_user(lift.x)
     if i + 1 < n:        # P(i+1) is a listed point: control_x[i]
         field, msg = f"{path}[{i}]", (f"θ(u) must increase, but control point P{i + 1} "
-                                      f"({xs[i + 1]:g}{unit}) is not after P{i} ({xs[i]:g}{unit})")
+                                      f"({fmt_apart(xs[i + 1], xs[i])}{unit}) is not after P{i} "
+                                      f"({fmt_apart(xs[i], xs[i + 1])}{unit})")
         if i == 0:
             msg += " — P0 is the segment start"
     else:                # the last listed point passes the segment end Pn
         field, msg = f"{path}[{i - 1}]", (f"θ(u) must increase, but control point P{i} "
-                                          f"({xs[i]:g}{unit}) is not before the segment end "
-                                          f"P{n} ({xs[n]:g}{unit})")
+                                          f"({fmt_apart(xs[i], xs[n])}{unit}) is not before the segment end "
+                                          f"P{n} ({fmt_apart(xs[n], xs[i])}{unit})")
     raise SpecError(field, msg)
