@@ -119,6 +119,45 @@ def test_cross_field_rules_print_the_digits_that_differ(d, field, words):
     assert info.value.field == field and words in info.value.rule, str(info.value)
 
 
+def _bspline_rise(**changes) -> dict:
+    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d["motion"][1] = {"kind": "rise", "angle": 120.0, "lift": 20.0, "law": "bspline", "order": 5,
+                      "control_x": [15.0 * j for j in range(1, 8)], "control_y": [0.5]}
+    d["motion"][1].update(changes)
+    return d
+
+
+def _default_with(k: int, **changes) -> dict:
+    d = copy.deepcopy(DEFAULT_SPEC_DICT)
+    d["motion"][k].update(changes)
+    return d
+
+
+# refusals found by mutating valid specs that named another field than the one changed
+NAMED = [
+    # one control angle far out of order: it is named, not its neighbour
+    (_bspline_rise(control_x=[15.0, 30.0, 300.0, 60.0, 75.0, 90.0, 105.0]), "motion[1].control_x[2]",
+     "θ(u) must increase, but control point P3 (300°) is not before P4 (60°) nor P5 (75°)"),
+    # a rise without its law, but with a law's field: the missing law is named first
+    (_bspline_rise(law=None), "motion[1].law", "is required for a rise"),
+    # the return that takes s below zero says what the segments before it left
+    (_default_with(1, lift=20.0 - 1e-7), "motion[3].lift",
+     "the follower would go 1e-07 below zero lift (s must stay ≥ 0): the segments before it leave it at "
+     "19.9999999, this return falls 20"),
+]
+
+
+@pytest.mark.parametrize("d,field,words", NAMED, ids=[n[1] for n in NAMED])
+def test_refusals_name_the_field_changed(d, field, words):
+    d = copy.deepcopy(d)                                       # (a None value: the field left out)
+    for seg in d["motion"]:
+        for k in [k for k, v in seg.items() if v is None]:
+            seg.pop(k)
+    with pytest.raises(SpecError) as info:
+        CamSpec.from_dict(d)
+    assert info.value.field == field and words in info.value.rule, str(info.value)
+
+
 def test_docs_quote_the_bound_message():
     """docs/spec.md's example of a value printed apart from its limit is the message itself."""
     text = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")

@@ -384,8 +384,10 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
     else:
         raise SpecError(
             f"{path}.control_y",
-            f"has {cy.shape[0]} values; with {n + 1} control points of order {k} give the "
-            f"{n_free} free lifts (P{nfix} … P{n - nfix}) or all {n - 1} interior ones (P1 … P{n - 1})")
+            f"has {cy.shape[0]} values; with {n + 1} control points of order {k} give "
+            + (f"the {n_free} free lifts (P{nfix} … P{n - nfix})" if n_free else "[] (none is free)")
+            + f" or all {n - 1} interior ones (P1 … P{n - 1}): control_x's {n - 1} angles and the segment's two "
+            "ends are the control points")
     lift = BSplineLift(k, x, y)
     _check_theta_increasing(lift, f"{path}.control_x", frame, to_user)
     return lift
@@ -394,7 +396,8 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
 def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -> None:
     """θ(u) must increase: exact when every control θ increases (θ'(u) is then a positive
     combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
-    control point of the non-increasing step nearest to its minimum is named."""
+    control point of the non-increasing step nearest to its minimum is named — the earlier of its
+    two points when that one is the odd one out (not before the point after next either)."""
     from ..errors import SpecError, fmt_apart
 
     c = lift.theta_derivative_coefficients()
@@ -412,7 +415,13 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     n = lift.n_points - 1
     unit = _FRAME_UNIT[frame]
     xs = to_user(lift.x)
-    if i + 1 < n:        # P(i+1) is a listed point: control_x[i]
+    if 1 <= i and i + 2 <= n and xs[i] >= xs[i + 2] and not xs[i + 1] <= xs[i - 1]:
+        # P(i) is the odd one out (not before P(i+2) either, while P(i+1) is after P(i−1)): control_x[i−1]
+        field, msg = f"{path}[{i - 1}]", (f"θ(u) must increase, but control point P{i} "
+                                          f"({fmt_apart(xs[i], xs[i + 1])}{unit}) is not before P{i + 1} "
+                                          f"({fmt_apart(xs[i + 1], xs[i])}{unit}) nor P{i + 2} "
+                                          f"({fmt_apart(xs[i + 2], xs[i])}{unit})")
+    elif i + 1 < n:      # P(i+1) is a listed point: control_x[i]
         field, msg = f"{path}[{i}]", (f"θ(u) must increase, but control point P{i + 1} "
                                       f"({fmt_apart(xs[i + 1], xs[i])}{unit}) is not after P{i} "
                                       f"({fmt_apart(xs[i], xs[i + 1])}{unit})")

@@ -1117,6 +1117,8 @@ def _validate_motion(spec: CamSpec) -> None:
         p = f"motion[{i}]"
         start_deg = total
         total += seg.angle
+        if seg.kind != "dwell" and seg.law is None:      # before the fields that depend on the law
+            raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law != "bspline":
             for name in BSPLINE_FIELDS:
                 if getattr(seg, name) is not None and seg.law not in SEGMENT_LAW_FIELDS.get(name, ()):
@@ -1136,8 +1138,6 @@ def _validate_motion(spec: CamSpec) -> None:
             raise SpecError(f"{p}.lift", f"is required for a {seg.kind}")
         if not seg.lift > 0:
             raise SpecError(f"{p}.lift", f"must be > 0 for a {seg.kind}, got {seg.lift:g}")
-        if seg.law is None:
-            raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law == "bspline":
             from ..motion.bspline_law import lift_from_segment
 
@@ -1149,11 +1149,14 @@ def _validate_motion(spec: CamSpec) -> None:
             if seg.order is not None and seg.order < 4:
                 raise SpecError(f"{p}.order", f"a table fit needs order ≥ 4 (C² inside the segment), got {seg.order}")
         lifts.append(seg.lift)
+        before = level
         level += seg.lift if seg.kind == "rise" else -seg.lift
         scale = max(lifts)
         if level < -1e-9 * scale:
             raise SpecError(f"{p}.lift",
-                            f"the follower would go {-level:g} below zero lift (s must stay ≥ 0)")
+                            f"the follower would go {-level:g} below zero lift (s must stay ≥ 0): the segments "
+                            f"before it leave it at {fmt_apart(before, seg.lift)}, this {seg.kind} falls "
+                            f"{fmt_apart(seg.lift, before)}")
     if abs(total - 360.0) > SPAN_TOL_DEG:
         raise _span_sum_error(spec.motion, total)
     if not lifts:
@@ -1175,15 +1178,18 @@ def _validate_motion(spec: CamSpec) -> None:
 
 def _span_sum_error(motion: tuple[MotionSegment, ...], total: float) -> SpecError:
     """The spans sum to ``total`` ≠ 360°: the error names the span that, changed by the
-    difference, has the fewest decimals — the odd one out, as 119.99999999 among 30, 120, 60,
-    120, 30 — with the value that closes the cycle; on a tie (350 instead of 360 among whole
-    degrees) it names the last span and suggests nothing, for any of them would do."""
+    difference, has the fewest decimals (at most 6) — the odd one out, as 119.99999999 among 30,
+    120, 60, 120, 30 — with the value that closes the cycle; on a tie (350 instead of 360 among
+    whole degrees), or when no span would read as a typed number, it names the last span and
+    suggests nothing."""
     diff = 360.0 - total
     decimals = {}
     for k, seg in enumerate(motion):
         fixed = seg.angle + diff
-        if fixed >= MIN_SPAN_DEG:
-            decimals[k] = (len(f"{fixed:.9f}".rstrip("0").split(".")[1]), f"{fixed:.9f}".rstrip("0").rstrip("."))
+        text = f"{fixed:.9f}".rstrip("0")
+        places = len(text.split(".")[1])
+        if fixed >= MIN_SPAN_DEG and places <= 6:     # a value a person would type
+            decimals[k] = (places, text.rstrip("."))
     rule = f"spans sum to {fmt_apart(total, 360.0)}°, must be 360°"
     fewest = min((d for d, _ in decimals.values()), default=None)
     odd = [k for k, (d, _) in decimals.items() if d == fewest]
