@@ -45,7 +45,7 @@ RULES = [
      "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve"),
     # a 1e-300° dwell sums to 360° with the others: refused by the span's minimum, naming the span
     ("span_below_minimum", lambda d: d["motion"].insert(0, {"kind": "dwell", "angle": 1e-300}), "motion[0].angle",
-     "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve; a shorter segment can lie "
+     "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve; a shorter span can lie "
      "between two junctions), got 1e-300"),
     ("spans_sum", lambda d: d["motion"][4].update(angle=20.0), "motion[4].angle", "spans sum to 350°, must be 360°"),
     # the sum shown with the digits that differ from 360, the odd span named with the value that closes the cycle

@@ -45,8 +45,11 @@ SPAN_TOL_DEG = 1e-9
 #: the tolerance search's M, motion[].junctions.
 MAX_SEGMENTS = 20000
 #: Smallest motion-segment span [deg]: the finest junction spacing of a pitch curve, 360°/MAX_SEGMENTS.
-#: A shorter segment can lie between two junctions of every pitch curve the project builds.
+#: A shorter segment (or blend) can lie between two junctions of every pitch curve the project builds.
 MIN_SPAN_DEG = 360.0 / MAX_SEGMENTS
+#: Why a span (a motion segment, a blend) has that minimum, in the rule's words.
+MIN_SPAN_NOTE = (f"360°/{MAX_SEGMENTS}: the finest junction spacing of the pitch curve; a shorter span can lie "
+                 "between two junctions")
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
 BODIES = ("plate", "groove", "conjugate", "cylindrical")
 KEYWAYS = ("DIN6885", "ANSI")
@@ -183,9 +186,7 @@ class MotionSegment:
 
     kind: str = param("Segment type", kind="str", choices=("dwell", "rise", "return"), group="Motion")
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
-                         unit="angle", ge=MIN_SPAN_DEG, group="Motion",
-                         bound_note=f"360°/{MAX_SEGMENTS}: the finest junction spacing of the pitch curve; a "
-                                    "shorter segment can lie between two junctions")
+                         unit="angle", ge=MIN_SPAN_DEG, group="Motion", bound_note=MIN_SPAN_NOTE)
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
                                unit="length", gt=0, optional=True, group="Motion")
     law: str | None = param(
@@ -278,11 +279,11 @@ class MotionSegment:
     start_blend: float | None = param(
         "Constant velocity: angle over which the start blends from the previous segment's motion into the "
         "constant velocity (a polynomial meeting both to start_continuity); absent: no blend",
-        unit="angle", gt=0, optional=True, group="Motion")
+        unit="angle", ge=MIN_SPAN_DEG, optional=True, group="Motion", bound_note=MIN_SPAN_NOTE)
     end_blend: float | None = param(
         "Constant velocity: angle over which the constant velocity blends into the next segment's motion "
         "(to end_continuity); absent: no blend",
-        unit="angle", gt=0, optional=True, group="Motion")
+        unit="angle", ge=MIN_SPAN_DEG, optional=True, group="Motion", bound_note=MIN_SPAN_NOTE)
     table: tuple[tuple[float, float], ...] | None = param(
         "Table: [[angle, s], …] points the segment's B-spline is fitted to: degrees from the segment start "
         "(or from table_start) and the follower displacement s (lift units, from zero lift)",
