@@ -27,7 +27,7 @@ import pytest
 from exporters.atomic import MANIFEST, read_manifest
 from generators.errors import SpecError
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, assert_unchanged, requires_ocp, snapshot
 
 pytestmark = requires_ocp
 
@@ -68,22 +68,6 @@ def made(tmp_path_factory) -> Path:
     assert res.returncode == 0, res.stderr
     assert (home / "out" / "cam.step").is_file()
     return home.resolve()
-
-
-def snapshot(root: Path) -> dict[str, tuple[bytes, int] | None]:
-    """Every file under ``root`` (bytes, mtime in ns) and every folder (None)."""
-    out: dict[str, tuple[bytes, int] | None] = {}
-    for p in sorted(root.rglob("*")):
-        rel = p.relative_to(root).as_posix()
-        out[rel] = None if p.is_dir() else (p.read_bytes(), p.stat().st_mtime_ns)
-    return out
-
-
-def assert_unchanged(root: Path, before: dict) -> None:
-    after = snapshot(root)
-    assert sorted(after) == sorted(before), (sorted(set(after) ^ set(before)))
-    for name, was in before.items():
-        assert after[name] == was, f"{name} changed"
 
 
 def run(cwd: Path, args: list[str], made: Path, capsys, monkeypatch) -> tuple[int, str, str]:
@@ -379,3 +363,26 @@ def test_the_studies_api_follows_the_rule(made, tmp_path):
     files = write_study(table, theirs, replace=True)
     assert sorted(p.name for p in theirs.iterdir()) == sorted([*files.values(), MANIFEST])
     assert read_manifest(theirs)["source"].startswith("python")
+
+
+def test_a_batch_run_again_replaces_its_own_entries(made, tmp_path, capsys, monkeypatch):
+    """The same study (the same spec files) run again after an edit: its entries are made again
+    and replace the earlier ones; another study into that folder is refused."""
+    spec = tmp_path / "specs" / "cam.toml"
+    spec.parent.mkdir()
+    shutil.copy(made / "mine.toml", spec)
+    args = ["batch", str(spec.parent), "--workers", "0", "-o", "b"]
+    assert run(tmp_path, args, made, capsys, monkeypatch)[0] == 3            # the paper's cam fails a check
+    spec.write_text(spec.read_text().replace("thickness = 10.0", "thickness = 12.0"))
+    code, _o, err = run(tmp_path, args, made, capsys, monkeypatch)
+    assert code == 3, err
+    entry = read_manifest(tmp_path / "b" / "cam")
+    assert entry["spec"]["cam"]["thickness"] == 12 and entry["source"] == str(spec.resolve())
+    assert json.loads((tmp_path / "b" / "cam" / "report.json").read_text())["spec_digest"] == entry["spec_digest"]
+    top = read_manifest(tmp_path / "b")
+    assert top["command"] == "batch" and sorted(top["files"]) == ["cam", "study.json", "summary.csv", "summary.parquet"]
+    before = snapshot(tmp_path)
+    code, _o, err = run(tmp_path, ["batch", str(made / "default.toml"), "--workers", "0", "-o", "b"], made,
+                        capsys, monkeypatch)
+    assert_refused(code, err, "another cam's set", "`batch`", str(spec.parent.resolve()), "--replace")
+    assert_unchanged(tmp_path, before)
