@@ -165,12 +165,12 @@ def admit(folder: str | os.PathLike[str], claim: Claim, names: Collection[str] |
     present = [f for f in held["files"] if (target / f).exists()]
     new = set(names) if names is not None else set()
     if claim.digest is not None and held.get("spec_digest") == claim.digest:
-        return [f for f in present if f not in new]
+        return [f for f in present if f.split("/")[0] not in new]
     way_out = "choose another folder" + REPLACE_HINT.format(option=claim.replace_option)
     if claim.source is not None and held.get("source") == claim.source:
         if names is None:
             return []                   # decided when the files are known (nothing kept then)
-        left = [f for f in present if f not in new]
+        left = [f for f in present if f.split("/")[0] not in new]
         if not left:
             return []
         diff = _differences(held, claim.spec)

@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     if args.sampling:
         spec = spec.replace(**{"checks.sampling": args.sampling})
     if args.output is not None:
-        admit_output(args, spec, "check")
+        admit_output(args, spec, "check", ("report.json",))
     try:
         # the numbers `build` reports for the same spec (one pipeline), without solid or files
         summary = run_pipeline(spec, solid=False, machining=False, drawing=False,

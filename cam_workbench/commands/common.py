@@ -60,12 +60,13 @@ def output_claim(args: argparse.Namespace, spec: CamSpec, command: str) -> "Clai
     return spec_claim(spec, command, source_of(args), replace=args.replace)
 
 
-def admit_output(args: argparse.Namespace, spec: CamSpec, command: str) -> None:
-    """Before any work: refuse ``-o`` when no run of ``command`` could write there (exit 2,
-    nothing written); the full rule is applied again when the files are known."""
+def admit_output(args: argparse.Namespace, spec: CamSpec, command: str, names: tuple[str, ...] | None = None) -> None:
+    """Before any work: refuse ``-o`` where ``command`` may not write the files ``names`` (None:
+    not known yet — then only what no run could write into; the full rule is applied again when
+    the files are written) — exit 2, nothing written."""
     from exporters.output_rule import admit
 
-    admit(args.output, output_claim(args, spec, command))
+    admit(args.output, output_claim(args, spec, command), names)
 
 
 def parse_value(text: str, field: str = "--set") -> Any:

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     if named_file:
         check_output_file(args.output, digest=spec_digest(spec))
     else:
-        admit_output(args, spec, "dxf")
+        admit_output(args, spec, "dxf", (output_file(args.output).name,))
     # the drawing stage `build` runs, with the design numbers its title block quotes
     outputs = run_pipeline(spec, solid=False, machining=False, drawing=True, design=design_for(spec))
     doc, info = outputs.dxf
