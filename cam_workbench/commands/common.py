@@ -33,8 +33,9 @@ def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: 
     with ``source``, ``--source NAME`` (the rule: docs/cli.md, "Output folders and your files")."""
     where = f"default: {default}" if default else "omitted: nothing is written"
     p.add_argument("-o", "--output", default=default, metavar="OUT",
-                   help=f"{what} (created if needed; {where}); it may hold an earlier set of the same "
-                        "spec or cam, never another cam's set or files of yours")
+                   help=f"{what} (created if needed; {where}); it may hold the set of the same spec, or "
+                        "of the same cam when this run writes every file of it; another cam's set only with "
+                        "--replace; never files of yours (docs/cli.md)")
     p.add_argument("--replace", action="store_true",
                    help="replace the cam-workbench set the folder holds, whatever cam it is of (a folder "
                         "holding files of yours is still refused)")
