@@ -258,6 +258,12 @@ def test_the_same_cam_of_another_spec_is_refused_when_files_would_be_left(made, 
     assert_refused(code, err, "made from another spec (cam.thickness 10 → 13)", "would leave 12",
                    "choose another folder, or --replace")
     assert_unchanged(tmp_path, before)
+    # docs/cli.md quotes this message: the same words, for its file and time
+    docs = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    quoted = next(ln.strip() for ln in docs.splitlines() if ln.strip().startswith("error: -o: out holds the set"))
+    written = read_manifest(tmp_path / "out")["written"]
+    assert quoted.replace("/home/me/mine.toml", str(made / "mine.toml")).replace(
+        "2026-11-27T03:36:30+0000", written) == err.strip()
 
 
 def test_rebuilding_the_same_cam_after_an_edit_replaces_the_set(made, tmp_path, capsys, monkeypatch):
