@@ -19,6 +19,7 @@ from generators.spec.examples import example_dict, example_spec
 from generators.studies.remedies import add_remedies, remedy_line, with_remedy
 from generators.studies.sizing import smallest_base_radius
 
+from .conftest import requires_ocp
 from .test_cli import run
 
 #: the user's cam of issue 20: a 25 mm modified-sine rise in 100° on R_b = 35, the follower 5 mm off
@@ -224,3 +225,36 @@ def test_the_face_width_a_flat_face_needs():
     rem = r["remedy"]
     assert rem["field"] == "follower.face_width" and rem["value"] == math.ceil(r["value"] * 100 - 1e-9) / 100
     assert run_checks(spec.replace(**{"follower.face_width": rem["value"]})).passed
+
+
+# ---- every entry point ------------------------------------------------------------------------------
+@requires_ocp
+def test_build_report_html_and_platecam_show_the_remedy(tmp_path):
+    """The paper's cam (46.2° > 30°): build's summary line, report.html's checks section and
+    PlateCam.checks() carry report.json's remedy, word for word."""
+    import html
+
+    from cam_workbench import PlateCam
+
+    out = tmp_path / "b"
+    res = run("build", "--example", "paper", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    rep = json.loads((out / "report.json").read_text())
+    rem = rep["checks"]["results"]["pressure_angle"]["remedy"]
+    assert rem["command"] == "--set cam.base_radius=42.80"
+    line = remedy_line("pressure_angle", rem)
+    assert f"    remedy {line}" in res.stdout.splitlines()
+    page = (out / "report.html").read_text()
+    assert (f'<li data-key="checks.results.pressure_angle.remedy"><code>pressure_angle</code>: '
+            f"{html.escape(line[len('pressure_angle: '):])}</li>") in page
+    assert PlateCam.example("paper").checks()["results"]["pressure_angle"]["remedy"] == rem
+    ok = run("check", "--example", "paper", *shlex.split(rem["command"]), "-o", str(tmp_path / "ok"))
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+
+
+def test_platecam_refusal_says_how_to_make_it():
+    from cam_workbench.platecam import PlateCam
+
+    with pytest.raises(GeometryError) as refused:
+        PlateCam(example_spec("groove").replace(**{"cam.outer_diameter": 120.0}))
+    assert "rim_wall: cam.outer_diameter = 142.11 mm passes every check" in str(refused.value)
