@@ -312,7 +312,8 @@ def test_default_bounds_are_the_library_defaults():
     assert O.default_bounds(given) == pytest.approx((15.0, 2 * r0, 12.0), rel=1e-15)
     excluding = spec.replace(**{"optimise.base_radius_min": 15.0, "optimise.offset_max": 2.0})
     assert O.default_bounds(excluding) == pytest.approx((15.0, 2 * r0, 2.0), rel=1e-15)
-    job = O.OptimiseJob(O.run_spec(excluding, O.settings_of(excluding))).start()   # … the run refuses it
+    named = excluding.replace(**{"optimise.variables": "base_radius, offset"})   # the offset a variable:
+    job = O.OptimiseJob(O.run_spec(named, O.settings_of(named))).start()           # … the run refuses it
     assert job.wait(60) and job.result is None
     assert job.error.startswith("OptimiseOffsetMax (optimise.offset_max): must be ≥ |follower.offset| "
                                 "of the starting design (10 mm)"), job.error
