@@ -106,9 +106,13 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
 
 
 def summary_stage(design: CamDesign) -> dict[str, Any]:
-    """design.summary() with the spec itself (the part of report.json every entry point shares)."""
+    """design.summary() with the spec itself (the part of report.json every entry point shares),
+    and each failing check's remedy (:func:`generators.studies.remedies.add_remedies`)."""
+    from generators.studies.remedies import add_remedies
+
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
+    add_remedies(summary["checks"], design.spec)
     return summary
 
 

@@ -22,7 +22,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from generators.cam_design import CamDesign, design_cam
+from generators.errors import GeometryError
 from generators.spec import CamSpec, default_spec, load_spec
+from generators.studies.remedies import with_remedy
 
 from . import occ_build, ocp_compat
 from .extras import import_build123d, import_cadquery
@@ -63,7 +65,10 @@ class PlateCam:
         if changes:
             spec = spec.replace(**changes)
         self.spec: CamSpec = spec
-        self.design: CamDesign = design_cam(spec)
+        try:
+            self.design: CamDesign = design_cam(spec)
+        except GeometryError as exc:            # with the change that would make it
+            raise with_remedy(spec, exc) from None
         self._outputs: Any = None
 
     @classmethod

@@ -51,6 +51,7 @@ from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.checks.design import limit_sign
 from generators.spec.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
+from generators.studies.remedies import remedy_line
 
 from . import interpolator_plots, plots
 
@@ -621,6 +622,7 @@ def _checks_section(report: Mapping[str, Any]) -> str:
             f'<td class="{cls}" data-key="{prefix}.status">{html.escape(status)}</td>'
             f'<td data-key="{prefix}.note">{html.escape(str(r.get("note", "")))}</td></tr>')
     out.append("</table>")
+    out.append(_remedies(results))
     ext = checks.get("extremes")
     if isinstance(ext, Mapping) and ext:
         out.append("<h3>Extremes (largest magnitude, signed: the thesis' maximum values)</h3>")
@@ -633,6 +635,18 @@ def _checks_section(report: Mapping[str, Any]) -> str:
                        f"<td>{html.escape(str(e.get('unit', '')))}</td>{at}</tr>")
         out.append("</table>")
     return "".join(out)
+
+
+def _remedies(results: Mapping[str, Any]) -> str:
+    """What makes each failing check pass (report.json's ``checks.results[name].remedy``, the line
+    ``cam-workbench check`` prints under its table)."""
+    items = [f'<li data-key="checks.results.{html.escape(name)}.remedy"><code>{html.escape(name)}</code>: '
+             f"{html.escape(remedy_line(name, r['remedy'])[len(name) + 2:])}</li>"
+             for name, r in results.items() if isinstance(r, Mapping) and isinstance(r.get("remedy"), Mapping)]
+    if not items:
+        return ""
+    return ('<h3>To pass (the nearest change of one field, everything else held)</h3><ul class="remedies">'
+            + "".join(items) + "</ul>")
 
 
 #: report.json motion.segments keys of the solved laws, shown per segment: (key, label, unit kind)

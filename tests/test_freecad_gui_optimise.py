@@ -303,27 +303,28 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     v = p["variables"]
     assert list(v) == ["base_radius", "offset", "motion[0].control_x", "motion[0].control_y",
                        "motion[2].control_x", "motion[2].control_y", "orientation"]
-    assert all(v[t][1] and v[t][2] for t in list(v)[:-1])            # enabled and chosen ("auto")
+    # enabled, and chosen by "auto" except the follower's offset (the machine's: only when named)
+    assert all(v[t][1] and v[t][2] == (t != "offset") for t in list(v)[:-1])
     assert v["orientation"][1:] == [False, False]                     # area: no blank orientation
     assert v["motion[0].control_x"][0] == "row 1 (rise): control angles P1x … P9x  (9)"
     assert v["motion[2].control_y"][0] == "row 3 (return): free lifts P4y … P6y  (3)"
-    assert p["count"] == "26 design variables"
+    assert p["count"] == "25 design variables"
     # the library's bounds for Example 5: R_b ∈ [½, 2] × 4.5 in, |e| ≤ ½ × 2.25 in
     assert (p["rb_min"], p["rb_max"], p["e_max"]) == (2.25, 9.0, 1.125)
     assert p["rb_title"] == "Smallest base radius R_b (shaft, hub, bore)"
     assert "not a real limit" in p["rb_note"] and "do not bound the cam from below" in p["rb_note"]
-    assert p["status"] == "Ready: area over 26 variables." and p["run_enabled"] and not p["apply_enabled"]
+    assert p["status"] == "Ready: area over 25 variables." and p["run_enabled"] and not p["apply_enabled"]
     assert p["max_evals"] == 3000 and p["plot"] is True
     # the panel fits: the window stays within the 1400-pixel Xvfb screen, every box of the panel
     # ends on it, and none needs more width than its task area (FreeCAD 1.1's Tasks dock)
     assert p["window_width"] <= 1400 and max(p["right_edges"]) <= 1400, p
     assert max(p["min_widths"]) <= p["task_width"], p
     # the boxes the count reports are checked (PySide6's CheckState compared as an enum)
-    assert p["checked_drawn"] == {t: t != "orientation" for t in v}, p["checked_drawn"]
+    assert p["checked_drawn"] == {t: t not in ("orientation", "offset") for t in v}, p["checked_drawn"]
     # machining time: the blank orientation becomes a variable ("auto"), gradient algorithms are off
     mt = r["machining_time"]
-    assert mt["orientation"] == [True, True] and mt["count"] == "27 design variables"
-    assert mt["status"] == "Ready: machining_time over 27 variables."
+    assert mt["orientation"] == [True, True] and mt["count"] == "26 design variables"
+    assert mt["status"] == "Ready: machining_time over 26 variables."
     assert mt["gradient_items"] == [True, False, False, False, True, True, True]
     # the long run: the bar moves while the GUI-thread timer keeps ticking; cancel stops it
     assert r["long_started"] is True
@@ -333,7 +334,7 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert "largest constraint value" in r["watched"][-1][2]
     phases = [w[2].split(":")[0] for w in r["watched"] if not w[2].startswith("starting")]
     assert phases[0] == "slsqp on thesis_length" and phases[-1].startswith("bobyqa"), phases
-    assert r["back_to_area"] == {"orientation": [False, False], "count": "26 design variables"}
+    assert r["back_to_area"] == {"orientation": [False, False], "count": "25 design variables"}
     assert r["running_before_cancel"] and r["cancel_enabled"] and not r["run_enabled_while_running"]
     assert r["settings_enabled_while_running"] == [False, False, False]
     c = r["cancelled"]
@@ -365,7 +366,7 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert a["dialog"] is False and a["status"] == "ok" and a["valid"]
     assert a["undo"] == 1 and a["names"] == ["Optimise cam"] and a["spec_equal"] is True
     assert a["volume"] < r["new"]["volume"]
-    assert a["objective_prop"] == "area" and a["variables_prop"] == "base_radius, offset, control_points"
+    assert a["objective_prop"] == "area" and a["variables_prop"] == "base_radius, control_points"
     assert a["rb_min_prop"] == 2.25 and a["max_evals_prop"] == 60
     u = r["undone"]
     assert u["spec"] is True and u["volume"] == u["volume0"] and u["status"] == "ok"

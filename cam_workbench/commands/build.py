@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from generators.studies.remedies import remedy_lines
+
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
                      output_claim, plot_progress, require_ocp, spec_from_args)
@@ -68,6 +70,7 @@ def _print_summary(s: dict, out: Path) -> None:
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
                                  f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
+    _print_remedies(ck)
     cont = ck["results"].get("continuity")
     if cont and cont["status"] == "fail":
         print(f"  warning: a segment junction breaks its laws' promise: {cont['note']}")
@@ -102,6 +105,12 @@ def _print_summary(s: dict, out: Path) -> None:
             print(f"  {m2['file']}: the second cam's {m['program']} program, {m2['gcode_lines']} lines")
 
 
+def _print_remedies(checks: dict) -> None:
+    """A line per failing check: report.json's ``checks.results[name].remedy``."""
+    for line in remedy_lines(checks):
+        print(f"    remedy {line}")
+
+
 def _print_body_summary(s: dict, out: Path) -> None:
     """The summary of a cam that is not a plane cam (a cylindrical cam)."""
     u = s["units"]
@@ -120,6 +129,7 @@ def _print_body_summary(s: dict, out: Path) -> None:
     print(f"  volume {s['volume']:.6g} {u}³ (kernel {sol.get('volume_rel_diff', float('nan')):+.2e} relative)")
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    _print_remedies(ck)
     m = s.get("machining") or {}
     if m:
         print(f"  cam.nc: 4-axis X-Z-A program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")

@@ -12,6 +12,7 @@ from exporters.report_json import report_json_text
 from generators.checks.areas import area_summary
 from generators.checks.design import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
+from generators.studies.remedies import add_remedies, remedy_lines, with_remedy
 from generators.motion import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
@@ -50,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         # the numbers `build` reports for the same spec (one pipeline), without solid or files
         summary = run_pipeline(spec, solid=False, machining=False, drawing=False,
-                               design=design_for(spec)).summary
+                               design=design_for(spec, remedy=False)).summary
         error = None
     except GeometryError as exc:
         if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
@@ -63,7 +64,9 @@ def run(args: argparse.Namespace) -> int:
             checks_dict = checks_only.to_dict()
             areas = area_summary(spec)
         if checks_dict["passed"]:
-            raise          # a cam that cannot be made though its checks pass: exit 2, nothing written
+            # a cam that cannot be made though its checks pass: exit 2, nothing written
+            raise with_remedy(spec, exc) from None
+        add_remedies(checks_dict, spec)
         error = exc
         summary = {"units": spec.units, "spec_digest": spec_digest(spec),
                    **({"areas": areas} if areas is not None else {}),
@@ -108,6 +111,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
     Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     console = Console()
@@ -126,6 +130,8 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
             f" ({r['note']})" if r["note"] and r["status"] != "pass" else "")
         table.add_row(f"{name} ({r['kind']})", format_value(r["value"], r["unit"]), at, limit, status)
     console.print(table)
+    for line in remedy_lines(checks):          # report.json's checks.results[name].remedy
+        console.print(f"[bold]remedy[/] {escape(line)}")
     ext = Table(title="extremes (largest magnitude, signed)")
     for col in ("quantity", "value", "at"):
         ext.add_column(col, justify="left" if col == "quantity" else "right")

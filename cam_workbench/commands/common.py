@@ -122,15 +122,24 @@ def require_ocp(command: str) -> None:
     require(f"cam-workbench {command} (the solid, its checks and cam.step)")
 
 
-def design_for(spec: CamSpec) -> "CamDesign":
-    """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M."""
+def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
+    """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M; a cam that
+    cannot be made is refused with the change that would make it (``remedy``:
+    :func:`generators.studies.remedies.with_remedy`)."""
     from generators.cam_design import design_cam
+    from generators.errors import GeometryError
+    from generators.studies.remedies import with_remedy
 
-    if spec.pitch.tolerance is None:
-        return design_cam(spec)
-    prog, cb = progress_reporter("choosing M for pitch.tolerance")
-    with prog:
-        return design_cam(spec, progress=cb)
+    try:
+        if spec.pitch.tolerance is None:
+            return design_cam(spec)
+        prog, cb = progress_reporter("choosing M for pitch.tolerance")
+        with prog:
+            return design_cam(spec, progress=cb)
+    except GeometryError as exc:
+        if not remedy:
+            raise
+        raise with_remedy(spec, exc) from None
 
 
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:

@@ -114,7 +114,7 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     con.print(escape(f"{opt['objective']}: {opt['initial_value']:.6g} → {opt['final_value']:.6g} {unit}"
                      + (f" ({-red:+.2f} %)" if red is not None else "")
                      + f" in {opt['evaluations']} evaluations, {opt['time_s']:.2f} s"))
-    con.print(escape(f"status: {opt['status']}"))
+    con.print(escape(f"status: {opt['status_text']}"))
     con.print(escape(f"message: {opt['message']}"))
     if not opt["initial_feasible"]:
         for v in opt["initial_violations"]:

@@ -531,10 +531,6 @@ BODY_VARIABLES = ("outer_diameter", "clearance")
 CYLINDER_VARIABLES = ("cylinder_radius", "outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
-#: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
-#: face's centre along the arm, arm_length, only when named).
-AUTO_FOLLOWER_VARIABLES = {"translating": ("offset",), "oscillating": ("pivot_distance", "arm_length"),
-                           "oscillating flat": ("pivot_distance", "face_offset")}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -562,9 +558,9 @@ class OptimiseSection:
         "machining_time only), outer_diameter and clearance (a groove cam's cam.outer_diameter and "
         "groove.clearance: cam.body = \"groove\"; a cylindrical cam's: cylinder_radius, outer_diameter, "
         "clearance, \"auto\" = the first two); \"auto\" = "
-        "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
-        "face pivot_distance and face_offset), control_points (+ orientation for machining_time); polynomial "
-        "points only when named (they are often the designer's requirements)",
+        "the cam's size, base_radius, and control_points (+ orientation for machining_time); the follower's "
+        "position (offset; pivot_distance, arm_length, face_offset) and polynomial points only when named (the "
+        "machine often fixes the one, the designer's requirements the other)",
         kind="str", default="auto", group="Optimise")
     algorithm: str = param(
         "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
@@ -1232,9 +1228,8 @@ def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
     point_rows = _point_rows(spec)
     rows: dict[str, set[int]] = {"control_x": set(), "control_y": set(), "points": set()}
     if text == "auto":
-        fol = spec.follower
-        key = "oscillating flat" if (fol.motion, fol.kind) == ("oscillating", "flat") else fol.motion
-        names = {"base_radius", *AUTO_FOLLOWER_VARIABLES[key]}
+        # the cam's size; the follower's position (offset, pivot, arm) is the machine's: only when named
+        names = {"base_radius"}
         rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows), "points": set()}
         if opt.objective == "machining_time":
             names.add("orientation")
