@@ -68,6 +68,22 @@ def paper_args(args: tuple[str, ...]) -> list[str]:
     return args
 
 
+def snapshot(root: Path) -> dict[str, tuple[bytes, int] | None]:
+    """Every file under ``root`` (its bytes and mtime in ns) and every folder (None), by relative path."""
+    out: dict[str, tuple[bytes, int] | None] = {}
+    for p in sorted(root.rglob("*")):
+        out[p.relative_to(root).as_posix()] = None if p.is_dir() else (p.read_bytes(), p.stat().st_mtime_ns)
+    return out
+
+
+def assert_unchanged(root: Path, before: dict[str, tuple[bytes, int] | None]) -> None:
+    """Nothing under ``root`` created, removed or changed (bytes and mtime) since ``before``."""
+    after = snapshot(root)
+    assert sorted(after) == sorted(before), sorted(set(after) ^ set(before))
+    for name, was in before.items():
+        assert after[name] == was, f"{name} changed"
+
+
 def has_module(name: str) -> bool:
     import importlib.util
 

@@ -92,8 +92,13 @@ def test_batch_builds_each_spec_reports_the_bad_one_and_runs_on_a_local_cluster(
     assert manifest["command"] == "batch"
     assert sorted(manifest["files"]) == ["default", "flat", "paper", "study.json", "summary.csv", "summary.parquet"]
 
-    # again into the same folder, one cam: exit 0; the earlier run's other cams are gone
+    # again into the same folder, another study (one cam): refused, nothing changed; with
+    # --replace exit 0 and the earlier run's other cams are gone
     res = run("batch", specs / "default.toml", "-o", out0, "--workers", 0)
+    assert res.returncode == 2 and res.stderr.startswith("error: -o: ") and "--replace" in res.stderr
+    assert sorted(p.name for p in out0.iterdir()) == [".cam-workbench.json", "default", "flat", "paper",
+                                                     "study.json", "summary.csv", "summary.parquet"]
+    res = run("batch", specs / "default.toml", "-o", out0, "--workers", 0, "--replace")
     assert res.returncode == 0, res.stdout + res.stderr
     assert sorted(p.name for p in out0.iterdir()) == [".cam-workbench.json", "default", "study.json",
                                                      "summary.csv", "summary.parquet"]

@@ -8,8 +8,8 @@ from pathlib import Path
 from generators.studies.remedies import remedy_lines
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
-                     spec_from_args)
+from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
+                     output_claim, plot_progress, require_ocp, spec_from_args)
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -23,14 +23,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, "out")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     require_ocp("build")
+    admit_output(args, spec, "build")
     design = design_for(spec)
     bar, dcb = dynamics_progress(spec)
     with bar:
@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, progress=cb)
+        report = write_outputs(outputs, out, output_claim(args, spec, "build"), progress=cb)
     _print_summary(report, out)
     return 0
 

@@ -5,11 +5,12 @@ import argparse
 from pathlib import Path
 
 from exporters.atomic import OutputSet, atomic_path
+from exporters.output_rule import check_output_file
 from generators.spec.params import params_of
-from generators.spec import DrawingSection
+from generators.spec import DrawingSection, spec_digest
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, spec_from_args
+from .common import add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, spec_from_args
 
 _DECL = params_of(DrawingSection)
 
@@ -33,8 +34,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "(default: the spec's drawing.chord_tolerance)")
     p.add_argument("--dxf-version", choices=_DECL["dxf_version"].choices, default=None,
                    help=f"{_DECL['dxf_version'].doc} (default: the spec's drawing.dxf_version)")
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="a .dxf file name, or a folder to write cam.dxf into (default: out)")
+    add_output_arguments(p, "out", "a .dxf file name (written, replacing a file of that name), or a folder "
+                                   "to write cam.dxf into")
     p.set_defaults(run=run)
 
 
@@ -55,15 +56,20 @@ def run(args: argparse.Namespace) -> int:
         changes["drawing.dxf_version"] = args.dxf_version
     if changes:
         spec = spec.replace(**changes)
+    named_file = Path(args.output).suffix.lower() == ".dxf"
+    if named_file:
+        check_output_file(args.output, digest=spec_digest(spec))
+    else:
+        admit_output(args, spec, "dxf", (output_file(args.output).name,))
     # the drawing stage `build` runs, with the design numbers its title block quotes
     outputs = run_pipeline(spec, solid=False, machining=False, drawing=True, design=design_for(spec))
     doc, info = outputs.dxf
     target = output_file(args.output)
-    if Path(args.output).suffix.lower() == ".dxf":
+    if named_file:
         with atomic_path(target) as tmp:          # a file the user named
             doc.saveas(str(tmp))
-    else:                                         # an output folder: it holds one cam's set
-        with OutputSet(target.parent, digest=outputs.summary["spec_digest"], command="dxf", merge=True) as o:
+    else:                                         # an output folder: exporters.output_rule
+        with OutputSet(target.parent, output_claim(args, spec, "dxf")) as o:
             o.add(target.name, lambda p: doc.saveas(str(p)))
     print(f"drawing written to {target}")
     print("  " + describe(info.summary(), spec.units))
