@@ -13,6 +13,7 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -20,7 +21,7 @@ import pytest
 from generators.examples import example_dict
 from generators.spec import dict_to_toml
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .dask_cluster import loopback_cluster
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -251,9 +252,8 @@ def test_optimise_multistart_on_a_local_cluster_writes_the_sequential_result(tmp
 # Ctrl-C is the character ^C typed into that terminal: the kernel sends SIGINT to every process of
 # the foreground group — the command and the local cluster's worker processes — as it does for a
 # user.  The test waits on the run's own progress bar (drawn on the terminal) showing a finished
-# item, never on a time; the only time limit is a safety net (SAFETY seconds) that turns a hang into
-# a failure.
-SAFETY = 900.0
+# item, never on a time; the only time limit is the safety net SAFETY_S that turns a hang into a
+# failure.
 # a session of its own with the terminal on stdin as its controlling terminal, then the command
 _IN_TERMINAL = ("import fcntl, os, sys, termios; os.setsid(); fcntl.ioctl(0, termios.TIOCSCTTY, 0); "
                 "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])")
@@ -298,25 +298,27 @@ class TerminalRun:
     def wait_for_progress(self, unit: str) -> int:
         """Block until the progress bar shows at least one ``unit`` done; returns that count."""
         pattern = re.compile(rf"(\d+)/\d+ {unit}")
+        end = time.monotonic() + SAFETY_S
         with self._changed:
             while True:
                 done = [int(m.group(1)) for m in pattern.finditer(self.screen)]
                 if done and max(done) >= 1:
                     return max(done)
                 assert "\0" not in self.screen, (self.screen[-2000:], self.p.stderr.read())
-                assert self._changed.wait(SAFETY), f"no progress within the safety limit: {self.screen[-2000:]}"
+                assert time.monotonic() < end, f"no progress within the safety limit: {self.screen[-2000:]}"
+                self._changed.wait(end - time.monotonic())
 
     def ctrl_c(self) -> None:
         os.write(self.master, b"\x03")
 
     def finish(self) -> tuple[int, str]:
         try:
-            _, stderr = self.p.communicate(timeout=SAFETY)
+            _, stderr = self.p.communicate(timeout=SAFETY_S)
         finally:
             if self.p.poll() is None:
                 os.killpg(self.p.pid, signal.SIGKILL)
                 self.p.wait()
-            self._reader.join(SAFETY)
+            self._reader.join(SAFETY_S)
             os.close(self.master)
         return self.p.returncode, stderr
 
@@ -389,7 +391,7 @@ def test_ctrl_c_on_a_local_cluster_prints_one_line_and_stops_every_process(comma
     assert len(lines) == 1 and lines[0].startswith("interrupted"), stderr
     # the workers end with the command; what is left of its session (the multiprocessing resource
     # tracker ends on its pipe's end, just after) is waited for, as an event
-    gone, alive = psutil.wait_procs([*workers, *_session(run_.p.pid)], timeout=SAFETY)
+    gone, alive = psutil.wait_procs([*workers, *_session(run_.p.pid)], timeout=SAFETY_S)
     assert not alive and _session(run_.p.pid) == []
     if command != "batch":
         assert not out.exists() and sorted(q.name for q in tmp_path.iterdir()) == ["many"]

@@ -25,7 +25,7 @@ from generators.studies.grid import Grid, parse_vary  # noqa: E402
 from generators.studies.sizing import SizingSettings  # noqa: E402
 from generators.studies.sweep import run_sweep  # noqa: E402
 
-from .conftest import ROOT  # noqa: E402
+from .conftest import ROOT, SAFETY_S  # noqa: E402
 from .dask_cluster import loopback_cluster  # noqa: E402
 
 PAPER_MULTI = dict(objective="area", variables="base_radius,offset", multistart=5, seed=11)
@@ -127,10 +127,10 @@ def test_cancel_event_from_another_thread(remote):
     def progress(p):
         first.set()
 
-    timer = threading.Thread(target=lambda: (first.wait(60), stop.set()))
+    timer = threading.Thread(target=lambda: (first.wait(SAFETY_S), stop.set()))
     timer.start()
     res = optimise(load_spec(EX5), executor=remote, progress=progress, cancel=stop, **EX5_MULTI)
-    timer.join(5)
+    timer.join(SAFETY_S)
     assert res.status == "cancelled" and stop.is_set()
 
 
