@@ -125,7 +125,8 @@ def cancelled():
     res = p.result
     ticks = p.ticks
     gaps = [b - a for a, b in zip(ticks, ticks[1:])]
-    R["cancelled"] = {{"status": res.status, "evaluations": res.evaluations, "live": p.live.text(),
+    R["cancelled"] = {{"status": res.status, "status_text": res.status_text, "evaluations": res.evaluations,
+                      "live": p.live.text(),
                       "cancel_to_end_s": p.job.finished - p.job.cancel_requested_at,
                       "history": len(p.job.history), "ticks": len(ticks),
                       "max_tick_gap_s": max(gaps) if gaps else None, "gaps": sorted(gaps)[-8:],
@@ -340,7 +341,9 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert c["status"] == "cancelled", c
     # stopped at the evaluation in progress at the click (its count read just after the click)
     assert r["evals_at_cancel"] <= c["evaluations"] <= r["evals_at_cancel"] + 2, (r["evals_at_cancel"], c)
-    assert c["live"].startswith("cancelled:") and c["apply_enabled"] is True
+    # the panel says the result's status in words, as report.json's status_text does
+    assert c["status_text"].endswith(" — cancelled: the best design found so far"), c["status_text"]
+    assert c["live"].startswith(c["status_text"] + ": machining_time ") and c["apply_enabled"] is True
     assert c["ticks"] >= 10
     assert r["unchanged_after_cancel"]["spec"] is True and r["unchanged_after_cancel"]["undo"] == 0
     assert r["unchanged_after_cancel"]["volume"] == r["new"]["volume"]
@@ -378,7 +381,8 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     # a failing result (cancelled at once: the start design) is applied only after a Yes
     f = r["failing"]
     assert f["feasible"] is False and f["evaluations"] <= 3 and f["apply_text"] == "Apply anyway…"
-    assert "FAILS the dense re-check (separation)" in f["verdict"]
+    assert f["verdict"].startswith("the result FAILS separation — cancelled: the best design found so far "
+                                   "(the dense re-check)."), f["verdict"]
     assert r["after_no"] == {"status": "Not applied.", "spec": True, "undo": 0, "dialog": True}
     y = r["after_yes"]
     assert y["dialog"] is False and y["undo"] == 1 and y["names"] == ["Optimise cam"] and y["status"] == "ok"
@@ -387,7 +391,8 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert "Traceback" not in report and "Traceback" not in run.console
     bad = [line for line in report.splitlines() if "Error" in line or "error" in line]
     assert bad == [], bad
-    assert "Ex5: optimise cancelled: machining_time" in report and "Ex5: optimised design applied (area 78.1477" in report
+    assert f"Ex5: optimise {c['status_text']}: machining_time" in report, report
+    assert "Ex5: optimised design applied (area 78.1477" in report
     for name in ("freecad_gui_optimise_panel.png", "freecad_gui_optimise_running.png",
                  "freecad_gui_optimise_cancelled.png", "freecad_gui_optimise_result.png",
                  "freecad_gui_optimise_convergence.png", "freecad_gui_optimise_applied.png"):
