@@ -77,8 +77,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CamError as exc:
         print(f"error: {_one_line(str(exc))}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        # one line: what was kept, when the command says (batch, sweep --build)
+        print(f"interrupted: {exc}" if str(exc) else "interrupted", file=sys.stderr)
         return 130
     except (MemoryError, RecursionError) as exc:
         print(f"error: input too large to process ({type(exc).__name__}); nothing was written", file=sys.stderr)

@@ -262,9 +262,7 @@ def _run_builds(jobs: list[BuildJob], out: str | os.PathLike[str], claim: Claim,
         target.write_file(name, data)
     target.finish([*files, *written])
     if interrupted:
-        if note is not None:
-            note(f"interrupted: {len(written)} of {len(jobs)} cams written; {SUMMARY_CSV} marks the rest cancelled")
-        raise KeyboardInterrupt
+        raise KeyboardInterrupt(f"{len(written)} of {len(jobs)} cams written; {SUMMARY_CSV} marks the rest cancelled")
     return table
 
 
@@ -335,8 +333,9 @@ def batch(sources: Sequence[str | os.PathLike[str] | CamSpec], out: str | os.Pat
 
     A bad spec (unreadable, a broken rule, a cam that cannot be made) is a row with its status
     and message, and the others go on.  ``changes`` (dotted fields) apply to every spec.  Returns
-    the summary table (rows in the order of the sources).  On Ctrl-C the cams already built stay, the table is written with the rest
-    ``cancelled``, and KeyboardInterrupt is raised again.
+    the summary table (rows in the order of the sources).  On Ctrl-C the cams already built stay,
+    the table is written with the rest ``cancelled``, and KeyboardInterrupt is raised again, its
+    message saying how many cams were written.
 
     ``out`` follows :mod:`exporters.output_rule` (the module's docstring): ``replace=True``
     replaces another study's or cam's set there; ``option`` is how messages name ``out`` (the

@@ -16,6 +16,11 @@ from generators.examples import PAPER_SPEC_DICT  # noqa: E402
 from generators.spec import CamSpec  # noqa: E402
 
 ARTIFACTS = ROOT / "test-artifacts"
+#: The longest any test waits for a process to end or a condition to come true [s]: a safety net
+#: that turns a hang into a failure, never a window the product must beat.  Tests wait on events
+#: (a process ending, a progress signal, a widget or a file appearing); a busy machine makes them
+#: slower, not wrong (half an hour: the slowest GUI session takes minutes on a loaded machine).
+SAFETY_S = 1800.0
 
 
 def paper_case_dict(case: int, knife: bool = True) -> dict:

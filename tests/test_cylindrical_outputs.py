@@ -29,7 +29,7 @@ from generators.checks.design import format_value
 from generators.spec import CamSpec, dict_to_toml
 from generators.spec.examples import EXAMPLES
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .test_cylindrical import BORE, H, L, RB, RO, RP, W2, Z0, lift
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -372,6 +372,6 @@ def test_report_page_shows_report_json(tmp_path, example):
         dom = subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
                               f"--user-data-dir={tmp_path / 'profile'}", "--dump-dom",
                               (tmp_path / "r" / "report.html").resolve().as_uri()],
-                             capture_output=True, text=True, timeout=120)
+                             capture_output=True, text=True, timeout=SAFETY_S)
         assert dom.returncode == 0 and dom.stdout.count("<svg") >= 2
         assert 'id="fig-cylinder"' in dom.stdout and 'id="fig-pressure_angle"' in dom.stdout

@@ -28,7 +28,7 @@ from generators.cam_design import profile_offset_distance
 from generators.errors import SpecError
 from generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 
 ezdxf = pytest.importorskip("ezdxf")
 
@@ -412,7 +412,7 @@ def test_freecad_dxf_importer_reads_the_exact_splines(drawings, tmp_path, name):
     design, path, _ = drawings[name]
     script = tmp_path / "read.py"
     script.write_text(FREECAD_READ.format(path=str(path)))
-    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=300)
+    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=SAFETY_S)
     line = next((x for x in res.stdout.splitlines() if x.startswith("RESULT")), None)
     assert line, res.stdout[-2000:] + res.stderr[-2000:]
     curves = sorted(json.loads(line[6:]), key=lambda c: c["degree"])

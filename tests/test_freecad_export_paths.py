@@ -11,6 +11,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from .conftest import SAFETY_S
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
@@ -48,7 +49,7 @@ def test_relative_targets_land_in_freecads_working_folder(tmp_path, fc_home):
     cli.mkdir()
     for mode, name in (("xc", "cam_xc.nc"), ("xy", "cam_xy.nc")):
         res = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "gcode", "--mode", mode, "-o", name],
-                             capture_output=True, text=True, cwd=cli, timeout=600, stdin=subprocess.DEVNULL,
+                             capture_output=True, text=True, cwd=cli, timeout=SAFETY_S, stdin=subprocess.DEVNULL,
                              env=cli_env())
         assert res.returncode == 0, res.stderr
     assert (work / "cam_xc.nc").read_bytes() == (cli / "cam_xc.nc").read_bytes()

@@ -14,7 +14,7 @@ from generators import load_spec, to_toml
 from generators.spec.examples import example_dict, example_spec
 from generators.errors import SpecError
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 EX5 = ROOT / "tests" / "fixtures" / "thesis_ex5_initial.toml"
@@ -78,10 +78,12 @@ doc.recompute()
 before = state(cam)
 spec = O.run_spec(P.spec_of(cam), O.settings_of(P.spec_of(cam)))
 job = O.OptimiseJob(spec).start()
-while job.latest is None or job.latest.evaluations < 5:
+while not job.done and (job.latest is None or job.latest.evaluations < 5):    # the run's progress
     time.sleep(0.002)
-at_cancel = job.latest.evaluations
 job.cancel()
+# read after the cancel: whatever ran meanwhile (this thread may wait for the CPU) is counted, and
+# the run stops at the evaluation in progress
+at_cancel = job.latest.evaluations
 job.wait()
 RESULT["cancel"] = {"status": job.result.status, "evaluations": job.result.evaluations, "at_cancel": at_cancel,
                     "seconds": job.finished - job.cancel_requested_at, "before": before, "after": state(cam),
@@ -314,7 +316,7 @@ def test_default_bounds_are_the_library_defaults():
     assert O.default_bounds(excluding) == pytest.approx((15.0, 2 * r0, 2.0), rel=1e-15)
     named = excluding.replace(**{"optimise.variables": "base_radius, offset"})   # the offset a variable:
     job = O.OptimiseJob(O.run_spec(named, O.settings_of(named))).start()           # … the run refuses it
-    assert job.wait(60) and job.result is None
+    assert job.wait(SAFETY_S) and job.result is None
     assert job.error.startswith("OptimiseOffsetMax (optimise.offset_max): must be ≥ |follower.offset| "
                                 "of the starting design (10 mm)"), job.error
     with pytest.raises(SpecError) as info:

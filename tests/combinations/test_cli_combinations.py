@@ -18,7 +18,7 @@ from exporters.atomic import MANIFEST, read_manifest
 from generators.errors import SpecError
 from generators.spec import CamSpec, to_toml
 
-from ..conftest import ROOT, assert_unchanged, requires_ocp, snapshot
+from ..conftest import ROOT, SAFETY_S, assert_unchanged, requires_ocp, snapshot
 from ..rs274 import RS274
 from .conftest import examples
 from .invariants import REFUSAL
@@ -30,7 +30,7 @@ EXTRA = ("gcode_xy", "gcode_xc", "gcode_csv", "dxf", "report", "optimise")
 
 def cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL,
-                          timeout=600)
+                          timeout=SAFETY_S)
 
 
 def assert_clean(res: subprocess.CompletedProcess, allowed=(0, 2, 3)) -> None:
