@@ -25,6 +25,17 @@ def body_of(spec):
     return BODY_KINDS[spec.cam.body]
 
 
+def drawing_title(spec) -> str:
+    """The title of the spec's drawing and report: ``drawing.title`` when given, else the body's
+    name ("Plate cam", "Groove cam", "Conjugate cam pair", "Cylindrical cam"); a given title that
+    is not the body's name is followed by it ("Feed cam (groove cam)"): the body is always named."""
+    name = body_of(spec).title
+    given = (spec.drawing.title or "").strip()
+    if not given or given.lower() == name.lower():
+        return given or name
+    return f"{given} ({name.lower()})"
+
+
 def validate_body(spec) -> None:
     """The rules of the spec's body and of the features every body shares.
 
@@ -76,4 +87,4 @@ def validate_body(spec) -> None:
 
 
 __all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "CylindricalBody", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
-           "body_of", "validate_body"]
+           "body_of", "drawing_title", "validate_body"]
