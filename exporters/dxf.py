@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from generators import __version__
-from generators.bodies import drawing_title
+from generators.bodies import body_of, drawing_title
 from generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
 from generators.cam_design import CamDesign
 from generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
@@ -61,7 +61,7 @@ from .atomic import atomic_path
 #: layer → (ACI colour, linetype, lineweight [1/100 mm]); -3 = default lineweight
 LAYERS: dict[str, tuple[int, str, int]] = {
     "PROFILE": (7, "Continuous", 50),
-    "PITCH": (1, "DASHED", 18),
+    "PITCH": (1, "Continuous", 18),             # thin and red: LibreCAD leaves out dashed short arcs
     "BASE_CIRCLE": (8, "DASHED2", 18),
     "PRIME_CIRCLE": (5, "PHANTOM", 18),
     "BORE": (7, "Continuous", 50),
@@ -74,7 +74,7 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "HUB": (8, "DASHED", 25),                   # below the plate (hidden line)
     "TIMING_MARK": (6, "Continuous", 18),
     "PROFILE_2": (2, "Continuous", 50),         # a conjugate pair's second cam (below the first)
-    "PITCH_2": (1, "DASHED2", 18),              # its pitch curve (the second roller's centre)
+    "PITCH_2": (1, "Continuous", 18),           # its pitch curve (the second roller's centre)
     "SPACER": (8, "DASHED", 25),                # between the cams (hidden line)
 }
 
@@ -211,9 +211,6 @@ def add_path(msp: Any, path: Path2D, layer: str, curves: str, r12: bool, closed:
         else:
             msp.add_lwpolyline(pts, close=closed, dxfattribs=attribs)
         return 1, 0, path.n
-    # arcs and lines are continuous whatever the layer's linetype: LibreCAD 2.2 leaves out a dashed
-    # ARC shorter than about 3 mm (a pitch curve's biarcs), while it draws short continuous ones
-    attribs["linetype"] = "Continuous"
     arcs = lines = 0
     is_arc = path.is_arc
     radius = path.radius
@@ -496,6 +493,15 @@ _CLAIM_WORDS = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "
                 "bspline_contact": "B-SPLINE FITTED TO THE FACE'S CONTACT POINTS, NOT EXACT"}
 
 
+def title_line(spec: Any) -> str:
+    """The title block's title: :func:`~generators.bodies.drawing_title` in capitals, followed by
+    the body's name when a title given in the spec does not say it ("FEED CAM (GROOVE CAM)"): a
+    drawing always names what is to be made."""
+    title = drawing_title(spec).upper()
+    body = body_of(spec).title.upper()
+    return title if body in title else f"{title} ({body})"
+
+
 def drawn_text(e: CurveExport) -> str:
     """How a curve went into the file, in the title block's words."""
     if e.curves == "spline":
@@ -658,7 +664,7 @@ def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], info: Dxf
     x0 = drawn.x1 + 3 * h
     top = drawn.y1
     row_h = _ROW_H * h
-    title = drawing_title(design.spec).upper()
+    title = title_line(design.spec)
     caption = "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)"
     header = [("LIFT °" if c == "LIFT" and design.follower.lift_unit == "angle" else c) for c in MOTION_HEADER]
     table = [header, *_motion_rows(design)]
@@ -779,4 +785,4 @@ def _chain(start: np.ndarray, end: np.ndarray, center: np.ndarray, ccw: np.ndarr
 
 
 __all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf", "add_nurbs_spline",
-           "approximate", "read_profile_path", "title_rows", "default_text_height", "drawn_text", "text_width"]
+           "approximate", "read_profile_path", "title_rows", "default_text_height", "drawn_text", "text_width", "title_line"]

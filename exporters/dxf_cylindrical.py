@@ -31,11 +31,11 @@ from typing import Any
 import numpy as np
 
 from generators import __version__
-from generators.bodies import drawing_title
 from generators.curves.approx import max_distance
 from generators.curves.nurbs import NurbsCurve
 
-from .dxf import _DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_path, approximate, text_width
+from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_path, approximate, text_width,
+                  title_line)
 
 #: layer → (ACI colour, linetype, lineweight [1/100 mm]), in the plate drawing's style
 CYL_LAYERS: dict[str, tuple[int, str, int]] = {
@@ -279,7 +279,7 @@ def _title(msp: Any, design: Any, summary: dict[str, Any], info: CylDxfInfo, x0:
     rows = title_rows(design, summary, info)
     row_h = 1.8 * h
     th = 0.8 * h
-    title = drawing_title(design.spec).upper()
+    title = title_line(design.spec)
     _text(msp, title, (x0 + 0.5 * h, top - 1.9 * h), 1.4 * h, "TITLE")
     y = top - 2.6 * h
     x1 = x0 + max(text_width(a, th) for a, _ in rows) + h

@@ -27,13 +27,8 @@ def body_of(spec):
 
 def drawing_title(spec) -> str:
     """The title of the spec's drawing and report: ``drawing.title`` when given, else the body's
-    name ("Plate cam", "Groove cam", "Conjugate cam pair", "Cylindrical cam"); a given title that
-    is not the body's name is followed by it ("Feed cam (groove cam)"): the body is always named."""
-    name = body_of(spec).title
-    given = (spec.drawing.title or "").strip()
-    if not given or given.lower() == name.lower():
-        return given or name
-    return f"{given} ({name.lower()})"
+    name ("Plate cam", "Groove cam", "Conjugate cam pair", "Cylindrical cam")."""
+    return (spec.drawing.title or "").strip() or body_of(spec).title
 
 
 def validate_body(spec) -> None:
