@@ -25,7 +25,7 @@ DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R;
 PROFILE_2, PITCH_2        a conjugate pair's second cam (below the first): its profile (the exact
                           offset of its own PH pitch curve, drawn as PROFILE) and pitch curve
 SPACER, HUB, HOLES, …     the body's other loops (groove walls, rim, hub, holes, timing mark)
-TITLE                     the title block — the body's name (:func:`generators.bodies.drawing_title`),
+TITLE                     the title block — the body's name (:func:`title_line`),
                           key parameters, the numbers and the checks verdict of the summary
                           dict that becomes report.json (spec digest, deviations, errors,
                           pressure angle, failed checks), how the curves are drawn with their

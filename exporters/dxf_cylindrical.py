@@ -16,7 +16,7 @@
 * **Side view** (between the two, on the developed view's z rows): the outline, length × diameter
   (``OUTLINE``), the bore as hidden lines (``BORE_HIDDEN``) and the axis (``CENTERLINES``).
 
-A title block (``TITLE``) names the body (:func:`generators.bodies.drawing_title`) and quotes
+A title block (``TITLE``) names the body (:func:`exporters.dxf.title_line`) and quotes
 report.json's numbers.  The walls have no exact NURBS form: ``drawing.curves`` = "cubic" (the
 default) and "spline" both write the cubic SPLINEs, refined until their measured error is within a
 quarter of ``drawing.chord_tolerance``; "arcs" and "polyline" write biarcs (ARC/LINE) or a polyline

@@ -919,7 +919,7 @@ def _drawing_section(report: Mapping[str, Any]) -> str:
     spline = {"spline": "The SPLINE on PROFILE carries the degree, knots, control points and weights of the "
                         "profile NURBS" + (f" (the {html.escape(str(d['profile_curve']))})"
                                            if d.get("profile_curve") else "") + ".",
-              "cubic": "The SPLINEs are non-rational cubics within the chord tolerance of the NURBS: every DXF "
+              "cubic": "The SPLINEs are polynomial cubics within the chord tolerance of the NURBS: every DXF "
                        "reader draws them."}.get(str(d.get("curves")), "")
     out.append('<p class="note">Layers: PROFILE, PITCH, BASE_CIRCLE, PRIME_CIRCLE, BORE, CENTERLINES, '
                f"DIMENSIONS, TITLE (title block with the key numbers, the checks verdict and the motion "

@@ -1,17 +1,19 @@
 """Drawing a DXF with LibreCAD (Debian package ``librecad``, 2.2) and reading back what it drew.
 
-``librecad dxf2pdf`` prints a DXF headless (Qt's ``offscreen`` platform) to a one-page PDF.  Qt
-writes every drawn entity as a stroked vector path in the page's content stream — LibreCAD draws
-its text with its own stroke fonts, so text is lines too — and nothing else: a path operator
-stream of ``m``/``l``/``c``/``h`` with ``SCN`` (stroke colour), ``w`` (line width) and ``d`` (dash)
-before each entity, under one ``cm`` (device units → points).  :func:`read_pdf_paths` interprets
-that stream (no PDF library involved: Flate-decoded content, the handful of operators Qt emits)
-into polylines in page points, Bézier segments flattened finely, each with its stroke colour,
-width and dash.
+``librecad dxf2pdf`` prints a DXF headless (Qt's ``offscreen`` platform) to a one-page PDF, the
+drawing fitted to the sheet (the paper-space layout's limits).  Qt writes every drawn entity as a
+stroked vector path in the page's content stream — LibreCAD draws its text with its own stroke
+fonts, so text is lines too — and nothing else: ``m``/``l``/``c``/``h`` with ``SCN`` (stroke
+colour), ``w`` and ``d`` before each entity, under one ``cm`` (device units of 1/1200 in → points).
+:func:`read_pdf_paths` interprets that stream (no PDF library: Flate-decoded content, the few
+operators Qt emits) into polylines in page points, Bézier segments flattened finely, each with its
+on-curve points and its stroke colour.
 
-:func:`register` maps page points back to drawing units from known features of the drawing (circles
-whose centres and radii the test knows), so a test can hold what LibreCAD drew against the exact
-curves.  Entities LibreCAD cannot draw (e.g. SPLINEs of degree > 3) leave nothing in the PDF.
+:func:`register` maps page points back to drawing units by known circles (Qt draws a CIRCLE as four
+Bézier quarters from points on it), :func:`enlarge_paper` makes the sheet — and so the drawing on
+the page — larger, so a device unit is a small part of a drawing unit; :func:`distance_to_segments`
+and :func:`title_cells` measure what was drawn.  Entities LibreCAD cannot draw (SPLINEs of degree
+> 3; it ignores a SPLINE's weights) leave nothing in the PDF.
 """
 from __future__ import annotations
 

@@ -2,19 +2,22 @@
 not ezdxf: LibreCAD 2.2 (Debian's ``librecad``, ``librecad dxf2pdf``), read back from its PDF
 (tests/librecad.py) and held against the exact curves.
 
-* Each file is drawn the way ``build`` and ``dxf`` draw it (:func:`cam_workbench.pipeline.drawing_stage`),
-  then copied with every curve layer's entities and every title-block TEXT given a colour of its
-  own (true colour) and the sheet made 1000 × the drawing (``dxf2pdf`` fits the drawing to the
-  sheet: one device unit of the PDF is then ~2e-5 mm) — nothing else of the file changes; one
-  test checks that the colours change nothing LibreCAD draws.
+* Each file is drawn the way ``build`` and ``dxf`` draw it (:func:`cam_workbench.pipeline.drawing_stage`)
+  and printed twice, from copies in which only colours, the sheet and (the first) the texts
+  change — one test checks that colours change nothing LibreCAD draws:
+  - the curves: each curve layer's entities get a colour of their own (true colour), the texts and
+    dimensions are left out, and the sheet is made so large that one device unit of the PDF is
+    1/20 of ``drawing.chord_tolerance`` (1/6 with arcs, which LibreCAD strokes finer the larger
+    they are drawn, taking seconds);
+  - the texts: each title-block TEXT gets a colour of its own, on the file's own sheet.
 * The page is registered to the drawing by its concentric circles (base, prime, bore, rim; the end
   view's outer, groove-bottom and bore circles), whose centres and radii the DXF states.
 * Each curve layer (profile, pitch curve, groove wall, second cam, developed walls): every point
   LibreCAD drew lies within the layer's stated error (report.json ``drawing.max_error_by_layer``,
-  the cylindrical walls' ``developed_fit_error``) plus the resolution of the exact curve, and
-  every point of the exact curve (dense samples) lies within that plus the sag of LibreCAD's own
-  chords of the drawn curve — so a dropped or partly dropped curve fails; the stated error itself
-  is within ``drawing.chord_tolerance``.  ``curves = "spline"`` writes the exact NURBS (degree 9
+  the cylindrical walls' ``developed_fit_error``) plus the page's resolution of the exact curve,
+  and every point of the exact curve (dense samples) lies within that plus the sag of LibreCAD's
+  own chords of the drawn curve — so a dropped or partly dropped curve fails; the stated error is
+  within ``drawing.chord_tolerance``.  ``curves = "spline"`` writes the exact NURBS (degree 9
   rational, or 5): LibreCAD 2.2 draws nothing of it — the reason it is not the default.
 * Every title-block text LibreCAD drew lies inside its cell (the rectangle of the title block's
   lines round its insertion point).

@@ -223,7 +223,7 @@ def fit_biarcs(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 
 
 
 def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0.8,
-              max_levels: int = 24) -> NurbsCurve:
+              max_levels: int = 12) -> NurbsCurve:
     """Non-rational cubic B-spline within ``tol`` of ``curve``, in the curve's own parameter.
 
     On every knot span [a, b] of ``curve`` the cubic interpolates n + 1 equally spaced points

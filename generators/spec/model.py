@@ -424,8 +424,8 @@ class DrawingSection:
     """`[drawing]`: the DXF manufacturing drawing (cam.dxf) and the report's title."""
 
     curves: str = param(
-        "How the profile, pitch curve and the body's other curves are written: \"cubic\" a non-rational "
-        "cubic SPLINE within chord_tolerance, which every DXF reader draws; \"spline\" the profile NURBS "
+        "How the profile, pitch curve and the body's other curves are written: \"cubic\" a polynomial "
+        "(non-rational) cubic SPLINE within chord_tolerance, which every DXF reader draws; \"spline\" the profile NURBS "
         "itself (for a PH pitch curve the exact rational offset, degree 9, which LibreCAD and many CAM and "
         "laser programs drop without a word); \"arcs\" tangent arcs (biarcs, ARC/LINE entities) or "
         "\"polyline\" one closed polyline within chord_tolerance, for machines that read no splines",
@@ -438,8 +438,9 @@ class DrawingSection:
         "DXF version of cam.dxf; R12 (for old CAM software) needs curves = arcs or polyline",
         kind="str", choices=DXF_VERSIONS, default="R2010", group="Drawing")
     title: str | None = param("Drawing and report title; default: the body's name (\"Plate cam\", \"Groove "
-                              "cam\", \"Conjugate cam pair\", \"Cylindrical cam\"), which follows a title "
-                              "given here in brackets", kind="str", optional=True, group="Drawing")
+                              "cam\", \"Conjugate cam pair\", \"Cylindrical cam\"), which the drawing's title "
+                              "block adds to a title that does not say it", kind="str", optional=True,
+                              group="Drawing")
     part_number: str = param("Part or drawing number in the title block", kind="str", default="",
                              group="Drawing")
     author: str = param("Drawn by (title block)", kind="str", default="", group="Drawing")
