@@ -703,12 +703,16 @@ def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], info: Dxf
     left, right = drawn.x0 - 2 * h, x2 + 2 * h
     bottom = min(y, drawn.y0) - 2 * h
     upper = max(top, drawn.y1) + 2 * h
-    frame = [(left, bottom), (right, bottom), (right, upper), (left, upper)]
-    if msp.doc.dxfversion == "AC1009":  # R12 has no LWPOLYLINE
-        msp.add_polyline2d(frame, close=True, dxfattribs=att)
-    else:
-        msp.add_lwpolyline(frame, close=True, dxfattribs=att)
+    add_closed_outline(msp, [(left, bottom), (right, bottom), (right, upper), (left, upper)], att)
     return Box(x0, y, x2, top)
+
+
+def add_closed_outline(msp: Any, points: list[tuple[float, float]], att: dict[str, Any]) -> None:
+    """A closed outline: LWPOLYLINE, or POLYLINE in R12 (which has no LWPOLYLINE)."""
+    if msp.doc.dxfversion == "AC1009":
+        msp.add_polyline2d(points, close=True, dxfattribs=att)
+    else:
+        msp.add_lwpolyline(points, close=True, dxfattribs=att)
 
 
 # ---- writing ---------------------------------------------------------------------------
@@ -785,4 +789,5 @@ def _chain(start: np.ndarray, end: np.ndarray, center: np.ndarray, ccw: np.ndarr
 
 
 __all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf", "add_nurbs_spline",
-           "approximate", "read_profile_path", "title_rows", "default_text_height", "drawn_text", "text_width", "title_line"]
+           "approximate", "read_profile_path", "title_rows", "default_text_height", "drawn_text", "text_width", "title_line",
+           "add_closed_outline"]

@@ -34,8 +34,8 @@ from generators import __version__
 from generators.curves.approx import max_distance
 from generators.curves.nurbs import NurbsCurve
 
-from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_path, approximate, text_width,
-                  title_line)
+from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_closed_outline, add_path, approximate,
+                  text_width, title_line)
 
 #: layer → (ACI colour, linetype, lineweight [1/100 mm]), in the plate drawing's style
 CYL_LAYERS: dict[str, tuple[int, str, int]] = {
@@ -82,14 +82,14 @@ def developed_points(design: Any, rho: float, side: int, theta: np.ndarray, segm
     return np.column_stack([x, z])
 
 
-def developed_curves(design: Any, tol: float | None = None) -> tuple[DevelopedCurve, ...]:
+def developed_curves(design: Any) -> tuple[DevelopedCurve, ...]:
     """The lower and upper walls at R_o and the pitch line at R_p, one cubic spline per motion
-    segment each, with their measured fit errors (nodes doubled while an error exceeds ``tol``/4;
-    default ``drawing.chord_tolerance``)."""
+    segment each, with their measured fit errors (nodes doubled while an error exceeds a quarter of
+    ``drawing.chord_tolerance``)."""
     lay = design.layout
     prog = design.program
     bounds = prog.boundaries
-    goal = (design.spec.drawing.chord_tolerance if tol is None else tol) / 4
+    goal = design.spec.drawing.chord_tolerance / 4
     out = []
     for layer, rho, side in (("WALL_LOWER", lay.outer_radius, -1), ("WALL_UPPER", lay.outer_radius, 1),
                              ("PITCH", lay.pitch_radius, 0)):
@@ -145,6 +145,7 @@ class CylDxfInfo:
 
     @property
     def curves(self) -> tuple[DevelopedCurve, ...]:
+        """The cubic splines of the developed curves (drawn as they are, or approximated)."""
         return tuple(d.curve for d in self.drawn)
 
     def summary(self) -> dict[str, Any]:
@@ -157,7 +158,8 @@ class CylDxfInfo:
             how += (f", plus the measured two-sided distance of the {self.curves_mode} from that spline (the sum "
                     "bounds their distance from the exact curve)")
         return {
-            "written": True, "file_version": self.version, "insunits": _INSUNITS[self.units],
+            "written": True, "file_version": self.version,
+            "insunits": None if self.version == "R12" else _INSUNITS[self.units],
             "curves": self.curves_mode, "chord_tolerance": self.chord_tolerance, "exact": False,
             "views": ["developed (x = ρ·ψ at R_o for the walls, at R_p for the pitch line; y = z)",
                       "end (outer circle, bore, groove bottom dashed)", "side (length × diameter)"],
@@ -207,7 +209,7 @@ def build_cylindrical_dxf(design: Any, summary: dict[str, Any] | None = None) ->
     # side view: the cylinder's axis vertical (z rows shared with the developed view)
     gap = 4 * h
     xs = x_b + gap + ro
-    _closed(msp, [(xs - ro, 0.0), (xs + ro, 0.0), (xs + ro, length), (xs - ro, length)], att)
+    add_closed_outline(msp, [(xs - ro, 0.0), (xs + ro, 0.0), (xs + ro, length), (xs - ro, length)], att)
     rbore = lay.bore_radius
     if rbore > 0:
         for x in (xs - rbore, xs + rbore):
@@ -231,14 +233,6 @@ def build_cylindrical_dxf(design: Any, summary: dict[str, Any] | None = None) ->
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
         pass
     return doc, info
-
-
-def _closed(msp: Any, points: list[tuple[float, float]], att: dict[str, Any]) -> None:
-    """A closed outline: LWPOLYLINE, or POLYLINE in R12 (which has no LWPOLYLINE)."""
-    if msp.doc.dxfversion == "AC1009":
-        msp.add_polyline2d(points, close=True, dxfattribs=att)
-    else:
-        msp.add_lwpolyline(points, close=True, dxfattribs=att)
 
 
 def title_rows(design: Any, summary: dict[str, Any], info: CylDxfInfo) -> list[tuple[str, str]]:
@@ -292,7 +286,7 @@ def _title(msp: Any, design: Any, summary: dict[str, Any], info: CylDxfInfo, x0:
         msp.add_line((x0, y), (x2, y), dxfattribs=att)
     for x in (x0, x1, x2):
         msp.add_line((x, top - 2.6 * h), (x, y), dxfattribs=att)
-    _closed(msp, [(x0, y), (x2, y), (x2, top), (x0, top)], att)
+    add_closed_outline(msp, [(x0, y), (x2, y), (x2, top), (x0, top)], att)
 
 
 def export_cylindrical_dxf(design: Any, path: Any, summary: dict[str, Any] | None = None) -> CylDxfInfo:
