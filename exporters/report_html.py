@@ -46,6 +46,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from generators import __version__
+from generators.bodies import drawing_title
 from generators.cam_design import CamDesign
 from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.checks.design import limit_sign
@@ -472,7 +473,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     if isinstance(report.get("files"), Mapping):
         sections.append(("files", "Files", _files_section(report)))
 
-    title = html.escape(dr.title)
+    title = html.escape(drawing_title(spec))
     sub = [str(report.get("follower", {}).get("name", spec.follower.kind)) + " follower",
            f"{len(spec.motion)} motion segments",
            "pitch curve: " + (pitch_text(report) if "pitch" in report else str(spec.pitch.representation)),
@@ -910,6 +911,8 @@ DRAWING_LABELS = {
                          "0 for a SPLINE, which is the NURBS data itself)",
     "profile_min_arc_radius": "smallest arc radius",
     "pitch_max_error": "PITCH entities: max distance from the pitch-curve NURBS",
+    "profile_poles": "PROFILE SPLINE control points",
+    "max_error_by_layer": "entities: max distance from the NURBS they stand for, by layer",
     "exact": "PROFILE is exact (the exact offset of the pitch curve, or the pitch curve itself)",
     "profile_curve": "the profile NURBS is",
     "profile_fit_error": "profile NURBS: max distance from the exact curve it was fitted to",
@@ -920,13 +923,18 @@ DRAWING_LABELS = {
 def _drawing_section(report: Mapping[str, Any]) -> str:
     d = report["drawing"]
     out = ['<table class="kv"><tr><th>item</th><th>value</th></tr>']
-    for k in d:
-        out.append(f"<tr><td>{html.escape(DRAWING_LABELS.get(k, k.replace('_', ' ')))}</td>"
-                   f"{_num_cell(report, f'drawing.{k}')}</tr>")
+    for k, v in d.items():
+        label = DRAWING_LABELS.get(k, k.replace('_', ' '))
+        for sub in (v if isinstance(v, Mapping) else [None]):     # a dict: one row per entry
+            key = f"drawing.{k}" + (f".{sub}" if sub is not None else "")
+            out.append(f"<tr><td>{html.escape(label + (f': {sub}' if sub is not None else ''))}</td>"
+                       f"{_num_cell(report, key)}</tr>")
     out.append("</table>")
-    spline = ("The SPLINE on PROFILE carries the degree, knots, control points and weights of the profile "
-              "NURBS" + (f" (the {html.escape(str(d['profile_curve']))})" if d.get("profile_curve") else "") + "."
-              if d.get("curves") == "spline" else "")
+    spline = {"spline": "The SPLINE on PROFILE carries the degree, knots, control points and weights of the "
+                        "profile NURBS" + (f" (the {html.escape(str(d['profile_curve']))})"
+                                           if d.get("profile_curve") else "") + ".",
+              "cubic": "The SPLINEs are polynomial cubics within the chord tolerance of the NURBS: every DXF "
+                       "reader draws them."}.get(str(d.get("curves")), "")
     out.append('<p class="note">Layers: PROFILE, PITCH, BASE_CIRCLE, PRIME_CIRCLE, BORE, CENTERLINES, '
                f"DIMENSIONS, TITLE (title block with the key numbers, the checks verdict and the motion "
                f"table). {spline}</p>")

@@ -121,7 +121,9 @@ def test_build_writes_every_file(built):
     for name in files["plots"]:
         data = (built / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
-    assert report["drawing"]["curves"] == "spline" and report["drawing"]["exact"] is True
+    # drawn as cubic splines within the tolerance (the default), so not the exact curve itself
+    assert report["drawing"]["curves"] == "cubic" and report["drawing"]["exact"] is False
+    assert 0 < report["drawing"]["profile_max_error"] <= report["drawing"]["chord_tolerance"]
     assert report["spec"]["cam"]["base_radius"] == pytest.approx(22.360679775)
 
 

@@ -17,14 +17,16 @@ _DECL = params_of(DrawingSection)
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "dxf", help="write the DXF drawing: the profile SPLINE, or arcs/polyline within a tolerance",
-        description="Design the cam and write its manufacturing drawing as DXF: the profile as a "
-                    "SPLINE (layer PROFILE: the exact rational offset for a PH pitch curve; for "
-                    "pitch.representation = \"bspline\" a fitted B-spline, its measured error printed), or "
-                    "as arcs or a polyline within "
-                    "drawing.chord_tolerance for machines that cannot read splines; the pitch curve, "
-                    "base and prime circles, bore, centre lines, dimensions and a title block with the "
-                    "motion table. The spec's [drawing] section sets the defaults.",
+        "dxf", help="write the DXF drawing: the profile as a cubic SPLINE, the exact NURBS, arcs or a polyline",
+        description="Design the cam and write its manufacturing drawing as DXF: the profile (layer PROFILE) "
+                    "as a polynomial cubic SPLINE within drawing.chord_tolerance of the profile NURBS, which "
+                    "every DXF reader draws (the default, --curves cubic); as that NURBS itself (--curves "
+                    "spline: the exact rational offset, degree 9, for a PH pitch curve, which LibreCAD and "
+                    "many CAM programs drop; for pitch.representation = \"bspline\" a fitted B-spline, its "
+                    "measured error printed); or as arcs or a polyline within the tolerance for machines "
+                    "that read no splines. The measured distance is printed and stated in the title block. "
+                    "Also the pitch curve, base and prime circles, bore, centre lines, dimensions and a "
+                    "title block with the motion table. The spec's [drawing] section sets the defaults.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
     p.add_argument("--curves", choices=_DECL["curves"].choices, default=None,
@@ -77,20 +79,27 @@ def run(args: argparse.Namespace) -> int:
 
 
 def describe(d: dict, units: str) -> str:
-    """One line on how the profile went into the DXF (for the CLI), from report.json's
-    ``drawing`` section: "exact" only where the profile NURBS is exact (``profile_curve``
-    says what it is; a fitted profile comes with its measured error)."""
+    """One line on how the curves went into the DXF (for the CLI), from report.json's ``drawing``
+    section: "exact" only where the profile NURBS is exact (``profile_curve`` says what it is; a
+    fitted profile comes with its measured error), and for drawn approximations their measured
+    distance from the NURBS — the profile's, then the largest of the other curves'."""
     fit = d.get("developed_fit_error")
     if fit is not None:            # a cylindrical cam: the developed walls and pitch line, fitted
-        return (f"WALL_LOWER, WALL_UPPER: {d['splines']} cubic SPLINEs with the PITCH line, fitted to the developed "
-                f"walls at the outer radius: max fit error {fit['value']:.3g} {units} (pitch line "
-                f"{fit['pitch_line']:.3g} {units}), not exact ({d['file_version']})")
+        kind = {"cubic": f"{d['splines']} cubic SPLINEs", "arcs": f"{d['entities']} arcs and lines",
+                "polyline": f"{d['entities']} polylines"}[d["curves"]]
+        return (f"WALL_LOWER, WALL_UPPER: {kind} with the PITCH line, fitted to the developed walls at the outer "
+                f"radius: max fit error {fit['value']:.3g} {units} (pitch line {fit['pitch_line']:.3g} {units}), "
+                f"not exact (tolerance {d['chord_tolerance']:g} {units}, {d['file_version']})")
     curve = d.get("profile_curve")
     if d["curves"] == "spline":
         what = curve if curve else ("exact profile NURBS" if d.get("exact") else "profile NURBS")
         return f"PROFILE: SPLINE = the {what} ({d['file_version']})"
-    kind = (f"{d['profile_arcs']} arcs + {d['profile_lines']} lines" if d["curves"] == "arcs"
-            else f"closed polyline of {d['profile_lines']} segments")
+    kind = {"cubic": f"polynomial cubic SPLINE of {d['profile_poles']} poles",
+            "arcs": f"{d['profile_arcs']} arcs + {d['profile_lines']} lines",
+            "polyline": f"closed polyline of {d['profile_lines']} segments"}[d["curves"]]
     of = f"the profile NURBS (the {curve})" if curve else "the profile NURBS"
+    others = {k: v for k, v in d.get("max_error_by_layer", {}).items() if k != "PROFILE"}
+    rest = (f"; {', '.join(others)} drawn alike, within {max(others.values()):.3g} {units} of theirs"
+            if others else "")
     return (f"PROFILE: {kind}, max distance {d['profile_max_error']:.3g} {units} from {of} "
-            f"(tolerance {d['chord_tolerance']:g} {units}, {d['file_version']})")
+            f"(tolerance {d['chord_tolerance']:g} {units}, {d['file_version']}){rest}")

@@ -67,9 +67,9 @@ class ExportKind:
 
 KINDS: dict[str, ExportKind] = {k.key: k for k in (
     ExportKind("dxf", "Export DXF", ("dxf",), ".dxf", "DXF drawing (*.dxf)", "{label}.dxf",
-               "the manufacturing drawing: the profile as a SPLINE (exact for a PH pitch curve; or arcs / a "
-               "polyline within the Drawing tolerance), pitch curve, circles, bore, dimensions, "
-               "title block"),
+               "the manufacturing drawing: the profile as a cubic SPLINE within the Drawing tolerance, which "
+               "every DXF reader draws (or the exact NURBS, arcs or a polyline: Drawing Curves), pitch curve, "
+               "circles, bore, dimensions, title block"),
     ExportKind("gcode_xy", "Export G-code (XY contour)", ("gcode", "--mode", "xy"), ".nc",
                "G-code (*.nc *.ngc *.tap)", "{label}_xy.nc",
                "milling the outside contour: the exact tool-centre path as G02/G03 biarcs or G01 "

@@ -35,6 +35,7 @@ class GrooveBody:
     """A disc with the groove in its top face."""
 
     kind = "groove"
+    title = "Groove cam"
     #: the groove holds the roller both ways (form closure): it cannot leave the cam
     closure = "form"
 

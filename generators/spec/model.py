@@ -424,16 +424,23 @@ class DrawingSection:
     """`[drawing]`: the DXF manufacturing drawing (cam.dxf) and the report's title."""
 
     curves: str = param(
-        "How the profile and pitch curve are written: exact rational SPLINE, tangent arcs "
-        "(biarcs, ARC/LINE entities) or a closed polyline, for machines that cannot read splines",
-        kind="str", choices=("spline", "arcs", "polyline"), default="spline", group="Drawing")
+        "How the profile, pitch curve and the body's other curves are written: \"cubic\" a polynomial "
+        "(non-rational) cubic SPLINE within chord_tolerance, which every DXF reader draws; \"spline\" the profile NURBS "
+        "itself (for a PH pitch curve the exact rational offset, degree 9, which LibreCAD and many CAM and "
+        "laser programs drop without a word); \"arcs\" tangent arcs (biarcs, ARC/LINE entities) or "
+        "\"polyline\" one closed polyline within chord_tolerance, for machines that read no splines",
+        kind="str", choices=("cubic", "spline", "arcs", "polyline"), default="cubic", group="Drawing")
     chord_tolerance: float = param(
-        "Largest distance of the arcs or polyline from the exact profile (curves = arcs/polyline)",
+        "Largest distance of the drawn curves from the NURBS they stand for (curves = cubic, arcs or "
+        "polyline; measured and stated in the title block)",
         unit="length", gt=0, default=0.001, group="Drawing")
     dxf_version: str = param(
         "DXF version of cam.dxf; R12 (for old CAM software) needs curves = arcs or polyline",
         kind="str", choices=DXF_VERSIONS, default="R2010", group="Drawing")
-    title: str = param("Drawing and report title", kind="str", default="Plate cam", group="Drawing")
+    title: str | None = param("Drawing and report title; default: the body's name (\"Plate cam\", \"Groove "
+                              "cam\", \"Conjugate cam pair\", \"Cylindrical cam\"), which the drawing's title "
+                              "block adds to a title that does not say it", kind="str", optional=True,
+                              group="Drawing")
     part_number: str = param("Part or drawing number in the title block", kind="str", default="",
                              group="Drawing")
     author: str = param("Drawn by (title block)", kind="str", default="", group="Drawing")
@@ -1184,7 +1191,7 @@ def _validate_drawing(spec: CamSpec) -> None:
     if dr.chord_tolerance is not None and dr.chord_tolerance < 1e-7 * spec.cam.base_radius:
         raise SpecError("drawing.chord_tolerance",
                         f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {dr.chord_tolerance:g}")
-    if dr.dxf_version == "R12" and dr.curves == "spline":
+    if dr.dxf_version == "R12" and dr.curves in ("cubic", "spline"):
         raise SpecError("drawing.dxf_version",
                         "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
 
