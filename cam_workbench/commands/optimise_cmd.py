@@ -13,8 +13,8 @@ from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, note, plot_progress,
-                     require_ocp, spec_from_args)
+from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
+                     check_parallel_arguments, note, output_claim, plot_progress, require_ocp, spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -46,8 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--multistart", type=int, metavar="N", help="override optimise.multistart (extra random starts)")
     p.add_argument("--seed", type=int, metavar="N", help="override optimise.seed")
     add_parallel_arguments(p, "the multistart's starts")
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, "out")
     p.set_defaults(run=run)
 
 
@@ -83,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
     over.update({f"optimise.{k}": v for k, v in changes.items()})
     if over:
         spec = spec.replace(**over)
+    admit_output(args, spec, "optimise")
     cfg = spec.optimise
     budget = cfg.max_evaluations * (1 + cfg.multistart)
     bar, cb = _progress_bar(budget)
@@ -95,8 +95,8 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, pcb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb,
-                               command="optimise")
+        report = write_outputs(outputs, out, output_claim(args, result.spec, "optimise"),
+                               extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb)
     _print(result, out, report)
     return 0 if result.feasible else EXIT_CHECK_FAILED
 
@@ -114,7 +114,7 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     con.print(escape(f"{opt['objective']}: {opt['initial_value']:.6g} → {opt['final_value']:.6g} {unit}"
                      + (f" ({-red:+.2f} %)" if red is not None else "")
                      + f" in {opt['evaluations']} evaluations, {opt['time_s']:.2f} s"))
-    con.print(escape(f"status: {opt['status']}"))
+    con.print(escape(f"status: {opt['status_text']}"))
     con.print(escape(f"message: {opt['message']}"))
     if not opt["initial_feasible"]:
         for v in opt["initial_violations"]:

@@ -79,10 +79,11 @@ reference, including the fields added since.
 - `motion[].lift` and `motion[].law` are required for rise/return and absent for dwell.
 - All `motion[].angle` sum to 360 (±1e-9), each at least 360°/20000 = 0.018° (the finest junction
   spacing of a pitch curve: a shorter span can lie between two junctions), as is each
-  `start_blend` and `end_blend`; total rise = total fall; s never below 0.  When the spans miss 360°, the error names the span that, changed by the
-  difference, has the fewest decimals (the odd one out) with the value that closes the cycle —
-  `motion[3].angle: spans sum to 359.99999999°, must be 360° (120 here makes them 360°)` — or, when
-  every span would do as well, the last.
+  `start_blend` and `end_blend`; total rise = total fall; s never below 0.  When the spans miss
+  360°, the error names the span that, changed by the difference, has the fewest decimals (the
+  odd one out) with the value that closes the cycle — `motion[3].angle: spans sum to
+  359.99999999°, must be 360° (120 here makes them 360°)` — or, when every span would do as
+  well, the last.
 - `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`; PH only
   (`pitch.representation = "bspline"` places its knots itself: `pitch.segments` spans shared among the
   motion segments in proportion, segment boundaries as knots, or the fewest meeting `pitch.tolerance`).
