@@ -229,3 +229,29 @@ def test_cli_edge_specs_refuse_cleanly_and_print_no_warning(tmp_path, name):
         assert res.stderr.startswith(first), res.stderr
     if res.returncode == 2:
         assert REFUSAL.search(res.stderr.strip()) and not out.exists()
+
+
+def test_refusal_of_an_oscillating_flat_face_keeps_its_message():
+    """Found by the API combinations (seed 13): an oscillating flat face without arm_length whose
+    profile has a cusp.  Adding the remedy to the refusal raised a TypeError (the pivot's bounds
+    read the optional arm_length), and then a neighbouring spec's SolveError in place of the
+    user's own refusal; now the refusal is the cusp with its cam angle, and the remedy search
+    counts a neighbour that cannot be solved as one that does not pass."""
+    from generators.cam_design import design_cam
+    from generators.errors import GeometryError
+    from generators.studies.remedies import with_remedy
+
+    d = {"units": "mm", "cam": {"base_radius": 4.5, "thickness": 3.0},
+         "follower": {"kind": "flat", "motion": "oscillating", "pivot_distance": 5.85, "face_offset": 0.0},
+         "motion": [{"kind": "dwell", "angle": 15.126050420168067},
+                    {"kind": "rise", "angle": 254.11764705882354, "lift": 9.960024889032013, "law": "cycloidal"},
+                    {"kind": "dwell", "angle": 15.126050420168067},
+                    {"kind": "return", "angle": 60.50420168067227, "lift": 9.960024889032013, "law": "cycloidal"},
+                    {"kind": "dwell", "angle": 15.126050420168099}],
+         "pitch": {"segments": 24}}
+    spec = CamSpec.from_dict(d)
+    with pytest.raises(GeometryError) as info:
+        design_cam(spec)
+    refused = with_remedy(spec, info.value)
+    assert isinstance(refused, GeometryError) and refused.kind == "cusp"
+    assert str(refused).startswith("cusp at cam angle 305.79"), str(refused)
