@@ -463,7 +463,7 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("UNITS / SCALE", f"{u} / 1:1"),
         ("DRAWN BY", dr.author or "-"),
         ("FOLLOWER", follower),
-        ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(spec.cam.base_radius - spec.roller_radius)})"),
+        ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(prof['base_circle_radius'])})"),
         ("BORE", f"Ø{f(spec.cam.bore_diameter)}" if spec.cam.bore_diameter > 0 else "NONE"),
         ("ROTATION", f"{spec.cam.direction.upper()}, {spec.cam.speed_rpm:g} RPM"),
         ("PITCH CURVE", pitch_text(summary).upper().replace("²", "2")),

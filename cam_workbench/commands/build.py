@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from generators.checks.areas import area_label
+
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
                      spec_from_args)
@@ -61,9 +63,7 @@ def _print_summary(s: dict, out: Path) -> None:
     c = s["curvature"]
     print(f"  curvature: min {fol['curve']} radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
-    thesis = s["areas"]["thesis_eq_4_21"]
-    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³"
-          + ("" if thesis is None else f" (thesis Eq. 4.21 area inside the pitch curve: {thesis:.6g} {u}²)"))
+    print(f"  {area_text(s)}, volume {s['volume']:.6g} {u}³")
     print("  DXF " + describe_dxf(s["drawing"], u))
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
@@ -102,12 +102,24 @@ def _print_summary(s: dict, out: Path) -> None:
             print(f"  {m2['file']}: the second cam's {m['program']} program, {m2['gcode_lines']} lines")
 
 
+def area_text(s: dict) -> str:
+    """report.json's areas named apart, as report.json names them: ``area`` (the built
+    cross-section) and the design-intent ``areas`` — the thesis' Eq. 4.21 area where the
+    follower has one, else the area inside its design curve."""
+    u = s["units"]
+    areas = s["areas"]
+    key = "thesis_eq_4_21" if areas.get("thesis_eq_4_21") is not None else "pitch_curve"
+    return (f"{area_label('area')} {s['area']:.6g} {u}² (report.json area); "
+            f"{area_label(key, s['follower']['curve'])} {areas[key]:.6g} {u}² (areas.{key})")
+
+
 def _print_body_summary(s: dict, out: Path) -> None:
     """The summary of a cam that is not a plane cam (a cylindrical cam)."""
     u = s["units"]
     f = s["files"]
     b = s["body"]
-    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}")
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
+          f"{len(f['plots'])} plots")
     print(f"  {b['kind']} cam: pitch radius {b['pitch_radius']:g} {u}, outer radius {b['outer_radius']:g} {u}, "
           f"length {b['length']:g} {u}; groove {b['groove_width']:g} {u} wide, {b['groove_depth']:g} {u} deep")
     pa = s["pressure_angle"]

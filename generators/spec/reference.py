@@ -179,7 +179,8 @@ every check reports its extreme, the cam angle, the limit and pass / fail / skip
 Units: N, kg, mm and MPa in a mm spec (M_f·s″ω² is kg·mm/s² = 10⁻³ N), lbf, lbf·s²/in, in and
 psi in an inch spec (the thesis' "0.02 slugs" is 0.02 lbf·s²/in).  Separation and stress are
 skipped when the follower has no load (`preload`, `mass`, `spring_rate` all 0); stress is skipped
-for a knife edge.  `cam-workbench check` exits with status 3 when a check fails.
+for a knife edge.  A check whose limit is not given (`material.allowable_stress`, `follower.face_width`)
+reports its value and is skipped, not passed: its note names the field that would give the limit.  `cam-workbench check` exits with status 3 when a check fails.
 """
 
 
