@@ -57,7 +57,10 @@ class PlateCam:
 
     @classmethod
     def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
-        """A built-in example cam: "default" or "paper" (the paper's Table 1, case 2)."""
+        """A built-in example cam by name: "default", "paper" (the paper's Table 1, case 2),
+        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
+        "cylindrical_oscillating" (``generators.spec.examples.DESCRIPTIONS`` says what each is;
+        docs/spec.md lists them)."""
         from generators.examples import example_spec
 
         return cls(example_spec(name), **changes)

@@ -5,7 +5,7 @@ import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
-from generators.spec.examples import EXAMPLES, example_spec
+from generators.spec.examples import DESCRIPTIONS, example_spec
 from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
@@ -17,9 +17,8 @@ def add_spec_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("spec", nargs="?", metavar="SPEC",
                    help="cam spec (TOML); omitted: the built-in example named by --example")
     p.add_argument("--example", metavar="NAME", default=None,
-                   help="a built-in cam instead of SPEC: 'default' (passes every check; the default), "
-                        "'paper' (Jahanpour & Dolatabadi 2014, Table 1 case 2, 5 mm roller), or one of "
-                        f"{', '.join(repr(n) for n in EXAMPLES if n not in ('default', 'paper'))}")
+                   help="a built-in cam instead of SPEC (default: 'default'): "
+                        + "; ".join(f"'{n}' ({d})" for n, d in DESCRIPTIONS.items()))
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a spec field, e.g. --set cam.base_radius=30 or "
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")

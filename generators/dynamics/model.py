@@ -28,7 +28,6 @@ from ..errors import SpecError
 from ..followers import Follower, follower_of
 from ..spec.model import CamSpec
 
-TWO_PI = 2.0 * math.pi
 
 #: the [dynamics] fields of each coordinate kind: (inertia, stiffness), and the follower field
 #: the inertia defaults to

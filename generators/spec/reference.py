@@ -10,6 +10,7 @@ import dataclasses
 from typing import Any
 
 from .params import Param, params_of, unit_name
+from .examples import DESCRIPTIONS as EXAMPLE_DESCRIPTIONS
 from .model import DEFAULT_SEGMENTS, SECTIONS, CamSpec, default_spec, to_toml
 
 def _sections() -> list[tuple[str, type, str]]:
@@ -228,11 +229,23 @@ def render() -> str:
         out.append(_table(field_rows(cls)))
     out.append(BSPLINE_AND_CHECKS)
     out.append(OPTIMISE)
+    out.append(examples_section())
     out.append("## The built-in default\n")
-    out.append("`cam-workbench build` with no spec builds this (the paper's Table 1, case 2, "
-               "with a 5 mm roller):\n")
+    out.append("`cam-workbench build` with no spec builds this (the example `default`: "
+               f"{EXAMPLE_DESCRIPTIONS['default']}):\n")
     out.append("```toml\n" + to_toml(default_spec()) + "```\n")
     return "\n".join(out)
+
+
+def examples_section() -> str:
+    """The built-in examples (``--example NAME``, ``PlateCam.example(name)``) as a table, from
+    :data:`generators.spec.examples.DESCRIPTIONS`."""
+    lines = ["## Built-in examples\n",
+             "`cam-workbench build --example NAME` (every command that designs a cam takes `--example`), "
+             "`cam-workbench spec --example NAME` (its spec as TOML) and `PlateCam.example(NAME)`:\n",
+             "| example | what |", "|---|---|"]
+    lines += [f"| `{name}` | {text} |" for name, text in EXAMPLE_DESCRIPTIONS.items()]
+    return "\n".join(lines) + "\n"
 
 
 def _table(rows: list[tuple[str, str, str, str, str]]) -> str:

@@ -8,10 +8,12 @@
 2. ``hi`` = the spec's own R_b, doubled until it passes (at most ``max_doublings`` times; if none
    passes, or the spec's rules refuse a larger radius — an oscillating arm's pivot_distance +
    arm_length —, the point has no radius and the row says which check still fails, and where);
-3. halve [lo, hi] keeping ``lo`` failing and ``hi`` passing until hi − lo ≤ ``tol``.
+3. halve [lo, hi] keeping ``lo`` failing and ``hi`` passing until hi − lo = ``tol``.
 
-The answer is ``hi``: it passes, and a radius ``tol`` smaller fails (or is refused), so the true
-boundary R* lies in (hi − tol, hi].  Default tolerance: 0.01 mm, 0.0005 in.  That is the
+Every radius tried is a multiple of ``tol`` (:class:`TolGrid`), written with the decimals of
+``tol``.  The answer is ``hi``: it passes, and the radius ``tol`` smaller fails (or is refused), so
+the true boundary R* lies in (hi − tol, hi] — and ``hi`` is printed, tabulated and charted with
+exactly the digits that statement supports (41.78 for 0.01 mm).  Default tolerance: 0.01 mm, 0.0005 in.  That is the
 smallest radius only if passing is monotonic in R_b — a larger cam never fails a check a smaller
 one passes.  That holds for the pressure angle (|φ| falls as R_b grows), the curvature, undercut and
 cusp checks (the pitch curve's radius of curvature grows with R_b) and the Hertz stress; the
@@ -85,6 +87,43 @@ def check_names(names: Sequence[str] | str | None, option: str = "--size-checks"
     return out or None
 
 
+@dataclass(frozen=True)
+class TolGrid:
+    """The radii a bisection to ``tol`` tries: k·tol, rounded to the decimals ``tol`` is written with
+    (0.01 → 2, 0.0005 → 4, 0.25 → 2), so that a radius prints, and reads back from CSV, as it is."""
+
+    tol: float
+
+    @property
+    def decimals(self) -> int:
+        """The decimals of ``tol`` (at most 12)."""
+        return decimals_of(self.tol)
+
+    def value(self, k: int) -> float:
+        return round(k * self.tol, self.decimals)
+
+    def up(self, x: float) -> float:
+        """The smallest grid radius ≥ x."""
+        return self.value(math.ceil(x / self.tol - 1e-9))
+
+    def down(self, x: float) -> float:
+        """The largest grid radius ≤ x."""
+        return self.value(math.floor(x / self.tol + 1e-9))
+
+    def middle(self, lo: float, hi: float) -> float | None:
+        """A grid radius halfway between the grid radii ``lo`` < ``hi`` (None when they are neighbours)."""
+        a, b = round(lo / self.tol), round(hi / self.tol)
+        return None if b - a <= 1 else self.value((a + b) // 2)
+
+
+def decimals_of(tol: float) -> int:
+    """The decimals ``tol`` is written with: the fewest d ≤ 12 with round(tol, d) == tol (0.01 → 2)."""
+    for d in range(13):
+        if abs(round(tol, d) - tol) <= 1e-12 * max(abs(tol), 1.0):
+            return d
+    return 12
+
+
 def geometric_lower_bound(spec: CamSpec) -> float:
     """The largest R_b the spec's rules refuse whatever the motion: |offset| (R_b > |e|) or the
     roller radius plus the bore radius (the bore inside the base circle of the cam surface)."""
@@ -112,9 +151,13 @@ def smallest_base_radius(spec: CamSpec, settings: SizingSettings | None = None) 
         failed = tuple(r.name for r in dc.results if r.status == "fail" and (names is None or r.name in names))
         return not failed, failed, dc
 
-    lo = geometric_lower_bound(spec)
-    lo_failed: tuple[str, ...] = (f"spec rule: R_b ≤ {lo:.6g} is refused (offset, roller and bore)",)
-    hi = max(spec.cam.base_radius, lo + tol)
+    # every radius tried is a multiple of tol, written with tol's decimals: the answer is a round number
+    # that was itself checked, and every output (table, CSV, chart) shows it as it is
+    grid = TolGrid(tol)
+    bound = geometric_lower_bound(spec)
+    lo = grid.down(bound)
+    lo_failed: tuple[str, ...] = (f"spec rule: R_b ≤ {bound:.6g} is refused (offset, roller and bore)",)
+    hi = grid.up(max(spec.cam.base_radius, lo + tol))
     ok, failed, dc = test(hi)
     doublings = 0
     while not ok:
@@ -127,15 +170,15 @@ def smallest_base_radius(spec: CamSpec, settings: SizingSettings | None = None) 
                           count[0], None)
         if failed and not failed[0].startswith("spec rule"):
             lo, lo_failed = hi, failed
-        hi *= 2.0
+        hi = grid.up(2.0 * hi)
         doublings += 1
         ok, failed, dc = test(hi)
     best = dc
     n_steps = max(0, math.ceil(math.log2(max(hi - lo, tol) / tol)))
     for _ in range(n_steps):
-        if hi - lo <= tol:
+        mid = grid.middle(lo, hi)
+        if mid is None:               # lo and hi are neighbours on the grid: hi − lo = tol
             break
-        mid = 0.5 * (lo + hi)
         ok, failed, dc = test(mid)
         if ok:
             hi, best = mid, dc
