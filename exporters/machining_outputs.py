@@ -104,6 +104,7 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         "chord_tolerance": plan.chord_tolerance,
         "depth": plan.depth,
         "passes": plan.passes,
+        "lead_radius": plan.lead_radius,
         "gcode_lines": gcode.count("\n"),
         # distance of the tool-centre curve from the exact offset of the pitch curve (0: exact)
         "tool_centre_fit_error": tool_centre_fit_error(design, plan),

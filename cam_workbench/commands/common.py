@@ -87,12 +87,20 @@ def design_for(spec: CamSpec) -> "CamDesign":
         return design_cam(spec, progress=cb)
 
 
+def progress_console() -> Any:
+    """The console every progress display draws on: standard error, so that standard output holds
+    only the command's result (``gcode`` without ``-o`` writes the program there)."""
+    from rich.console import Console
+
+    return Console(stderr=True)
+
+
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:
     """A rich progress display (context manager) and a callback for the tolerance search."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     prog = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
-                    transient=True)
+                    transient=True, console=progress_console())
     task = prog.add_task(description, total=None)
 
     def callback(m: int, dev: float) -> None:
@@ -106,7 +114,7 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), transient=True)
+                    TimeElapsedColumn(), transient=True, console=progress_console())
     task = prog.add_task("report", total=total)
     started = [False]
 
@@ -168,7 +176,7 @@ def count_progress(total: int, description: str, unit: str) -> tuple[Any, Callab
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(),
                     TextColumn("{task.completed}/{task.total} " + unit), TimeElapsedColumn(),
-                    TextColumn("eta"), TimeRemainingColumn(), transient=True)
+                    TextColumn("eta"), TimeRemainingColumn(), transient=True, console=progress_console())
     task = prog.add_task(description, total=total)
 
     def callback(done: int, n: int) -> None:
