@@ -11,7 +11,9 @@ unnoticed.  The same for the G-code headers (``cam.nc``, ``cam2.nc``: XY, the XC
 
 Placeholders: ``{path}`` a number at the path (list items by index: ``body.second_cam.z.0``),
 ``{abs:path}`` its magnitude, ``{len:path}`` the length of a list, ``{str:path}`` the text itself,
-``{u}`` the length unit, ``{any}`` text that holds no report number (a folder name).  Paths starting
+``{u}`` the length unit, ``{any}`` text that holds no report number (a folder name); ``{path|.3f}``:
+the number printed in that format (trailing zeros dropped), where a number like "32" could otherwise
+stand for 31.95.  Paths starting
 with ``_`` are computed here from report.json (a verdict's counts, the motion program in words).
 
 Each example is built once (``build``, the folder reused by the other tests); ``check``, ``dxf``,
@@ -71,6 +73,16 @@ def agrees(token: str, value: Any) -> bool:
     return abs(float(text) - value) <= half * (1 + 1e-9) + 1e-12 * abs(value)
 
 
+def formatted(token: str, value: Any, fmt: str) -> bool:
+    """``token`` is ``value`` in the format ``fmt`` (fixed decimals with the trailing zeros dropped)."""
+    if not isinstance(value, (int, float)):
+        return False
+    text = format(value, fmt)
+    if fmt.endswith("f") and "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return token.replace("−", "-") == ("0" if text == "-0" else text)
+
+
 @dataclass
 class Template:
     """One printed line, its numbers named by report.json paths; ``required``: the output must have it."""
@@ -78,15 +90,16 @@ class Template:
     text: str
     required: bool = False
 
-    def compile(self, report: dict) -> tuple[re.Pattern, list[tuple[str, str]]] | None:
-        """(the line's regex, [(kind, path)] of its number groups); None when a ``str:`` path is not
-        in the report (the line is not this cam's)."""
+    def compile(self, report: dict) -> tuple[re.Pattern, list[tuple[str, str, str]]] | None:
+        """(the line's regex, [(kind, path, format)] of its number groups); None when a ``str:`` path
+        is not in the report (the line is not this cam's)."""
         parts, specs, pos = [], [], 0
         text = self.text.replace("{u}", "{str:units}")
         for m in PLACEHOLDER.finditer(text):
             parts.append(re.escape(text[pos:m.start()]))
             pos = m.end()
-            kind, _, path = m.group(1).rpartition(":")
+            field, _, fmt = m.group(1).partition("|")
+            kind, _, path = field.rpartition(":")
             if path == "any":
                 parts.append(r".+?")
             elif kind == "str":
@@ -96,7 +109,7 @@ class Template:
                     return None
             else:
                 parts.append(f"({NUMBER})")
-                specs.append((kind, path))
+                specs.append((kind, path, fmt))
         parts.append(re.escape(text[pos:]))
         return re.compile("".join(parts)), specs
 
@@ -124,13 +137,13 @@ def held_to(text: str, templates: list[Template], report: dict, what: str,
             if m is None:
                 continue
             found.add(i)
-            for token, (kind, path) in zip(m.groups(), c[1]):
+            for token, (kind, path, fmt) in zip(m.groups(), c[1]):
                 try:
                     want = expected(report, kind, path)
                 except (KeyError, IndexError, TypeError):
                     problems.append(f"{what}: {line!r}: report.json has no {path}")
                     continue
-                if not agrees(token, want):
+                if not (formatted(token, want, fmt) if fmt else agrees(token, want)):
                     problems.append(f"{what}: {line!r}: {token} is not report.json's {path} = {want!r}")
             break
         else:
@@ -301,15 +314,15 @@ def program_templates(cam: str, program: str) -> list[Template]:
     ]
     if not cam:
         # the first cam: R_b (the spec's prime circle) and its own base circle
-        t.append(Template("(cam: base radius R_b {spec.cam.base_radius} {u} [prime circle], base circle radius "
-                          "{profile.base_circle_radius} {u} [the profile at zero lift], thickness "
-                          "{spec.cam.thickness} {u}, {str:_direction}, follower: {str:follower.label} [{u}])", True))
+        t.append(Template("(cam: base radius R_b {spec.cam.base_radius|.6g} {u} [prime circle], base circle radius "
+                          "{profile.base_circle_radius|.6g} {u} [the profile at zero lift], thickness "
+                          "{spec.cam.thickness|g} {u}, {str:_direction}, follower: {str:follower.label} [{u}])", True))
         t.append(Template("(the first cam of the conjugate pair, {body.first_cam.z.0} <= z <= {body.first_cam.z.1}; "
                           "the second is in {str:machining.second_cam.file})"))
     else:
         # the second cam of a pair: its own base circle and roller, never the pair's R_b
-        t.append(Template("(cam: base circle radius {body.second_cam.profile.base_circle_radius} {u} [the profile at "
-                          "zero lift], thickness {spec.cam.thickness} {u}, {str:_direction}, follower: "
+        t.append(Template("(cam: base circle radius {body.second_cam.profile.base_circle_radius|.6g} {u} [the profile "
+                          "at zero lift], thickness {spec.cam.thickness|g} {u}, {str:_direction}, follower: "
                           "{str:body.second_cam.follower.label} [{u}])", True))
         t.append(Template("(the second cam of the conjugate pair, {body.second_cam.z.0} <= z <= {body.second_cam.z.1}: "
                           "cut as its own plate, Z0 on its top face [the face towards the first cam], the cam frame "
@@ -436,12 +449,12 @@ def title_block(path: Path) -> tuple[dict[str, str], list[list[str]], list[str]]
 
 
 TITLE_PLANE = {
-    "THICKNESS": ["{spec.cam.thickness} {u}"],
+    "THICKNESS": ["{spec.cam.thickness|.3f} {u}"],
     "UNITS / SCALE": ["{u} / 1:1"],
     "FOLLOWER": ["{str:_FOLLOWER}"],
     # the base circle is report.json's (a groove's profile is the inner wall: R_b − roller − clearance/2)
-    "BASE RADIUS R_b": ["{spec.cam.base_radius} (BASE CIRCLE R{profile.base_circle_radius})"],
-    "BORE": ["Ø{spec.cam.bore_diameter}"],
+    "BASE RADIUS R_b": ["{spec.cam.base_radius|.3f} (BASE CIRCLE R{profile.base_circle_radius|.3f})"],
+    "BORE": ["Ø{spec.cam.bore_diameter|.3f}"],
     "ROTATION": ["{str:_DIRECTION}, {spec.cam.speed_rpm} RPM"],
     "PITCH CURVE": ["C2 PH QUINTIC SPLINE, M = {pitch.segments} SEGMENTS",
                     "C2 PH QUINTIC SPLINE, M = {pitch.segments} SEGMENTS THROUGH THE FACE'S CONTACT POINTS"],
@@ -453,12 +466,12 @@ TITLE_PLANE = {
     "MAX FOLLOWER DEVIATION": ["{pitch.max_deviation} {str:_LU} AT {pitch.max_deviation_at_deg}°"],
     "MAX PRESSURE ANGLE": ["{pressure_angle.max_deg}° AT {pressure_angle.at_deg}° (LIMIT "
                            "{checks.results.pressure_angle.limit}°)"],
-    "MIN PROFILE RADIUS OF CURV.": ["{curvature.min_profile_radius} AT {curvature.at_deg}°"],
-    "LARGEST RADIUS": ["{profile.max_radius}"],
+    "MIN PROFILE RADIUS OF CURV.": ["{curvature.min_profile_radius|.3f} AT {curvature.at_deg}°"],
+    "LARGEST RADIUS": ["{profile.max_radius|.3f}"],
     "AREA / VOLUME": ["{area} {u}2 / {volume} {u}3"],
-    "SECOND CAM (LAYER PROFILE_2)": ["Z {body.second_cam.z.0} TO {body.second_cam.z.1}: {str:_FOLLOWER2}"],
+    "SECOND CAM (LAYER PROFILE_2)": ["Z {body.second_cam.z.0|.3f} TO {body.second_cam.z.1|.3f}: {str:_FOLLOWER2}"],
     "SECOND CAM PROFILE": ["EXACT OFFSET OF ITS PH PITCH CURVE, MAX ERROR {body.second_cam.profile.max_error} {u}; "
-                           "LARGEST RADIUS {body.second_cam.profile.max_radius}"],
+                           "LARGEST RADIUS {body.second_cam.profile.max_radius|.3f}"],
     "SECOND CAM PRESSURE ANGLE": ["{body.second_cam.pressure_angle.max_deg}° AT "
                                   "{body.second_cam.pressure_angle.at_deg}°"],
     "ROLLER DISTANCE ERROR": ["{body.roller_distance_error.max} {u} AT {body.roller_distance_error.at_deg}° (PH "
@@ -473,10 +486,11 @@ TITLE_PLANE = {
 TITLE_CYLINDRICAL = {
     "CAM": ["CYLINDRICAL (BARREL), {str:_DIRECTION}, {spec.cam.speed_rpm} RPM"],
     "UNITS": ["{str:_UNITS}, SCALE 1:1"],
-    "PITCH / OUTER / GROOVE BOTTOM RADIUS": ["{body.pitch_radius} / {body.outer_radius} / {body.bottom_radius}"],
-    "LENGTH / BORE DIAMETER": ["{body.length} / {spec.cam.bore_diameter}"],
-    "GROOVE WIDTH / DEPTH": ["{body.groove_width} / {body.groove_depth}"],
-    "LIFT RANGE Z": ["{body.lift_range.0} TO {body.lift_range.1}"],
+    "PITCH / OUTER / GROOVE BOTTOM RADIUS": ["{body.pitch_radius|.3f} / {body.outer_radius|.3f} / "
+                                             "{body.bottom_radius|.3f}"],
+    "LENGTH / BORE DIAMETER": ["{body.length|.3f} / {spec.cam.bore_diameter|.3f}"],
+    "GROOVE WIDTH / DEPTH": ["{body.groove_width|.3f} / {body.groove_depth|.3f}"],
+    "LIFT RANGE Z": ["{body.lift_range.0|.3f} TO {body.lift_range.1|.3f}"],
     "FOLLOWER": ["{str:_FOLLOWER}"],
     "WALLS (WALL_LOWER, WALL_UPPER)": ["CUBIC SPLINES, NOT EXACT: FIT ERROR {drawing.developed_fit_error.value} {u}"],
     "PITCH LINE (PITCH)": ["CUBIC SPLINES, NOT EXACT: FIT ERROR {drawing.developed_fit_error.pitch_line} {u}"],
