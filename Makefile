@@ -17,7 +17,7 @@ export PIP_CACHE_DIR ?= $(CACHE)/pip
 # runs and Parquet tables, which the tests drive with a real scheduler and workers.
 DEV_EXTRAS := cadquery,test,dask
 # Debian packages the test suite drives for real (installed by `make test` when root).
-DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap
+DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap librecad
 # FreeCAD 1.0 (Debian trixie) and 1.1 (Debian unstable): root filesystems made by mmdebstrap
 # from Debian's packages, cached here (reused while their package list is the same; delete
 # the folder to rebuild); `make test` runs the FreeCAD tests once with each, beside the host's.
@@ -33,11 +33,20 @@ FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
 .PHONY: demo test test-host test-freecad-roots freecad-roots test-install fuzz dist bench system-deps docs clean
 
+# The install says what it does, one line per step; on a terminal pip shows its own progress too
+# (each package, the download bars), in a log (CI: make's stderr is not a terminal) pip is quiet.
+# `make demo PIP_QUIET=` shows pip's progress in a log too, `PIP_QUIET=--quiet` hides it.
+PIP_QUIET ?= $(shell [ -t 2 ] || echo --quiet)
+
 $(STAMP): pyproject.toml dev-constraints.txt
+	@echo "== 1/4 the virtual environment $(VENV)"
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -c dev-constraints.txt -e '.[$(DEV_EXTRAS)]'
-	$(PY) -c 'from cam_workbench.ocp_compat import main; raise SystemExit(main())'  # exactly one OCP
+	@echo "== 2/4 the newest pip"
+	$(PY) -m pip install $(PIP_QUIET) --upgrade pip
+	@echo "== 3/4 cam-workbench with [$(DEV_EXTRAS)]: CadQuery and its OCP, Dask, the test tools (a few minutes the first time; downloads cached in $(PIP_CACHE_DIR))"
+	$(PY) -m pip install $(PIP_QUIET) -c dev-constraints.txt -e '.[$(DEV_EXTRAS)]'
+	@echo "== 4/4 exactly one OCP in $(VENV)"
+	$(PY) -c 'from cam_workbench.ocp_compat import main; raise SystemExit(main())'
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -1,6 +1,7 @@
-"""DXF and report benchmarks: the exact SPLINE against the arcs and polyline a spline-less
-machine needs (entities, file size, write time, measured error — ratios to the spline),
-and the time to draw the report.  Prints Markdown tables.
+"""DXF and report benchmarks: the exact SPLINE against the polynomial cubic SPLINE every reader
+draws (the default) and the arcs and polyline a spline-less machine needs (entities, file size,
+write time, measured error — ratios to the exact spline), and the time to draw the report.
+Prints Markdown tables.
 
     .venv/bin/python benchmarks/bench_drawing_report.py
 """
@@ -25,8 +26,8 @@ def bench_dxf() -> list[str]:
         for m in (60, 240):
             base = default_spec().replace(**{"pitch.segments": m})
             ref_size = ref_time = None
-            for curves, tol in (("spline", None), ("arcs", 1e-3), ("arcs", 1e-5), ("polyline", 1e-3),
-                                ("polyline", 1e-5)):
+            for curves, tol in (("spline", None), ("cubic", 1e-3), ("cubic", 1e-5), ("arcs", 1e-3), ("arcs", 1e-5),
+                                ("polyline", 1e-3), ("polyline", 1e-5)):
                 changes = {"drawing.curves": curves}
                 if tol is not None:
                     changes["drawing.chord_tolerance"] = tol
@@ -39,7 +40,8 @@ def bench_dxf() -> list[str]:
                 size = path.stat().st_size / 1024
                 if curves == "spline":
                     ref_size, ref_time = size, t
-                n = info.profile.entities if curves != "polyline" else info.profile.lines
+                n = {"polyline": info.profile.lines, "cubic": f"1 ({info.profile.poles} poles)",
+                     "spline": f"1 ({info.profile.poles} poles)"}.get(curves, info.profile.entities)
                 rows.append(f"| {m} | {curves} | {tol if tol else 'exact'} | {n} | {info.profile.max_error:.2e} "
                             f"| {size:.0f} | {size / ref_size:.2f}× | {1e3 * t:.0f} | {t / ref_time:.2f}× |")
     return rows
@@ -63,7 +65,7 @@ def bench_report() -> list[str]:
 
 if __name__ == "__main__":
     design_cam(default_spec())  # warm-up: imports and caches
-    print("### DXF: exact spline vs arcs and polyline (default cam)\n")
+    print("### DXF: exact spline vs cubic spline, arcs and polyline (default cam)\n")
     print("\n".join(bench_dxf()))
     print("\n### Report (default cam)\n")
     print("\n".join(bench_report()))

@@ -1,10 +1,12 @@
 """``cam-workbench``: the command line.
 
 Every command reads a spec (TOML) or the built-in default, and writes its files
-atomically into an output folder.  Exit status: 0 success, 2 bad input or a cam
-that cannot be made (message names the field/rule or the cam angle; nothing is
-written), 3 a design check failed (``check``), 4 some specs or grid points of a ``batch`` or
-``sweep`` could not be built (the table says why; the others are written), 1 an internal error.
+atomically into an output folder or the file named (``check`` and ``dynamics`` only with ``-o``),
+never over another cam's files or the user's (docs/cli.md, "Output folders and your files").
+Exit status: 0 success, 2 bad input, a cam that cannot be made or a refused output (message
+names the field/rule, the cam angle or ``-o``; nothing is written), 3 a design check failed
+(``check``), 4 some specs or grid points of a ``batch`` or ``sweep`` could not be built (the
+table says why; the others are written), 1 an internal error.
 """
 from __future__ import annotations
 
@@ -33,11 +35,12 @@ examples:
   cam-workbench build cam.toml -o out/cam1  # your spec
   cam-workbench build --set cam.base_radius=30 --set follower.roller_radius=6
   cam-workbench spec --default > cam.toml   # a spec to start from
-  cam-workbench check cam.toml -o out/cam1  # design checks: table + report.json, exit 3 on a failure
+  cam-workbench check cam.toml              # design checks as a table, exit 3 on a failure
+  cam-workbench check cam.toml -o out/cam1  # ... and report.json (kept beside a build of the same spec)
   cam-workbench batch specs/ -o many        # every spec built, with summary.csv/.parquet
   cam-workbench sweep --vary "motion[1].lift,motion[3].lift=10:30:5" --size base_radius -o chart
 
-exit status: 0 ok, 2 bad input or impossible geometry (nothing written),
+exit status: 0 ok, 2 bad input, impossible geometry or a refused -o (nothing written),
 3 a design check failed, 4 batch/sweep: some specs or points failed (their rows
 say why), 130 interrupted, 1 internal error.
 """
@@ -74,8 +77,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CamError as exc:
         print(f"error: {_one_line(str(exc))}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        # one line: what was kept, when the command says (batch, sweep --build)
+        print(f"interrupted: {exc}" if str(exc) else "interrupted", file=sys.stderr)
         return 130
     except (MemoryError, RecursionError) as exc:
         print(f"error: input too large to process ({type(exc).__name__}); nothing was written", file=sys.stderr)

@@ -19,7 +19,9 @@ tasks to the caller as Dask events (``Worker.log_event``, at most one per task e
 tasks look at every :data:`REPORT_INTERVAL` seconds; at most :data:`IN_FLIGHT` × workers tasks
 are handed to the scheduler at a time, so that a stop leaves the rest unstarted and results do not
 pile up in the workers' memory.  Workers of an existing cluster must import the same
-cam_workbench (and numpy, scipy, nlopt, OCP for ``batch``) as the caller.
+cam_workbench (and numpy, scipy, nlopt, OCP for ``batch``) as the caller.  The local cluster's
+workers block SIGINT: a terminal's Ctrl-C reaches only the caller (KeyboardInterrupt), which
+shuts them down.
 """
 from __future__ import annotations
 
@@ -28,6 +30,8 @@ import logging
 import math
 import os
 import queue
+import signal
+import threading
 import time
 import uuid
 from typing import Any, Callable, Iterator, Sequence
@@ -269,6 +273,7 @@ def dask_executor(workers: int | None = None, scheduler: str | None = None, *,
     if workers is not None and workers < 1:
         raise SpecError("--workers", f"must be ≥ 1 for Dask (0 runs in this process), got {workers}")
     cluster = None
+    held: list[int] = []            # a Ctrl-C while the local cluster started
     if scheduler:
         try:
             client = distributed.Client(scheduler, timeout="10s", set_as_default=False)
@@ -289,31 +294,61 @@ def dask_executor(workers: int | None = None, scheduler: str | None = None, *,
         n = workers or default_workers()
         # no dashboard; the scheduler's own HTTP server (health, metrics) on a port the system
         # picks, not 8787: another cluster of this machine may have that
-        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=None, memory_limit=memory_limit,
-                                           silence_logs=logging.ERROR,
-                                           scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
-        client = distributed.Client(cluster, set_as_default=False)
+        with _sigint_held() as held:
+            cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                               dashboard_address=None, memory_limit=memory_limit,
+                                               silence_logs=logging.ERROR,
+                                               scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
+            client = distributed.Client(cluster, set_as_default=False)
         address = cluster.scheduler_address
     try:
+        if held:
+            raise KeyboardInterrupt
         yield DaskExecutor(client, n, address=address)
     finally:
+        _close_quietly(client, cluster)
+
+
+@contextlib.contextmanager
+def _sigint_held() -> Iterator[list[int]]:
+    """The local cluster's start: SIGINT blocked in this thread, so that the threads it starts
+    (the cluster's event loop, which spawns the worker processes) and the workers inherit the
+    block.  A terminal's Ctrl-C goes to every process of the foreground group; blocked, it never
+    reaches a worker (which would print its tracebacks), and the caller shuts the cluster down.
+    In the main thread, a Ctrl-C during the start is recorded in the yielded list (and raised by
+    the caller once the cluster can be closed) instead of raised inside Dask's start-up."""
+    held: list[int] = []
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum)) if main else None
+    blocks = hasattr(signal, "pthread_sigmask")          # POSIX
+    if blocks:
+        from multiprocessing import resource_tracker
+
+        # started by the first worker's spawn, it would unblock SIGINT in the thread that starts
+        # it (CPython's ensure_running ends with SIG_UNBLOCK): start it here, before the block
+        resource_tracker.ensure_running()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if blocks else None
+    try:
+        yield held
+    finally:
+        if blocks:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)    # a pending Ctrl-C arrives now: held
+        if main:
+            signal.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
+
+
+def _close_quietly(client: Any, cluster: Any) -> None:
+    """Close the client and the local cluster (its workers and scheduler) without Dask's log
+    lines: after a Ctrl-C the workers' running tasks and connections are cut, which Dask reports
+    as errors although nothing went wrong."""
+    quiet = logging.getLogger("distributed")
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL + 1)
+    try:
         with contextlib.suppress(Exception):
             client.close()
         if cluster is not None:
             with contextlib.suppress(Exception):
                 cluster.close()
-
-
-@contextlib.contextmanager
-def executor_for(workers: int | None = None, scheduler: str | None = None) -> Iterator[Any]:
-    """The executor the command line's ``--workers``/``--scheduler`` ask for: ``workers`` 0 →
-    :class:`~generators.studies.executor.SerialExecutor` (this process, no Dask); otherwise
-    :func:`dask_executor`."""
-    from generators.studies.executor import SerialExecutor
-
-    if workers == 0 and not scheduler:
-        yield SerialExecutor()
-        return
-    with dask_executor(workers, scheduler) as ex:
-        yield ex
+    finally:
+        quiet.setLevel(level)

@@ -22,13 +22,16 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
 from generators.cam_design import CamDesign, design_cam
 from generators.errors import GeometryError
 from generators.spec import CamSpec
+
+if TYPE_CHECKING:
+    from exporters.output_rule import Claim
 
 JSON_NAME = "report.json"
 HTML_NAME = "report.html"
@@ -103,9 +106,13 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
 
 
 def summary_stage(design: CamDesign) -> dict[str, Any]:
-    """design.summary() with the spec itself (the part of report.json every entry point shares)."""
+    """design.summary() with the spec itself (the part of report.json every entry point shares),
+    and each failing check's remedy (:func:`generators.studies.remedies.add_remedies`)."""
+    from generators.studies.remedies import add_remedies
+
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
+    add_remedies(summary["checks"], design.spec)
     return summary
 
 
@@ -237,20 +244,24 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     return report
 
 
-def write_outputs(outputs: CamOutputs, folder: str | Path, *, extra_texts: dict[str, str] | None = None,
-                  report: bool = True, progress: Callable[[str], None] | None = None,
-                  command: str = "build") -> dict[str, Any]:
-    """Write what ``outputs`` holds into ``folder`` as one set (all or nothing; the folder then
-    holds this cam's files only): cam.step, cam.dxf, the machining files, ``extra_texts``
+def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
+                  extra_texts: dict[str, str] | None = None, report: bool = True,
+                  progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Write what ``outputs`` holds into ``folder`` as one set (all or nothing, as ``claim`` may:
+    :mod:`exporters.output_rule`): cam.step, cam.dxf, the machining files, ``extra_texts``
     (name → text) and, with ``report``, report.json/report.html/plots.  Returns the report
-    dict (or the summary with ``files`` when ``report`` is False)."""
+    dict (or the summary with ``files`` when ``report`` is False).
+
+    Raises:
+        SpecError: the folder is refused (naming ``claim.option``; nothing written).
+    """
     from exporters.atomic import OutputSet
     from exporters.report_json import report_json_text
     from exporters.step import write_step
 
     files: dict[str, Any] = {}
     extra_texts = extra_texts or {}
-    with OutputSet(Path(folder), digest=outputs.summary.get("spec_digest"), command=command) as o:
+    with OutputSet(Path(folder), claim) as o:
         if outputs.step_shape is not None:
             shape, units = outputs.step_shape, outputs.spec.units
             o.add(STEP_NAME, lambda p: write_step(shape, p, units))

@@ -22,7 +22,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from generators.cam_design import CamDesign, design_cam
+from generators.errors import GeometryError
 from generators.spec import CamSpec, default_spec, load_spec
+from generators.studies.remedies import with_remedy
 
 from . import occ_build, ocp_compat
 from .extras import import_build123d, import_cadquery
@@ -38,6 +40,12 @@ class PlateCam:
         **changes: dotted-path overrides applied to the spec, e.g.
             ``PlateCam(**{"cam.base_radius": 30, "follower.roller_radius": 6})``.
 
+    Attributes:
+        source: the cam's source, recorded in the manifest of the folders :meth:`export` writes
+            (a later export of the same source may replace the set there): the spec file's
+            resolved path, ``example:NAME``, else the running script (``python:<path>``, or
+            ``python`` in an interactive session).
+
     Raises:
         SpecError: bad input (the message names the field and the rule).
         GeometryError: the cam cannot be made (undercut, self-intersection, bore), with the cam angle.
@@ -45,14 +53,23 @@ class PlateCam:
 
     def __init__(self, spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
                  **changes: Any):
+        from exporters.output_rule import file_source, script_source
+
+        self.source: str = script_source()
         if spec is None:
             spec = default_spec()
+            self.source = "example:default"
         elif not isinstance(spec, CamSpec):
+            if isinstance(spec, os.PathLike) or (isinstance(spec, str) and "\n" not in spec):
+                self.source = file_source(spec)       # a path (load_spec reads a str without newlines as one)
             spec = load_spec(spec)  # type: ignore[arg-type]
         if changes:
             spec = spec.replace(**changes)
         self.spec: CamSpec = spec
-        self.design: CamDesign = design_cam(spec)
+        try:
+            self.design: CamDesign = design_cam(spec)
+        except GeometryError as exc:            # with the change that would make it
+            raise with_remedy(spec, exc) from None
         self._outputs: Any = None
 
     @classmethod
@@ -63,7 +80,9 @@ class PlateCam:
         docs/spec.md lists them)."""
         from generators.examples import example_spec
 
-        return cls(example_spec(name), **changes)
+        cam = cls(example_spec(name), **changes)
+        cam.source = f"example:{name}"
+        return cam
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> "PlateCam":
@@ -153,13 +172,24 @@ class PlateCam:
         """The numbers of ``report.json`` (without ``files``), as ``cam-workbench build`` writes them."""
         return self.outputs().summary
 
-    def export(self, folder: str | os.PathLike[str]) -> dict[str, Any]:
+    def export(self, folder: str | os.PathLike[str], *, replace: bool = False) -> dict[str, Any]:
         """Write everything ``cam-workbench build`` writes (cam.step, cam.dxf, cam.nc,
         commands.csv, report.json, report.html, plots) into ``folder`` as one set; returns the
-        report as written."""
+        report as written.  ``folder`` may be absent or empty, or hold a set of the same spec (its
+        other files stay) or of the same :attr:`source` that this export replaces file for file;
+        ``replace=True`` replaces any cam-workbench set (docs/python.md).
+
+        Raises:
+            SpecError: ``folder`` refused — files that are not cam-workbench output (always),
+                another cam's set, or a set this export would only partly replace; nothing written.
+        """
+        from exporters.output_rule import admit, spec_claim
+
         from .pipeline import write_outputs
 
-        return write_outputs(self.outputs(), folder)
+        claim = spec_claim(self.spec, "PlateCam.export", self.source, replace=replace, option="folder")
+        admit(folder, claim)                    # before the pipeline runs
+        return write_outputs(self.outputs(), folder, claim)
 
     def checks(self) -> dict[str, Any]:
         """report.json's ``checks`` section (the numbers ``cam-workbench check`` prints), without

@@ -19,6 +19,10 @@ N — a local cluster of N processes; ``scheduler="tcp://host:8786"`` — an exi
 ``executor`` — any executor of :mod:`generators.studies.executor` (e.g. one ``dask_executor``
 shared by several studies).  Results never depend on where they ran.
 
+An output folder follows :mod:`exporters.output_rule`: a re-run of the same study (the same
+sources; for a sweep, the same base spec's source) replaces its own entries, another study's or
+command's folder is refused unless ``replace=True``, a folder holding files of yours always.
+
 The mathematics (grids, evaluation, the radius bisection) is :mod:`generators.studies`; this
 module adds what needs the upper layers: the full build of each cam (the solid, STEP, DXF,
 G-code, the report — :mod:`cam_workbench.pipeline`, as ``build``), and the files.
@@ -36,7 +40,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
-from exporters.atomic import MANIFEST, OutputSet, check_output_folder, read_manifest, write_text_atomic
+from exporters.atomic import OutputSet, write_text_atomic
+from exporters.output_rule import (MANIFEST, Claim, admit, file_source, read_manifest, script_source, spec_claim,
+                                   study_digest)
 from generators.errors import CamError, SpecError
 from generators.spec import CamSpec, load_spec, spec_digest
 from generators.studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
@@ -89,13 +95,14 @@ def executor_scope(executor: Executor | None = None, workers: int | None = None,
 # ---- building one cam (a task: runs on any worker) ----------------------------------------
 @dataclass(frozen=True)
 class BuildJob:
-    """One cam to build: its subfolder's name, the spec (None: ``error`` says why there is none)
-    and the columns its row starts with."""
+    """One cam to build: its subfolder's name, the spec (None: ``error`` says why there is none),
+    the columns its row starts with and the cam's source (recorded in its set's manifest)."""
 
     name: str
     spec: CamSpec | None
     row: dict[str, Any] = field(default_factory=dict)
     error: tuple[str, str] | None = None      # (status, message) for a spec that could not be read
+    source: str | None = None
 
 
 @dataclass
@@ -121,7 +128,7 @@ def build_task(job: BuildJob, ctx: TaskContext) -> BuildOutcome:
         outputs = run_pipeline(spec)
         with tempfile.TemporaryDirectory(prefix="cam-workbench-build-") as tmp:
             folder = Path(tmp) / "cam"
-            report = write_outputs(outputs, folder, command="build")
+            report = write_outputs(outputs, folder, Claim("build"))
             manifest = read_manifest(folder) or {"files": []}
             files = {name: (folder / name).read_bytes() for name in manifest["files"]}
     except CamError as exc:
@@ -138,29 +145,42 @@ def build_task(job: BuildJob, ctx: TaskContext) -> BuildOutcome:
 # ---- a folder of output sets ------------------------------------------------------------------
 class SetsFolder:
     """An output folder holding one subfolder per cam (each an atomic output set, written as its
-    cam is done) and the study's tables; its manifest lists them, so that a later run may replace
-    them and nothing of anyone else's is touched (a folder with other files is refused, exit 2)."""
+    cam is done) and the study's tables; its manifest lists them.  Whether a run may write there
+    is :func:`exporters.output_rule.admit`'s rule for the study's ``claim`` (checked when made,
+    before any work, and with the entries' names in :meth:`plan`): a re-run of the same study
+    replaces its entries; nothing a manifest does not list is ever touched."""
 
-    def __init__(self, folder: str | os.PathLike[str], command: str):
-        self.folder = check_output_folder(folder)
-        self.command = command
-        old = read_manifest(self.folder) if self.folder.is_dir() else None
-        self.old: list[str] = list(old["files"]) if old else []
-        self.entries: list[str] = []
+    def __init__(self, folder: str | os.PathLike[str], claim: Claim):
+        admit(folder, claim)
+        self.folder = Path(folder)
+        self.claim = claim
+        self.earlier: dict[str, Any] | None = None
+        self.kept: list[str] = []
 
     def plan(self, names: Sequence[str], tables: Sequence[str]) -> None:
-        """Claim the entries before any is written (a killed run leaves a folder the next run accepts)."""
-        self.entries = list(dict.fromkeys([*tables, *names]))
-        self._manifest(sorted(set(self.entries) | set(self.old)))
+        """Claim the entries before any is written (a killed run leaves a folder the next run of
+        the study accepts).
 
-    def _manifest(self, files: list[str]) -> None:
+        Raises:
+            SpecError: the folder may not take these entries (nothing written).
+        """
+        entries = list(dict.fromkeys([*tables, *names]))
+        self.kept = admit(self.folder, self.claim, entries)
+        for name in names:               # a subfolder holding files of the user's: refused now, not midway
+            if (self.folder / name).is_dir():
+                admit(self.folder / name, Claim(self.claim.command, replace=True, option=self.claim.option))
+        self.earlier = read_manifest(self.folder)
+        held = self.earlier["files"] if self.earlier else []
+        self._manifest(sorted(set(entries) | set(held)), final=False)
+
+    def _manifest(self, files: list[str], final: bool = True) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
-        manifest = {"tool": "cam-workbench", "command": self.command, "spec_digest": None, "files": files,
-                    "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        manifest = self.claim.manifest(files, self.earlier if self.kept else None, digest=final)
         write_text_atomic(self.folder / MANIFEST, json.dumps(manifest, indent=1) + "\n")
 
-    def write_set(self, name: str, files: Mapping[str, bytes], digest: str | None) -> None:
-        with OutputSet(self.folder / name, digest=digest, command=self.command) as o:
+    def write_set(self, name: str, files: Mapping[str, bytes], claim: Claim) -> None:
+        """One cam's set into its subfolder (an earlier set there is this study's: replaced)."""
+        with OutputSet(self.folder / name, claim) as o:
             for fname, data in files.items():
                 o.add_bytes(fname, data)
 
@@ -170,12 +190,14 @@ class SetsFolder:
         write_bytes_atomic(self.folder / name, data)
 
     def finish(self, written: Sequence[str]) -> None:
-        """The manifest lists what this run made; an earlier run's entries it did not make again
-        are removed (they were ours: the earlier manifest listed them)."""
+        """The manifest lists what this run made and the earlier files it kept; the earlier
+        set's other entries are removed — its manifest listed them, and this run was admitted
+        to replace them (the same study making them again, a cam that now fails among them, or
+        ``replace``)."""
         import shutil
 
-        keep = set(written)
-        for name in self.old:
+        keep = set(written) | set(self.kept)
+        for name in (self.earlier or {}).get("files", []):
             if name not in keep and "/" not in name and name not in ("", ".", ".."):
                 p = self.folder / name
                 if p.is_dir():
@@ -194,12 +216,12 @@ def _table_files(table: StudyTable, csv_name: str, parquet_name: str) -> dict[st
     return files
 
 
-def _run_builds(jobs: list[BuildJob], out: str | os.PathLike[str], command: str, first: Sequence[str],
+def _run_builds(jobs: list[BuildJob], out: str | os.PathLike[str], claim: Claim, first: Sequence[str],
                 meta: dict[str, Any], executor: Executor | None, workers: int | None, scheduler: str | None,
                 progress: Callable[[int, int], Any] | None, cancel: threading.Event | None,
                 note: Callable[[str], Any] | None) -> StudyTable:
     t0 = time.perf_counter()
-    target = SetsFolder(out, command)
+    target = SetsFolder(out, claim)
     names = [j.name for j in jobs]
     target.plan([j.name for j in jobs if j.spec is not None], [SUMMARY_CSV, SUMMARY_PARQUET, STUDY_JSON])
     rows: list[dict[str, Any] | None] = [None] * len(jobs)
@@ -208,9 +230,11 @@ def _run_builds(jobs: list[BuildJob], out: str | os.PathLike[str], command: str,
 
     def on_result(i: int, res: BuildOutcome) -> None:
         row = dict(res.row)
-        if res.files is not None:
+        job = jobs[i]
+        if res.files is not None and job.spec is not None:
+            entry = spec_claim(job.spec, claim.command, job.source or claim.source, replace=True, option=claim.option)
             try:
-                target.write_set(res.name, res.files, res.digest)
+                target.write_set(res.name, res.files, entry)
                 written.append(res.name)
                 row["folder"] = res.name
             except (OSError, CamError) as exc:
@@ -238,9 +262,7 @@ def _run_builds(jobs: list[BuildJob], out: str | os.PathLike[str], command: str,
         target.write_file(name, data)
     target.finish([*files, *written])
     if interrupted:
-        if note is not None:
-            note(f"interrupted: {len(written)} of {len(jobs)} cams written; {SUMMARY_CSV} marks the rest cancelled")
-        raise KeyboardInterrupt
+        raise KeyboardInterrupt(f"{len(written)} of {len(jobs)} cams written; {SUMMARY_CSV} marks the rest cancelled")
     return table
 
 
@@ -272,7 +294,7 @@ def collect_specs(sources: Sequence[str | os.PathLike[str] | CamSpec]) -> list[B
     for k, src in enumerate(sources):
         if isinstance(src, CamSpec):
             name = _folder_name(f"spec{k + 1}", taken)
-            jobs.append(BuildJob(name, src, {"name": name, "spec": f"<spec {k + 1}>"}))
+            jobs.append(BuildJob(name, src, {"name": name, "spec": f"<spec {k + 1}>"}, source=script_source()))
             continue
         path = Path(src)
         files = sorted(p for p in path.glob("*.toml") if p.is_file()) if path.is_dir() else [path]
@@ -282,34 +304,52 @@ def collect_specs(sources: Sequence[str | os.PathLike[str] | CamSpec]) -> list[B
             name = _folder_name(f.stem, taken)
             row = {"name": name, "spec": str(f)}
             try:
-                jobs.append(BuildJob(name, load_spec(f), row))
+                jobs.append(BuildJob(name, load_spec(f), row, source=file_source(f)))
             except CamError as exc:
                 jobs.append(BuildJob(name, None, row, ("bad input", str(exc))))
     return jobs
+
+
+def batch_claim(sources: Sequence[str | os.PathLike[str] | CamSpec], jobs: Sequence[BuildJob],
+                changes: Mapping[str, Any] | None = None, *, replace: bool = False, option: str = "out") -> Claim:
+    """The claim of a batch on its output folder: its source is the sources given (files and
+    folders resolved; ``python:<script>`` for CamSpec objects), its digest that of every job's
+    name and spec, and ``changes``."""
+    named = [script_source() if isinstance(s, CamSpec) else file_source(s) for s in sources]
+    definition = {"sources": list(dict.fromkeys(named)), "set": dict(changes or {})}
+    made = [[j.name, spec_digest(j.spec) if j.spec is not None else j.error] for j in jobs]
+    return Claim("batch", ", ".join(definition["sources"]), study_digest({**definition, "jobs": made}),
+                 definition, replace, option)
 
 
 def batch(sources: Sequence[str | os.PathLike[str] | CamSpec], out: str | os.PathLike[str], *,
           changes: Mapping[str, Any] | None = None, executor: Executor | None = None,
           workers: int | None = None, scheduler: str | None = None,
           progress: Callable[[int, int], Any] | None = None, cancel: threading.Event | None = None,
-          note: Callable[[str], Any] | None = None) -> StudyTable:
+          note: Callable[[str], Any] | None = None, replace: bool = False, option: str = "out") -> StudyTable:
     """Build every spec of ``sources`` (files, folders, CamSpec objects) with the full ``build``
     pipeline into ``out/<name>/`` (one atomic output set each, written as it is done) and write
     ``out/summary.csv``, ``summary.parquet`` (with pyarrow) and ``study.json``.
 
     A bad spec (unreadable, a broken rule, a cam that cannot be made) is a row with its status
     and message, and the others go on.  ``changes`` (dotted fields) apply to every spec.  Returns
-    the summary table (rows in the order of the sources).  On Ctrl-C the cams already built stay, the table is written with the rest
-    ``cancelled``, and KeyboardInterrupt is raised again.
+    the summary table (rows in the order of the sources).  On Ctrl-C the cams already built stay,
+    the table is written with the rest ``cancelled``, and KeyboardInterrupt is raised again, its
+    message saying how many cams were written.
+
+    ``out`` follows :mod:`exporters.output_rule` (the module's docstring): ``replace=True``
+    replaces another study's or cam's set there; ``option`` is how messages name ``out`` (the
+    command line passes "-o").
 
     Raises:
-        SpecError: no spec found, or ``out`` holds files that are not cam-workbench output.
+        SpecError: no spec found, or ``out`` refused (files that are not cam-workbench output,
+            another study's or cam's set) — before any work.
     """
     jobs = collect_specs(sources)
     if changes:
         jobs = [_with_changes(j, changes) for j in jobs]
-    check_output_folder(out)
-    return _run_builds(jobs, out, "batch", BATCH_FIRST, {"kind": "batch"}, executor, workers, scheduler,
+    claim = batch_claim(sources, jobs, changes, replace=replace, option=option)
+    return _run_builds(jobs, out, claim, BATCH_FIRST, {"kind": "batch"}, executor, workers, scheduler,
                        progress, cancel, note)
 
 
@@ -317,9 +357,9 @@ def _with_changes(job: BuildJob, changes: Mapping[str, Any]) -> BuildJob:
     if job.spec is None:
         return job
     try:
-        return BuildJob(job.name, job.spec.replace(**changes), job.row)
+        return BuildJob(job.name, job.spec.replace(**changes), job.row, source=job.source)
     except CamError as exc:
-        return BuildJob(job.name, None, job.row, ("bad input", str(exc)))
+        return BuildJob(job.name, None, job.row, ("bad input", str(exc)), job.source)
 
 
 # ---- sweeps ------------------------------------------------------------------------------------
@@ -344,14 +384,18 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
           build: str | os.PathLike[str] | None = None, executor: Executor | None = None,
           workers: int | None = None, scheduler: str | None = None,
           progress: Callable[[int, int], Any] | None = None, cancel: threading.Event | None = None,
-          note: Callable[[str], Any] | None = None) -> StudyTable:
+          note: Callable[[str], Any] | None = None, source: str | None = None, replace: bool = False,
+          option: str = "build") -> StudyTable:
     """Every point of the grid ``vary`` on ``spec``: designed and checked without a solid
     (default), sized (``size``: the smallest ``cam.base_radius`` meeting ``checks`` — all, or
     a list — by bisection to ``tol``, :mod:`generators.studies.sizing`), or built with every file
-    into ``build/point-NNN/`` (with ``build/summary.csv`` …).  Returns the table (grid order).
+    into ``build/point-NNN/`` (with ``build/summary.csv`` …).  Returns the table (grid order);
+    its ``meta`` records the study and ``source`` (the spec's: a file's path, ``example:NAME``;
+    default ``python:<script>``) for :func:`write_study`.  ``build`` follows
+    :mod:`exporters.output_rule` as :func:`batch`'s ``out`` does (``replace``, ``option``).
 
     Raises:
-        SpecError: a bad grid, check name or option (before any work).
+        SpecError: a bad grid, check name or option, or ``build`` refused (before any work).
     """
     grid = make_grid(vary, balance)
     sizing = None
@@ -370,11 +414,15 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
                                                  f"(its checks: {', '.join(sorted(available))})")
         if tol is not None and not tol > 0:
             raise SpecError("--tol", f"must be > 0, got {tol:g}")
+    claim = sweep_claim(spec, grid, size=size, checks=checks, tol=tol, build=build is not None,
+                        source=source, replace=replace, option=option)
     if build is None:
         grid.check(spec, fixed=("cam.base_radius",) if sizing else ())
         n_tasks = grid.size
         with executor_scope(executor, workers, scheduler, tasks=n_tasks, note=note) as ex:
-            return run_sweep(spec, grid, sizing=sizing, executor=ex, progress=progress, cancel=cancel)
+            table = run_sweep(spec, grid, sizing=sizing, executor=ex, progress=progress, cancel=cancel)
+        table.meta.update(source=claim.source, study=claim.spec)
+        return table
     grid.check(spec)
     points = grid.points()
     width = len(str(len(points)))
@@ -383,14 +431,25 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
         name = f"point-{i + 1:0{width}d}"
         row = {"name": name, **pt}
         try:
-            jobs.append(BuildJob(name, grid.spec_at(spec, pt), row))
+            jobs.append(BuildJob(name, grid.spec_at(spec, pt), row, source=claim.source))
         except SpecError as exc:
-            jobs.append(BuildJob(name, None, row, ("bad input", str(exc))))
-    check_output_folder(build)
+            jobs.append(BuildJob(name, None, row, ("bad input", str(exc)), claim.source))
     meta = {"kind": "sweep", "build": True, "axes": [a.text() for a in grid.axes], "balance": grid.balance,
-            "points": len(points), "units": spec.units}
-    return _run_builds(jobs, build, "sweep", ("name", *grid.columns, "folder", "status", "error"), meta,
+            "points": len(points), "units": spec.units, "source": claim.source, "study": claim.spec}
+    return _run_builds(jobs, build, claim, ("name", *grid.columns, "folder", "status", "error"), meta,
                        executor, workers, scheduler, progress, cancel, note)
+
+
+def sweep_claim(spec: CamSpec, grid: Grid, *, size: bool = False, checks: str | Sequence[str] | None = None,
+                tol: float | None = None, build: bool = False, source: str | None = None, replace: bool = False,
+                option: str = "out") -> Claim:
+    """The claim of a sweep on its output folder (its table's, or ``build``'s): the study is the
+    base spec, the grid and the sizing settings; its source the spec's (default
+    ``python:<script>``)."""
+    definition = {"kind": "sizing" if size else "sweep", "build": build, "spec": spec.to_dict(),
+                  "vary": [a.text() for a in grid.axes], "balance": grid.balance,
+                  "checks": list(check_names(checks) or ()) if size else None, "tol": tol if size else None}
+    return Claim("sweep", source or script_source(), study_digest(definition), definition, replace, option)
 
 
 def _checks_of(spec: CamSpec) -> Any:
@@ -399,11 +458,17 @@ def _checks_of(spec: CamSpec) -> Any:
     return run_checks(spec).results
 
 
-def write_study(table: StudyTable, out: str | os.PathLike[str], *, chart: bool = True) -> dict[str, Any]:
+def write_study(table: StudyTable, out: str | os.PathLike[str], *, chart: bool = True, replace: bool = False,
+                option: str = "out") -> dict[str, Any]:
     """Write a sweep's or sizing's table into ``out`` as one output set (all or nothing):
     ``sweep.csv``/``sweep.parquet`` or ``sizing.csv``/``sizing.parquet`` (Parquet with pyarrow),
-    ``study.json`` and, for a sizing with a numeric axis, ``sizing_chart.png``.  Returns
-    {file kind: name}."""
+    ``study.json`` and, for a sizing with a numeric axis, ``sizing_chart.png``.  ``out`` follows
+    :mod:`exporters.output_rule` for the study and source :func:`sweep` recorded in the table's
+    ``meta`` (``replace``, ``option`` as for :func:`batch`).  Returns {file kind: name}.
+
+    Raises:
+        SpecError: ``out`` refused (nothing written).
+    """
     kind = table.meta.get("kind", "sweep")
     csv_name, parquet_name = SWEEP_NAMES["sizing" if kind == "sizing" else "sweep"]
     files = _table_files(table, csv_name, parquet_name)
@@ -411,7 +476,10 @@ def write_study(table: StudyTable, out: str | os.PathLike[str], *, chart: bool =
         png = sizing_chart_png(table)
         if png is not None:
             files[CHART_PNG] = png
-    with OutputSet(Path(out), command="sweep") as o:
+    study = table.meta.get("study")
+    claim = Claim("sweep", table.meta.get("source") or script_source(),
+                  study_digest(study) if study is not None else None, study, replace, option)
+    with OutputSet(Path(out), claim) as o:
         for name, data in files.items():
             o.add_bytes(name, data)
     return {("csv" if n.endswith(".csv") else "parquet" if n.endswith(".parquet") else

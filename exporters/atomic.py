@@ -1,9 +1,10 @@
 """Atomic file output: write to a temporary file beside the target, then rename.
 
 An error never leaves a half-written or clobbered file.  :class:`OutputSet` commits several
-files together as the whole content of an output folder: they are written into a staging
-folder that replaces the target in one atomic step, so a folder holds one cam's set — never a
-mix of two, even when the process is killed (the next run removes what it left).
+files together as one cam's set in an output folder: they are written into a staging folder
+that replaces the target in one atomic step, so a folder holds one spec's set — never a mix of
+two, even when the process is killed (the next run removes what it left).  Which folder a run
+may write into is :mod:`exporters.output_rule`'s rule.
 """
 from __future__ import annotations
 
@@ -12,6 +13,8 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator
+
+from .output_rule import MANIFEST, STAGING_TAG, Claim, admit, read_manifest
 
 
 def _umask() -> int:
@@ -56,8 +59,6 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
     return Path(path)
 
 
-MANIFEST = ".cam-workbench.json"
-STAGING_TAG = ".cam-workbench-staging-"
 _RENAME_EXCHANGE = 2
 _AT_FDCWD = -100
 
@@ -91,46 +92,6 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def read_manifest(folder: Path) -> dict | None:
-    """The manifest of an output folder (None when there is none or it is unreadable)."""
-    import json
-
-    try:
-        data = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    return data if isinstance(data, dict) and isinstance(data.get("files"), list) else None
-
-
-def check_output_folder(folder: str | os.PathLike[str]) -> Path:
-    """The output folder ``folder`` resolved, if it can hold a cam's output set: absent, empty,
-    or holding only the files of an earlier set (its manifest lists them).
-
-    Raises:
-        SpecError: ``-o`` names a file, a path under a file, or a folder with other files.
-    """
-    from generators.errors import SpecError
-
-    target = Path(folder)
-    for parent in [target, *target.parents]:
-        if parent.exists() and not parent.is_dir():
-            what = "is a file" if parent == target else f"is under {parent}, which is a file"
-            raise SpecError("-o", f"{target} {what}: name a folder for the outputs")
-        if parent.exists():
-            break
-    if not target.exists():
-        return target
-    manifest = read_manifest(target)
-    owned = set(manifest["files"]) if manifest else set()
-    foreign = sorted(p.name for p in target.iterdir()
-                     if p.name != MANIFEST and p.name not in owned and STAGING_TAG not in p.name)
-    if foreign:
-        shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
-        raise SpecError("-o", f"{target} holds files that are not a cam-workbench output ({shown}); "
-                              "choose an empty or new folder")
-    return target
-
-
 def _remove_stale_staging(target: Path) -> None:
     """Staging folders of earlier runs that were killed (their process is gone)."""
     import shutil
@@ -150,36 +111,33 @@ def _remove_stale_staging(target: Path) -> None:
 
 
 class OutputSet:
-    """Several output files committed together, as the whole content of one folder.
+    """Several output files committed together as one cam's set in a folder.
 
     Usage::
 
-        with OutputSet(out_dir, digest=spec_digest(spec)) as out:
+        with OutputSet(out_dir, Claim("build", source, digest=spec_digest(spec))) as out:
             out.add("cam.step", lambda tmp: export_step(shape, tmp))
             out.add_text("report.json", text)
-        # here the folder holds exactly these files (and its manifest), or, if anything
-        # raised, what it held before
+        # here the folder holds these files (and its manifest), or, if anything raised or the
+        # folder was refused, what it held before
 
-    The files are written into a staging folder beside the target; on commit a manifest
-    (``.cam-workbench.json``: the files, the spec digest, the command) is added and the staging
-    folder replaces the target in one atomic step (Linux ``renameat2(RENAME_EXCHANGE)``), so a
-    folder never holds files of two cams, even when the process is killed; the next run removes
-    what a killed one left.  A folder with files that no manifest lists is refused (exit 2).
-    ``merge=True`` keeps the earlier set's other files when it was made for the same spec
-    (same ``digest``): ``check`` updating a build's report.json.
+    Which folder a run may write into, and which earlier files stay, is
+    :func:`exporters.output_rule.admit`'s rule (checked on entering and again, with the files'
+    names, on commit).  The files are written into a staging folder beside the target; on commit
+    a manifest (``.cam-workbench.json``: the files, the command, the source, the spec and its
+    digest) is added and the staging folder replaces the target in one atomic step (Linux
+    ``renameat2(RENAME_EXCHANGE)``), so a folder never holds files of two specs, even when the
+    process is killed; the next run removes what a killed one left.
     """
 
-    def __init__(self, folder: str | os.PathLike[str], *, digest: str | None = None,
-                 command: str | None = None, merge: bool = False):
+    def __init__(self, folder: str | os.PathLike[str], claim: Claim):
         self.folder = Path(folder)
-        self.digest = digest
-        self.command = command
-        self.merge = merge
+        self.claim = claim
         self._pending: list[str] = []
         self._staging: Path | None = None
 
     def __enter__(self) -> "OutputSet":
-        check_output_folder(self.folder)
+        admit(self.folder, self.claim)
         _remove_stale_staging(self.folder)
         return self
 
@@ -213,37 +171,28 @@ class OutputSet:
     def names(self) -> list[str]:
         return list(self._pending)
 
-    def _carry_over(self, staging: Path) -> list[str]:
-        """merge: hard-link the earlier set's files that this set does not replace."""
-        old = read_manifest(self.folder) if self.folder.is_dir() else None
-        if not self.merge or old is None or old.get("spec_digest") != self.digest:
-            return []
-        kept = []
-        for name in old["files"]:
-            src = self.folder / name
-            if name in self._pending or not src.is_file():
-                continue
+    def _carry_over(self, staging: Path, kept: list[str]) -> None:
+        """Hard-link (or copy) the earlier set's files that stay into the staging folder."""
+        for name in kept:
             dst = staging / name
             dst.parent.mkdir(parents=True, exist_ok=True)
             try:
-                os.link(src, dst)
+                os.link(self.folder / name, dst)
             except OSError:
                 import shutil
 
-                shutil.copy2(src, dst)
-            kept.append(name)
-        return kept
+                shutil.copy2(self.folder / name, dst)
 
     def _commit(self) -> None:
         import json
         import shutil
-        import time
 
         staging = self._stage()
-        check_output_folder(self.folder)           # nothing foreign appeared meanwhile
-        files = sorted(set(self._pending) | set(self._carry_over(staging)))
-        manifest = {"tool": "cam-workbench", "command": self.command, "spec_digest": self.digest,
-                    "files": files, "written": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        # the rule with this run's files: nothing foreign appeared meanwhile, nothing contradicting stays
+        kept = admit(self.folder, self.claim, {n.split("/")[0] for n in self._pending})
+        earlier = read_manifest(self.folder) if kept else None
+        self._carry_over(staging, kept)
+        manifest = self.claim.manifest(set(self._pending) | set(kept), earlier)
         (staging / MANIFEST).write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
         os.chmod(staging, 0o777 & ~_umask())
         if not self.folder.exists():
@@ -267,3 +216,4 @@ class OutputSet:
             if self._staging is not None:
                 shutil.rmtree(self._staging, ignore_errors=True)
                 self._staging = None
+

@@ -5,15 +5,18 @@ Model space, drawn 1:1 in the spec's units (``$INSUNITS`` says which):
 ========================  ==============================================================
 layer                     content
 ========================  ==============================================================
-PROFILE                   the cam profile: a SPLINE with the degree, knots, control points
-                          and weights of the profile NURBS (for a PH pitch curve the exact
-                          rational offset; for a B-spline pitch curve the fitted offset,
-                          whose measured error the title block states — see
-                          :mod:`generators.checks.claims`), or — ``drawing.curves`` = "arcs" /
-                          "polyline" — tangent biarcs (ARC/LINE) or one closed polyline
-                          within ``chord_tolerance`` of that NURBS
-PITCH                     the pitch curve (polynomial SPLINE of degree 5, or approximated
-                          like the profile so a spline-less file has no SPLINE at all)
+PROFILE                   the cam profile, as ``drawing.curves`` says: "cubic" (the default) a
+                          non-rational cubic SPLINE within ``chord_tolerance`` of the profile
+                          NURBS (what every DXF reader draws: LibreCAD and many CAM and laser
+                          programs drop rational or high-degree splines without a word);
+                          "spline" a SPLINE with the degree, knots, control points and weights
+                          of the profile NURBS itself (for a PH pitch curve the exact rational
+                          offset, degree 9; for a B-spline pitch curve the fitted offset, whose
+                          measured error the title block states — see
+                          :mod:`generators.checks.claims`); "arcs" / "polyline" tangent biarcs
+                          (ARC/LINE) or one closed polyline within ``chord_tolerance``
+PITCH                     the pitch curve, drawn as the profile is (the PH curve itself is a
+                          polynomial SPLINE of degree 5)
 BASE_CIRCLE, PRIME_CIRCLE radius R_b − roller radius and R_b
 BORE                      the central hole
 CENTERLINES               axes through the rotation centre, the follower axis at θ = 0
@@ -22,16 +25,20 @@ DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R;
 PROFILE_2, PITCH_2        a conjugate pair's second cam (below the first): its profile (the exact
                           offset of its own PH pitch curve, drawn as PROFILE) and pitch curve
 SPACER, HUB, HOLES, …     the body's other loops (groove walls, rim, hub, holes, timing mark)
-TITLE                     the title block — key parameters, the numbers and the checks
-                          verdict of the summary dict that becomes report.json (spec
-                          digest, deviations, errors, pressure angle, failed checks) and
-                          the motion table — placed right of the extents of everything
-                          else (dimension texts included), and a border round it all
+TITLE                     the title block — the body's name (:func:`title_line`),
+                          key parameters, the numbers and the checks verdict of the summary
+                          dict that becomes report.json (spec digest, deviations, errors,
+                          pressure angle, failed checks), how the curves are drawn with their
+                          measured distance from the exact ones, and the motion table — placed
+                          right of the extents of everything else (dimension texts included),
+                          and a border round it all
 ========================  ==============================================================
 
-The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer
-boundaries are in CAM.  Arcs and polylines come from :mod:`generators.curves.approx`; their
-distance from the profile NURBS is measured two-sided (``max_distance``) and returned.
+The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer boundaries are in
+CAM.  Cubic splines, arcs and polylines come from :mod:`generators.curves.approx`; their distance
+from the NURBS is measured two-sided on dense samples and returned.  Every text is placed in a
+cell as wide as :func:`text_width`'s upper bound of its drawn width (the fonts readers substitute
+for the Standard style differ by up to 20 %).
 """
 from __future__ import annotations
 
@@ -43,7 +50,8 @@ from typing import Any
 import numpy as np
 
 from generators import __version__
-from generators.curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_path
+from generators.bodies import body_of, drawing_title
+from generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
 from generators.cam_design import CamDesign
 from generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
 from generators.curves.nurbs import NurbsCurve
@@ -53,7 +61,7 @@ from .atomic import atomic_path
 #: layer → (ACI colour, linetype, lineweight [1/100 mm]); -3 = default lineweight
 LAYERS: dict[str, tuple[int, str, int]] = {
     "PROFILE": (7, "Continuous", 50),
-    "PITCH": (1, "DASHED", 18),
+    "PITCH": (1, "Continuous", 18),             # thin and red: LibreCAD leaves out dashed short arcs
     "BASE_CIRCLE": (8, "DASHED2", 18),
     "PRIME_CIRCLE": (5, "PHANTOM", 18),
     "BORE": (7, "Continuous", 50),
@@ -66,7 +74,7 @@ LAYERS: dict[str, tuple[int, str, int]] = {
     "HUB": (8, "DASHED", 25),                   # below the plate (hidden line)
     "TIMING_MARK": (6, "Continuous", 18),
     "PROFILE_2": (2, "Continuous", 50),         # a conjugate pair's second cam (below the first)
-    "PITCH_2": (1, "DASHED2", 18),              # its pitch curve (the second roller's centre)
+    "PITCH_2": (1, "Continuous", 18),           # its pitch curve (the second roller's centre)
     "SPACER": (8, "DASHED", 25),                # between the cams (hidden line)
 }
 
@@ -79,12 +87,13 @@ class CurveExport:
     """How one curve went into the file."""
 
     layer: str
-    curves: str               # "spline", "arcs" or "polyline"
+    curves: str               # "cubic", "spline", "arcs" or "polyline"
     entities: int             # DXF entities written for it
     arcs: int                 # ARC entities (arcs mode)
     lines: int                # LINE entities or polyline segments
-    max_error: float          # two-sided distance from the exact curve; 0 for the spline itself
+    max_error: float          # two-sided distance from the curve's NURBS; 0 for the spline itself
     min_arc_radius: float | None
+    poles: int = 0            # the SPLINE's control points (cubic, spline)
 
 
 @dataclass(frozen=True)
@@ -101,13 +110,20 @@ class DxfInfo:
     text_height: float
     claim: ProfileClaim | None = None
     pitch_curve: str = ""
+    others: tuple[CurveExport, ...] = ()      # the body's further curves (groove wall, second cam)
+
+    @property
+    def curve_exports(self) -> tuple[CurveExport, ...]:
+        """Every curve drawn from a NURBS: the profile, the pitch curve, the body's others."""
+        return (self.profile, self.pitch, *self.others)
 
     def summary(self) -> dict[str, Any]:
         """The ``drawing`` section of report.json.  ``exact`` is true only when the PROFILE
         entity is the exact curve (a SPLINE of the exact offset of a PH pitch curve, or of the
         PH pitch curve itself for a knife edge); ``profile_max_error`` is the written entities'
-        distance from the profile NURBS, ``profile_fit_error`` (fitted profiles only) that
-        NURBS's measured distance from the exact curve it was fitted to."""
+        distance from the profile NURBS (0 for that NURBS itself), ``max_error_by_layer`` the
+        same for every curve drawn from a NURBS, ``profile_fit_error`` (fitted profiles only)
+        the NURBS's measured distance from the exact curve it was fitted to."""
         p = self.profile
         c = self.claim
         extra: dict[str, Any] = {}
@@ -117,6 +133,9 @@ class DxfInfo:
                 extra["profile_fit_error"] = c.fit_error
         if self.pitch_curve:
             extra["pitch_curve"] = self.pitch_curve
+        by_layer: dict[str, float] = {}
+        for e in self.curve_exports:
+            by_layer[e.layer] = max(by_layer.get(e.layer, 0.0), e.max_error)
         return {
             "file_version": self.version,
             "insunits": self.insunits,
@@ -125,9 +144,11 @@ class DxfInfo:
             "profile_entities": p.entities,
             "profile_arcs": p.arcs,
             "profile_lines": p.lines,
+            "profile_poles": p.poles,
             "profile_max_error": p.max_error,
             "profile_min_arc_radius": p.min_arc_radius,
             "pitch_max_error": self.pitch.max_error,
+            "max_error_by_layer": by_layer,
             "exact": self.curves == "spline" and (c is None or c.exact),
             **extra,
         }
@@ -177,16 +198,18 @@ def add_nurbs_spline(msp: Any, curve: NurbsCurve, layer: str, closed_flag: bool 
     return sp
 
 
-def add_path(msp: Any, path: Path2D, layer: str, curves: str, r12: bool) -> tuple[int, int, int]:
-    """Write a :class:`Path2D` as ARC/LINE entities ("arcs") or one closed polyline
-    ("polyline"); returns (entities, arcs, lines)."""
+def add_path(msp: Any, path: Path2D, layer: str, curves: str, r12: bool, closed: bool = True
+             ) -> tuple[int, int, int]:
+    """Write a :class:`Path2D` as ARC/LINE entities ("arcs") or one polyline ("polyline",
+    closed or open); returns (entities, arcs, lines)."""
     attribs = {"layer": layer}
     if curves == "polyline":
-        pts = [(float(z.real), float(z.imag)) for z in path.start]
+        z = path.start if closed else np.append(path.start, path.end[-1])
+        pts = np.column_stack([z.real, z.imag]).tolist()
         if r12:
-            msp.add_polyline2d(pts, close=True, dxfattribs=attribs)
+            msp.add_polyline2d(pts, close=closed, dxfattribs=attribs)
         else:
-            msp.add_lwpolyline(pts, close=True, dxfattribs=attribs)
+            msp.add_lwpolyline(pts, close=closed, dxfattribs=attribs)
         return 1, 0, path.n
     arcs = lines = 0
     is_arc = path.is_arc
@@ -211,7 +234,11 @@ def _export_curve(msp: Any, curve: NurbsCurve, layer: str, curves: str, tol: flo
                   r12: bool, closed_flag: bool) -> CurveExport:
     if curves == "spline":
         add_nurbs_spline(msp, curve, layer, closed_flag)
-        return CurveExport(layer, curves, 1, 0, 0, 0.0, None)
+        return CurveExport(layer, curves, 1, 0, 0, 0.0, None, curve.n_poles)
+    if curves == "cubic":
+        cubic = fit_cubic(curve, tol)
+        add_nurbs_spline(msp, cubic, layer, closed_flag)
+        return CurveExport(layer, curves, 1, 0, 0, curve_distance(cubic, curve), None, cubic.n_poles)
     path = approximate(curve, curves, tol)
     n, arcs, lines = add_path(msp, path, layer, curves, r12)
     err = max_distance(path, curve)
@@ -254,28 +281,28 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
         msp.add_circle((0, 0), rb, dxfattribs={"layer": "PRIME_CIRCLE"})
     r_bore = spec.cam.bore_diameter / 2
     body = design.body
-    outer_wall = None
+    others: list[CurveExport] = []
     if body is None:
         if r_bore > 0:
             msp.add_circle((0, 0), r_bore, dxfattribs={"layer": "BORE"})
     else:
-        outer_wall = _body_loops(msp, body, dr.curves, tol, r12, dr.spline_closed_flag)
-        for layer, curve in body.extra.get("drawing_curves", {}).items():
-            _export_curve(msp, curve if curve.area() > 0 else curve.reversed(), layer, dr.curves, tol, r12, False)
+        others += _body_loops(msp, body, dr.curves, tol, r12, dr.spline_closed_flag)
+        others += [_export_curve(msp, curve if curve.area() > 0 else curve.reversed(), layer, dr.curves, tol, r12,
+                                 False) for layer, curve in body.extra.get("drawing_curves", {}).items()]
+    info = DxfInfo(dr.dxf_version, units, None if r12 else _INSUNITS[units], dr.curves,
+                   None if dr.curves == "spline" else tol, profile, pitch, h,
+                   profile_claim(s, spec.is_roller, units), pitch_text(s), tuple(others))
     _centerlines(msp, design, _drawn_radius(design, r_max), h)
     if dr.dimensions:
         _dimensions(msp, design, r_max, p_max, h, units)
     if dr.title_block:
-        _title_block(msp, design, s, profile, _extents(msp, r_max), h)
+        _title_block(msp, design, s, info, _extents(msp, r_max, h), h)
     try:
         from ezdxf import zoom
 
         zoom.extents(msp, factor=1.05)
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
         pass
-    info = DxfInfo(dr.dxf_version, units, None if r12 else _INSUNITS[units], dr.curves,
-                   None if dr.curves == "spline" else tol, profile, pitch, h,
-                   profile_claim(s, spec.is_roller, units), pitch_text(s))
     return doc, info
 
 
@@ -291,13 +318,14 @@ def _drawn_radius(design: CamDesign, r_max: float) -> float:
     return max([r_max] + [float(np.max(np.abs(loop.points(16)))) for loop in design.body.loops()])
 
 
-def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_flag: bool) -> Any:
-    """The body's loops besides the profile: circles as CIRCLE, arcs as ARC, lines as LINE, exact
-    NURBS (a groove's outer wall) as the profile is drawn; returns the outer wall's export, if any."""
+def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_flag: bool
+                ) -> list[CurveExport]:
+    """The body's loops besides the profile: circles as CIRCLE, arcs as ARC, lines as LINE, NURBS
+    (a groove's outer wall, a second cam's profile) as the profile is drawn; returns their exports."""
     from generators.bodies import Arc, Curve, Line
 
     seen: set[tuple] = set()
-    out = None
+    out: list[CurveExport] = []
     for loop in body.loops():
         layer = _ROLE_LAYERS.get(loop.role)
         if layer is None:
@@ -323,7 +351,7 @@ def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_
                 seen.add(key)
                 msp.add_line((piece.start.real, piece.start.imag), (piece.end.real, piece.end.imag), dxfattribs=att)
             elif isinstance(piece, Curve):
-                out = _export_curve(msp, piece.nurbs, layer, curves, tol, r12, closed_flag)
+                out.append(_export_curve(msp, piece.nurbs, layer, curves, tol, r12, closed_flag))
     return out
 
 
@@ -373,9 +401,26 @@ def _dim_override(h: float, units: str) -> dict[str, Any]:
             "dimclre": 3, "dimclrt": 3, "dimlfac": 1.0, "dimtih": 1, "dimtoh": 1}
 
 
+#: the drawing's dimension style: readers that draw DIMENSION entities themselves (LibreCAD) take
+#: the style's table entry and the header, not ezdxf's per-entity overrides
+DIMSTYLE = "CAM"
+
+
+def _dimstyle(doc: Any, h: float, units: str) -> None:
+    """The :data:`DIMSTYLE` table entry holding :func:`_dim_override`'s values, made current."""
+    ds = doc.dimstyles.new(DIMSTYLE)
+    for k, v in _dim_override(h, units).items():
+        if k != "dimtxsty" and ds.dxf.is_supported(k):
+            ds.dxf.set(k, v)
+    doc.header["$DIMSTYLE"] = DIMSTYLE
+    for k in ("dimtxt", "dimasz", "dimgap", "dimexe", "dimexo", "dimlfac"):
+        doc.header[f"${k.upper()}"] = ds.dxf.get(k)
+
+
 def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: float, units: str) -> None:
     spec = design.spec
-    att = {"layer": "DIMENSIONS"}
+    _dimstyle(msp.doc, h, units)
+    att = {"layer": "DIMENSIONS", "dimstyle": DIMSTYLE}
     ov = _dim_override(h, units)
     max_ang = math.degrees(math.atan2(p_max.imag, p_max.real))
     # base circle: dimensioned where the profile lies on it (lowest point of the profile)
@@ -388,13 +433,13 @@ def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: fl
         ang = base_ang + 135.0
         loc = (1.6 * r_bore + 3 * h) * np.exp(1j * math.radians(ang))
         msp.add_diameter_dim((0, 0), radius=r_bore, angle=ang, location=(loc.real, loc.imag),
-                             override=ov, dxfattribs=att).render()
+                             dimstyle=DIMSTYLE, override=ov, dxfattribs=att).render()
     loc = (r_base + 4 * h) * np.exp(1j * math.radians(base_ang))
     msp.add_radius_dim((0, 0), radius=r_base, angle=base_ang, location=(loc.real, loc.imag),
-                       text="<> BASE CIRCLE", override=ov, dxfattribs=att).render()
+                       text="<> BASE CIRCLE", dimstyle=DIMSTYLE, override=ov, dxfattribs=att).render()
     loc = (r_max + 4 * h) * np.exp(1j * math.radians(max_ang))
     msp.add_radius_dim((0, 0), radius=r_max, location=(loc.real, loc.imag),
-                       text="<> MAX", override=ov, dxfattribs=att).render()
+                       text="<> MAX", dimstyle=DIMSTYLE, override=ov, dxfattribs=att).render()
     u = spec.units
     note = [f"THICKNESS {_fmt(spec.cam.thickness, u)} {u}",
             f"PRIME CIRCLE R{_fmt(spec.cam.base_radius, u)} (ROLLER CENTRE AT ZERO LIFT)"
@@ -405,8 +450,24 @@ def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: fl
         _text(msp, line, (-r_max - 2.5 * h, -r_max - (6.0 + 1.6 * i) * h), h, "DIMENSIONS")
 
 
+#: characters some CAD font draws wider than the text height (LibreCAD 2.2's standard font: "_"
+#: 1.56 h, "W" and "%" 1.22 h; ezdxf's font metrics: "m" 1.24 h, "W" 1.26 h, "—" and "…" 1.28 h)
+_WIDE_ADVANCE = {"_": 1.6, **dict.fromkeys("MWmw%@#Ø—…", 1.35)}
+
+
+def text_width(text: str, height: float) -> float:
+    """An upper bound of the drawn width of a one-line TEXT of the Standard style [drawing units]:
+    each character's advance taken as the text height (:data:`_WIDE_ADVANCE` for the wider ones).
+    Readers substitute their own fonts for it — LibreCAD 2.2 draws texts up to 17 % wider than
+    ezdxf measures them, its advances 0.33 h to 1.56 h —; tests/test_dxf_librecad.py holds the
+    drawn texts of every example in both against their cells."""
+    return height * (len(text) + sum(_WIDE_ADVANCE.get(c, 1.0) - 1.0 for c in text))
+
+
 def _text(msp: Any, text: str, at: tuple[float, float], height: float, layer: str) -> Any:
-    t = msp.add_text(text, height=height, dxfattribs={"layer": layer, "style": "Standard"})
+    # continuous whatever the layer's linetype: LibreCAD dashes the strokes of a text on a dashed layer
+    t = msp.add_text(text, height=height, dxfattribs={"layer": layer, "style": "Standard",
+                                                      "linetype": "Continuous"})
     t.set_placement(at)
     return t
 
@@ -424,9 +485,53 @@ def _motion_rows(design: CamDesign) -> list[list[str]]:
     return rows
 
 
-def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport) -> list[tuple[str, str]]:
-    """(label, value) rows of the title block (also used by tests): the cam's parameters and
-    the numbers and checks verdict of ``summary`` (the dict that becomes report.json)."""
+#: what the profile NURBS is, by :class:`ProfileClaim` kind (the title block's PROFILE row)
+_CLAIM_WORDS = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "THE PH PITCH CURVE, EXACT",
+                "bspline_offset_fit": "FITTED OFFSET, NOT EXACT",
+                "bspline_pitch": "THE FITTED PITCH B-SPLINE, NOT EXACT",
+                "ph_contact": "PH CURVE THROUGH THE FACE'S CONTACT POINTS, NOT EXACT",
+                "bspline_contact": "B-SPLINE FITTED TO THE FACE'S CONTACT POINTS, NOT EXACT"}
+
+
+def title_line(spec: Any) -> str:
+    """The title block's title: :func:`~generators.bodies.drawing_title` in capitals, followed by
+    the body's name when a title given in the spec does not say it ("FEED CAM (GROOVE CAM)"): a
+    drawing always names what is to be made."""
+    title = drawing_title(spec).upper()
+    body = body_of(spec).title.upper()
+    return title if body in title else f"{title} ({body})"
+
+
+def drawn_text(e: CurveExport) -> str:
+    """How a curve went into the file, in the title block's words."""
+    if e.curves == "spline":
+        return "SPLINE: THE NURBS ITSELF (ITS KNOTS, POLES, WEIGHTS)"
+    if e.curves == "cubic":
+        return f"POLYNOMIAL CUBIC SPLINE, {e.poles} POLES"
+    if e.curves == "arcs":
+        return f"{e.arcs} ARCS" + (f" + {e.lines} LINES" if e.lines else "")
+    return f"CLOSED POLYLINE OF {e.lines} LINES"
+
+
+def _drawing_rows(info: DxfInfo, claim: ProfileClaim, u: str, tol: float) -> list[tuple[str, str]]:
+    """How the profile and the other curves are drawn, and their measured distance from the
+    NURBS they stand for ("exact" only where that NURBS is)."""
+    p = info.profile
+    rows = [("DRAWN AS (LAYER PROFILE)", drawn_text(p))]
+    if p.curves == "spline":
+        return rows
+    ref = "THE EXACT PROFILE" if claim.exact else "THE PROFILE NURBS"
+    rows.append(("DRAWN PROFILE ERROR", f"MAX {p.max_error:.2e} {u} FROM {ref} (TOL. {tol:g})"))
+    rest = (info.pitch, *info.others)
+    rows.append(("OTHER CURVES, DRAWN ALIKE", f"{', '.join(e.layer for e in rest)}: MAX "
+                                              f"{max(e.max_error for e in rest):.2e} {u}"))
+    return rows
+
+
+def title_rows(design: CamDesign, summary: dict[str, Any], info: DxfInfo) -> list[tuple[str, str]]:
+    """(label, value) rows of the title block (also used by tests): the cam's parameters, how
+    its curves are drawn, and the numbers and checks verdict of ``summary`` (the dict that
+    becomes report.json)."""
     spec = design.spec
     dr = spec.drawing
     u = spec.units
@@ -435,23 +540,11 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
     lift_u = summary["motion"]["lift_unit"]
     claim = profile_claim(summary, spec.is_roller, u)
     prof = summary["profile"]
-    nurbs = (f"{'RATIONAL ' if prof['rational'] else ''}B-SPLINE, DEGREE {prof['degree']}, {prof['poles']} POLES")
-    if profile.curves == "spline":
-        what = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "THE PH PITCH CURVE, EXACT",
-                "bspline_offset_fit": "FITTED OFFSET, NOT EXACT",
-                "bspline_pitch": "THE FITTED PITCH B-SPLINE, NOT EXACT",
-                "ph_contact": "PH CURVE THROUGH THE FACE'S CONTACT POINTS, NOT EXACT",
-                "bspline_contact": "B-SPLINE FITTED TO THE FACE'S CONTACT POINTS, NOT EXACT"}[claim.kind]
-        prof_text = f"{nurbs} ({what})"
-    elif profile.curves == "arcs":
-        parts = f"{profile.arcs} ARCS" + (f" + {profile.lines} LINES" if profile.lines else "")
-        prof_text = f"{parts}, MAX {profile.max_error:.2e} {u} FROM THE NURBS (TOL. {dr.chord_tolerance:g})"
-    else:
-        prof_text = f"{profile.lines} LINES, MAX {profile.max_error:.2e} {u} FROM THE NURBS (TOL. {dr.chord_tolerance:g})"
     pa = summary["pressure_angle"]
     cv = summary["curvature"]
     pt = summary["pitch"]
     checks = summary.get("checks")
+    second = _second_cam_rows(summary, u, f)
     pa_limit = ""
     if isinstance(checks, dict) and isinstance(checks.get("results"), dict) and "pressure_angle" in checks["results"]:
         lim = checks["results"]["pressure_angle"].get("limit")
@@ -467,12 +560,15 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("BORE", f"Ø{f(spec.cam.bore_diameter)}" if spec.cam.bore_diameter > 0 else "NONE"),
         ("ROTATION", f"{spec.cam.direction.upper()}, {spec.cam.speed_rpm:g} RPM"),
         ("PITCH CURVE", pitch_text(summary).upper().replace("²", "2")),
-        ("PROFILE", prof_text),
+        ("PROFILE", ("FIRST CAM: " if second else "") + _CLAIM_WORDS[claim.kind]),
+        ("PROFILE NURBS", f"{'RATIONAL ' if prof['rational'] else ''}B-SPLINE, DEGREE {prof['degree']}, "
+                          f"{prof['poles']} POLES"),
     ]
     if not claim.exact:
         rows.append(("PROFILE FIT ERROR", f"{claim.fit_error:.3e} {u} FROM THE EXACT "
                      + {"bspline_offset_fit": "OFFSET OF THE FITTED PITCH B-SPLINE",
                         "bspline_pitch": "DESIGN PITCH CURVE"}.get(claim.kind, "ENVELOPE OF THE FACE")))
+    rows += _drawing_rows(info, claim, u, dr.chord_tolerance)
     rows += [
         ("PROFILE MAX ERROR", f"{prof['max_error']:.3e} {u} FROM THE DESIGN-INTENT PROFILE"),
         ("MAX FOLLOWER DEVIATION", f"{pt['max_deviation']:.3e} {'DEG' if lift_u == 'deg' else lift_u} AT {pt['max_deviation_at_deg']:.2f}°"),
@@ -481,7 +577,7 @@ def title_rows(design: CamDesign, summary: dict[str, Any], profile: CurveExport)
         ("LARGEST RADIUS", f"{f(prof['max_radius'])}"),
         ("AREA / VOLUME", f"{summary['area']:.6g} {u}2 / {summary['volume']:.6g} {u}3"),
     ]
-    rows += _second_cam_rows(summary, u, f)
+    rows += second
     if isinstance(checks, dict) and "passed" in checks:
         rows.append(("DESIGN CHECKS", _checks_cell(checks)))
     rows += [
@@ -504,8 +600,9 @@ def _second_cam_rows(summary: dict[str, Any], u: str, f: Any) -> list[tuple[str,
     pa = second["pressure_angle"]
     return [
         ("SECOND CAM (LAYER PROFILE_2)", f"Z {f(z0)} TO {f(z1)}: {str(second['follower']['label']).upper()}"),
-        ("SECOND CAM PROFILE", f"EXACT OFFSET OF ITS PH PITCH CURVE, MAX ERROR {second['profile']['max_error']:.3e} {u}; "
-                               f"LARGEST RADIUS {f(second['profile']['max_radius'])}"),
+        ("SECOND CAM PROFILE", "EXACT OFFSET OF ITS PH PITCH CURVE"),
+        ("SECOND CAM MAX ERROR", f"{second['profile']['max_error']:.3e} {u} FROM ITS DESIGN-INTENT PROFILE"),
+        ("SECOND CAM LARGEST RADIUS", f(second['profile']['max_radius'])),
         ("SECOND CAM PRESSURE ANGLE", f"{pa['max_deg']:.2f}° AT {pa['at_deg']:.2f}°"),
         ("ROLLER DISTANCE ERROR", f"{err['max']:.3e} {u} AT {err['at_deg']:.2f}° (PH DEVIATIONS "
                                   f"{err['first_cam_deviation']:.2e} + {err['second_cam_deviation']:.2e} {lu})"),
@@ -532,67 +629,70 @@ class Box:
     y1: float
 
 
-def _extents(msp: Any, r_max: float) -> Box:
+def _extents(msp: Any, r_max: float, h: float) -> Box:
     """Extents of everything drawn so far, dimension blocks (their texts) included
-    (``ezdxf.bbox`` renders DIMENSION and TEXT/MTEXT entities to measure them); the
-    circle of radius ``r_max`` when ezdxf cannot measure."""
+    (``ezdxf.bbox`` renders DIMENSION and TEXT/MTEXT entities to measure them), each TEXT
+    widened to :func:`text_width` (another reader's font may draw it wider); the circle of
+    radius ``r_max`` when ezdxf cannot measure."""
     try:
         from ezdxf import bbox
 
         box = bbox.extents(msp, fast=False)
         if box.has_data:
-            return Box(box.extmin.x, box.extmin.y, box.extmax.x, box.extmax.y)
+            x1 = max([box.extmax.x] + [t.dxf.insert.x + text_width(t.dxf.text, t.dxf.height)
+                                       for t in msp.query("TEXT")])
+            return Box(box.extmin.x, box.extmin.y, x1, box.extmax.y)
     except Exception:  # noqa: BLE001 - fall back to the cam's own size
         pass
-    return Box(-r_max, -r_max, r_max, r_max)
+    return Box(-r_max - 2 * h, -r_max - 2 * h, r_max + 2 * h, r_max + 2 * h)
 
 
-def _text_right(texts: list[Any]) -> float:
-    """Largest x of a list of TEXT entities (their measured boxes)."""
-    from ezdxf import bbox
-
-    return float(bbox.extents(texts, fast=False).extmax.x)
+#: text heights of the title block [× the drawing's text height] and its margins
+_TITLE_H, _CELL_H, _ROW_H, _PAD = 1.4, 0.8, 1.8, 0.5
 
 
-def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: CurveExport,
+def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], info: DxfInfo,
                  drawn: Box, h: float) -> Box:
     """The title block right of ``drawn`` (the extents of everything else, dimension texts
-    included, so nothing overlaps it), its columns as wide as their measured texts; then the
-    sheet border round both.  Returns the title block's box."""
+    included, so nothing overlaps it): the drawing's title (the body's name), the rows of
+    :func:`title_rows` and the motion table, every column as wide as :func:`text_width` bounds
+    its texts plus a margin each side; then the sheet border round both.  Returns the title
+    block's box."""
     att = {"layer": "TITLE"}
-    rows = title_rows(design, summary, profile)
+    rows = title_rows(design, summary, info)
+    th = _CELL_H * h
     x0 = drawn.x1 + 3 * h
     top = drawn.y1
-    row_h = 1.8 * h
-    y = top
-    title = _text(msp, design.spec.drawing.title.upper(), (x0 + 0.5 * h, y - 1.9 * h), 1.4 * h, "TITLE")
-    y -= 2.6 * h
-    label_y = []
-    labels = []
-    for label, _ in rows:
-        labels.append(_text(msp, label, (x0 + 0.5 * h, y - 1.35 * h), 0.8 * h, "TITLE"))
-        label_y.append(y)
+    row_h = _ROW_H * h
+    title = title_line(design.spec)
+    caption = "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)"
+    header = [("LIFT °" if c == "LIFT" and design.follower.lift_unit == "angle" else c) for c in MOTION_HEADER]
+    table = [header, *_motion_rows(design)]
+    x1 = x0 + max(text_width(label, th) for label, _ in rows) + 2 * _PAD * h
+    widths = np.array([max(text_width(cells[k], th) for cells in table) for k in range(len(header))]) + 2 * _PAD * h
+    x2 = max(x1 + max(text_width(value, th) for _, value in rows) + 2 * _PAD * h,
+             x0 + float(np.sum(widths)), x0 + text_width(title, _TITLE_H * h) + 2 * _PAD * h,
+             x0 + text_width(caption, th) + 2 * _PAD * h)
+    widths[-1] += x2 - x0 - float(np.sum(widths))        # the last column takes the slack
+    _text(msp, title, (x0 + _PAD * h, top - 1.9 * h), _TITLE_H * h, "TITLE")
+    y = top - 2.6 * h
+    msp.add_line((x0, y), (x2, y), dxfattribs=att)
+    for label, value in rows:
+        _text(msp, label, (x0 + _PAD * h, y - 1.35 * h), th, "TITLE")
+        _text(msp, value, (x1 + _PAD * h, y - 1.35 * h), th, "TITLE")
         y -= row_h
-    x1 = max(x0 + 17 * h, _text_right(labels) + 0.8 * h)
-    values = [_text(msp, value, (x1 + 0.5 * h, yy - 1.35 * h), 0.8 * h, "TITLE")
-              for (_, value), yy in zip(rows, label_y)]
-    widths = np.array([2.5, 5.5, 5.5, 5.5, 5.5, 14.0]) * h
-    x2 = max(x1 + 31 * h, _text_right(values + [title]) + 0.8 * h, x0 + float(np.sum(widths)))
-    for yy in [top - 2.6 * h] + [v - row_h for v in label_y]:
-        msp.add_line((x0, yy), (x2, yy), dxfattribs=att)
+        msp.add_line((x0, y), (x2, y), dxfattribs=att)
     msp.add_line((x1, top - 2.6 * h), (x1, y), dxfattribs=att)
     # motion table
     y -= 0.8 * h
-    _text(msp, "MOTION PROGRAM (ANGLES IN CAM DEGREES FROM THE START)", (x0 + 0.5 * h, y - 1.35 * h),
-          0.8 * h, "TITLE")
+    _text(msp, caption, (x0 + _PAD * h, y - 1.35 * h), th, "TITLE")
     y -= row_h
     msp.add_line((x0, y), (x2, y), dxfattribs=att)
     xs = x0 + np.concatenate([[0.0], np.cumsum(widths)])
     table_top = y
-    header = [("LIFT °" if c == "LIFT" and design.follower.lift_unit == "angle" else c) for c in MOTION_HEADER]
-    for cells in [header, *_motion_rows(design)]:
+    for cells in table:
         for x, cell in zip(xs, cells):
-            _text(msp, cell, (float(x) + 0.4 * h, y - 1.35 * h), 0.8 * h, "TITLE")
+            _text(msp, cell, (float(x) + _PAD * h, y - 1.35 * h), th, "TITLE")
         y -= row_h
         msp.add_line((x0, y), (x2, y), dxfattribs=att)
     for x in xs[1:-1]:
@@ -603,12 +703,16 @@ def _title_block(msp: Any, design: CamDesign, summary: dict[str, Any], profile: 
     left, right = drawn.x0 - 2 * h, x2 + 2 * h
     bottom = min(y, drawn.y0) - 2 * h
     upper = max(top, drawn.y1) + 2 * h
-    frame = [(left, bottom), (right, bottom), (right, upper), (left, upper)]
-    if msp.doc.dxfversion == "AC1009":  # R12 has no LWPOLYLINE
-        msp.add_polyline2d(frame, close=True, dxfattribs=att)
-    else:
-        msp.add_lwpolyline(frame, close=True, dxfattribs=att)
+    add_closed_outline(msp, [(left, bottom), (right, bottom), (right, upper), (left, upper)], att)
     return Box(x0, y, x2, top)
+
+
+def add_closed_outline(msp: Any, points: list[tuple[float, float]], att: dict[str, Any]) -> None:
+    """A closed outline: LWPOLYLINE, or POLYLINE in R12 (which has no LWPOLYLINE)."""
+    if msp.doc.dxfversion == "AC1009":
+        msp.add_polyline2d(points, close=True, dxfattribs=att)
+    else:
+        msp.add_lwpolyline(points, close=True, dxfattribs=att)
 
 
 # ---- writing ---------------------------------------------------------------------------
@@ -684,5 +788,6 @@ def _chain(start: np.ndarray, end: np.ndarray, center: np.ndarray, ccw: np.ndarr
     return Path2D(np.where(f, e0, s0), np.where(f, s0, e0), center[idx], np.where(f & arc, ~ccw[idx], ccw[idx]), z, z)
 
 
-__all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf",
-           "add_nurbs_spline", "approximate", "read_profile_path", "title_rows", "default_text_height"]
+__all__ = ["DxfInfo", "CurveExport", "LAYERS", "build_dxf", "write_dxf", "export_dxf", "add_nurbs_spline",
+           "approximate", "read_profile_path", "title_rows", "default_text_height", "drawn_text", "text_width", "title_line",
+           "add_closed_outline"]

@@ -46,12 +46,14 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from generators import __version__
+from generators.bodies import drawing_title
 from generators.cam_design import CamDesign
 from generators.checks.areas import area_label
 from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.checks.design import limit_sign
 from generators.spec.params import params_of, unit_name
 from generators.spec import SECTIONS, CamSpec, to_toml
+from generators.studies.remedies import remedy_line
 
 from . import interpolator_plots, plots
 
@@ -473,7 +475,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     if isinstance(report.get("files"), Mapping):
         sections.append(("files", "Files", _files_section(report)))
 
-    title = html.escape(dr.title)
+    title = html.escape(drawing_title(spec))
     sub = [str(report.get("follower", {}).get("name", spec.follower.kind)) + " follower",
            f"{len(spec.motion)} motion segments",
            "pitch curve: " + (pitch_text(report) if "pitch" in report else str(spec.pitch.representation)),
@@ -645,6 +647,7 @@ def _checks_section(report: Mapping[str, Any]) -> str:
             f'<td class="{cls}" data-key="{prefix}.status">{html.escape(status)}</td>'
             f'<td data-key="{prefix}.note">{html.escape(str(r.get("note", "")))}</td></tr>')
     out.append("</table>")
+    out.append(_remedies(results))
     ext = checks.get("extremes")
     if isinstance(ext, Mapping) and ext:
         out.append("<h3>Extremes (largest magnitude, signed: the thesis' maximum values)</h3>")
@@ -657,6 +660,18 @@ def _checks_section(report: Mapping[str, Any]) -> str:
                        f"<td>{html.escape(str(e.get('unit', '')))}</td>{at}</tr>")
         out.append("</table>")
     return "".join(out)
+
+
+def _remedies(results: Mapping[str, Any]) -> str:
+    """What makes each failing check pass (report.json's ``checks.results[name].remedy``, the line
+    ``cam-workbench check`` prints under its table)."""
+    items = [f'<li data-key="checks.results.{html.escape(name)}.remedy"><code>{html.escape(name)}</code>: '
+             f"{html.escape(remedy_line(name, r['remedy'])[len(name) + 2:])}</li>"
+             for name, r in results.items() if isinstance(r, Mapping) and isinstance(r.get("remedy"), Mapping)]
+    if not items:
+        return ""
+    return ('<h3>To pass (the nearest change of one field, everything else held)</h3><ul class="remedies">'
+            + "".join(items) + "</ul>")
 
 
 #: report.json motion.segments keys of the solved laws, shown per segment: (key, label, unit kind)
@@ -920,6 +935,8 @@ DRAWING_LABELS = {
                          "0 for a SPLINE, which is the NURBS data itself)",
     "profile_min_arc_radius": "smallest arc radius",
     "pitch_max_error": "PITCH entities: max distance from the pitch-curve NURBS",
+    "profile_poles": "PROFILE SPLINE control points",
+    "max_error_by_layer": "entities: max distance from the NURBS they stand for, by layer",
     "exact": "PROFILE is exact (the exact offset of the pitch curve, or the pitch curve itself)",
     "profile_curve": "the profile NURBS is",
     "profile_fit_error": "profile NURBS: max distance from the exact curve it was fitted to",
@@ -930,13 +947,18 @@ DRAWING_LABELS = {
 def _drawing_section(report: Mapping[str, Any]) -> str:
     d = report["drawing"]
     out = ['<table class="kv"><tr><th>item</th><th>value</th></tr>']
-    for k in d:
-        out.append(f"<tr><td>{html.escape(DRAWING_LABELS.get(k, k.replace('_', ' ')))}</td>"
-                   f"{_num_cell(report, f'drawing.{k}')}</tr>")
+    for k, v in d.items():
+        label = DRAWING_LABELS.get(k, k.replace('_', ' '))
+        for sub in (v if isinstance(v, Mapping) else [None]):     # a dict: one row per entry
+            key = f"drawing.{k}" + (f".{sub}" if sub is not None else "")
+            out.append(f"<tr><td>{html.escape(label + (f': {sub}' if sub is not None else ''))}</td>"
+                       f"{_num_cell(report, key)}</tr>")
     out.append("</table>")
-    spline = ("The SPLINE on PROFILE carries the degree, knots, control points and weights of the profile "
-              "NURBS" + (f" (the {html.escape(str(d['profile_curve']))})" if d.get("profile_curve") else "") + "."
-              if d.get("curves") == "spline" else "")
+    spline = {"spline": "The SPLINE on PROFILE carries the degree, knots, control points and weights of the "
+                        "profile NURBS" + (f" (the {html.escape(str(d['profile_curve']))})"
+                                           if d.get("profile_curve") else "") + ".",
+              "cubic": "The SPLINEs are polynomial cubics within the chord tolerance of the NURBS: every DXF "
+                       "reader draws them."}.get(str(d.get("curves")), "")
     out.append('<p class="note">Layers: PROFILE, PITCH, BASE_CIRCLE, PRIME_CIRCLE, BORE, CENTERLINES, '
                f"DIMENSIONS, TITLE (title block with the key numbers, the checks verdict and the motion "
                f"table). {spline}</p>")

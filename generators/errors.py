@@ -30,11 +30,14 @@ class GeometryError(CamError):
     Attributes:
         kind: short machine-readable name ("undercut", "self_intersection", "bore", ...).
         angle_deg: cam angle in degrees where the problem happens (None if global).
+        checks: the body's checks that fail (e.g. ``("rim_wall", "bore_wall")`` of a groove; the
+            message is the first one's), for a remedy to search against; () when not a body check.
     """
 
-    def __init__(self, kind: str, message: str, angle_deg: float | None = None):
+    def __init__(self, kind: str, message: str, angle_deg: float | None = None, checks: tuple[str, ...] = ()):
         self.kind = kind
         self.angle_deg = angle_deg
+        self.checks = tuple(checks)
         super().__init__(message)
 
 

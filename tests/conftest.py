@@ -16,6 +16,11 @@ from generators.examples import PAPER_SPEC_DICT  # noqa: E402
 from generators.spec import CamSpec  # noqa: E402
 
 ARTIFACTS = ROOT / "test-artifacts"
+#: The longest any test waits for a process to end or a condition to come true [s]: a safety net
+#: that turns a hang into a failure, never a window the product must beat.  Tests wait on events
+#: (a process ending, a progress signal, a widget or a file appearing); a busy machine makes them
+#: slower, not wrong (half an hour: the slowest GUI session takes minutes on a loaded machine).
+SAFETY_S = 1800.0
 
 
 def paper_case_dict(case: int, knife: bool = True) -> dict:
@@ -66,6 +71,22 @@ def paper_args(args: tuple[str, ...]) -> list[str]:
             and not any(str(a).endswith(".toml") for a in args[1:])):
         args[1:1] = ["--example", "paper"]
     return args
+
+
+def snapshot(root: Path) -> dict[str, tuple[bytes, int] | None]:
+    """Every file under ``root`` (its bytes and mtime in ns) and every folder (None), by relative path."""
+    out: dict[str, tuple[bytes, int] | None] = {}
+    for p in sorted(root.rglob("*")):
+        out[p.relative_to(root).as_posix()] = None if p.is_dir() else (p.read_bytes(), p.stat().st_mtime_ns)
+    return out
+
+
+def assert_unchanged(root: Path, before: dict[str, tuple[bytes, int] | None]) -> None:
+    """Nothing under ``root`` created, removed or changed (bytes and mtime) since ``before``."""
+    after = snapshot(root)
+    assert sorted(after) == sorted(before), sorted(set(after) ^ set(before))
+    for name, was in before.items():
+        assert after[name] == was, f"{name} changed"
 
 
 def has_module(name: str) -> bool:

@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 from typing import Iterator
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 
 WORKERS = 2
 
@@ -62,7 +62,8 @@ def loopback_cluster(folder: Path) -> Iterator[str]:
              "--dashboard-address", "127.0.0.1:0",
              "--scheduler-file", str(sched_file)],
             cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
-        deadline = time.monotonic() + 60
+        # the scheduler writes its address when it listens: waited for (SAFETY_S only against a hang)
+        deadline = time.monotonic() + SAFETY_S
         address = None
         while time.monotonic() < deadline and address is None:
             if procs[0].poll() is not None:
@@ -72,7 +73,7 @@ def loopback_cluster(folder: Path) -> Iterator[str]:
             except (OSError, ValueError, KeyError):
                 time.sleep(0.2)
         if address is None:
-            raise RuntimeError("dask scheduler did not write its address within 60 s")
+            raise RuntimeError(f"dask scheduler did not write its address within {SAFETY_S:g} s")
         for k in range(WORKERS):
             log = open(folder / f"worker{k}.log", "w")
             logs.append(log)
@@ -82,8 +83,8 @@ def loopback_cluster(folder: Path) -> Iterator[str]:
                 cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
         from distributed import Client
 
-        with Client(address, timeout="30s", set_as_default=False) as client:
-            client.wait_for_workers(WORKERS, timeout=120)
+        with Client(address, timeout=f"{SAFETY_S:g}s", set_as_default=False) as client:
+            client.wait_for_workers(WORKERS, timeout=SAFETY_S)
         yield address
     finally:
         _stop(procs)

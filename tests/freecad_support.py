@@ -27,7 +27,7 @@ from typing import Any
 
 import pytest
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 
 #: A FreeCAD root filesystem (Debian trixie's FreeCAD 1.0, unstable's 1.1) made by
 #: ``tests/freecad_roots.sh build`` (``make freecad-roots``): when set, every FreeCAD the tests
@@ -116,7 +116,7 @@ def install_workbench(home: Path, *extra: str) -> subprocess.CompletedProcess:
     """``cam-workbench freecad install`` for a user whose HOME is ``home`` (asks freecadcmd)."""
     home.mkdir(parents=True, exist_ok=True)
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", "freecad", "install", *extra],
-                          capture_output=True, text=True, env=fc_env(home), cwd=ROOT, timeout=600,
+                          capture_output=True, text=True, env=fc_env(home), cwd=ROOT, timeout=SAFETY_S,
                           stdin=subprocess.DEVNULL)
 
 
@@ -145,7 +145,7 @@ def user_mod_dir(home: Path, tmp: Path, extra_env: dict[str, str] | None = None)
 
 
 def run_freecadcmd(body: str, tmp: Path, home: Path, add_root: bool = False,
-                   timeout: float = 600, extra_env: dict[str, str] | None = None) -> FreeCADRun:
+                   timeout: float = SAFETY_S, extra_env: dict[str, str] | None = None) -> FreeCADRun:
     """Run ``body`` (Python) in a fresh ``freecadcmd`` as the user ``home``; ``add_root`` puts
     this checkout on sys.path too (for a FreeCAD without the workbench installed)."""
     tmp.mkdir(parents=True, exist_ok=True)
@@ -160,22 +160,31 @@ def run_freecadcmd(body: str, tmp: Path, home: Path, add_root: bool = False,
     return FreeCADRun(data, proc.stdout, proc.stderr, proc.returncode)
 
 
-def run_freecad_gui(body: str, tmp: Path, home: Path, timeout: float = 600,
+def run_freecad_gui(body: str, tmp: Path, home: Path, timeout: float = SAFETY_S,
                     screen: str = "1400x900x24") -> FreeCADRun:
     """Run ``body`` inside the real FreeCAD GUI under Xvfb.  ``body`` defines ``steps``, a list
-    of functions run one after another from Qt's event loop (``(function, delay_ms)`` pairs);
-    a step raising ``NotYet`` (its widget has not appeared) is retried every 250 ms for up to
-    20 s; the application quits after the last one.  The console log goes to ``tmp/freecad.log``."""
+    of functions run one after another from Qt's event loop (``(function, delay_ms)`` pairs; the
+    delay only paces the session for the screenshots: a step that needs something to have
+    happened says so by raising ``NotYet``).  A step raising ``NotYet`` (its widget has not
+    appeared, the run has not reached its mark) is tried again every 250 ms, as long as it
+    takes: the only limit is the safety net ``timeout`` (less a minute, so that the result names
+    the step that hung), never a window the product must beat.  ``when_modal(action, kind)``
+    runs ``action`` on the modal dialog the calling step opens, as soon as it is shown.  The
+    application quits after the last step."""
     tmp.mkdir(parents=True, exist_ok=True)
     script, result = tmp / "gui_script.py", tmp / "gui_result.json"
     result.unlink(missing_ok=True)
     driver = f"""
-import os
+import os, time
 from PySide import QtCore, QtGui
 import FreeCAD, FreeCADGui
 
 class NotYet(Exception):
     pass  # raised by a step whose widget has not appeared yet: the step is retried
+
+# the safety net: a step still not ready by then is a hang, reported by name
+_camwb_deadline = time.monotonic() + {max(timeout - 60.0, timeout / 2)!r}
+_camwb_calls = [0]  # calls of steps finished
 
 mw = FreeCADGui.getMainWindow()
 
@@ -202,6 +211,19 @@ def task_dock():  # the dock holding the task panels: "Combo View" (0.20), "Task
                 return d
     raise RuntimeError("no task-panel dock among " + ", ".join(repr(d.objectName()) for d in docks))
 
+def when_modal(action, kind=QtGui.QDialog):
+    # action(dialog) on the modal dialog of type kind that the running step opens, as soon as it
+    # is shown: looked for every 100 ms from Qt's event loop (the dialog's own loop too) for as
+    # long as the step that called this runs
+    armed = _camwb_calls[0]
+    def look():
+        w = QtGui.QApplication.activeModalWidget()
+        if isinstance(w, kind) and w.isVisible():
+            action(w)
+        elif _camwb_calls[0] == armed:
+            QtCore.QTimer.singleShot(100, look)
+    QtCore.QTimer.singleShot(100, look)
+
 def motion_panel():  # the open motion-editor task panel
     vobj = FreeCADGui.ActiveDocument.getInEdit()
     p = vobj.Proxy.panel if vobj is not None else None
@@ -210,15 +232,18 @@ def motion_panel():  # the open motion-editor task panel
     return p
 
 {textwrap.dedent(body)}
-def _camwb_run(i=0, tries=0):
+def _camwb_run(i=0):
     try:
         if i < len(steps):
             fn, delay = steps[i]
             try:
-                fn()
+                try:
+                    fn()
+                finally:
+                    _camwb_calls[0] += 1
             except NotYet:
-                if tries < 80:  # up to 20 s for a slow machine
-                    QtCore.QTimer.singleShot(250, lambda: _camwb_run(i, tries + 1))
+                if time.monotonic() < _camwb_deadline:  # not ready yet, however long it takes
+                    QtCore.QTimer.singleShot(250, lambda: _camwb_run(i))
                     return
                 raise
             QtCore.QTimer.singleShot(delay, lambda: _camwb_run(i + 1))

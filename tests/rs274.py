@@ -24,6 +24,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from .conftest import SAFETY_S
+
 RS274 = shutil.which("rs274")
 requires_rs274 = pytest.mark.skipif(
     RS274 is None, reason="LinuxCNC's rs274 is not installed (Debian package linuxcnc-uspace; `make test` "
@@ -77,7 +79,7 @@ def run_rs274(program: str, folder: Path, tool_number: int = 1, tool_diameter: f
     tbl = folder / "tool.tbl"
     tbl.write_text(f"T{tool_number} P{tool_number} D{tool_diameter:.6f} Z0 ;cam tool\n")
     res = subprocess.run([RS274, "-g", str(ngc), "-t", str(tbl)], capture_output=True, text=True,
-                         timeout=300, stdin=subprocess.DEVNULL)
+                         timeout=SAFETY_S, stdin=subprocess.DEVNULL)
     text = res.stdout + res.stderr
     assert res.returncode == 0, f"rs274 exit {res.returncode}:\n{text[-3000:]}"
     assert "PROGRAM_END()" in res.stdout, text[-3000:]

@@ -1,6 +1,7 @@
-"""Lines and arcs within a tolerance of the exact profile (for G-code and spline-less DXF):
-two-sided distance measured densely, closed paths, tangent continuity of biarcs, and an exact
-circle reproduced by arcs of its own radius."""
+"""Lines, arcs and cubic splines within a tolerance of the exact profile (for G-code and DXF):
+two-sided distance measured densely, closed paths, tangent continuity of biarcs, an exact circle
+reproduced by arcs of its own radius, and a polynomial cubic within the tolerance of the exact
+rational circle."""
 import numpy as np
 import pytest
 
@@ -68,3 +69,42 @@ def test_distance_is_measured_right_at_the_seam(default_design):
     d = max_distance(polyline_path(u, pts), c)
     assert d <= 1e-5
     assert d == pytest.approx(max_distance(polyline_path(u, pts), c, samples_per_span=2000), rel=0.05)
+
+
+# ---- fit_cubic -------------------------------------------------------------------------------
+def _rational_circle(r: float) -> "NurbsCurve":
+    """The full circle of radius r as the standard 9-pole rational quadratic (exact)."""
+    from generators.curves.nurbs import NurbsCurve
+
+    w = np.sqrt(0.5)
+    poles = r * np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float)
+    weights = np.array([1, w, 1, w, 1, w, 1, w, 1])
+    knots = np.array([0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 4], float)
+    return NurbsCurve(2, knots, poles, weights)
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-4, 1e-6])
+def test_fit_cubic_of_a_circle_stays_within_tol_of_it(tol):
+    """A polynomial cubic of the exact rational circle: every point within tol of the circle
+    (| |p| − r |, the closed form), closed, C¹ at its triple knots, and its measured distance
+    what curve_distance reports."""
+    from generators.curves.approx import curve_distance, fit_cubic
+
+    r = 25.0
+    circle = _rational_circle(r)
+    cubic = fit_cubic(circle, tol)
+    assert cubic.degree == 3 and not cubic.is_rational and cubic.is_closed
+    u = np.linspace(0, 4, 200001)
+    p, d = cubic.evaluate_with_derivative(u)
+    radial = np.abs(np.hypot(p[:, 0], p[:, 1]) - r)
+    assert radial.max() <= tol
+    assert curve_distance(cubic, circle) == pytest.approx(radial.max(), rel=2e-2)
+    # the derivative is continuous across every knot (C¹), the tangent across the seam
+    knots = np.unique(cubic.knots)[1:-1]
+    _, left = cubic.evaluate_with_derivative(knots - 1e-9)
+    _, right = cubic.evaluate_with_derivative(knots + 1e-9)
+    assert np.max(np.abs(left - right)) <= 1e-6 * r
+    assert np.allclose(d[0], d[-1], rtol=0, atol=1e-9 * r)
+    # fewer poles for a looser tolerance, more for a tighter one (error ~ h⁴)
+    if tol == 1e-6:
+        assert cubic.n_poles > fit_cubic(circle, 1e-2).n_poles

@@ -55,9 +55,13 @@ def test_build_includes_checks_and_check_merges_into_it(tmp_path):
     merged = json.loads((out / "report.json").read_text())
     assert merged["pitch"] == built["pitch"] and merged["files"] == built["files"]
     assert merged["checks"]["sampling"] == "thesis71"
-    # a different spec: a fresh report of that cam (the numbers `build` would give it), and the
-    # folder holds that cam's set only — the earlier cam's files are gone, never mixed
+    # a different spec of the same file: report.json alone would contradict the build's other
+    # files — refused, nothing changed; with --replace a fresh report of that cam (the numbers
+    # `build` would give it), and the folder holds that cam's set only, never mixed
     res = run("check", EX5, "--set", "follower.preload=345", "-o", str(out))
+    assert res.returncode == 2 and "follower.preload" in res.stderr and "--replace" in res.stderr
+    assert json.loads((out / "report.json").read_text()) == merged and (out / "cam.step").exists()
+    res = run("check", EX5, "--set", "follower.preload=345", "-o", str(out), "--replace")
     assert res.returncode == 0
     fresh = json.loads((out / "report.json").read_text())
     assert fresh["spec_digest"] != built["spec_digest"] and fresh["checks"]["passed"]

@@ -25,10 +25,17 @@ def _paper_spec(folder) -> str:
 
 
 def _assert_prints_the_reports_status(stdout: str, opt: dict) -> None:
-    """The status and message lines are report.json's own text."""
+    """The status and message lines are report.json's own text; the status says in words whether
+    every check passes, then how the run ended (nlopt's own words)."""
     lines = stdout.splitlines()
-    assert f"status: {opt['status']}" in lines
+    assert f"status: {opt['status_text']}" in lines
     assert f"message: {opt['message']}" in lines
+    verdict = "every check passes — " if opt["feasible"] else f"the result FAILS {opt['failed_checks']} — "
+    assert opt["status_text"].startswith(verdict)
+    how = opt["status_text"][len(verdict):]
+    assert how.startswith({"converged": "converged", "stopped": "nlopt stopped: ", "infeasible": "nlopt: ",
+                           "budget exhausted": "the budget of", "cancelled": "cancelled"}[opt["status"]])
+    assert opt["solver_status"] in how
     assert "converged" not in stdout or opt["status"] == "converged"
 
 
@@ -55,8 +62,12 @@ def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
     opt = rep["optimise"]
     assert opt["objective"] == "area" and opt["feasible"] is True
     # SLSQP ends this run "roundoff limited" at its best point (nlopt's own words): an honest
-    # "stopped", never relabelled "converged"
+    # "stopped", never relabelled "converged" — and a result that passes every check says so first
     assert opt["status"] == "converged" or (opt["status"] == "stopped" and "roundoff limited" in opt["message"])
+    if opt["status"] == "stopped":
+        assert opt["status_text"] == f"every check passes — nlopt stopped: {opt['solver_status']}"
+        assert "roundoff limited" in opt["status_text"]
+    assert "follower.offset" not in [v["name"] for v in opt["variables"]]     # "auto" holds the offset
     assert opt["final_value"] == pytest.approx(thesis_area(spec), rel=1e-12)
     assert opt["final_value"] < 55.48 < opt["initial_value"]
     assert rep["areas"]["thesis_eq_4_21"] == pytest.approx(opt["final_value"], rel=1e-9)
@@ -140,11 +151,12 @@ def _oscillating_spec(folder) -> str:
 
 @requires_ocp
 def test_optimise_an_oscillating_roller(tmp_path):
-    """R_b, pivot distance and arm length (auto): exit 0, every number printed is report.json's, the
-    objective is the exact area inside the pitch curve (report.json's areas.pitch_curve), the optimised
-    spec holds the final design and passes the checks."""
+    """R_b, pivot distance and arm length (named: "auto" holds the arm): exit 0, every number printed
+    is report.json's, the objective is the exact area inside the pitch curve (report.json's
+    areas.pitch_curve), the optimised spec holds the final design and passes the checks."""
     out = tmp_path / "opt"
-    res = run("optimise", _oscillating_spec(tmp_path), "-o", str(out))
+    res = run("optimise", _oscillating_spec(tmp_path), "--variables", "base_radius,pivot_distance,arm_length",
+              "-o", str(out))
     assert res.returncode == 0, res.stderr
     rep = json.loads((out / "report.json").read_text())
     opt = rep["optimise"]
@@ -173,7 +185,7 @@ def test_optimise_an_oscillating_roller(tmp_path):
     (["--variables", "base_radius,offset"], "optimise.variables", "offset applies to translating followers only"),
     (["--variables", "face_offset"], "optimise.variables", "face_offset applies to oscillating flat faces only"),
     (["--objective", "machining_time"], "optimise.objective", "use gcode_time"),
-    (["--set", "optimise.arm_length_max=40"], "optimise.arm_length_max",
+    (["--variables", "base_radius,arm_length", "--set", "optimise.arm_length_max=40"], "optimise.arm_length_max",
      "must be ≥ follower.arm_length of the starting design (45 mm), got 40"),
 ])
 def test_bad_variables_for_an_oscillating_follower_exit_2(tmp_path, args, field, words):

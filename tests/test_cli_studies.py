@@ -8,9 +8,11 @@ import csv
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -19,7 +21,7 @@ import pytest
 from generators.examples import example_dict
 from generators.spec import dict_to_toml
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .dask_cluster import loopback_cluster
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -92,8 +94,13 @@ def test_batch_builds_each_spec_reports_the_bad_one_and_runs_on_a_local_cluster(
     assert manifest["command"] == "batch"
     assert sorted(manifest["files"]) == ["default", "flat", "paper", "study.json", "summary.csv", "summary.parquet"]
 
-    # again into the same folder, one cam: exit 0; the earlier run's other cams are gone
+    # again into the same folder, another study (one cam): refused, nothing changed; with
+    # --replace exit 0 and the earlier run's other cams are gone
     res = run("batch", specs / "default.toml", "-o", out0, "--workers", 0)
+    assert res.returncode == 2 and res.stderr.startswith("error: -o: ") and "--replace" in res.stderr
+    assert sorted(p.name for p in out0.iterdir()) == [".cam-workbench.json", "default", "flat", "paper",
+                                                     "study.json", "summary.csv", "summary.parquet"]
+    res = run("batch", specs / "default.toml", "-o", out0, "--workers", 0, "--replace")
     assert res.returncode == 0, res.stdout + res.stderr
     assert sorted(p.name for p in out0.iterdir()) == [".cam-workbench.json", "default", "study.json",
                                                      "summary.csv", "summary.parquet"]
@@ -240,84 +247,159 @@ def test_optimise_multistart_on_a_local_cluster_writes_the_sequential_result(tmp
     assert (ra["workers"], rb["workers"]) == (1, 2)
 
 
-# ---- Ctrl-C -----------------------------------------------------------------------------------
-def _children(pid: int) -> list[int]:
+# ---- Ctrl-C ----------------------------------------------------------------------------------
+# The command runs in a terminal of its own (a pseudo-terminal, as a user's shell gives it), and
+# Ctrl-C is the character ^C typed into that terminal: the kernel sends SIGINT to every process of
+# the foreground group — the command and the local cluster's worker processes — as it does for a
+# user.  The test waits on the run's own progress bar (drawn on the terminal) showing a finished
+# item, never on a time; the only time limit is the safety net SAFETY_S that turns a hang into a
+# failure.
+# a session of its own with the terminal on stdin as its controlling terminal, then the command
+_IN_TERMINAL = ("import fcntl, os, sys, termios; os.setsid(); fcntl.ioctl(0, termios.TIOCSCTTY, 0); "
+                "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])")
+_ANSI = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]")
+
+
+class TerminalRun:
+    """The CLI running in a pseudo-terminal (stdout; stderr is a pipe), its screen read as it comes."""
+
+    def __init__(self, *args: str):
+        import fcntl
+        import pty
+        import struct
+        import termios
+
+        self.master, slave = pty.openpty()
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, 200, 0, 0))    # 200 columns
+        env = dict(ENV, TERM="xterm", COLUMNS="200")
+        self.p = subprocess.Popen([sys.executable, "-c", _IN_TERMINAL, "-m", "cam_workbench.cli", *args],
+                                  stdin=slave, stdout=slave, stderr=subprocess.PIPE, text=True, env=env,
+                                  cwd=ROOT)
+        os.close(slave)
+        self.screen = ""
+        self._changed = threading.Condition()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        while True:
+            try:
+                data = os.read(self.master, 4096)
+            except OSError:               # EIO: the terminal's last process closed it
+                data = b""
+            with self._changed:
+                if not data:
+                    self.screen += "\0"   # the end
+                    self._changed.notify_all()
+                    return
+                self.screen += _ANSI.sub("", data.decode("utf-8", "replace"))
+                self._changed.notify_all()
+
+    def wait_for_progress(self, unit: str) -> int:
+        """Block until the progress bar shows at least one ``unit`` done; returns that count."""
+        pattern = re.compile(rf"(\d+)/\d+ {unit}")
+        end = time.monotonic() + SAFETY_S
+        with self._changed:
+            while True:
+                done = [int(m.group(1)) for m in pattern.finditer(self.screen)]
+                if done and max(done) >= 1:
+                    return max(done)
+                assert "\0" not in self.screen, (self.screen[-2000:], self.p.stderr.read())
+                assert time.monotonic() < end, f"no progress within the safety limit: {self.screen[-2000:]}"
+                self._changed.wait(end - time.monotonic())
+
+    def ctrl_c(self) -> None:
+        os.write(self.master, b"\x03")
+
+    def finish(self) -> tuple[int, str]:
+        try:
+            _, stderr = self.p.communicate(timeout=SAFETY_S)
+        finally:
+            if self.p.poll() is None:
+                os.killpg(self.p.pid, signal.SIGKILL)
+                self.p.wait()
+            self._reader.join(SAFETY_S)
+            os.close(self.master)
+        return self.p.returncode, stderr
+
+
+def _session(sid: int) -> list:
+    """The processes alive in session ``sid`` (the command's: everything it started, orphans too)."""
     import psutil
 
-    try:
-        return [c.pid for c in psutil.Process(pid).children(recursive=True)]
-    except psutil.NoSuchProcess:
-        return []
+    found = []
+    for proc in psutil.process_iter():
+        try:
+            if os.getsid(proc.pid) == sid and proc.status() != psutil.STATUS_ZOMBIE:
+                found.append(proc)
+        except (psutil.NoSuchProcess, ProcessLookupError, PermissionError):
+            pass
+    return found
 
 
-def _gone(pids: list[int], timeout: float = 30.0) -> bool:
-    import psutil
+def _complete_sets(out: Path) -> list[str]:
+    """The cam subfolders of a batch/sweep --build folder, each checked to be a whole output set:
+    exactly the files its manifest lists, report.json readable; no staging folder anywhere."""
+    assert not [q for q in out.parent.iterdir() if ".cam-workbench-staging-" in q.name]
+    names = []
+    for sub in sorted(q for q in out.iterdir() if q.is_dir()):
+        assert ".cam-workbench-staging-" not in sub.name
+        manifest = json.loads((sub / ".cam-workbench.json").read_text())
+        assert sorted(q.name for q in sub.iterdir()) == sorted([".cam-workbench.json", *manifest["files"]])
+        assert json.loads((sub / "report.json").read_text())["solid"]["valid"]
+        names.append(sub.name)
+    return names
 
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        alive = [p for p in pids if psutil.pid_exists(p) and psutil.Process(p).status() != psutil.STATUS_ZOMBIE]
-        if not alive:
-            return True
-        time.sleep(0.2)
-    return False
+
+CTRL_C_RUNS = {
+    "batch": (["batch", "{many}", "--workers", "2"], "cams"),
+    "sweep": (["sweep", "--vary", "motion[1].angle,motion[3].angle=60:140:200", "--balance", "motion[2].angle",
+               "--vary", "motion[1].law,motion[3].law=cycloidal,harmonic", "--size", "base_radius", "--tol", "1e-4",
+               "--workers", "2"], "points"),
+    "optimise": (["optimise", "--example", "paper", "--variables", "base_radius,offset", "--multistart", "9",
+                  "--seed", "4", "--workers", "2"], "evaluations"),
+}
 
 
 @requires_ocp
 @needs_dask
-def test_ctrl_c_stops_a_batch_on_a_local_cluster(specs, tmp_path):
-    """SIGINT after the first cam is written: exit 130, the cams done stay, the summary marks the
-    rest cancelled, and the local cluster's processes are gone."""
+@pytest.mark.parametrize("command", list(CTRL_C_RUNS))
+def test_ctrl_c_on_a_local_cluster_prints_one_line_and_stops_every_process(command, tmp_path):
+    """Ctrl-C in the terminal once the run's progress shows an item done: exactly one line on
+    stderr, exit 130, no process of the command's session left (the workers, the scheduler's and
+    the nannies' threads live in the command's process), and the output folder holds only whole
+    output sets: batch keeps the cams done (summary.csv marks the rest cancelled), sweep and
+    optimise write nothing."""
+    psutil = pytest.importorskip("psutil")
     many = tmp_path / "many"
     many.mkdir()
     for k in range(8):
         (many / f"cam{k}.toml").write_text(dict_to_toml(example_dict("default" if k % 2 else "flat")))
     out = tmp_path / "out"
-    p = subprocess.Popen([*CLI, "batch", str(many), "-o", str(out), "--workers", "2"], env=ENV,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    args, unit = CTRL_C_RUNS[command]
+    run_ = TerminalRun(*[str(many) if a == "{many}" else a for a in args], "-o", str(out))
     try:
-        deadline = time.monotonic() + 600
-        while time.monotonic() < deadline and not any((out / f"cam{k}" / "report.json").exists() for k in range(8)):
-            assert p.poll() is None, p.communicate()
-            time.sleep(0.2)
-        kids = _children(p.pid)
-        assert kids                                    # the local cluster's processes
-        p.send_signal(signal.SIGINT)
-        stdout, stderr = p.communicate(timeout=120)
+        run_.wait_for_progress(unit)
+        workers = [c for c in psutil.Process(run_.p.pid).children(recursive=True)
+                   if "--multiprocessing-fork" in c.cmdline()]
+        assert len(workers) == 2, [c.cmdline() for c in workers]      # the local cluster's workers
+        run_.ctrl_c()
     finally:
-        if p.poll() is None:
-            p.kill()
-    assert p.returncode == 130, stdout + stderr
-    assert "interrupted" in stderr
+        status, stderr = run_.finish()
+    assert status == 130, run_.screen[-2000:] + stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("interrupted"), stderr
+    # the workers end with the command; what is left of its session (the multiprocessing resource
+    # tracker ends on its pipe's end, just after) is waited for, as an event
+    gone, alive = psutil.wait_procs([*workers, *_session(run_.p.pid)], timeout=SAFETY_S)
+    assert not alive and _session(run_.p.pid) == []
+    if command != "batch":
+        assert not out.exists() and sorted(q.name for q in tmp_path.iterdir()) == ["many"]
+        return
     table = rows(out / "summary.csv")
-    done = [r for r in table if r["status"] == "ok"]
+    done = [r["name"] for r in table if r["status"] == "ok"]
     assert done and len(done) < 8 and all(r["status"] in ("ok", "cancelled") for r in table)
-    for r in done:
-        assert (out / r["name"] / "report.json").exists()
-    for r in table:
-        if r["status"] == "cancelled":
-            assert not (out / r["name"]).exists()
-    assert _gone(kids)
-
-
-@needs_dask
-def test_ctrl_c_stops_a_sweep_and_writes_nothing(tmp_path):
-    out = tmp_path / "out"
-    p = subprocess.Popen([*CLI, "sweep", "--vary", "motion[1].angle,motion[3].angle=60:140:200", "--balance",
-                          "motion[2].angle", "--vary", "motion[1].law,motion[3].law=cycloidal,harmonic",
-                          "--size", "base_radius", "--tol", "1e-4", "-o", str(out), "--workers", "2"],
-                         env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and len(_children(p.pid)) < 2:
-            assert p.poll() is None, p.communicate()
-            time.sleep(0.2)
-        time.sleep(3.0)                                # the workers are at it
-        kids = _children(p.pid)
-        p.send_signal(signal.SIGINT)
-        stdout, stderr = p.communicate(timeout=120)
-    finally:
-        if p.poll() is None:
-            p.kill()
-    assert p.returncode == 130, stdout + stderr
-    assert not out.exists()
-    assert _gone(kids)
+    assert lines == [f"interrupted: {len(done)} of 8 cams written; summary.csv marks the rest cancelled"]
+    assert _complete_sets(out) == sorted(done)
+    assert sorted(q.name for q in out.iterdir() if q.is_file()) == [".cam-workbench.json", "study.json",
+                                                                     "summary.csv", "summary.parquet"]

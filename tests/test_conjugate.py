@@ -398,7 +398,7 @@ def test_dxf_both_profiles_on_their_layers(tmp_path):
 
     from exporters.dxf import build_dxf
 
-    design = design_of("arm_cw")
+    design = design_cam(design_of("arm_cw").spec.replace(**{"drawing.curves": "spline"}))   # the exact NURBS
     second = design.body.extra["second_cam"]
     doc, info = build_dxf(design, design.summary())
     doc.saveas(str(tmp_path / "c.dxf"))
@@ -418,7 +418,7 @@ def test_dxf_both_profiles_on_their_layers(tmp_path):
     (spacer,) = [e for e in msp.query("CIRCLE") if e.dxf.layer == "SPACER"]
     assert spacer.dxf.radius == pytest.approx(design.body_report["spacer_diameter"] / 2)
     texts = " ".join(t.dxf.text for t in msp.query("TEXT"))
-    assert "SECOND CAM" in texts and "ROLLER DISTANCE ERROR" in texts
+    assert "SECOND CAM" in texts and "ROLLER DISTANCE ERROR" in texts and "CONJUGATE CAM PAIR" in texts
 
 
 # ---- G-code through rs274 --------------------------------------------------------------------

@@ -29,7 +29,7 @@ from generators.checks.design import format_value
 from generators.spec import CamSpec, dict_to_toml
 from generators.spec.examples import EXAMPLES
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .test_cylindrical import BORE, H, L, RB, RO, RP, W2, Z0, lift
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -204,10 +204,30 @@ def test_build_report_holds_the_drawing_error(tmp_path):
     assert rep["files"]["dxf"] == "cam.dxf" and (tmp_path / "out" / "cam.dxf").exists()
 
 
-def test_dxf_refuses_other_curves(tmp_path):
-    res = run("dxf", "--example", "cylindrical", "--curves", "arcs", "-o", str(tmp_path / "o"))
-    assert res.returncode == 2 and "drawing.curves" in res.stderr and "Traceback" not in res.stderr
-    assert not (tmp_path / "o").exists()
+@pytest.mark.parametrize("curves,version", [("arcs", "R2010"), ("polyline", "R12")])
+def test_dxf_arcs_and_polyline_walls(tmp_path, curves, version):
+    """For machines that read no splines: the walls as arcs (or one polyline per motion segment),
+    within drawing.chord_tolerance of the exact walls — points of them at w/2 from the developed
+    centre line within the reported error — and no SPLINE in the file (R12 has none)."""
+    import ezdxf
+
+    from exporters.dxf import read_profile_path
+
+    out = tmp_path / "c.dxf"
+    res = run("dxf", "--example", "cylindrical", "--curves", curves, "--dxf-version", version, "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    err_walls, err_pitch = _reported(res)
+    assert 0 < err_walls <= 0.001 and 0 < err_pitch <= 0.001
+    doc = ezdxf.readfile(str(out))
+    assert not doc.audit().has_errors and len(doc.modelspace().query("SPLINE")) == 0
+    if curves == "arcs":
+        assert len(doc.modelspace().query('ARC[layer=="WALL_LOWER"]')) > 5
+    for layer, side in (("WALL_LOWER", -1), ("WALL_UPPER", 1)):
+        pts = read_profile_path(out, layer).sample(2)
+        pts = pts[:: max(1, len(pts) // 60)]
+        d, s = _distance_to_centre_line(RO, np.column_stack([pts.real, pts.imag]))
+        assert np.max(np.abs(d - W2)) <= err_walls * 1.01 + 1e-10, layer
+        assert np.all(s == side), layer
 
 
 def test_api_export_dxf(tmp_path):
@@ -372,6 +392,6 @@ def test_report_page_shows_report_json(tmp_path, example):
         dom = subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
                               f"--user-data-dir={tmp_path / 'profile'}", "--dump-dom",
                               (tmp_path / "r" / "report.html").resolve().as_uri()],
-                             capture_output=True, text=True, timeout=120)
+                             capture_output=True, text=True, timeout=SAFETY_S)
         assert dom.returncode == 0 and dom.stdout.count("<svg") >= 2
         assert 'id="fig-cylinder"' in dom.stdout and 'id="fig-pressure_angle"' in dom.stdout

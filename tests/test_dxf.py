@@ -1,15 +1,20 @@
-"""The DXF drawing, checked by real readers:
+"""The DXF drawing, checked by real readers (LibreCAD's drawing of every example: test_dxf_librecad.py):
 
-* ezdxf's auditor finds no errors in any variant (spline, arcs, polyline, R12, inch, closed flag);
-* the PROFILE SPLINE read back has exactly the degree, knots, control points and weights of
-  the NURBS profile, and ezdxf's own NURBS evaluator (``ezdxf.math.BSpline``) puts its points
-  on the exact offset of the PH pitch curve (computed from the PH spline, not from our NURBS
-  code) to 1e-9 relative;
+* ezdxf's auditor finds no errors in any variant (cubic, spline, arcs, polyline, R12, inch, closed flag);
+* the default PROFILE SPLINE read back is a polynomial cubic, and ezdxf's own B-spline evaluator
+  puts it within drawing.chord_tolerance of the exact offset of the PH pitch curve (computed from
+  the PH spline, not from our NURBS code), at the distance report.json states, both ways;
+* with ``curves = "spline"`` the PROFILE SPLINE read back has exactly the degree, knots, control
+  points and weights of the NURBS profile, and ezdxf's own NURBS evaluator
+  (``ezdxf.math.BSpline``) puts its points on the exact offset to 1e-9 relative;
 * arcs and polyline read back from the file stay within the chord tolerance of the exact
   profile, measured both ways densely, and form a closed chain;
 * CadQuery's DXF importer turns the PROFILE (and BORE) layers into faces whose areas, integrated
   with OCCT's own curve evaluator, equal the cross-section of the OCCT solid;
-* layers, ``$INSUNITS``, DIMENSION measurements and the title block's motion table;
+* layers, ``$INSUNITS``, DIMENSION measurements, the title block's motion table, its title (the
+  body's name) and its texts inside their cells for every example (ezdxf's measure and the
+  exporter's width bound);
+* FreeCAD's DXF importer reads the exact splines and the default cubic ones;
 * a PNG rendered by ezdxf's drawing add-on (matplotlib backend) is left in test-artifacts/.
 """
 import json
@@ -27,8 +32,9 @@ from generators.approx import max_distance
 from generators.cam_design import profile_offset_distance
 from generators.errors import SpecError
 from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from generators.spec.examples import EXAMPLES, example_spec
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 
 ezdxf = pytest.importorskip("ezdxf")
 
@@ -36,15 +42,20 @@ INCH = {"units": "in", "cam.thickness": 0.5, "cam.base_radius": 2.0, "follower.o
         "follower.roller_radius": 0.25, "cam.bore_diameter": 0.5, "motion[1].lift": 0.8,
         "motion[3].lift": 0.8, "drawing.chord_tolerance": 5e-5}
 
+SPLINE = {"drawing.curves": "spline"}
+
 VARIANTS = {
-    "spline": {},
+    "cubic": {},
+    "cubic_knife": {"follower.kind": "knife", "cam.direction": "cw", "cam.bore_diameter": 8.0},
+    "cubic_inch": INCH,
+    "spline": SPLINE,
     "arcs": {"drawing.curves": "arcs"},
     "polyline": {"drawing.curves": "polyline"},
     "arcs_r12": {"drawing.curves": "arcs", "drawing.dxf_version": "R12"},
     "polyline_r12": {"drawing.curves": "polyline", "drawing.dxf_version": "R12"},
-    "spline_closed_flag": {"drawing.spline_closed_flag": True},
-    "inch": INCH,
-    "knife_cw": {"follower.kind": "knife", "cam.direction": "cw", "cam.bore_diameter": 8.0},
+    "spline_closed_flag": {**SPLINE, "drawing.spline_closed_flag": True},
+    "inch": {**INCH, **SPLINE},
+    "knife_cw": {**SPLINE, "follower.kind": "knife", "cam.direction": "cw", "cam.bore_diameter": 8.0},
 }
 
 
@@ -141,6 +152,60 @@ def test_pitch_spline_is_degree_5_polynomial(drawings):
     assert np.max(np.abs(np.abs(z) - r_expected)) <= 1.01 * design.max_deviation[0]
 
 
+def _two_sided(a, b):
+    """Largest distance between two dense point chains (complex), each against the other's chords."""
+    from .librecad import distance_to_segments
+
+    return max(float(np.max(distance_to_segments(a, [b]))), float(np.max(distance_to_segments(b, [a]))))
+
+
+@pytest.mark.parametrize("name", ["cubic", "cubic_knife", "cubic_inch"])
+def test_cubic_spline_is_within_tolerance_of_the_exact_profile(drawings, name):
+    """The default: PROFILE and PITCH are polynomial cubic SPLINEs (no weights, degree 3) that
+    ezdxf's own evaluator puts within chord_tolerance of the exact curves — the profile computed
+    from the PH spline and the offset definition — at the distance report.json states."""
+    design, path, info = drawings[name]
+    tol = design.spec.drawing.chord_tolerance
+    msp = ezdxf.readfile(path).modelspace()
+    (sp,) = msp.query('SPLINE[layer=="PROFILE"]')
+    assert sp.dxf.degree == 3 and len(sp.weights) == 0 and not sp.dxf.flags & sp.RATIONAL
+    cps = np.array(sp.control_points)
+    assert np.array_equal(cps[0], cps[-1]) and len(cps) == info.profile.poles == info.summary()["profile_poles"]
+    bs = ezdxf.math.BSpline(sp.control_points, order=4, knots=sp.knots)
+    drawn = np.array([(v.x, v.y) for v in bs.points(np.linspace(sp.knots[0], sp.knots[-1], 40001))])
+    drawn = drawn[:, 0] + 1j * drawn[:, 1]
+    exact = _exact_profile_points(design, np.linspace(0, design.pitch.M, 40001))
+    err = _two_sided(drawn, exact)
+    assert err <= tol
+    d = info.summary()
+    assert d["profile_max_error"] == pytest.approx(err, rel=1e-3, abs=1e-6 * tol)
+    assert d["curves"] == "cubic" and d["chord_tolerance"] == tol and d["exact"] is False
+    # the pitch curve alike, against the PH curve's own points
+    (pp,) = msp.query('SPLINE[layer=="PITCH"]')
+    assert pp.dxf.degree == 3 and len(pp.weights) == 0
+    bp = ezdxf.math.BSpline(pp.control_points, order=4, knots=pp.knots)
+    dp = np.array([(v.x, v.y) for v in bp.points(np.linspace(pp.knots[0], pp.knots[-1], 40001))])
+    u = np.linspace(0, design.pitch.M, 40001)
+    seg = np.minimum(np.floor(u).astype(int), design.pitch.M - 1)
+    ph = design.pitch.spline.point(seg, u - seg)
+    err_p = _two_sided(dp[:, 0] + 1j * dp[:, 1], ph)
+    assert err_p <= tol and d["pitch_max_error"] == pytest.approx(err_p, rel=1e-3, abs=1e-6 * tol)
+    assert d["max_error_by_layer"] == {"PROFILE": d["profile_max_error"], "PITCH": d["pitch_max_error"]}
+
+
+@pytest.mark.parametrize("tol", [1e-2, 1e-5])
+def test_cubic_tolerance_is_honoured_at_other_values(tmp_path, tol):
+    design = design_cam(default_spec().replace(**{"drawing.chord_tolerance": tol}))
+    info = export_dxf(design, tmp_path / "c.dxf")
+    (sp,) = ezdxf.readfile(tmp_path / "c.dxf").modelspace().query('SPLINE[layer=="PROFILE"]')
+    bs = ezdxf.math.BSpline(sp.control_points, order=4, knots=sp.knots)
+    drawn = np.array([(v.x, v.y) for v in bs.points(np.linspace(sp.knots[0], sp.knots[-1], 40001))])
+    err = _two_sided(drawn[:, 0] + 1j * drawn[:, 1], _exact_profile_points(design, np.linspace(0, design.pitch.M, 40001)))
+    assert err <= tol and info.profile.max_error == pytest.approx(err, rel=1e-3, abs=1e-6 * tol)
+    if tol < 1e-4:   # a tight tolerance takes more poles than the coarsest fit (3 per PH segment + 1)
+        assert len(sp.control_points) > 3 * design.pitch.M + 1
+
+
 @pytest.mark.parametrize("name", ["arcs", "polyline", "arcs_r12", "polyline_r12", "inch"])
 def test_arcs_and_polyline_within_chord_tolerance(drawings, name):
     design, path, info = drawings[name]
@@ -177,13 +242,13 @@ def test_tolerance_is_honoured_at_other_values(tmp_path, tol):
 
 
 def test_units_header(drawings):
-    assert ezdxf.readfile(drawings["spline"][1]).header["$INSUNITS"] == 4   # mm
+    assert ezdxf.readfile(drawings["cubic"][1]).header["$INSUNITS"] == 4    # mm
     assert ezdxf.readfile(drawings["inch"][1]).header["$INSUNITS"] == 1     # inch
     assert drawings["arcs_r12"][2].insunits is None                         # R12 has no $INSUNITS
     assert ezdxf.readfile(drawings["arcs_r12"][1]).dxfversion == "AC1009"
 
 
-@pytest.mark.parametrize("name", ["spline", "inch", "arcs_r12"])
+@pytest.mark.parametrize("name", ["cubic", "inch", "arcs_r12"])
 def test_dimensions_measure_the_cam(drawings, name):
     design, path, _ = drawings[name]
     dims = ezdxf.readfile(path).modelspace().query('DIMENSION[layer=="DIMENSIONS"]')
@@ -199,6 +264,14 @@ def test_dimensions_measure_the_cam(drawings, name):
     assert r_max == pytest.approx(np.max(np.hypot(pts[:, 0], pts[:, 1])), rel=1e-9)
     texts = " ".join(t.dxf.text for t in ezdxf.readfile(path).modelspace().query('TEXT[layer=="DIMENSIONS"]'))
     assert "THICKNESS" in texts and f"{spec.cam.thickness:g}" in texts
+    # readers that draw DIMENSION entities themselves (LibreCAD) read the style's table entry and
+    # the header, not ezdxf's per-entity overrides: both hold the drawing's text height, scale 1
+    doc = ezdxf.readfile(path)
+    h = doc.header["$DIMTXT"]
+    assert h == pytest.approx(drawings[name][2].text_height) and doc.header["$DIMLFAC"] == 1.0
+    assert doc.header["$DIMSTYLE"] == "CAM" and all(d.dxf.dimstyle == "CAM" for d in dims)
+    style = doc.dimstyles.get("CAM")
+    assert style.dxf.dimtxt == style.dxf.dimasz == h and style.dxf.dimlfac == 1.0
 
 
 def test_title_block_has_parameters_and_motion_table(tmp_path):
@@ -208,10 +281,66 @@ def test_title_block_has_parameters_and_motion_table(tmp_path):
     export_dxf(design, tmp_path / "t.dxf")
     texts = [t.dxf.text for t in ezdxf.readfile(tmp_path / "t.dxf").modelspace().query('TEXT[layer=="TITLE"]')]
     joined = "\n".join(texts)
-    for word in ("FEED CAM", "CW-0042", "A. Fitter", "AISI 1045, 50 HRC", "MOTION PROGRAM", "RATIONAL B-SPLINE"):
+    for word in ("FEED CAM (PLATE CAM)", "CW-0042", "A. Fitter", "AISI 1045, 50 HRC", "MOTION PROGRAM",
+                 "RATIONAL B-SPLINE, DEGREE 9", "EXACT OFFSET OF THE PH PITCH CURVE", "POLYNOMIAL CUBIC SPLINE"):
         assert word in joined
     assert texts.count("CYCLOIDAL") == 2 and texts.count("DWELL") == 3
     assert "RISE" in texts and "RETURN" in texts and "330" in texts
+
+
+#: each body's name, the title of a drawing whose spec gives none
+BODY_TITLES = {"plate": "PLATE CAM", "groove": "GROOVE CAM", "conjugate": "CONJUGATE CAM PAIR",
+               "cylindrical": "CYLINDRICAL CAM"}
+
+
+def _title_block_rows(msp):
+    """(title, {label: value}) of a title block: its largest TEXT, the rest paired by baseline."""
+    texts = list(msp.query('TEXT[layer=="TITLE"]'))
+    title = max(texts, key=lambda t: t.dxf.height)
+    rows: dict[float, list] = {}
+    for t in texts:
+        if t is not title:
+            rows.setdefault(round(t.dxf.insert.y, 6), []).append((t.dxf.insert.x, t.dxf.text))
+    return title.dxf.text, {sorted(c)[0][1]: sorted(c)[1][1] for c in rows.values() if len(c) == 2}
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLES))
+def test_every_example_is_titled_by_its_body_and_its_texts_fit_their_cells(name, tmp_path):
+    """The title is the body's name (``cam.body``); every TEXT of the title block lies inside the
+    rectangle of the title block's lines round its insertion point, measured by ezdxf's font
+    metrics and by the exporter's width bound (LibreCAD's drawing of them: test_dxf_librecad.py);
+    a conjugate pair's rows say which cam each is."""
+    from ezdxf import bbox
+
+    from cam_workbench.pipeline import drawing_stage
+    from exporters.dxf import text_width
+
+    from .librecad import title_cells
+
+    spec = example_spec(name)
+    design = design_cam(spec)
+    doc, _ = drawing_stage(design, design.summary())
+    doc.saveas(tmp_path / "d.dxf")
+    doc = ezdxf.readfile(tmp_path / "d.dxf")
+    msp = doc.modelspace()
+    title, rows = _title_block_rows(msp)
+    assert title == BODY_TITLES[spec.cam.body]
+    texts = {t.dxf.handle: t for t in msp.query('TEXT[layer=="TITLE"]')}
+    cells = title_cells(doc)
+    assert set(cells) == set(texts)
+    for handle, (text, (x0, y0, x1, y1)) in cells.items():
+        t = texts[handle]
+        box = bbox.extents([t], fast=False)
+        assert x0 < box.extmin.x and box.extmax.x < x1 and y0 < box.extmin.y and box.extmax.y < y1, (text, box)
+        assert t.dxf.insert.x + text_width(text, t.dxf.height) < x1, text
+    if spec.cam.body == "conjugate":
+        assert rows["PROFILE"].startswith("FIRST CAM: ") and rows["SECOND CAM PROFILE"].startswith("EXACT OFFSET")
+    # a title of the user's own keeps the body's name beside it, unless it says it
+    for given, shown in (("Feed cam", f"FEED CAM ({BODY_TITLES[spec.cam.body]})"),
+                         (BODY_TITLES[spec.cam.body].lower(), BODY_TITLES[spec.cam.body])):
+        titled = design_cam(spec.replace(**{"drawing.title": given}))
+        doc, _ = drawing_stage(titled, titled.summary())
+        assert _title_block_rows(doc.modelspace())[0] == shown
 
 
 def test_no_title_block_no_dimensions(tmp_path):
@@ -222,11 +351,11 @@ def test_no_title_block_no_dimensions(tmp_path):
 
 
 @requires_ocp
-@pytest.mark.parametrize("name", ["spline", "arcs", "polyline", "inch", "knife_cw"])
+@pytest.mark.parametrize("name", ["cubic", "spline", "arcs", "polyline", "inch", "knife_cw"])
 def test_cadquery_import_gives_the_solids_cross_section(drawings, name):
     """CadQuery's importDXF(PROFILE) and (BORE) give faces whose area difference is the OCCT
     solid's cross-section (spline: to 1e-9, using OCCT's curve evaluator in a Gauss rule per
-    knot span; arcs/polyline: within tolerance × perimeter)."""
+    knot span; cubic/arcs/polyline: within the measured distance × perimeter)."""
     import cadquery as cq
 
     from cam_workbench import occ_build
@@ -242,14 +371,16 @@ def test_cadquery_import_gives_the_solids_cross_section(drawings, name):
     if r_bore > 0:
         bore = cq.importers.importDXF(str(path), include=["BORE"]).vals()
         assert len(bore) == 1 and bore[0].Area() == pytest.approx(math.pi * r_bore**2, rel=1e-12)
+    perimeter = design.pitch.spline.arc_length + 2 * math.pi * design.spec.roller_radius
     if info.curves == "spline":
         area = _occt_green_area(face)
         assert area - math.pi * r_bore**2 == pytest.approx(section, rel=1e-9)
         assert area == pytest.approx(design.profile_area, rel=1e-9)
         # OCCT's own face area on one 60-span degree-9 edge is only good to ~1e-4 (measured)
         assert face.Area() == pytest.approx(area, rel=1e-3)
+    elif info.curves == "cubic":   # a many-span edge too: Green's theorem with OCCT's evaluator
+        assert abs(_occt_green_area(face) - math.pi * r_bore**2 - section) <= info.profile.max_error * perimeter
     else:
-        perimeter = design.pitch.spline.arc_length + 2 * math.pi * design.spec.roller_radius
         assert abs(face.Area() - math.pi * r_bore**2 - section) <= info.profile.max_error * perimeter
 
 
@@ -278,7 +409,7 @@ def _occt_green_area(face):
     return abs(total)
 
 
-@pytest.mark.parametrize("name", ["spline", "arcs"])
+@pytest.mark.parametrize("name", ["cubic", "spline", "arcs"])
 def test_render_png_with_ezdxf_drawing_addon(drawings, artifacts, name):
     """Render the drawing as a person would see it in a DXF viewer; left in test-artifacts/."""
     import matplotlib
@@ -316,6 +447,8 @@ DRAWING_RULES = [
     ({"dxf_version": "R14"}, "drawing.dxf_version", "must be one of"),
     ({"dxf_version": "R12"}, "drawing.dxf_version", "R12 has no SPLINE entity"),
     ({"dxf_version": "R12", "curves": "spline"}, "drawing.dxf_version", "R12 has no SPLINE entity"),
+    ({"dxf_version": "R12", "curves": "cubic"}, "drawing.dxf_version", "R12 has no SPLINE entity"),
+    ({"title": 7}, "drawing.title", "must be a string"),
     ({"text_height": -1.0}, "drawing.text_height", "must be > 0"),
     ({"title_block": "yes"}, "drawing.title_block", "must be true or false"),
     ({"spline_closed_flag": 1}, "drawing.spline_closed_flag", "must be true or false"),
@@ -335,7 +468,8 @@ def test_drawing_defaults_and_r12_with_arcs_is_fine():
     spec = CamSpec.from_dict(_with_drawing(dxf_version="R12", curves="polyline"))
     assert spec.drawing.curves == "polyline"
     d = default_spec().drawing
-    assert (d.curves, d.chord_tolerance, d.dxf_version, d.spline_closed_flag) == ("spline", 0.001, "R2010", False)
+    assert (d.curves, d.chord_tolerance, d.dxf_version, d.spline_closed_flag) == ("cubic", 0.001, "R2010", False)
+    assert d.title is None   # the body's name
 
 
 # ---- CLI -------------------------------------------------------------------------------------
@@ -360,8 +494,24 @@ def test_cli_dxf_arcs_to_file(tmp_path):
 def test_cli_dxf_default_folder(tmp_path):
     res = run("dxf", "-o", str(tmp_path / "o"))
     assert res.returncode == 0, res.stderr
+    doc = ezdxf.readfile(tmp_path / "o" / "cam.dxf")
+    assert not doc.audit().has_errors
+    (sp,) = doc.modelspace().query('SPLINE[layer=="PROFILE"]')
+    design = design_cam(default_spec())
+    info = export_dxf(design, tmp_path / "again.dxf")
+    # the line says what the file holds, with the measured distance report.json states
+    assert (f"PROFILE: polynomial cubic SPLINE of {len(sp.control_points)} poles, max distance "
+            f"{info.profile.max_error:.3g} mm from the profile NURBS (the exact rational offset of the PH pitch "
+            f"curve (NURBS degree 9, rational)) (tolerance 0.001 mm, R2010); PITCH drawn alike, within "
+            f"{info.pitch.max_error:.3g} mm of theirs") in res.stdout
+
+
+def test_cli_dxf_exact_spline_on_request(tmp_path):
+    res = run("dxf", "--curves", "spline", "-o", str(tmp_path / "e.dxf"))
+    assert res.returncode == 0, res.stderr
     assert "PROFILE: SPLINE = the exact rational offset of the PH pitch curve (NURBS degree 9, rational)" in res.stdout
-    assert not ezdxf.readfile(tmp_path / "o" / "cam.dxf").audit().has_errors
+    (sp,) = ezdxf.readfile(tmp_path / "e.dxf").modelspace().query('SPLINE[layer=="PROFILE"]')
+    assert sp.dxf.degree == 9 and len(sp.weights) > 0
 
 
 @pytest.mark.parametrize("args,message", [
@@ -378,7 +528,7 @@ def test_cli_dxf_bad_input_writes_nothing(tmp_path, args, message):
 def test_cli_dxf_help_reads_declarations():
     res = run("dxf", "--help")
     assert res.returncode == 0
-    assert "{spline,arcs,polyline}" in res.stdout and "chord" in res.stdout
+    assert "{cubic,spline,arcs,polyline}" in res.stdout and "chord" in res.stdout
 
 
 FREECADCMD = __import__("shutil").which("freecadcmd")
@@ -397,7 +547,8 @@ for o in doc.Objects:
         c = e.Curve
         if c.TypeId == "Part::GeomBSplineCurve":
             out.append(dict(degree=c.Degree, poles=c.NbPoles, rational=c.isRational(),
-                            closed=e.isClosed(), length=e.Length))
+                            closed=e.isClosed(), length=e.Length,
+                            points=[(p.x, p.y) for p in e.discretize(Distance=0.05)]))
 print("RESULT" + json.dumps(out))
 """
 
@@ -412,7 +563,7 @@ def test_freecad_dxf_importer_reads_the_exact_splines(drawings, tmp_path, name):
     design, path, _ = drawings[name]
     script = tmp_path / "read.py"
     script.write_text(FREECAD_READ.format(path=str(path)))
-    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=300)
+    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=SAFETY_S)
     line = next((x for x in res.stdout.splitlines() if x.startswith("RESULT")), None)
     assert line, res.stdout[-2000:] + res.stderr[-2000:]
     curves = sorted(json.loads(line[6:]), key=lambda c: c["degree"])
@@ -421,6 +572,34 @@ def test_freecad_dxf_importer_reads_the_exact_splines(drawings, tmp_path, name):
     arc = design.pitch.spline.arc_length
     assert curves[0]["length"] == pytest.approx(arc, rel=1e-9)
     assert curves[1]["length"] == pytest.approx(arc - 2 * math.pi * design.spec.roller_radius, rel=1e-9)
+
+
+@pytest.mark.skipif(FREECADCMD is None, reason="freecadcmd (Debian freecad-python3) is not installed")
+def test_freecad_dxf_importer_reads_the_cubic_splines(drawings, tmp_path):
+    """FreeCAD's DXF importer reads the default drawing's profile and pitch curve as closed
+    polynomial cubics with the file's poles, and the points FreeCAD puts on them (its own
+    discretisation, every 0.05 mm) lie within report.json's distance of the exact curves: the
+    profile from the PH spline and the offset definition, the pitch curve the PH spline's points."""
+    design, path, info = drawings["cubic"]
+    script = tmp_path / "read.py"
+    script.write_text(FREECAD_READ.format(path=str(path)))
+    res = subprocess.run([FREECADCMD, str(script)], capture_output=True, text=True, timeout=300)
+    line = next((x for x in res.stdout.splitlines() if x.startswith("RESULT")), None)
+    assert line, res.stdout[-2000:] + res.stderr[-2000:]
+    curves = json.loads(line[6:])
+    assert [(c["degree"], c["rational"], c["closed"]) for c in curves] == [(3, False, True)] * 2
+    assert sorted(c["poles"] for c in curves) == sorted([info.profile.poles, info.pitch.poles])
+    t = np.linspace(0, design.pitch.M, 40001)
+    seg = np.minimum(np.floor(t).astype(int), design.pitch.M - 1)
+    exact = {"PROFILE": _exact_profile_points(design, t), "PITCH": design.pitch.spline.point(seg, t - seg)}
+    from .librecad import distance_to_segments
+
+    for c in curves:
+        z = np.array(c["points"]) @ np.array([1, 1j])
+        # which curve: the one FreeCAD's points lie on
+        layer = min(exact, key=lambda k: float(np.median(distance_to_segments(z, [exact[k]]))))
+        stated = info.profile.max_error if layer == "PROFILE" else info.pitch.max_error
+        assert float(np.max(distance_to_segments(z, [exact[layer]]))) <= stated * 1.001 + 1e-9, layer
 
 
 def test_platecam_export_dxf(tmp_path):

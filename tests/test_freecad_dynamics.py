@@ -24,7 +24,7 @@ import pytest
 
 from generators.spec import default_spec, to_toml
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 from .freecad_support import (cli_env, fc_home, requires_freecad_gui, requires_freecadcmd,  # noqa: F401
                               run_freecad_gui, run_freecadcmd)
 
@@ -100,7 +100,7 @@ RESULT["listing"] = sorted(os.listdir(OUT))
 
 def _cli(*args: str, cwd) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL, env=cli_env())
+                          text=True, cwd=cwd, timeout=SAFETY_S, stdin=subprocess.DEVNULL, env=cli_env())
 
 
 @pytest.fixture(scope="module")

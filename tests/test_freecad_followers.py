@@ -32,6 +32,7 @@ from generators.errors import SpecError
 from generators.spec import DEFAULT_SPEC_DICT, CamSpec
 from generators.spec.examples import example_dict
 
+from .conftest import SAFETY_S
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
@@ -215,7 +216,7 @@ def cli_reports(built, tmp_path_factory):
     for key in SPECS:
         out = tmp / key
         proc = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "build", str(specs / f"{key}.toml"),
-                               "-o", str(out)], capture_output=True, text=True, timeout=600, env=cli_env(),
+                               "-o", str(out)], capture_output=True, text=True, timeout=SAFETY_S, env=cli_env(),
                               cwd=tmp, stdin=subprocess.DEVNULL)
         assert proc.returncode == 0, proc.stdout + proc.stderr
         reports[key] = json.loads((out / "report.json").read_text())

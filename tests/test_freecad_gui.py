@@ -160,23 +160,22 @@ def plot_shot():
     state.pop("plots").close()
 
 def export_step():
-    def fill():
-        w = QtGui.QApplication.activeModalWidget()
+    def fill(w):
         R["file_dialog"] = type(w).__name__
         w.accept()  # "Save" with the suggested name: <Label>.step in the working folder
-    QtCore.QTimer.singleShot(1500, fill)
+    when_modal(fill, QtGui.QFileDialog)
     FreeCADGui.runCommand("CamWorkbench_ExportStep")
 
 def after_export():
     R["step_written"] = os.path.exists(STEP_PATH) and os.path.getsize(STEP_PATH) > 1000
 
 def delete_cam():
-    def watch():
-        w = QtGui.QApplication.activeModalWidget()
-        R["delete_modal"] = w.text() if w is not None and hasattr(w, "text") else None
-        if w is not None:
-            w.close()
-    QtCore.QTimer.singleShot(1000, watch)
+    # any modal dialog (a warning) while Std_Delete runs is recorded and closed
+    def watch(w):
+        R["delete_modal"] = w.text() if hasattr(w, "text") else type(w).__name__
+        w.close()
+    R["delete_modal"] = None
+    when_modal(watch)
     FreeCADGui.Selection.clearSelection()
     FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("PlateCam"))
     FreeCADGui.runCommand("Std_Delete")

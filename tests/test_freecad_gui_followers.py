@@ -65,11 +65,7 @@ def activate():
 
 def open_spec():
     # "New plate cam from spec…": its file dialog gets the spec file, as a user picks it
-    def fill(n=0):
-        w = QtGui.QApplication.activeModalWidget()
-        if w is None and n < 40:
-            QtCore.QTimer.singleShot(250, lambda: fill(n + 1))
-            return
+    def fill(w):
         R["file_dialog"] = type(w).__name__
         # the file name typed into the dialog (selectFile is asynchronous in Qt's own dialog)
         w.findChild(QtGui.QLineEdit, "fileNameEdit").setText(TOML)
@@ -77,7 +73,7 @@ def open_spec():
         if w.isVisible():   # never leave a modal dialog behind: the test would hang
             R["file_dialog_refused"] = True
             w.reject()
-    QtCore.QTimer.singleShot(1500, fill)
+    when_modal(fill, QtGui.QFileDialog)
     FreeCADGui.runCommand("CamWorkbench_NewPlateCamFromSpec")
 
 def opened():

@@ -14,7 +14,7 @@ import pytest
 
 from cam_workbench.freecad import install as inst
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 from .freecad_support import fc_env, install_workbench, requires_freecadcmd, run_freecadcmd, user_mod_dir
 
 
@@ -22,7 +22,7 @@ def cli(*args: str, home: Path, extra_env: dict[str, str] | None = None) -> subp
     env = fc_env(home)
     env.update(extra_env or {})
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", *args], capture_output=True,
-                          text=True, env=env, cwd=ROOT, timeout=600, stdin=subprocess.DEVNULL)
+                          text=True, env=env, cwd=ROOT, timeout=SAFETY_S, stdin=subprocess.DEVNULL)
 
 
 def test_install_into_mod_dir_links_this_checkout(tmp_path):

@@ -45,6 +45,7 @@ doc.recompute()
 for o in doc.Objects:
     if o.Name in RESULT:
         RESULT[o.Name].update(status=o.Status, volume=o.Shape.Volume, valid=o.Shape.isValid(),
+                              curves_choices=o.getEnumerationsOfProperty("DrawingCurves"),
                               spec=P.spec_dict(o), tip=o.getDocumentationOfProperty("FollowerPreload"),
                               tip_thickness=o.getDocumentationOfProperty("CamThickness"))
 doc.save()
@@ -71,6 +72,11 @@ def _same(spec_dict: dict, spec) -> bool:
     return json.loads(json.dumps(spec_dict)) == json.loads(json.dumps(spec.to_dict()))
 
 
+#: what an old document stored for the fields whose defaults changed since: the exact SPLINE (the
+#: default drawing.curves until "cubic") and the title "Plate cam" (the body's name since)
+OLD_DRAWING = {"drawing.curves": "spline", "drawing.title": "Plate cam"}
+
+
 NEW_TYPES = {"FollowerPreload": "App::PropertyForce", "FollowerMass": "App::PropertyFloatConstraint",
              "FollowerSpringRate": "App::PropertyFloatConstraint", "MachiningFeedRate": "App::PropertySpeed",
              "MaterialAllowableStress": "App::PropertyPressure", "CamThickness": "App::PropertyLength"}
@@ -85,8 +91,10 @@ def test_round_one_document_opens_and_gains_the_new_sections(tmp_path, fc_home):
 
     res, first, second = _open(tmp_path, fc_home, "freecad_round1_default.FCStd")
     r = res["PlateCam"]
-    expected = example_spec("paper").replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345"})
+    expected = example_spec("paper").replace(**{"cam.thickness": 8.0, "motion[1].law": "poly345", **OLD_DRAWING})
     assert r["version"] == 4 and r["types"] == NEW_TYPES
+    # a choice added since is offered; the stored one is kept
+    assert r["curves_choices"] == ["cubic", "spline", "arcs", "polyline"]
     assert _same(r["spec"], expected), r["spec"]
     vol = PlateCam(expected).volume
     assert r["status"] == "ok" and r["valid"]
@@ -114,10 +122,10 @@ def test_plain_number_document_is_converted_to_units(tmp_path, fc_home):
     from cam_workbench import PlateCam
 
     res, first, second = _open(tmp_path, fc_home, "freecad_v1_plain_numbers.FCStd")
-    ex5 = load_spec(FIXTURES / "thesis_ex5_final.toml")
+    ex5 = load_spec(FIXTURES / "thesis_ex5_final.toml").replace(**OLD_DRAWING)
     loaded = example_spec("paper").replace(**{"follower.preload": 50.0, "follower.mass": 0.5,
                                        "follower.spring_rate": 2.0, "machining.feed_rate": 450.0,
-                                       "material.allowable_stress": 900.0})
+                                       "material.allowable_stress": 900.0, **OLD_DRAWING})
     for name, spec in (("Ex5", ex5), ("Loaded", loaded)):
         r = res[name]
         assert r["version"] == 4 and r["types"] == NEW_TYPES, name
@@ -222,7 +230,7 @@ def test_v3_follower_document_is_converted(tmp_path, fc_home):
     lbf_n = 0.45359237 * 9.80665
     for name, spec in _v3_expected().items():
         r = res[name]
-        expected = CamSpec.from_dict(spec)
+        expected = CamSpec.from_dict(spec).replace(**OLD_DRAWING)
         assert r["version"] == 4, name
         assert _same(r["spec"], expected), (name, r["spec"])
         assert _same(r["again"]["spec"], expected) and r["again"]["version"] == 4, name

@@ -17,7 +17,7 @@ import pytest
 
 from generators.spec import load_spec
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
 pytestmark = requires_freecadcmd
@@ -244,7 +244,7 @@ RESULT["listing"] = sorted(os.listdir(OUT))
 
 def _cli(*args: str, cwd) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, timeout=600, stdin=subprocess.DEVNULL, env=cli_env())
+                          text=True, cwd=cwd, timeout=SAFETY_S, stdin=subprocess.DEVNULL, env=cli_env())
 
 
 @pytest.fixture(scope="module")

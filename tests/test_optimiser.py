@@ -22,7 +22,7 @@ from generators.optimise import optimise
 from generators.optimise.model import SmoothModel
 from generators.optimise.space import DesignSpace
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 
 FIXTURES = ROOT / "tests" / "fixtures"
 #: The thesis' Eq. 5.7 with the signed radius of curvature: the pitch curve must be convex.
@@ -257,7 +257,7 @@ def test_cancel_by_callback_and_event():
 
     t = threading.Thread(target=worker)
     t.start()
-    t.join(60)
+    t.join(SAFETY_S)
     assert not t.is_alive() and out["r"].status == "cancelled" and out["r"].evaluations == 3
 
 

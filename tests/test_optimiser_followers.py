@@ -311,12 +311,16 @@ def _assert_valid_result(res, start):
         start.cam, start.follower, start.motion)
 
 
+#: an oscillating follower's position as design variables (named: "auto" holds it)
+ARM = "base_radius, pivot_distance, arm_length"
+
+
 @pytest.mark.parametrize("kind", ["roller", "knife"])
-def test_oscillating_cam_auto_is_smaller_and_passes(kind):
-    """auto = R_b, pivot distance and arm length: a smaller cam (area inside the pitch curve, exact)
+def test_oscillating_cam_with_its_arm_is_smaller_and_passes(kind):
+    """R_b, pivot distance and arm length: a smaller cam (area inside the pitch curve, exact)
     that passes every dense check; pivot and arm stay in their default bounds [½, 2] × the start."""
     spec = CamSpec.from_dict(oscillating_roller(kind))
-    res = optimise(spec)
+    res = optimise(spec, variables=ARM)
     _assert_valid_result(res, spec)
     names = [v["name"] for v in res.report()["variables"]]
     assert names == ["cam.base_radius", "follower.pivot_distance", "follower.arm_length"]
@@ -328,11 +332,30 @@ def test_oscillating_cam_auto_is_smaller_and_passes(kind):
     assert abs(f.pivot_distance - f.arm_length) < res.spec.cam.base_radius < f.pivot_distance + f.arm_length
 
 
+@pytest.mark.parametrize("spec_dict, held", [
+    ({**DEFAULT_SPEC_DICT, "follower": {**DEFAULT_SPEC_DICT["follower"], "offset": 5.0}}, ("offset",)),
+    (oscillating_roller(), ("pivot_distance", "arm_length")),
+    (oscillating_flat(face_width=40.0), ("pivot_distance", "face_offset")),
+    (translating_flat(face_width=50.0, offset=1.0), ("offset",)),
+])
+def test_auto_moves_only_the_cams_size(spec_dict, held):
+    """``optimise.variables = "auto"``: the base radius only; the follower's position — fixed by the
+    machine as a rule — stays the user's (issue 20)."""
+    spec = CamSpec.from_dict(spec_dict)
+    space = DesignSpace(spec)
+    assert space.labels == ("cam.base_radius",)
+    res = optimise(spec, max_evaluations=300)
+    assert [v["name"] for v in res.report()["variables"]] == ["cam.base_radius"]
+    for name in held:
+        assert getattr(res.spec.follower, name) == getattr(spec.follower, name)
+    assert res.feasible and res.status_text.startswith("every check passes — ")
+
+
 def test_oscillating_roller_bspline_control_points():
     """An oscillating roller on thesis Example 5's B-spline lifts (15° of arm): R_b, d, L and every
     control point; the area goes down and every dense check passes."""
     spec = bspline_variant(OSC_ROLLER_BSPLINE, 15.0)
-    res = optimise(spec, max_evaluations=400)
+    res = optimise(spec, max_evaluations=400, variables=ARM + ", control_points")
     _assert_valid_result(res, spec)
     assert len(res.variables) == 3 + 2 * 12
 
@@ -341,7 +364,7 @@ def test_oscillating_flat_face_with_its_face_width():
     """An oscillating flat face whose contact must stay on a 40 mm face centred on the travel (no
     arm_length): R_b, pivot distance and face offset; the face width check passes at its limit."""
     spec = CamSpec.from_dict(oscillating_flat(face_width=40.0))
-    res = optimise(spec)
+    res = optimise(spec, variables="base_radius, pivot_distance, face_offset")
     _assert_valid_result(res, spec)
     assert [v["name"] for v in res.report()["variables"]] == [
         "cam.base_radius", "follower.pivot_distance", "follower.face_offset"]
@@ -365,7 +388,8 @@ def test_the_model_is_finite_where_the_arm_cannot_reach():
     from generators.optimise.objectives import make_objective
     from generators.optimise.run import ScaledProblem
 
-    spec = CamSpec.from_dict(oscillating_roller()).replace(**{"optimise.pivot_distance_max": 200.0})
+    spec = CamSpec.from_dict(oscillating_roller()).replace(**{"optimise.pivot_distance_max": 200.0,
+                                                              "optimise.variables": ARM})
     space = DesignSpace(spec)
     model = SmoothModel(space)
     prob = ScaledProblem(space, model, make_objective("area", model), 1e-4, 1.0, 16)
@@ -386,7 +410,7 @@ def test_wide_bounds_never_end_outside_the_geometry():
     spec = CamSpec.from_dict(oscillating_roller()).replace(**{
         "optimise.pivot_distance_min": 20.0, "optimise.pivot_distance_max": 200.0,
         "optimise.arm_length_min": 10.0, "optimise.arm_length_max": 150.0, "optimise.base_radius_min": 15.0})
-    res = optimise(spec, max_evaluations=500)
+    res = optimise(spec, max_evaluations=500, variables=ARM)
     assert space_valid(res.spec)
     assert res.feasible
 
@@ -427,12 +451,13 @@ def test_variables_that_do_not_fit_the_follower_are_refused(spec_dict, changes, 
 def test_a_bound_that_excludes_the_start_is_refused(bound, value, start):
     spec = CamSpec.from_dict(oscillating_roller()).replace(**{bound: value})
     with pytest.raises(SpecError) as info:
-        optimise(spec)
+        optimise(spec, variables=ARM)
     assert info.value.field == bound and start in info.value.rule and f"got {value:g}" in info.value.rule
 
 
 def test_face_offset_bound_and_default_bounds_contain_the_start():
-    spec = CamSpec.from_dict(oscillating_flat(f=-25.0))
+    spec = CamSpec.from_dict(oscillating_flat(f=-25.0)).replace(
+        **{"optimise.variables": "base_radius, pivot_distance, face_offset"})
     space = DesignSpace(spec)
     assert space.labels == ("cam.base_radius", "follower.pivot_distance", "follower.face_offset")
     assert list(space.p0) == [40.0, 70.0, -25.0]

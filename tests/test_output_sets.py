@@ -1,6 +1,7 @@
-"""An output folder holds one cam's consistent set: replaced whole, never mixed — also when the
-process is killed while committing; foreign folders and files refused; stdout's reader going
-away is not an error."""
+"""An output folder holds one spec's consistent set: replaced whole or kept beside the identical
+spec's files, never mixed — also when the process is killed while committing; foreign folders and
+files refused; stdout's reader going away is not an error.  (Which folder a run may write into:
+tests/test_output_rule.py.)"""
 from __future__ import annotations
 
 import json
@@ -14,6 +15,7 @@ import time
 import pytest
 
 from exporters.atomic import MANIFEST, STAGING_TAG, OutputSet, read_manifest
+from exporters.output_rule import Claim
 from generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
@@ -29,38 +31,49 @@ def _listing(folder) -> set[str]:
     return {p.name for p in folder.iterdir()}
 
 
-def test_a_set_replaces_the_earlier_set_whole(tmp_path):
+def test_replace_replaces_the_earlier_set_whole(tmp_path):
     out = tmp_path / "out"
-    with OutputSet(out, digest="a") as o:
+    with OutputSet(out, Claim("t", "one", digest="a")) as o:
         o.add_text("x.txt", "1")
         o.add_text("y.txt", "1")
     assert _listing(out) == {"x.txt", "y.txt", MANIFEST}
-    with OutputSet(out, digest="b") as o:
+    with pytest.raises(SpecError, match="another cam's set"):
+        with OutputSet(out, Claim("t", "two", digest="b")) as o:
+            o.add_text("x.txt", "2")
+    with OutputSet(out, Claim("t", "two", digest="b", replace=True)) as o:
         o.add_text("x.txt", "2")
     assert _listing(out) == {"x.txt", MANIFEST}
     assert (out / "x.txt").read_text() == "2" and read_manifest(out)["spec_digest"] == "b"
 
 
-def test_merge_keeps_the_other_files_only_for_the_same_digest(tmp_path):
+def test_the_other_files_stay_only_for_the_same_digest(tmp_path):
     out = tmp_path / "out"
-    with OutputSet(out, digest="a") as o:
+    with OutputSet(out, Claim("build", "cam", digest="a")) as o:
         o.add_text("cam.step", "s")
         o.add_text("report.json", "{}")
-    with OutputSet(out, digest="a", merge=True) as o:
+    with OutputSet(out, Claim("check", "elsewhere", digest="a")) as o:
         o.add_text("report.json", '{"n": 1}')
     assert _listing(out) == {"cam.step", "report.json", MANIFEST}
-    assert read_manifest(out)["files"] == ["cam.step", "report.json"]
-    with OutputSet(out, digest="other", merge=True) as o:
+    m = read_manifest(out)
+    assert m["files"] == ["cam.step", "report.json"] and m["commands"] == ["build", "check"] and m["source"] == "cam"
+    # the same cam, another spec, writing one of the two files: refused (cam.step would contradict it)
+    with pytest.raises(SpecError, match=r"would leave 1 that do not match \(cam.step\)"):
+        with OutputSet(out, Claim("check", "cam", digest="other")) as o:
+            o.add_text("report.json", '{"n": 2}')
+    assert _listing(out) == {"cam.step", "report.json", MANIFEST}
+    # the same cam, another spec, writing both: replaced
+    with OutputSet(out, Claim("build", "cam", digest="other")) as o:
         o.add_text("report.json", '{"n": 2}')
-    assert _listing(out) == {"report.json", MANIFEST}
+        o.add_text("cam.step", "t")
+    assert read_manifest(out)["spec_digest"] == "other" and (out / "cam.step").read_text() == "t"
 
 
 def test_an_error_leaves_the_earlier_set_untouched(tmp_path):
     out = tmp_path / "out"
-    with OutputSet(out, digest="a") as o:
+    with OutputSet(out, Claim("t", "cam", digest="a")) as o:
         o.add_text("x.txt", "1")
     with pytest.raises(RuntimeError):
-        with OutputSet(out, digest="b") as o:
+        with OutputSet(out, Claim("t", "cam", digest="b")) as o:
             o.add_text("x.txt", "2")
             raise RuntimeError("boom")
     assert (out / "x.txt").read_text() == "1" and _listing(out) == {"x.txt", MANIFEST}
@@ -70,14 +83,15 @@ def test_an_error_leaves_the_earlier_set_untouched(tmp_path):
 def test_foreign_files_and_file_paths_are_refused(tmp_path):
     (tmp_path / "mine").mkdir()
     (tmp_path / "mine" / "notes.txt").write_text("keep me")
-    with pytest.raises(SpecError, match="notes.txt"):
-        with OutputSet(tmp_path / "mine") as o:
-            o.add_text("x.txt", "1")
+    for replace in (False, True):
+        with pytest.raises(SpecError, match="notes.txt"):
+            with OutputSet(tmp_path / "mine", Claim("t", replace=replace)) as o:
+                o.add_text("x.txt", "1")
     assert _listing(tmp_path / "mine") == {"notes.txt"}
     (tmp_path / "f").write_text("a file")
     for target in (tmp_path / "f", tmp_path / "f" / "sub"):
         with pytest.raises(SpecError, match="is a file"):
-            OutputSet(target).__enter__()
+            OutputSet(target, Claim("t")).__enter__()
 
 
 @requires_ocp
@@ -100,13 +114,14 @@ def test_second_build_and_check_of_another_cam_leave_no_mix(tmp_path):
     assert cli("build", "-o", str(out)).returncode == 0           # default: loaded follower
     first = _listing(out)
     assert "plot_force_stress.png" in first
-    assert cli("build", "--example", "paper", "-o", str(out)).returncode == 0   # no load: no force plot
+    # another cam: --replace (no load: no force plot)
+    assert cli("build", "--example", "paper", "-o", str(out), "--replace").returncode == 0
     second = _listing(out)
     assert "plot_force_stress.png" not in second
     assert second == set(read_manifest(out)["files"]) | {MANIFEST}
     rep = json.loads((out / "report.json").read_text())
     assert rep["spec_digest"] == read_manifest(out)["spec_digest"]
-    assert cli("check", "-o", str(out)).returncode == 0          # another cam: its report only
+    assert cli("check", "-o", str(out), "--replace").returncode == 0          # another cam: its report only
     assert _listing(out) == {"report.json", MANIFEST}
 
 
@@ -121,7 +136,7 @@ def test_killed_builds_never_leave_a_mixed_folder(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     for i in range(10):
         example = "paper" if i % 2 else "default"
-        p = subprocess.Popen([*CLI, "build", "--example", example, "-o", str(out)], cwd=ROOT, env=env,
+        p = subprocess.Popen([*CLI, "build", "--example", example, "-o", str(out), "--replace"], cwd=ROOT, env=env,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
         time.sleep(rng.uniform(1.0, 6.0))
         p.send_signal(signal.SIGKILL)
@@ -130,7 +145,7 @@ def test_killed_builds_never_leave_a_mixed_folder(tmp_path):
         assert m is not None
         assert _listing(out) == set(m["files"]) | {MANIFEST}
         assert json.loads((out / "report.json").read_text())["spec_digest"] == m["spec_digest"]
-    assert cli("build", "-o", str(out)).returncode == 0
+    assert cli("build", "-o", str(out), "--replace").returncode == 0
     assert not [p for p in tmp_path.iterdir() if STAGING_TAG in p.name]
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
 

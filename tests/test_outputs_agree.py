@@ -348,7 +348,11 @@ def test_bspline_outputs_claim_no_exactness(bspline):
     assert not _unqualified(dxf_text, "exact"), _unqualified(dxf_text, "exact")[:3]
     assert "rational" not in dxf_text.lower()
     tb = _title_block(bspline / "cam.dxf")
-    assert tb["PROFILE"] == f"B-SPLINE, DEGREE {prof['degree']}, {prof['poles']} POLES (FITTED OFFSET, NOT EXACT)"
+    assert tb["PROFILE"] == "FITTED OFFSET, NOT EXACT"
+    assert tb["PROFILE NURBS"] == f"B-SPLINE, DEGREE {prof['degree']}, {prof['poles']} POLES"
+    # drawn as a cubic spline (the default), its distance measured from that NURBS, not called exact
+    assert tb["DRAWN PROFILE ERROR"] == (f"MAX {report['drawing']['profile_max_error']:.2e} mm FROM THE PROFILE "
+                                         f"NURBS (TOL. {report['spec']['drawing']['chord_tolerance']:g})")
     assert tb["PROFILE FIT ERROR"].startswith(f"{err:.3e} mm FROM THE EXACT OFFSET OF THE FITTED PITCH B-SPLINE")
     # the CLI's line on the drawing
     from cam_workbench.commands.dxf_cmd import describe
@@ -373,10 +377,16 @@ def test_ph_claims_are_exact_where_true(default_design):
     assert ck.exact and sk["profile"]["degree"] == 5 and sk["profile"]["rational"] is False
     assert "rational" not in ck.text.replace("polynomial", "") and "exact" in ck.text
     doc, info = build_dxf(knife, sk)
-    assert info.summary()["exact"] is True
-    texts = " ".join(t.dxf.text for t in doc.modelspace().query('TEXT[layer=="TITLE"]'))
-    assert f"B-SPLINE, DEGREE 5, {sk['profile']['poles']} POLES (THE PH PITCH CURVE, EXACT)" in texts
-    assert "RATIONAL" not in texts
+    assert info.summary()["exact"] is False          # the default draws it as a cubic spline …
+    texts = [t.dxf.text for t in doc.modelspace().query('TEXT[layer=="TITLE"]')]
+    assert "THE PH PITCH CURVE, EXACT" in texts and f"B-SPLINE, DEGREE 5, {sk['profile']['poles']} POLES" in texts
+    assert f"MAX {info.profile.max_error:.2e} mm FROM THE EXACT PROFILE (TOL. 0.001)" in texts
+    assert not any("RATIONAL" in t for t in texts)
+    exact = design_cam(knife.spec.replace(**{"drawing.curves": "spline"}))
+    doc, info = build_dxf(exact, sk)
+    assert info.summary()["exact"] is True           # … "spline" writes the exact curve itself
+    texts = [t.dxf.text for t in doc.modelspace().query('TEXT[layer=="TITLE"]')]
+    assert "SPLINE: THE NURBS ITSELF (ITS KNOTS, POLES, WEIGHTS)" in texts
 
 
 # ---- the plots' limits -------------------------------------------------------------------------

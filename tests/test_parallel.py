@@ -7,7 +7,9 @@ False, or a ``threading.Event``) ends the running starts early on the workers.""
 from __future__ import annotations
 
 import math
+import signal
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,7 +25,7 @@ from generators.studies.grid import Grid, parse_vary  # noqa: E402
 from generators.studies.sizing import SizingSettings  # noqa: E402
 from generators.studies.sweep import run_sweep  # noqa: E402
 
-from .conftest import ROOT  # noqa: E402
+from .conftest import ROOT, SAFETY_S  # noqa: E402
 from .dask_cluster import loopback_cluster  # noqa: E402
 
 PAPER_MULTI = dict(objective="area", variables="base_radius,offset", multistart=5, seed=11)
@@ -125,10 +127,10 @@ def test_cancel_event_from_another_thread(remote):
     def progress(p):
         first.set()
 
-    timer = threading.Thread(target=lambda: (first.wait(60), stop.set()))
+    timer = threading.Thread(target=lambda: (first.wait(SAFETY_S), stop.set()))
     timer.start()
     res = optimise(load_spec(EX5), executor=remote, progress=progress, cancel=stop, **EX5_MULTI)
-    timer.join(5)
+    timer.join(SAFETY_S)
     assert res.status == "cancelled" and stop.is_set()
 
 
@@ -159,6 +161,37 @@ def test_sweep_on_dask_is_the_sequential_sweep(where, mode, sweep_reference, req
     assert {r["status"] for r in table.rows} == ({"ok", "bad input"} if mode == "evaluate" else {"ok"})
     assert seen[-1] == (len(ref), len(ref)) and [d for d, _ in seen] == sorted(d for d, _ in seen)
     assert table.meta["workers"] == 2
+
+
+def _blocked_signals() -> set[int]:
+    """The signals this thread blocks, read from the kernel (Linux)."""
+    status = Path(f"/proc/self/task/{threading.get_native_id()}/status").read_text()
+    mask = int(next(ln.split()[1] for ln in status.splitlines() if ln.startswith("SigBlk:")), 16)
+    return {k + 1 for k in range(64) if mask >> k & 1}
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads the signal mask from Linux's /proc")
+def test_local_workers_block_sigint(local):
+    """A terminal's Ctrl-C reaches every process of the foreground group; the local cluster's
+    workers block it (the command shuts them down), while this thread, after the cluster started,
+    does not (test_cli_studies: the command's Ctrl-C as a user types it)."""
+    masks = local.client.run(_blocked_signals)
+    assert len(masks) == 2 and all(signal.SIGINT in m for m in masks.values())
+    assert signal.SIGINT not in _blocked_signals()
+
+
+def test_ctrl_c_while_the_cluster_starts_is_held():
+    """A SIGINT that arrives while the local cluster starts is neither lost nor raised inside
+    Dask's start-up: it is held (dask_executor raises KeyboardInterrupt once the cluster can be
+    shut down), and the handler that was there is back afterwards."""
+    from cam_workbench.parallel import _sigint_held
+
+    before = signal.getsignal(signal.SIGINT)
+    with _sigint_held() as held:
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+        went_on = True
+    assert went_on and held == [signal.SIGINT]
+    assert signal.getsignal(signal.SIGINT) is before
 
 
 def test_worker_memory_is_reported(local):

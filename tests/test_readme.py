@@ -43,7 +43,7 @@ import pytest
 
 from generators.spec import load_spec
 
-from .conftest import ROOT
+from .conftest import ROOT, SAFETY_S
 from .freecad_support import FREECADCMD, run_freecadcmd
 
 README = ROOT / "README.md"
@@ -234,7 +234,7 @@ def _run(argv, **kw) -> subprocess.CompletedProcess:
 
 
 def _site_packages(python: Path | str) -> Path:
-    res = _run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], timeout=60)
+    res = _run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], timeout=SAFETY_S)
     assert res.returncode == 0, res.stderr
     return Path(res.stdout.strip())
 
@@ -365,7 +365,7 @@ def _after_sh(text: str, reader: Reader, res: subprocess.CompletedProcess) -> No
         assert "does not provide the extra" not in said, said
         code = (f"import cam_workbench, {reader.library}\nfrom cam_workbench import ocp_compat\n"
                 f"print(cam_workbench.__file__)\nprint([n for n, v in ocp_compat.distributions()])")
-        where = _run([str(reader.python), "-c", code], env=reader.env(), cwd=reader.work, timeout=300)
+        where = _run([str(reader.python), "-c", code], env=reader.env(), cwd=reader.work, timeout=SAFETY_S)
         assert where.returncode == 0, where.stderr
         path, dists = where.stdout.strip().splitlines()[-2:]
         assert path.startswith(str(reader.venv)), path          # the wheel, not the checkout

@@ -15,7 +15,7 @@ import pytest
 from exporters.report_html import Series, lookup, render_report, report_plots
 from generators import default_spec, design_cam
 
-from .conftest import ROOT, requires_ocp, paper_args
+from .conftest import ROOT, SAFETY_S, requires_ocp, paper_args
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
@@ -121,7 +121,9 @@ def test_build_writes_every_file(built):
     for name in files["plots"]:
         data = (built / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
-    assert report["drawing"]["curves"] == "spline" and report["drawing"]["exact"] is True
+    # drawn as cubic splines within the tolerance (the default), so not the exact curve itself
+    assert report["drawing"]["curves"] == "cubic" and report["drawing"]["exact"] is False
+    assert 0 < report["drawing"]["profile_max_error"] <= report["drawing"]["chord_tolerance"]
     assert report["spec"]["cam"]["base_radius"] == pytest.approx(22.360679775)
 
 
@@ -266,7 +268,7 @@ def test_renders_in_headless_chromium(built, artifacts, tmp_path):
     uri = (built / "report.html").resolve().as_uri()
     cmd = [*base, f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}", "--window-size=1280,4000",
            "--hide-scrollbars", uri]
-    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=SAFETY_S)
     assert res.returncode == 0, res.stderr[-2000:]
     import matplotlib.pyplot as plt
 
@@ -279,7 +281,7 @@ def test_renders_in_headless_chromium(built, artifacts, tmp_path):
     assert (main.mean(axis=2) < 0.4).mean() > 0.01
     # the DOM Chromium built has every figure with its SVG
     dom = subprocess.run([*base, f"--user-data-dir={tmp_path / 'profile2'}", "--dump-dom", uri],
-                         capture_output=True, text=True, timeout=120)
+                         capture_output=True, text=True, timeout=SAFETY_S)
     assert dom.returncode == 0
     report = json.loads((built / "report.json").read_text())
     for name in report["files"]["plots"]:

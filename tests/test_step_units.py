@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from .conftest import ROOT, requires_ocp
+from .conftest import ROOT, SAFETY_S, requires_ocp
 
 EX5 = ROOT / "tests" / "fixtures" / "thesis_ex5_final.toml"
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
@@ -79,7 +79,7 @@ def test_freecad_reads_an_inch_step_at_its_size(tmp_path):
         "import json, Part\n"
         f"s = Part.read({str(tmp_path / 'o' / 'cam.step')!r})\n"
         f"open({str(out)!r}, 'w').write(json.dumps({{'volume': s.Volume, 'z': s.BoundBox.ZLength}}))\n")
-    fc = subprocess.run(["freecadcmd", str(script)], capture_output=True, text=True, timeout=300,
+    fc = subprocess.run(["freecadcmd", str(script)], capture_output=True, text=True, timeout=SAFETY_S,
                         stdin=subprocess.DEVNULL, env={"HOME": str(tmp_path), "PATH": "/usr/bin:/bin"})
     assert out.exists(), fc.stdout + fc.stderr
     got = json.loads(out.read_text())

@@ -218,8 +218,8 @@ def test_flat_face_cusp_radius_closed_form(law, h, beta):
         assert expected == pytest.approx(h * (math.pi**2 / (2 * math.radians(beta) ** 2) - 1), rel=1e-12)
     sz = smallest_base_radius(spec, SizingSettings(checks=("cusp",), tol=1e-3))
     assert sz.status == "ok" and sz.binding == ("cusp",)
-    assert expected < sz.radius <= expected + 1e-3 + 1e-9
-    assert sz.below <= expected and sz.radius - sz.below <= 1e-3 + 1e-9   # grid radii, decimal
+    assert expected < sz.value <= expected + 1e-3 + 1e-9
+    assert sz.below <= expected and sz.value - sz.below <= 1e-3 + 1e-9   # grid values, decimal
     assert sz.checks["cusp"].value > 0
 
 
@@ -258,7 +258,7 @@ def test_roller_pressure_angle_radius_by_brentq(law, h, beta, e):
     expected = roller_pressure_radius(law, h, beta, e, 30.0)
     sz = smallest_base_radius(spec, SizingSettings(checks=("pressure_angle",), tol=1e-3))
     assert sz.status == "ok" and sz.binding == ("pressure_angle",)
-    assert expected - 1e-7 < sz.radius <= expected + 1e-3 + 1e-7
+    assert expected - 1e-7 < sz.value <= expected + 1e-3 + 1e-7
     assert sz.below <= expected + 1e-7
     assert sz.checks["pressure_angle"].value <= 30.0
 
@@ -285,7 +285,7 @@ def test_no_radius_when_a_check_does_not_depend_on_it():
     spec = example_spec("default").replace(**{"follower.spring_rate": 0.0, "follower.preload": 0.0,
                                                "follower.mass": 5.0, "cam.speed_rpm": 3000.0})
     sz = smallest_base_radius(spec, SizingSettings(max_doublings=3))
-    assert sz.status == "no radius" and sz.radius is None
+    assert sz.status == "no radius" and sz.value is None
     assert "separation" in sz.reason and "no R_b up to 320" in sz.reason
 
 

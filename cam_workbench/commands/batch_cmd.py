@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from .common import add_parallel_arguments, check_parallel_arguments, count_progress, note, parse_value, require_ocp
+from .common import (add_output_arguments, add_parallel_arguments, check_parallel_arguments, count_progress, note,
+                     parse_value, require_ocp)
 
 EXIT_CHECK_FAILED = 3
 EXIT_SOME_FAILED = 4
@@ -27,12 +28,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         epilog="exit status: 0 every cam built and passing every design check; 3 every cam built, some "
                "failing a design check (the table says which); 4 some specs could not be built (bad input, "
                "cannot be made, internal error: their rows say why; the others are written); 2 bad command "
-               "line or OUT holding other files (nothing written); 130 interrupted (Ctrl-C: the cams done "
+               "line or OUT refused (files of yours, another study's or cam's set: nothing written); 130 "
+               "interrupted (Ctrl-C: the cams done "
                "stay, the summary marks the rest cancelled).",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("specs", nargs="+", metavar="SPEC", help="spec files (TOML) and folders of them")
-    p.add_argument("-o", "--output", default="batch", metavar="OUT",
-                   help="output folder (created if needed; default: batch)")
+    add_output_arguments(p, "batch", source=False)
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a field of every spec, e.g. --set cam.thickness=12 (repeatable)")
     add_parallel_arguments(p, "the builds")
@@ -56,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
     bar, cb = count_progress(len(jobs), "building", "cams")
     with bar:
         table = batch(args.specs, args.output, changes=changes or None, workers=args.workers,
-                      scheduler=args.scheduler, progress=cb, note=note)
+                      scheduler=args.scheduler, progress=cb, note=note, replace=args.replace, option="-o")
     return _report(table, Path(args.output))
 
 

@@ -6,10 +6,11 @@ import argparse
 from pathlib import Path
 
 from generators.checks.areas import area_label
+from generators.studies.remedies import remedy_lines
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
-                     spec_from_args)
+from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
+                     output_claim, plot_progress, require_ocp, spec_from_args)
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -23,14 +24,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, "out")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     require_ocp("build")
+    admit_output(args, spec, "build")
     design = design_for(spec)
     bar, dcb = dynamics_progress(spec)
     with bar:
@@ -38,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, progress=cb)
+        report = write_outputs(outputs, out, output_claim(args, spec, "build"), progress=cb)
     _print_summary(report, out)
     return 0
 
@@ -68,6 +69,7 @@ def _print_summary(s: dict, out: Path) -> None:
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
                                  f"FAILED {', '.join(ck['failed'])} (see `cam-workbench check`)"))
+    _print_remedies(ck)
     cont = ck["results"].get("continuity")
     if cont and cont["status"] == "fail":
         print(f"  warning: a segment junction breaks its laws' promise: {cont['note']}")
@@ -102,6 +104,12 @@ def _print_summary(s: dict, out: Path) -> None:
             print(f"  {m2['file']}: the second cam's {m['program']} program, {m2['gcode_lines']} lines")
 
 
+def _print_remedies(checks: dict) -> None:
+    """A line per failing check: report.json's ``checks.results[name].remedy``."""
+    for line in remedy_lines(checks):
+        print(f"    remedy {line}")
+
+
 def area_text(s: dict) -> str:
     """report.json's areas named apart, as report.json names them: ``area`` (the built
     cross-section) and the design-intent ``areas`` — the thesis' Eq. 4.21 area where the
@@ -132,6 +140,7 @@ def _print_body_summary(s: dict, out: Path) -> None:
     print(f"  volume {s['volume']:.6g} {u}³ (kernel {sol.get('volume_rel_diff', float('nan')):+.2e} relative)")
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    _print_remedies(ck)
     m = s.get("machining") or {}
     if m:
         print(f"  cam.nc: 4-axis X-Z-A program, tool radius {m['tool_radius']:g} {u}, {m['gcode_lines']} lines")

@@ -1,5 +1,5 @@
-"""``cam-workbench check``: the design checks (thesis Ch. 3) as a table and as the ``checks``
-section of report.json; exit status 3 when a check fails, so scripts can gate on it."""
+"""``cam-workbench check``: the design checks (thesis Ch. 3) as a table and, with ``-o``, as the
+``checks`` section of report.json; exit status 3 when a check fails, so scripts can gate on it."""
 from __future__ import annotations
 
 import argparse
@@ -12,11 +12,13 @@ from exporters.report_json import report_json_text
 from generators.checks.areas import area_label, area_summary
 from generators.checks.design import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
+from generators.studies.remedies import add_remedies, remedy_lines, with_remedy
 from generators.motion import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
-from .common import add_spec_arguments, design_for, own_design, spec_from_args
+from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, own_design,
+                     spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 
@@ -27,14 +29,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Evaluate the design checks of the spec's cam — pressure angle, separation "
                     "(driving force), oscillation, Hertz contact stress, radius of curvature with the "
                     "undercut safety factor, and the true roller-envelope undercut (thesis Ch. 3) — "
-                    "print them as a table and write them as the `checks` section of report.json in the "
-                    "output folder (merged into a report.json that `build` wrote for the same spec). "
+                    "print them as a table; with -o, write them as the `checks` section of report.json in "
+                    "that folder (merged into a report.json that `build` wrote for the same spec). "
+                    "Writes nothing without -o. "
                     "Limits and sampling come from the spec's [checks], [material] and [follower].",
         epilog="exit status: 0 every check passes, 3 a check failed, 2 bad input (nothing written).",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder for report.json (created if needed; default: out)")
+    add_output_arguments(p, None, "output folder for report.json")
     p.add_argument("--sampling", choices=("dense", "thesis71"),
                    help="override checks.sampling: dense sampling, or the thesis' 71 nodes per rise/return")
     p.set_defaults(run=run)
@@ -44,10 +46,12 @@ def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     if args.sampling:
         spec = spec.replace(**{"checks.sampling": args.sampling})
+    if args.output is not None:
+        admit_output(args, spec, "check", ("report.json",))
     try:
         # the numbers `build` reports for the same spec (one pipeline), without solid or files
         summary = run_pipeline(spec, solid=False, machining=False, drawing=False,
-                               design=design_for(spec)).summary
+                               design=design_for(spec, remedy=False)).summary
         error = None
     except GeometryError as exc:
         if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
@@ -60,18 +64,21 @@ def run(args: argparse.Namespace) -> int:
             checks_dict = checks_only.to_dict()
             areas = area_summary(spec)
         if checks_dict["passed"]:
-            raise          # a cam that cannot be made though its checks pass: exit 2, nothing written
+            # a cam that cannot be made though its checks pass: exit 2, nothing written
+            raise with_remedy(spec, exc) from None
+        add_remedies(checks_dict, spec)
         error = exc
         summary = {"units": spec.units, "spec_digest": spec_digest(spec),
                    **({"areas": areas} if areas is not None else {}),
                    "motion": MotionProgram.from_spec(spec).report(),
                    "checks": checks_dict, "spec": spec.to_dict(),
                    "buildable": {"ok": False, "message": str(exc), "at_deg": exc.angle_deg}}
-    out = Path(args.output)
-    report = merged_report(out / "report.json", spec, summary)
-    # a build of the same spec keeps its other files (its numbers are these); any other set is replaced
-    with OutputSet(out, digest=spec_digest(spec), command="check", merge=True) as o:
-        o.add_text("report.json", report_json_text(report))
+    out = None if args.output is None else Path(args.output)
+    report = summary if out is None else merged_report(out / "report.json", spec, summary)
+    if out is not None:
+        # a set of the same spec keeps its other files (its numbers are these): exporters.output_rule
+        with OutputSet(out, output_claim(args, spec, "check")) as o:
+            o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
     args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
     print_table(checks, spec, out, report.get("areas"), report.get("motion", {}).get("junctions"),
@@ -100,7 +107,7 @@ def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[st
     return summary
 
 
-def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[str, float] | None,
+def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: dict[str, float] | None,
                 junctions: list[dict[str, Any]] | None = None, follower_curve: str = "pitch curve") -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
     Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
@@ -124,6 +131,8 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
             f" ({r['note']})" if r["note"] and r["status"] != "pass" else "")
         table.add_row(f"{name} ({r['kind']})", format_value(r["value"], r["unit"]), at, limit, status)
     console.print(table)
+    for line in remedy_lines(checks):          # report.json's checks.results[name].remedy
+        console.print(f"[bold]remedy[/] {escape(line)}")
     ext = Table(title="extremes (largest magnitude, signed)")
     for col in ("quantity", "value", "at"):
         ext.add_column(col, justify="left" if col == "quantity" else "right")
@@ -137,7 +146,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path, areas: dict[st
         console.print(escape(area_line(areas, spec.units, follower_curve)))
     verdict = ("[green]all checks pass[/]" if checks["passed"]
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
-    console.print(f"{verdict} — checks written to {out}/report.json")
+    console.print(verdict + ("" if out is None else f" — checks written to {out}/report.json"))
 
 
 

@@ -1,4 +1,5 @@
-"""Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, progress."""
+"""Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, the output folder's
+claim, progress."""
 from __future__ import annotations
 
 import argparse
@@ -9,6 +10,7 @@ from generators.spec.examples import DESCRIPTIONS, example_spec
 from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
+    from exporters.output_rule import Claim
     from generators.cam_design import CamDesign
 
 
@@ -22,6 +24,49 @@ def add_spec_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a spec field, e.g. --set cam.base_radius=30 or "
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
+
+
+def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: str = "output folder",
+                         source: bool = True) -> None:
+    """``-o OUT`` (a folder: ``default``, or None: no folder, nothing written), ``--replace`` and,
+    with ``source``, ``--source NAME`` (the rule: docs/cli.md, "Output folders and your files")."""
+    where = f"default: {default}" if default else "omitted: nothing is written"
+    p.add_argument("-o", "--output", default=default, metavar="OUT",
+                   help=f"{what} (created if needed; {where}); it may hold the set of the same spec, or "
+                        "of the same cam when this run writes every file of it; another cam's set only with "
+                        "--replace; never files of yours (docs/cli.md)")
+    p.add_argument("--replace", action="store_true",
+                   help="replace the cam-workbench set the folder holds, whatever cam it is of (a folder "
+                        "holding files of yours is still refused)")
+    if source:
+        p.add_argument("--source", metavar="NAME", default=None,
+                       help="the cam's name recorded in the folder's manifest (default: SPEC's resolved path, "
+                            "or example:NAME); a later run for the same name may replace the set")
+
+
+def source_of(args: argparse.Namespace) -> str:
+    """The cam the run is for: ``--source``, SPEC's resolved path, or ``example:NAME``."""
+    from exporters.output_rule import file_source
+
+    if args.source:
+        return str(args.source)
+    return file_source(args.spec) if args.spec else f"example:{args.example or 'default'}"
+
+
+def output_claim(args: argparse.Namespace, spec: CamSpec, command: str) -> "Claim":
+    """The claim of ``command`` writing the files of ``spec``'s cam into ``-o``."""
+    from exporters.output_rule import spec_claim
+
+    return spec_claim(spec, command, source_of(args), replace=args.replace)
+
+
+def admit_output(args: argparse.Namespace, spec: CamSpec, command: str, names: tuple[str, ...] | None = None) -> None:
+    """Before any work: refuse ``-o`` where ``command`` may not write the files ``names`` (None:
+    not known yet — then only what no run could write into; the full rule is applied again when
+    the files are written) — exit 2, nothing written."""
+    from exporters.output_rule import admit
+
+    admit(args.output, output_claim(args, spec, command), names)
 
 
 def parse_value(text: str, field: str = "--set") -> Any:
@@ -76,15 +121,24 @@ def require_ocp(command: str) -> None:
     require(f"cam-workbench {command} (the solid, its checks and cam.step)")
 
 
-def design_for(spec: CamSpec) -> "CamDesign":
-    """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M."""
+def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
+    """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M; a cam that
+    cannot be made is refused with the change that would make it (``remedy``:
+    :func:`generators.studies.remedies.with_remedy`)."""
     from generators.cam_design import design_cam
+    from generators.errors import GeometryError
+    from generators.studies.remedies import with_remedy
 
-    if spec.pitch.tolerance is None:
-        return design_cam(spec)
-    prog, cb = progress_reporter("choosing M for pitch.tolerance")
-    with prog:
-        return design_cam(spec, progress=cb)
+    try:
+        if spec.pitch.tolerance is None:
+            return design_cam(spec)
+        prog, cb = progress_reporter("choosing M for pitch.tolerance")
+        with prog:
+            return design_cam(spec, progress=cb)
+    except GeometryError as exc:
+        if not remedy:
+            raise
+        raise with_remedy(spec, exc) from None
 
 
 def progress_console() -> Any:

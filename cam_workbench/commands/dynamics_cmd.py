@@ -1,8 +1,8 @@
 """``cam-workbench dynamics``: the follower train at speed — dynamic contact force, separation,
 the jump speed (a sweep with a progress bar and a bisection), residual vibration and the camshaft
-torque — printed as tables and written as report.json's ``dynamics`` section (merged into a
-report.json of the same cam, as ``check`` merges its checks), ``dynamics.csv`` (the θ-series) and
-the two figures.  Exit status 3 when the follower leaves the cam at the analysis speed."""
+torque — printed as tables and, with ``-o``, written as report.json's ``dynamics`` section (merged
+into a report.json of the same cam, as ``check`` merges its checks), ``dynamics.csv`` (the θ-series)
+and the two figures.  Exit status 3 when the follower leaves the cam at the analysis speed."""
 from __future__ import annotations
 
 import argparse
@@ -17,7 +17,7 @@ from generators.followers import follower_of
 from generators.motion.program import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
-from .common import add_spec_arguments, progress_console, spec_from_args
+from .common import add_output_arguments, add_spec_arguments, admit_output, output_claim, progress_console, spec_from_args
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -33,16 +33,16 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "when the follower leaves it) and print the dynamic contact force, where the follower leaves the "
                     "cam, the displacement error, the residual vibration after each rise and return, the camshaft "
                     "torque (rigid and dynamic) and the jump speed (a sweep of cam speeds with a progress bar, then "
-                    "a bisection). Writes report.json's dynamics section (merged into a report.json of the same "
-                    f"cam), {CSV_NAME} and the figures {', '.join(PLOTS)} into the output folder. docs/dynamics.md",
+                    "a bisection). With -o, writes report.json's dynamics section (merged into a report.json of the "
+                    f"same cam), {CSV_NAME} and the figures {', '.join(PLOTS)} into that folder; writes nothing "
+                    "without -o. docs/dynamics.md",
         epilog="exit status: 0 the follower stays on the cam, 3 it leaves the cam at the analysis speed (the files "
                "are written), 2 bad input (nothing written).",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
     p.add_argument("--speed", type=float, metavar="RPM", help="cam speed of the analysis (dynamics.speed_rpm)")
     p.add_argument("--no-sweep", action="store_true", help="skip the jump-speed sweep (dynamics.sweep_points = 0)")
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, None)
     p.set_defaults(run=run)
 
 
@@ -70,19 +70,24 @@ def run(args: argparse.Namespace) -> int:
     if changes:
         spec = spec.replace(**changes)
     validate_dynamics(spec, required=True)          # bad input: exit 2 naming the field, nothing written
+    if args.output is not None:
+        admit_output(args, spec, "dynamics")
     program = MotionProgram.from_spec(spec)
     bar, cb = sweep_progress()
     with bar:
         result = analyse_dynamics(spec, program, progress=cb)
     section = result.summary()
-    out = Path(args.output)
-    report = merged_report(out / "report.json", spec, section)
-    figures = _figures(result, section)
-    with OutputSet(out, digest=spec_digest(spec), command="dynamics", merge=True) as o:
-        o.add_text("report.json", report_json_text(report))
-        o.add_text(CSV_NAME, series_csv(result))
-        for name, data in figures.items():
-            o.add_bytes(name, data)
+    out = None if args.output is None else Path(args.output)
+    if out is None:
+        report = json.loads(report_json_text({"dynamics": section}))     # the numbers report.json would hold
+    else:
+        report = merged_report(out / "report.json", spec, section)
+        figures = _figures(result, section)
+        with OutputSet(out, output_claim(args, spec, "dynamics")) as o:
+            o.add_text("report.json", report_json_text(report))
+            o.add_text(CSV_NAME, series_csv(result))
+            for name, data in figures.items():
+                o.add_bytes(name, data)
     kept = report["dynamics"]["contact"]["kept"]
     args.status = 0 if kept else EXIT_CONTACT_LOST
     print_tables(report["dynamics"], out)
@@ -150,7 +155,7 @@ def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
     return out
 
 
-def print_tables(d: dict[str, Any], out: Path) -> None:
+def print_tables(d: dict[str, Any], out: Path | None) -> None:
     """report.json's ``dynamics`` section as tables — the values printed are report.json's own."""
     from rich.console import Console
     from rich.markup import escape
@@ -212,4 +217,5 @@ def print_tables(d: dict[str, Any], out: Path) -> None:
                          f"{fmt(drive['positive_share'])}, negative share {fmt(drive['negative_share'])})"))
     verdict = ("[green]the follower stays on the cam[/]" if c["kept"] else
                f"[bold red]the follower LEAVES the cam ({escape(fmt(c['off_cam_deg']))}° of the revolution)[/]")
-    con.print(f"{verdict} — written to {escape(str(out))}/: report.json, {CSV_NAME}, {', '.join(PLOTS[:1 + ('jump_speed' in d)])}")
+    con.print(verdict + ("" if out is None else f" — written to {escape(str(out))}/: report.json, {CSV_NAME}, "
+                                               f"{', '.join(PLOTS[:1 + ('jump_speed' in d)])}"))

@@ -10,7 +10,8 @@ import sys
 from pathlib import Path
 
 from exporters.ecam import ecam_table
-from generators.spec import ECAM_TABLES
+from exporters.output_rule import check_output_file
+from generators.spec import ECAM_TABLES, spec_digest
 
 from .common import add_spec_arguments, spec_from_args
 
@@ -41,12 +42,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--name", metavar="NAME", help="the cam's name in the PLC code (ecam.name)")
     p.add_argument("--json", action="store_true", help="print the deviation summary as JSON")
     p.add_argument("-o", "--output", metavar="FILE",
-                   help="output file (written atomically); omitted: standard output, the summary on standard error")
+                   help="output file (written atomically, replacing a file of that name); omitted: standard output, "
+                        "the summary on standard error")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)         # any body: the table is the motion's alone
+    if args.output:
+        check_output_file(args.output, digest=spec_digest(spec))
     table = ecam_table(spec, args.format, table=args.table, step=args.step,
                        boundaries=False if args.no_boundaries else None, name=args.name)
     summary = table.summary()

@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 
 from exporters.atomic import write_text_atomic
+from exporters.output_rule import check_output_file
+from generators.spec import spec_digest
 
 from ..pipeline import run_pipeline
 from .common import add_spec_arguments, design_for, spec_from_args
@@ -33,7 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "of the second (build writes both: cam.nc and cam2.nc); the command table is the "
                         "follower's, one for both")
     p.add_argument("-o", "--output", metavar="OUT",
-                   help="output file (written atomically); omitted: standard output")
+                   help="output file (written atomically, replacing a file of that name); omitted: standard output")
     p.set_defaults(run=run)
 
 
@@ -41,6 +43,8 @@ def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     if args.mode in ("xy", "xc"):
         spec = spec.replace(**{"machining.program": args.mode})
+    if args.output:
+        check_output_file(args.output, digest=spec_digest(spec))
     # the same machining stage `build` runs: cam.nc and commands.csv are these texts
     outputs = run_pipeline(spec, solid=False, machining=True, drawing=False, design=design_for(spec))
     if args.mode == "csv":

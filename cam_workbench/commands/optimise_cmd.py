@@ -14,8 +14,9 @@ from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, note, plot_progress,
-                     progress_console, require_ocp, spec_from_args)
+from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
+                     check_parallel_arguments, note, output_claim, plot_progress, progress_console, require_ocp,
+                     spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -47,8 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--multistart", type=int, metavar="N", help="override optimise.multistart (extra random starts)")
     p.add_argument("--seed", type=int, metavar="N", help="override optimise.seed")
     add_parallel_arguments(p, "the multistart's starts")
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, "out")
     p.set_defaults(run=run)
 
 
@@ -84,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
     over.update({f"optimise.{k}": v for k, v in changes.items()})
     if over:
         spec = spec.replace(**over)
+    admit_output(args, spec, "optimise")
     cfg = spec.optimise
     budget = cfg.max_evaluations * (1 + cfg.multistart)
     bar, cb = _progress_bar(budget)
@@ -96,8 +97,8 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, pcb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb,
-                               command="optimise")
+        report = write_outputs(outputs, out, output_claim(args, result.spec, "optimise"),
+                               extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb)
     _print(result, out, report)
     return 0 if result.feasible else EXIT_CHECK_FAILED
 
@@ -120,7 +121,7 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     if "areas" in report:           # a plane cam: its cross-section is not the objective's area
         con.print(escape(f"the optimised cam's {area_label('area')}: {report['area']:.6g} {report['units']}² "
                          "(report.json area)"))
-    con.print(escape(f"status: {opt['status']}"))
+    con.print(escape(f"status: {opt['status_text']}"))
     con.print(escape(f"message: {opt['message']}"))
     if not opt["initial_feasible"]:
         for v in opt["initial_violations"]:

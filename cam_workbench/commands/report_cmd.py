@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 
 from ..pipeline import HTML_NAME, JSON_NAME, plot_count, run_pipeline, write_outputs
-from .common import (add_spec_arguments, design_for, dynamics_progress, plot_progress, require_ocp,
-                     spec_from_args)
+from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
+                     output_claim, plot_progress, require_ocp, spec_from_args)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -19,14 +19,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "HTML tables show. Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
-    p.add_argument("-o", "--output", default="out", metavar="OUT",
-                   help="output folder (created if needed; default: out)")
+    add_output_arguments(p, "out")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
     require_ocp("report")
+    admit_output(args, spec, "report")
     # the same numbers as `build` (every stage runs); only the report files are written
     design = design_for(spec)
     bar, dcb = dynamics_progress(spec)
@@ -36,6 +36,6 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, progress=cb, command="report")
+        report = write_outputs(outputs, out, output_claim(args, spec, "report"), progress=cb)
     print(f"report written to {out}/: {HTML_NAME}, {JSON_NAME}, " + ", ".join(report["files"]["plots"]))
     return 0

@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from .common import (add_parallel_arguments, add_spec_arguments, check_parallel_arguments, count_progress, note,
-                     spec_from_args)
+from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, check_parallel_arguments,
+                     count_progress, note, source_of, spec_from_args)
 
 EXIT_SOME_FAILED = 4
 
@@ -53,16 +53,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--build", action="store_true",
                    help="build every point's cam with all of `build`'s files (OUT/point-NNN/)")
     add_parallel_arguments(p, "the points")
-    p.add_argument("-o", "--output", default="sweep", metavar="OUT",
-                   help="output folder (created if needed; default: sweep)")
+    add_output_arguments(p, "sweep")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from exporters.atomic import check_output_folder
+    from exporters.output_rule import admit
     from generators.studies.grid import Grid
 
-    from ..studies import make_grid, sweep, write_study
+    from ..studies import make_grid, sweep, sweep_claim, write_study
     from .common import require_ocp
 
     check_parallel_arguments(args)
@@ -72,14 +71,17 @@ def run(args: argparse.Namespace) -> int:
     if args.build:
         require_ocp("sweep --build")
     out = Path(args.output)
-    check_output_folder(out)
+    source = source_of(args)
+    admit(out, sweep_claim(spec, grid, size=bool(args.size), checks=args.size_checks, tol=args.tol, build=args.build,
+                           source=source, replace=args.replace, option="-o"))    # before any work
     bar, cb = count_progress(grid.size, "sizing" if args.size else "building" if args.build else "evaluating",
                              "points")
     with bar:
         table = sweep(spec, grid.axes, balance=grid.balance, size=bool(args.size), checks=args.size_checks,
                       tol=args.tol, build=out if args.build else None, workers=args.workers,
-                      scheduler=args.scheduler, progress=cb, note=note)
-    files = {} if args.build else write_study(table, out)
+                      scheduler=args.scheduler, progress=cb, note=note, source=source, replace=args.replace,
+                      option="-o")
+    files = {} if args.build else write_study(table, out, replace=args.replace, option="-o")
     _print(table, out, files)
     return 0 if table.ok else EXIT_SOME_FAILED
 
@@ -89,7 +91,7 @@ def _print(table: Any, out: Path, files: dict[str, str]) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from generators.studies.sizing import decimals_of
+    from generators.studies.sizing import digits_of
 
     from ..studies import grid_columns
 
@@ -99,8 +101,8 @@ def _print(table: Any, out: Path, files: dict[str, str]) -> None:
     meta = table.meta
     cols = grid_columns(table)
     if meta.get("kind") == "sizing":
-        # the radius with the digits the bisection's tolerance supports (a multiple of it: sizing.TolGrid)
-        digits = decimals_of(meta["tolerance"])
+        # the radius with the digits the bisection's tolerance supports (on its grid: sizing.TolGrid)
+        digits = digits_of(meta["tolerance"])
         t = Table(*cols, "smallest R_b", "binding check", title=f"smallest base radius ({meta['units']}, "
                   f"to {meta['tolerance']:g})")
         for r in rows[:40]:

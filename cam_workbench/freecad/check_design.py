@@ -21,6 +21,10 @@ own Python runs them):
   the follower's lift unit (report.json's ``motion.lift_unit``: the arm's degrees for an
   oscillating follower) — and FreeCAD's own verdict on the solid.
 
+A failing check (or a cam that cannot be made) also shows what makes it pass: the remedies of
+report.json's ``checks.results[name].remedy`` (``generators.studies.remedies``), the field named as
+its property.
+
 The follower is named by its own label (``Follower.describe()``, report.json's ``follower``
 section); which checks and rows exist is read from the results, never from the kind.
 
@@ -36,6 +40,7 @@ import numpy as np
 from generators.checks.claims import profile_claim
 from generators.checks.design import format_value as fmt_value
 from generators.checks.design import limit_sign
+from generators.studies.remedies import add_remedies, refusal_remedies
 from generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
@@ -116,6 +121,8 @@ class DesignReport:
     dynamics: list[DynamicsRow] = field(default_factory=list)
     #: why the dynamics could not be analysed (the library's message, the field named as the property)
     dynamics_error: str | None = None
+    #: what makes each failing check (or the refusal) pass: one line per check (:func:`remedy_texts`)
+    remedies: list[str] = field(default_factory=list)
 
     @property
     def contact_kept(self) -> bool | None:
@@ -179,6 +186,8 @@ class DesignReport:
                 cells = c.cells()
                 lines.append(f"    {cells[0]:<15} {cells[1]:>16} at {cells[2]:>9}  limit {cells[3]:<16} "
                              f"{cells[4]}" + (f" ({cells[5]})" if cells[5] and c.status != "pass" else ""))
+        for line in self.remedies:
+            lines.append(f"  to pass: {line}")
         if self.extremes:
             lines.append("  extremes: " + "; ".join(f"{n.replace('_', ' ')} {fmt_value(v, u)} at {a:.3f}°"
                                                     for n, v, a, u in self.extremes))
@@ -248,6 +257,7 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
         report.error = f"the cam cannot be made ({exc.kind}{where}): {exc}"
         report.checks_error = report.error
         report.rows.append(("Buildability", exc.kind.replace("_", " "), str(exc), "FAIL"))
+        report.remedies = remedy_texts(refusal_remedies(spec, exc))
         report.ok = False
         return report
     except CamError as exc:
@@ -259,8 +269,9 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     fol.setdefault("pressure_angle_text", s["pressure_angle"]["formula"])
     fol.setdefault("curvature_text", "of the developed centre line, (ρ² + s′²)^{3/2}/(ρ|s″|)")
     report.follower = fol
-    checks = s["checks"]                      # report.json's checks section
+    checks = add_remedies(s["checks"], spec)  # report.json's checks section
     report.checks_dict = checks
+    report.remedies = remedy_texts(checks["results"])
     report.sampling = _sampling_text(checks)
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
@@ -415,6 +426,25 @@ def check_rows(checks: Any) -> list[CheckRow]:
             for name, r in d["results"].items()]
 
 
+def remedy_texts(results: Any) -> list[str]:
+    """One line per failing check of report.json's ``checks.results`` (or of a refusal's remedies,
+    name → ``{"remedy": …}``): its remedy's own text, each field named as its property
+    (``CamBaseRadius (cam.base_radius) = 41.78 mm passes every check …``); the alternatives after "or"."""
+    lines = []
+    for name, r in results.items():
+        rem = r.get("remedy") if isinstance(r, dict) else None
+        if not rem:
+            continue
+        parts = []
+        for one in [rem, *(rem.get("alternatives") or [])]:
+            text = one["text"]
+            for path in one.get("changes") or {}:
+                text = text.replace(path, props.describe_field(path), 1)
+            parts.append(text)
+        lines.append(f"{name.replace('_', ' ')}: " + "; or ".join(parts))
+    return lines
+
+
 def checks_table(checks: Any) -> list[list[str]]:
     """The table Check design shows (one row of :meth:`CheckRow.cells` per check), from
     report.json's ``checks`` section: no FreeCAD needed."""
@@ -425,11 +455,12 @@ def _add_checks(report: DesignReport, spec: Any) -> None:
     from generators.checks.design import run_checks
 
     try:
-        checks = run_checks(spec).to_dict()  # the dict report.json's checks section is
+        checks = add_remedies(run_checks(spec).to_dict(), spec)  # the dict report.json's checks section is
     except CamError as exc:
         report.checks_error = str(exc)
         return
     report.checks_dict = checks
+    report.remedies = remedy_texts(checks["results"])
     report.sampling = _sampling_text(checks)
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
@@ -445,6 +476,9 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
         where = f" at cam angle {exc.angle_deg:.2f}°" if exc.angle_deg is not None else ""
         report.error = f"the cam cannot be made ({exc.kind}{where}): {exc}"
         report.rows.append(("Buildability", exc.kind.replace("_", " "), str(exc), "FAIL"))
+        failing = set(report.failed_checks)
+        report.remedies += remedy_texts({n: {"remedy": r} for n, r in refusal_remedies(spec, exc).items()
+                                         if n not in failing})      # a failing check's own is shown already
         return
     except CamError as exc:
         report.error = f"the cam cannot be made: {exc}"
@@ -608,6 +642,13 @@ def show_report(obj: Any) -> DesignReport:
         for r, c in enumerate(report.checks):
             checks.item(r, 0).setToolTip(c.description)
         cl.addWidget(checks, 3)
+        if report.remedies:
+            fixes = QtGui.QLabel("To pass (the nearest change of one property, the others held):\n"
+                                 + "\n".join(report.remedies))
+            fixes.setObjectName("remedies")
+            fixes.setWordWrap(True)
+            fixes.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
+            cl.addWidget(fixes)
         cl.addWidget(QtGui.QLabel("Extremes (largest magnitude, signed — the thesis' maximum values):"))
         cl.addWidget(_table("extremes", ["quantity", "value", "at cam angle"],
                             [[n.replace("_", " "), fmt_value(v, u), f"{a:.3f}°"]
@@ -620,6 +661,11 @@ def show_report(obj: Any) -> DesignReport:
         err.setWordWrap(True)
         err.setStyleSheet(f"color: {_RED}")
         bl.addWidget(err)
+        if report.remedies and report.checks_error:       # no checks page to show them on
+            fixes = QtGui.QLabel("To make it:\n" + "\n".join(report.remedies))
+            fixes.setObjectName("remedies")
+            fixes.setWordWrap(True)
+            bl.addWidget(fixes)
     bl.addWidget(_table("buildability", ["group", "check / quantity", "value", "status"],
                         [list(r) for r in report.rows], status_col=3))
     tabs.addTab(build_page, "Buildability and geometry")

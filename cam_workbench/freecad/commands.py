@@ -239,8 +239,8 @@ class _Export(Command):
 
 class ExportDxf(_Export):
     menu_text = "Export DXF…"
-    tooltip = ("Write the manufacturing drawing as DXF: the profile SPLINE (exact for a PH pitch curve; or arcs / a "
-               "polyline, Drawing properties), pitch curve, circles, dimensions, title block")
+    tooltip = ("Write the manufacturing drawing as DXF: the profile as a cubic SPLINE within the Drawing tolerance "
+               "(or the exact NURBS, arcs or a polyline: Drawing Curves), pitch curve, circles, dimensions, title block")
     icon = "ExportDxf.svg"
     group = "dxf"
 

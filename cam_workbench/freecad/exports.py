@@ -18,6 +18,11 @@ atomically by it (nothing is written when it fails), and its message is shown on
 Which CLI (:func:`find_cli`): ``$CAM_WORKBENCH_CLI``, the FreeCAD parameter
 ``BaseApp/Preferences/Mod/CamWorkbench/CliPath``, the Python recorded by ``cam-workbench
 freecad install`` (its marker file), ``cam-workbench`` on PATH.
+
+The output folder of the report follows the command line's rule (docs/cli.md, "Output folders
+and your files"), the cam named by its document and object (``--source
+freecad:<document>#<object>``): the same cam's earlier report there is replaced, another cam's
+set or a folder of the user's files is refused and the message says so.
 """
 from __future__ import annotations
 
@@ -32,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from exporters.output_rule import REPLACE_HINT
 from generators.errors import CamError, SpecError
 
 from . import properties as props
@@ -61,9 +67,9 @@ class ExportKind:
 
 KINDS: dict[str, ExportKind] = {k.key: k for k in (
     ExportKind("dxf", "Export DXF", ("dxf",), ".dxf", "DXF drawing (*.dxf)", "{label}.dxf",
-               "the manufacturing drawing: the profile as a SPLINE (exact for a PH pitch curve; or arcs / a "
-               "polyline within the Drawing tolerance), pitch curve, circles, bore, dimensions, "
-               "title block"),
+               "the manufacturing drawing: the profile as a cubic SPLINE within the Drawing tolerance, which "
+               "every DXF reader draws (or the exact NURBS, arcs or a polyline: Drawing Curves), pitch curve, "
+               "circles, bore, dimensions, title block"),
     ExportKind("gcode_xy", "Export G-code (XY contour)", ("gcode", "--mode", "xy"), ".nc",
                "G-code (*.nc *.ngc *.tap)", "{label}_xy.nc",
                "milling the outside contour: the exact tool-centre path as G02/G03 biarcs or G01 "
@@ -207,8 +213,12 @@ _CLI_ERROR = re.compile(r"^error: ([A-Za-z_][\w.\[\]]*): (.*)$", re.S)
 
 def cli_message(text: str) -> str:
     """The CLI's error line with the spec field shown as the property that holds it:
-    ``error: machining.sample_period: …`` → ``MachiningSamplePeriod (machining.sample_period): …``."""
+    ``error: machining.sample_period: …`` → ``MachiningSamplePeriod (machining.sample_period): …``;
+    a refused output (``error: -o: …``) as "Output: …", without the command line's ``--replace``
+    (the dialog has none: another folder is the way out)."""
     text = text.strip()
+    if text.startswith("error: -o: "):
+        return "Output: " + text[len("error: -o: "):].replace(REPLACE_HINT.format(option="--replace"), "")
     m = _CLI_ERROR.match(text)
     if m:
         shown = props.describe_field(m.group(1))
@@ -217,11 +227,20 @@ def cli_message(text: str) -> str:
 
 
 def command_line(kind: str, spec_path: str | os.PathLike[str], target: str | os.PathLike[str],
-                 cli: Cli | None = None) -> list[str]:
-    """The argv that makes ``kind`` from a spec file into ``target``."""
+                 cli: Cli | None = None, source: str | None = None) -> list[str]:
+    """The argv that makes ``kind`` from a spec file into ``target``; ``source`` names the cam
+    in an output folder's manifest (folder kinds only: :func:`cam_source`)."""
     k = KINDS[kind]
     cli = cli or find_cli()
-    return [*cli.argv, k.args[0], str(spec_path), *k.args[1:], "-o", str(target)]
+    named = ["--source", source] if source is not None and not k.suffix else []
+    return [*cli.argv, k.args[0], str(spec_path), *k.args[1:], *named, "-o", str(target)]
+
+
+def cam_source(obj: Any) -> str:
+    """The cam's source in an output folder's manifest: ``freecad:<document>#<object>`` (the
+    document's file, or its name while unsaved), so that exporting the same feature again after
+    an edit replaces its earlier report."""
+    return f"freecad:{obj.Document.FileName or obj.Document.Name}#{obj.Name}"
 
 
 def target_path(kind: str, target: str | os.PathLike[str]) -> Path:
@@ -259,7 +278,7 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
     with tempfile.TemporaryDirectory(prefix="camwb_export_") as tmp:
         spec_file = Path(tmp) / "spec.toml"
         spec_file.write_text(to_toml(spec), encoding="utf-8")
-        argv = command_line(kind, spec_file, out, cli)
+        argv = command_line(kind, spec_file, out, cli, cam_source(obj))
         try:
             res = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, cwd=tmp,
                                  env={**_cli_env(), **dict(cli.env)}, stdin=subprocess.DEVNULL,
@@ -360,6 +379,6 @@ def suggested(obj: Any, kind: str) -> Path:
     return Path(folder) / KINDS[kind].default_name.format(label=label)
 
 
-__all__ = ["Cli", "ExportError", "ExportKind", "ExportResult", "KINDS", "cli_message", "command_line",
+__all__ = ["Cli", "ExportError", "ExportKind", "ExportResult", "KINDS", "cam_source", "cli_message", "command_line",
            "ecam_rows", "export", "find_cli", "is_ecam", "suggested", "summary_rows", "target_path"]
 

@@ -474,13 +474,13 @@ class OptimiserPanel:
         self.progress.setValue(res.evaluations)
         unit = self._unit(res.objective)
         what = f"{res.objective} ({objective_label(res.objective, res.initial_spec)})"
-        self.live.setText(f"{res.status}: {what} {res.initial_value:.6g} → {res.value:.6g} {unit} in "
+        self.live.setText(f"{res.status_text}: {what} {res.initial_value:.6g} → {res.value:.6g} {unit} in "
                           f"{res.evaluations} evaluations, {res.time_s:.1f} s\n{res.message}")
         self.live.setStyleSheet("")
         self._show_result(res)
         self.scroll_to(self.form[4])
         out = FreeCAD.Console.PrintMessage if res.feasible else FreeCAD.Console.PrintWarning
-        out(f"{self.obj.Label}: optimise {res.status}: {what} {res.initial_value:.6g} → "
+        out(f"{self.obj.Label}: optimise {res.status_text}: {what} {res.initial_value:.6g} → "
             f"{res.value:.6g} {unit} in {res.evaluations} evaluations; "
             + ("every design check passes" if res.feasible else
                f"the result FAILS the dense re-check: {', '.join(res.checks.failed)}") + "\n")
@@ -526,15 +526,13 @@ class OptimiserPanel:
         self._fit(self.figure_table, 1)
         self._fit(self.check_table, 2)
         if res.feasible:
-            what = "cancelled: the best design found so far" if res.status == "cancelled" else res.status
-            self.verdict.setText(f"{what}; every design check passes on the dense re-check. "
+            self.verdict.setText(f"{res.status_text} (the dense re-check). "
                                  "Apply writes the optimised design and these settings into the cam "
                                  "(one undo step).")
             self.verdict.setStyleSheet(f"color: {_GREEN}")
             self.apply_button.setText("Apply to the cam")
         else:
-            self.verdict.setText(f"{res.status}: the optimised design FAILS the dense re-check "
-                                 f"({', '.join(n.replace('_', ' ') for n in res.checks.failed)}). "
+            self.verdict.setText(f"{res.status_text} (the dense re-check). "
                                  "Apply only if you accept that; you will be asked to confirm.")
             self.verdict.setStyleSheet(f"color: {_RED}; font-weight: bold")
             self.apply_button.setText("Apply anyway…")

@@ -323,7 +323,23 @@ def ensure_properties(obj: Any, initial: dict[str, Any] | None = None) -> list[s
                             f"Include the [{section}] section in the spec")
             setattr(obj, flag, bool(initial and section in initial))
             added.append(flag)
+    refresh_choices(obj, existing)
     return added
+
+
+def refresh_choices(obj: Any, names: set[str]) -> None:
+    """Give the choice properties among ``names`` the choices their fields declare now: FreeCAD
+    saves an enumeration's list with the document, so a choice added since (``drawing.curves =
+    "cubic"``) would be missing from an older file.  The stored value is kept (a choice is never
+    renamed, only added)."""
+    for fp in field_properties():
+        if fp.type != "App::PropertyEnumeration" or fp.is_list or fp.name not in names:
+            continue
+        choices = ([""] if fp.absent == "" else []) + list(fp.param.choices or ())
+        if list(obj.getEnumerationsOfProperty(fp.name)) != choices:
+            value = getattr(obj, fp.name)
+            setattr(obj, fp.name, choices)
+            setattr(obj, fp.name, value)
 
 
 def _units_of(data: dict[str, Any] | None) -> str:

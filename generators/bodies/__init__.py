@@ -25,6 +25,12 @@ def body_of(spec):
     return BODY_KINDS[spec.cam.body]
 
 
+def drawing_title(spec) -> str:
+    """The title of the spec's drawing and report: ``drawing.title`` when given, else the body's
+    name ("Plate cam", "Groove cam", "Conjugate cam pair", "Cylindrical cam")."""
+    return (spec.drawing.title or "").strip() or body_of(spec).title
+
+
 def validate_body(spec) -> None:
     """The rules of the spec's body and of the features every body shares.
 
@@ -76,4 +82,4 @@ def validate_body(spec) -> None:
 
 
 __all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "CylindricalBody", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",
-           "body_of", "validate_body"]
+           "body_of", "drawing_title", "validate_body"]

@@ -44,6 +44,7 @@ class ConjugateBody:
     """Two plate cams stacked on one shaft, each driving its own roller of one follower."""
 
     kind = "conjugate"
+    title = "Conjugate cam pair"
     #: the two cams hold the follower both ways (form closure): it cannot leave them
     closure = "form"
 

@@ -511,6 +511,7 @@ class CylindricalBody:
     """A groove around a cylinder (see the module docstring)."""
 
     kind = "cylindrical"
+    title = "Cylindrical cam"
     closure = "form"
     #: the follower dynamics treat the groove as holding the roller both ways: the load changes
     #: wall where the contact force changes sign (no separation, no jump speed)

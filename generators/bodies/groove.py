@@ -35,6 +35,7 @@ class GrooveBody:
     """A disc with the groove in its top face."""
 
     kind = "groove"
+    title = "Groove cam"
     #: the groove holds the roller both ways (form closure): it cannot leave the cam
     closure = "form"
 
@@ -89,6 +90,8 @@ class GrooveBody:
         w2 = half_width(spec)
         out: dict[str, Any] = {"groove_width": 2 * w2, "groove_depth": groove_depth(spec),
                                "outer_diameter": spec.cam.outer_diameter}
+        #: the failing wall checks, in order: (name, kind, message, cam angle)
+        failures: list[tuple[str, str, str, float]] = []
         # the outer wall folds where the pitch curve's concave radius is below w/2
         cs = design.curvature_samples
         concave = cs.radius < 0
@@ -96,10 +99,10 @@ class GrooveBody:
             k = int(np.argmin(np.where(concave, -cs.radius, np.inf)))
             out["min_concave_pitch_radius"] = float(-cs.radius[k])
             if -cs.radius[k] <= w2:
-                raise GeometryError("undercut", f"the groove's outer wall is undercut at cam angle "
-                                    f"{cs.cam_angle_deg[k]:.2f}°: concave pitch radius {-cs.radius[k]:.4g} ≤ half "
-                                    f"the groove width {w2:g} — a smaller roller or a gentler motion",
-                                    float(cs.cam_angle_deg[k]))
+                failures.append(("outer_wall_undercut", "undercut",
+                                 f"the groove's outer wall is undercut at cam angle {cs.cam_angle_deg[k]:.2f}°: "
+                                 f"concave pitch radius {-cs.radius[k]:.4g} ≤ half the groove width {w2:g} — a "
+                                 "smaller roller or a gentler motion", float(cs.cam_angle_deg[k])))
         # material to the rim, at the largest radius of the outer wall
         outer = geometry.extra["outer_wall"]
         u, pts = outer.sample(64)
@@ -109,8 +112,9 @@ class GrooveBody:
         at_rim = cam_angle_at_parameter(design, float(u[k]))
         out["rim_wall"] = {"value": rim, "at_deg": at_rim}
         if rim < min_wall:
-            raise GeometryError("wall", f"the groove leaves {rim:.4g} of material to the rim at cam angle {at_rim:.2f}°, "
-                                f"less than groove.min_wall {min_wall:g}: a larger cam.outer_diameter", at_rim)
+            failures.append(("rim_wall", "wall", f"the groove leaves {rim:.4g} of material to the rim at cam angle "
+                             f"{at_rim:.2f}°, less than groove.min_wall {min_wall:g}: a larger cam.outer_diameter",
+                             at_rim))
         # material to the bore (and keyway)
         from ..checks.buildability import min_radius
 
@@ -119,8 +123,11 @@ class GrooveBody:
         bore_wall = r_in - bore_extent(spec)
         out["bore_wall"] = {"value": bore_wall, "at_deg": at_bore}
         if bore_wall < min_wall:
-            raise GeometryError("wall", f"the groove leaves {bore_wall:.4g} of material to the bore at cam angle "
-                                f"{at_bore:.2f}°, less than groove.min_wall {min_wall:g}", at_bore)
+            failures.append(("bore_wall", "wall", f"the groove leaves {bore_wall:.4g} of material to the bore at cam "
+                             f"angle {at_bore:.2f}°, less than groove.min_wall {min_wall:g}", at_bore))
+        if failures:
+            _, kind, message, at = failures[0]
+            raise GeometryError(kind, message, at, checks=tuple(f[0] for f in failures))
         out.update(feature_checks(design, lambda a: profile_radius_along(design.profile, a), "groove's inner wall"))
         out["drive"] = drive_sides(design)
         return out

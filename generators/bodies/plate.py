@@ -15,6 +15,8 @@ class PlateBody:
     """The outside profile; a spring (or gravity) keeps the follower on it."""
 
     kind = "plate"
+    #: the body's name in drawing and report titles
+    title = "Plate cam"
     #: a spring (force closure) keeps the follower on the cam: it can leave it (separation)
     closure = "force"
 

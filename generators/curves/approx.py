@@ -1,11 +1,13 @@
-"""Lines and circular arcs that stay within a tolerance of an exact NURBS curve: what
-G-code (G01/G02/G03) and DXF for spline-less machines need.
+"""Lines, circular arcs and cubic splines that stay within a tolerance of an exact NURBS curve:
+what G-code (G01/G02/G03) and DXF readers that take no rational or high-degree splines need.
 
-Both fitters subdivide adaptively, all pieces of a level at once (vectorised):
+The fitters subdivide adaptively, all pieces of a level at once (vectorised):
 
 * :func:`flatten` — a polyline (chords) whose distance from the curve is ≤ ``tol``;
 * :func:`fit_biarcs` — tangent-continuous arc pairs (biarcs) with their end points
-  and end tangents on the curve, distance ≤ ``tol``.
+  and end tangents on the curve, distance ≤ ``tol``;
+* :func:`fit_cubic` — a non-rational cubic B-spline (C¹, C² inside each knot span of the curve)
+  through points of the curve, with the curve's own derivatives at its knots, within ``tol``.
 
 The distance is measured at ``checks`` interior samples of every piece; fitting aims
 at ``safety``·tol so the true maximum between samples stays inside ``tol``
@@ -218,6 +220,76 @@ def fit_biarcs(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 
     u0 = np.column_stack([a, um]).ravel()
     u1 = np.column_stack([um, b]).ravel()
     return Path2D(start, end, center, ccw, u0, u1)
+
+
+def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0.8,
+              max_levels: int = 12) -> NurbsCurve:
+    """Non-rational cubic B-spline within ``tol`` of ``curve``, in the curve's own parameter.
+
+    On every knot span [a, b] of ``curve`` the cubic interpolates n + 1 equally spaced points
+    of the curve with the curve's own first derivatives at a and b (the clamped cubic spline,
+    error O(h⁴) for smooth spans); n is doubled on the spans where max |cubic(u) − curve(u)|
+    at ``checks`` points per cubic span exceeds ``safety``·tol.  The spans meet at triple knots
+    with equal derivatives on both sides (C¹; the exact curve's own continuity at a knot may be
+    lower than C² — an offset's — which a global C² cubic could only follow at O(h²)).  A closed
+    curve gives a closed cubic (first pole = last pole)."""
+    from scipy.interpolate import make_interp_spline
+
+    if tol <= 0:
+        raise ValueError("tol must be > 0")
+    breaks = _initial_breaks(curve)
+    a, b = breaks[:-1], breaks[1:]
+    n_span = np.ones(a.size, dtype=int)
+    chunks: list[tuple[int, np.ndarray, np.ndarray]] = []     # (n, spans, their poles (n+3, g, 2))
+    todo = np.arange(a.size)
+    for _ in range(max_levels):
+        if todo.size == 0:
+            break
+        failed = []
+        for n in np.unique(n_span[todo]):
+            g = todo[n_span[todo] == n]
+            t = np.linspace(0.0, 1.0, n + 1)[:, None]
+            u = a[g] * (1 - t) + b[g] * t                       # (n+1, g): exact ends a, b
+            p, d = curve.evaluate_with_derivative(u.ravel())
+            p = p.reshape(n + 1, g.size, 2)
+            d = d.reshape(n + 1, g.size, 2) * (b[g] - a[g])[None, :, None]   # d/dt on [0, 1]
+            sp = make_interp_spline(t[:, 0], p, k=3, bc_type=([(1, d[0])], [(1, d[-1])]))
+            c = np.array(sp.c)
+            c[0], c[-1] = p[0], p[-1]                             # the end points, to the last bit
+            fr = np.linspace(0.0, 1.0, checks * n + 1)[:, None]
+            err = np.hypot(*np.moveaxis(sp(fr[:, 0]) - curve.evaluate((a[g] * (1 - fr) + b[g] * fr).ravel())
+                                        .reshape(fr.size, g.size, 2), -1, 0)).max(axis=0)
+            ok = err <= safety * tol
+            chunks.append((int(n), g[ok], c[:, ok]))
+            failed.append(g[~ok])
+        todo = np.concatenate(failed) if failed else np.array([], dtype=int)
+        n_span[todo] *= 2
+    else:
+        raise RuntimeError("cubic fitting did not reach the tolerance")
+    # assemble: span s gives its poles but the last (the next span's first) and the knots
+    # [its interior knots, b, b, b]; the curve's end adds the last pole and a fourth b
+    size = n_span + 2
+    start = np.concatenate([[0], np.cumsum(size)[:-1]])
+    poles = np.empty((int(size.sum()) + 1, 2))
+    knots = np.empty(int(size.sum()) + 1)
+    for n, g, c in chunks:
+        idx = start[g][None, :] + np.arange(n + 2)[:, None]
+        poles[idx] = c[:n + 2]
+        t = np.concatenate([np.linspace(0.0, 1.0, n + 1)[1:-1], [1.0, 1.0, 1.0]])[:, None]
+        knots[idx] = a[g] * (1 - t) + b[g] * t
+    poles[-1] = poles[0] if curve.is_closed else curve.evaluate(b[-1:])[0]
+    knots[-1] = b[-1]
+    knots = np.concatenate([np.full(4, a[0]), knots])
+    return NurbsCurve(3, knots, poles, np.ones(len(poles)))
+
+
+def curve_distance(fit: NurbsCurve, curve: NurbsCurve, samples_per_span: int = 400) -> float:
+    """Two-sided distance of ``fit`` (a curve in the same parameter, e.g. :func:`fit_cubic`'s)
+    from ``curve``: both sampled at the same dense parameters, each checked against the other's
+    polyline (:func:`polyline_curve_distance`)."""
+    u, _ = curve.sample(samples_per_span)
+    p = fit.evaluate(u)
+    return polyline_curve_distance(p[:, 0] + 1j * p[:, 1], curve, samples_per_span)
 
 
 def polyline_path(params: np.ndarray, pts: np.ndarray) -> Path2D:

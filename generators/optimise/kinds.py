@@ -75,8 +75,6 @@ class KindModel:
 
     #: names of the geometric scalars, in order (the design variables of the kind)
     geometry: tuple[str, ...] = ("base_radius",)
-    #: the ones ``optimise.variables = "auto"`` includes
-    auto: tuple[str, ...] = ("base_radius",)
     #: the objective "area": ``thesis_area`` (thesis Eq. 4.21) or ``pitch_area`` (inside the design curve)
     area_integral = "pitch_area"
 
@@ -214,7 +212,6 @@ class KindModel:
 # ---- translating knife edge and roller (thesis Eq. 3.4–3.7, hand-derived partials) ------------------
 class TranslatingPointModel(KindModel):
     geometry = ("base_radius", "offset")
-    auto = ("base_radius", "offset")
     area_integral = "thesis_area"
 
     @property
@@ -332,7 +329,6 @@ class OscillatingPointModel(KindModel):
     """A = D + L e^{iψ}, ψ = ψ₀ − s (s in arm degrees), cos ψ₀ = (R_b² − d² − L²)/(2dL)."""
 
     geometry = ("base_radius", "pivot_distance", "arm_length")
-    auto = ("base_radius", "pivot_distance", "arm_length")
 
     families = TranslatingPointModel.families
 
@@ -479,7 +475,6 @@ class TranslatingFlatModel(FlatModel):
     """The face y = R_b + s: ρ = R_b + s + s″, contact at x = δs′, F = P_L + k s + M s″ω²."""
 
     geometry = ("base_radius", "offset")
-    auto = ("base_radius", "offset")
 
     def _terms(self, geo, s, v, a):
         r, e = geo
@@ -494,7 +489,6 @@ class OscillatingFlatModel(FlatModel):
     h = d cos β − f, ρ = h + h_γγ, t = h_γ + d sin β, tan φ = −δf/t, F = T/|t|."""
 
     geometry = ("base_radius", "pivot_distance", "face_offset", "arm_length")
-    auto = ("base_radius", "pivot_distance", "face_offset")
 
     def geometry_x(self, geo):
         r, d, f = geo[:3]

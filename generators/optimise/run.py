@@ -141,6 +141,21 @@ class OptimiseResult:
         """The final design's check closest to (or furthest past) its limit, relative to the limit."""
         return worst_constraint(self.checks, self.spec)
 
+    @property
+    def status_text(self) -> str:
+        """The status in words: first whether the result passes every check (the dense re-check),
+        then how the run ended — e.g. "every check passes — nlopt stopped: roundoff limited"."""
+        verdict = ("every check passes" if self.feasible
+                   else f"the result FAILS {', '.join(self.checks.failed)}")
+        solver = self.solver_status
+        how = {"converged": f"converged (nlopt: {solver})" if solver else "converged",
+               "stopped": f"nlopt stopped: {solver}",
+               "budget exhausted": f"the budget of {self.evaluations} evaluations is spent"
+                                   + (f" (nlopt: {solver})" if solver else ""),
+               "cancelled": "cancelled: the best design found so far",
+               "infeasible": f"nlopt: {solver}" if solver else "infeasible"}.get(self.status, self.status)
+        return f"{verdict} — {how}"
+
     def report(self, max_history: int = HISTORY_MAX) -> dict[str, Any]:
         """report.json's ``optimise`` section (scalars, the design variables and the history)."""
         hist = _thin(self.history, max_history)
@@ -153,6 +168,7 @@ class OptimiseResult:
             "objective_unit": UNITS[self.objective].replace("length", self.spec.units),
             "algorithm": self.algorithm,
             "status": self.status,
+            "status_text": self.status_text,
             "message": self.message,
             "feasible": self.feasible,
             "failed_checks": ", ".join(self.checks.failed) if self.checks.failed else "none",

@@ -425,16 +425,23 @@ class DrawingSection:
     """`[drawing]`: the DXF manufacturing drawing (cam.dxf) and the report's title."""
 
     curves: str = param(
-        "How the profile and pitch curve are written: exact rational SPLINE, tangent arcs "
-        "(biarcs, ARC/LINE entities) or a closed polyline, for machines that cannot read splines",
-        kind="str", choices=("spline", "arcs", "polyline"), default="spline", group="Drawing")
+        "How the profile, pitch curve and the body's other curves are written: \"cubic\" a polynomial "
+        "(non-rational) cubic SPLINE within chord_tolerance, which every DXF reader draws; \"spline\" the profile NURBS "
+        "itself (for a PH pitch curve the exact rational offset, degree 9, which LibreCAD and many CAM and "
+        "laser programs drop without a word); \"arcs\" tangent arcs (biarcs, ARC/LINE entities) or "
+        "\"polyline\" one closed polyline within chord_tolerance, for machines that read no splines",
+        kind="str", choices=("cubic", "spline", "arcs", "polyline"), default="cubic", group="Drawing")
     chord_tolerance: float = param(
-        "Largest distance of the arcs or polyline from the exact profile (curves = arcs/polyline)",
+        "Largest distance of the drawn curves from the NURBS they stand for (curves = cubic, arcs or "
+        "polyline; measured and stated in the title block)",
         unit="length", gt=0, default=0.001, group="Drawing")
     dxf_version: str = param(
         "DXF version of cam.dxf; R12 (for old CAM software) needs curves = arcs or polyline",
         kind="str", choices=DXF_VERSIONS, default="R2010", group="Drawing")
-    title: str = param("Drawing and report title", kind="str", default="Plate cam", group="Drawing")
+    title: str | None = param("Drawing and report title; default: the body's name (\"Plate cam\", \"Groove "
+                              "cam\", \"Conjugate cam pair\", \"Cylindrical cam\"), which the drawing's title "
+                              "block adds to a title that does not say it", kind="str", optional=True,
+                              group="Drawing")
     part_number: str = param("Part or drawing number in the title block", kind="str", default="",
                              group="Drawing")
     author: str = param("Drawn by (title block)", kind="str", default="", group="Drawing")
@@ -532,10 +539,6 @@ BODY_VARIABLES = ("outer_diameter", "clearance")
 CYLINDER_VARIABLES = ("cylinder_radius", "outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
-#: The follower variables ``optimise.variables = "auto"`` includes, by follower: its position (a flat
-#: face's centre along the arm, arm_length, only when named).
-AUTO_FOLLOWER_VARIABLES = {"translating": ("offset",), "oscillating": ("pivot_distance", "arm_length"),
-                           "oscillating flat": ("pivot_distance", "face_offset")}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -563,9 +566,9 @@ class OptimiseSection:
         "machining_time only), outer_diameter and clearance (a groove cam's cam.outer_diameter and "
         "groove.clearance: cam.body = \"groove\"; a cylindrical cam's: cylinder_radius, outer_diameter, "
         "clearance, \"auto\" = the first two); \"auto\" = "
-        "base_radius, the follower's position (offset; pivot_distance and arm_length; for an oscillating flat "
-        "face pivot_distance and face_offset), control_points (+ orientation for machining_time); polynomial "
-        "points only when named (they are often the designer's requirements)",
+        "the cam's size, base_radius, and control_points (+ orientation for machining_time); the follower's "
+        "position (offset; pivot_distance, arm_length, face_offset) and polynomial points only when named (the "
+        "machine often fixes the one, the designer's requirements the other)",
         kind="str", default="auto", group="Optimise")
     algorithm: str = param(
         "nlopt algorithm: \"auto\" = SLSQP (exact gradients) for smooth objectives; for machining_time "
@@ -1189,7 +1192,7 @@ def _validate_drawing(spec: CamSpec) -> None:
     if dr.chord_tolerance is not None and dr.chord_tolerance < 1e-7 * spec.cam.base_radius:
         raise SpecError("drawing.chord_tolerance",
                         f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {dr.chord_tolerance:g}")
-    if dr.dxf_version == "R12" and dr.curves == "spline":
+    if dr.dxf_version == "R12" and dr.curves in ("cubic", "spline"):
         raise SpecError("drawing.dxf_version",
                         "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
 
@@ -1233,9 +1236,8 @@ def _parse_variables(spec: CamSpec) -> tuple[set[str], dict[str, set[int]]]:
     point_rows = _point_rows(spec)
     rows: dict[str, set[int]] = {"control_x": set(), "control_y": set(), "points": set()}
     if text == "auto":
-        fol = spec.follower
-        key = "oscillating flat" if (fol.motion, fol.kind) == ("oscillating", "flat") else fol.motion
-        names = {"base_radius", *AUTO_FOLLOWER_VARIABLES[key]}
+        # the cam's size; the follower's position (offset, pivot, arm) is the machine's: only when named
+        names = {"base_radius"}
         rows = {"control_x": set(bspline_rows), "control_y": set(bspline_rows), "points": set()}
         if opt.objective == "machining_time":
             names.add("orientation")

@@ -150,9 +150,9 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
         spec["machining"]["tool_radius"] = (roller or 3.0 * u) * draw(st.sampled_from([0.6, 1.0, 1.5]))
     if spec["machining"]["program"] == "xc":
         spec["machining"]["sample_period"] = 0.0005
-    curves = draw(st.sampled_from(["spline", "arcs", "polyline"]))
+    curves = draw(st.sampled_from(["cubic", "spline", "arcs", "polyline"]))
     version = draw(st.sampled_from(DXF_VERSIONS))
-    if version == "R12" and curves == "spline":
+    if version == "R12" and curves in ("cubic", "spline"):
         curves = "arcs"
     spec["drawing"] = {"curves": curves, "dxf_version": version, "title": draw(st.sampled_from(["Cam", "Nocken Ø40 — Typ A"])),
                        "dimensions": draw(st.booleans()), "title_block": draw(st.booleans())}

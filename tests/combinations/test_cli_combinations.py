@@ -1,20 +1,24 @@
 """The same combinations through every CLI command: exit 0 (or 3: a design check failed) with
 outputs that agree with each other, or a clean refusal (exit 2, one line naming a field or a
-cam angle, nothing written) — never an internal error.  G-code runs through LinuxCNC's rs274."""
+cam angle, nothing written) — never an internal error.  G-code runs through LinuxCNC's rs274.
+Two commands run into one folder leave it consistent (docs/cli.md, "Output folders and your
+files")."""
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from exporters.atomic import MANIFEST, read_manifest
 from generators.errors import SpecError
 from generators.spec import CamSpec, to_toml
 
-from ..conftest import ROOT, requires_ocp
+from ..conftest import ROOT, SAFETY_S, assert_unchanged, requires_ocp, snapshot
 from ..rs274 import RS274
 from .conftest import examples
 from .invariants import REFUSAL
@@ -26,7 +30,7 @@ EXTRA = ("gcode_xy", "gcode_xc", "gcode_csv", "dxf", "report", "optimise")
 
 def cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([*CLI, *args], capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL,
-                          timeout=600)
+                          timeout=SAFETY_S)
 
 
 def assert_clean(res: subprocess.CompletedProcess, allowed=(0, 2, 3)) -> None:
@@ -153,3 +157,77 @@ def test_cli_cylindrical_commands_agree(tmp_path_factory, d, extra):
     else:
         r = cli("ecam", str(tmp / "cam.toml"), "-o", str(tmp / "e.csv"))
         assert_clean(r, (0,))
+
+
+#: commands that write into a folder (gcode: a file named inside it), the second run's relation to
+#: the first: the same spec file, that file edited, an identical copy elsewhere, another cam
+INTO = ("build", "report", "check", "dxf", "dynamics", "gcode")
+RELATIONS = ("same", "edited", "copy", "other")
+
+
+def _into(command: str, spec: Path, out: Path, replace: bool) -> list[str]:
+    if command == "gcode":
+        return ["gcode", str(spec), "-o", str(out / "cam.nc")]
+    extra = (["--set", "dynamics.stiffness=2000", "--set", "dynamics.mass=1", "--no-sweep"]
+             if command == "dynamics" else [])
+    return [command, str(spec), *extra, "-o", str(out)] + (["--replace"] if replace else [])
+
+
+@requires_ocp
+@settings(max_examples=examples(5, 150))
+@given(specs(), st.sampled_from(INTO[:-1]), st.sampled_from(INTO), st.sampled_from(RELATIONS), st.booleans(),
+       st.data())
+def test_two_commands_into_one_folder(tmp_path_factory, d, first, second, relation, replace, data):
+    """Two commands into one folder in sequence: the second is refused (exit 2 naming -o, nothing
+    changed), or the folder afterwards holds one spec's files — its manifest lists exactly what is
+    there, report.json names the manifest's spec, and a file kept from the first run was made
+    from that same spec.  An identical spec is never refused; another cam without --replace
+    always is."""
+    tmp = tmp_path_factory.mktemp("two")
+    try:
+        spec = CamSpec.from_dict(d)
+    except SpecError:
+        return
+    a, b, out = tmp / "a.toml", tmp / "b.toml", tmp / "out"
+    a.write_text(to_toml(spec), encoding="utf-8")
+    assert_clean(cli(*_into(first, a, out, False)))
+    held = read_manifest(out) if out.is_dir() else None
+    target = a
+    if relation == "edited":
+        try:
+            a.write_text(to_toml(spec.replace(**{"cam.thickness": spec.cam.thickness * 1.25})), encoding="utf-8")
+        except SpecError:
+            pass
+    elif relation == "copy":
+        b.write_text(a.read_text(encoding="utf-8"), encoding="utf-8")
+        target = b
+    elif relation == "other":
+        try:
+            other = CamSpec.from_dict(data.draw(specs(borderline=False)))
+        except SpecError:
+            return
+        b.write_text(to_toml(other), encoding="utf-8")
+        target = b
+    before = snapshot(tmp / "out") if out.is_dir() else {}
+    res = cli(*_into(second, target, out, replace))
+    assert_clean(res)
+    refused_o = res.returncode == 2 and res.stderr.startswith("error: -o: ")
+    if relation in ("same", "copy"):
+        assert not refused_o, res.stderr                   # the identical spec: never refused
+    if relation == "other" and held is not None and not replace:
+        assert res.returncode == 2, res.stdout             # another cam's set (or its own refusal)
+    if res.returncode == 2:
+        if out.is_dir():
+            assert_unchanged(out, before)
+        else:
+            assert not before
+        return
+    m = read_manifest(out)
+    assert m is not None
+    assert {p.name for p in out.iterdir()} == set(m["files"]) | {MANIFEST}
+    if (out / "report.json").is_file():
+        assert json.loads((out / "report.json").read_text())["spec_digest"] == m["spec_digest"]
+    after = snapshot(out)
+    kept = [n for n, v in before.items() if n != MANIFEST and after.get(n) == v]
+    if kept:                                               # files of the first run stay only beside their spec
+        assert held is not None and held["spec_digest"] == m["spec_digest"], kept

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from generators.errors import SpecError
 from generators.spec import DEFAULT_SPEC_DICT, CamSpec, load_spec, to_toml
 
-from ..conftest import ROOT
+from ..conftest import ROOT, SAFETY_S
 from .conftest import examples
 from .invariants import REFUSAL
 from .strategies import specs
@@ -105,7 +105,7 @@ def test_cli_bad_input_exit_2_nothing_written(tmp_path_factory, path, value, com
         args = [str(f), *args]
     out = tmp / "out"
     res = subprocess.run([*CLI, command, *args, "-o", str(out / ("x.nc" if command == "gcode" else ""))],
-                         capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL, timeout=300)
+                         capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL, timeout=SAFETY_S)
     assert "Traceback" not in res.stderr and "internal error" not in res.stderr, res.stderr[-1500:]
     assert res.returncode in (0, 2, 3), res.stderr
     if res.returncode == 2:
@@ -120,6 +120,6 @@ def test_set_without_a_field_names_set(tmp_path):
     for item in ("=[1,", "=3", " =x", "cam.base_radius"):
         out = tmp_path / "out"
         res = subprocess.run([*CLI, "build", "--set", item, "-o", str(out)], capture_output=True, text=True,
-                             cwd=ROOT, stdin=subprocess.DEVNULL, timeout=300)
+                             cwd=ROOT, stdin=subprocess.DEVNULL, timeout=SAFETY_S)
         assert res.returncode == 2 and res.stderr.startswith("error: --set: needs FIELD=VALUE"), res.stderr
         assert REFUSAL.search(res.stderr.strip()) and not out.exists()
