@@ -175,6 +175,9 @@ def derived(report: dict) -> dict:
         r["_profile_curve"] = r["drawing"]["profile_curve"].replace("(", "[").replace(")", "]")
     r["_version"] = __version__
     r["_digest16"] = str(r.get("spec_digest", ""))[:16]
+    others = {k: v for k, v in (r.get("drawing") or {}).get("max_error_by_layer", {}).items() if k != "PROFILE"}
+    if others:
+        r["_others"], r["_others_max"] = ", ".join(others), max(others.values())
     if "finish_wall_deviation" in (r.get("machining") or {}):
         f = r["machining"]["finish_wall_deviation"]
         r["_finish"] = max(f["bottom_radius"], f["outer_radius"])
@@ -223,7 +226,11 @@ BUILD_PLANE = [
              "{areas.thesis_eq_4_21} {u}² (areas.thesis_eq_4_21), volume {volume} {u}³"),
     Template("  cross-section (top face) {area} {u}² (report.json area); area inside the {str:follower.curve} "
              "{areas.pitch_curve} {u}² (areas.pitch_curve), volume {volume} {u}³"),
-    Template("  DXF PROFILE: SPLINE = the {str:drawing.profile_curve} ({str:drawing.file_version})", True),
+    Template("  DXF PROFILE: SPLINE = the {str:drawing.profile_curve} ({str:drawing.file_version})"),
+    Template("  DXF PROFILE: polynomial cubic SPLINE of {drawing.profile_poles} poles, max distance "
+             "{drawing.profile_max_error} {u} from the profile NURBS (the {str:drawing.profile_curve}) (tolerance "
+             "{drawing.chord_tolerance} {u}, {str:drawing.file_version}); {str:_others} drawn alike, within "
+             "{_others_max} {u} of theirs"),
     Template("  interpolator: {interpolator.commands} commands (Δt = {interpolator.sample_period} s), max deviation "
              "{interpolator.max_deviation} {str:_lu}; max v {interpolator.velocity.max}, a "
              "{interpolator.acceleration.max}, j {interpolator.jerk.max} ({str:interpolator.differencing} "
@@ -258,12 +265,26 @@ BUILD_CYLINDRICAL = [
 ]
 
 
+def remedy_templates(report: dict, prefix: str) -> list[Template]:
+    """The line of each failing check's remedy (report.json ``checks.results[name].remedy``): the
+    field, its value and the command, as report.json holds them."""
+    out = []
+    for name, r in report["checks"]["results"].items():
+        if r.get("remedy"):
+            rem = f"checks.results.{name}.remedy"
+            out.append(Template(f"{prefix}{name}: {{str:{rem}.field}} = {{{rem}.value}} {{str:{rem}.unit}} passes every "
+                                f"check (the smallest that does, by bisection to {{{rem}.tolerance}} {{u}}; the rest "
+                                f"held) → --set {{str:{rem}.field}}={{{rem}.value}}", True))
+    return out
+
+
 @requires_ocp
 @pytest.mark.parametrize("name", NAMES)
 def test_build_summary(builds, name):
     b = builds(name)
     r = derived(b.report)
-    assert_held(held_to(b.stdout, BUILD_PLANE if name in PLANE else BUILD_CYLINDRICAL, r, f"build {name}"))
+    templates = (BUILD_PLANE if name in PLANE else BUILD_CYLINDRICAL) + remedy_templates(r, "    remedy ")
+    assert_held(held_to(b.stdout, templates, r, f"build {name}"))
     # every file the summary line names is in the folder (a cylindrical cam's plots too)
     for f in [*(v for v in r["files"].values() if isinstance(v, str)), *r["files"]["plots"]]:
         assert (b.folder / f).is_file(), f
@@ -458,9 +479,12 @@ TITLE_PLANE = {
     "ROTATION": ["{str:_DIRECTION}, {spec.cam.speed_rpm} RPM"],
     "PITCH CURVE": ["C2 PH QUINTIC SPLINE, M = {pitch.segments} SEGMENTS",
                     "C2 PH QUINTIC SPLINE, M = {pitch.segments} SEGMENTS THROUGH THE FACE'S CONTACT POINTS"],
-    "PROFILE": ["RATIONAL B-SPLINE, DEGREE {profile.degree}, {profile.poles} POLES (EXACT OFFSET OF THE PH PITCH "
-                "CURVE)", "B-SPLINE, DEGREE {profile.degree}, {profile.poles} POLES (PH CURVE THROUGH THE FACE'S "
-                "CONTACT POINTS, NOT EXACT)"],
+    "PROFILE NURBS": ["RATIONAL B-SPLINE, DEGREE {profile.degree}, {profile.poles} POLES",
+                      "B-SPLINE, DEGREE {profile.degree}, {profile.poles} POLES"],
+    "DRAWN AS (LAYER PROFILE)": ["POLYNOMIAL CUBIC SPLINE, {drawing.profile_poles} POLES"],
+    "DRAWN PROFILE ERROR": ["MAX {drawing.profile_max_error} {u} FROM THE EXACT PROFILE (TOL. {drawing.chord_tolerance})",
+                            "MAX {drawing.profile_max_error} {u} FROM THE PROFILE NURBS (TOL. {drawing.chord_tolerance})"],
+    "OTHER CURVES, DRAWN ALIKE": ["{str:_others}: MAX {_others_max} {u}"],
     "PROFILE FIT ERROR": ["{profile.max_error} {u} FROM THE EXACT ENVELOPE OF THE FACE"],
     "PROFILE MAX ERROR": ["{profile.max_error} {u} FROM THE DESIGN-INTENT PROFILE"],
     "MAX FOLLOWER DEVIATION": ["{pitch.max_deviation} {str:_LU} AT {pitch.max_deviation_at_deg}°"],
@@ -470,8 +494,8 @@ TITLE_PLANE = {
     "LARGEST RADIUS": ["{profile.max_radius|.3f}"],
     "AREA / VOLUME": ["{area} {u}2 / {volume} {u}3"],
     "SECOND CAM (LAYER PROFILE_2)": ["Z {body.second_cam.z.0|.3f} TO {body.second_cam.z.1|.3f}: {str:_FOLLOWER2}"],
-    "SECOND CAM PROFILE": ["EXACT OFFSET OF ITS PH PITCH CURVE, MAX ERROR {body.second_cam.profile.max_error} {u}; "
-                           "LARGEST RADIUS {body.second_cam.profile.max_radius|.3f}"],
+    "SECOND CAM MAX ERROR": ["{body.second_cam.profile.max_error} {u} FROM ITS DESIGN-INTENT PROFILE"],
+    "SECOND CAM LARGEST RADIUS": ["{body.second_cam.profile.max_radius|.3f}"],
     "SECOND CAM PRESSURE ANGLE": ["{body.second_cam.pressure_angle.max_deg}° AT "
                                   "{body.second_cam.pressure_angle.at_deg}°"],
     "ROLLER DISTANCE ERROR": ["{body.roller_distance_error.max} {u} AT {body.roller_distance_error.at_deg}° (PH "
@@ -533,9 +557,14 @@ def test_dxf_title_block(builds, name):
 DXF_LINES = [
     Template("drawing written to {any}", True),
     Template("  PROFILE: SPLINE = the {str:drawing.profile_curve} ({str:drawing.file_version})"),
+    Template("  PROFILE: polynomial cubic SPLINE of {drawing.profile_poles} poles, max distance "
+             "{drawing.profile_max_error} {u} from the profile NURBS (the {str:drawing.profile_curve}) (tolerance "
+             "{drawing.chord_tolerance} {u}, {str:drawing.file_version}); {str:_others} drawn alike, within "
+             "{_others_max} {u} of theirs"),
     Template("  WALL_LOWER, WALL_UPPER: {drawing.splines} cubic SPLINEs with the PITCH line, fitted to the developed "
              "walls at the outer radius: max fit error {drawing.developed_fit_error.value} {u} (pitch line "
-             "{drawing.developed_fit_error.pitch_line} {u}), not exact ({str:drawing.file_version})"),
+             "{drawing.developed_fit_error.pitch_line} {u}), not exact (tolerance {drawing.chord_tolerance} {u}, "
+             "{str:drawing.file_version})"),
 ]
 
 
@@ -593,7 +622,7 @@ CHECK_LINES = [
 def held_check_tables(stdout: str, report: dict, what: str) -> list[str]:
     tables, rest = rich_tables(stdout)
     checks = report["checks"]
-    problems = held_to(rest, CHECK_LINES, derived(report), what,
+    problems = held_to(rest, CHECK_LINES + remedy_templates(report, "remedy "), derived(report), what,
                        skip=lambda line: line.endswith("/report.json"))
     rows = next(v for k, v in tables.items() if k.startswith("design checks"))
     assert [row[0] for row in rows] == [f"{n} ({r['kind']})" for n, r in checks["results"].items()], rows
