@@ -82,7 +82,8 @@ class CamDesign:
         curve = self.follower.describe()["curve"]
         pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if spec.pitch.representation == "ph"
                  else f"B-spline {curve}, {self.pitch.M} knot spans")
-        return f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; {pitch}"
+        return (f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; "
+                f"{pitch}")
 
     def profile_ccw(self) -> NurbsCurve:
         """The profile oriented counter-clockwise (positive area), as solid builders want it."""

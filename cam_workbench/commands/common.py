@@ -141,12 +141,12 @@ def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
         raise with_remedy(spec, exc) from None
 
 
-def progress_console() -> Any:
-    """The console every progress display draws on: standard error, so that standard output holds
-    only the command's result (``gcode`` without ``-o`` writes the program there)."""
+def on_terminal() -> bool:
+    """Whether standard output is a terminal: progress displays are drawn there only, so that a
+    redirected output holds the command's result alone (``gcode`` writes its program there)."""
     from rich.console import Console
 
-    return Console(stderr=True)
+    return Console().is_terminal
 
 
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:
@@ -154,7 +154,7 @@ def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], Non
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     prog = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
-                    transient=True, console=progress_console())
+                    transient=True, disable=not on_terminal())
     task = prog.add_task(description, total=None)
 
     def callback(m: int, dev: float) -> None:
@@ -168,7 +168,7 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), transient=True, console=progress_console())
+                    TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = prog.add_task("report", total=total)
     started = [False]
 
@@ -230,7 +230,7 @@ def count_progress(total: int, description: str, unit: str) -> tuple[Any, Callab
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(),
                     TextColumn("{task.completed}/{task.total} " + unit), TimeElapsedColumn(),
-                    TextColumn("eta"), TimeRemainingColumn(), transient=True, console=progress_console())
+                    TextColumn("eta"), TimeRemainingColumn(), transient=True, disable=not on_terminal())
     task = prog.add_task(description, total=total)
 
     def callback(done: int, n: int) -> None:

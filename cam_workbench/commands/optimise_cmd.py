@@ -15,7 +15,7 @@ from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
-                     check_parallel_arguments, note, output_claim, plot_progress, progress_console, require_ocp,
+                     check_parallel_arguments, note, on_terminal, output_claim, plot_progress, require_ocp,
                      spec_from_args)
 
 EXIT_CHECK_FAILED = 3
@@ -56,7 +56,7 @@ def _progress_bar(budget: int) -> tuple[Any, Any]:
     from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedColumn
 
     bar = Bar(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} evaluations"),
-              TimeElapsedColumn(), transient=True, console=progress_console())
+              TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = bar.add_task("optimising", total=budget)
 
     def callback(p: Progress) -> bool:

@@ -484,7 +484,8 @@ class CylindricalDesign:
 
     def label(self) -> str:
         """One line that identifies the cam: its body, its follower and its numbers (spec units)."""
-        return f"cylindrical cam, lengths in {self.spec.units}: {self._follower()['label']}; {CylindricalBody.label(self.spec)}"
+        return (f"cylindrical cam, lengths in {self.spec.units}: {self._follower()['label']}; "
+                f"{CylindricalBody.label(self.spec)}")
 
     def summary(self) -> dict[str, Any]:
         from ..spec.model import spec_digest
