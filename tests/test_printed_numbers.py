@@ -971,6 +971,9 @@ def test_repr_names_body_follower_and_numbers(name):
         assert part in text, (part, text)
     if name == "oscillating":
         assert "e =" not in text and "e=" not in text
+    if name == "conjugate":                  # docs/python.md quotes it
+        doc = " ".join((ROOT / "docs" / "python.md").read_text(encoding="utf-8").split())
+        assert f"`{text}`" in doc
 
 
 # ---- the examples, listed everywhere ------------------------------------------------------------------
