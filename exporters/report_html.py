@@ -313,7 +313,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     key_rows = [
         ("follower", "follower.label", "", None),
         ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
-        ("base circle radius (R_b − roller)", "profile.base_circle_radius", u, None),
+        ("base circle radius (the profile at zero lift)", "profile.base_circle_radius", u, None),
         ("smallest profile radius (built)", "profile.min_radius", u, None),
         ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
         ("follower offset e", "follower.offset", u, None),

@@ -543,6 +543,14 @@ def test_dxf_title_block(builds, name):
         problems += held_to(value, [Template(t) for t in rules[label]], r, f"{name} DXF {label}")
     if name in PLANE:
         assert pairs["BASE RADIUS R_b"] and pairs["AREA / VOLUME"]
+        # the base circle drawn and dimensioned is report.json's too (a groove's inner wall: 31.95, not 32)
+        import ezdxf
+
+        msp = ezdxf.readfile(b.folder / "cam.dxf").modelspace()
+        base = r["profile"]["base_circle_radius"]
+        assert [c.dxf.radius for c in msp.query('CIRCLE[layer=="BASE_CIRCLE"]')] == [pytest.approx(base, abs=1e-9)]
+        dims = [d for d in msp.query("DIMENSION") if "BASE CIRCLE" in d.dxf.text]
+        assert len(dims) == 1 and dims[0].get_measurement() == pytest.approx(base, abs=1e-9)
         # the motion table: each segment's start, end and lift, as report.json's motion.segments has them
         segs = r["motion"]["segments"]
         assert [row[0] for row in motion[1:]] == [str(s["index"]) for s in segs]
