@@ -58,6 +58,13 @@ class ConjugateBody:
         return {"depth": spec.cam.thickness, "tool_radius": None}
 
     @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a conjugate pair (spec lengths, no unit): R_b, each cam's thickness,
+        the gap, and the second roller in its own words."""
+        return (f"R_b = {spec.cam.base_radius:g}, two cams {spec.cam.thickness:g} thick, gap {spec.conjugate.gap:g}; "
+                f"{second_roller_of(spec).label()}")
+
+    @staticmethod
     def further_followers(spec) -> tuple:
         """The second roller, whose contact with the second cam the design checks cover too."""
         return ((SECOND, second_roller_of(spec)),)

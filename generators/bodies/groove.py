@@ -50,6 +50,12 @@ class GrooveBody:
         return {"depth": groove_depth(spec), "tool_radius": 0.75 * half_width(spec)}
 
     @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a groove cam (spec lengths, no unit): R_b, the disc and the groove."""
+        return (f"R_b = {spec.cam.base_radius:g}, disc Ø{spec.cam.outer_diameter:g} × {spec.cam.thickness:g}, "
+                f"groove {2 * half_width(spec):g} wide, {groove_depth(spec):g} deep")
+
+    @staticmethod
     def further_followers(spec) -> tuple:
         return ()
 

@@ -32,6 +32,11 @@ class PlateBody:
         return {"depth": spec.cam.thickness, "tool_radius": None}
 
     @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a plate cam (spec lengths, no unit): R_b and the thickness."""
+        return f"R_b = {spec.cam.base_radius:g}, thickness {spec.cam.thickness:g}"
+
+    @staticmethod
     def further_followers(spec) -> tuple:
         """(suffix, follower) of every further cam's roller the design checks cover (a plate has
         one cam)."""

@@ -28,7 +28,7 @@ from ..spec.model import SWEEP_LOW_FRACTION, CamSpec
 from ..spec.params import unit_name
 from .contact import SeparatedResponse, separated_response
 from .jump import RPM, SWEEP_MAX_SAMPLES, JumpSpeed, find_jump_speed, rigid_jump_speed, sweep_range
-from .model import TrainModel, analysis_speed, train_model
+from .model import TrainModel, analysis_rpm, train_model
 from .periodic import CamInput, PeriodicResponse, cam_input, parabolic_min, periodic_response, sample_count
 
 TWO_PI = 2.0 * math.pi
@@ -63,6 +63,8 @@ class DynamicsResult:
 
     model: TrainModel
     omega: float
+    #: the cam speed of the analysis [rpm] as given (ω is computed from it, never the other way round)
+    speed_rpm: float
     theta: np.ndarray
     lift: np.ndarray
     position: np.ndarray
@@ -83,10 +85,6 @@ class DynamicsResult:
     #: the body holds the follower both ways (a cylindrical cam's groove): no separation, the load
     #: changes wall where the contact force changes sign
     form_closed: bool = False
-
-    @property
-    def speed_rpm(self) -> float:
-        return self.omega * RPM
 
     @property
     def theta_deg(self) -> np.ndarray:
@@ -273,7 +271,8 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
     model = train_model(spec, fol)
     program = program or MotionProgram.from_spec(spec)
     dy = spec.dynamics
-    omega = speed_rpm / RPM if speed_rpm is not None else analysis_speed(spec)
+    rpm = speed_rpm if speed_rpm is not None else analysis_rpm(spec)
+    omega = rpm / RPM
     n = sample_count(model, omega, dy.samples)
     inp = cam_input(program, fol, n)
     per = periodic_response(model, inp, omega)
@@ -298,7 +297,7 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         speeds = np.linspace(lo, hi, dy.sweep_points)
         jump = find_jump_speed(model, sweep_inp, speeds, rigid, progress)
     return DynamicsResult(
-        model=model, omega=omega, theta=inp.theta, lift=inp.u / c, position=q / c, error=err / c,
+        model=model, omega=omega, speed_rpm=float(rpm), theta=inp.theta, lift=inp.u / c, position=q / c, error=err / c,
         vibration=(err - quasi_static) / c, force=load * inp.lever, rigid_force=rigid_load * inp.lever,
         torque=load * inp.du, rigid_torque=rigid_load * inp.du, on_cam=on_cam, periodic=per,
         separated=separated, jump=jump, inp=inp, program=program, units=spec.units,
