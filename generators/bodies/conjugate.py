@@ -47,6 +47,10 @@ class ConjugateBody:
     title = "Conjugate cam pair"
     #: the two cams hold the follower both ways (form closure): it cannot leave them
     closure = "form"
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the two cams hold the follower both ways; the cam that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower away from the cam axis, the first cam; "
+                  "negative: the second cam)")
 
     @staticmethod
     def profile_inset(spec) -> float:

@@ -514,9 +514,9 @@ class CylindricalBody:
     kind = "cylindrical"
     title = "Cylindrical cam"
     closure = "form"
-    #: the follower dynamics treat the groove as holding the roller both ways: the load changes
-    #: wall where the contact force changes sign (no separation, no jump speed)
-    dynamics_form_closed = True
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower along +s, the lower wall; negative: the upper wall)")
 
     @staticmethod
     def own_follower(spec) -> "CylindricalFollower":

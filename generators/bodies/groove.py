@@ -38,6 +38,10 @@ class GrooveBody:
     title = "Groove cam"
     #: the groove holds the roller both ways (form closure): it cannot leave the cam
     closure = "form"
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower away from the cam axis, the inner wall; "
+                  "negative: the outer wall)")
 
     @staticmethod
     def profile_inset(spec) -> float:

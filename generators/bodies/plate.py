@@ -19,6 +19,8 @@ class PlateBody:
     title = "Plate cam"
     #: a spring (force closure) keeps the follower on the cam: it can leave it (separation)
     closure = "force"
+    #: no side to tell: the spring holds the follower on the one profile
+    drive_note = ""
 
     @staticmethod
     def profile_inset(spec) -> float:
