@@ -215,7 +215,7 @@ def builds(tmp_path_factory) -> Callable[[str], Built]:
 # ---- build -----------------------------------------------------------------------------------------
 BUILD_PLANE = [
     Template("cam written to {any}: {str:_files}, {len:files.plots} plots", True),
-    Template("  follower: {str:follower.label} {u}", True),
+    Template("  follower (lengths in {u}): {str:follower.label}", True),
     Template("  {str:follower.curve}: PH quintic spline, M = {pitch.segments}, max deviation {pitch.max_deviation} "
              "{str:_lu} at {pitch.max_deviation_at_deg}°; profile within {profile.max_error} {u} of the true one", True),
     Template("  pressure angle: max {pressure_angle.max_deg}° at {pressure_angle.at_deg}°", True),
@@ -239,8 +239,8 @@ BUILD_PLANE = [
     Template("  cam.nc: {str:machining.program} program, tool radius {machining.tool_radius} {u}, "
              "{machining.gcode_lines} lines", True),
     # a conjugate pair: the second cam's own numbers
-    Template("  second cam (z {body.second_cam.z.0} to {body.second_cam.z.1}): {str:body.second_cam.follower.label} "
-             "{u}; max deviation {body.second_cam.pitch.max_deviation} {str:_lu}, pressure angle max "
+    Template("  second cam (z {body.second_cam.z.0} to {body.second_cam.z.1} {u}): "
+             "{str:body.second_cam.follower.label}; max deviation {body.second_cam.pitch.max_deviation} {str:_lu}, pressure angle max "
              "{body.second_cam.pressure_angle.max_deg}° at {body.second_cam.pressure_angle.at_deg}°"),
     Template("  distance error between the rollers: max {body.roller_distance_error.max} {u} at "
              "{body.roller_distance_error.at_deg}° (the two curves' deviations "

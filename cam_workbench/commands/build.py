@@ -55,7 +55,7 @@ def _print_summary(s: dict, out: Path) -> None:
     fol = s["follower"]
     print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
           f"{len(f['plots'])} plots")
-    print(f"  follower: {fol['label']} {u}")
+    print(f"  follower (lengths in {u}): {fol['label']}")
     kind = ("PH quintic spline, M" if p["representation"] == "ph"
             else f"periodic B-spline (degree {p['degree']}), knot spans")
     print(f"  {fol['curve']}: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {lu}"
@@ -94,7 +94,7 @@ def _print_summary(s: dict, out: Path) -> None:
     second = body.get("second_cam")
     if isinstance(second, dict):
         err = body["roller_distance_error"]
-        print(f"  second cam (z {second['z'][0]:g} to {second['z'][1]:g}): {second['follower']['label']} {u}; max "
+        print(f"  second cam (z {second['z'][0]:g} to {second['z'][1]:g} {u}): {second['follower']['label']}; max "
               f"deviation {second['pitch']['max_deviation']:.3g} {lu}, pressure angle max "
               f"{second['pressure_angle']['max_deg']:.2f}° at {second['pressure_angle']['at_deg']:.2f}°")
         print(f"  distance error between the rollers: max {err['max']:.3g} {u} at {err['at_deg']:.2f}° "
