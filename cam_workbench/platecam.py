@@ -35,7 +35,8 @@ class PlateCam:
 
     Args:
         spec: a :class:`CamSpec`, a path to a TOML spec, TOML text, a dict in the spec's
-            structure, or None for the built-in default (the paper's Table 1, case 2).
+            structure, or None for the built-in default (example "default": the paper's motion
+            program on a 40 mm base radius with an 8 mm roller).
         **changes: dotted-path overrides applied to the spec, e.g.
             ``PlateCam(**{"cam.base_radius": 30, "follower.roller_radius": 6})``.
 
@@ -73,7 +74,10 @@ class PlateCam:
 
     @classmethod
     def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
-        """A built-in example cam: "default" or "paper" (the paper's Table 1, case 2)."""
+        """A built-in example cam by name: "default", "paper" (the paper's Table 1, case 2),
+        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
+        "cylindrical_oscillating" (``generators.spec.examples.DESCRIPTIONS`` says what each is;
+        docs/spec.md lists them)."""
         from generators.examples import example_spec
 
         cam = cls(example_spec(name), **changes)
@@ -236,9 +240,10 @@ class PlateCam:
         return occ_build.is_valid(self.shape)
 
     def __repr__(self) -> str:
-        s = self.spec
-        return (f"PlateCam(R_b={s.cam.base_radius:g} {s.units}, {s.follower.kind}, "
-                f"e={s.follower.offset:g}, M={self.design.pitch.M}, thickness={s.cam.thickness:g})")
+        """The body, the follower and the numbers that identify the cam (``design.label()``), e.g.
+        ``PlateCam(plate cam, lengths in mm: translating roller r = 8, offset e = 0; R_b = 40, thickness 10;
+        PH quintic pitch curve, M = 60)``."""
+        return f"PlateCam({self.design.label()})"
 
 
 def plate_cam(spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,

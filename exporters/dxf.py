@@ -17,7 +17,8 @@ PROFILE                   the cam profile, as ``drawing.curves`` says: "cubic" (
                           (ARC/LINE) or one closed polyline within ``chord_tolerance``
 PITCH                     the pitch curve, drawn as the profile is (the PH curve itself is a
                           polynomial SPLINE of degree 5)
-BASE_CIRCLE, PRIME_CIRCLE radius R_b − roller radius and R_b
+BASE_CIRCLE, PRIME_CIRCLE the profile's base circle (report.json ``profile.base_circle_radius``: R_b −
+                          roller radius; a groove's inner wall, less half the clearance) and R_b
 BORE                      the central hole
 CENTERLINES               axes through the rotation centre, the follower axis at θ = 0
 DIMENSIONS                DIMENSION entities (bore Ø, base-circle R, largest R; rendered by
@@ -276,7 +277,8 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
                             dr.spline_closed_flag)
     pitch_ccw = design.pitch_nurbs if design.pitch_nurbs.area() > 0 else design.pitch_nurbs.reversed()
     pitch = _export_curve(msp, pitch_ccw, "PITCH", dr.curves, tol, r12, False)
-    msp.add_circle((0, 0), rb - rr, dxfattribs={"layer": "BASE_CIRCLE"})
+    r_base = s["profile"]["base_circle_radius"]          # report.json's: the profile at zero lift
+    msp.add_circle((0, 0), r_base, dxfattribs={"layer": "BASE_CIRCLE"})
     if rr > 0:
         msp.add_circle((0, 0), rb, dxfattribs={"layer": "PRIME_CIRCLE"})
     r_bore = spec.cam.bore_diameter / 2
@@ -294,7 +296,7 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
                    profile_claim(s, spec.is_roller, units), pitch_text(s), tuple(others))
     _centerlines(msp, design, _drawn_radius(design, r_max), h)
     if dr.dimensions:
-        _dimensions(msp, design, r_max, p_max, h, units)
+        _dimensions(msp, design, r_max, p_max, r_base, h, units)
     if dr.title_block:
         _title_block(msp, design, s, info, _extents(msp, r_max, h), h)
     try:
@@ -417,7 +419,8 @@ def _dimstyle(doc: Any, h: float, units: str) -> None:
         doc.header[f"${k.upper()}"] = ds.dxf.get(k)
 
 
-def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: float, units: str) -> None:
+def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, r_base: float, h: float,
+                units: str) -> None:
     spec = design.spec
     _dimstyle(msp.doc, h, units)
     att = {"layer": "DIMENSIONS", "dimstyle": DIMSTYLE}
@@ -427,7 +430,6 @@ def _dimensions(msp: Any, design: CamDesign, r_max: float, p_max: complex, h: fl
     _, pts = design.profile.sample(32)
     k = int(np.argmin(np.hypot(pts[:, 0], pts[:, 1])))
     base_ang = math.degrees(math.atan2(pts[k, 1], pts[k, 0]))
-    r_base = spec.cam.base_radius - spec.roller_radius
     r_bore = spec.cam.bore_diameter / 2
     if r_bore > 0:
         ang = base_ang + 135.0
@@ -556,7 +558,7 @@ def title_rows(design: CamDesign, summary: dict[str, Any], info: DxfInfo) -> lis
         ("UNITS / SCALE", f"{u} / 1:1"),
         ("DRAWN BY", dr.author or "-"),
         ("FOLLOWER", follower),
-        ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(spec.cam.base_radius - spec.roller_radius)})"),
+        ("BASE RADIUS R_b", f"{f(spec.cam.base_radius)} (BASE CIRCLE R{f(prof['base_circle_radius'])})"),
         ("BORE", f"Ø{f(spec.cam.bore_diameter)}" if spec.cam.bore_diameter > 0 else "NONE"),
         ("ROTATION", f"{spec.cam.direction.upper()}, {spec.cam.speed_rpm:g} RPM"),
         ("PITCH CURVE", pitch_text(summary).upper().replace("²", "2")),

@@ -97,8 +97,8 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
     w.comment(f"cam_workbench {__version__}: {design.spec.cam.body} cam, {mode_text}")
     if which:
         w.comment(which)
-    w.comment(f"cam: base radius {spec.cam.base_radius:.6g} {u}, thickness {spec.cam.thickness:g} {u}, "
-              f"{spec.cam.direction}, follower: {design.follower.label()} [{u}]")
+    w.comment(f"cam: {_radius_text(spec, summary)}, thickness {spec.cam.thickness:g} {u}, {spec.cam.direction}, "
+              f"follower: {summary['follower']['label'] if summary is not None else design.follower.label()} [{u}]")
     motion = " / ".join(
         f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
         for m in spec.motion)
@@ -128,6 +128,21 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
               + (tool_text or f"tool centre = {curve} offset outward by {plan.centre_offset:g} {u}")
               + "; no cutter compensation")
     w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
+
+
+def _radius_text(spec: Any, summary: Mapping[str, Any] | None) -> str:
+    """The cam's radii for the header: with ``summary`` (report.json's numbers of this cam — a
+    conjugate pair's second cam has its own) its base circle (``profile.base_circle_radius``, the
+    profile at zero lift) and, where the summary holds the spec, R_b (``cam.base_radius``, the prime
+    circle); without, only the spec's R_b, named as the spec field."""
+    u = spec.units
+    if summary is None:
+        return f"cam.base_radius {spec.cam.base_radius:.6g} {u}"
+    base = f"base circle radius {summary['profile']['base_circle_radius']:.6g} {u} [the profile at zero lift]"
+    sp = summary.get("spec")
+    if isinstance(sp, Mapping):
+        return f"base radius R_b {sp['cam']['base_radius']:.6g} {u} [prime circle], {base}"
+    return base
 
 
 def _header(w: _Writer, plan: MachiningPlan) -> None:

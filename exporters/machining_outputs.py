@@ -104,6 +104,7 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         "chord_tolerance": plan.chord_tolerance,
         "depth": plan.depth,
         "passes": plan.passes,
+        "lead_radius": plan.lead_radius,
         "gcode_lines": gcode.count("\n"),
         # distance of the tool-centre curve from the exact offset of the pitch curve (0: exact)
         "tool_centre_fit_error": tool_centre_fit_error(design, plan),
@@ -158,8 +159,9 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
     if isinstance(body, Mapping) and isinstance(body.get("second_cam"), Mapping):
         s2 = {**body["second_cam"], "units": spec.units, "checks": summary.get("checks"),
               "spec_digest": summary.get("spec_digest")}
-    gap, t = spec.conjugate.gap, spec.cam.thickness
-    which = (f"the second cam of the conjugate pair, {-gap - t:g} <= z <= {-gap:g}: cut as its own plate, Z0 on its "
+    # where the second cam is: report.json's body.second_cam.z (the spec's gap and thickness without it)
+    z0, z1 = s2["z"] if s2 is not None else (-spec.conjugate.gap - spec.cam.thickness, -spec.conjugate.gap)
+    which = (f"the second cam of the conjugate pair, {z0:g} <= z <= {z1:g}: cut as its own plate, Z0 on its "
              "top face [the face towards the first cam], the cam frame seen from +Z as for the first cam")
     if plan.program == "xy":
         path = contour_path(second, plan2)

@@ -48,6 +48,7 @@ import numpy as np
 from generators import __version__
 from generators.bodies import drawing_title
 from generators.cam_design import CamDesign
+from generators.checks.areas import area_label
 from generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from generators.checks.design import limit_sign
 from generators.spec.params import params_of, unit_name
@@ -312,7 +313,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     key_rows = [
         ("follower", "follower.label", "", None),
         ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
-        ("base circle radius (R_b − roller)", "profile.base_circle_radius", u, None),
+        ("base circle radius (the profile at zero lift)", "profile.base_circle_radius", u, None),
         ("smallest profile radius (built)", "profile.min_radius", u, None),
         ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
         ("follower offset e", "follower.offset", u, None),
@@ -324,7 +325,8 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("roller radius", "spec.follower.roller_radius", u, None),
         ("bore diameter", "spec.cam.bore_diameter", u, None),
         ("thickness", "spec.cam.thickness", u, None),
-        ("cross-section area (profile − bore)", "area", f"{u}²", None),
+        (area_label("area"), "area", f"{u}²", None),
+        *_area_rows(report, u),
         ("volume", "volume", f"{u}³", None),
         ("max pressure angle", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
         ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
@@ -466,7 +468,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         verdicts.insert(0, ("checks", "Design checks", _checks_section(report)))
     sections[1:1] = verdicts
     if isinstance(report.get("optimise"), Mapping):
-        body = _scalars_table(report, "optimise", exclude=("history",))
+        body = _objective_note(report) + _scalars_table(report, "optimise", exclude=("history",))
         sections.append(("optimise", "Optimiser", fig.get("convergence", "") + body))
     if isinstance(report.get("drawing"), Mapping):
         sections.append(("drawing", "Manufacturing drawing (DXF)", _drawing_section(report)))
@@ -556,6 +558,28 @@ def _quantity_table(report: Mapping[str, Any], rows: Iterable[tuple[str, str, st
                    f"{at_cell}</tr>")
     out.append("</table>")
     return "".join(out)
+
+
+def _area_rows(report: Mapping[str, Any], u: str) -> list[tuple[str, str, str, None]]:
+    """Key-number rows of report.json's design-intent ``areas`` the cam has (the thesis' Eq. 4.21
+    area, the areas inside the design curve and the profile), each named as :data:`AREA_LABELS` names it."""
+    areas = report.get("areas")
+    if not isinstance(areas, Mapping):
+        return []
+    curve = str(report.get("follower", {}).get("curve", "pitch curve"))
+    return [(area_label(k, curve), f"areas.{k}", f"{u}²", None) for k in ("thesis_eq_4_21", "pitch_curve", "profile")
+            if isinstance(areas.get(k), (int, float))]
+
+
+def _objective_note(report: Mapping[str, Any]) -> str:
+    """What the optimiser minimised, named as report.json names it (``objective_label``, and the
+    path ``objective_key`` where the optimised cam's value is), apart from the cross-section."""
+    opt = report["optimise"]
+    key = opt.get("objective_key")
+    where = f" (report.json <code>{html.escape(str(key))}</code>)" if key else ""
+    return (f'<p class="note" id="objective">Objective <b>{html.escape(str(opt.get("objective")))}</b>: '
+            f'{html.escape(str(opt.get("objective_label", "")))}{where}; the cam\'s cross-section is report.json '
+            "<code>area</code>.</p>")
 
 
 def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[str] = ()) -> str:

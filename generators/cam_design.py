@@ -75,6 +75,16 @@ class CamDesign:
     def follower(self) -> Follower:
         return self.pitch.follower
 
+    def label(self) -> str:
+        """One line that identifies the cam: its body, its follower (motion, contact and numbers, as
+        ``Follower.label()`` words them), the body's numbers and the pitch curve's spans (spec units)."""
+        spec = self.spec
+        curve = self.follower.describe()["curve"]
+        pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if spec.pitch.representation == "ph"
+                 else f"B-spline {curve}, {self.pitch.M} knot spans")
+        return (f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; "
+                f"{pitch}")
+
     def profile_ccw(self) -> NurbsCurve:
         """The profile oriented counter-clockwise (positive area), as solid builders want it."""
         return self.profile if self.profile.area() > 0 else self.profile.reversed()

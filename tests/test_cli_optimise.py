@@ -78,7 +78,8 @@ def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
     page = _Ids()
     page.feed((out / "report.html").read_text())
     assert {"optimise", "fig-convergence", "checks"} <= page.ids
-    assert "area: 78.1477 → 21.3" in res.stdout and "every design check passes" in res.stdout
+    assert ("objective area (thesis Eq. 4.21 area ½∮(R_b + s)² dθ, report.json areas.thesis_eq_4_21): 78.1477 → 21.3"
+            in res.stdout and "every design check passes" in res.stdout)
     _assert_prints_the_reports_status(res.stdout, opt)
     # the thesis' initial design lets the follower leave the cam (separation −696 lbf)
     assert opt["initial_feasible"] is False and [v["name"] for v in opt["initial_violations"]] == ["separation"]
@@ -162,7 +163,9 @@ def test_optimise_an_oscillating_roller(tmp_path):
     _assert_prints_the_reports_status(res.stdout, opt)
     assert opt["feasible"] is True and rep["checks"]["passed"] is True
     assert "design curve" in opt["objective_description"]
-    assert f"area: {opt['initial_value']:.6g} → {opt['final_value']:.6g} mm²" in res.stdout
+    assert opt["objective_key"] == "areas.pitch_curve" and opt["objective_label"] == "area inside the pitch curve"
+    assert (f"objective area (area inside the pitch curve, report.json areas.pitch_curve): {opt['initial_value']:.6g} → "
+            f"{opt['final_value']:.6g} mm²") in res.stdout
     assert opt["final_value"] < opt["initial_value"]
     assert rep["areas"]["pitch_curve"] == pytest.approx(opt["final_value"], rel=1e-9)
     assert rep["areas"]["thesis_eq_4_21"] is None

@@ -526,3 +526,26 @@ def test_an_inch_spec_gives_the_same_physics():
     assert b["error"]["max"] * MM == pytest.approx(a["error"]["max"], rel=1e-9)
     assert b["jump_speed"]["rpm"] == pytest.approx(a["jump_speed"]["rpm"], rel=1e-9)
     assert b["contact"]["unit"] == "lbf" and b["torque"]["unit"] == "lbf·in" and b["error"]["unit"] == "in"
+
+
+@pytest.mark.parametrize("name, sides", [("groove", "the inner wall"), ("conjugate", "the first cam")])
+def test_positive_drive_bodies_hold_the_follower_both_ways(name, sides):
+    """A groove and a conjugate pair hold the roller both ways (form closure, as the design checks
+    say): the dynamics never report it leaving the cam nor a jump speed, whatever its spring; the
+    load changes side where the cycloid's rigid inertia force m·s″·ω² does — at mid-rise (90°), into
+    the dwells at 150° and 330° (a zero force counts as positive) and at mid-return (270°)."""
+    spec = CamSpec.from_dict(example_dict(name)).replace(**{"dynamics.stiffness": 2000.0})
+    res = analyse_dynamics(spec, MotionProgram.from_spec(spec), sweep=True)
+    c = res.summary()["contact"]
+    assert c["kept"] and c["closure"] == "form" and "separations" not in c
+    assert res.jump is None and "jump_speed" not in res.summary()
+    assert sides in c["drive"]["note"]
+    # the closed form: the cycloid's s″ changes sign at mid-rise and mid-return; dwells are zero
+    np.testing.assert_allclose(c["drive"]["rigid"]["changes_at_deg"], [90.0, 150.0, 210.0, 270.0], atol=0.05)
+    # the dynamic force's residual vibration in a dwell (|F| ≪ the peak) chooses no side
+    dyn = c["drive"]["changes_at_deg"]
+    f = np.abs(res.force)
+    assert len(dyn) < 100
+    quiet = (res.theta_deg > 20.0) & (res.theta_deg < 29.0)   # late in the last dwell
+    assert np.max(f[quiet]) < 1e-3 * np.max(f)
+    assert not [a for a in dyn if 20.0 < a < 29.0]

@@ -478,8 +478,8 @@ def test_optimiser_figures_show_the_areas_that_exist(built):
     area inside the pitch curve (or a flat face's contact curve, which is its profile: one row)."""
     run, _reopened, _specs_dir = built
     for key, names in (("osc_roller", ["area inside the pitch curve", "area inside the profile",
-                                       "cross-section (minus the bore)"]),
-                       ("flat", ["area inside the contact curve", "cross-section (minus the bore)"])):
+                                       "cross-section (profile − bore)"]),
+                       ("flat", ["area inside the contact curve", "cross-section (profile − bore)"])):
         figs = {f[0]: f[1:] for f in run.result[key]["figures"]}
         areas = run.result[key]["areas"]
         assert [n for n in figs if ("area" in n or "cross-section" in n) and not n.startswith("objective")] \

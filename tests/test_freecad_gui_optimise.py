@@ -355,9 +355,10 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert s["feasible"] and s["value"] < s["initial"] and s["evaluations"] <= 60
     assert s["apply_text"] == "Apply to the cam" and s["apply_enabled"]
     figures = {row[0]: row for row in r["figures"]}
-    assert list(figures) == ["objective: area", "cam area (thesis Eq. 4.21)", "area inside the profile",
+    obj = "objective: area (thesis Eq. 4.21 area ½∮(R_b + s)² dθ)"     # named as report.json's areas name it
+    assert list(figures) == [obj, "thesis Eq. 4.21 area ½∮(R_b + s)² dθ", "area inside the profile",
                              "base radius R_b", "follower offset e", "worst constraint", "design checks"]
-    assert figures["objective: area"][1:] == ["78.1477 in²", f"{s['value']:.6g} in²"]
+    assert figures[obj][1:] == ["78.1477 in²", f"{s['value']:.6g} in²"]
     assert figures["base radius R_b"][1:] == ["4.5 in", "2.25 in"]            # on the default bound
     assert figures["design checks"][1:] == ["FAIL: separation", "all pass"]
     assert figures["worst constraint"][1].startswith("separation -696.") and figures["worst constraint"][1].endswith("FAILS")

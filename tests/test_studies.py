@@ -219,7 +219,7 @@ def test_flat_face_cusp_radius_closed_form(law, h, beta):
     sz = smallest_base_radius(spec, SizingSettings(checks=("cusp",), tol=1e-3))
     assert sz.status == "ok" and sz.binding == ("cusp",)
     assert expected < sz.value <= expected + 1e-3 + 1e-9
-    assert sz.below <= expected and sz.value - sz.below <= 1e-3
+    assert sz.below <= expected and sz.value - sz.below <= 1e-3 + 1e-9   # grid values, decimal
     assert sz.checks["cusp"].value > 0
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from generators.checks.areas import area_label
 from generators.studies.remedies import remedy_lines
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
@@ -54,7 +55,7 @@ def _print_summary(s: dict, out: Path) -> None:
     fol = s["follower"]
     print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
           f"{len(f['plots'])} plots")
-    print(f"  follower: {fol['label']} {u}")
+    print(f"  follower (lengths in {u}): {fol['label']}")
     kind = ("PH quintic spline, M" if p["representation"] == "ph"
             else f"periodic B-spline (degree {p['degree']}), knot spans")
     print(f"  {fol['curve']}: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {lu}"
@@ -63,9 +64,7 @@ def _print_summary(s: dict, out: Path) -> None:
     c = s["curvature"]
     print(f"  curvature: min {fol['curve']} radius {c['min_pitch_radius']:.4g} {u}, "
           f"min profile radius {c['min_profile_radius']:.4g} {u} at {c['at_deg']:.2f}°")
-    thesis = s["areas"]["thesis_eq_4_21"]
-    print(f"  area {s['area']:.6g} {u}², volume {s['volume']:.6g} {u}³"
-          + ("" if thesis is None else f" (thesis Eq. 4.21 area inside the pitch curve: {thesis:.6g} {u}²)"))
+    print(f"  {area_text(s)}, volume {s['volume']:.6g} {u}³")
     print("  DXF " + describe_dxf(s["drawing"], u))
     ck = s["checks"]
     print("  design checks: " + ("all pass" if ck["passed"] else
@@ -95,7 +94,7 @@ def _print_summary(s: dict, out: Path) -> None:
     second = body.get("second_cam")
     if isinstance(second, dict):
         err = body["roller_distance_error"]
-        print(f"  second cam (z {second['z'][0]:g} to {second['z'][1]:g}): {second['follower']['label']} {u}; max "
+        print(f"  second cam (z {second['z'][0]:g} to {second['z'][1]:g} {u}): {second['follower']['label']}; max "
               f"deviation {second['pitch']['max_deviation']:.3g} {lu}, pressure angle max "
               f"{second['pressure_angle']['max_deg']:.2f}° at {second['pressure_angle']['at_deg']:.2f}°")
         print(f"  distance error between the rollers: max {err['max']:.3g} {u} at {err['at_deg']:.2f}° "
@@ -111,12 +110,24 @@ def _print_remedies(checks: dict) -> None:
         print(f"    remedy {line}")
 
 
+def area_text(s: dict) -> str:
+    """report.json's areas named apart, as report.json names them: ``area`` (the built
+    cross-section) and the design-intent ``areas`` — the thesis' Eq. 4.21 area where the
+    follower has one, else the area inside its design curve."""
+    u = s["units"]
+    areas = s["areas"]
+    key = "thesis_eq_4_21" if areas.get("thesis_eq_4_21") is not None else "pitch_curve"
+    return (f"{area_label('area')} {s['area']:.6g} {u}² (report.json area); "
+            f"{area_label(key, s['follower']['curve'])} {areas[key]:.6g} {u}² (areas.{key})")
+
+
 def _print_body_summary(s: dict, out: Path) -> None:
     """The summary of a cam that is not a plane cam (a cylindrical cam)."""
     u = s["units"]
     f = s["files"]
     b = s["body"]
-    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}")
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
+          f"{len(f['plots'])} plots")
     print(f"  {b['kind']} cam: pitch radius {b['pitch_radius']:g} {u}, outer radius {b['outer_radius']:g} {u}, "
           f"length {b['length']:g} {u}; groove {b['groove_width']:g} {u} wide, {b['groove_depth']:g} {u} deep")
     pa = s["pressure_angle"]

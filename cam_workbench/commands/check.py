@@ -9,7 +9,7 @@ from typing import Any
 
 from exporters.atomic import OutputSet
 from exporters.report_json import report_json_text
-from generators.checks.areas import area_summary
+from generators.checks.areas import area_label, area_summary
 from generators.checks.design import format_value, limit_sign, run_checks
 from generators.errors import GeometryError
 from generators.studies.remedies import add_remedies, remedy_lines, with_remedy
@@ -81,7 +81,8 @@ def run(args: argparse.Namespace) -> int:
             o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
     args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
-    print_table(checks, spec, out, report.get("areas"), report.get("motion", {}).get("junctions"))
+    print_table(checks, spec, out, report.get("areas"), report.get("motion", {}).get("junctions"),
+                (report.get("follower") or {}).get("curve", "pitch curve"))
     if error is not None:
         print(f"the cam cannot be made: {error}")
     return 0 if checks["passed"] else EXIT_CHECK_FAILED
@@ -107,7 +108,7 @@ def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[st
 
 
 def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: dict[str, float] | None,
-                junctions: list[dict[str, Any]] | None = None) -> None:
+                junctions: list[dict[str, Any]] | None = None, follower_curve: str = "pitch curve") -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
     Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
     from rich.console import Console
@@ -141,13 +142,8 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
         console.print(ext)
     if junctions:
         console.print(junction_table(junctions, spec.units if spec.follower.motion == "translating" else "deg"))
-    u = spec.units
-    thesis = areas.get("thesis_eq_4_21") if areas else None
     if areas is not None:       # a cylindrical cam has no plane cross-section
-        console.print((f"area (thesis Eq. 4.21–4.27, inside the pitch curve): {thesis:.6g} {u}²; " if thesis is not None
-                       else f"area inside the {'pitch curve' if spec.follower.kind != 'flat' else 'profile'}: "
-                            f"{areas['pitch_curve']:.6g} {u}²; ")
-                      + f"cam cross-section: {areas.get('built_cross_section', areas['cross_section']):.6g} {u}²")
+        console.print(escape(area_line(areas, spec.units, follower_curve)))
     verdict = ("[green]all checks pass[/]" if checks["passed"]
                else f"[bold red]failed: {', '.join(checks['failed'])}[/]")
     console.print(verdict + ("" if out is None else f" — checks written to {out}/report.json"))
@@ -155,6 +151,16 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
 
 
 _JUMP_NAMES = ("s", "velocity", "acceleration", "jerk")
+
+
+def area_line(areas: dict[str, Any], units: str, curve: str = "pitch curve") -> str:
+    """report.json's ``areas`` named as report.json names them: the thesis' Eq. 4.21 area (or,
+    for a follower without one, the area inside its design curve ``curve``) and the cam's
+    cross-section (the built one, report.json ``area``, when the solid's numbers are there)."""
+    key = "thesis_eq_4_21" if areas.get("thesis_eq_4_21") is not None else "pitch_curve"
+    built = "built_cross_section" if areas.get("built_cross_section") is not None else "cross_section"
+    return (f"{area_label(key, curve)}: {areas[key]:.6g} {units}² (report.json areas.{key}); "
+            f"{area_label('cross_section')}: {areas[built]:.6g} {units}² (areas.{built})")
 
 
 def junction_table(junctions: list[dict[str, Any]], lift_unit: str) -> Any:

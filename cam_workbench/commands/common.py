@@ -6,7 +6,7 @@ import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
 from generators.errors import SpecError
-from generators.spec.examples import EXAMPLES, example_spec
+from generators.spec.examples import DESCRIPTIONS, example_spec
 from generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
@@ -19,9 +19,8 @@ def add_spec_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("spec", nargs="?", metavar="SPEC",
                    help="cam spec (TOML); omitted: the built-in example named by --example")
     p.add_argument("--example", metavar="NAME", default=None,
-                   help="a built-in cam instead of SPEC: 'default' (passes every check; the default), "
-                        "'paper' (Jahanpour & Dolatabadi 2014, Table 1 case 2, 5 mm roller), or one of "
-                        f"{', '.join(repr(n) for n in EXAMPLES if n not in ('default', 'paper'))}")
+                   help="a built-in cam instead of SPEC (default: 'default'): "
+                        + "; ".join(f"'{n}' ({d})" for n, d in DESCRIPTIONS.items()))
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a spec field, e.g. --set cam.base_radius=30 or "
                         "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
@@ -142,12 +141,20 @@ def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
         raise with_remedy(spec, exc) from None
 
 
+def on_terminal() -> bool:
+    """Whether standard output is a terminal: progress displays are drawn there only, so that a
+    redirected output holds the command's result alone (``gcode`` writes its program there)."""
+    from rich.console import Console
+
+    return Console().is_terminal
+
+
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:
     """A rich progress display (context manager) and a callback for the tolerance search."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     prog = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
-                    transient=True)
+                    transient=True, disable=not on_terminal())
     task = prog.add_task(description, total=None)
 
     def callback(m: int, dev: float) -> None:
@@ -161,7 +168,7 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), transient=True)
+                    TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = prog.add_task("report", total=total)
     started = [False]
 
@@ -223,7 +230,7 @@ def count_progress(total: int, description: str, unit: str) -> tuple[Any, Callab
 
     prog = Progress(TextColumn("{task.description}"), BarColumn(),
                     TextColumn("{task.completed}/{task.total} " + unit), TimeElapsedColumn(),
-                    TextColumn("eta"), TimeRemainingColumn(), transient=True)
+                    TextColumn("eta"), TimeRemainingColumn(), transient=True, disable=not on_terminal())
     task = prog.add_task(description, total=total)
 
     def callback(done: int, n: int) -> None:

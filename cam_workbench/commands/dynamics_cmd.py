@@ -17,7 +17,7 @@ from generators.followers import follower_of
 from generators.motion.program import MotionProgram
 from generators.spec import CamSpec, spec_digest
 
-from .common import add_output_arguments, add_spec_arguments, admit_output, output_claim, spec_from_args
+from .common import add_output_arguments, add_spec_arguments, admit_output, on_terminal, output_claim, spec_from_args
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -51,7 +51,7 @@ def sweep_progress() -> tuple[Any, Any]:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                   TimeElapsedColumn(), transient=True)
+                   TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = bar.add_task("jump-speed sweep", total=None)
 
     def callback(done: int, total: int, what: str) -> None:

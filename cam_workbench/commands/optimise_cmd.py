@@ -9,12 +9,14 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from generators.checks.areas import area_label
 from generators.optimise import Progress, optimise
 from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
-                     check_parallel_arguments, note, output_claim, plot_progress, require_ocp, spec_from_args)
+                     check_parallel_arguments, note, on_terminal, output_claim, plot_progress, require_ocp,
+                     spec_from_args)
 
 EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
@@ -54,7 +56,7 @@ def _progress_bar(budget: int) -> tuple[Any, Any]:
     from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedColumn
 
     bar = Bar(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} evaluations"),
-              TimeElapsedColumn(), transient=True)
+              TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = bar.add_task("optimising", total=budget)
 
     def callback(p: Progress) -> bool:
@@ -111,9 +113,14 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     opt = report["optimise"]
     unit = opt["objective_unit"]
     red = opt["reduction_percent"]
-    con.print(escape(f"{opt['objective']}: {opt['initial_value']:.6g} → {opt['final_value']:.6g} {unit}"
-                     + (f" ({-red:+.2f} %)" if red is not None else "")
-                     + f" in {opt['evaluations']} evaluations, {opt['time_s']:.2f} s"))
+    key = f", report.json {opt['objective_key']}" if opt["objective_key"] else ""
+    change = "" if red is None else f" ({red:.2f} % smaller)" if red >= 0 else f" ({-red:.2f} % larger)"
+    con.print(escape(f"objective {opt['objective']} ({opt['objective_label']}{key}): {opt['initial_value']:.6g} → "
+                     f"{opt['final_value']:.6g} {unit}{change} in {opt['evaluations']} evaluations, "
+                     f"{opt['time_s']:.2f} s"))
+    if "areas" in report:           # a plane cam: its cross-section is not the objective's area
+        con.print(escape(f"the optimised cam's {area_label('area')}: {report['area']:.6g} {report['units']}² "
+                         "(report.json area)"))
     con.print(escape(f"status: {opt['status_text']}"))
     con.print(escape(f"message: {opt['message']}"))
     if not opt["initial_feasible"]:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from generators.spec.examples import example_spec
+from generators.spec.examples import EXAMPLES, example_spec
 from generators.spec import default_spec, to_toml
 from generators.spec.reference import render
 
@@ -14,7 +14,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "(the same text as docs/spec.md), or the built-in default spec as TOML.")
     p.add_argument("--default", action="store_true", help="print the built-in default spec as TOML")
     p.add_argument("--example", metavar="NAME",
-                   help="print a built-in example spec as TOML ('default' or 'paper')")
+                   help=f"print a built-in example spec as TOML: one of {', '.join(EXAMPLES)} (docs/spec.md "
+                        "describes each)")
     p.set_defaults(run=run)
 
 

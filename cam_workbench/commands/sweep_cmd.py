@@ -91,6 +91,8 @@ def _print(table: Any, out: Path, files: dict[str, str]) -> None:
     from rich.markup import escape
     from rich.table import Table
 
+    from generators.studies.sizing import digits_of
+
     from ..studies import grid_columns
 
     con = Console(soft_wrap=True)
@@ -99,12 +101,14 @@ def _print(table: Any, out: Path, files: dict[str, str]) -> None:
     meta = table.meta
     cols = grid_columns(table)
     if meta.get("kind") == "sizing":
+        # the radius with the digits the bisection's tolerance supports (on its grid: sizing.TolGrid)
+        digits = digits_of(meta["tolerance"])
         t = Table(*cols, "smallest R_b", "binding check", title=f"smallest base radius ({meta['units']}, "
                   f"to {meta['tolerance']:g})")
         for r in rows[:40]:
             val = r.get("min_base_radius")
             t.add_row(*(escape(_fmt(r.get(c))) for c in cols),
-                      "—" if val is None else f"{val:.4f}",
+                      "—" if val is None else f"{val:.{digits}f}",
                       escape(r.get("binding_checks") or r.get("error") or r["status"]))
         con.print(t)
         if len(rows) > 40:

@@ -44,7 +44,7 @@ from . import properties as props
 TRANSACTION = "Optimise cam"
 #: What each objective is, for the panel's list (the declaration says more in its tooltip).
 OBJECTIVE_LABELS = {
-    "area": "Cam area (thesis Eq. 4.21, inside the pitch curve)",
+    "area": "Cam area (thesis Eq. 4.21 ½∮(R_b + s)² dθ; other followers: inside the design curve)",
     "profile_area": "Profile area (true cross-section inside the roller profile)",
     "machining_time": "Machining time (the thesis' cutting-time model, Eq. 4.20)",
     "gcode_time": "G-code time (this project's XY contour program)",
@@ -359,13 +359,15 @@ def figures(result: Any) -> list[Figure]:
     check closest to or furthest past its limit), the design checks' verdict."""
     from generators.optimise import worst_constraint
     from generators.optimise.objectives import UNITS
+    from generators.optimise.objectives import label as objective_label
 
     a, b = result.initial_spec, result.spec
     u = a.units
     unit = UNITS[result.objective].replace("length", u)
     areas = result.details.get("areas", {})
     ia, fa = areas.get("initial", {}), areas.get("final", {})
-    rows = [Figure(f"objective: {result.objective}", result.initial_value, result.value, unit)]
+    rows = [Figure(f"objective: {result.objective} ({objective_label(result.objective, a)})", result.initial_value,
+                   result.value, unit)]
     for key, name in area_keys(a, b, ia, fa):
         rows.append(Figure(name, ia[key], fa.get(key), f"{u}²"))
     ct = result.details.get("cutting_time")
@@ -390,6 +392,7 @@ def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final
     area inside the design curve (the pitch curve, or a flat face's contact curve); the area
     inside the profile unless it is that same area (a knife edge or a flat face: offset 0); the
     cross-section minus the bore when there is a bore."""
+    from generators.checks.areas import area_label
     from generators.followers import follower_of
 
     curve = follower_of(spec).describe()["curve"]
@@ -397,15 +400,13 @@ def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final
     first = "thesis_eq_4_21"
     if initial.get(first) is None and final.get(first) is None:
         first = "pitch_curve"
-        keys.append((first, f"area inside the {curve}"))
-    else:
-        keys.append((first, "cam area (thesis Eq. 4.21)"))
+    keys.append(first)
     if "profile" in initial and not (first == "pitch_curve" and initial["profile"] == initial[first]
                                      and final.get("profile") == final.get(first)):
-        keys.append(("profile", "area inside the profile"))
+        keys.append("profile")
     if spec.cam.bore_diameter > 0 or final_spec.cam.bore_diameter > 0:
-        keys.append(("cross_section", "cross-section (minus the bore)"))
-    return [(k, name) for k, name in keys if k in initial]
+        keys.append("cross_section")
+    return [(k, area_label(k, curve)) for k in keys if k in initial]
 
 
 def _verdict(checks: Any) -> str:

@@ -27,6 +27,7 @@ import time
 from typing import Any
 
 from generators.errors import SpecError
+from generators.optimise.objectives import label as objective_label
 from generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
@@ -472,13 +473,14 @@ class OptimiserPanel:
         self.progress.setRange(0, max(res.evaluations, 1))
         self.progress.setValue(res.evaluations)
         unit = self._unit(res.objective)
-        self.live.setText(f"{res.status_text}: {res.objective} {res.initial_value:.6g} → {res.value:.6g} {unit} in "
+        what = f"{res.objective} ({objective_label(res.objective, res.initial_spec)})"
+        self.live.setText(f"{res.status_text}: {what} {res.initial_value:.6g} → {res.value:.6g} {unit} in "
                           f"{res.evaluations} evaluations, {res.time_s:.1f} s\n{res.message}")
         self.live.setStyleSheet("")
         self._show_result(res)
         self.scroll_to(self.form[4])
         out = FreeCAD.Console.PrintMessage if res.feasible else FreeCAD.Console.PrintWarning
-        out(f"{self.obj.Label}: optimise {res.status_text}: {res.objective} {res.initial_value:.6g} → "
+        out(f"{self.obj.Label}: optimise {res.status_text}: {what} {res.initial_value:.6g} → "
             f"{res.value:.6g} {unit} in {res.evaluations} evaluations; "
             + ("every design check passes" if res.feasible else
                f"the result FAILS the dense re-check: {', '.join(res.checks.failed)}") + "\n")

@@ -47,6 +47,10 @@ class ConjugateBody:
     title = "Conjugate cam pair"
     #: the two cams hold the follower both ways (form closure): it cannot leave them
     closure = "form"
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the two cams hold the follower both ways; the cam that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower away from the cam axis, the first cam; "
+                  "negative: the second cam)")
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -56,6 +60,13 @@ class ConjugateBody:
     def machining_defaults(spec) -> dict[str, float | None]:
         """Each cam is cut as a plate cam: the whole thickness, a tool of the roller's size."""
         return {"depth": spec.cam.thickness, "tool_radius": None}
+
+    @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a conjugate pair (spec lengths, no unit): R_b, each cam's thickness,
+        the gap, and the second roller in its own words."""
+        return (f"R_b = {spec.cam.base_radius:g}, two cams {spec.cam.thickness:g} thick, gap {spec.conjugate.gap:g}; "
+                f"{second_roller_of(spec).label()}")
 
     @staticmethod
     def further_followers(spec) -> tuple:

@@ -62,6 +62,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks.status import limited_status
 from ..errors import GeometryError, SpecError, fmt_apart
 from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
                             centre_line, expand, mid_arm_angle, pressure_angle)
@@ -398,7 +399,8 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
         "pressure_angle": _result(what_p, "max", abs(float(phi_p[ip])), float(np.rad2deg(th[ip]) % 360), limit,
                                   "deg"),
         "pressure_angle_bottom": _result(what_b, "max", abs(float(phi_b[ib])), float(np.rad2deg(th[ib]) % 360), None,
-                                         "deg"),
+                                         "deg", "no limit: checks.max_pressure_angle applies at the pitch radius, "
+                                                "so this is reported, not checked"),
         "undercut": _result("Smallest radius of curvature of the developed centre line (over the groove's depth), "
                             "against undercut_factor × groove half width", "min", worst[0], worst[1],
                             factor * w2, spec.units),
@@ -423,13 +425,12 @@ def _first_largest(a: np.ndarray) -> int:
     return int(np.argmax(a >= np.max(a) * (1 - 1e-12)))
 
 
-def _result(description, kind, value, at, limit, unit) -> dict[str, Any]:
-    if limit is None:
-        status = "pass"
-    else:
-        status = "pass" if (value <= limit if kind == "max" else value >= limit) else "fail"
+def _result(description, kind, value, at, limit, unit, no_limit: str = "") -> dict[str, Any]:
+    """A check's entry of report.json's ``checks.results`` (as :class:`CheckResult.to_dict`); without a
+    limit it is reported, not passed ("skipped", ``no_limit`` saying why)."""
+    status = limited_status(None if limit is None else (value <= limit if kind == "max" else value >= limit))
     return {"description": description, "kind": kind, "value": value, "at_deg": at, "limit": limit, "unit": unit,
-            "status": status, "passed": status == "pass", "note": ""}
+            "status": status, "passed": status != "fail", "note": no_limit if limit is None else ""}
 
 
 # ---- the design -------------------------------------------------------------------------------
@@ -481,6 +482,11 @@ class CylindricalDesign:
         return {"kind": "roller", "motion": "translating", "label": f"translating roller r = {r:g}, along the cam "
                 "axis", "roller_radius": r}
 
+    def label(self) -> str:
+        """One line that identifies the cam: its body, its follower and its numbers (spec units)."""
+        return (f"cylindrical cam, lengths in {self.spec.units}: {self._follower()['label']}; "
+                f"{CylindricalBody.label(self.spec)}")
+
     def summary(self) -> dict[str, Any]:
         from ..spec.model import spec_digest
 
@@ -508,9 +514,9 @@ class CylindricalBody:
     kind = "cylindrical"
     title = "Cylindrical cam"
     closure = "form"
-    #: the follower dynamics treat the groove as holding the roller both ways: the load changes
-    #: wall where the contact force changes sign (no separation, no jump speed)
-    dynamics_form_closed = True
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower along +s, the lower wall; negative: the upper wall)")
 
     @staticmethod
     def own_follower(spec) -> "CylindricalFollower":
@@ -520,6 +526,13 @@ class CylindricalBody:
     @staticmethod
     def profile_inset(spec) -> float:
         return resolved(spec, "groove", "clearance") / 2
+
+    @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a cylindrical cam (spec lengths, no unit): its radii, length and groove."""
+        lay = CylinderLayout.of(spec)
+        return (f"pitch radius {lay.pitch_radius:g}, outer radius {lay.outer_radius:g}, length {lay.length:g}, "
+                f"groove {2 * lay.half_width:g} wide, {lay.outer_radius - lay.bottom_radius:g} deep")
 
     @staticmethod
     def further_followers(spec) -> tuple:

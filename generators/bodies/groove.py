@@ -38,6 +38,10 @@ class GrooveBody:
     title = "Groove cam"
     #: the groove holds the roller both ways (form closure): it cannot leave the cam
     closure = "form"
+    #: which side drives (the follower dynamics' form-closure note)
+    drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
+                  "changes sign (positive: pushing the follower away from the cam axis, the inner wall; "
+                  "negative: the outer wall)")
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -48,6 +52,12 @@ class GrooveBody:
         """The groove's depth, and a tool ¾ of the groove's half width (it must be narrower than
         the groove to finish both walls)."""
         return {"depth": groove_depth(spec), "tool_radius": 0.75 * half_width(spec)}
+
+    @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a groove cam (spec lengths, no unit): R_b, the disc and the groove."""
+        return (f"R_b = {spec.cam.base_radius:g}, disc Ø{spec.cam.outer_diameter:g} × {spec.cam.thickness:g}, "
+                f"groove {2 * half_width(spec):g} wide, {groove_depth(spec):g} deep")
 
     @staticmethod
     def further_followers(spec) -> tuple:

@@ -19,6 +19,8 @@ class PlateBody:
     title = "Plate cam"
     #: a spring (force closure) keeps the follower on the cam: it can leave it (separation)
     closure = "force"
+    #: no side to tell: the spring holds the follower on the one profile
+    drive_note = ""
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -30,6 +32,11 @@ class PlateBody:
         """Defaults of ``[machining]`` the body decides: the cut's depth (the whole plate) and the
         tool radius (None: the plate's own rule, the roller's size)."""
         return {"depth": spec.cam.thickness, "tool_radius": None}
+
+    @staticmethod
+    def label(spec) -> str:
+        """The numbers that identify a plate cam (spec lengths, no unit): R_b and the thickness."""
+        return f"R_b = {spec.cam.base_radius:g}, thickness {spec.cam.thickness:g}"
 
     @staticmethod
     def further_followers(spec) -> tuple:

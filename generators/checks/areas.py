@@ -30,6 +30,23 @@ from ..followers import follower_of
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 
+#: what each area of report.json is, in the words every printout uses: ``area`` (the built cross-section)
+#: and the keys of ``areas`` (design intent) — so that no two areas are ever printed under one name
+AREA_LABELS = {
+    "area": "cross-section (top face)",
+    "thesis_eq_4_21": "thesis Eq. 4.21 area ½∮(R_b + s)² dθ",
+    "pitch_curve": "area inside the {curve}",
+    "profile": "area inside the profile",
+    "cross_section": "cross-section (profile − bore)",
+}
+
+
+def area_label(key: str, curve: str = "pitch curve") -> str:
+    """The words for report.json's area ``key`` (``"area"`` or a key of ``areas``); ``curve``:
+    report.json's ``follower.curve`` (the design curve: "pitch curve", a flat face's "contact curve")."""
+    return AREA_LABELS[key].format(curve=curve)
+
+
 GAUSS_CLOSED_FORM = 64     # nodes per closed-form motion segment (smooth integrands)
 GAUSS_PER_KNOT_SPAN = 16   # nodes per B-spline knot span (exact for degree ≤ 31)
 

@@ -20,6 +20,10 @@ cusp (flat)        profile radius ρ = R_b + s + s″ (oscillating: h + h_γγ) 
 face_width (flat)  face width the contact needs, centred on stem / arm_length  ≤ face_width
 =================  ==========================================================  ============
 
+A check that cannot be decided is "skipped", never "pass": no load to check, a positive drive, or no
+limit given (``material.allowable_stress``, ``follower.face_width``: the value is reported, the note
+names the field; :mod:`generators.checks.status`).
+
 ρ_c = ρ − r_f is the cam surface's signed radius of curvature (+ convex, − concave), so the
 same Eq. 3.6 covers convex and concave contact (the thesis put the pitch radius ρ there;
 :func:`hertz_stress` takes whichever radius it is given; a flat face is a cylinder on a plane).
@@ -42,6 +46,7 @@ from ..followers import Follower, follower_of, force_reference
 from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
+from .status import NO_LIMIT, limited_status
 
 TWO_PI = 2.0 * np.pi
 THESIS_NODES = 71
@@ -340,11 +345,10 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
     if fol.contact != "knife" and model.has_load:
         v, t, _ = _extreme(st.stress, st, model, lambda s: s.stress, refine)
         lim = spec.material.allowable_stress
-        status = "pass" if lim is None or v <= lim else "fail"
         results.append(CheckResult(
             "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
-            "max", v, _deg(t), lim, lab["stress"], status,
-            "" if lim is not None else "material.allowable_stress not given: not limited"))
+            "max", v, _deg(t), lim, lab["stress"], limited_status(v <= lim if lim is not None else None),
+            "" if lim is not None else NO_LIMIT.format(field="material.allowable_stress")))
     else:
         results.append(CheckResult(
             "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
@@ -499,12 +503,12 @@ def _flat_face_checks(model: StateModel, st: CamState, refine: bool, cfg: Any, l
     note = (f"contact from {lo:.4g} to {hi:.4g} along the face from the "
             f"{'stem' if fol.motion == 'translating' else 'foot of the pivot'}")
     if limit is None:
-        note += "; follower.face_width not given: not limited"
+        note += "; " + NO_LIMIT.format(field="follower.face_width")
     elif centre is None:
         note += "; the face centred on the contact's travel (follower.arm_length not given)"
     results.append(CheckResult(
         "face_width", "width of face the contact needs (centred on the stem / on arm_length)", "max", width, at,
-        limit, lab["length"], "pass" if limit is None or width <= limit else "fail", note))
+        limit, lab["length"], limited_status(width <= limit if limit is not None else None), note))
     return results
 
 

@@ -28,7 +28,7 @@ from ..spec.model import SWEEP_LOW_FRACTION, CamSpec
 from ..spec.params import unit_name
 from .contact import SeparatedResponse, separated_response
 from .jump import RPM, SWEEP_MAX_SAMPLES, JumpSpeed, find_jump_speed, rigid_jump_speed, sweep_range
-from .model import TrainModel, analysis_speed, train_model
+from .model import TrainModel, analysis_rpm, train_model
 from .periodic import CamInput, PeriodicResponse, cam_input, parabolic_min, periodic_response, sample_count
 
 TWO_PI = 2.0 * math.pi
@@ -63,6 +63,8 @@ class DynamicsResult:
 
     model: TrainModel
     omega: float
+    #: the cam speed of the analysis [rpm] as given (ω is computed from it, never the other way round)
+    speed_rpm: float
     theta: np.ndarray
     lift: np.ndarray
     position: np.ndarray
@@ -80,13 +82,11 @@ class DynamicsResult:
     program: MotionProgram = field(repr=False)
     units: str = "mm"
     lift_unit: str = "length"
-    #: the body holds the follower both ways (a cylindrical cam's groove): no separation, the load
-    #: changes wall where the contact force changes sign
+    #: the body holds the follower both ways (a groove, a conjugate pair, a cylindrical cam's
+    #: groove): no separation, the load changes side where the contact force changes sign
     form_closed: bool = False
-
-    @property
-    def speed_rpm(self) -> float:
-        return self.omega * RPM
+    #: the body's words for which side drives (``Body.drive_note``)
+    drive_note: str = ""
 
     @property
     def theta_deg(self) -> np.ndarray:
@@ -144,9 +144,7 @@ class DynamicsResult:
             contact["drive"] = {
                 **sign_changes(self.force, self.theta),
                 "rigid": sign_changes(self.rigid_force, self.theta),
-                "note": "form closure: the groove holds the roller both ways; the wall that drives changes where "
-                        "the contact force changes sign (positive: pushing the follower along +s, the lower wall; "
-                        "negative: the upper wall)"}
+                "note": f"form closure: {self.drive_note}"}
         steady: dict[str, Any]
         if self.separated is None:
             steady = {"method": "periodic solve (harmonic balance, exact for the linear train on the cam)",
@@ -213,16 +211,23 @@ class DynamicsResult:
                 "on_cam": self.on_cam.astype(float)}
 
 
+#: a force within this fraction of the largest |F| counts as positive, as a zero does: the residual
+#: vibration of a dwell (|F| ~ 1e-7 of the peak in the examples) chooses no wall
+SIDE_TOLERANCE = 1e-3
+
+
 def sign_changes(force: np.ndarray, theta: np.ndarray) -> dict[str, Any]:
     """Where a periodic force sampled at equal angles ``theta`` [rad] changes sign: the cam angles
-    [deg] of its zero crossings (linear between samples, the last sample joined to the first) and
-    the share of the turn it is positive (a zero counts as positive) and negative."""
+    [deg] where it crosses −tol (linear between samples, the last sample joined to the first), and
+    the share of the turn it is positive and negative; a force above −tol, tol =
+    :data:`SIDE_TOLERANCE` × max |F|, counts as positive (a zero does)."""
     f = np.asarray(force, float)
+    tol = SIDE_TOLERANCE * float(np.max(np.abs(f))) if f.size else 0.0
     g = np.roll(f, -1)
     t1 = np.append(theta[1:], theta[0] + TWO_PI)
-    sign = np.where(f < 0, -1, 1)
+    sign = np.where(f < -tol, -1, 1)
     flips = np.nonzero(sign != np.roll(sign, -1))[0]
-    at = theta[flips] - f[flips] * (t1[flips] - theta[flips]) / (g[flips] - f[flips])
+    at = theta[flips] + (-tol - f[flips]) * (t1[flips] - theta[flips]) / (g[flips] - f[flips])
     deg = np.mod(np.rad2deg(at), 360.0)
     return {"changes_at_deg": [float(a) for a in np.sort(deg)],
             "positive_share": float(np.mean(sign > 0)), "negative_share": float(np.mean(sign < 0))}
@@ -269,11 +274,12 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
     body = body_of(spec)
     own = getattr(body, "own_follower", None)
     fol = follower or (own(spec) if own is not None else follower_of(spec))
-    form_closed = bool(getattr(body, "dynamics_form_closed", False))
+    form_closed = body.closure == "form"
     model = train_model(spec, fol)
     program = program or MotionProgram.from_spec(spec)
     dy = spec.dynamics
-    omega = speed_rpm / RPM if speed_rpm is not None else analysis_speed(spec)
+    rpm = speed_rpm if speed_rpm is not None else analysis_rpm(spec)
+    omega = rpm / RPM
     n = sample_count(model, omega, dy.samples)
     inp = cam_input(program, fol, n)
     per = periodic_response(model, inp, omega)
@@ -298,8 +304,9 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         speeds = np.linspace(lo, hi, dy.sweep_points)
         jump = find_jump_speed(model, sweep_inp, speeds, rigid, progress)
     return DynamicsResult(
-        model=model, omega=omega, theta=inp.theta, lift=inp.u / c, position=q / c, error=err / c,
+        model=model, omega=omega, speed_rpm=float(rpm), theta=inp.theta, lift=inp.u / c, position=q / c, error=err / c,
         vibration=(err - quasi_static) / c, force=load * inp.lever, rigid_force=rigid_load * inp.lever,
         torque=load * inp.du, rigid_torque=rigid_load * inp.du, on_cam=on_cam, periodic=per,
         separated=separated, jump=jump, inp=inp, program=program, units=spec.units,
-        lift_unit=fol.lift_unit, form_closed=form_closed)
+        lift_unit=fol.lift_unit, form_closed=form_closed,
+        drive_note=body.drive_note)

@@ -28,7 +28,6 @@ from ..errors import SpecError, fmt_apart
 from ..followers import Follower, follower_of
 from ..spec.model import CamSpec
 
-TWO_PI = 2.0 * math.pi
 
 #: the [dynamics] fields of each coordinate kind: (inertia, stiffness), and the follower field
 #: the inertia defaults to
@@ -142,7 +141,6 @@ def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
                         f"dynamics.{inertia_field} or follower.{follower_field}")
 
 
-def analysis_speed(spec: CamSpec) -> float:
-    """The cam speed of the analysis [rad/s]: ``dynamics.speed_rpm`` or ``cam.speed_rpm``."""
-    rpm = spec.dynamics.speed_rpm if spec.dynamics.speed_rpm is not None else spec.cam.speed_rpm
-    return rpm * TWO_PI / 60.0
+def analysis_rpm(spec: CamSpec) -> float:
+    """The cam speed of the analysis [rpm]: ``dynamics.speed_rpm`` or ``cam.speed_rpm``."""
+    return spec.dynamics.speed_rpm if spec.dynamics.speed_rpm is not None else spec.cam.speed_rpm

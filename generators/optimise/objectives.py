@@ -65,6 +65,46 @@ def describe(name: str, spec: Any) -> str:
     return DESCRIPTIONS[name]
 
 
+#: each objective in a few words, as printouts name it beside its value (``area`` and
+#: ``profile_area`` as report.json's ``areas`` names them: :data:`generators.checks.areas.AREA_LABELS`)
+LABELS = {
+    "profile_area": "area inside the profile",
+    "machining_time": "thesis cutting time (Eq. 4.20)",
+    "gcode_time": "time of the XY G-code contour",
+    "peak_acceleration": "largest |s″|",
+    "peak_pressure_angle": "largest |pressure angle|",
+    "thesis_length": "length of the thesis' curve r = R_b + s",
+    "pitch_length": "pitch-curve length",
+    "outer_diameter": "outer diameter (cam.outer_diameter)",
+}
+#: the report.json path (of the cam the objective is evaluated on) that holds each objective's value,
+#: None where report.json holds no such number (a peak over the optimiser's nodes, a machining time)
+REPORT_KEYS = {"profile_area": "areas.profile", "outer_diameter": "spec.cam.outer_diameter"}
+
+
+def label(name: str, spec: Any) -> str:
+    """The objective ``name`` of ``spec`` in a few words (report.json's ``objective_label``): "area"
+    is the thesis' Eq. 4.21 area for a translating knife edge or roller, else the area inside the
+    follower's design curve."""
+    from ..checks.areas import area_label
+
+    if name == "area":
+        key = report_key(name, spec).removeprefix("areas.")
+        return area_label(key, "contact curve" if spec.follower.kind == "flat" else "pitch curve")
+    return LABELS[name]
+
+
+def report_key(name: str, spec: Any) -> str | None:
+    """The path in report.json where the objective ``name`` of ``spec`` is (report.json's
+    ``objective_key``): "area" → ``areas.thesis_eq_4_21`` (thesis Eq. 4.21) or ``areas.pitch_curve``
+    (the area inside the design curve); None when report.json has no such number."""
+    from .kinds import kind_model
+
+    if name == "area":
+        return "areas.thesis_eq_4_21" if kind_model(spec).area_integral == "thesis_area" else "areas.pitch_curve"
+    return REPORT_KEYS.get(name)
+
+
 UNITS = {"area": "length²", "profile_area": "length²", "machining_time": "s", "gcode_time": "s",
          "peak_acceleration": "length/rad²", "peak_pressure_angle": "deg", "thesis_length": "length",
          "pitch_length": "length", "outer_diameter": "length"}

@@ -50,7 +50,8 @@ from ..spec.model import CamSpec
 from ..studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
 from .kinds import force_reference, kind_model
 from .model import SmoothModel
-from .objectives import PEAK, SURROGATE, TIME, UNITS, Objective, describe, make_objective
+from .objectives import PEAK, SURROGATE, TIME, UNITS, Objective, describe, make_objective, report_key
+from .objectives import label as objective_label
 from .space import DesignSpace
 
 LOCAL_GRADIENT = {"slsqp": "LD_SLSQP", "mma": "LD_MMA", "ccsaq": "LD_CCSAQ"}
@@ -162,6 +163,8 @@ class OptimiseResult:
         out: dict[str, Any] = {
             "objective": self.objective,
             "objective_description": describe(self.objective, self.spec),
+            "objective_label": objective_label(self.objective, self.spec),
+            "objective_key": report_key(self.objective, self.spec),
             "objective_unit": UNITS[self.objective].replace("length", self.spec.units),
             "algorithm": self.algorithm,
             "status": self.status,

@@ -23,6 +23,13 @@
 * ``conjugate`` — the default's motion on a conjugate pair: a translating yoke (offset 5 mm) with
   its 8 mm roller on the first cam and a 6 mm roller 106 mm away on the other side of the axis on
   the second, 3 mm below it; both rollers touch at every angle, no spring.
+* ``cylindrical`` — a cylindrical (barrel) cam: the default's motion as a groove around a 40 mm
+  pitch-radius cylinder 60 mm long, a 5 mm roller moving along the cam axis.
+* ``cylindrical_oscillating`` — a cylindrical cam driving an oscillating 5 mm roller on a 50 mm arm
+  pivoted 50 mm away: 30° arm rise and return over 150°.
+
+:data:`DESCRIPTIONS` says the same in one line each: the CLI's ``--example`` help, ``cam-workbench
+spec --example`` and the examples table of docs/spec.md read it.
 """
 from __future__ import annotations
 
@@ -133,6 +140,29 @@ EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PA
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
                                        "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT,
                                        "cylindrical_oscillating": CYLINDRICAL_OSCILLATING_SPEC_DICT}
+
+
+#: every example in one line (the ``--example`` help and docs/spec.md's table read this)
+DESCRIPTIONS: dict[str, str] = {
+    "default": "the paper's motion program (cycloidal 20 mm rise and return over 120°) on R_b = 40 mm with a "
+               "radial 8 mm roller; passes every design check",
+    "paper": "Jahanpour & Dolatabadi (2014), Table 1 case 2: e = 10 mm, R_b = √(20² + 10²), M = 60, a 5 mm roller; "
+             "fails the 30° pressure-angle limit (46.2°)",
+    "oscillating": "the default's motion as a 15° arm rotation: an 8 mm roller on a 45 mm arm pivoted 60 mm from "
+                   "the cam axis",
+    "flat": "the default's motion with a translating flat-faced follower, face 40 mm wide",
+    "packaging": "a 22 mm constant-velocity working stroke entered and left through polynomial rises, on "
+                 "R_b = 60 mm; every junction C²",
+    "groove": "the default's motion in a groove (face) cam: a 150 mm disc 12 mm thick, keyway, hub, four holes "
+              "and a timing mark",
+    "conjugate": "the default's motion on a conjugate pair: a yoke's 8 mm roller on the first cam, a 6 mm roller "
+                 "106 mm away on the second",
+    "cylindrical": "a cylindrical (barrel) cam: a groove around a 40 mm pitch-radius cylinder 60 mm long, a 5 mm "
+                   "roller along the cam axis",
+    "cylindrical_oscillating": "a cylindrical cam driving an oscillating 5 mm roller on a 50 mm arm pivoted 50 mm "
+                               "away (30° arm rise over 150°)",
+}
+assert set(DESCRIPTIONS) == set(EXAMPLES)
 
 
 def example_dict(name: str) -> dict[str, Any]:

@@ -168,7 +168,8 @@ class FollowerSection:
         unit="length", optional=True, group="Follower arm")
     face_width: float | None = param(
         "Flat face: its width, centred on the stem (translating) or on arm_length (oscillating); "
-        "checked against the width the contact needs", unit="length", gt=0, optional=True, group="Follower")
+        "checked against the width the contact needs (absent: the width needed is reported, the face_width "
+        "check skipped)", unit="length", gt=0, optional=True, group="Follower")
     arm_inertia: float = param(
         "Oscillating: moment of inertia I of the arm and everything turning with it about the pivot",
         unit="inertia", ge=0, default=0.0, group="Follower load")
@@ -382,7 +383,7 @@ class MaterialSection:
                                     default=0.29, group="Material")
     allowable_stress: float | None = param(
         "Allowable Hertz contact stress S_d (thesis Eq. 5.13; its examples: 250 000 psi); "
-        "absent: the stress is reported but not limited",
+        "absent: the stress is reported, and the contact_stress check is skipped (not passed)",
         unit="stress", gt=0, optional=True, group="Material")
 
     def modulus(self, which: str, units: str) -> float:

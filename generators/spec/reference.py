@@ -10,6 +10,7 @@ import dataclasses
 from typing import Any
 
 from .params import Param, params_of, unit_name
+from .examples import DESCRIPTIONS as EXAMPLE_DESCRIPTIONS
 from .model import DEFAULT_SEGMENTS, SECTIONS, CamSpec, default_spec, to_toml
 
 def _sections() -> list[tuple[str, type, str]]:
@@ -188,7 +189,8 @@ every check reports its extreme, the cam angle, the limit and pass / fail / skip
 Units: N, kg, mm and MPa in a mm spec (M_f·s″ω² is kg·mm/s² = 10⁻³ N), lbf, lbf·s²/in, in and
 psi in an inch spec (the thesis' "0.02 slugs" is 0.02 lbf·s²/in).  Separation and stress are
 skipped when the follower has no load (`preload`, `mass`, `spring_rate` all 0); stress is skipped
-for a knife edge.  `cam-workbench check` exits with status 3 when a check fails.
+for a knife edge.  A check whose limit is not given (`material.allowable_stress`, `follower.face_width`)
+reports its value and is skipped, not passed: its note names the field that would give the limit.  `cam-workbench check` exits with status 3 when a check fails.
 """
 
 
@@ -236,11 +238,23 @@ def render() -> str:
         out.append(_table(field_rows(cls)))
     out.append(BSPLINE_AND_CHECKS)
     out.append(OPTIMISE)
+    out.append(examples_section())
     out.append("## The built-in default\n")
-    out.append("`cam-workbench build` with no spec builds this (the paper's Table 1, case 2, "
-               "with a 5 mm roller):\n")
+    out.append("`cam-workbench build` with no spec builds this (the example `default`: "
+               f"{EXAMPLE_DESCRIPTIONS['default']}):\n")
     out.append("```toml\n" + to_toml(default_spec()) + "```\n")
     return "\n".join(out)
+
+
+def examples_section() -> str:
+    """The built-in examples (``--example NAME``, ``PlateCam.example(name)``) as a table, from
+    :data:`generators.spec.examples.DESCRIPTIONS`."""
+    lines = ["## Built-in examples\n",
+             "`cam-workbench build --example NAME` (every command that designs a cam takes `--example`), "
+             "`cam-workbench spec --example NAME` (its spec as TOML) and `PlateCam.example(NAME)`:\n",
+             "| example | what |", "|---|---|"]
+    lines += [f"| `{name}` | {text} |" for name, text in EXAMPLE_DESCRIPTIONS.items()]
+    return "\n".join(lines) + "\n"
 
 
 def _table(rows: list[tuple[str, str, str, str, str]]) -> str:

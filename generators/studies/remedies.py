@@ -35,7 +35,7 @@ from typing import Any, Callable, Mapping, Sequence
 
 from ..errors import CamError, GeometryError, SpecError
 from ..spec.model import CamSpec
-from .sizing import (SIZED_FIELDS, Evaluate, SizingSettings, design_checks_evaluation, nearest_value,
+from .sizing import (SIZED_FIELDS, Evaluate, SizingSettings, design_checks_evaluation, digits_of, nearest_value,
                      smallest_value)
 
 #: the checks a larger cam passes (for a translating follower: a larger base radius)
@@ -105,11 +105,6 @@ class Remedy:
 def _fmt(v: float, digits: int) -> str:
     text = f"{v:.{digits}f}"
     return "0" if text.strip("-0.") == "" else text
-
-
-def digits_of(tol: float) -> int:
-    """Decimals that show a tolerance's size: 0.01 → 2, 0.0005 → 4."""
-    return max(0, -math.floor(math.log10(tol) + 1e-9))
 
 
 # ---- which field moves which check ------------------------------------------------------------

@@ -14,8 +14,11 @@ per rise/return, extrema refined):
    arm_length —, the point has no value and the row says which check still fails, and where);
 3. halve [lo, hi] keeping ``lo`` failing and ``hi`` passing until hi − lo ≤ ``tol``.
 
-The answer is ``hi``: it passes, and a value ``tol`` smaller fails (or is refused), so the true
-boundary lies in (hi − tol, hi].  Default tolerance: 0.01 mm, 0.0005 in.  That is the
+Every value tried is on the grid of the tolerance's digits (:class:`TolGrid`: multiples of 0.01 for
+0.01 mm), so the answer is a round number that was itself evaluated, and every output — the table
+``sweep`` prints, the CSV, the chart, a remedy's ``--set`` — shows it as it is (41.78, not 41.7753).
+The answer is ``hi``: it passes, and a value at most ``tol`` smaller fails (or is refused), so the
+true boundary lies in (hi − tol, hi].  Default tolerance: 0.01 mm, 0.0005 in.  That is the
 smallest value only if passing is monotonic in it — a larger cam never fails a check a smaller
 one passes.  For R_b that holds for the pressure angle (|φ| falls as R_b grows), the curvature,
 undercut and cusp checks (the pitch curve's radius of curvature grows with R_b) and the Hertz
@@ -47,6 +50,46 @@ SIZED_FIELD = "cam.base_radius"
 
 #: an evaluation of a spec: (the names of the checks it fails, what to keep of the passing one)
 Evaluate = Callable[[CamSpec], "tuple[tuple[str, ...], Any]"]
+
+
+def digits_of(tol: float) -> int:
+    """Decimals that show a tolerance's size: 0.01 → 2, 0.0005 → 4."""
+    return max(0, -math.floor(math.log10(tol) + 1e-9))
+
+
+@dataclass(frozen=True)
+class TolGrid:
+    """The values a bisection to ``tol`` tries: multiples of 10^−d, d = :func:`digits_of` (tol),
+    rounded to d decimals — so that a value prints, and reads back from a CSV, as it is."""
+
+    tol: float
+
+    @property
+    def digits(self) -> int:
+        return digits_of(self.tol)
+
+    @property
+    def step(self) -> float:
+        return 10.0 ** -self.digits
+
+    def _value(self, k: int) -> float:
+        return round(k * self.step, self.digits)
+
+    def up(self, x: float) -> float:
+        """The smallest grid value ≥ x."""
+        return self._value(math.ceil(x / self.step - 1e-9))
+
+    def down(self, x: float) -> float:
+        """The largest grid value ≤ x."""
+        return self._value(math.floor(x / self.step + 1e-9))
+
+    def middle(self, a: float, b: float) -> float | None:
+        """A grid value halfway between the grid values ``a`` and ``b`` (either order); None when
+        they are at most ``tol`` apart (the bisection is done)."""
+        i, j = sorted((round(a / self.step), round(b / self.step)))
+        if (j - i) * self.step <= self.tol * (1 + 1e-9):
+            return None
+        return self._value((i + j) // 2)
 
 
 def geometric_lower_bound(spec: CamSpec) -> float:
@@ -179,15 +222,21 @@ class _Tester:
 
 
 def bisect(test: Callable[[float], "tuple[bool, tuple[str, ...], Any]"], failing: float, passing: float,
-           tol: float, failed: tuple[str, ...], kept: Any) -> tuple[float, float, tuple[str, ...], Any]:
+           tol: float, failed: tuple[str, ...], kept: Any, grid: TolGrid | None = None
+           ) -> tuple[float, float, tuple[str, ...], Any]:
     """Halve [failing, passing] (either order) keeping one end failing and the other passing until
     they are ``tol`` apart: (passing end, failing end, the checks failing there, what the passing
-    end's evaluation kept)."""
-    n_steps = max(0, math.ceil(math.log2(max(abs(passing - failing), tol) / tol)))
+    end's evaluation kept).  With ``grid`` (ends on it) every value tried is on it too."""
+    n_steps = max(0, math.ceil(math.log2(max(abs(passing - failing), tol) / tol))) + 1
     for _ in range(n_steps):
-        if abs(passing - failing) <= tol:
+        if grid is not None:
+            mid = grid.middle(failing, passing)
+            if mid is None:
+                break
+        elif abs(passing - failing) <= tol:
             break
-        mid = 0.5 * (failing + passing)
+        else:
+            mid = 0.5 * (failing + passing)
         ok, f, k = test(mid)
         if ok:
             passing, kept = mid, k
@@ -214,9 +263,11 @@ def smallest_value(spec: CamSpec, field: str = SIZED_FIELD, settings: SizingSett
     sym = sized.symbol
     current = sized.current(spec)
 
-    lo = sized.lower_bound(spec)
-    lo_failed: tuple[str, ...] = (f"spec rule: {sym} ≤ {lo:.6g} is refused ({sized.refused})",)
-    hi = max(current, lo + tol)
+    grid = TolGrid(tol)
+    bound = sized.lower_bound(spec)
+    lo = grid.down(bound)
+    lo_failed: tuple[str, ...] = (f"spec rule: {sym} ≤ {bound:.6g} is refused ({sized.refused})",)
+    hi = grid.up(max(current, lo + tol))
     ok, failed, kept = test(hi)
     doublings = 0
     while not ok:
@@ -229,10 +280,10 @@ def smallest_value(spec: CamSpec, field: str = SIZED_FIELD, settings: SizingSett
                           test.count, None, field)
         if failed and not failed[0].startswith("spec rule"):
             lo, lo_failed = hi, failed
-        hi *= 2.0
+        hi = grid.up(2.0 * hi)
         doublings += 1
         ok, failed, kept = test(hi)
-    hi, lo, lo_failed, best = bisect(test, lo, hi, tol, lo_failed, kept)
+    hi, lo, lo_failed, best = bisect(test, lo, hi, tol, lo_failed, kept, grid)
     return Sizing(hi, lo, tol, "ok", "", lo_failed, test.count, best, field)
 
 
