@@ -215,8 +215,10 @@ def _holes(spec, r_sp: float | None, z2: tuple[float, float], t: float) -> list[
     if rc - rh > r_sp:
         second = [dataclasses.replace(p, role=p.role + "_2") for p in mounting_holes(spec, *z2)]
         return mounting_holes(spec, 0.0, t) + second
-    raise SpecError("conjugate.spacer_diameter", f"the spacer's rim (radius {r_sp:.4g}) cuts through the mounting "
-                    f"holes ({rc - rh:.4g} to {rc + rh:.4g} from the axis): a spacer inside or outside them")
+    edge = rc - rh if r_sp - (rc - rh) < (rc + rh) - r_sp else rc + rh        # the nearer edge of the holes
+    raise SpecError("conjugate.spacer_diameter", f"the spacer's rim (radius {fmt_apart(r_sp, edge, 4)}) cuts through "
+                    f"the mounting holes ({fmt_apart(rc - rh, r_sp, 4)} to {fmt_apart(rc + rh, r_sp, 4)} from the "
+                    "axis): a spacer inside or outside them")
 
 
 # ---- the distance error between the rollers ---------------------------------------------------
