@@ -49,6 +49,8 @@ CURVES = ("cubic", "spline", "arcs", "polyline")
 BUILD_TEXT_FILES = ("cam.nc", "cam2.nc", "commands.csv")
 #: probe grid per solid: points along x, y, z over its bounding box grown by 10 % on each side
 PROBE_GRID = (7, 7, 7)
+#: command-line runs at a time, at most (a build peaks at ~0.6 GB: four fit any test machine)
+MAX_WORKERS = 4
 #: header variables of the DXF that are observed (the dates and the handle seed are not)
 DXF_HEADER = ("$ACADVER", "$INSUNITS", "$MEASUREMENT", "$LUNITS", "$AUNITS")
 #: DXF attributes that are bookkeeping, not drawing: handles and owners
@@ -405,7 +407,7 @@ class Observer:
     def __init__(self, folder: Path, workers: int | None = None):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
-        self.pool = cf.ThreadPoolExecutor(max_workers=workers or max(1, os.cpu_count() or 1))
+        self.pool = cf.ThreadPoolExecutor(max_workers=workers or max(1, min(MAX_WORKERS, os.cpu_count() or 1)))
         self.pending: dict[str, list[cf.Future[dict[str, Any]]]] = {}
 
     def start(self, name: str) -> None:

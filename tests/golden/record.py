@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     examples = list(where("examples"))  # type: ignore[call-overload]
     p = argparse.ArgumentParser(prog="python -m tests.golden.record", description=__doc__.split("\n\n")[0])
     p.add_argument("names", nargs="*", metavar="NAME", help=f"examples to record (default: all: {', '.join(examples)})")
-    p.add_argument("--workers", type=int, help="command-line runs at a time (default: the number of CPUs)")
+    p.add_argument("--workers", type=int, help="command-line runs at a time (default: the number of CPUs, at most 4)")
     args = p.parse_args(argv)
     unknown = sorted(set(args.names) - set(examples))
     if unknown:
