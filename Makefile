@@ -3,6 +3,7 @@
 #   make test   system packages (as root) → venv → install → the whole test suite, then the
 #               FreeCAD tests again with FreeCAD 1.0 and 1.1 (Debian trixie/unstable roots, as root)
 #   make fuzz   the combination and bad-input suites with thousands of random cases
+#   make golden re-record every built-in example's outputs (tests/golden/README.md: deliberate changes only)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -31,7 +32,7 @@ FREECAD_ROOT_EXTRA_unstable := qt6-svg-plugins
 FREECAD_MIRROR ?= $(shell tests/freecad_roots.sh mirror)
 FREECAD_TESTS := $(wildcard tests/test_freecad_*.py)
 
-.PHONY: demo test test-host test-freecad-roots freecad-roots test-install fuzz dist bench system-deps docs clean
+.PHONY: demo test test-host test-freecad-roots freecad-roots test-install fuzz golden dist bench system-deps docs clean
 
 # The install says what it does, one line per step; on a terminal pip shows its own progress too
 # (each package, the download bars), in a log (CI: make's stderr is not a terminal) pip is quiet.
@@ -88,6 +89,11 @@ test-install: $(STAMP)
 # the combination and bad-input suites' long profile: thousands of random cases (tests/combinations)
 fuzz: system-deps $(STAMP)
 	CAM_FUZZ=1 $(PY) -m pytest tests/combinations -p no:randomly --hypothesis-show-statistics
+
+# re-record what tests/test_golden.py holds the outputs to: every built-in example through the CLI
+# and the API into tests/golden/data/ (only for a deliberate, reviewed change: tests/golden/README.md)
+golden: $(STAMP)
+	$(PY) -m tests.golden.record
 
 # the wheel and the sdist into dist/
 dist: $(STAMP)

@@ -68,7 +68,8 @@ RENAMED: dict[str, tuple[tuple[str, str], ...]] = {
 #: by its prefix (``BRepBuilderAPI_MakeEdge`` in ``OCP.BRepBuilderAPI``, ``gp_Pnt`` in ``OCP.gp``)
 SAME: tuple[str, ...] = (
     "BRep_Builder", "BRepAdaptor_Curve", "BRepAlgoAPI_Cut", "BRepAlgoAPI_Fuse", "BRepAdaptor_Surface", "BRepBndLib",
-    "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeWire",
+    "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeVertex", "BRepBuilderAPI_MakeWire",
+    "BRepExtrema_DistShapeShape",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
     "BRepAlgoAPI_Splitter", "BRepBuilderAPI_Sewing", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
     "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "BRepTools", "TopoDS_Shape",
