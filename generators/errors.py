@@ -6,6 +6,23 @@ one-line message and exit status 2 (bad input or impossible geometry).
 from __future__ import annotations
 
 
+def fmt_apart(value: float, other: float, digits: int = 6) -> str:
+    """``value`` with ``digits`` significant digits, or as many more as it takes to print it
+    differently from ``other`` at the same precision — for rule messages that compare a value
+    with a limit, so that a violated rule never reads as an identity ("spans sum to
+    359.99999999°, must be 360°", not "… to 360°, must be 360°").
+
+    The rule is symmetric: ``fmt_apart(limit, value)`` prints the limit at the same precision.
+    Equal numbers print with ``digits``; rounding is monotonic, so the printed value stays on
+    its side of the printed limit."""
+    value, other = float(value), float(other)
+    for d in range(digits, 18):
+        text = f"{value:.{d}g}"
+        if text != f"{other:.{d}g}":
+            return text
+    return f"{value:.{digits}g}"
+
+
 class CamError(Exception):
     """Base class of every error the product reports to a user."""
 

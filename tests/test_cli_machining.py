@@ -4,6 +4,7 @@ report.json; `gcode --mode xy|xc|csv` writes one program; bad machining input ex
 the field or the cam angle and writes nothing."""
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -74,7 +75,9 @@ BAD = [
      "machining.sample_period: gives 6e+07 commands per revolution"),
     (["--set", "machining.contour=spline"], "machining.contour: must be one of"),
     (["--set", "machining.chord_tolerance=0.00001", "--set", "machining.sample_period=0.0025",
-      "--set", "machining.program=xc"], "machining.sample_period: X–C blocks"),
+      "--set", "machining.program=xc"], "machining.rotary_speed_rpm: at 60 rpm (cam.speed_rpm; "
+                                        "machining.rotary_speed_rpm is not given) and machining.sample_period 0.0025 s "
+                                        "the XC blocks of 0.9° deviate"),
 ]
 
 
@@ -115,3 +118,28 @@ def test_docs_machining_commands_run(tmp_path):
         assert res.returncode == 0, (line, res.stderr)
     assert (tmp_path / "cam_xy.nc").exists() and (tmp_path / "cam_xc.nc").exists()
     assert (tmp_path / "commands.csv").read_text().startswith("k,t_s,")
+
+
+def test_xc_refusal_names_the_speed_that_passes(tmp_path):
+    """An XC program of the packaging example at 300 rpm is refused naming
+    machining.rotary_speed_rpm (exit 2, one line, nothing written) with a speed and a period
+    that pass: with either set, the same command writes the program.  docs/machining.md quotes the
+    message as it is."""
+    from .combinations.test_cli_combinations import assert_clean
+
+    out = tmp_path / "out"
+    res = run("build", "--example", "packaging", "--set", "cam.speed_rpm=300", "--set", "machining.program=xc",
+              "-o", str(out))
+    assert_clean(res, (2,))
+    assert not out.exists()
+    message = res.stderr.strip()
+    assert message.startswith("error: machining.rotary_speed_rpm: at 300 rpm (cam.speed_rpm;"), message
+    assert message[len("error: "):] in (ROOT / "docs" / "machining.md").read_text(encoding="utf-8").replace("\n", " ")
+    m = re.search(r"machining\.rotary_speed_rpm = ([0-9.]+) .* or machining\.sample_period = ([0-9.e-]+): either "
+                  r"passes$", message)
+    assert m, message
+    for fix in (f"machining.rotary_speed_rpm={m.group(1)}", f"machining.sample_period={m.group(2)}"):
+        f = tmp_path / f"{fix.split('=')[0]}.nc"
+        ok = run("gcode", "--example", "packaging", "--set", "cam.speed_rpm=300", "--mode", "xc", "--set", fix,
+                 "-o", str(f))
+        assert ok.returncode == 0 and "G93" in f.read_text(), (fix, ok.stderr)

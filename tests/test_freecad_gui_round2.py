@@ -245,7 +245,8 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert g["path"].endswith("Ex5_xy.nc") and g["open"] == 1
     assert g["labels"][1] == "XC rotary: C axis + X: one G93 inverse-time block per command of the rotational interpolator"
     assert r["xc"]["kind"] == "gcode_xc" and r["xc"]["exists"] is False
-    assert r["xc"]["status"].startswith("Not written: MachiningSamplePeriod (machining.sample_period): X–C blocks")
+    assert r["xc"]["status"].startswith("Not written: MachiningRotarySpeedRpm (machining.rotary_speed_rpm): at 800 "
+                                        "rpm (cam.speed_rpm; machining.rotary_speed_rpm is not given)")
     assert r["xy"]["exists"] and r["xy"]["status"] == f"Written: {out / 'ex5_xy.nc'}"
     assert r["dxf"]["exists"] and "DrawingCurves" in r["dxf_rows"] and r["dxf"]["status"].startswith("Written:")
     assert r["csv"]["exists"] and r["csv"]["status"].startswith("Written:")

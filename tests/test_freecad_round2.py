@@ -322,8 +322,12 @@ def test_failed_exports_write_nothing_and_say_why(exported):
     r, out, _cli_dir = exported
     xc = r["xc_refused"]
     assert xc["ok"] is False and xc["exists"] is False
-    assert xc["error"].startswith("MachiningSamplePeriod (machining.sample_period): X–C blocks of 4.8° "
-                                  "deviate 0.00206 from the exact tool path"), xc["error"]
+    assert xc["error"].startswith("MachiningRotarySpeedRpm (machining.rotary_speed_rpm): at 800 rpm (cam.speed_rpm; "
+                                  "machining.rotary_speed_rpm is not given) and machining.sample_period 0.001 s the XC "
+                                  "blocks of 4.8° deviate 0.00206 from the exact tool path"), xc["error"]
+    assert xc["error"].endswith("machining.rotary_speed_rpm = 220 (the C axis turning slower while it cuts; "
+                                "cam.speed_rpm stays the design speed) or machining.sample_period = 0.000275: either "
+                                "passes"), xc["error"]
     bad = r["bad_property"]
     assert bad == {"ok": False, "error": "CamBaseRadius (cam.base_radius): must be > 0, got 0", "exists": False}
     assert r["no_cli"]["ok"] is False and r["no_cli"]["error"] == (

@@ -7,6 +7,7 @@ from __future__ import annotations
 import copy
 import csv
 import io
+import re
 
 import numpy as np
 import pytest
@@ -205,11 +206,47 @@ def test_lead_arcs_that_cut_the_contour_are_rejected():
     contour_path(design_cam(spec), machining_plan(design_cam(spec)))
 
 
-def test_coarse_xc_blocks_are_rejected_for_a_tight_tolerance():
-    spec = example_spec("paper").replace(**{"machining.sample_period": 0.0025, "machining.chord_tolerance": 1e-5})
+def _xc_deviation(spec) -> float:
+    """The XC blocks' deviation from the exact tool path, measured here: the blocks (X and C
+    linear in time, 8 points each) against the tool-centre NURBS evaluated by scipy at 20 000
+    parameters, brute force (the chords of that polygon lie within ~1 µm inside the curve)."""
+    from .combinations.invariants import nurbs_points, polyline_distance
+
     d = design_cam(spec)
-    with pytest.raises(SpecError, match="machining.sample_period"):
+    plan = machining_plan(d)
+    path = rotary_path(d, plan)
+    return float(np.max(polyline_distance(path.cam_frame_points(8), nurbs_points(tool_centre_curve(d, plan)))))
+
+
+@pytest.mark.parametrize("example,changes", [
+    ("paper", {"machining.sample_period": 0.0025, "machining.chord_tolerance": 1e-4}),
+    ("packaging", {"cam.speed_rpm": 300.0}),
+    ("oscillating", {"machining.rotary_speed_rpm": 1000.0}),
+])
+def test_coarse_xc_blocks_are_refused_naming_the_speed_that_passes(example, changes):
+    """Blocks too coarse for the chord tolerance are refused naming machining.rotary_speed_rpm
+    (the C axis's speed: what a user changes) with a speed that passes and a sample period that
+    passes: each applied here, its blocks measured independently within 0.85 × the tolerance, and
+    the next 3-digit speed up refused."""
+    spec = example_spec(example).replace(**{"machining.program": "xc", **changes})
+    d = design_cam(spec)
+    with pytest.raises(SpecError) as info:
         rotary_path(d, machining_plan(d))
+    exc = info.value
+    assert exc.field == "machining.rotary_speed_rpm", str(exc)
+    m = re.search(r"machining\.rotary_speed_rpm = ([0-9.e+-]+) .* or machining\.sample_period = ([0-9.e+-]+): "
+                  r"either passes$", exc.rule)
+    assert m, exc.rule
+    rpm, period = float(m.group(1)), float(m.group(2))
+    given_rpm = spec.machining.rotary_speed_rpm or spec.cam.speed_rpm
+    assert rpm < given_rpm and period < spec.machining.sample_period
+    tol = spec.machining.chord_tolerance or 0.005
+    for fix in ({"machining.rotary_speed_rpm": rpm}, {"machining.sample_period": period}):
+        assert _xc_deviation(spec.replace(**fix)) <= 0.85 * tol + 2e-6, fix
+    step = 10.0 ** (np.floor(np.log10(rpm)) - 2)
+    faster = spec.replace(**{"machining.rotary_speed_rpm": float(f"{rpm + step:.3g}")})
+    with pytest.raises(SpecError, match="machining.rotary_speed_rpm"):
+        rotary_path(design_cam(faster), machining_plan(design_cam(faster)))
 
 
 def test_command_table_csv():

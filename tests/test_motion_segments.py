@@ -435,7 +435,12 @@ BAD = [
     ("points_on_cycloidal", _rise(law="cycloidal", points=[[30.0, 1.0]]), "motion[1].points", "applies to"),
     ("blends_too_long", _rise(law="constant_velocity", start_blend=60.0, end_blend=60.0), "motion[1].end_blend",
      "must be less than the segment's angle"),
-    ("blend_zero", _rise(law="constant_velocity", start_blend=0.0), "motion[1].start_blend", "must be > 0"),
+    ("blend_zero", _rise(law="constant_velocity", start_blend=0.0), "motion[1].start_blend", "must be ≥ 0.018"),
+    # a blend is a span too: shorter than the finest junction spacing, no pitch curve resolves it (a
+    # 1e-12° blend once sent pitch.tolerance's search through every M up to 20000, then named pitch.tolerance)
+    ("blend_below_minimum", _rise(law="constant_velocity", end_blend=1e-12), "motion[1].end_blend",
+     "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve; a shorter span can lie between "
+     "two junctions), got 1e-12"),
     ("blend_without_continuity", _rise(law="constant_velocity", start_blend=20.0, start_continuity=0),
      "motion[1].start_continuity", "a blend needs continuity ≥ 1"),
     ("continuity_4", _rise(law="polynomial", end_continuity=4), "motion[1].end_continuity", "must be ≤ 3"),

@@ -41,8 +41,18 @@ RULES = [
     ("roller_radius_zero", lambda d: d["follower"].update(roller_radius=0.0), "follower.roller_radius", "must be > 0 for a roller"),
     ("offset_too_big", lambda d: d["follower"].update(offset=30.0), "follower.offset", "must be < cam.base_radius"),
     ("motion_kind", lambda d: d["motion"][0].update(kind="hold"), "motion[0].kind", "must be one of"),
-    ("motion_angle_positive", lambda d: d["motion"][0].update(angle=0.0), "motion[0].angle", "must be > 0"),
+    ("motion_angle_positive", lambda d: d["motion"][0].update(angle=0.0), "motion[0].angle",
+     "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve"),
+    # a 1e-300° dwell sums to 360° with the others: refused by the span's minimum, naming the span
+    ("span_below_minimum", lambda d: d["motion"].insert(0, {"kind": "dwell", "angle": 1e-300}), "motion[0].angle",
+     "must be ≥ 0.018 (360°/20000: the finest junction spacing of the pitch curve; a shorter span can lie "
+     "between two junctions), got 1e-300"),
     ("spans_sum", lambda d: d["motion"][4].update(angle=20.0), "motion[4].angle", "spans sum to 350°, must be 360°"),
+    # the sum shown with the digits that differ from 360, the odd span named with the value that closes the cycle
+    ("spans_sum_digits", lambda d: d["motion"][3].update(angle=119.99999999), "motion[3].angle",
+     "spans sum to 359.99999999°, must be 360° (120 here makes them 360°)"),
+    ("spans_sum_over", lambda d: d["motion"][2].update(angle=60.0000001), "motion[2].angle",
+     "spans sum to 360.0000001°, must be 360° (60 here makes them 360°)"),
     ("lift_positive", lambda d: d["motion"][1].update(lift=-20.0), "motion[1].lift", "must be > 0"),
     ("lift_missing", lambda d: d["motion"][1].pop("lift"), "motion[1].lift", "is required for a rise"),
     ("lift_on_dwell", lambda d: d["motion"][0].update(lift=3.0), "motion[0].lift", "must be absent for a dwell"),

@@ -37,7 +37,7 @@ def validate_body(spec) -> None:
     Raises:
         SpecError: naming the field and the rule.
     """
-    from ..errors import SpecError
+    from ..errors import SpecError, fmt_apart
 
     cam = spec.cam
     rule = BODY_RULES.get(cam.body)
@@ -60,8 +60,8 @@ def validate_body(spec) -> None:
         missing = "cam.keyway_depth" if cam.keyway_depth is None else "cam.keyway_width"
         raise SpecError(missing, "is required with the other explicit keyway dimension")
     if cam.keyway_width is not None and not cam.keyway_width < cam.bore_diameter:
-        raise SpecError("cam.keyway_width", f"must be < cam.bore_diameter ({cam.bore_diameter:g}), got "
-                        f"{cam.keyway_width:g}")
+        raise SpecError("cam.keyway_width", f"must be < cam.bore_diameter ({fmt_apart(cam.bore_diameter, cam.keyway_width)}), "
+                        f"got {fmt_apart(cam.keyway_width, cam.bore_diameter)}")
     if (cam.hub_diameter is None) != (cam.hub_length is None):
         missing = "cam.hub_length" if cam.hub_length is None else "cam.hub_diameter"
         raise SpecError(missing, "is required with the other hub dimension")
@@ -69,8 +69,10 @@ def validate_body(spec) -> None:
         from .features import bore_extent
 
         if not cam.hub_diameter / 2 > bore_extent(spec):
+            reach = bore_extent(spec)
             raise SpecError("cam.hub_diameter", f"must leave material around the bore and keyway (they reach "
-                            f"{bore_extent(spec):.4g} from the axis), got {cam.hub_diameter:g}")
+                            f"{fmt_apart(reach, cam.hub_diameter / 2, 4)} from the axis), got "
+                            f"{fmt_apart(cam.hub_diameter, 2 * reach)}")
     if cam.mounting_holes:
         for name in ("mounting_hole_diameter", "mounting_circle_diameter"):
             if getattr(cam, name) is None:
@@ -78,7 +80,9 @@ def validate_body(spec) -> None:
     from .features import resolved
 
     if cam.timing_mark and not resolved(spec, "cam", "timing_mark_depth") < cam.thickness:
-        raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({cam.thickness:g})")
+        depth = resolved(spec, "cam", "timing_mark_depth")
+        raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({fmt_apart(cam.thickness, depth)}), got "
+                        f"{fmt_apart(depth, cam.thickness)}")
 
 
 __all__ = ["Arc", "BODY_KINDS", "BodyGeometry", "ConjugateBody", "Curve", "CylindricalBody", "GrooveBody", "Line", "Loop", "PlateBody", "Prism",

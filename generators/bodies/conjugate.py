@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GeometryError, SpecError
+from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.conjugate import second_roller_of
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark
@@ -196,10 +196,11 @@ def spacer_radius(design, second) -> float:
         r = given / 2
         if not r < r_min:
             raise SpecError("conjugate.spacer_diameter", f"must stay inside both cams: their smallest radius is "
-                            f"{r_min:.4g} (diameter {2 * r_min:.4g}), got {given:g}")
-    if not r > bore_extent(spec):
+                            f"{r_min:.4g} (diameter {fmt_apart(2 * r_min, given, 4)}), got {fmt_apart(given, 2 * r_min)}")
+    reach = bore_extent(spec)
+    if not r > reach:
         raise SpecError("conjugate.spacer_diameter", f"must leave material around the bore and keyway (they reach "
-                        f"{bore_extent(spec):.4g} from the axis), got a spacer of diameter {2 * r:.4g}")
+                        f"{fmt_apart(reach, r, 4)} from the axis), got a spacer of diameter {fmt_apart(2 * r, 2 * reach, 4)}")
     return float(r)
 
 
@@ -214,8 +215,10 @@ def _holes(spec, r_sp: float | None, z2: tuple[float, float], t: float) -> list[
     if rc - rh > r_sp:
         second = [dataclasses.replace(p, role=p.role + "_2") for p in mounting_holes(spec, *z2)]
         return mounting_holes(spec, 0.0, t) + second
-    raise SpecError("conjugate.spacer_diameter", f"the spacer's rim (radius {r_sp:.4g}) cuts through the mounting "
-                    f"holes ({rc - rh:.4g} to {rc + rh:.4g} from the axis): a spacer inside or outside them")
+    edge = rc - rh if r_sp - (rc - rh) < (rc + rh) - r_sp else rc + rh        # the nearer edge of the holes
+    raise SpecError("conjugate.spacer_diameter", f"the spacer's rim (radius {fmt_apart(r_sp, edge, 4)}) cuts through "
+                    f"the mounting holes ({fmt_apart(rc - rh, r_sp, 4)} to {fmt_apart(rc + rh, r_sp, 4)} from the "
+                    "axis): a spacer inside or outside them")
 
 
 # ---- the distance error between the rollers ---------------------------------------------------
@@ -317,8 +320,8 @@ def validate_conjugate(spec) -> None:
         raise SpecError("pitch.representation", 'a conjugate pair is built on PH pitch curves (exact offsets): "ph"')
     smallest = MIN_GAP_MM if spec.units == "mm" else MIN_GAP_MM / 25.4
     if 0 < c.gap < smallest:
-        raise SpecError("conjugate.gap", f"must be 0 (the cams face to face) or at least {smallest:g} {spec.units} "
-                        f"(a thinner spacer cannot be made), got {c.gap:g}")
+        raise SpecError("conjugate.gap", f"must be 0 (the cams face to face) or at least {fmt_apart(smallest, c.gap)} "
+                        f"{spec.units} (a thinner spacer cannot be made), got {fmt_apart(c.gap, smallest)}")
     r2 = c.roller_radius if c.roller_radius is not None else fol.roller_radius
     clear = r2 + spec.cam.bore_diameter / 2          # the second roller's centre must stay this far from the axis
     h = spec.max_lift
@@ -335,9 +338,11 @@ def validate_conjugate(spec) -> None:
         need = s0 + h + math.sqrt(max(clear * clear - e * e, 0.0))
         if not (below > 0 and math.hypot(e, below) > clear):
             raise SpecError("conjugate.roller_distance", f"the second roller does not fit on the other side of the cam: "
-                            f"at the top of the lift its centre is {math.hypot(e, below) if below > 0 else 0.0:.4g} "
+                            f"at the top of the lift its centre is "
+                            f"{fmt_apart(math.hypot(e, below) if below > 0 else 0.0, clear, 4)} "
                             f"from the cam axis, it needs more than its radius {r2:g} + the bore's radius "
-                            f"{spec.cam.bore_diameter / 2:g}: roller_distance > {need:.4g} (got {c.roller_distance:g})")
+                            f"{spec.cam.bore_diameter / 2:g}: roller_distance > {fmt_apart(need, c.roller_distance, 4)} "
+                            f"(got {fmt_apart(c.roller_distance, need)})")
         return
     if c.roller_distance is not None:
         raise SpecError("conjugate.roller_distance", "applies to a translating yoke only: an oscillating arm pair's "
@@ -352,14 +357,15 @@ def validate_conjugate(spec) -> None:
     lo = (-180.0 + h - psi0 + 180.0) % 360.0 - 180.0     # the allowed arm angles, from lo to lo + 180° − h
     if not (-180.0 + h < psi2 < 0.0):
         raise SpecError("conjugate.arm_angle", f"the second arm must stay on the other side of the line through the "
-                        f"pivot and the cam axis over the whole lift: its angle ψ₀ + arm_angle = {psi2:.4g}° must lie "
+                        f"pivot and the cam axis over the whole lift: its angle ψ₀ + arm_angle = "
+                        f"{fmt_apart(psi2, 0.0 if psi2 >= 0 else -180.0 + h, 4)}° must lie "
                         f"in ({-180.0 + h:.4g}°, 0°) (ψ₀ = {psi0:.4g}°, largest lift {h:g}°): arm_angle between "
                         f"{lo:.4g}° and {lo + 180.0 - h:.4g}° (modulo 360°)")
     L2 = c.arm_length if c.arm_length is not None else fol.arm_length
     reach = abs(fol.pivot_distance + L2 * complex(math.cos(math.radians(psi2 - h)), math.sin(math.radians(psi2 - h))))
     if not reach > clear:
         raise SpecError("conjugate.arm_angle", f"the second roller does not fit: at the top of the lift its centre is "
-                        f"{reach:.4g} from the cam axis, it needs more than its radius {r2:g} + the bore's radius "
+                        f"{fmt_apart(reach, clear, 4)} from the cam axis, it needs more than its radius {r2:g} + the bore's radius "
                         f"{spec.cam.bore_diameter / 2:g} (a smaller |arm_angle|, or a longer conjugate.arm_length)")
 
 

@@ -63,7 +63,7 @@ from typing import Any
 import numpy as np
 
 from ..checks.status import limited_status
-from ..errors import GeometryError, SpecError
+from ..errors import GeometryError, SpecError, fmt_apart
 from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
                             centre_line, expand, mid_arm_angle, pressure_angle)
 from .base import Loop, Prism
@@ -377,7 +377,7 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
             worst = (float(rc[i]), float(np.rad2deg(th[i]) % 360), float(r))
     if worst[0] <= w2 and refuse:
         raise GeometryError("undercut", f"the groove's wall is undercut at cam angle {worst[1]:.2f}°: the developed "
-                            f"centre line's radius of curvature at radius {worst[2]:.4g} is {worst[0]:.4g} ≤ half the "
+                            f"centre line's radius of curvature at radius {worst[2]:.4g} is {fmt_apart(worst[0], w2, 4)} ≤ half the "
                             f"groove width {w2:g} — a smaller roller, a larger cam.cylinder_radius or a gentler motion",
                             worst[1])
     phi_p = pressure_angles(layout, program, layout.pitch_radius, th)
@@ -641,8 +641,9 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
     reach = bore_extent(spec)
     if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
         name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
-        raise SpecError(name, f"the keyway reaches {reach:.4g} from the axis: it must leave groove.min_wall "
-                        f"({min_wall:g}) to the groove's bottom (radius {rb:.4g})")
+        raise SpecError(name, f"the keyway reaches {fmt_apart(reach, rb - min_wall, 4)} from the axis: it must leave "
+                        f"groove.min_wall ({min_wall:g}) to the groove's bottom (radius {rb:.4g}), reaching at most "
+                        f"{fmt_apart(rb - min_wall, reach, 4)}")
     if cam.mounting_holes:
         limit = rb - min_wall
         lig = hole_ligaments(spec, lambda a: np.full(np.shape(a), limit), reach)
@@ -663,7 +664,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
         room = (cam.length - travel - w) / 2
         if not depth < room:
             raise SpecError("cam.timing_mark_depth", f"must be < the groove's distance from the end face "
-                            f"({room:.4g}), got {depth:g}")
+                            f"({fmt_apart(room, depth, 4)}), got {fmt_apart(depth, room)}")
 
 
 def validate_cylindrical(spec) -> None:
@@ -678,36 +679,42 @@ def validate_cylindrical(spec) -> None:
             raise SpecError(f"cam.{name}", "is required for a cylindrical cam")
     if cam.base_radius != cam.cylinder_radius:
         raise SpecError("cam.base_radius", f"is the pitch radius for a cylindrical cam: leave it out or give "
-                        f"cam.cylinder_radius ({cam.cylinder_radius:g}), got {cam.base_radius:g}")
+                        f"cam.cylinder_radius ({fmt_apart(cam.cylinder_radius, cam.base_radius)}), got "
+                        f"{fmt_apart(cam.base_radius, cam.cylinder_radius)}")
     if cam.thickness != cam.length:
         raise SpecError("cam.thickness", f"is the cylinder's length for a cylindrical cam: leave it out or give "
-                        f"cam.length ({cam.length:g}), got {cam.thickness:g}")
+                        f"cam.length ({fmt_apart(cam.length, cam.thickness)}), got {fmt_apart(cam.thickness, cam.length)}")
     if spec.groove.depth is None:
         raise SpecError("groove.depth", "is required for a cylindrical cam")
     depth = spec.groove.depth
     rp = cam.cylinder_radius
     ro = cam.outer_diameter / 2 if cam.outer_diameter is not None else rp + depth / 2
     if not ro - depth <= rp <= ro:
-        raise SpecError("cam.outer_diameter", f"the pitch radius cam.cylinder_radius ({rp:g}) must lie within the "
-                        f"groove's depth: outer radius {ro:g} − groove.depth {depth:g} ≤ R_p ≤ outer radius")
+        bound = ro if rp > ro else ro - depth
+        raise SpecError("cam.outer_diameter", f"the pitch radius cam.cylinder_radius ({fmt_apart(rp, bound)}) must lie "
+                        f"within the groove's depth: outer radius {ro:g} − groove.depth {depth:g} = "
+                        f"{fmt_apart(ro - depth, rp)} ≤ R_p ≤ outer radius {fmt_apart(ro, rp)}")
     min_wall = resolved(spec, "groove", "min_wall")
     rb = ro - depth
     if not rb - cam.bore_diameter / 2 >= min_wall or not rb > 0:
+        most = ro - cam.bore_diameter / 2 - min_wall
         raise SpecError("groove.depth", f"the groove's bottom (radius {rb:.4g}) must leave groove.min_wall "
-                        f"({min_wall:g}) to the bore (radius {cam.bore_diameter / 2:g}): depth < "
-                        f"{ro - cam.bore_diameter / 2 - min_wall:.4g}")
+                        f"({min_wall:g}) to the bore (radius {cam.bore_diameter / 2:g}): depth ≤ "
+                        f"{fmt_apart(most, depth, 4)}, got {fmt_apart(depth, most)}")
     w = 2 * half_width(spec)
     if fol.motion == "oscillating":
         travel = _validate_arm(spec)
         if not cam.length >= travel + w + 2 * min_wall:
             raise SpecError("cam.length", f"the roller's axial travel 2·pivot_distance·sin(lift/2) = {travel:.6g} "
                             f"plus the groove width {w:g} plus groove.min_wall {min_wall:g} at both ends needs "
-                            f"cam.length ≥ {travel + w + 2 * min_wall:.6g}, got {cam.length:g}")
+                            f"cam.length ≥ {fmt_apart(travel + w + 2 * min_wall, cam.length)}, got "
+                            f"{fmt_apart(cam.length, travel + w + 2 * min_wall)}")
     else:
         need = spec.max_lift + w + 2 * min_wall
         if not cam.length >= need:
             raise SpecError("cam.length", f"the lift range {spec.max_lift:g} plus the groove width {w:g} plus "
-                            f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {need:g}, got {cam.length:g}")
+                            f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {fmt_apart(need, cam.length)}, "
+                            f"got {fmt_apart(cam.length, need)}")
     _validate_features(spec, rb, min_wall, w)
     if spec.dynamics.enabled and fol.motion == "oscillating":
         raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
@@ -722,7 +729,7 @@ def _validate_arm(spec) -> float:
     if not d <= L:
         raise SpecError("follower.arm_length", f"the arm cannot reach the +Y generator of the pitch cylinder (the "
                         f"roller's line at mid-lift): a cylindrical cam needs arm_length ≥ pivot_distance (the pivot's "
-                        f"distance along the circumference), got L = {L:g} < d = {d:g}")
+                        f"distance along the circumference), got L = {fmt_apart(L, d)} < d = {fmt_apart(d, L)}")
     bm = math.degrees(mid_arm_angle(d, L))
     h = spec.max_lift
     if not bm + h / 2 < 90.0:
@@ -733,7 +740,7 @@ def _validate_arm(spec) -> float:
                 top, at = level, i
         raise SpecError(f"motion[{at}].lift", f"the arm would turn past the perpendicular to the cam axis (the "
                         f"roller's axial motion reverses): arccos(pivot_distance/arm_length) = {bm:.4g}° plus half the "
-                        f"lift {h / 2:g}° must stay below 90°")
+                        f"lift {h / 2:g}° = {fmt_apart(bm + h / 2, 90.0)}° must stay below 90°")
     return 2 * d * math.sin(math.radians(h) / 2)
 
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GeometryError, SpecError
+from ..errors import GeometryError, SpecError, fmt_apart
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, plate_features, resolved
 from .plate import feature_checks, profile_radius_along, zero_angle
@@ -105,8 +105,8 @@ class GrooveBody:
             if -cs.radius[k] <= w2:
                 failures.append(("outer_wall_undercut", "undercut",
                                  f"the groove's outer wall is undercut at cam angle {cs.cam_angle_deg[k]:.2f}°: "
-                                 f"concave pitch radius {-cs.radius[k]:.4g} ≤ half the groove width {w2:g} — a "
-                                 "smaller roller or a gentler motion", float(cs.cam_angle_deg[k])))
+                                 f"concave pitch radius {fmt_apart(-cs.radius[k], w2, 4)} ≤ half the groove width "
+                                 f"{w2:g} — a smaller roller or a gentler motion", float(cs.cam_angle_deg[k])))
         # material to the rim, at the largest radius of the outer wall
         outer = geometry.extra["outer_wall"]
         u, pts = outer.sample(64)
@@ -116,9 +116,9 @@ class GrooveBody:
         at_rim = cam_angle_at_parameter(design, float(u[k]))
         out["rim_wall"] = {"value": rim, "at_deg": at_rim}
         if rim < min_wall:
-            failures.append(("rim_wall", "wall", f"the groove leaves {rim:.4g} of material to the rim at cam angle "
-                             f"{at_rim:.2f}°, less than groove.min_wall {min_wall:g}: a larger cam.outer_diameter",
-                             at_rim))
+            failures.append(("rim_wall", "wall", f"the groove leaves {fmt_apart(rim, min_wall, 4)} of material to the "
+                             f"rim at cam angle {at_rim:.2f}°, less than groove.min_wall {fmt_apart(min_wall, rim, 4)}: a "
+                             "larger cam.outer_diameter", at_rim))
         # material to the bore (and keyway)
         from ..checks.buildability import min_radius
 
@@ -127,8 +127,9 @@ class GrooveBody:
         bore_wall = r_in - bore_extent(spec)
         out["bore_wall"] = {"value": bore_wall, "at_deg": at_bore}
         if bore_wall < min_wall:
-            failures.append(("bore_wall", "wall", f"the groove leaves {bore_wall:.4g} of material to the bore at cam "
-                             f"angle {at_bore:.2f}°, less than groove.min_wall {min_wall:g}", at_bore))
+            failures.append(("bore_wall", "wall", f"the groove leaves {fmt_apart(bore_wall, min_wall, 4)} of material "
+                             f"to the bore at cam angle {at_bore:.2f}°, less than groove.min_wall "
+                             f"{fmt_apart(min_wall, bore_wall, 4)}", at_bore))
         if failures:
             _, kind, message, at = failures[0]
             raise GeometryError(kind, message, at, checks=tuple(f[0] for f in failures))
@@ -183,4 +184,5 @@ def validate_groove(spec) -> None:
     if spec.cam.outer_diameter is None:
         raise SpecError("cam.outer_diameter", "is required for a groove cam")
     if spec.groove.depth is not None and not spec.groove.depth < spec.cam.thickness:
-        raise SpecError("groove.depth", f"must be < cam.thickness ({spec.cam.thickness:g}), got {spec.groove.depth:g}")
+        raise SpecError("groove.depth", f"must be < cam.thickness ({fmt_apart(spec.cam.thickness, spec.groove.depth)}), "
+                        f"got {fmt_apart(spec.groove.depth, spec.cam.thickness)}")

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, plate_features
 
@@ -97,8 +97,8 @@ def feature_checks(design, boundary_radius, boundary: str) -> dict[str, Any]:
         out["keyway_ligament"] = margin
         if margin <= 0:
             field = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
-            raise SpecError(field, f"the keyway reaches {rb:.4g} from the axis, through the {boundary} "
-                            f"({rb + margin:.4g} there)")
+            raise SpecError(field, f"the keyway reaches {fmt_apart(rb, rb + margin, 4)} from the axis, through the "
+                            f"{boundary} ({fmt_apart(rb + margin, rb, 4)} there)")
     if cam.mounting_holes:
         lig = hole_ligaments(spec, boundary_radius, rb)
         out["hole_ligaments"] = lig

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import GeometryError
+from ..errors import GeometryError, fmt_apart
 from ..curves.nurbs import NurbsCurve
 from ..pitch.ph import PitchCurve
 
@@ -59,8 +59,8 @@ def check_undercut(pitch: PitchCurve, roller_radius: float, samples: CurvatureSa
     if roller_radius >= rad[k]:
         raise GeometryError(
             "undercut",
-            f"undercut at cam angle {cs.cam_angle_deg[k]:.2f}°: roller radius {roller_radius:g} ≥ "
-            f"smallest convex pitch radius of curvature {rad[k]:.4g} "
+            f"undercut at cam angle {cs.cam_angle_deg[k]:.2f}°: roller radius {fmt_apart(roller_radius, rad[k])} ≥ "
+            f"smallest convex pitch radius of curvature {fmt_apart(rad[k], roller_radius, 4)} "
             "(use a smaller roller, a larger base radius or a gentler motion)",
             float(cs.cam_angle_deg[k]),
         )
@@ -155,8 +155,8 @@ def check_bore(profile: NurbsCurve, pitch: PitchCurve, bore_diameter: float) -> 
         ang = float(pitch.cam_angle_at(seg, np.array([u - seg[0]]))[0])
         raise GeometryError(
             "bore",
-            f"the bore (radius {bore_diameter / 2:g}) cuts the profile at cam angle {ang:.2f}°, "
-            f"where the profile is only {rmin:.4g} from the axis",
+            f"the bore (radius {fmt_apart(bore_diameter / 2, rmin)}) cuts the profile at cam angle {ang:.2f}°, "
+            f"where the profile is only {fmt_apart(rmin, bore_diameter / 2, 4)} from the axis",
             ang,
         )
     return rmin

@@ -390,8 +390,9 @@ def junction_text(j: Any, program: MotionProgram, lab: dict[str, str], required:
             f"({_g(j.values_left[n])} → {_g(j.values_right[n])}); C{max(j.order, 0)}")
     req = j.promised if required is None else required
     if j.order < j.promised:
-        who = list(dict.fromkeys(names(k) for k, e in ((j.left, 1), (j.right, 0))
-                                 if program.laws[k] is not None and program.promise(k)[e] == j.promised))
+        # the sides whose promise is the junction's (a dwell promises C3: no limit of its own)
+        who = list(dict.fromkeys(program.laws[k] or "a dwell" for k, e in ((j.left, 1), (j.right, 0))
+                                 if program.promise(k)[e] == j.promised))
         text += f", but {' and '.join(who)} promise{'s' if len(who) == 1 else ''} C{j.promised}"
     elif j.order < req:
         text += f", below checks.min_continuity = {req}"

@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from ..followers import Follower, follower_of
 from ..spec.model import CamSpec
 
@@ -126,7 +126,8 @@ def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
                             f"follower: give dynamics.{mine[other.index(name)]}")
     lo, hi = dy.sweep_min_rpm, dy.sweep_max_rpm
     if lo is not None and hi is not None and not lo < hi:
-        raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({lo:g}), got {hi:g}")
+        raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({fmt_apart(lo, hi)}), got "
+                        f"{fmt_apart(hi, lo)}")
     if not (dy.enabled or required):
         return
     inertia_field, stiffness_field, follower_field = mine

@@ -63,7 +63,7 @@ def validate_follower(spec) -> None:
     Raises:
         SpecError: naming the field and the rule.
     """
-    from ..errors import SpecError
+    from ..errors import SpecError, fmt_apart
 
     fol = spec.follower
     if fol.motion != "oscillating" or spec.cam.body == "cylindrical":    # the cylinder's arm: its body's rules
@@ -74,7 +74,8 @@ def validate_follower(spec) -> None:
         if not abs(rb + f) < d:
             raise SpecError("follower.pivot_distance",
                             f"the face at face_offset {f:g} from the pivot cannot touch the base circle: needs "
-                            f"|cam.base_radius + face_offset| = {abs(rb + f):g} < pivot_distance, got {d:g}")
+                            f"|cam.base_radius + face_offset| = {fmt_apart(abs(rb + f), d)} < pivot_distance, got "
+                            f"{fmt_apart(d, abs(rb + f))}")
         extent = OscillatingFlatFollower.from_spec(spec).lift_extent()
         what = "face"
     else:
@@ -82,7 +83,8 @@ def validate_follower(spec) -> None:
         if not abs(d - L) < rb < d + L:
             raise SpecError("follower.arm_length",
                             f"the arm cannot reach the prime circle: needs |pivot_distance − arm_length| < "
-                            f"cam.base_radius < pivot_distance + arm_length (d = {d:g}, L = {L:g}, R_b = {rb:g})")
+                            f"cam.base_radius < pivot_distance + arm_length (|d − L| = {fmt_apart(abs(d - L), rb)}, "
+                            f"d + L = {fmt_apart(d + L, rb)}, R_b = {fmt_apart(rb, abs(d - L) if rb <= abs(d - L) else d + L)})")
         extent = OscillatingFollower.from_spec(spec).lift_extent()
         what = "arm"
     level, top, at = 0.0, 0.0, 0
@@ -92,8 +94,9 @@ def validate_follower(spec) -> None:
             top, at = level, i
     if not top < extent:
         raise SpecError(f"motion[{at}].lift",
-                        f"the {what} would turn {top:g}° and reach the line through the pivot and the cam axis "
-                        f"at {extent:.4g}°: the lift must stay below it (a smaller lift, or move the pivot)")
+                        f"the {what} would turn {fmt_apart(top, extent)}° and reach the line through the pivot and the "
+                        f"cam axis at {fmt_apart(extent, top, 4)}°: the lift must stay below it (a smaller lift, or move "
+                        "the pivot)")
 
 
 __all__ = ["ArmPairRoller", "Follower", "FollowerGeometry", "KINDS", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",

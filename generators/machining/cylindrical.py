@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..bodies.cylindrical import CylinderLayout
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from .groove import groove_offsets
 from .plan import _UNIT_DEFAULTS
 
@@ -149,8 +149,8 @@ def cylindrical_path(design) -> CylindricalPath:
     w2 = lay.half_width
     rt = mc.tool_radius if mc.tool_radius is not None else 0.75 * w2
     if not rt < w2:
-        raise SpecError("machining.tool_radius", f"must be < half the groove width (w/2 = {w2:g}) to mill the groove, "
-                        f"got {rt:g}")
+        raise SpecError("machining.tool_radius", f"must be < half the groove width (w/2 = {fmt_apart(w2, rt)}) to "
+                        f"mill the groove, got {fmt_apart(rt, w2)}")
     if mc.program != "xy":
         raise SpecError("machining.program", "a cylindrical cam is milled by its own 4-axis X-Z-A program; leave "
                         "machining.program at its default")
@@ -158,7 +158,8 @@ def cylindrical_path(design) -> CylindricalPath:
     depth = lay.outer_radius - lay.bottom_radius
     total = float(mc.depth) if mc.depth is not None else depth
     if total > depth + 1e-12:
-        raise SpecError("machining.depth", f"must be ≤ groove.depth ({depth:g}) for a cylindrical cam, got {total:g}")
+        raise SpecError("machining.depth", f"must be ≤ groove.depth ({fmt_apart(depth, total)}) for a cylindrical "
+                        f"cam, got {fmt_apart(total, depth)}")
     levels = lay.outer_radius - total * np.arange(1, mc.passes + 1) / mc.passes
     entry = _entry_angle(prog)
     passes = []

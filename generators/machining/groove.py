@@ -25,7 +25,7 @@ import numpy as np
 from ..bodies.groove import groove_depth, half_width
 from ..curves.approx import Path2D
 from ..curves.nurbs import NurbsCurve
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from .plan import MachiningPlan
 from .toolpath import entry_junction, fit_contour, reverse_path, _roll
 
@@ -90,8 +90,8 @@ def groove_path(design, plan: MachiningPlan) -> GroovePath:
     w2 = half_width(spec)
     rt = plan.tool_radius
     if not rt < w2:
-        raise SpecError("machining.tool_radius", f"must be < half the groove width (w/2 = {w2:g}) to mill the "
-                        f"groove, got {rt:g}")
+        raise SpecError("machining.tool_radius", f"must be < half the groove width (w/2 = {fmt_apart(w2, rt)}) to "
+                        f"mill the groove, got {fmt_apart(rt, w2)}")
     k = entry_junction(design.pitch)
     u_entry = float(design.pitch.junction_parameters[k])
     passes = []

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..cam_design import CamDesign
-from ..errors import GeometryError
+from ..errors import GeometryError, fmt_apart
 
 _UNIT_DEFAULTS = {
     "mm": {"feed_rate": 300.0, "safe_height": 5.0, "chord_tolerance": 0.005},
@@ -90,8 +90,9 @@ def check_tool_fits(design: CamDesign, tool_radius: float) -> None:
     if tool_radius >= rho:
         raise GeometryError(
             "gouge",
-            f"machining.tool_radius {tool_radius:g} would gouge the profile at cam angle {at:.2f}°, "
-            f"where its concave radius of curvature is only {rho:.4g} (use a tool radius < {rho:.4g})",
+            f"machining.tool_radius {fmt_apart(tool_radius, rho)} would gouge the profile at cam angle {at:.2f}°, "
+            f"where its concave radius of curvature is only {fmt_apart(rho, tool_radius, 4)} (use a tool radius < "
+            f"{fmt_apart(rho, tool_radius, 4)})",
             at)
 
 

@@ -31,13 +31,13 @@ the machine frame turned by C).  At C = 0 the cam's +Y axis lies along machine +
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ..curves.approx import Path2D, fit_biarcs, flatten, max_distance, polyline_curve_distance, polyline_path
 from ..cam_design import CamDesign, profile_offset_distance
-from ..errors import GeometryError, SolveError, SpecError
+from ..errors import GeometryError, SolveError, SpecError, fmt_apart
 from ..pitch.contact import horner, power_coeffs
 from .interpolator import Commands, RotationalInterpolator
 from .plan import MachiningPlan
@@ -446,16 +446,31 @@ def rotary_path(design: CamDesign, plan: MachiningPlan, commands: Commands | Non
     speed and period are reused if given.
 
     Raises:
-        SpecError: ``machining.sample_period`` — the blocks deviate from the exact path by
-            more than the chord tolerance.
+        SpecError: ``machining.rotary_speed_rpm`` — the blocks deviate from the exact path by
+            more than the chord tolerance allows; the message gives a C-axis speed and a
+            sample period that pass (each checked by making its blocks).
         GeometryError: the tool's line does not meet the tool-centre path once per turn.
     """
-    pitch = design.pitch
-    geo = pitch.follower
     cmds = commands
     if cmds is None or cmds.sample_period != plan.sample_period or cmds.speed_rpm != plan.rotary_speed_rpm:
-        cmds = RotationalInterpolator(pitch).commands(plan.rotary_speed_rpm, plan.sample_period)
-    omega = cmds.omega
+        cmds = RotationalInterpolator(design.pitch).commands(plan.rotary_speed_rpm, plan.sample_period)
+    curve = tool_centre_curve(design, plan)
+    theta, x, line, from_commands, dev = _xc_blocks(design, plan, cmds, curve)
+    if dev > FIT_MARGIN * plan.chord_tolerance:
+        raise _coarse_blocks_error(design, plan, curve, cmds.step_deg, dev)
+    geo = design.pitch.follower
+    c_deg = geo.sense * np.rad2deg(theta)
+    return RotaryPath(theta=theta, c_deg=c_deg, x=x, y=-line, durations=np.diff(theta) / cmds.omega,
+                      line_offset=line, curve=curve, max_deviation=dev, tolerance=plan.chord_tolerance,
+                      from_commands=from_commands, commands=cmds, z_levels=plan.z_levels)
+
+
+def _xc_blocks(design: CamDesign, plan: MachiningPlan, cmds: Commands, curve: NurbsCurve
+               ) -> tuple[np.ndarray, np.ndarray, float, bool, float]:
+    """(block-end cam angles θ [rad] with 2π appended, machine X there, the tool line's offset,
+    whether X comes straight from the commands, the blocks' measured distance from ``curve``)."""
+    pitch = design.pitch
+    geo = pitch.follower
     line = geo.offset if plan.rotary_line == "follower" else 0.0
     theta = np.append(cmds.theta, TWO_PI)
     # the tool centre is the roller centre on the follower's own line: X straight from the commands
@@ -469,15 +484,77 @@ def rotary_path(design: CamDesign, plan: MachiningPlan, commands: Commands | Non
         x = solver.solve(theta)[3]
     else:
         x = _fitted_line_positions(design, plan.centre_offset, line, theta)
-    curve = tool_centre_curve(design, plan)
-    c_deg = geo.sense * np.rad2deg(theta)
-    durations = np.diff(theta) / omega
-    pts = blocks_in_cam_frame(x, c_deg, line)
-    dev = polyline_curve_distance(pts, curve)
-    if dev > FIT_MARGIN * plan.chord_tolerance:
-        raise SpecError("machining.sample_period",
-                        f"X–C blocks of {cmds.step_deg:.4g}° deviate {dev:.3g} from the exact tool path, more "
-                        f"than the chord tolerance allows ({plan.chord_tolerance:g}); use a shorter period")
-    return RotaryPath(theta=theta, c_deg=c_deg, x=x, y=-line, durations=durations, line_offset=line,
-                      curve=curve, max_deviation=dev, tolerance=plan.chord_tolerance,
-                      from_commands=from_commands, commands=cmds, z_levels=plan.z_levels)
+    pts = blocks_in_cam_frame(x, geo.sense * np.rad2deg(theta), line)
+    return theta, x, line, from_commands, polyline_curve_distance(pts, curve)
+
+
+def _coarse_blocks_error(design: CamDesign, plan: MachiningPlan, curve: NurbsCurve, step_deg: float,
+                         dev: float) -> SpecError:
+    """The refusal of XC blocks too coarse for the chord tolerance, naming the C-axis speed (what a
+    user changes: the grinder turns the cam slower while it cuts) with a speed that passes, and
+    the sample period that would pass at this speed — both found and checked here."""
+    limit = FIT_MARGIN * plan.chord_tolerance
+    rpm, period = plan.rotary_speed_rpm, plan.sample_period
+
+    def deviation(rpm_: float, period_: float) -> float:
+        cmds = RotationalInterpolator(design.pitch).commands(rpm_, period_)
+        return _xc_blocks(design, plan, cmds, curve)[4]
+
+    ok_rpm = _largest_passing(rpm, dev, limit, lambda r: deviation(r, period))
+    ok_period = _largest_passing(period, dev, limit, lambda t: deviation(rpm, t))
+    given = design.spec.machining.rotary_speed_rpm is not None
+    rule = (f"at {rpm:g} rpm{'' if given else ' (cam.speed_rpm; machining.rotary_speed_rpm is not given)'} and "
+            f"machining.sample_period {period:g} s the XC blocks of {step_deg:.4g}° deviate {fmt_apart(dev, limit, 3)} "
+            f"from the exact tool path, more than {FIT_MARGIN:g} × machining.chord_tolerance = "
+            f"{fmt_apart(limit, dev, 3)}")
+    fixes = ([f"machining.rotary_speed_rpm = {ok_rpm:g} (the C axis turning slower while it cuts; cam.speed_rpm "
+              "stays the design speed)"] if ok_rpm is not None else []) + (
+             [f"machining.sample_period = {ok_period:g}"] if ok_period is not None else [])
+    if not fixes:
+        return SpecError("machining.chord_tolerance",
+                         f"{rule}, and no C-axis speed down to {rpm / SLOWEST_FRACTION:g} rpm passes: a larger "
+                         "machining.chord_tolerance")
+    return SpecError("machining.rotary_speed_rpm",
+                     f"{rule}; {' or '.join(fixes)} passes" if len(fixes) == 1 else
+                     f"{rule}; {' or '.join(fixes)}: either passes")
+
+
+#: How far below the given speed (or sample period) a passing one is looked for: a factor of …
+SLOWEST_FRACTION = 1000.0
+
+
+def _largest_passing(value: float, dev: float, limit: float, deviation: Callable[[float], float]
+                     ) -> float | None:
+    """The largest value at 3 significant digits below ``value`` (a C-axis speed or a sample
+    period: the block angle is proportional to either) whose blocks' deviation is ≤ ``limit``,
+    checked by ``deviation(value)``; None when none down to ``value / SLOWEST_FRACTION`` passes.
+
+    A chord's distance from a smooth curve grows with the square of its angle, so each guess
+    scales the last failing value by √(limit/deviation); then the gap to the last failing value
+    is bisected on 3-digit values (the deviation is not strictly monotonic in the angle:
+    the last block of a turn is shorter)."""
+    hi, lo, d = value, None, dev
+    guess = value
+    while lo is None:
+        guess = _floor3(min(guess * 0.98 * np.sqrt(limit / d), guess * 0.98))
+        if guess < value / SLOWEST_FRACTION:
+            return None
+        d = deviation(guess)
+        if d <= limit:
+            lo = guess
+        else:
+            hi = guess
+    while True:
+        mid = _floor3(0.5 * (lo + hi))
+        if mid <= lo or mid >= hi:
+            return lo
+        if deviation(mid) <= limit:
+            lo = mid
+        else:
+            hi = mid
+
+
+def _floor3(v: float) -> float:
+    """``v`` > 0 rounded down to 3 significant digits."""
+    e = int(np.floor(np.log10(v))) - 2
+    return float(f"{int(np.floor(v / 10.0**e * (1 + 1e-12)))}e{e}")

@@ -337,7 +337,7 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
         start: the segment's start in the program [rad].
         span: the segment's span [rad].
     """
-    from ..errors import SpecError
+    from ..errors import SpecError, fmt_apart
 
     k = seg.order or DEFAULT_ORDER
     if seg.control_x is None:
@@ -380,12 +380,14 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
                     f"{path}.control_y[{i - 1}]",
                     f"control point P{i} must be at y = {want:g}: the {end} k − 1 = {nfix} control "
                     f"points of a {seg.kind} sit at its {'start' if i < nfix else 'end'} level so that "
-                    f"velocity … derivative {k - 2} vanish there (got {y[i]:g})")
+                    f"velocity … derivative {k - 2} vanish there (got {fmt_apart(y[i], want)})")
     else:
         raise SpecError(
             f"{path}.control_y",
-            f"has {cy.shape[0]} values; with {n + 1} control points of order {k} give the "
-            f"{n_free} free lifts (P{nfix} … P{n - nfix}) or all {n - 1} interior ones (P1 … P{n - 1})")
+            f"has {cy.shape[0]} values; with {n + 1} control points of order {k} give "
+            + (f"the {n_free} free lifts (P{nfix} … P{n - nfix})" if n_free else "[] (none is free)")
+            + f" or all {n - 1} interior ones (P1 … P{n - 1}): control_x's {n - 1} angles and the segment's two "
+            "ends are the control points")
     lift = BSplineLift(k, x, y)
     _check_theta_increasing(lift, f"{path}.control_x", frame, to_user)
     return lift
@@ -394,8 +396,9 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
 def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -> None:
     """θ(u) must increase: exact when every control θ increases (θ'(u) is then a positive
     combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
-    control point of the non-increasing step nearest to its minimum is named."""
-    from ..errors import SpecError
+    control point of the non-increasing step nearest to its minimum is named — the earlier of its
+    two points when that one is the odd one out (not before the point after next either)."""
+    from ..errors import SpecError, fmt_apart
 
     c = lift.theta_derivative_coefficients()
     if np.all(c > 0):
@@ -412,13 +415,20 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     n = lift.n_points - 1
     unit = _FRAME_UNIT[frame]
     xs = to_user(lift.x)
-    if i + 1 < n:        # P(i+1) is a listed point: control_x[i]
+    if 1 <= i and i + 2 <= n and xs[i] >= xs[i + 2] and not xs[i + 1] <= xs[i - 1]:
+        # P(i) is the odd one out (not before P(i+2) either, while P(i+1) is after P(i−1)): control_x[i−1]
+        field, msg = f"{path}[{i - 1}]", (f"θ(u) must increase, but control point P{i} "
+                                          f"({fmt_apart(xs[i], xs[i + 1])}{unit}) is not before P{i + 1} "
+                                          f"({fmt_apart(xs[i + 1], xs[i])}{unit}) nor P{i + 2} "
+                                          f"({fmt_apart(xs[i + 2], xs[i])}{unit})")
+    elif i + 1 < n:      # P(i+1) is a listed point: control_x[i]
         field, msg = f"{path}[{i}]", (f"θ(u) must increase, but control point P{i + 1} "
-                                      f"({xs[i + 1]:g}{unit}) is not after P{i} ({xs[i]:g}{unit})")
+                                      f"({fmt_apart(xs[i + 1], xs[i])}{unit}) is not after P{i} "
+                                      f"({fmt_apart(xs[i], xs[i + 1])}{unit})")
         if i == 0:
             msg += " — P0 is the segment start"
     else:                # the last listed point passes the segment end Pn
         field, msg = f"{path}[{i - 1}]", (f"θ(u) must increase, but control point P{i} "
-                                          f"({xs[i]:g}{unit}) is not before the segment end "
-                                          f"P{n} ({xs[n]:g}{unit})")
+                                          f"({fmt_apart(xs[i], xs[n])}{unit}) is not before the segment end "
+                                          f"P{n} ({fmt_apart(xs[n], xs[i])}{unit})")
     raise SpecError(field, msg)

@@ -28,7 +28,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from .bspline_law import BSplineLift, lift_from_segment
 from .laws import END_CONTINUITY, evaluate_law
 from .polynomial import (Condition, ConditionError, bezier_lift, cruise_pieces, piecewise_lift,
@@ -248,7 +248,8 @@ def _solve_polynomial(p: _Plan, inputs: dict[tuple[int, int], float]) -> None:
     for i, (a, s) in enumerate(seg.points or ()):
         fld = f"{p.path}.points[{i}]"
         if not 0.0 < a < span_deg:
-            raise SpecError(fld, f"angle {a:g}° must lie inside the segment (0 < angle < {span_deg:g}°, "
+            raise SpecError(fld, f"angle {fmt_apart(a, 0.0 if a <= 0 else span_deg)}° must lie inside the segment "
+                                 f"(0 < angle < {fmt_apart(span_deg, a)}°, "
                                  "degrees from the segment start)")
         if a in seen:
             raise SpecError(fld, f"angle {a:g}° repeats points[{seen[a]}]: one lift per angle")
@@ -275,8 +276,10 @@ def _solve_cruise(p: _Plan, inputs: dict[tuple[int, int], float]) -> None:
             outer[e] = [(n, inputs[(e, n)], f"{p.path}.{_END[e]}_continuity") for n in range(1, conts[e] + 1)]
     if not b[0] + b[1] < p.span:
         raise SpecError(f"{p.path}.end_blend" if b[1] > 0 else f"{p.path}.start_blend",
-                        f"start_blend + end_blend = {seg.start_blend or 0:g}° + {seg.end_blend or 0:g}° must be less "
-                        f"than the segment's angle {seg.angle:g}° (the constant-velocity part)")
+                        f"start_blend + end_blend = {seg.start_blend or 0:g}° + {seg.end_blend or 0:g}° = "
+                        f"{fmt_apart((seg.start_blend or 0) + (seg.end_blend or 0), seg.angle)}° must be less than the "
+                        f"segment's angle {fmt_apart(seg.angle, (seg.start_blend or 0) + (seg.end_blend or 0))}° (the "
+                        "constant-velocity part)")
     velocity, pieces = cruise_pieces(p.span, p.lift, b[0], b[1], outer[0], outer[1], conts[0], conts[1], p.level)
     if not velocity * p.lift > 0:
         raise SpecError(f"{p.path}.start_blend" if b[0] > 0 else f"{p.path}.end_blend",
@@ -300,12 +303,14 @@ def _solve_table(p: _Plan, inputs: dict[tuple[int, int], float]) -> None:
     if seg.table_start is None and not inside.all():
         i = int(np.flatnonzero(~inside)[0])
         raise SpecError(f"{p.path}.table[{i}]",
-                        f"angle {rows[i, 0]:g}° lies outside the segment (0 … {seg.angle:g}°, degrees from its start; "
+                        f"angle {fmt_apart(rows[i, 0], 0.0 if rows[i, 0] < 0 else seg.angle)}° lies outside the segment "
+                        f"(0 … {fmt_apart(seg.angle, rows[i, 0])}°, degrees from its start; "
                         "give table_start to take a segment's rows out of a longer table)")
     idx = np.flatnonzero(inside)
     if np.any(np.diff(rows[idx, 0]) <= 0):
         j = int(idx[np.flatnonzero(np.diff(rows[idx, 0]) <= 0)[0] + 1])
-        raise SpecError(f"{p.path}.table[{j}]", f"angles must increase: {rows[j, 0]:g}° after {rows[j - 1, 0]:g}°")
+        raise SpecError(f"{p.path}.table[{j}]", f"angles must increase: {fmt_apart(rows[j, 0], rows[j - 1, 0])}° after "
+                        f"{fmt_apart(rows[j - 1, 0], rows[j, 0])}°")
     order = seg.order or DEFAULT_TABLE_ORDER
     cons = [(0.0, 0, p.level), (1.0, 0, p.level + p.lift)]
     cons += [(float(e), n, v) for (e, n), v in sorted(inputs.items())]

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..motion.bspline_law import BSplineLift, fixed_end_points
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from ..motion.program import MotionProgram
 from ..spec.model import BODY_VARIABLES, CamSpec, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
@@ -224,27 +224,29 @@ class DesignSpace:
             e0 = float(self.start[self.e_index])
             if abs(e0) > opt.offset_max:
                 raise SpecError("optimise.offset_max",
-                                f"must be ≥ |follower.offset| of the starting design ({e0:g} {units}), "
-                                f"got {opt.offset_max:g}")
+                                f"must be ≥ |follower.offset| of the starting design ({fmt_apart(abs(e0), opt.offset_max)} "
+                                f"{units}), got {fmt_apart(opt.offset_max, abs(e0))}")
         if self.r_index is not None:
             r0 = float(self.start[self.r_index])
             if opt.base_radius_min is not None and r0 < opt.base_radius_min:
                 raise SpecError("optimise.base_radius_min",
-                                f"must be ≤ cam.base_radius of the starting design ({r0:g} {units}), "
-                                f"got {opt.base_radius_min:g}")
+                                f"must be ≤ cam.base_radius of the starting design ({fmt_apart(r0, opt.base_radius_min)} "
+                                f"{units}), got {fmt_apart(opt.base_radius_min, r0)}")
             if opt.base_radius_max is not None and r0 > opt.base_radius_max:
                 raise SpecError("optimise.base_radius_max",
-                                f"must be ≥ cam.base_radius of the starting design ({r0:g} {units}), "
-                                f"got {opt.base_radius_max:g}")
+                                f"must be ≥ cam.base_radius of the starting design ({fmt_apart(r0, opt.base_radius_max)} "
+                                f"{units}), got {fmt_apart(opt.base_radius_max, r0)}")
         for name, c in self.body_cols.items():
             v0 = float(self.start[c])
             lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
             if lo_b is not None and v0 < lo_b:
                 raise SpecError(f"optimise.{name}_min",
-                                f"must be ≤ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {lo_b:g}")
+                                f"must be ≤ {BODY_PATHS[name]} of the starting design ({fmt_apart(v0, lo_b)} {units}), "
+                                f"got {fmt_apart(lo_b, v0)}")
             if hi_b is not None and v0 > hi_b:
                 raise SpecError(f"optimise.{name}_max",
-                                f"must be ≥ {BODY_PATHS[name]} of the starting design ({v0:g} {units}), got {hi_b:g}")
+                                f"must be ≥ {BODY_PATHS[name]} of the starting design ({fmt_apart(v0, hi_b)} {units}), "
+                                f"got {fmt_apart(hi_b, v0)}")
         for name, c in zip(self.geometry_names, self.geometry_cols):
             if c is None or name not in ("pivot_distance", "arm_length", "face_offset"):
                 continue
@@ -252,16 +254,19 @@ class DesignSpace:
             if name == "face_offset":
                 if opt.face_offset_max is not None and abs(v0) > opt.face_offset_max:
                     raise SpecError("optimise.face_offset_max",
-                                    f"must be ≥ |follower.face_offset| of the starting design ({v0:g} {units}), "
-                                    f"got {opt.face_offset_max:g}")
+                                    f"must be ≥ |follower.face_offset| of the starting design "
+                                    f"({fmt_apart(abs(v0), opt.face_offset_max)} {units}), got "
+                                    f"{fmt_apart(opt.face_offset_max, abs(v0))}")
                 continue
             lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
             if lo_b is not None and v0 < lo_b:
                 raise SpecError(f"optimise.{name}_min",
-                                f"must be ≤ follower.{name} of the starting design ({v0:g} {units}), got {lo_b:g}")
+                                f"must be ≤ follower.{name} of the starting design ({fmt_apart(v0, lo_b)} {units}), "
+                                f"got {fmt_apart(lo_b, v0)}")
             if hi_b is not None and v0 > hi_b:
                 raise SpecError(f"optimise.{name}_max",
-                                f"must be ≥ follower.{name} of the starting design ({v0:g} {units}), got {hi_b:g}")
+                                f"must be ≥ follower.{name} of the starting design ({fmt_apart(v0, hi_b)} {units}), "
+                                f"got {fmt_apart(hi_b, v0)}")
 
     # ---- sizes and scaling ----------------------------------------------------------------
     @property

@@ -34,12 +34,12 @@ from ..curves.bezier import BezierChain, bernstein_from_power
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.nurbs import NurbsCurve
-from ..spec.model import DEFAULT_SEGMENTS, CamSpec
+from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEGREE = 5
 FIT_SAMPLES_PER_SPAN = 12
-MAX_SPANS = 20000
+MAX_SPANS = MAX_SEGMENTS
 DEFAULT_STEP_DEG = 0.02
 
 

@@ -19,11 +19,11 @@ from ..followers import Follower, follower_of
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
-from ..spec.model import DEFAULT_SEGMENTS, CamSpec
+from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
 
 TWO_PI = 2.0 * np.pi
 DEFAULT_STEP_DEG = 0.02
-MAX_TOLERANCE_SEGMENTS = 20000
+MAX_TOLERANCE_SEGMENTS = MAX_SEGMENTS
 
 
 def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from .params import REQUIRED, Param, param, params_of
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
@@ -41,6 +41,15 @@ SEGMENT_LAW_FIELDS: dict[str, tuple[str, ...]] = {
 }
 
 SPAN_TOL_DEG = 1e-9
+#: Most junctions of a PH pitch curve (or knot spans of a B-spline one) over 360°: pitch.segments,
+#: the tolerance search's M, motion[].junctions.
+MAX_SEGMENTS = 20000
+#: Smallest motion-segment span [deg]: the finest junction spacing of a pitch curve, 360°/MAX_SEGMENTS.
+#: A shorter segment (or blend) can lie between two junctions of every pitch curve the project builds.
+MIN_SPAN_DEG = 360.0 / MAX_SEGMENTS
+#: Why a span (a motion segment, a blend) has that minimum, in the rule's words.
+MIN_SPAN_NOTE = (f"360°/{MAX_SEGMENTS}: the finest junction spacing of the pitch curve; a shorter span can lie "
+                 "between two junctions")
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
 BODIES = ("plate", "groove", "conjugate", "cylindrical")
 KEYWAYS = ("DIN6885", "ANSI")
@@ -178,7 +187,7 @@ class MotionSegment:
 
     kind: str = param("Segment type", kind="str", choices=("dwell", "rise", "return"), group="Motion")
     angle: float = param("Span of the segment in cam degrees; all spans sum to 360",
-                         unit="angle", gt=0, group="Motion")
+                         unit="angle", ge=MIN_SPAN_DEG, group="Motion", bound_note=MIN_SPAN_NOTE)
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
                                unit="length", gt=0, optional=True, group="Motion")
     law: str | None = param(
@@ -189,7 +198,7 @@ class MotionSegment:
     junctions: int | None = param(
         "Number of PH segments spanning this motion segment (non-uniform junction spacing, "
         "as the paper's case 3); when any segment has it, all must",
-        kind="int", ge=1, le=20000, optional=True, group="Motion",
+        kind="int", ge=1, le=MAX_SEGMENTS, optional=True, group="Motion",
     )
     @staticmethod
     def precheck(data: Mapping[str, Any], path: str) -> None:
@@ -271,11 +280,11 @@ class MotionSegment:
     start_blend: float | None = param(
         "Constant velocity: angle over which the start blends from the previous segment's motion into the "
         "constant velocity (a polynomial meeting both to start_continuity); absent: no blend",
-        unit="angle", gt=0, optional=True, group="Motion")
+        unit="angle", ge=MIN_SPAN_DEG, optional=True, group="Motion", bound_note=MIN_SPAN_NOTE)
     end_blend: float | None = param(
         "Constant velocity: angle over which the constant velocity blends into the next segment's motion "
         "(to end_continuity); absent: no blend",
-        unit="angle", gt=0, optional=True, group="Motion")
+        unit="angle", ge=MIN_SPAN_DEG, optional=True, group="Motion", bound_note=MIN_SPAN_NOTE)
     table: tuple[tuple[float, float], ...] | None = param(
         "Table: [[angle, s], …] points the segment's B-spline is fitted to: degrees from the segment start "
         "(or from table_start) and the follower displacement s (lift units, from zero lift)",
@@ -344,7 +353,7 @@ class PitchSection:
     segments: int | None = param(
         "Uniform junction count M over 360° (junction spacing 360°/M; for a B-spline pitch: its "
         "knot spans); default 60 when neither segments, tolerance nor motion[].junctions is given",
-        kind="int", ge=8, le=20000, optional=True, group="Pitch",
+        kind="int", ge=8, le=MAX_SEGMENTS, optional=True, group="Pitch",
     )
     tolerance: float | None = param(
         "Target max follower-displacement deviation: chooses the smallest uniform M (B-spline: "
@@ -1013,21 +1022,24 @@ def validate(spec: CamSpec) -> None:
     """Check every rule of CAM_SPEC.md that involves more than one field; raise SpecError."""
     cam, fol = spec.cam, spec.follower
     if fol.kind == "roller" and not fol.roller_radius > 0:
-        raise SpecError("follower.roller_radius", f"must be > 0 for a roller follower, got {fol.roller_radius:g}")
+        raise SpecError("follower.roller_radius", f"must be > 0 for a roller follower, got {fmt_apart(fol.roller_radius, 0)}")
     _validate_follower_motion(spec)
     _validate_face(spec)
     if not abs(fol.offset) < cam.base_radius:
         raise SpecError("follower.offset",
-                        f"|offset| must be < cam.base_radius ({cam.base_radius:g}), got {fol.offset:g}")
+                        f"|offset| must be < cam.base_radius ({fmt_apart(cam.base_radius, abs(fol.offset))}), got "
+                        f"{fmt_apart(fol.offset, math.copysign(cam.base_radius, fol.offset))}")
     if spec.is_roller and not cam.base_radius > fol.roller_radius:
         raise SpecError("cam.base_radius",
-                        f"must be > follower.roller_radius ({fol.roller_radius:g}), got {cam.base_radius:g}")
+                        f"must be > follower.roller_radius ({fmt_apart(fol.roller_radius, cam.base_radius)}), got "
+                        f"{fmt_apart(cam.base_radius, fol.roller_radius)}")
     r_surface = cam.base_radius - spec.roller_radius
     if not cam.bore_diameter < 2 * r_surface:
         raise SpecError("cam.bore_diameter",
                         f"must be < 2 × smallest cam-surface radius = 2 × (cam.base_radius {cam.base_radius:g} − "
-                        f"follower.roller_radius {spec.roller_radius:g}) = {2 * r_surface:g}, got "
-                        f"{cam.bore_diameter:g}: a smaller bore or roller, or a larger base radius")
+                        f"follower.roller_radius {spec.roller_radius:g}) = {fmt_apart(2 * r_surface, cam.bore_diameter)}, "
+                        f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
+                        "radius")
     _validate_motion(spec)
     from ..bodies import validate_body
     from ..followers import validate_follower   # the kinds' own geometric rules
@@ -1110,6 +1122,8 @@ def _validate_motion(spec: CamSpec) -> None:
         p = f"motion[{i}]"
         start_deg = total
         total += seg.angle
+        if seg.kind != "dwell" and seg.law is None:      # before the fields that depend on the law
+            raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law != "bspline":
             for name in BSPLINE_FIELDS:
                 if getattr(seg, name) is not None and seg.law not in SEGMENT_LAW_FIELDS.get(name, ()):
@@ -1129,8 +1143,6 @@ def _validate_motion(spec: CamSpec) -> None:
             raise SpecError(f"{p}.lift", f"is required for a {seg.kind}")
         if not seg.lift > 0:
             raise SpecError(f"{p}.lift", f"must be > 0 for a {seg.kind}, got {seg.lift:g}")
-        if seg.law is None:
-            raise SpecError(f"{p}.law", f"is required for a {seg.kind} (one of {', '.join(LAWS)})")
         if seg.law == "bspline":
             from ..motion.bspline_law import lift_from_segment
 
@@ -1142,14 +1154,16 @@ def _validate_motion(spec: CamSpec) -> None:
             if seg.order is not None and seg.order < 4:
                 raise SpecError(f"{p}.order", f"a table fit needs order ≥ 4 (C² inside the segment), got {seg.order}")
         lifts.append(seg.lift)
+        before = level
         level += seg.lift if seg.kind == "rise" else -seg.lift
         scale = max(lifts)
         if level < -1e-9 * scale:
             raise SpecError(f"{p}.lift",
-                            f"the follower would go {-level:g} below zero lift (s must stay ≥ 0)")
+                            f"the follower would go {-level:g} below zero lift (s must stay ≥ 0): the segments "
+                            f"before it leave it at {fmt_apart(before, seg.lift)}, this {seg.kind} falls "
+                            f"{fmt_apart(seg.lift, before)}")
     if abs(total - 360.0) > SPAN_TOL_DEG:
-        last = len(spec.motion) - 1
-        raise SpecError(f"motion[{last}].angle", f"spans sum to {total:g}°, must be 360°")
+        raise _span_sum_error(spec.motion, total)
     if not lifts:
         raise SpecError("motion", "needs at least one rise and one return")
     if abs(level) > 1e-9 * max(lifts):
@@ -1167,11 +1181,34 @@ def _validate_motion(spec: CamSpec) -> None:
                         "is required on every segment when any segment gives junctions")
 
 
+def _span_sum_error(motion: tuple[MotionSegment, ...], total: float) -> SpecError:
+    """The spans sum to ``total`` ≠ 360°: the error names the span that, changed by the
+    difference, has the fewest decimals (at most 6) — the odd one out, as 119.99999999 among 30,
+    120, 60, 120, 30 — with the value that closes the cycle; on a tie (350 instead of 360 among
+    whole degrees), or when no span would read as a typed number, it names the last span and
+    suggests nothing."""
+    diff = 360.0 - total
+    decimals = {}
+    for k, seg in enumerate(motion):
+        fixed = seg.angle + diff
+        text = f"{fixed:.9f}".rstrip("0")
+        places = len(text.split(".")[1])
+        if fixed >= MIN_SPAN_DEG and places <= 6:     # a value a person would type
+            decimals[k] = (places, text.rstrip("."))
+    rule = f"spans sum to {fmt_apart(total, 360.0)}°, must be 360°"
+    fewest = min((d for d, _ in decimals.values()), default=None)
+    odd = [k for k, (d, _) in decimals.items() if d == fewest]
+    if len(odd) == 1 and len(motion) > 1:
+        return SpecError(f"motion[{odd[0]}].angle", f"{rule} ({decimals[odd[0]][1]} here makes them 360°)")
+    return SpecError(f"motion[{len(motion) - 1}].angle", rule)
+
+
 def _validate_pitch(spec: CamSpec) -> None:
     pt = spec.pitch
     if pt.tolerance is not None and pt.tolerance < 1e-9 * spec.cam.base_radius:
-        raise SpecError("pitch.tolerance", f"must be ≥ 1e-9 × cam.base_radius ({1e-9 * spec.cam.base_radius:g}): "
-                                           f"below that the deviation is rounding noise, got {pt.tolerance:g}")
+        low = 1e-9 * spec.cam.base_radius
+        raise SpecError("pitch.tolerance", f"must be ≥ 1e-9 × cam.base_radius ({fmt_apart(low, pt.tolerance)}): "
+                                           f"below that the deviation is rounding noise, got {fmt_apart(pt.tolerance, low)}")
     if pt.segments is not None and pt.tolerance is not None:
         raise SpecError("pitch.tolerance", "is exclusive with pitch.segments: give one of them")
     if pt.representation == "bspline" and spec.motion[0].junctions is not None:
@@ -1190,8 +1227,9 @@ def _validate_pitch(spec: CamSpec) -> None:
 def _validate_drawing(spec: CamSpec) -> None:
     dr = spec.drawing
     if dr.chord_tolerance is not None and dr.chord_tolerance < 1e-7 * spec.cam.base_radius:
-        raise SpecError("drawing.chord_tolerance",
-                        f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {dr.chord_tolerance:g}")
+        low = 1e-7 * spec.cam.base_radius
+        raise SpecError("drawing.chord_tolerance", f"must be ≥ 1e-7 × cam.base_radius ({fmt_apart(low, dr.chord_tolerance)}), "
+                                                   f"got {fmt_apart(dr.chord_tolerance, low)}")
     if dr.dxf_version == "R12" and dr.curves in ("cubic", "spline"):
         raise SpecError("drawing.dxf_version",
                         "R12 has no SPLINE entity: use drawing.curves = \"arcs\" or \"polyline\" with R12")
@@ -1208,15 +1246,17 @@ def _validate_machining(spec: CamSpec) -> None:
     # blocks are checked against machining.chord_tolerance when it is made)
     if 360.0 / step > MAX_COMMANDS_PER_REV:
         raise SpecError("machining.sample_period",
-                        f"gives {360.0 / step:.4g} commands per revolution at {rpm:g} rpm; must be ≤ "
-                        f"{MAX_COMMANDS_PER_REV:g}")
+                        f"gives {fmt_apart(360.0 / step, MAX_COMMANDS_PER_REV, 4)} commands per revolution at {rpm:g} "
+                        f"rpm; must be ≤ {MAX_COMMANDS_PER_REV:,}: a longer period (or a faster "
+                        "machining.rotary_speed_rpm)")
     if mc.chord_tolerance is not None and mc.chord_tolerance < 1e-7 * spec.cam.base_radius:
-        raise SpecError("machining.chord_tolerance",
-                        f"must be ≥ 1e-7 × cam.base_radius ({1e-7 * spec.cam.base_radius:g}), got {mc.chord_tolerance:g}")
+        low = 1e-7 * spec.cam.base_radius
+        raise SpecError("machining.chord_tolerance", f"must be ≥ 1e-7 × cam.base_radius ({fmt_apart(low, mc.chord_tolerance)}), "
+                                                     f"got {fmt_apart(mc.chord_tolerance, low)}")
     if mc.chord_tolerance is not None and not mc.chord_tolerance < spec.cam.base_radius / 100:
         raise SpecError("machining.chord_tolerance",
-                        f"must be < 1% of cam.base_radius ({spec.cam.base_radius / 100:g}), "
-                        f"got {mc.chord_tolerance:g}")
+                        f"must be < 1% of cam.base_radius ({fmt_apart(spec.cam.base_radius / 100, mc.chord_tolerance)}), "
+                        f"got {fmt_apart(mc.chord_tolerance, spec.cam.base_radius / 100)}")
 
 
 _SEGMENT_VARIABLE = re.compile(r"^motion\[(\d+)\]\.(control_x|control_y|control_points|points)$")
@@ -1360,7 +1400,8 @@ def _validate_optimise(spec: CamSpec) -> None:
     for name in ("outer_diameter", "clearance"):
         lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
         if lo_b is not None and hi_b is not None and not lo_b < hi_b:
-            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({lo_b:g}), got {hi_b:g}")
+            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({fmt_apart(lo_b, hi_b)}), got "
+                            f"{fmt_apart(hi_b, lo_b)}")
     fol = spec.follower
     if opt.objective == "machining_time" and fol.motion != "translating":
         raise SpecError("optimise.objective",
@@ -1372,19 +1413,23 @@ def _validate_optimise(spec: CamSpec) -> None:
     for name in ("pivot_distance", "arm_length"):
         lo_b, hi_b = getattr(opt, f"{name}_min"), getattr(opt, f"{name}_max")
         if lo_b is not None and hi_b is not None and not lo_b < hi_b:
-            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({lo_b:g}), got {hi_b:g}")
+            raise SpecError(f"optimise.{name}_max", f"must be > optimise.{name}_min ({fmt_apart(lo_b, hi_b)}), got "
+                            f"{fmt_apart(hi_b, lo_b)}")
     if "orientation" in names and opt.objective != "machining_time":
         raise SpecError("optimise.variables",
                         "orientation only changes objective = \"machining_time\" (the thesis' cutting time)")
     lo = opt.base_radius_min
     hi = opt.base_radius_max
     if lo is not None and hi is not None and not lo < hi:
-        raise SpecError("optimise.base_radius_max", f"must be > optimise.base_radius_min ({lo:g}), got {hi:g}")
+        raise SpecError("optimise.base_radius_max", f"must be > optimise.base_radius_min ({fmt_apart(lo, hi)}), got "
+                        f"{fmt_apart(hi, lo)}")
     if lo is not None and spec.is_roller and not lo > spec.follower.roller_radius:
         raise SpecError("optimise.base_radius_min",
-                        f"must be > follower.roller_radius ({spec.follower.roller_radius:g}), got {lo:g}")
+                        f"must be > follower.roller_radius ({fmt_apart(spec.follower.roller_radius, lo)}), got "
+                        f"{fmt_apart(lo, spec.follower.roller_radius)}")
     if opt.offset_max is not None and lo is not None and not opt.offset_max < lo:
-        raise SpecError("optimise.offset_max", f"must be < optimise.base_radius_min ({lo:g}), got {opt.offset_max:g}")
+        raise SpecError("optimise.offset_max", f"must be < optimise.base_radius_min ({fmt_apart(lo, opt.offset_max)}), "
+                        f"got {fmt_apart(opt.offset_max, lo)}")
     if opt.algorithm in ("slsqp", "mma", "ccsaq") and opt.objective in ("machining_time", "gcode_time"):
         raise SpecError("optimise.algorithm",
                         f"{opt.algorithm} needs gradients, but {opt.objective} is discontinuous (whole turns/"

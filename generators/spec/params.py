@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import operator
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 
 #: Unit kinds.  The concrete unit of a kind depends on the spec's ``units``.
 UNIT_NAMES: dict[str, dict[str, str]] = {
@@ -78,6 +79,8 @@ class Param:
         gt, ge, lt, le: numeric bounds (exclusive / inclusive).
         optional: the field may be absent (None) without a default.
         group: FreeCAD property group.
+        bound_note: why the bounds are what they are, in a few words (shown with the rule in
+            messages and docs), e.g. the math that needs a minimum.
     """
 
     doc: str
@@ -91,6 +94,7 @@ class Param:
     le: float | None = None
     optional: bool = False
     group: str = ""
+    bound_note: str = ""
 
     def rule_text(self) -> str:
         """The bounds/choices of this parameter in words (for docs)."""
@@ -100,7 +104,8 @@ class Param:
         for op, v in (("> ", self.gt), ("≥ ", self.ge), ("< ", self.lt), ("≤ ", self.le)):
             if v is not None:
                 parts.append(f"{op}{_fmt(v)}")
-        return ", ".join(parts)
+        text = ", ".join(parts)
+        return f"{text} ({self.bound_note})" if text and self.bound_note else text
 
     def check(self, path: str, value: Any) -> Any:
         """Coerce and validate ``value`` for the field at ``path``; raise SpecError."""
@@ -160,22 +165,23 @@ class Param:
         if self.kind == "int":
             top = self.le if self.le is not None else MAX_INT
             if v > top and self.le is None:
-                raise SpecError(path, f"must be ≤ {top:g}, got {_fmt(v)}")
+                raise SpecError(path, f"must be ≤ {_fmt(top, v)}, got {_fmt(v, top)}")
         else:
             top = MAX_MAGNITUDE.get(self.unit, MAX_MAGNITUDE[""])
             if abs(v) > top:
-                raise SpecError(path, f"must be within ±{top:g}, got {_fmt(v)}")
+                raise SpecError(path, f"must be within ±{fmt_apart(top, abs(v))}, got "
+                                      f"{fmt_apart(v, math.copysign(top, v))}")
             low = MIN_POSITIVE.get(self.unit)
             if low is not None and self.gt == 0 and 0 < v < low:
-                raise SpecError(path, f"must be ≥ {low:g} (a smaller value rounds to nothing), got {_fmt(v)}")
-        if self.gt is not None and not v > self.gt:
-            raise SpecError(path, f"must be > {_fmt(self.gt)}, got {_fmt(v)}")
-        if self.ge is not None and not v >= self.ge:
-            raise SpecError(path, f"must be ≥ {_fmt(self.ge)}, got {_fmt(v)}")
-        if self.lt is not None and not v < self.lt:
-            raise SpecError(path, f"must be < {_fmt(self.lt)}, got {_fmt(v)}")
-        if self.le is not None and not v <= self.le:
-            raise SpecError(path, f"must be ≤ {_fmt(self.le)}, got {_fmt(v)}")
+                raise SpecError(path, f"must be ≥ {fmt_apart(low, v)} (a smaller value rounds to nothing), got "
+                                      f"{fmt_apart(v, low)}")
+        for op, bound, holds in (("> ", self.gt, operator.gt), ("≥ ", self.ge, operator.ge),
+                                 ("< ", self.lt, operator.lt), ("≤ ", self.le, operator.le)):
+            if bound is not None and not holds(v, bound):
+                raise SpecError(path, f"must be {op}{_fmt(bound, v)}{self._why()}, got {_fmt(v, bound)}")
+
+    def _why(self) -> str:
+        return f" ({self.bound_note})" if self.bound_note else ""
 
 
 def _as_float(path: str, value: Any) -> float:
@@ -196,9 +202,10 @@ def _short(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[:limit] + "…"
 
 
-def _fmt(v: float) -> str:
+def _fmt(v: float, other: float | None = None) -> str:
+    """``v`` for a message (with ``other``: with the digits that tell it apart, :func:`fmt_apart`)."""
     try:
-        return f"{v:g}"
+        return f"{v:g}" if other is None else fmt_apart(v, other)
     except OverflowError:           # an integer beyond float range
         return f"an integer of {len(str(v))} digits"
 

@@ -78,7 +78,13 @@ reference, including the fields added since.
 - `cam.bore_diameter` < 2·(`base_radius` − `roller_radius`); the built profile is checked too.
 - `follower.roller_radius` > 0 for a roller.
 - `motion[].lift` and `motion[].law` are required for rise/return and absent for dwell.
-- All `motion[].angle` sum to 360 (±1e-9); total rise = total fall; s never below 0.
+- All `motion[].angle` sum to 360 (±1e-9), each at least 360°/20000 = 0.018° (the finest junction
+  spacing of a pitch curve: a shorter span can lie between two junctions), as is each
+  `start_blend` and `end_blend`; total rise = total fall; s never below 0.  When the spans miss
+  360°, the error names the span that, changed by the difference, has the fewest decimals (the
+  odd one out) with the value that closes the cycle — `motion[3].angle: spans sum to
+  359.99999999°, must be 360° (120 here makes them 360°)` — or, when every span would do as
+  well, the last.
 - `motion[].junctions`: when any segment has it, all must; exclusive with `pitch.tolerance`; PH only
   (`pitch.representation = "bspline"` places its knots itself: `pitch.segments` spans shared among the
   motion segments in proportion, segment boundaries as knots, or the fewest meeting `pitch.tolerance`).
@@ -99,14 +105,17 @@ reference, including the fields added since.
 - `machining.chord_tolerance` < 1% of `cam.base_radius`.
 - `machining.tool_radius` < the smallest concave radius of curvature of the profile, else the
   tool gouges (an error naming the cam angle); the lead arcs must not cut the contour; the
-  XC blocks must stay within `chord_tolerance` of the exact tool-centre path.
+  XC blocks must stay within 0.85 × `chord_tolerance` of the exact tool-centre path, else an
+  error naming `machining.rotary_speed_rpm` with the C-axis speed and the sample period that
+  pass (docs/machining.md).
 - Unknown fields are errors (a typo is never silently ignored).
 - A cam that cannot be made is an error naming the cam angle: undercut (roller radius ≥ the
   smallest convex radius of curvature of the pitch curve), a profile that crosses itself,
   a bore that cuts the profile.
 
 Errors read `field: rule`, e.g. `motion[4].angle: spans sum to 350°, must be 360°`; the
-CLI exits with status 2 and writes nothing.
+CLI exits with status 2 and writes nothing.  A number compared with a limit is printed with as
+many digits as it takes to differ from it (`must be < 0.5, got 0.50000001`), never rounded onto it.
 """
 
 

@@ -22,7 +22,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
 from ..spec.model import SECTIONS, CamSpec, _set_path, params_of
 
 #: most points a grid may have (a typo such as 5:30:6000 is refused before any work)
@@ -217,6 +217,7 @@ def apply_changes(spec: CamSpec, changes: Mapping[str, Any], balance: str | None
                     raise SpecError(f"motion[{i}].angle", f"must be a number, got {a!r}")
                 rest += float(a)
         if not 360.0 - rest > 0:
-            raise SpecError(balance, f"the other spans sum to {rest:g}°: nothing of 360° is left for this dwell")
+            raise SpecError(balance, f"the other spans sum to {fmt_apart(rest, 360.0)}°: nothing of 360° is left for "
+                            "this dwell")
         data["motion"][k]["angle"] = 360.0 - rest
     return CamSpec.from_dict(data)

@@ -127,6 +127,12 @@ def plans(spec: CamSpec, name: str) -> list[Plan]:
         return [Plan("follower.face_width", "needed")]
     if base not in SIZE_CHECKS:
         return []
+    if fol.motion == "oscillating" and fol.kind == "flat":
+        # the face must reach the base circle: |R_b + face_offset| < d (its arm_length, optional, only
+        # places the face's centre)
+        d, f, rb = fol.pivot_distance, fol.face_offset or 0.0, spec.cam.base_radius
+        return [Plan("follower.pivot_distance", "nearest", bounds=(abs(rb + f), math.inf)),
+                Plan("cam.base_radius", "nearest", bounds=(max(0.0, -d - f), d - f))]
     if fol.motion == "oscillating":
         d, arm, rb = fol.pivot_distance, fol.arm_length, spec.cam.base_radius
         return [Plan("follower.pivot_distance", "nearest", bounds=(0.0, arm + rb)),
@@ -250,7 +256,10 @@ def remedy_for(spec: CamSpec, plan: Plan, targets: tuple[str, ...], all_checks: 
         except SpecError:
             return None
         count[0] += 1
-        return ev(s)[0]
+        try:
+            return ev(s)[0]
+        except CamError:                 # a cam that cannot be solved there does not pass
+            return None
 
     def passes(v: float, names: tuple[str, ...] | None) -> bool:
         f = failures(v)
@@ -264,15 +273,19 @@ def remedy_for(spec: CamSpec, plan: Plan, targets: tuple[str, ...], all_checks: 
         names = targets
         found, side, n2 = _search(spec, plan, targets, tol, checks_result)
         n += n2
+    if found is not None:
+        value = _on_grid(spec, plan, found, side, tol, lambda v: passes(v, names))
+        changes = {k: round(v, digits) for k, v in _set(spec, plan.field, value).items()}
+        final = spec.replace(**changes)
+        try:
+            fails = tuple(ev(final)[0]) if plan.evaluation != "checks" else _design_failures(final)
+        except CamError:                 # its cam passes the checks but cannot be solved: no remedy
+            found = None
     if found is None:
         where = "either side of" if plan.search == "nearest" else "above"
         return Remedy(None, f"no {plan.field} {where} {current or 0.0:g} {unit} passes "
                       f"{', '.join(targets)} (everything else held)", unit=unit, current=current,
                       search=plan.search, tolerance=tol, evaluations=n)
-    value = _on_grid(spec, plan, found, side, tol, lambda v: passes(v, names))
-    changes = {k: round(v, digits) for k, v in _set(spec, plan.field, value).items()}
-    final = spec.replace(**changes)
-    fails = tuple(ev(final)[0]) if plan.evaluation != "checks" else _design_failures(final)
     count[0] += 1
     how = {"smallest": f"the smallest that does, by bisection to {tol:g} {unit}",
            "nearest": f"the nearest to {current or 0.0:g} {unit} that does, to {tol:g} {unit}",

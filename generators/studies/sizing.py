@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 from ..checks.design import DesignChecks, run_checks
-from ..errors import SpecError
+from ..errors import CamError, SpecError
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 
@@ -200,7 +200,8 @@ def design_checks_evaluation(spec: CamSpec) -> Evaluate:
 
 
 class _Tester:
-    """Sets the field, evaluates, counts; a value the spec's rules refuse fails as "spec rule: …"."""
+    """Sets the field, evaluates, counts; a value the spec's rules refuse fails as "spec rule: …",
+    one whose cam cannot be made or solved as "cannot be made: …"."""
 
     def __init__(self, spec: CamSpec, sized: SizedField, evaluate: Evaluate, names: tuple[str, ...] | None):
         self.spec, self.sized, self.evaluate, self.names = spec, sized, evaluate, names
@@ -212,7 +213,10 @@ class _Tester:
         except SpecError as exc:
             return False, (f"spec rule: {exc}",), None
         self.count += 1
-        failed, kept = self.evaluate(s)
+        try:
+            failed, kept = self.evaluate(s)
+        except CamError as exc:          # a value whose cam cannot be made or solved does not pass
+            return False, (f"cannot be made: {exc}",), None
         failed = tuple(n for n in failed if self.names is None or n in self.names)
         return not failed, failed, kept
 
