@@ -348,10 +348,72 @@ def pressure_angles(layout: CylinderLayout, program, rho: float, th: np.ndarray)
     return np.rad2deg(pressure_angle(layout.pitch_radius, pk, rho))
 
 
+@dataclass(frozen=True)
+class Corner:
+    """A junction of the motion where the velocity jumps (``junction.order`` < 1): the developed
+    centre line C_ρ turns a corner there (radius of curvature 0 on every cylinder), so the walls'
+    offsets along the normals of the two sides part — by ``parting`` (spec length) at the radius
+    ``at_radius``, the largest over the groove's depth — and the walls of the two segments do not meet."""
+
+    junction: Any
+    parting: float
+    at_radius: float
+    text: str                     # the junction in words (the continuity check's line)
+    fix: str                      # the spec fields that remove it
+
+
+def centre_line_corners(spec, program, layout: CylinderLayout) -> list[Corner]:
+    """Every corner of the groove's centre line (:class:`Corner`): the junctions whose velocity jumps,
+    by :meth:`MotionProgram.junctions` (the continuity check's own analysis, 1e-6 of the values)."""
+    from ..checks.design import junction_text, unit_labels
+
+    lab = unit_labels(spec.units, "angle" if layout.path.motion == "oscillating" else "length")
+    radii = np.linspace(layout.bottom_radius, layout.outer_radius, 5)
+    out = []
+    for j in program.junctions():
+        if j.order >= 1:
+            continue
+        at = program.starts[j.right]
+        # C′ on either side (one-sided: each segment's own law), at each radius
+        cl = layout.centre_line(program, np.full(radii.shape, at if j.right else 2 * np.pi), radii,
+                                np.full(radii.shape, j.left))
+        cr = layout.centre_line(program, np.full(radii.shape, at), radii, np.full(radii.shape, j.right))
+        turn = np.abs(np.arctan2(cl.dx * cr.dz - cl.dz * cr.dx, cl.dx * cr.dx + cl.dz * cr.dz))
+        parting = 2 * layout.half_width * np.sin(turn / 2)        # between the two normals' offset points
+        i = int(np.argmax(parting))
+        out.append(Corner(j, float(parting[i]), float(radii[i]), junction_text(j, program, lab),
+                          _corner_fix(spec, j)))
+    return out
+
+
+def cylinder_corners(spec) -> list[Corner]:
+    """:func:`centre_line_corners` of a validated spec (its program and layout)."""
+    from ..motion.program import MotionProgram
+
+    return centre_line_corners(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec))
+
+
+def _corner_fix(spec, j) -> str:
+    """The fields that make the velocity continuous at junction ``j``: an unblended end of a
+    constant-velocity stroke takes a blend; otherwise laws that match their neighbours."""
+    fields = []
+    for k, end, blend in ((j.left, "end", spec.motion[j.left].end_blend),
+                          (j.right, "start", spec.motion[j.right].start_blend)):
+        if spec.motion[k].law == "constant_velocity" and not blend:
+            fields.append(f"motion[{k}].{end}_blend")
+    if fields:
+        return "a blend (" + " or ".join(fields) + ")"
+    moving = [f"motion[{k}].law" for k in (j.left, j.right) if spec.motion[k].law is not None]
+    return "laws that match their neighbours' velocity there (" + " or ".join(moving) + ")"
+
+
 def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -> dict[str, Any]:
     """Undercut (refused, GeometryError with the cam angle, unless ``refuse`` is False: then the
-    ``undercut`` check fails), pressure angle and walls: the body's report numbers and a ``checks``
-    section in report.json's shape."""
+    ``undercut`` check fails), pressure angle, the motion's continuity at its junctions and the
+    walls: the body's report numbers and a ``checks`` section in report.json's shape.
+
+    A junction where the velocity jumps is a corner of the centre line (:func:`centre_line_corners`):
+    radius of curvature 0, the undercut at its cam angle — the walls' offsets part there."""
     th = program.dense_angles(2001)
     w2 = layout.half_width
     oscillating = layout.path.motion == "oscillating"
@@ -375,6 +437,19 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
         i = int(np.argmin(rc))
         if rc[i] < worst[0]:
             worst = (float(rc[i]), float(np.rad2deg(th[i]) % 360), float(r))
+    corners = centre_line_corners(spec, program, layout)
+    undercut_note = ""
+    if corners:
+        c = corners[0]
+        worst = (0.0, c.junction.at_deg % 360.0, c.at_radius)
+        undercut_note = (f"the centre line turns a corner at {worst[1]:.2f}° ({c.text}): its walls' offsets part by "
+                         f"{c.parting:.4g} {spec.units} at radius {c.at_radius:.4g}; no size removes it — "
+                         f"{c.fix}" + (f"; and {len(corners) - 1} more" if len(corners) > 1 else ""))
+        if refuse:
+            raise GeometryError("undercut", f"the groove's centre line turns a corner at cam angle {worst[1]:.2f}° "
+                                f"— {c.text} — where its walls' offsets part by {c.parting:.4g} {spec.units} "
+                                f"(radius of curvature 0 ≤ half the groove width {w2:g}): a cylindrical cam's groove "
+                                f"needs the velocity continuous at every junction — {c.fix}", worst[1])
     if worst[0] <= w2 and refuse:
         raise GeometryError("undercut", f"the groove's wall is undercut at cam angle {worst[1]:.2f}°: the developed "
                             f"centre line's radius of curvature at radius {worst[2]:.4g} is {fmt_apart(worst[0], w2, 4)} ≤ half the "
@@ -403,8 +478,14 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
                                                 "so this is reported, not checked"),
         "undercut": _result("Smallest radius of curvature of the developed centre line (over the groove's depth), "
                             "against undercut_factor × groove half width", "min", worst[0], worst[1],
-                            factor * w2, spec.units),
+                            factor * w2, spec.units, note=undercut_note),
     }
+    from ..checks.design import continuity_check, unit_labels
+
+    cont = continuity_check(program, spec.checks.min_continuity,
+                            unit_labels(spec.units, "angle" if oscillating else "length"))
+    if cont is not None:
+        results["continuity"] = cont.to_dict()
     failed = [k for k, r in results.items() if r["status"] == "fail"]
     checks = {"passed": not failed, "failed": failed, "sampling": "dense", "samples_per_segment": 2001,
               "points": int(th.shape[0]), "results": results, "extremes": {}}
@@ -425,12 +506,12 @@ def _first_largest(a: np.ndarray) -> int:
     return int(np.argmax(a >= np.max(a) * (1 - 1e-12)))
 
 
-def _result(description, kind, value, at, limit, unit, no_limit: str = "") -> dict[str, Any]:
+def _result(description, kind, value, at, limit, unit, no_limit: str = "", note: str = "") -> dict[str, Any]:
     """A check's entry of report.json's ``checks.results`` (as :class:`CheckResult.to_dict`); without a
-    limit it is reported, not passed ("skipped", ``no_limit`` saying why)."""
+    limit it is reported, not passed ("skipped", ``no_limit`` saying why); ``note``: what the value is."""
     status = limited_status(None if limit is None else (value <= limit if kind == "max" else value >= limit))
     return {"description": description, "kind": kind, "value": value, "at_deg": at, "limit": limit, "unit": unit,
-            "status": status, "passed": status != "fail", "note": no_limit if limit is None else ""}
+            "status": status, "passed": status != "fail", "note": no_limit if limit is None else note}
 
 
 # ---- the design -------------------------------------------------------------------------------

@@ -122,7 +122,11 @@ def plans(spec: CamSpec, name: str) -> list[Plan]:
     if name in WALL_FIELDS:
         return [Plan(WALL_FIELDS[name], "smallest", "design")]
     if body == "cylindrical":
-        return [Plan("cam.cylinder_radius", "smallest", "cylinder")] if base in ("pressure_angle", "undercut") else []
+        from ..bodies.cylindrical import cylinder_corners
+
+        # a corner of the groove's centre line (the velocity jumps) has radius of curvature 0 at any size
+        sized = base == "pressure_angle" or (base == "undercut" and not cylinder_corners(spec))
+        return [Plan("cam.cylinder_radius", "smallest", "cylinder")] if sized else []
     if name == "face_width" and fol.kind == "flat":
         return [Plan("follower.face_width", "needed")]
     if base not in SIZE_CHECKS:
@@ -151,6 +155,12 @@ def words(spec: CamSpec, name: str) -> str:
     base = base_check_name(name)
     if base != name:                    # a further cam's check that no field moves (an arm pair's second cam)
         return WORDS["second_arm"]
+    if base == "undercut" and spec.cam.body == "cylindrical":         # unsized only at a corner (plans)
+        from ..bodies.cylindrical import cylinder_corners
+
+        c = cylinder_corners(spec)[0]
+        return (f"the groove's centre line turns a corner at {c.junction.at_deg % 360.0:.2f}° (the velocity jumps): "
+                f"no size removes it — {c.fix}")
     osc = spec.follower.motion == "oscillating"
     text = WORDS.get(base, "no single field of the spec moves it")
     return text.format(preload="follower.preload_torque" if osc else "follower.preload",
