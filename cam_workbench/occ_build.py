@@ -271,6 +271,23 @@ def planar_face_at(shape: Any, z: float) -> Any:
     raise ValueError(f"no planar face at z = {z}")
 
 
+def top_face_area(shape: Any, z: float) -> float:
+    """Area of the planar faces of ``shape`` at height ``z`` whose outward normal is +Z (the top face
+    seen from above: a groove cam's is two faces, the island inside the groove and the ring outside),
+    by OCCT's ``BRepGProp.SurfaceProperties``."""
+    total = 0.0
+    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
+    while fx.More():
+        face = occ.topods_face(fx.Current())
+        surf = occ.BRepAdaptor_Surface(face)
+        if surf.GetType() == occ.GeomAbs_Plane and abs(surf.Plane().Location().Z() - z) < 1e-9:
+            up = surf.Plane().Axis().Direction().Z() * (-1.0 if face.Orientation() == occ.TopAbs_REVERSED else 1.0)
+            if up > 0:
+                total += face_area(face)
+        fx.Next()
+    return total
+
+
 def face_area(face: Any) -> float:
     """Area of a face by OCCT's ``BRepGProp.SurfaceProperties``."""
     props = occ.GProp_GProps()

@@ -73,8 +73,12 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     against the exact numbers.
 
     Raises:
-        GeometryError: OCCT finds the solid invalid or not one solid.
+        GeometryError: OCCT finds the solid invalid or not one solid, or its volume or top face
+            disagrees with the exact numbers beyond what its integration allows, or a surface
+            body's solid lacks its wall faces (:func:`generators.checks.solid.check_kernel_solid`).
     """
+    from generators.checks.solid import check_kernel_solid, surface_body
+
     from . import occ_build, ocp_compat
 
     ocp_compat.require("the cam's solid")
@@ -86,22 +90,27 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
         if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
             raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     t = design.spec.cam.thickness
+    surfaces = surface_body(design)
     solid: dict[str, Any] = {
         "valid": occ_build.is_valid(shape),
         "solids": occ_build.count_solids(shape),
         # prisms: OCCT's Gauss rule is exact; wall surfaces (a cylindrical cam) need its adaptive rule
-        "kernel_volume": occ_build.kernel_volume(shape, None if getattr(design.body, "prismatic", True)
-                                                 else occ_build.SURFACE_VOLUME_EPS),
-        "cross_section_area": occ_build.face_area(occ_build.planar_face_at(shape, t)),
+        "kernel_volume": occ_build.kernel_volume(shape, occ_build.SURFACE_VOLUME_EPS if surfaces else None),
+        "cross_section_area": occ_build.top_face_area(shape, t),
     }
     # how far the kernel's integrals are from the exact (Green's theorem) numbers
     solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
     solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
     solid.update(occ_build.body_measures(design, shape))
+    check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
+                       adaptive=surfaces, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
     if design.bspline is not None:
         solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
         solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
-        solid["step_cross_section_area"] = occ_build.face_area(occ_build.planar_face_at(step_shape, t))
+        solid["step_cross_section_area"] = occ_build.top_face_area(step_shape, t)
+        # the solid STEP writes: the fitted offset itself, the exact numbers' own profile
+        check_kernel_solid(design, occ_build.kernel_volume(step_shape), solid["step_cross_section_area"],
+                           kernel="OCCT (the STEP solid)", adaptive=False)
     return shape, step_shape, solid
 
 

@@ -195,9 +195,13 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     """(design, scale, solid) from the feature's properties.
 
     Raises:
-        SpecError, GeometryError, SolveError: bad input or a cam that cannot be made.
+        SpecError, GeometryError, SolveError: bad input or a cam that cannot be made — or a solid
+            FreeCAD calls invalid, or whose volume or top face disagrees with the exact numbers
+            beyond its integration's allowance, or that lacks its groove wall faces
+            (:func:`generators.checks.solid.check_kernel_solid`).
     """
     from generators.cam_design import design_cam
+    from generators.checks.solid import check_kernel_solid, surface_body
 
     from . import part_build
 
@@ -209,6 +213,13 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     shape = part_build.cam_solid(design, scale)
     if not shape.isValid() or len(shape.Solids) != 1:
         raise GeometryError("kernel", "FreeCAD's kernel reports the cam solid as invalid")
+    walls = None
+    if surface_body(design):
+        lay = design.layout
+        walls = part_build.wall_faces(shape, ((lay.bottom_radius - 1e-6) * scale, (lay.outer_radius + 1e-6) * scale))
+    # FreeCAD's Shape.Volume: OCCT's fixed Gauss rule (no adaptive rule in FreeCAD's Python)
+    check_kernel_solid(design, shape.Volume / scale**3, part_build.top_face_area(shape, spec.cam.thickness * scale)
+                       / scale**2, kernel="FreeCAD", adaptive=False, walls=walls)
     return design, scale, shape
 
 

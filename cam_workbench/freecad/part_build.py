@@ -193,6 +193,28 @@ def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, fl
     return out
 
 
+def top_face_area(shape: Any, z: float) -> float:
+    """Area [mm²] of the planar faces of ``shape`` at height ``z`` [mm] whose outward normal is +Z (the
+    top face seen from above: a groove cam's is two faces), as ``occ_build.top_face_area``."""
+    total = 0.0
+    for f in shape.Faces:
+        if f.Surface.TypeId != "Part::GeomPlane" or abs(f.BoundBox.ZMin - z) > 1e-9 or abs(f.BoundBox.ZMax - z) > 1e-9:
+            continue
+        u0, _u1, v0, _v1 = f.ParameterRange
+        if f.normalAt(u0, v0).z > 0:           # normalAt follows the face's orientation: outward
+            total += f.Area
+    return total
+
+
+def wall_faces(shape: Any, radii: tuple[float, float], per_direction: int = 15) -> dict[str, Any]:
+    """How many B-spline (groove wall) faces ``shape`` holds and how many points of their
+    ``per_direction``² grids lie between ``radii`` [mm] from the axis (the groove's depth): the
+    ``faces``/``points`` of ``solid.wall_error``, its ``value`` not measured here (None)."""
+    faces = sum(1 for f in shape.Faces if f.Surface.TypeId == "Part::GeomBSplineSurface")
+    points = len(wall_face_points(shape, per_direction, radii))
+    return {"faces": faces, "points": points, "value": None}
+
+
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
     """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""

@@ -165,6 +165,8 @@ class BodyGeometry:
     kind: str
     prisms: tuple[Prism, ...]
     extra: dict = field(default_factory=dict)
+    #: a stack of prisms alone (the cylindrical body's geometry, with wall surfaces, is not)
+    prismatic = True
 
     @property
     def volume(self) -> float:

@@ -389,6 +389,7 @@ class Corner:
     parting: float
     at_radius: float
     text: str                     # the junction in words (the continuity check's line)
+    jump: str                     # the velocity's jump in words, e.g. "the velocity jumps by -1.879 mm/rad"
     fix: str                      # the spec fields that remove it
 
 
@@ -412,7 +413,8 @@ def centre_line_corners(spec, program, layout: CylinderLayout) -> list[Corner]:
         parting = 2 * layout.half_width * np.sin(turn / 2)        # between the two normals' offset points
         i = int(np.argmax(parting))
         out.append(Corner(j, float(parting[i]), float(radii[i]), junction_text(j, program, lab),
-                          _corner_fix(spec, j)))
+                          f"the velocity jumps by {j.jumps[1]:.4g} {lab['reduced_velocity']} from motion[{j.left}] "
+                          f"to motion[{j.right}]", _corner_fix(spec, j)))
     return out
 
 
@@ -472,9 +474,9 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
     if corners:
         c = corners[0]
         worst = (0.0, c.junction.at_deg % 360.0, c.at_radius)
-        undercut_note = (f"the centre line turns a corner at {worst[1]:.2f}° ({c.text}): its walls' offsets part by "
-                         f"{c.parting:.4g} {spec.units} at radius {c.at_radius:.4g}; no size removes it — "
-                         f"{c.fix}" + (f"; and {len(corners) - 1} more" if len(corners) > 1 else ""))
+        undercut_note = (f"a corner of the centre line ({c.jump}): the walls' offsets part by {c.parting:.4g} "
+                         f"{spec.units} at radius {c.at_radius:.4g}; no size removes it — {c.fix}"
+                         + (f"; and {len(corners) - 1} more corners" if len(corners) > 1 else ""))
         if refuse:
             raise GeometryError("undercut", f"the groove's centre line turns a corner at cam angle {worst[1]:.2f}° "
                                 f"— {c.text} — where its walls' offsets part by {c.parting:.4g} {spec.units} "
