@@ -427,14 +427,18 @@ def cylinder_corners(spec) -> list[Corner]:
 
 def _corner_fix(spec, j) -> str:
     """The fields that make the velocity continuous at junction ``j``: an unblended end of a
-    constant-velocity stroke takes a blend; otherwise laws that match their neighbours."""
-    fields = []
-    for k, end, blend in ((j.left, "end", spec.motion[j.left].end_blend),
-                          (j.right, "start", spec.motion[j.right].start_blend)):
-        if spec.motion[k].law == "constant_velocity" and not blend:
-            fields.append(f"motion[{k}].{end}_blend")
-    if fields:
-        return "a blend (" + " or ".join(fields) + ")"
+    constant-velocity stroke takes a blend, a velocity given at the end goes; otherwise laws that
+    match their neighbours."""
+    left, right = spec.motion[j.left], spec.motion[j.right]
+    ends = ((j.left, "end", left, left.end_blend, left.end_velocity),
+            (j.right, "start", right, right.start_blend, right.start_velocity))
+    blends = [f"motion[{k}].{end}_blend" for k, end, seg, blend, _v in ends
+              if seg.law == "constant_velocity" and not blend]
+    if blends:
+        return "a blend (" + " or ".join(blends) + ")"
+    given = [f"motion[{k}].{end}_velocity" for k, end, _seg, _b, v in ends if v is not None]
+    if given:
+        return "velocities that match the neighbour's (" + " or ".join(given) + ")"
     moving = [f"motion[{k}].law" for k in (j.left, j.right) if spec.motion[k].law is not None]
     return "laws that match their neighbours' velocity there (" + " or ".join(moving) + ")"
 
