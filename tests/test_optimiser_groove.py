@@ -208,7 +208,8 @@ def test_cylindrical_cli_and_api_agree(tmp_path):
     api = optimise(example_spec("cylindrical"), objective="outer_diameter", variables="cylinder_radius, outer_diameter")
     assert rep["final_value"] == pytest.approx(api.value, rel=1e-12) and rep["feasible"] is True
     assert load_spec(out / "optimised.toml").cam.cylinder_radius == pytest.approx(api.spec.cam.cylinder_radius, rel=1e-12)
-    assert f"outer_diameter: {rep['initial_value']:.6g} → {rep['final_value']:.6g} mm" in res.stdout
+    assert (f"objective outer_diameter (outer diameter (cam.outer_diameter), report.json spec.cam.outer_diameter): "
+            f"{rep['initial_value']:.6g} → {rep['final_value']:.6g} mm") in res.stdout
     bad = run("optimise", "--example", "cylindrical", "-o", str(tmp_path / "never"))
     assert bad.returncode == 2 and "optimise.objective" in bad.stderr and not (tmp_path / "never").exists()
 
