@@ -104,7 +104,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
 
 docs: $(STAMP)
-	$(PY) -m generators.spec.reference > docs/spec.md
+	$(PY) -m cam_workbench.generators.spec.reference > docs/spec.md
 
 system-deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \

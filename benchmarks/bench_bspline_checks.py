@@ -17,9 +17,9 @@ from scipy.optimize import brentq
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from generators import load_spec  # noqa: E402
-from generators.checks.design import StateModel, check_samples, constraint_arrays, run_checks  # noqa: E402
-from generators.motion import MotionProgram  # noqa: E402
+from cam_workbench.generators import load_spec  # noqa: E402
+from cam_workbench.generators.checks.design import StateModel, check_samples, constraint_arrays, run_checks  # noqa: E402
+from cam_workbench.generators.motion import MotionProgram  # noqa: E402
 
 
 def best_of(fn, repeats=5):

@@ -12,9 +12,9 @@ from pathlib import Path
 
 from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
-from exporters.dxf import write_dxf  # noqa: E402
-from exporters.report_html import render_report  # noqa: E402
-from generators import default_spec, design_cam  # noqa: E402
+from cam_workbench.exporters.dxf import write_dxf  # noqa: E402
+from cam_workbench.exporters.report_html import render_report  # noqa: E402
+from cam_workbench.generators import default_spec, design_cam  # noqa: E402
 
 
 

@@ -21,12 +21,12 @@ import math
 import numpy as np
 from _timing import best_of, cpu_best_of
 
-from generators.dynamics import analyse_dynamics, cam_input, periodic_response, train_model
-from generators.dynamics.jump import find_jump_speed, rigid_jump_speed, sweep_range
-from generators.followers import follower_of
-from generators.motion.program import MotionProgram
-from generators.spec import CamSpec, default_spec
-from generators.spec.examples import example_dict
+from cam_workbench.generators.dynamics import analyse_dynamics, cam_input, periodic_response, train_model
+from cam_workbench.generators.dynamics.jump import find_jump_speed, rigid_jump_speed, sweep_range
+from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.motion.program import MotionProgram
+from cam_workbench.generators.spec import CamSpec, default_spec
+from cam_workbench.generators.spec.examples import example_dict
 
 RPM = 2 * math.pi / 60
 
@@ -118,7 +118,7 @@ def sweep_case(name: str, spec: CamSpec) -> None:
     probe = cam_input(prog, fol, 4096)
     rigid = rigid_jump_speed(model, prog, probe)
     lo, hi = sweep_range(model, omega, rigid, None, None, 0.05)
-    from generators.dynamics.periodic import sample_count
+    from cam_workbench.generators.dynamics.periodic import sample_count
 
     n = min(sample_count(model, lo), 1 << 17)
     inp = cam_input(prog, fol, n)

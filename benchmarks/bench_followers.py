@@ -11,8 +11,8 @@ import copy
 
 from _timing import cpu_best_of
 
-from generators import design_cam
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
 
 def spec(kind: str, motion: str, m: int) -> CamSpec:

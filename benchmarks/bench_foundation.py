@@ -14,10 +14,10 @@ import numpy as np
 
 from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
-from generators.followers.translating import FollowerGeometry  # noqa: E402
-from generators.motion import MotionProgram  # noqa: E402
-from generators.curves.ph_spline import solve_closed_ph_spline  # noqa: E402
-from generators.spec import default_spec  # noqa: E402
+from cam_workbench.generators.followers.translating import FollowerGeometry  # noqa: E402
+from cam_workbench.generators.motion import MotionProgram  # noqa: E402
+from cam_workbench.generators.curves.ph_spline import solve_closed_ph_spline  # noqa: E402
+from cam_workbench.generators.spec import default_spec  # noqa: E402
 
 
 
@@ -53,8 +53,8 @@ def bench_ph() -> list[str]:
 
 def bench_solid() -> list[str]:
     from cam_workbench import occ_build
-    from exporters.step import write_step
-    from generators.cam_design import design_cam
+    from cam_workbench.exporters.step import write_step
+    from cam_workbench.generators.cam_design import design_cam
 
     rows = ["| M | design (spline, offset, checks) [ms] | solid [ms] | STEP write [ms] | total [ms] | STEP size [kB] |",
             "|---:|---:|---:|---:|---:|---:|"]

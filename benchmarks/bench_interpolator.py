@@ -13,14 +13,14 @@ import numpy as np
 
 from _timing import best_of  # noqa: E402  (puts the project root on sys.path)
 
-from exporters.commands_csv import commands_csv_text  # noqa: E402
-from exporters.gcode import contour_program, rotary_program  # noqa: E402
-from generators.cam_design import design_cam  # noqa: E402
-from generators.pitch.contact import power_coeffs  # noqa: E402
-from generators.machining.interpolator import RotationalInterpolator  # noqa: E402
-from generators.machining import machining_plan  # noqa: E402
-from generators.spec import default_spec  # noqa: E402
-from generators.machining.toolpath import contour_path, rotary_path  # noqa: E402
+from cam_workbench.exporters.commands_csv import commands_csv_text  # noqa: E402
+from cam_workbench.exporters.gcode import contour_program, rotary_program  # noqa: E402
+from cam_workbench.generators.cam_design import design_cam  # noqa: E402
+from cam_workbench.generators.pitch.contact import power_coeffs  # noqa: E402
+from cam_workbench.generators.machining.interpolator import RotationalInterpolator  # noqa: E402
+from cam_workbench.generators.machining import machining_plan  # noqa: E402
+from cam_workbench.generators.spec import default_spec  # noqa: E402
+from cam_workbench.generators.machining.toolpath import contour_path, rotary_path  # noqa: E402
 
 
 

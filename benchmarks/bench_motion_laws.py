@@ -17,10 +17,10 @@ import numpy as np
 
 from _timing import cpu_best_of  # noqa: F401  (puts the project on sys.path)
 
-from generators.motion import MotionProgram
-from generators.motion.bspline_law import basis_matrix, clamped_uniform_knots
-from generators.motion.table import _solve, fit_table
-from generators.spec import CamSpec
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.motion.bspline_law import basis_matrix, clamped_uniform_knots
+from cam_workbench.generators.motion.table import _solve, fit_table
+from cam_workbench.generators.spec import CamSpec
 
 H = 10.0
 

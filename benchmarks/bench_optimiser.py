@@ -19,12 +19,12 @@ import numpy as np
 
 import _timing  # noqa: F401  (the project root on sys.path)
 
-import generators.optimise.run as run
-from generators import load_spec
-from generators.checks.areas import thesis_area
-from generators.machining.cutting_time import thesis_cutting_time
-from generators.optimise import optimise
-from generators.optimise.model import SmoothModel
+import cam_workbench.generators.optimise.run as run
+from cam_workbench.generators import load_spec
+from cam_workbench.generators.checks.areas import thesis_area
+from cam_workbench.generators.machining.cutting_time import thesis_cutting_time
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.optimise.model import SmoothModel
 
 FIX = Path(__file__).resolve().parents[1] / "tests" / "fixtures"
 
@@ -111,7 +111,7 @@ KINDS = {
 
 
 def kind_spec(name: str):
-    from generators.spec import CamSpec
+    from cam_workbench.generators.spec import CamSpec
 
     follower, lift = KINDS[name]
     data = load_spec(FIX / "thesis_ex5_initial.toml").to_dict()
@@ -127,7 +127,7 @@ def kinds() -> None:
     """Every follower kind on Example 5's B-spline lifts (R_b, the follower's position and every
     control point free, minimum area): exact partials vs forward finite differences, and one
     evaluation of the constraints with their Jacobian against the translating roller's."""
-    from generators.optimise.space import DesignSpace
+    from cam_workbench.generators.optimise.space import DesignSpace
 
     print("\n## Every follower kind: Example 5's B-spline lifts, minimum area, auto variables, SLSQP\n")
     print("| follower | variables | gradients | time [s] | solver evaluations | model evaluations | area: start → "
@@ -163,7 +163,7 @@ def new_variables() -> None:
     import sys as _sys
 
     _sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from generators.optimise.space import DesignSpace
+    from cam_workbench.generators.optimise.space import DesignSpace
     from tests.test_optimiser_groove import groove
     from tests.test_optimiser_points import cam
 
@@ -224,7 +224,7 @@ def main() -> None:
     new_variables()
     spec = load_spec(FIX / "thesis_ex1_final.toml")
     print("\n## One evaluation (thesis Example 1's final design)\n")
-    from generators.optimise.space import DesignSpace
+    from cam_workbench.generators.optimise.space import DesignSpace
 
     space = DesignSpace(spec.replace(**{"optimise.objective": "machining_time"}))
     model = SmoothModel(space)

@@ -14,9 +14,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from cam_workbench import occ_build  # noqa: E402
-from exporters.step import write_step  # noqa: E402
-from generators import default_spec, design_cam, load_spec  # noqa: E402
-from generators.pitch.bspline import bezier_form  # noqa: E402
+from cam_workbench.exporters.step import write_step  # noqa: E402
+from cam_workbench.generators import default_spec, design_cam, load_spec  # noqa: E402
+from cam_workbench.generators.pitch.bspline import bezier_form  # noqa: E402
 
 
 def measure(spec, repeats: int = 3) -> dict:

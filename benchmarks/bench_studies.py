@@ -43,12 +43,12 @@ import numpy as np
 import _timing  # noqa: F401  (the project root on sys.path)
 
 from cam_workbench.parallel import dask_executor
-from generators import load_spec
-from generators.examples import example_spec
-from generators.optimise import optimise
-from generators.studies.executor import SerialExecutor, chunks
-from generators.studies.grid import Grid, parse_vary
-from generators.studies.sweep import run_sweep
+from cam_workbench.generators import load_spec
+from cam_workbench.generators.spec.examples import example_spec
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.studies.executor import SerialExecutor, chunks
+from cam_workbench.generators.studies.grid import Grid, parse_vary
+from cam_workbench.generators.studies.sweep import run_sweep
 
 FIX = _timing.ROOT / "tests" / "fixtures"
 GRID = Grid((parse_vary("motion[1].lift,motion[3].lift=10:30:10"),

@@ -23,9 +23,9 @@ sys.path.insert(0, str(FIX))
 
 import thesis_examples  # noqa: E402
 
-from generators import load_spec  # noqa: E402
-from generators.checks.design import run_checks  # noqa: E402
-from generators.optimise import final_value, optimise  # noqa: E402
+from cam_workbench.generators import load_spec  # noqa: E402
+from cam_workbench.generators.checks.design import run_checks  # noqa: E402
+from cam_workbench.generators.optimise import final_value, optimise  # noqa: E402
 
 MACHINING = {"machining.feed_rate": 9.333e-2 * 60, "optimise.turn_time": 0.4, "optimise.machining_tolerance": 0.01}
 PRINTED_TIME = {1: (965.55, 1530), 2: (1381.24, 2192), 3: (1377.60, 2196), 4: (676.57, 1062)}

@@ -3,10 +3,33 @@
     from cam_workbench import PlateCam
     cam = PlateCam()                 # the built-in default cam
     cam.workplane()                  # cadquery.Workplane
-"""
-from generators import CamSpec, GeometryError, SpecError, default_spec, load_spec
 
-from .platecam import PlateCam, plate_cam, register
+One import name: the mathematics is :mod:`cam_workbench.generators`, the writers are
+:mod:`cam_workbench.exporters`.  A wheel installs them inside this package (pyproject's
+``package-dir``); in a source tree — a checkout, or a clone in FreeCAD's Mod folder — they are
+the folders ``generators/`` and ``exporters/`` beside this one, found through ``__path__``.
+"""
+import os as _os
+
+_here = _os.path.dirname(_os.path.abspath(__file__))
+if not _os.path.isdir(_os.path.join(_here, "generators")):
+    # the source tree: the subpackages are this folder's siblings
+    __path__.append(_os.path.dirname(_here))  # noqa: F821 (a package's __path__)
+
+from cam_workbench.generators import CamSpec, GeometryError, SpecError, default_spec, load_spec  # noqa: E402
+
+_API = ("PlateCam", "plate_cam", "register")
+
+
+def __getattr__(name: str):
+    """The API (:mod:`cam_workbench.platecam`) loads when first asked for, so that importing
+    :mod:`cam_workbench.generators` — inside FreeCAD's Python too — loads numpy and scipy only."""
+    if name in _API:
+        from . import platecam  # deferred: the API layer (OCP adaptor, solid builders)
+
+        return getattr(platecam, name)
+    raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
+
 
 __all__ = ["CamSpec", "GeometryError", "PlateCam", "SpecError", "default_spec", "load_spec",
            "plate_cam", "register"]

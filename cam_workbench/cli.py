@@ -14,7 +14,7 @@ import argparse
 import sys
 from typing import Sequence
 
-from generators.errors import CamError
+from cam_workbench.generators.errors import CamError
 
 from .commands import COMMANDS
 
@@ -48,7 +48,7 @@ say why), 130 interrupted, 1 internal error.
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered command."""
-    from generators import __version__
+    from cam_workbench.generators import __version__
 
     parser = argparse.ArgumentParser(
         prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from generators.errors import MissingDependency
+from cam_workbench.generators.errors import MissingDependency
 
 from .ocp_compat import two_distributions_note
 

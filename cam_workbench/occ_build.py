@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from generators.cam_design import CamDesign
-from generators.nurbs import NurbsCurve
-from generators.pitch_bspline import bezier_form
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators.pitch.bspline import bezier_form
 
 from . import ocp_compat as occ
 
@@ -136,7 +136,7 @@ def offset_profile_face(design: CamDesign, z: float = 0.0, holes: Any = None) ->
 
 
 def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
-    """The cam as a ``TopoDS_Solid``: its body's prisms (:mod:`generators.bodies`) — for a plate
+    """The cam as a ``TopoDS_Solid``: its body's prisms (:mod:`cam_workbench.generators.bodies`) — for a plate
     cam the exact profile face extruded by the thickness, with the bore — fused and cut in order.
 
     For ``pitch.representation = "bspline"`` the plate's profile is OCCT's exact offset of the fitted
@@ -189,9 +189,9 @@ def _boolean(op: Any, a: Any, b: Any) -> Any:
 
 
 def loop_wire(loop: Any, z: float = 0.0) -> Any:
-    """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one edge
+    """A closed wire of a body loop (:class:`cam_workbench.generators.bodies.Loop`): exact NURBS pieces (one edge
     per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
-    from generators.bodies import Arc, Curve, Line
+    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     mk = occ.BRepBuilderAPI_MakeWire()
     for piece in loop.pieces:
@@ -315,7 +315,7 @@ def face_area_shoelace(face: Any, samples_per_edge: int = 400) -> float:
 # ---- the cylindrical (barrel) cam -----------------------------------------------------------
 def wall_surface_geom(wall: Any) -> Any:
     """A ``Geom_BSplineSurface`` with exactly the data of a body's wall surface
-    (:class:`generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3))."""
+    (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3))."""
     ku, mu = np.unique(wall.knots_u, return_counts=True)
     kv, mv = np.unique(wall.knots_v, return_counts=True)
     return occ.Geom_BSplineSurface(occ.pnt_array2(wall.poles.tolist()), occ.real_array(ku.tolist()),
@@ -357,7 +357,7 @@ def _solids(shape: Any) -> list[Any]:
 
 
 def _prism_stack(prisms: Any) -> Any:
-    """Body prisms (:class:`generators.bodies.Prism`) extruded and fused or cut in order."""
+    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
     shape = None
     for prism in prisms:
         solid = _extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)

@@ -37,7 +37,7 @@ project is concerned (checked against both builds and build123d 0.13's own impor
 
 Importing this module does not import OCP: a name is resolved when it is first used, so that
 ``generators``, the DXF/G-code commands and the FreeCAD workbench never load it.  Without an
-importable OCP, the first use raises :class:`~generators.errors.MissingDependency` with the
+importable OCP, the first use raises :class:`~cam_workbench.generators.errors.MissingDependency` with the
 ``pip install`` lines that bring one (:data:`INSTALL_HINT`).
 """
 from __future__ import annotations
@@ -45,7 +45,7 @@ from __future__ import annotations
 import importlib
 from typing import Any, Iterable, Sequence
 
-from generators.errors import MissingDependency
+from cam_workbench.generators.errors import MissingDependency
 
 #: the extras of cam-workbench that bring an OCP (docs/install.md)
 INSTALL_HINT = ('pip install "cam-workbench[cadquery]" (CadQuery users), "cam-workbench[build123d]" '

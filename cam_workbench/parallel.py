@@ -2,11 +2,11 @@
 existing cluster given by its scheduler's address.
 
 :func:`dask_executor` gives an executor with the interface of
-:mod:`generators.studies.executor` (``generators`` never imports Dask; the executor is passed
+:mod:`cam_workbench.generators.studies.executor` (``generators`` never imports Dask; the executor is passed
 in)::
 
     from cam_workbench.parallel import dask_executor
-    from generators.optimise import optimise
+    from cam_workbench.generators.optimise import optimise
 
     with dask_executor(workers=4) as ex:                 # or scheduler="tcp://10.0.0.5:8786"
         res = optimise(spec, multistart=31, executor=ex)  # the same result as without ex
@@ -36,8 +36,8 @@ import time
 import uuid
 from typing import Any, Callable, Iterator, Sequence
 
-from generators.errors import MissingDependency, SpecError
-from generators.studies.executor import NOT_RUN, TaskContext
+from cam_workbench.generators.errors import MissingDependency, SpecError
+from cam_workbench.generators.studies.executor import NOT_RUN, TaskContext
 
 #: seconds between two progress reports of one task, and between two looks at the cancel flag
 REPORT_INTERVAL = 0.2
@@ -142,7 +142,7 @@ def _call(fn: Callable[[Any, TaskContext], Any], item: Any, ctx: _DaskContext) -
 
 
 class DaskExecutor:
-    """An executor (:mod:`generators.studies.executor`) on a Dask client."""
+    """An executor (:mod:`cam_workbench.generators.studies.executor`) on a Dask client."""
 
     def __init__(self, client: Any, workers: int, *, address: str | None = None):
         self.client = client

@@ -7,7 +7,7 @@ they print or write come from one ``summary`` dict, the one ``report.json`` hold
 
 Stages (each adds its section to the summary, in this order):
 
-* design — :func:`generators.cam_design.design_cam` (pitch curve, exact profile, buildability,
+* design — :func:`cam_workbench.generators.cam_design.design_cam` (pitch curve, exact profile, buildability,
   design checks): ``pitch``, ``pressure_angle``, ``curvature``, ``profile``, ``areas``, ``checks``;
 * solid — the OCCT solid and the one STEP writes, checked valid: ``solid``;
 * machining — the G-code program, the command table, the interpolator: ``interpolator``,
@@ -26,12 +26,12 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from generators.cam_design import CamDesign, design_cam
-from generators.errors import GeometryError
-from generators.spec import CamSpec
+from cam_workbench.generators.cam_design import CamDesign, design_cam
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.spec import CamSpec
 
 if TYPE_CHECKING:
-    from exporters.output_rule import Claim
+    from cam_workbench.exporters.output_rule import Claim
 
 JSON_NAME = "report.json"
 HTML_NAME = "report.html"
@@ -75,9 +75,9 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     Raises:
         GeometryError: OCCT finds the solid invalid or not one solid, or its volume or top face
             disagrees with the exact numbers beyond what its integration allows, or a surface
-            body's solid lacks its wall faces (:func:`generators.checks.solid.check_kernel_solid`).
+            body's solid lacks its wall faces (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
     """
-    from generators.checks.solid import check_kernel_solid, surface_body
+    from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
 
     from . import occ_build, ocp_compat
 
@@ -116,8 +116,8 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
 
 def summary_stage(design: CamDesign) -> dict[str, Any]:
     """design.summary() with the spec itself (the part of report.json every entry point shares),
-    and each failing check's remedy (:func:`generators.studies.remedies.add_remedies`)."""
-    from generators.studies.remedies import add_remedies
+    and each failing check's remedy (:func:`cam_workbench.generators.studies.remedies.add_remedies`)."""
+    from cam_workbench.generators.studies.remedies import add_remedies
 
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
@@ -128,7 +128,7 @@ def summary_stage(design: CamDesign) -> dict[str, Any]:
 def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """The machining outputs (G-code of ``machining.program``, command table), adding the
     ``interpolator`` and ``machining`` sections to ``summary``."""
-    from exporters.machining_outputs import machining_outputs
+    from cam_workbench.exporters.machining_outputs import machining_outputs
 
     machining = machining_outputs(design, plots=False, summary=summary)
     summary["interpolator"] = machining.interpolator_summary
@@ -139,9 +139,9 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
     if getattr(design, "plane", True):
-        from exporters.dxf import build_dxf
+        from cam_workbench.exporters.dxf import build_dxf
     else:                                   # a cylindrical cam: developed, side and end views
-        from exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
+        from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
 
     doc, info = build_dxf(design, summary)
     summary["drawing"] = info.summary()
@@ -150,9 +150,9 @@ def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 
 def dynamics_stage(design: CamDesign, summary: dict[str, Any],
                    progress: Callable[[int, int, str], None] | None = None) -> Any:
-    """The follower train at speed (:func:`generators.dynamics.analyse_dynamics`), adding the
+    """The follower train at speed (:func:`cam_workbench.generators.dynamics.analyse_dynamics`), adding the
     ``dynamics`` section to ``summary``; returns the result (its θ-series, for the figures)."""
-    from generators.dynamics import analyse_dynamics
+    from cam_workbench.generators.dynamics import analyse_dynamics
 
     result = analyse_dynamics(design.spec, design.program, progress=progress, follower=design.follower)
     summary["dynamics"] = result.summary()
@@ -187,9 +187,9 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
     """θ-series for the report's "Contact force and stress" figure: the driving force
     (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
     spec gives the follower a load (preload, spring or mass); otherwise nothing."""
-    from exporters.report_html import Series
-    from generators.checks.design import StateModel, check_samples
-    from generators.spec.params import unit_name
+    from cam_workbench.exporters.report_html import Series
+    from cam_workbench.generators.checks.design import StateModel, check_samples
+    from cam_workbench.generators.spec.params import unit_name
 
     spec = design.spec
     model = StateModel(spec, design.program)
@@ -208,10 +208,10 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
 
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
-    from exporters.report_html import report_plots
+    from cam_workbench.exporters.report_html import report_plots
 
     if not getattr(outputs.design, "plane", True):
-        from exporters.report_cylindrical import FIGURES
+        from cam_workbench.exporters.report_cylindrical import FIGURES
 
         return len(FIGURES)
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
@@ -223,12 +223,12 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     """Add report.json, report.html and the plot PNGs to the OutputSet ``out``; ``files``
     (name → file) is completed with them and stored in report.json.  Returns the report as
     written (the HTML shows exactly what the JSON holds)."""
-    from exporters.report_html import render_report, report_plots
-    from exporters.report_json import report_json_text
+    from cam_workbench.exporters.report_html import render_report, report_plots
+    from cam_workbench.exporters.report_json import report_json_text
 
     design, summary = outputs.design, outputs.summary
     if not getattr(design, "plane", True):             # a cylindrical cam: its own page and figures
-        from exporters.report_cylindrical import FIGURES, render_cylindrical_report
+        from cam_workbench.exporters.report_cylindrical import FIGURES, render_cylindrical_report
 
         files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
         text = report_json_text(summary, files)
@@ -257,16 +257,16 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
                   extra_texts: dict[str, str] | None = None, report: bool = True,
                   progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """Write what ``outputs`` holds into ``folder`` as one set (all or nothing, as ``claim`` may:
-    :mod:`exporters.output_rule`): cam.step, cam.dxf, the machining files, ``extra_texts``
+    :mod:`cam_workbench.exporters.output_rule`): cam.step, cam.dxf, the machining files, ``extra_texts``
     (name → text) and, with ``report``, report.json/report.html/plots.  Returns the report
     dict (or the summary with ``files`` when ``report`` is False).
 
     Raises:
         SpecError: the folder is refused (naming ``claim.option``; nothing written).
     """
-    from exporters.atomic import OutputSet
-    from exporters.report_json import report_json_text
-    from exporters.step import write_step
+    from cam_workbench.exporters.atomic import OutputSet
+    from cam_workbench.exporters.report_json import report_json_text
+    from cam_workbench.exporters.step import write_step
 
     files: dict[str, Any] = {}
     extra_texts = extra_texts or {}

@@ -7,10 +7,10 @@
     >>> cam.part()                            # build123d.Part
     >>> cam.export_step("cam.step")
 
-The geometry is designed once (``generators.design_cam``) and the B-rep built once,
+The geometry is designed once (``cam_workbench.generators.design_cam``) and the B-rep built once,
 lazily; CadQuery and build123d are imported only when their objects are asked for, and each is
 an extra of the project (``pip install "cam-workbench[cadquery]"`` / ``[build123d]``): without
-it, the method that needs it raises :class:`~generators.errors.MissingDependency` (an
+it, the method that needs it raises :class:`~cam_workbench.generators.errors.MissingDependency` (an
 ImportError) naming the extra.  The solid, STEP and the report need OCP, which either extra
 brings (or ``[ocp]`` alone).
 """
@@ -21,10 +21,10 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
-from generators.cam_design import CamDesign, design_cam
-from generators.errors import GeometryError
-from generators.spec import CamSpec, default_spec, load_spec
-from generators.studies.remedies import with_remedy
+from cam_workbench.generators.cam_design import CamDesign, design_cam
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
+from cam_workbench.generators.studies.remedies import with_remedy
 
 from . import occ_build, ocp_compat
 from .extras import import_build123d, import_cadquery
@@ -53,7 +53,7 @@ class PlateCam:
 
     def __init__(self, spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
                  **changes: Any):
-        from exporters.output_rule import file_source, script_source
+        from cam_workbench.exporters.output_rule import file_source, script_source
 
         self.source: str = script_source()
         if spec is None:
@@ -76,9 +76,9 @@ class PlateCam:
     def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
         """A built-in example cam by name: "default", "paper" (the paper's Table 1, case 2),
         "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
-        "cylindrical_oscillating" (``generators.spec.examples.DESCRIPTIONS`` says what each is;
+        "cylindrical_oscillating" (``cam_workbench.generators.spec.examples.DESCRIPTIONS`` says what each is;
         docs/spec.md lists them)."""
-        from generators.examples import example_spec
+        from cam_workbench.generators.spec.examples import example_spec
 
         cam = cls(example_spec(name), **changes)
         cam.source = f"example:{name}"
@@ -136,7 +136,7 @@ class PlateCam:
     # ---- outputs ----------------------------------------------------------------
     def export_step(self, path: str | os.PathLike[str]) -> Path:
         """Write the solid as STEP in the spec's units, atomically."""
-        from exporters.step import export_step
+        from cam_workbench.exporters.step import export_step
 
         return export_step(self.step_shape, path, self.spec.units)
 
@@ -152,9 +152,9 @@ class PlateCam:
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
         if getattr(self.design, "plane", True):
-            from exporters.dxf import export_dxf
+            from cam_workbench.exporters.dxf import export_dxf
         else:                          # a cylindrical cam: developed, side and end views
-            from exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
+            from cam_workbench.exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
 
         export_dxf(self.design, path)
         return Path(path)
@@ -183,7 +183,7 @@ class PlateCam:
             SpecError: ``folder`` refused — files that are not cam-workbench output (always),
                 another cam's set, or a set this export would only partly replace; nothing written.
         """
-        from exporters.output_rule import admit, spec_claim
+        from cam_workbench.exporters.output_rule import admit, spec_claim
 
         from .pipeline import write_outputs
 
@@ -201,14 +201,14 @@ class PlateCam:
 
     def dynamics(self, speed_rpm: float | None = None, *, sweep: bool | None = None, **fields: Any) -> Any:
         """The follower train at speed (docs/dynamics.md): a
-        :class:`generators.dynamics.DynamicsResult` whose ``summary()`` is report.json's ``dynamics``
+        :class:`cam_workbench.generators.dynamics.DynamicsResult` whose ``summary()`` is report.json's ``dynamics``
         section.  ``fields`` set ``[dynamics]`` fields by name, e.g. ``stiffness=2000``,
         ``damping_ratio=0.08``; ``speed_rpm`` the cam speed; ``sweep=False`` skips the jump-speed sweep.
 
         Raises:
             SpecError: the train lacks its data (naming the field).
         """
-        from generators.dynamics import analyse_dynamics
+        from cam_workbench.generators.dynamics import analyse_dynamics
 
         spec = self.spec.replace(**{f"dynamics.{k}": v for k, v in fields.items()}) if fields else self.spec
         return analyse_dynamics(spec, self.design.program, speed_rpm=speed_rpm, sweep=sweep,
@@ -216,10 +216,10 @@ class PlateCam:
 
     def ecam(self, format: str | None = None, path: str | os.PathLike[str] | None = None, **options: Any) -> Any:
         """The electronic-cam table of the cam's motion (docs/ecam.md): an
-        :class:`exporters.ecam.EcamTable` (its ``text``, ``points``, ``deviation``), written
+        :class:`cam_workbench.exporters.ecam.EcamTable` (its ``text``, ``points``, ``deviation``), written
         atomically to ``path`` when given.  ``format``: "csv", "codesys", "beckhoff" or "lenze";
         ``options``: ``table``, ``step``, ``boundaries``, ``name`` (default: the spec's ``[ecam]``)."""
-        from exporters.ecam import ecam_table
+        from cam_workbench.exporters.ecam import ecam_table
 
         table = ecam_table(self.spec, format, program=self.design.program, **options)
         if path is not None:

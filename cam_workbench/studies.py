@@ -2,7 +2,7 @@
 sweeps over a grid of spec fields, sizing charts — on Dask or in this process.
 
     from cam_workbench.studies import batch, sweep, write_study
-    from generators.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     table = sweep(example_spec("default"),
                   ["motion[1].angle,motion[3].angle=60:150:10",
@@ -16,14 +16,14 @@ sweeps over a grid of spec fields, sizing charts — on Dask or in this process.
 ``workers``: None — a local Dask cluster with one process per CPU (no more than there are tasks;
 in this process when that is one, or when Dask is not installed); 0 — this process, no Dask;
 N — a local cluster of N processes; ``scheduler="tcp://host:8786"`` — an existing cluster.
-``executor`` — any executor of :mod:`generators.studies.executor` (e.g. one ``dask_executor``
+``executor`` — any executor of :mod:`cam_workbench.generators.studies.executor` (e.g. one ``dask_executor``
 shared by several studies).  Results never depend on where they ran.
 
-An output folder follows :mod:`exporters.output_rule`: a re-run of the same study (the same
+An output folder follows :mod:`cam_workbench.exporters.output_rule`: a re-run of the same study (the same
 sources; for a sweep, the same base spec's source) replaces its own entries, another study's or
 command's folder is refused unless ``replace=True``, a folder holding files of yours always.
 
-The mathematics (grids, evaluation, the radius bisection) is :mod:`generators.studies`; this
+The mathematics (grids, evaluation, the radius bisection) is :mod:`cam_workbench.generators.studies`; this
 module adds what needs the upper layers: the full build of each cam (the solid, STEP, DXF,
 G-code, the report — :mod:`cam_workbench.pipeline`, as ``build``), and the files.
 """
@@ -40,16 +40,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
-from exporters.atomic import OutputSet, write_text_atomic
-from exporters.output_rule import (MANIFEST, Claim, admit, file_source, read_manifest, script_source, spec_claim,
+from cam_workbench.exporters.atomic import OutputSet, write_text_atomic
+from cam_workbench.exporters.output_rule import (MANIFEST, Claim, admit, file_source, read_manifest, script_source, spec_claim,
                                    study_digest)
-from generators.errors import CamError, SpecError
-from generators.spec import CamSpec, load_spec, spec_digest
-from generators.studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
-from generators.studies.grid import Axis, Grid, parse_vary
-from generators.studies.sizing import SizingSettings, check_names
-from generators.studies.sweep import Counter, run_sweep
-from generators.studies.table import StudyTable, error_row, summary_row
+from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.spec import CamSpec, load_spec, spec_digest
+from cam_workbench.generators.studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
+from cam_workbench.generators.studies.grid import Axis, Grid, parse_vary
+from cam_workbench.generators.studies.sizing import SizingSettings, check_names
+from cam_workbench.generators.studies.sweep import Counter, run_sweep
+from cam_workbench.generators.studies.table import StudyTable, error_row, summary_row
 
 SUMMARY_CSV = "summary.csv"
 SUMMARY_PARQUET = "summary.parquet"
@@ -146,7 +146,7 @@ def build_task(job: BuildJob, ctx: TaskContext) -> BuildOutcome:
 class SetsFolder:
     """An output folder holding one subfolder per cam (each an atomic output set, written as its
     cam is done) and the study's tables; its manifest lists them.  Whether a run may write there
-    is :func:`exporters.output_rule.admit`'s rule for the study's ``claim`` (checked when made,
+    is :func:`cam_workbench.exporters.output_rule.admit`'s rule for the study's ``claim`` (checked when made,
     before any work, and with the entries' names in :meth:`plan`): a re-run of the same study
     replaces its entries; nothing a manifest does not list is ever touched."""
 
@@ -185,7 +185,7 @@ class SetsFolder:
                 o.add_bytes(fname, data)
 
     def write_file(self, name: str, data: bytes) -> None:
-        from exporters.atomic import write_bytes_atomic
+        from cam_workbench.exporters.atomic import write_bytes_atomic
 
         write_bytes_atomic(self.folder / name, data)
 
@@ -208,7 +208,7 @@ class SetsFolder:
 
 
 def _table_files(table: StudyTable, csv_name: str, parquet_name: str) -> dict[str, bytes]:
-    from exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
+    from cam_workbench.exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
 
     files = {csv_name: csv_text(table).encode("utf-8"), STUDY_JSON: meta_text(table).encode("utf-8")}
     if have_parquet():
@@ -337,7 +337,7 @@ def batch(sources: Sequence[str | os.PathLike[str] | CamSpec], out: str | os.Pat
     the table is written with the rest ``cancelled``, and KeyboardInterrupt is raised again, its
     message saying how many cams were written.
 
-    ``out`` follows :mod:`exporters.output_rule` (the module's docstring): ``replace=True``
+    ``out`` follows :mod:`cam_workbench.exporters.output_rule` (the module's docstring): ``replace=True``
     replaces another study's or cam's set there; ``option`` is how messages name ``out`` (the
     command line passes "-o").
 
@@ -388,11 +388,11 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
           option: str = "build") -> StudyTable:
     """Every point of the grid ``vary`` on ``spec``: designed and checked without a solid
     (default), sized (``size``: the smallest ``cam.base_radius`` meeting ``checks`` — all, or
-    a list — by bisection to ``tol``, :mod:`generators.studies.sizing`), or built with every file
+    a list — by bisection to ``tol``, :mod:`cam_workbench.generators.studies.sizing`), or built with every file
     into ``build/point-NNN/`` (with ``build/summary.csv`` …).  Returns the table (grid order);
     its ``meta`` records the study and ``source`` (the spec's: a file's path, ``example:NAME``;
     default ``python:<script>``) for :func:`write_study`.  ``build`` follows
-    :mod:`exporters.output_rule` as :func:`batch`'s ``out`` does (``replace``, ``option``).
+    :mod:`cam_workbench.exporters.output_rule` as :func:`batch`'s ``out`` does (``replace``, ``option``).
 
     Raises:
         SpecError: a bad grid, check name or option, or ``build`` refused (before any work).
@@ -453,7 +453,7 @@ def sweep_claim(spec: CamSpec, grid: Grid, *, size: bool = False, checks: str | 
 
 
 def _checks_of(spec: CamSpec) -> Any:
-    from generators.checks.design import run_checks
+    from cam_workbench.generators.checks.design import run_checks
 
     return run_checks(spec).results
 
@@ -463,7 +463,7 @@ def write_study(table: StudyTable, out: str | os.PathLike[str], *, chart: bool =
     """Write a sweep's or sizing's table into ``out`` as one output set (all or nothing):
     ``sweep.csv``/``sweep.parquet`` or ``sizing.csv``/``sizing.parquet`` (Parquet with pyarrow),
     ``study.json`` and, for a sizing with a numeric axis, ``sizing_chart.png``.  ``out`` follows
-    :mod:`exporters.output_rule` for the study and source :func:`sweep` recorded in the table's
+    :mod:`cam_workbench.exporters.output_rule` for the study and source :func:`sweep` recorded in the table's
     ``meta`` (``replace``, ``option`` as for :func:`batch`).  Returns {file kind: name}.
 
     Raises:
@@ -500,8 +500,8 @@ def grid_columns(table: StudyTable) -> list[str]:
 
 def sizing_chart_png(table: StudyTable, **layout: Any) -> bytes | None:
     """The sizing chart of ``table`` as PNG bytes (None when no axis is numeric)."""
-    from exporters.plots import close, figure_bytes
-    from exporters.study_plots import sizing_chart
+    from cam_workbench.exporters.plots import close, figure_bytes
+    from cam_workbench.exporters.study_plots import sizing_chart
 
     try:
         fig = sizing_chart(table, grid_columns(table), **layout)

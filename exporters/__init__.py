@@ -1,4 +1,5 @@
-"""Files made from a designed cam: STEP, report JSON (and later DXF, G-code, HTML).
+"""cam_workbench.exporters — the files made from a designed cam: STEP, DXF, G-code, report.json and
+the HTML report, plots, e-cam tables and the study tables.
 
 Each exporter is a plain function ``export_x(thing, path, ...)`` that writes atomically.
 """

@@ -4,7 +4,7 @@ An error never leaves a half-written or clobbered file.  :class:`OutputSet` comm
 files together as one cam's set in an output folder: they are written into a staging folder
 that replaces the target in one atomic step, so a folder holds one spec's set — never a mix of
 two, even when the process is killed (the next run removes what it left).  Which folder a run
-may write into is :mod:`exporters.output_rule`'s rule.
+may write into is :mod:`cam_workbench.exporters.output_rule`'s rule.
 """
 from __future__ import annotations
 
@@ -122,7 +122,7 @@ class OutputSet:
         # folder was refused, what it held before
 
     Which folder a run may write into, and which earlier files stay, is
-    :func:`exporters.output_rule.admit`'s rule (checked on entering and again, with the files'
+    :func:`cam_workbench.exporters.output_rule.admit`'s rule (checked on entering and again, with the files'
     names, on commit).  The files are written into a staging folder beside the target; on commit
     a manifest (``.cam-workbench.json``: the files, the command, the source, the spec and its
     digest) is added and the staging folder replaces the target in one atomic step (Linux

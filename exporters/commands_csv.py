@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from generators.machining.interpolator import Commands
+from cam_workbench.generators.machining.interpolator import Commands
 
 from .atomic import write_text_atomic
 

@@ -13,7 +13,7 @@ PROFILE                   the cam profile, as ``drawing.curves`` says: "cubic" (
                           of the profile NURBS itself (for a PH pitch curve the exact rational
                           offset, degree 9; for a B-spline pitch curve the fitted offset, whose
                           measured error the title block states — see
-                          :mod:`generators.checks.claims`); "arcs" / "polyline" tangent biarcs
+                          :mod:`cam_workbench.generators.checks.claims`); "arcs" / "polyline" tangent biarcs
                           (ARC/LINE) or one closed polyline within ``chord_tolerance``
 PITCH                     the pitch curve, drawn as the profile is (the PH curve itself is a
                           polynomial SPLINE of degree 5)
@@ -36,7 +36,7 @@ TITLE                     the title block — the body's name (:func:`title_line
 ========================  ==============================================================
 
 The profile is written counter-clockwise (``CamDesign.profile_ccw``), as outer boundaries are in
-CAM.  Cubic splines, arcs and polylines come from :mod:`generators.curves.approx`; their distance
+CAM.  Cubic splines, arcs and polylines come from :mod:`cam_workbench.generators.curves.approx`; their distance
 from the NURBS is measured two-sided on dense samples and returned.  Every text is placed in a
 cell as wide as :func:`text_width`'s upper bound of its drawn width (the fonts readers substitute
 for the Standard style differ by up to 20 %).
@@ -50,12 +50,12 @@ from typing import Any
 
 import numpy as np
 
-from generators import __version__
-from generators.bodies import body_of, drawing_title
-from generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
-from generators.cam_design import CamDesign
-from generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
-from generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators import __version__
+from cam_workbench.generators.bodies import body_of, drawing_title
+from cam_workbench.generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
+from cam_workbench.generators.curves.nurbs import NurbsCurve
 
 from .atomic import atomic_path
 
@@ -324,7 +324,7 @@ def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_
                 ) -> list[CurveExport]:
     """The body's loops besides the profile: circles as CIRCLE, arcs as ARC, lines as LINE, NURBS
     (a groove's outer wall, a second cam's profile) as the profile is drawn; returns their exports."""
-    from generators.bodies import Arc, Curve, Line
+    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     seen: set[tuple] = set()
     out: list[CurveExport] = []
@@ -496,7 +496,7 @@ _CLAIM_WORDS = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "
 
 
 def title_line(spec: Any) -> str:
-    """The title block's title: :func:`~generators.bodies.drawing_title` in capitals, followed by
+    """The title block's title: :func:`~cam_workbench.generators.bodies.drawing_title` in capitals, followed by
     the body's name when a title given in the spec does not say it ("FEED CAM (GROOVE CAM)"): a
     drawing always names what is to be made."""
     title = drawing_title(spec).upper()

@@ -16,7 +16,7 @@
 * **Side view** (between the two, on the developed view's z rows): the outline, length × diameter
   (``OUTLINE``), the bore as hidden lines (``BORE_HIDDEN``) and the axis (``CENTERLINES``).
 
-A title block (``TITLE``) names the body (:func:`exporters.dxf.title_line`) and quotes
+A title block (``TITLE``) names the body (:func:`cam_workbench.exporters.dxf.title_line`) and quotes
 report.json's numbers.  The walls have no exact NURBS form: ``drawing.curves`` = "cubic" (the
 default) and "spline" both write the cubic SPLINEs, refined until their measured error is within a
 quarter of ``drawing.chord_tolerance``; "arcs" and "polyline" write biarcs (ARC/LINE) or a polyline
@@ -30,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from generators import __version__
-from generators.curves.approx import max_distance
-from generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators import __version__
+from cam_workbench.generators.curves.approx import max_distance
+from cam_workbench.generators.curves.nurbs import NurbsCurve
 
 from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_closed_outline, add_path, approximate,
                   text_width, title_line)
@@ -267,7 +267,7 @@ def title_rows(design: Any, summary: dict[str, Any], info: CylDxfInfo) -> list[t
 
 def _title(msp: Any, design: Any, summary: dict[str, Any], info: CylDxfInfo, x0: float, top: float, h: float) -> None:
     """The title block below the views: the drawing's title (the body's name) over a two-column
-    table of :func:`title_rows`, each column as wide as :func:`~exporters.dxf.text_width` bounds
+    table of :func:`title_rows`, each column as wide as :func:`~cam_workbench.exporters.dxf.text_width` bounds
     its texts plus half a text height each side."""
     att = {"layer": "TITLE"}
     rows = title_rows(design, summary, info)

@@ -1,5 +1,5 @@
 """Electronic-cam tables for servo motion controllers, from the motion program
-(:mod:`generators.ecam`), in the formats their vendors document:
+(:mod:`cam_workbench.generators.ecam`), in the formats their vendors document:
 
 ``csv`` — θ [deg], s, s′, s″, s‴ (per radian, the project's convention) at every table point, one
     header row naming the columns and their units.
@@ -53,7 +53,7 @@ Beckhoff's TwinCAT Cam Design Tool files and Beckhoff's spline interpolation of 
 to reproduce its deviation).
 
 Every file states, in its comments, the deviation of its own interpolation from the exact motion,
-measured on the numbers as written (:func:`generators.ecam.interpolation_deviation`).
+measured on the numbers as written (:func:`cam_workbench.generators.ecam.interpolation_deviation`).
 """
 from __future__ import annotations
 
@@ -65,10 +65,10 @@ from typing import Any
 
 import numpy as np
 
-from generators import __version__
-from generators.ecam import Deviation, TablePoints, interpolation_deviation, table_points
-from generators.motion.program import MotionProgram
-from generators.spec import ECAM_TABLES, CamSpec
+from cam_workbench.generators import __version__
+from cam_workbench.generators.ecam import Deviation, TablePoints, interpolation_deviation, table_points
+from cam_workbench.generators.motion.program import MotionProgram
+from cam_workbench.generators.spec import ECAM_TABLES, CamSpec
 
 from .atomic import write_text_atomic
 
@@ -151,7 +151,7 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     Raises:
         SpecError: a bad option, naming ``ecam.<field>``.
     """
-    from generators.errors import SpecError
+    from cam_workbench.generators.errors import SpecError
 
     spec = resolve_options(spec, format, table=table, step=step, boundaries=boundaries, name=name)
     ec = spec.ecam

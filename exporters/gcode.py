@@ -1,6 +1,6 @@
 """G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
 
-Two programs, both from the tool-centre geometry made in ``generators.machining.toolpath`` (the exact
+Two programs, both from the tool-centre geometry made in ``cam_workbench.generators.machining.toolpath`` (the exact
 offset of the pitch curve for a PH pitch curve):
 
 * ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
@@ -29,12 +29,12 @@ import numpy as np
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
-from generators import __version__
-from generators.curves.approx import Path2D
-from generators.cam_design import CamDesign
-from generators.checks.claims import checks_verdict, pitch_text, profile_claim
-from generators.machining import MachiningPlan
-from generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
+from cam_workbench.generators import __version__
+from cam_workbench.generators.curves.approx import Path2D
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
+from cam_workbench.generators.machining import MachiningPlan
+from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
 
 from .atomic import write_text_atomic
 
@@ -218,7 +218,7 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
 def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
                    summary: Mapping[str, Any] | None = None) -> str:
     """The XY program that mills a groove cam's groove (text): at every depth level, the passes of
-    ``path`` (:class:`generators.machining.groove.GroovePath`) from the middle out, the two walls
+    ``path`` (:class:`cam_workbench.generators.machining.groove.GroovePath`) from the middle out, the two walls
     last; each pass entered by a plunge at the middle of the longest dwell."""
     u = plan.units
     d = _DECIMALS[u]
@@ -302,8 +302,8 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
                summary: Mapping[str, Any] | None = None) -> str:
     """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
     omitted; ``summary`` as for :func:`contour_program`)."""
-    from generators.machining import machining_plan
-    from generators.machining.toolpath import contour_path, rotary_path
+    from cam_workbench.generators.machining import machining_plan
+    from cam_workbench.generators.machining.toolpath import contour_path, rotary_path
 
     plan = plan or machining_plan(design)
     if mode == "xy":
@@ -323,7 +323,7 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     """The 4-axis X-Z-A program that mills a cylindrical cam's groove (text): the cam's axis along
     X, the tool's axis radial along Z (Z = the tool tip's distance from the cam axis), A the cam's
     rotation [deg]; at every depth level the passes of ``path``
-    (:class:`generators.machining.cylindrical.CylindricalPath`), the two walls last, each a full
+    (:class:`cam_workbench.generators.machining.cylindrical.CylindricalPath`), the two walls last, each a full
     turn of G1 moves in inverse time (G93: F = 1 / the move's time, the feed along the developed
     path at the pitch radius), entered by a plunge at the middle of the longest dwell."""
     spec = design.spec

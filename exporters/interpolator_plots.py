@@ -2,7 +2,7 @@
 the follower-displacement error of the commands, and the follower's s, v, a, j from the
 commands (finite differences at Δt) against the design intent.
 
-Figures take plain results from ``generators.machining.interpolator`` and only plot them.
+Figures take plain results from ``cam_workbench.generators.machining.interpolator`` and only plot them.
 """
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from generators.machining.interpolator import DEFAULT_SCHEME, InterpolatorAccuracy
-from generators.motion import MotionProgram
+from cam_workbench.generators.machining.interpolator import DEFAULT_SCHEME, InterpolatorAccuracy
+from cam_workbench.generators.motion import MotionProgram
 
 from .plots import save_figure
 
@@ -114,7 +114,7 @@ def kinematics_figure(acc: InterpolatorAccuracy, program: MotionProgram, units: 
 
 
 def write_png(fig: Any, path: str | os.PathLike[str], dpi: int = 130) -> Path:
-    """Write a figure as PNG to ``path`` as given (for :class:`exporters.atomic.OutputSet`, whose
+    """Write a figure as PNG to ``path`` as given (for :class:`cam_workbench.exporters.atomic.OutputSet`, whose
     temporary names do not end in .png) and close it."""
     fig.savefig(path, format="png", dpi=dpi, bbox_inches="tight")
     _plt().close(fig)

@@ -13,10 +13,10 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from generators.cam_design import CamDesign
-from generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
-from generators.machining import MachiningPlan, machining_plan
-from generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
+from cam_workbench.generators.machining import MachiningPlan, machining_plan
+from cam_workbench.generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
@@ -76,10 +76,10 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
     if design.spec.cam.body == "groove":
-        from generators.machining.groove import groove_path
+        from cam_workbench.generators.machining.groove import groove_path
 
         if plan.program != "xy":
-            from generators.errors import SpecError
+            from cam_workbench.generators.errors import SpecError
 
             raise SpecError("machining.program", 'a groove is milled with the XY program ("xy"); the XC rotary '
                             "program cuts a plate cam's outside profile")
@@ -149,7 +149,7 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
     second = second_cam_of(design)
     if second is None:
         return None
-    from generators.machining.plan import check_tool_fits
+    from cam_workbench.generators.machining.plan import check_tool_fits
 
     spec = design.spec
     plan2 = dataclasses.replace(plan, roller_radius=second.follower.profile_offset, rotary_line="axis")
@@ -188,7 +188,7 @@ class CylindricalMachiningOutputs:
 
     @property
     def commands_csv(self) -> str:
-        from generators.errors import SpecError
+        from cam_workbench.generators.errors import SpecError
 
         raise SpecError("--mode", "a cylindrical cam has no interpolator command table (its program is the 4-axis "
                         "X-Z-A one)")
@@ -202,8 +202,8 @@ class CylindricalMachiningOutputs:
 
 
 def cylindrical_outputs(design: Any, summary: dict[str, Any] | None = None) -> CylindricalMachiningOutputs:
-    """The groove program of a cylindrical cam (:mod:`generators.machining.cylindrical`)."""
-    from generators.machining.cylindrical import cylindrical_path
+    """The groove program of a cylindrical cam (:mod:`cam_workbench.generators.machining.cylindrical`)."""
+    from cam_workbench.generators.machining.cylindrical import cylindrical_path
 
     from .gcode import cylindrical_program
 

@@ -15,7 +15,7 @@ not write, unless the user asked.  An output folder may be
      ``replace=True``).
 
 A folder holding files that no manifest lists (the user's own) is always refused.  A refusal is a
-:class:`~generators.errors.SpecError` naming how the user named the folder (``-o``), what the
+:class:`~cam_workbench.generators.errors.SpecError` naming how the user named the folder (``-o``), what the
 folder holds (command, source, file count, when written, the spec fields that differ) and the way
 out; nothing is created or changed.
 """
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Collection, Mapping
 
-from generators.errors import SpecError
+from cam_workbench.generators.errors import SpecError
 
 MANIFEST = ".cam-workbench.json"
 STAGING_TAG = ".cam-workbench-staging-"
@@ -46,7 +46,7 @@ class Claim:
         command: the command or function writing ("build", "check", "PlateCam.export", …).
         source: the cam the files are made for: a spec file's resolved path, ``example:NAME``,
             ``python:<script>``, ``freecad:<document>#<object>``, a study's sources; None: unknown.
-        digest: the spec digest (:func:`generators.spec.spec_digest`) or a study's digest.
+        digest: the spec digest (:func:`cam_workbench.generators.spec.spec_digest`) or a study's digest.
         spec: the spec (or study) as a dict, recorded so that a refusal can name the fields
             that differ.
         replace: the user asked to replace a cam-workbench set whole.
@@ -252,7 +252,7 @@ def _show(v: Any) -> str:
 
 def spec_claim(spec: Any, command: str, source: str | None, *, replace: bool = False, option: str = "-o") -> Claim:
     """The claim of a run writing the files of one cam made from ``spec`` (a CamSpec)."""
-    from generators.spec import spec_digest
+    from cam_workbench.generators.spec import spec_digest
 
     return Claim(command, source, spec_digest(spec), spec.to_dict(), replace, option)
 

@@ -30,8 +30,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from generators.cam_design import CamDesign
-from generators.checks.design import limit_sign
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.design import limit_sign
 
 from .atomic import atomic_path
 
@@ -122,7 +122,7 @@ def _angle_axis(ax: Any, last: bool = True) -> None:
 def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> None:
     """The cam in its own frame: profile (filled), pitch (or contact) curve, prime and base
     circles, bore, and the follower — roller, stem, arm and pivot, or face, as the follower
-    draws itself (:meth:`generators.followers.base.Follower.sketch`) — where it is at
+    draws itself (:meth:`cam_workbench.generators.followers.base.Follower.sketch`) — where it is at
     ``follower_angle_deg`` of cam rotation."""
     spec = design.spec
     u = spec.units
@@ -270,7 +270,7 @@ def conjugate_figure(design: CamDesign, second: CamDesign, follower_angle_deg: f
 def roller_distance_figure(design: CamDesign, error: Any) -> Any:
     """A conjugate pair over the cycle: each built pitch curve's lift error s_actual − s (its PH
     deviation) and the distance error between the rollers that follows from them
-    (:class:`generators.bodies.conjugate.RollerDistanceError`), with the bound the two
+    (:class:`cam_workbench.generators.bodies.conjugate.RollerDistanceError`), with the bound the two
     deviations set."""
     plt = _plt()
     u = design.spec.units
@@ -608,7 +608,7 @@ def _off_cam(ax: Any, deg: np.ndarray, on_cam: np.ndarray) -> None:
 
 
 def dynamics_figure(result: Any, section: Mapping[str, Any]) -> Any:
-    """The follower train over one steady-state revolution (:class:`generators.dynamics.DynamicsResult`):
+    """The follower train over one steady-state revolution (:class:`cam_workbench.generators.dynamics.DynamicsResult`):
     the normal contact force, rigid and dynamic; the camshaft torque, rigid and dynamic; the
     displacement error q − s and its vibration about the quasi-static deflection. ``section`` is
     report.json's ``dynamics`` section: the marked smallest force is its value at its angle."""
@@ -683,9 +683,9 @@ def jump_speed_figure(result: Any, section: Mapping[str, Any]) -> Any:
 def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
     """A cylindrical (barrel) cam: a 3D view of the cylinder with its groove (the walls at the outer
     radius and at the groove's bottom, the exact wall points of
-    :func:`generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
+    :func:`cam_workbench.generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
     beside the developed view (x = ρ·ψ [length], z): the walls at R_o, the pitch line at R_p."""
-    from exporters.dxf_cylindrical import developed_points
+    from cam_workbench.exporters.dxf_cylindrical import developed_points
 
     plt = _plt()
     lay = design.layout
@@ -747,7 +747,7 @@ def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
 def cylindrical_pressure_angle_figure(design: Any, limit_deg: float | None) -> Any:
     """A cylindrical cam's pressure angle [deg] at R_p and R_b against the cam angle, with the
     check's limit (±``limit_deg``, report.json's)."""
-    from generators.bodies.cylindrical import pressure_angles
+    from cam_workbench.generators.bodies.cylindrical import pressure_angles
 
     lay = design.layout
     th = design.program.dense_angles(721)

@@ -2,7 +2,7 @@
 (radii, groove, the walls' measured errors, the drawing's and the program's errors) and two
 figures — the cylinder with its walls beside the developed view, and the pressure angle at the
 pitch and the bottom radius over the cycle.  Every number on the page is read from report.json
-(``data-key`` names the field), as in the plane cams' report (:mod:`exporters.report_html`)."""
+(``data-key`` names the field), as in the plane cams' report (:mod:`cam_workbench.exporters.report_html`)."""
 from __future__ import annotations
 
 import html

@@ -45,15 +45,15 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from generators import __version__
-from generators.bodies import drawing_title
-from generators.cam_design import CamDesign
-from generators.checks.areas import area_label
-from generators.checks.claims import checks_verdict, pitch_text, profile_claim
-from generators.checks.design import limit_sign
-from generators.spec.params import params_of, unit_name
-from generators.spec import SECTIONS, CamSpec, to_toml
-from generators.studies.remedies import remedy_line
+from cam_workbench.generators import __version__
+from cam_workbench.generators.bodies import drawing_title
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
+from cam_workbench.generators.checks.design import limit_sign
+from cam_workbench.generators.spec.params import params_of, unit_name
+from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
+from cam_workbench.generators.studies.remedies import remedy_line
 
 from . import interpolator_plots, plots
 
@@ -99,7 +99,7 @@ FORCE_STRESS_KEYS = ("contact_force", "contact_stress")
 def report_plots(design: CamDesign, report: Mapping[str, Any],
                  series: Mapping[str, Series] | None = None, dynamics: Any = None) -> list[Plot]:
     """The figures this report will have, in order (optional ones only with their data);
-    ``dynamics``: the :class:`generators.dynamics.DynamicsResult` behind ``report["dynamics"]``."""
+    ``dynamics``: the :class:`cam_workbench.generators.dynamics.DynamicsResult` behind ``report["dynamics"]``."""
     series = series or {}
     u = design.spec.units
     fol = design.follower.describe()
@@ -164,7 +164,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def accuracy() -> Any:
             if "acc" not in acc_cache:
-                from generators.machining.interpolator import interpolator_accuracy
+                from cam_workbench.generators.machining.interpolator import interpolator_accuracy
 
                 acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
                                                          float(it_rep["sample_period"]))
@@ -210,7 +210,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def error() -> Any:
             if "err" not in err_cache:
-                from generators.bodies.conjugate import roller_distance_error
+                from cam_workbench.generators.bodies.conjugate import roller_distance_error
 
                 err_cache["err"] = roller_distance_error(design.pitch, second.pitch)
             return err_cache["err"]

@@ -4,7 +4,7 @@ value of another (e.g. the lift h), one panel per value of a categorical field (
 panels sharing their y axis so that the laws compare at a glance.
 
 :func:`sizing_chart` takes the table of a sizing sweep
-(:func:`generators.studies.sweep.run_sweep` with ``sizing``) and chooses the layout from its grid
+(:func:`cam_workbench.generators.studies.sweep.run_sweep` with ``sizing``) and chooses the layout from its grid
 columns unless told: x = the first numeric axis, lines = the next numeric axis (or the
 categorical one), panels = whatever categorical axis is left (several left: one panel per
 combination).  A point without a radius (none passes) leaves a gap and is counted in the panel.
@@ -16,7 +16,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from generators.studies.table import StudyTable
+from cam_workbench.generators.studies.table import StudyTable
 
 from .plots import SERIES_COLORS, _plt
 
@@ -42,7 +42,7 @@ def _label(field: str, units: str) -> str:
 def criteria(table: StudyTable) -> str:
     """What the radius meets, in words with the limits: "pressure_angle ≤ 30°, curvature ≥ 12 mm"
     (the limits of the first row that has them), or "every design check"."""
-    from generators.checks.design import limit_sign
+    from cam_workbench.generators.checks.design import limit_sign
 
     checks = table.meta.get("checks", "all")
     if checks == "all" or not checks:

@@ -1,6 +1,6 @@
 """A study's table as files: CSV (always) and Parquet (with pyarrow, the ``[dask]`` extra).
 
-Both hold the same columns in the same order (:class:`generators.studies.table.StudyTable`).
+Both hold the same columns in the same order (:class:`cam_workbench.generators.studies.table.StudyTable`).
 CSV: a header row, numbers written exactly (``repr`` of the float: read back bit for bit),
 booleans as ``true``/``false``, an empty cell where a row has no value.  Parquet: a column of
 numbers is float64 (int64 when every value is whole and was given as an integer), of booleans
@@ -15,7 +15,7 @@ import json
 import math
 from typing import Any
 
-from generators.studies.table import StudyTable
+from cam_workbench.generators.studies.table import StudyTable
 
 
 def _cell(v: Any) -> str:

@@ -1,13 +1,9 @@
-"""cam_workbench's mathematics: spec, motion laws, PH pitch curves, exact offsets, checks.
+"""cam_workbench.generators — the mathematics: spec, motion laws, PH pitch curves, exact offsets, checks.
 
 Imports only numpy, scipy and the standard library (no CAD kernel, no file format
 beyond TOML), so it runs inside FreeCAD's own Python as well as beside CadQuery.
 """
-from . import _renamed
-
-_renamed.install()
-
-from .cam_design import CamDesign, design_cam  # noqa: E402
+from .cam_design import CamDesign, design_cam
 from .errors import CamError, GeometryError, SolveError, SpecError
 from .curves.nurbs import NurbsCurve
 from .spec.model import CamSpec, default_spec, load_spec, to_toml

@@ -12,8 +12,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from generators.examples import PAPER_SPEC_DICT  # noqa: E402
-from generators.spec import CamSpec  # noqa: E402
+from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT  # noqa: E402
+from cam_workbench.generators.spec import CamSpec  # noqa: E402
 
 ARTIFACTS = ROOT / "test-artifacts"
 #: The longest any test waits for a process to end or a condition to come true [s]: a safety net
@@ -54,7 +54,7 @@ def artifacts() -> Path:
 
 @pytest.fixture(scope="session")
 def default_design():
-    from generators import default_spec, design_cam
+    from cam_workbench.generators import default_spec, design_cam
 
     return design_cam(default_spec())
 

@@ -5,8 +5,8 @@ rational circle."""
 import numpy as np
 import pytest
 
-from generators.approx import fit_biarcs, flatten, max_distance, polyline_path
-from generators.nurbs import NurbsCurve
+from cam_workbench.generators.curves.approx import fit_biarcs, flatten, max_distance, polyline_path
+from cam_workbench.generators.curves.nurbs import NurbsCurve
 
 
 @pytest.mark.parametrize("tol", [1e-2, 1e-3, 1e-4])
@@ -74,7 +74,7 @@ def test_distance_is_measured_right_at_the_seam(default_design):
 # ---- fit_cubic -------------------------------------------------------------------------------
 def _rational_circle(r: float) -> "NurbsCurve":
     """The full circle of radius r as the standard 9-pole rational quadratic (exact)."""
-    from generators.curves.nurbs import NurbsCurve
+    from cam_workbench.generators.curves.nurbs import NurbsCurve
 
     w = np.sqrt(0.5)
     poles = r * np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float)
@@ -88,7 +88,7 @@ def test_fit_cubic_of_a_circle_stays_within_tol_of_it(tol):
     """A polynomial cubic of the exact rational circle: every point within tol of the circle
     (| |p| − r |, the closed form), closed, C¹ at its triple knots, and its measured distance
     what curve_distance reports."""
-    from generators.curves.approx import curve_distance, fit_cubic
+    from cam_workbench.generators.curves.approx import curve_distance, fit_cubic
 
     r = 25.0
     circle = _rational_circle(r)

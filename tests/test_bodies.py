@@ -22,10 +22,10 @@ import sys
 import numpy as np
 import pytest
 
-from generators import design_cam
-from generators.errors import GeometryError, SpecError
-from generators.motion import MotionProgram
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import GeometryError, SpecError
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
 from .combinations.invariants import nurbs_points, polyline_distance, shoelace
 from .conftest import ROOT, requires_ocp
@@ -97,7 +97,7 @@ def test_groove_cam_volume_and_solid():
 
 
 def test_keyway_tables():
-    from generators.bodies.features import keyway_size
+    from cam_workbench.generators.bodies.features import keyway_size
 
     d = copy.deepcopy(DEFAULT_SPEC_DICT)
     for bore, b, t2 in ((12.0, 4, 1.8), (12.01, 5, 2.3), (40.0, 12, 3.3), (100.0, 28, 6.4)):
@@ -162,7 +162,7 @@ def test_groove_needs_a_roller_and_holes_need_material():
 
 
 def test_cli_refuses_a_groove_without_a_roller(tmp_path):
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec import dict_to_toml
 
     d = groove_dict()
     d["follower"] = {"kind": "knife"}
@@ -199,9 +199,9 @@ def test_plate_with_features_volume():
 @pytest.mark.skipif(subprocess.run(["which", "rs274"], capture_output=True).returncode != 0,
                     reason="LinuxCNC's rs274 is not installed (Debian package linuxcnc-uspace)")
 def test_groove_gcode_through_rs274(tmp_path):
-    from exporters.gcode import groove_program
-    from generators.machining import machining_plan
-    from generators.machining.groove import groove_path
+    from cam_workbench.exporters.gcode import groove_program
+    from cam_workbench.generators.machining import machining_plan
+    from cam_workbench.generators.machining.groove import groove_path
 
     from .rs274 import PRINT_QUANTUM, run_rs274, sample_xy
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy.interpolate import BSpline
 
-from generators.bspline_law import (BSplineLift, basis_matrix, clamped_uniform_knots,
+from cam_workbench.generators.motion.bspline_law import (BSplineLift, basis_matrix, clamped_uniform_knots,
                                     fixed_end_points)
-from generators.motion import MotionProgram
-from generators.spec import CamSpec
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import CamSpec
 
 EX5_RISE_X = [0.3772, 0.4424, 0.5148, 1.2282, 1.5945, 1.9231, 2.1345, 2.2648, 2.5848]
 EX5_RISE_Y = [0.0772, 0.6242, 0.9094]

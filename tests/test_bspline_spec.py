@@ -5,8 +5,8 @@ import copy
 
 import pytest
 
-from generators.errors import SpecError
-from generators.spec import CamSpec, load_spec, to_toml
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import CamSpec, load_spec, to_toml
 
 from .test_bspline_law import ex5_spec_dict
 
@@ -100,7 +100,7 @@ def test_nonmonotone_polygon_with_increasing_theta_is_accepted():
     x[4] = x[3] - 0.02          # P5 slightly before P4 (P4 = 1.2282 rad)
     rise(d)["control_x"] = x
     spec = CamSpec.from_dict(d)
-    from generators.motion import MotionProgram
+    from cam_workbench.generators.motion import MotionProgram
 
     lift = MotionProgram.from_spec(spec).curves[0]
     assert min(lift.theta_derivative_coefficients()) < 0

@@ -50,7 +50,7 @@ def test_spec_command_prints_reference_and_default(tmp_path):
     res = run("spec", "--default")
     p = tmp_path / "d.toml"
     p.write_text(res.stdout)
-    from generators import default_spec, load_spec
+    from cam_workbench.generators import default_spec, load_spec
 
     assert load_spec(p) == default_spec()
 
@@ -116,7 +116,7 @@ def test_every_spec_rule_through_the_cli(tmp_path, capsys, rule):
     """Each validation rule of test_spec.RULES, written as a TOML file and given to
     `cam-workbench build`: exit 2, `field: rule` on stderr, no traceback, nothing written."""
     from cam_workbench.cli import main
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec import dict_to_toml
 
     from .test_spec import mutate
 

@@ -14,7 +14,7 @@ from html.parser import HTMLParser
 
 import pytest
 
-from exporters.report_html import format_number, lookup
+from cam_workbench.exporters.report_html import format_number, lookup
 
 from .conftest import ROOT, requires_ocp
 
@@ -108,10 +108,10 @@ def test_dynamics_command_prints_report_json(case, request):
 
 def test_dynamics_figures_mark_report_json_numbers(above):
     """The figures' marks sit at report.json's numbers (the figure objects' own line data)."""
-    from generators.dynamics import analyse_dynamics
-    from generators.spec import default_spec
+    from cam_workbench.generators.dynamics import analyse_dynamics
+    from cam_workbench.generators.spec import default_spec
 
-    from exporters import plots
+    from cam_workbench.exporters import plots
 
     out, _res = above
     d = json.loads((out / "report.json").read_text())["dynamics"]
@@ -227,9 +227,9 @@ def test_dynamics_command_merges_into_a_build_of_the_same_cam(built, tmp_path):
 
 
 def test_the_dynamics_stage_runs_only_when_asked(monkeypatch):
-    import generators.dynamics as dyn
+    import cam_workbench.generators.dynamics as dyn
     from cam_workbench.pipeline import run_pipeline
-    from generators.spec import default_spec
+    from cam_workbench.generators.spec import default_spec
 
     def boom(*a, **k):
         raise AssertionError("dynamics analysed though not asked for")
@@ -245,8 +245,8 @@ def test_the_dynamics_stage_runs_only_when_asked(monkeypatch):
                                                 ("codesys", "poly5", ".st"), ("beckhoff", "motion_function", ".st"),
                                                 ("beckhoff", "position_table", ".st"), ("lenze", "points", ".txt")])
 def test_ecam_command_writes_the_table_and_prints_its_deviation(tmp_path, fmt, table, suffix):
-    from exporters.ecam import ecam_table
-    from generators.spec import default_spec
+    from cam_workbench.exporters.ecam import ecam_table
+    from cam_workbench.generators.spec import default_spec
 
     from cam_workbench.commands.ecam_cmd import describe
 

@@ -5,8 +5,8 @@ from html.parser import HTMLParser
 
 import pytest
 
-from generators import load_spec
-from generators.cam_area import thesis_area
+from cam_workbench.generators import load_spec
+from cam_workbench.generators.checks.areas import thesis_area
 
 from .conftest import ROOT, requires_ocp
 from .test_cli import run
@@ -18,7 +18,7 @@ def _paper_spec(folder) -> str:
     """The paper's Table 1 cam, case 2, as a spec file (independent of the built-in default)."""
     from .test_optimiser import PAPER_CASE_2
 
-    from generators.spec import to_toml
+    from cam_workbench.generators.spec import to_toml
     path = folder / "paper.toml"
     path.write_text(to_toml(load_spec(PAPER_CASE_2)))
     return str(path)
@@ -140,7 +140,7 @@ def test_a_bound_that_excludes_the_start_is_refused(tmp_path):
 # ---- other follower kinds (issue 13) -------------------------------------------------------------
 def _oscillating_spec(folder) -> str:
     """An oscillating roller (pivot 60 mm, arm 45 mm, 15° cycloidal lifts) as a spec file."""
-    from generators.spec import CamSpec, to_toml
+    from cam_workbench.generators.spec import CamSpec, to_toml
 
     from .test_optimiser_followers import oscillating_roller
 

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from generators.examples import example_dict
-from generators.spec import dict_to_toml
+from cam_workbench.generators.spec.examples import example_dict
+from cam_workbench.generators.spec import dict_to_toml
 
 from .conftest import ROOT, SAFETY_S, requires_ocp
 from .dask_cluster import loopback_cluster

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from generators import design_cam
-from generators.follower import FollowerGeometry
-from generators.spec import CamSpec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.followers.translating import FollowerGeometry
+from cam_workbench.generators.spec import CamSpec
 
 RB, H, RR = 30.0, 12.0, 4.0
 

@@ -1,7 +1,7 @@
 """Conjugate cams (cam.body = "conjugate"), against computations written for the test.
 
 * both rollers touch their cams at every angle: the roller centres computed here from the motion
-  s(θ) and the yoke / arm-pair geometry (not through generators.followers), their distance to
+  s(θ) and the yoke / arm-pair geometry (not through cam_workbench.generators.followers), their distance to
   each built profile (the NURBS evaluated by scipy, brute-force distance to a dense polyline) =
   that roller's radius, to the PH deviation — and a yoke 0.01 longer misses by 0.01;
 * the distance error between the rollers: both lifts found here by intersecting the follower's
@@ -30,11 +30,11 @@ import sys
 import numpy as np
 import pytest
 
-from generators import design_cam
-from generators.errors import GeometryError, SpecError
-from generators.motion import MotionProgram
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, dict_to_toml
-from generators.spec.examples import example_dict
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import GeometryError, SpecError
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec, dict_to_toml
+from cam_workbench.generators.spec.examples import example_dict
 
 from .combinations.invariants import nurbs_points, polyline_distance, shoelace
 from .conftest import ROOT, requires_ocp
@@ -317,8 +317,8 @@ def test_which_cam_drives_and_the_checks_per_cam():
         assert n in names and f"{n}_cam2" in names
     assert "separation_cam2" not in names and "oscillation_cam2" not in names
     # the stress of each cam where it drives: the second cam's where the first one's force is negative
-    from generators.checks.design import StateModel
-    from generators.followers import second_roller_of
+    from cam_workbench.generators.checks.design import StateModel
+    from cam_workbench.generators.followers import second_roller_of
 
     spec = design.spec
     th = np.deg2rad(np.array([60.0, 120.0]))            # the first cam drives at 60°, the second at 120°
@@ -348,7 +348,7 @@ FEATURES = dict(keyway="DIN6885", hub_diameter=30.0, hub_length=8.0, mounting_ho
 @pytest.mark.parametrize("layout", ["spacer_round_the_holes", "spacer_inside_the_holes", "no_gap"])
 def test_volume_solid_and_step(tmp_path, layout):
     from cam_workbench import occ_build
-    from exporters.step import read_step, write_step
+    from cam_workbench.exporters.step import read_step, write_step
 
     d = yoke_dict()
     d["cam"].update(FEATURES)
@@ -396,7 +396,7 @@ def test_volume_solid_and_step(tmp_path, layout):
 def test_dxf_both_profiles_on_their_layers(tmp_path):
     import ezdxf
 
-    from exporters.dxf import build_dxf
+    from cam_workbench.exporters.dxf import build_dxf
 
     design = design_cam(design_of("arm_cw").spec.replace(**{"drawing.curves": "spline"}))   # the exact NURBS
     second = design.body.extra["second_cam"]
@@ -433,7 +433,7 @@ def test_both_programs_through_rs274(tmp_path, case, program):
     """cam.nc cuts the first cam, cam2.nc the second (each as its own plate, Z0 on its top face):
     the path rs274 traces lies within the chord tolerance of each cam's exact tool-centre path
     (its profile moved out by the tool radius along its normal, computed here), never inside it."""
-    from exporters.machining_outputs import machining_outputs
+    from cam_workbench.exporters.machining_outputs import machining_outputs
 
     from .rs274 import PRINT_QUANTUM, polyline_distance as poly_dist, run_rs274, sample_xy
     from .test_gcode_rs274 import exact_tool_path, profile_points, two_sided

@@ -6,9 +6,9 @@ import sys
 import numpy as np
 import pytest
 
-from generators import design_cam, load_spec
-from generators.cutting_time import contour_time, polar_tables, staircase_moves, thesis_cutting_time
-from generators.motion import MotionProgram
+from cam_workbench.generators import design_cam, load_spec
+from cam_workbench.generators.machining.cutting_time import contour_time, polar_tables, staircase_moves, thesis_cutting_time
+from cam_workbench.generators.motion import MotionProgram
 
 from .conftest import ROOT
 
@@ -117,8 +117,8 @@ def test_polar_tables_follow_the_program():
 def test_contour_time_matches_the_program():
     """G-code time: the contour program's own moves (parsed from its text) give the same cutting
     length and block count as :func:`contour_time`."""
-    from exporters.gcode import gcode_text
-    from generators.machining import machining_plan
+    from cam_workbench.exporters.gcode import gcode_text
+    from cam_workbench.generators.machining import machining_plan
 
     design = design_cam(load_spec(FIXTURES / "thesis_ex5_final.toml"))
     plan = machining_plan(design)
@@ -130,7 +130,7 @@ def test_contour_time_matches_the_program():
     expected = ct.cutting_length / feed + ct.plunge_length / (plan.plunge_rate / 60.0) + 0.05 * ct.blocks
     assert ct.time == pytest.approx(expected, rel=1e-12)
     # tool radius = roller radius: the tool centre runs on the pitch curve; lead arcs: two quarter circles
-    from generators.cam_area import pitch_length
+    from cam_workbench.generators.checks.areas import pitch_length
 
     assert plan.tool_radius == design.spec.roller_radius and plan.passes == 1
     assert ct.cutting_length == pytest.approx(pitch_length(design.spec) + math.pi * plan.lead_radius, rel=1e-5)

@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize
 
-from generators import design_cam
-from generators.errors import SpecError
-from generators.spec import CamSpec
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT, requires_ocp
 from .rs274 import polyline_distance, requires_rs274
@@ -147,7 +147,7 @@ def test_volume_closed_form(design):
 def test_solid_valid_volume_walls_and_step(design, tmp_path):
     from cam_workbench import occ_build
     from cam_workbench import ocp_compat as occ
-    from exporters.step import read_step, write_step
+    from cam_workbench.exporters.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1
@@ -203,8 +203,8 @@ def _feeds(calls):
 
 @requires_rs274
 def test_gcode_through_rs274(design, tmp_path):
-    from exporters.gcode import cylindrical_program
-    from generators.machining.cylindrical import cylindrical_path
+    from cam_workbench.exporters.gcode import cylindrical_program
+    from cam_workbench.generators.machining.cylindrical import cylindrical_path
 
     from .rs274 import run_rs274
 
@@ -237,7 +237,7 @@ def test_gcode_through_rs274(design, tmp_path):
 
 
 def _cli(tmp_path, d):
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec import dict_to_toml
 
     (tmp_path / "c.toml").write_text(dict_to_toml(d))
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", "build", str(tmp_path / "c.toml"), "-o",
@@ -272,7 +272,7 @@ def test_oscillating_arm_that_cannot_reach_refused():
 
 
 def test_cylinder_fields_refused_on_other_bodies():
-    from generators.spec import DEFAULT_SPEC_DICT
+    from cam_workbench.generators.spec import DEFAULT_SPEC_DICT
 
     d = copy.deepcopy(DEFAULT_SPEC_DICT)
     d["cam"]["length"] = 50.0

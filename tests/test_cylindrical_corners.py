@@ -28,10 +28,10 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from generators import design_cam
-from generators.errors import GeometryError
-from generators.spec import CamSpec, dict_to_toml
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.spec import CamSpec, dict_to_toml
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT, requires_ocp
 
@@ -102,8 +102,8 @@ def test_seed12_refused_at_its_corner():
 def test_seed12_checks_fail_with_the_corner():
     """What ``check`` shows of it: the undercut check's radius of curvature is 0 at the corner (no
     size removes it: the remedy names the blend, no cylinder radius is searched), the continuity C0."""
-    from generators.bodies.cylindrical import cylinder_checks
-    from generators.studies.remedies import add_remedies
+    from cam_workbench.generators.bodies.cylindrical import cylinder_checks
+    from cam_workbench.generators.studies.remedies import add_remedies
 
     spec = CamSpec.from_dict(SEED12)
     checks = add_remedies(cylinder_checks(spec), spec)
@@ -227,7 +227,7 @@ def fixed_volume() -> float:
 
 def test_blended_lift_written_here_is_the_programs():
     """The test's own lift is the motion the spec means (so the volume below tests the body, not the law)."""
-    from generators.motion.program import MotionProgram
+    from cam_workbench.generators.motion.program import MotionProgram
 
     th = np.linspace(0.0, 359.9, 3600)
     k = MotionProgram.from_spec(CamSpec.from_dict(blended())).evaluate(np.radians(th))
@@ -252,7 +252,7 @@ def test_blended_solid_has_the_exact_volume(fixed_volume, tmp_path):
     assert solid["wall_error"]["faces"] == 10 and solid["wall_error"]["points"] > 1000
     assert rep["checks"]["passed"]
     from cam_workbench.occ_build import SURFACE_VOLUME_EPS, kernel_volume
-    from exporters.step import read_step
+    from cam_workbench.exporters.step import read_step
 
     back = read_step(tmp_path / "out" / "cam.step", "mm")
     assert kernel_volume(back, SURFACE_VOLUME_EPS) == pytest.approx(fixed_volume, rel=1e-9)
@@ -270,7 +270,7 @@ PIECEWISE = {
 def test_groove_volume_of_laws_made_of_pieces(name):
     """Against scipy's quad with the pieces' ends as break points (the laws' own s′, the quadrature
     written here): the body's adaptive rule to 1e-12 (one 41-node rule per segment was ~1e-7 off)."""
-    from generators.motion.program import MotionProgram
+    from cam_workbench.generators.motion.program import MotionProgram
 
     laws, extra = PIECEWISE[name]
     d = copy.deepcopy(EXAMPLES["cylindrical"])

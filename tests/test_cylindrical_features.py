@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from generators import design_cam
-from generators.spec import CamSpec
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT, requires_ocp
 from .test_cylindrical import RB, RO, W2, L, lift
@@ -109,7 +109,7 @@ def test_exact_volume_and_end_face_closed_form(design):
 def test_solid_volume_face_extent_and_step(design, tmp_path):
     from cam_workbench import occ_build
     from cam_workbench import ocp_compat as occ
-    from exporters.step import read_step, write_step
+    from cam_workbench.exporters.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1
@@ -131,7 +131,7 @@ def test_solid_volume_face_extent_and_step(design, tmp_path):
 
 
 def _cli(tmp_path, d):
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec import dict_to_toml
 
     (tmp_path / "c.toml").write_text(dict_to_toml(d))
     return subprocess.run([sys.executable, "-m", "cam_workbench.cli", "build", str(tmp_path / "c.toml"), "-o",

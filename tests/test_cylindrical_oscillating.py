@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize
 
-from generators import design_cam
-from generators.errors import SpecError
-from generators.spec import CamSpec
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT, requires_ocp
 from .rs274 import polyline_distance, requires_rs274
@@ -165,7 +165,7 @@ def test_wall_surface_data_against_the_exact_walls(design):
 
 def test_undercut_curvature(design):
     """C_ρ's radius of curvature (the undercut check) against central differences of the test's C_ρ′."""
-    from generators.bodies.cylindrical import developed_curvature_radius
+    from cam_workbench.generators.bodies.cylindrical import developed_curvature_radius
 
     th = np.deg2rad(np.array([40.0, 77.0, 105.0, 150.0, 171.0, 222.0, 300.0, 347.0]))
     h = 1e-5
@@ -220,7 +220,7 @@ def test_volume_closed_form(design):
 @requires_ocp
 def test_solid_valid_volume_walls_and_step(design, tmp_path):
     from cam_workbench import occ_build
-    from exporters.step import read_step, write_step
+    from cam_workbench.exporters.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1
@@ -245,8 +245,8 @@ def test_solid_valid_volume_walls_and_step(design, tmp_path):
 @requires_rs274
 def test_gcode_through_rs274(design, tmp_path):
     """Every cutting pass's tool-centre points lie |offset| from the test's developed pitch curve C_Rp."""
-    from exporters.gcode import cylindrical_program
-    from generators.machining.cylindrical import cylindrical_path
+    from cam_workbench.exporters.gcode import cylindrical_program
+    from cam_workbench.generators.machining.cylindrical import cylindrical_path
 
     from .rs274 import run_rs274
 

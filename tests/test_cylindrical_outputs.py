@@ -25,9 +25,9 @@ import numpy as np
 import pytest
 from scipy import optimize
 
-from generators.checks.design import format_value
-from generators.spec import CamSpec, dict_to_toml
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators.checks.design import format_value
+from cam_workbench.generators.spec import CamSpec, dict_to_toml
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT, SAFETY_S, requires_ocp
 from .test_cylindrical import BORE, H, L, RB, RO, RP, W2, Z0, lift
@@ -184,8 +184,8 @@ def test_dxf_title_block_quotes_the_error(drawing):
 
     path, res = drawing
     texts = [e.dxf.text for e in ezdxf.readfile(str(path)).modelspace().query("TEXT")]
-    from exporters.dxf_cylindrical import developed_curves
-    from generators import design_cam
+    from cam_workbench.exporters.dxf_cylindrical import developed_curves
+    from cam_workbench.generators import design_cam
 
     err = max(c.fit_error for c in developed_curves(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
               if c.layer.startswith("WALL"))
@@ -211,7 +211,7 @@ def test_dxf_arcs_and_polyline_walls(tmp_path, curves, version):
     centre line within the reported error — and no SPLINE in the file (R12 has none)."""
     import ezdxf
 
-    from exporters.dxf import read_profile_path
+    from cam_workbench.exporters.dxf import read_profile_path
 
     out = tmp_path / "c.dxf"
     res = run("dxf", "--example", "cylindrical", "--curves", curves, "--dxf-version", version, "-o", str(out))
@@ -273,7 +273,7 @@ def test_dynamics_enabled_in_the_spec():
 
 # ---- ecam ---------------------------------------------------------------------------------------
 def test_ecam_equals_the_plate_cams(tmp_path):
-    from generators.spec import DEFAULT_SPEC_DICT
+    from cam_workbench.generators.spec import DEFAULT_SPEC_DICT
 
     plate = copy.deepcopy(DEFAULT_SPEC_DICT)
     plate["motion"] = copy.deepcopy(EXAMPLES["cylindrical"]["motion"])
@@ -288,7 +288,7 @@ def test_ecam_equals_the_plate_cams(tmp_path):
 
 # ---- sweep / batch / --set --------------------------------------------------------------------------
 def test_set_cylinder_radius_moves_the_base_radius():
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     s = example_spec("cylindrical").replace(**{"cam.cylinder_radius": 45.0, "cam.length": 70.0})
     assert (s.cam.base_radius, s.cam.thickness) == (45.0, 70.0)
@@ -332,8 +332,8 @@ def test_batch_builds_a_cylindrical_cam(tmp_path):
 
 # ---- the README picture -------------------------------------------------------------------------------
 def test_cylindrical_figure_draws_the_walls(tmp_path):
-    from exporters import plots
-    from generators import design_cam
+    from cam_workbench.exporters import plots
+    from cam_workbench.generators import design_cam
 
     fig = plots.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
     try:
@@ -359,7 +359,7 @@ def test_report_page_shows_report_json(tmp_path, example):
     headless Chromium builds the page with both SVGs."""
     import shutil
 
-    from generators.checks.claims import checks_verdict
+    from cam_workbench.generators.checks.claims import checks_verdict
 
     from .test_report import Page, lookup
 

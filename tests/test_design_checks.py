@@ -1,5 +1,5 @@
 """Design checks (thesis Ch. 3) against hand calculations and closed forms computed here,
-independently of generators.design_checks: Hertz stress (Eq. 3.6) convex and concave,
+independently of cam_workbench.generators.checks.design: Hertz stress (Eq. 3.6) convex and concave,
 pressure angle (Eq. 3.4), driving force (Eq. 3.5 with a spring), oscillation, curvature
 (Eq. 3.7 against the curvature of the pitch points by finite differences), undercut, the
 mm/inch equivalence of forces and stresses, and the optimiser's constraint arrays."""
@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from generators.design_checks import (StateModel, check_samples, constraint_arrays, envelope_points,
+from cam_workbench.generators.checks.design import (StateModel, check_samples, constraint_arrays, envelope_points,
                                       hertz_stress, run_checks)
-from generators.examples import PAPER_SPEC_DICT, example_spec
-from generators.spec import CamSpec, load_spec
+from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT, example_spec
+from cam_workbench.generators.spec import CamSpec, load_spec
 
 from .conftest import ROOT
 
@@ -180,7 +180,7 @@ def test_oscillation_fails_for_an_overshooting_bspline_rise():
     assert r.status == "fail" and r.value < 0 and 0 < r.at_deg < 100
     # independently: s overshoots the lift inside the rise
     th = np.radians(np.linspace(0, 100, 20001))
-    from generators.motion import MotionProgram
+    from cam_workbench.generators.motion import MotionProgram
 
     assert MotionProgram.from_spec(spec).s(th).max() > 15.0 + 1e-6
     assert run_checks(CamSpec.from_dict(radial_harmonic()))["oscillation"].status == "pass"
@@ -243,7 +243,7 @@ def test_stress_at_a_concave_point_uses_the_concave_radius():
 
 
 def test_envelope_points_lie_on_the_built_profile():
-    from generators import design_cam
+    from cam_workbench.generators import design_cam
 
     spec = example_spec("paper")
     design = design_cam(spec)

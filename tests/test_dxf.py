@@ -26,13 +26,13 @@ import sys
 import numpy as np
 import pytest
 
-from exporters.dxf import LAYERS, export_dxf, read_profile_path
-from generators import default_spec, design_cam
-from generators.approx import max_distance
-from generators.cam_design import profile_offset_distance
-from generators.errors import SpecError
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
-from generators.spec.examples import EXAMPLES, example_spec
+from cam_workbench.exporters.dxf import LAYERS, export_dxf, read_profile_path
+from cam_workbench.generators import default_spec, design_cam
+from cam_workbench.generators.curves.approx import max_distance
+from cam_workbench.generators.cam_design import profile_offset_distance
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators.spec.examples import EXAMPLES, example_spec
 
 from .conftest import ROOT, SAFETY_S, requires_ocp
 
@@ -313,7 +313,7 @@ def test_every_example_is_titled_by_its_body_and_its_texts_fit_their_cells(name,
     from ezdxf import bbox
 
     from cam_workbench.pipeline import drawing_stage
-    from exporters.dxf import text_width
+    from cam_workbench.exporters.dxf import text_width
 
     from .librecad import title_cells
 

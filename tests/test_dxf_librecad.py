@@ -29,8 +29,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from generators import design_cam
-from generators.spec.examples import EXAMPLES, example_spec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec.examples import EXAMPLES, example_spec
 
 from .librecad import (distance_to_segments, dxf2pdf, enlarge_paper, read_pdf_paths, register,
                        requires_librecad, title_cells)
@@ -120,7 +120,7 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
     (the exact rational offsets and PH curves, tests/test_dxf.py holds them against the closed
     forms), the developed walls' exact points of a cylindrical one."""
     if hasattr(design, "layout"):
-        from exporters.dxf_cylindrical import developed_points
+        from cam_workbench.exporters.dxf_cylindrical import developed_points
 
         lay, prog = design.layout, design.program
         out = {}
@@ -135,7 +135,7 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
         return out
     curves = {"PROFILE": [design.profile], "PITCH": [design.pitch_nurbs]}
     if design.body is not None:
-        from generators.bodies import Curve
+        from cam_workbench.generators.bodies import Curve
 
         roles = {"groove_outer": "PROFILE_OUTER", "profile_2": "PROFILE_2"}
         for loop in design.body.loops():

@@ -1,4 +1,4 @@
-"""The follower-train dynamics (generators.dynamics) held against computations written here:
+"""The follower-train dynamics (cam_workbench.generators.dynamics) held against computations written here:
 
 * the closed-form steady state of a mass–spring–damper driven through a spring and damper by a
   single harmonic — the eccentric cam (harmonic 180° rise + 180° return is s = h/2·(1 − cos θ)),
@@ -27,12 +27,12 @@ from scipy.optimize import brentq
 from scipy.sparse import diags
 from scipy.sparse.linalg import spsolve
 
-from generators.dynamics import analyse_dynamics, cam_input, min_force_vs_speed, periodic_response, train_model
-from generators.errors import SpecError
-from generators.followers import follower_of
-from generators.motion.program import MotionProgram
-from generators.spec import CamSpec, default_spec
-from generators.spec.examples import example_dict
+from cam_workbench.generators.dynamics import analyse_dynamics, cam_input, min_force_vs_speed, periodic_response, train_model
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.motion.program import MotionProgram
+from cam_workbench.generators.spec import CamSpec, default_spec
+from cam_workbench.generators.spec.examples import example_dict
 
 RPM = 2 * math.pi / 60
 
@@ -432,7 +432,7 @@ def test_analysing_without_a_stiffness_names_it():
 
 def test_dynamics_are_not_in_the_digest():
     spec = default_spec()
-    from generators.spec import spec_digest
+    from cam_workbench.generators.spec import spec_digest
 
     assert spec_digest(spec) == spec_digest(spec.replace(**{"dynamics.stiffness": 10.0, "ecam.step": 2.0}))
 

@@ -1,4 +1,4 @@
-"""Electronic-cam tables (exporters.ecam, generators.ecam), each file read back here the way its
+"""Electronic-cam tables (cam_workbench.exporters.ecam, cam_workbench.generators.ecam), each file read back here the way its
 controller would read it and interpolated here with the controller's own rule — straight lines
 (np.interp) for point tables; for XYVA points, CamBuilder Poly5 segments and Beckhoff POLYNOM5_MM
 motion functions each segment's own fifth-degree polynomial, solved here from its six boundary
@@ -20,10 +20,10 @@ import re
 import numpy as np
 import pytest
 
-from exporters.ecam import ecam_table, iec_real
-from generators.motion.program import MotionProgram
-from generators.spec import CamSpec, default_spec
-from generators.spec.examples import example_dict
+from cam_workbench.exporters.ecam import ecam_table, iec_real
+from cam_workbench.generators.motion.program import MotionProgram
+from cam_workbench.generators.spec import CamSpec, default_spec
+from cam_workbench.generators.spec.examples import example_dict
 
 from .test_dynamics import cycloidal
 
@@ -234,7 +234,7 @@ def test_iec_real_literals_round_trip():
     ({"format": "lenze", "name": "a__b"}, "ecam.name"),
 ])
 def test_bad_options_name_the_field(options, field):
-    from generators.errors import SpecError
+    from cam_workbench.generators.errors import SpecError
 
     with pytest.raises(SpecError) as err:
         ecam_table(default_spec(), **options)
@@ -244,7 +244,7 @@ def test_bad_options_name_the_field(options, field):
 def test_a_bspline_lift_law_in_inches():
     """The thesis' Example 5 (B-spline rise and return, inches): the linear table's error is
     h²/8·max|s″| to the step's O(h²) and the quintic table's far below it; lifts in inches."""
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
 
     from .conftest import ROOT
 

@@ -19,11 +19,11 @@ import pytest
 from scipy.interpolate import BSpline
 from scipy.optimize import minimize_scalar
 
-from generators import design_cam
-from generators.errors import GeometryError, SpecError
-from generators.followers import follower_of
-from generators.motion import MotionProgram
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import GeometryError, SpecError
+from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
 H, RB = 20.0, 40.0
 

@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from scipy.interpolate import BSpline
 
-from generators import design_cam
-from generators.errors import SpecError
-from generators.followers import OscillatingFollower, follower_of
-from generators.motion import MotionProgram
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.followers import OscillatingFollower, follower_of
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
 
 def spec_dict(kind="roller", d=60.0, L=45.0, rb=40.0, lift=15.0, direction="ccw", law="cycloidal", **extra):

@@ -18,9 +18,9 @@ import json
 import numpy as np
 import pytest
 
-from generators import design_cam
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
-from generators.spec.examples import example_dict
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators.spec.examples import example_dict
 
 from .combinations.invariants import shoelace
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -131,7 +131,7 @@ def test_body_solid_volume_and_extent(run, name):
 @pytest.mark.parametrize("name", ["groove", "groove_in"])
 def test_groove_walls_in_freecads_solid(run, name):
     """Every point of the groove's side faces is r + c/2 from the exact pitch curve (either wall)."""
-    from generators.motion import MotionProgram
+    from cam_workbench.generators.motion import MotionProgram
 
     spec = CamSpec.from_dict(SPECS[name])
     k = MM_PER_IN if spec.units == "in" else 1.0

@@ -21,9 +21,9 @@ import sys
 import numpy as np
 import pytest
 
-from generators import design_cam
-from generators.spec import CamSpec
-from generators.spec.examples import EXAMPLES
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import EXAMPLES
 
 from .conftest import ROOT
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -93,7 +93,7 @@ def run(tmp_path_factory, fc_home):  # noqa: F811
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory):
     """report.json of `cam-workbench report` for each spec."""
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec import dict_to_toml
 
     out = {}
     for name, d in SPECS.items():

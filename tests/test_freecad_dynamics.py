@@ -22,7 +22,7 @@ import sys
 
 import pytest
 
-from generators.spec import default_spec, to_toml
+from cam_workbench.generators.spec import default_spec, to_toml
 
 from .conftest import ROOT, SAFETY_S
 from .freecad_support import (cli_env, fc_home, requires_freecad_gui, requires_freecadcmd,  # noqa: F401
@@ -45,7 +45,7 @@ ECAM_KINDS = {  # kind → (--format, --table, suffix)
 
 SCRIPT = """
 import FreeCAD, os
-from generators.spec import load_spec
+from cam_workbench.generators.spec import load_spec
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
 from cam_workbench.freecad.spec_io import export_spec
@@ -284,7 +284,7 @@ def setup():
     FreeCADGui.activateWorkbench("CamWorkbench")
     menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
     R["menu"] = [a.text() for a in menus[0].actions() if a.text()] if menus else []
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
     from cam_workbench.freecad.feature import create
     doc = FreeCAD.newDocument("Dyn")
     state["cam"] = create(doc, load_spec(SPECS["leaves"]), name="DynLeaves")

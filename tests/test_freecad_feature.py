@@ -12,8 +12,8 @@ import math
 
 import pytest
 
-from generators.spec.examples import PAPER_SPEC_DICT
-from generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT
+from cam_workbench.generators.spec import CamSpec
 
 from .conftest import paper_case_dict, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -122,7 +122,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("edit")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["v0"] = cam.Shape.Volume
@@ -233,7 +233,7 @@ MAKE_OLD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("old")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 RESULT["volume"] = cam.Shape.Volume
@@ -280,7 +280,7 @@ BAD = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 doc = FreeCAD.newDocument("bad")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 good = cam.Shape.Volume
@@ -335,7 +335,7 @@ def test_bad_values_keep_last_good_shape_and_report(tmp_path, fc_home):
 
 ROUNDTRIP = """
 import FreeCAD
-from generators.spec import CamSpec
+from cam_workbench.generators.spec import CamSpec
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("rt")
@@ -362,7 +362,7 @@ def test_spec_round_trip_through_properties(tmp_path, fc_home):
     for seg in inch["motion"]:
         if "lift" in seg:
             seg["lift"] = 0.5
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
 
     from .conftest import ROOT
 
@@ -385,10 +385,10 @@ UNDO = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import motion_editor as M
-from generators.errors import SpecError
+from cam_workbench.generators.errors import SpecError
 doc = FreeCAD.newDocument("undo")
 doc.UndoMode = 1
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 v0 = cam.Shape.Volume
@@ -448,7 +448,7 @@ from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.step_export import export_step
 from cam_workbench.freecad.spec_io import export_spec, open as open_spec
 doc = FreeCAD.newDocument("step")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 export_step(cam, STEP_PATH)
@@ -509,7 +509,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
 doc = FreeCAD.newDocument("check")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 rep = design_report(cam)
@@ -531,8 +531,8 @@ def test_check_design_report(tmp_path, fc_home):
     """Check design reports the paper's cam buildable with its numbers (compared with the
     summary computed here) but failing the 30° pressure-angle limit (46.24°: the paper's
     case 2 cam), the undercut with its cam angle, and a bad field by name."""
-    from generators import design_cam
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators import design_cam
+    from cam_workbench.generators.spec.examples import example_spec
 
     r = run_freecadcmd(CHECK, tmp_path, fc_home).check().result
     assert r["ok"] is False and r["failed"] == ["pressure_angle"] and r["buildable"] is True
@@ -556,7 +556,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create, build
 from cam_workbench.freecad.plots import kinematics_figure, kinematics_data, save_figure
 doc = FreeCAD.newDocument("plot")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 doc.recompute()
 design, scale, _ = build(cam, solid=False)
@@ -573,8 +573,8 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
     """matplotlib is there in FreeCAD's Python; the plot's data agree with the closed form
     (cycloidal rise h = 20 mm over β = 120° at 60 rpm: v_max = 2h·ω/β) and the deviation
     with the design's; the PNG is kept as a test artefact."""
-    from generators import design_cam
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators import design_cam
+    from cam_workbench.generators.spec.examples import example_spec
 
     png = artifacts / "freecad_kinematics.png"
     r = run_freecadcmd(f"PNG = {str(png)!r}\n" + PLOT, tmp_path, fc_home).check().result
@@ -587,8 +587,8 @@ def test_kinematics_plot_in_freecads_python(tmp_path, artifacts, fc_home):
 
 LATER_SECTION = """
 from dataclasses import dataclass
-from generators.spec.params import param
-from generators import spec as S
+from cam_workbench.generators.spec.params import param
+from cam_workbench.generators import spec as S
 
 @dataclass(frozen=True, kw_only=True)
 class Extra:
@@ -603,7 +603,7 @@ import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.newDocument("later")
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 cam = create(doc, example_dict("paper"))  # the paper's cam: these tests check its numbers
 RESULT["props"] = sorted((n, cam.getGroupOfProperty(n), cam.getTypeIdOfProperty(n))
                          for n in cam.PropertiesList if n.startswith("Extra"))
@@ -652,9 +652,9 @@ def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
     """A valid spec whose cam cannot be made (undercut) reports the library's refusal — the
     cam angle where the design checks find the smallest convex pitch radius — and says there
     is no shape yet; the document keeps the feature so the user can fix it."""
-    from generators import design_cam
-    from generators.checks.design import run_checks
-    from generators.errors import GeometryError
+    from cam_workbench.generators import design_cam
+    from cam_workbench.generators.checks.design import run_checks
+    from cam_workbench.generators.errors import GeometryError
 
     spec = copy.deepcopy(PAPER_SPEC_DICT)
     spec["cam"]["bore_diameter"] = 0.0

@@ -27,10 +27,10 @@ import sys
 
 import pytest
 
-from generators import design_cam
-from generators.errors import SpecError
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
-from generators.spec.examples import example_dict
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators.spec.examples import example_dict
 
 from .conftest import SAFETY_S
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -123,7 +123,7 @@ for key, cam in cams.items():
     export_spec(cam, os.path.join(OUT, key + ".toml"))
 
 # the optimiser's before/after figures show the areas the follower has (a short run)
-from generators.optimise import optimise
+from cam_workbench.generators.optimise import optimise
 from cam_workbench.freecad import optimiser as O
 for key in ("osc_roller", "flat"):
     res = optimise(P.spec_of(cams[key]).replace(**{"optimise.max_evaluations": 10}), objective="area",

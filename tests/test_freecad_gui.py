@@ -21,7 +21,7 @@ ART = {art!r}
 STEP_PATH = {step!r}
 PA_LIMIT = {pa_limit!r}
 R = RESULT
-R["start_modules"] = {{m: m in sys.modules for m in ("generators", "scipy", "cam_workbench",
+R["start_modules"] = {{m: m in sys.modules for m in ("cam_workbench.generators", "scipy", "cam_workbench",
                                                    "cam_workbench.freecad.commands")}}
 R["workbenches"] = sorted(FreeCADGui.listWorkbenches())
 state = {{}}
@@ -197,15 +197,15 @@ PA_LIMIT = 15.0
 
 
 def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
-    from generators import default_spec
-    from generators.checks.design import run_checks
+    from cam_workbench.generators import default_spec
+    from cam_workbench.generators.checks.design import run_checks
 
     step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
     run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)
     (artifacts / "freecad_gui_console.txt").write_text(run.console)  # FreeCAD's own output
     r = run.check().result
     (artifacts / "freecad_gui_report_view.txt").write_text(r.get("report", ""))
-    assert r["start_modules"] == {"generators": False, "scipy": False, "cam_workbench": False,
+    assert r["start_modules"] == {"cam_workbench.generators": False, "scipy": False, "cam_workbench": False,
                                   "cam_workbench.freecad.commands": False}, "start-up is not cheap"
     assert "CamWorkbench" in r["workbenches"]
     assert r["active"] == "CamWorkbench" and r["menu"]

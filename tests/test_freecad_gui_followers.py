@@ -12,9 +12,9 @@ import math
 
 import pytest
 
-from generators.checks.design import format_value
-from generators.spec import to_toml
-from generators.spec.examples import example_spec
+from cam_workbench.generators.checks.design import format_value
+from cam_workbench.generators.spec import to_toml
+from cam_workbench.generators.spec.examples import example_spec
 
 from .freecad_support import fc_home, requires_freecad_gui, run_freecad_gui  # noqa: F401
 
@@ -163,9 +163,9 @@ steps = [(activate, 500), (open_spec, 1500), (opened, 1500), (follower_shot, 150
 
 
 def test_followers_in_the_freecad_gui(tmp_path, fc_home, artifacts):
-    from generators import design_cam
-    from generators.checks.design import run_checks
-    from generators.spec.examples import example_dict
+    from cam_workbench.generators import design_cam
+    from cam_workbench.generators.checks.design import run_checks
+    from cam_workbench.generators.spec.examples import example_dict
 
     spec = example_spec("oscillating")
     toml = tmp_path / "oscillating_cam.toml"

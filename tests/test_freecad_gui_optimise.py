@@ -34,7 +34,7 @@ def panel():
 
 def spec_text():
     from cam_workbench.freecad import properties as P
-    from generators.spec import to_toml
+    from cam_workbench.generators.spec import to_toml
     return to_toml(P.spec_of(FreeCAD.ActiveDocument.getObject("Ex5")))
 
 def activate():
@@ -160,7 +160,7 @@ def finished():
                   "value": res.value, "initial": res.initial_value, "verdict": p.verdict.text(),
                   "apply_text": p.apply_button.text(), "apply_enabled": p.apply_button.isEnabled(),
                   "variables": list(res.variables), "live": p.live.text()}}
-    from generators.spec import to_toml
+    from cam_workbench.generators.spec import to_toml
     state["result_spec"] = to_toml(res.spec)
     shot("freecad_gui_optimise_result.png")
 

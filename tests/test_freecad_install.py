@@ -31,7 +31,7 @@ def test_install_into_mod_dir_links_this_checkout(tmp_path):
     assert res.returncode == 0, res.stderr
     target = mod / "CamWorkbench"
     assert f"installed: {target} (linked to {ROOT})" in res.stdout
-    for pkg in inst.PACKAGES:
+    for pkg in inst.package_folders(ROOT):
         assert (target / pkg).is_symlink() and (target / pkg).resolve() == ROOT / pkg
     for name in ("Init.py", "InitGui.py"):
         assert filecmp.cmp(target / name, ROOT / "cam_workbench/freecad/mod" / name, shallow=False)
@@ -93,7 +93,7 @@ def test_conventional_mod_dirs(tmp_path, monkeypatch):
 
 LOAD = """
 import FreeCAD
-import generators, cam_workbench.freecad.feature as feature
+import cam_workbench.generators as generators, cam_workbench.freecad.feature as feature
 RESULT["generators"] = generators.__file__
 RESULT["import_types"] = FreeCAD.getImportType("toml")
 doc = FreeCAD.newDocument("x")
@@ -217,7 +217,7 @@ def test_package_xml_is_read_by_freecad(tmp_path):
 
 CLONE_LOAD = """
 import FreeCAD, os
-import generators, cam_workbench.freecad.feature as feature
+import cam_workbench.generators as generators, cam_workbench.freecad.feature as feature
 from cam_workbench.freecad import spec_io
 RESULT["generators"] = generators.__file__
 RESULT["import_types"] = FreeCAD.getImportType("toml")
@@ -262,7 +262,7 @@ def test_git_clone_into_mod_folder_loads(tmp_path):
     cam_workbench/freecad/mod, runs Init.py, which puts the clone's root on sys.path; the
     packages import from the clone, a cam is created and recomputed, its spec is exported and
     opened as a new cam."""
-    from generators import default_spec, design_cam
+    from cam_workbench.generators import default_spec, design_cam
 
     home = tmp_path / "home"
     mod = user_mod_dir(home, tmp_path / "ask")

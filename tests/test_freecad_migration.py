@@ -17,9 +17,9 @@ import re
 
 import pytest
 
-from generators.spec.examples import example_spec
+from cam_workbench.generators.spec.examples import example_spec
 from cam_workbench.freecad import properties as P
-from generators.spec import load_spec
+from cam_workbench.generators.spec import load_spec
 
 from .conftest import ROOT, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -192,7 +192,7 @@ def _v3_expected() -> dict:
     """The two cams ``tests/fixtures/freecad_old_documents.py`` saved with feature version 3."""
     import copy
 
-    from generators.spec import DEFAULT_SPEC_DICT
+    from cam_workbench.generators.spec import DEFAULT_SPEC_DICT
 
     osc = copy.deepcopy(DEFAULT_SPEC_DICT)
     osc["units"] = "in"
@@ -219,8 +219,8 @@ def test_v3_follower_document_is_converted(tmp_path, fc_home):
     0.002° tolerance, 7 lbf·in, 0.02 lbf·in·s²) and a mm oscillating flat face; the tolerance and
     the deviation become angles, the load moves to "Follower load", and an old cam gets a drawn
     follower through ``add_reference``."""
-    from generators import design_cam
-    from generators.spec import CamSpec
+    from cam_workbench.generators import design_cam
+    from cam_workbench.generators.spec import CamSpec
 
     fixture = "freecad_v3_followers.FCStd"
     head = f"SRC = {str(FIXTURES / fixture)!r}\nPATH = {str(tmp_path / fixture)!r}\n"

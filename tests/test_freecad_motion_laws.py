@@ -7,8 +7,8 @@ import json
 
 import pytest
 
-from generators.spec import CamSpec
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.examples import example_dict
 
 from .conftest import requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401

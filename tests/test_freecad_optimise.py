@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from generators import load_spec, to_toml
-from generators.spec.examples import example_dict, example_spec
-from generators.errors import SpecError
+from cam_workbench.generators import load_spec, to_toml
+from cam_workbench.generators.spec.examples import example_dict, example_spec
+from cam_workbench.generators.errors import SpecError
 
 from .conftest import ROOT, SAFETY_S, requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -22,7 +22,7 @@ EX5 = ROOT / "tests" / "fixtures" / "thesis_ex5_initial.toml"
 RUNS = """
 import time, threading
 import FreeCAD
-from generators.spec import to_toml
+from cam_workbench.generators.spec import to_toml
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import optimiser as O, properties as P
 
@@ -66,7 +66,7 @@ def optimise_and_apply(name, spec_src, tokens, budget):
     out["undone"] = state(cam)
     return out
 
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 RESULT["ph"] = optimise_and_apply("PH", example_dict("paper"), ["base_radius", "offset"], 40)
 RESULT["ex5"] = optimise_and_apply("Ex5", EX5, None, 30)
 
@@ -338,8 +338,8 @@ def test_panel_offers_the_followers_own_position_variables(example, flat_arm, ex
     pivot distance and length, never a translating offset; a flat arm's length only when given; the
     chosen ones become ``optimise.variables`` that the library accepts."""
     from cam_workbench.freecad import optimiser as O
-    from generators.optimise import optimise
-    from generators.spec import CamSpec
+    from cam_workbench.generators.optimise import optimise
+    from cam_workbench.generators.spec import CamSpec
 
     if example == "oscillating_flat":
         d = example_dict("default")
@@ -366,7 +366,7 @@ def test_oscillating_follower_has_no_offset_bound():
     """An arm has no offset: the panel's settings carry no |e| bound and write no optimise.offset_max
     (the bounds of an arm's position are its Optimise properties); R_b's bounds are the library's."""
     from cam_workbench.freecad import optimiser as O
-    from generators.optimise.space import DesignSpace
+    from cam_workbench.generators.optimise.space import DesignSpace
 
     spec = example_spec("oscillating")
     r_lo, r_hi, e_max = O.default_bounds(spec)

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import pytest
 
-from generators import load_spec, to_toml
-from generators.optimise import optimise
+from cam_workbench.generators import load_spec, to_toml
+from cam_workbench.generators.optimise import optimise
 
 from .conftest import requires_ocp
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -15,8 +15,8 @@ from .test_optimiser_points import cam
 
 BODY = """
 import FreeCAD
-from generators.spec import to_toml
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec import to_toml
+from cam_workbench.generators.spec.examples import example_dict
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import optimiser as O, properties as P
 

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 import pytest
 
 from cam_workbench.freecad import properties as props
-from generators.errors import SpecError
-from generators.spec.params import param, params_of
-from generators.spec import SECTIONS, CamSpec
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec.params import param, params_of
+from cam_workbench.generators.spec import SECTIONS, CamSpec
 
 
 def _declared() -> list[tuple[str, str, object, bool]]:
@@ -196,11 +196,11 @@ def test_torque_and_inertia_storage_are_the_defined_conversions():
 
 
 def test_lifts_are_in_the_followers_lift_unit():
-    """``motion[].lift`` and ``pitch.tolerance`` (``generators.spec.LIFT_FIELDS``) are lengths for
+    """``motion[].lift`` and ``pitch.tolerance`` (``cam_workbench.generators.spec.LIFT_FIELDS``) are lengths for
     a translating follower and the arm's degrees for an oscillating one (the follower class's
     ``lift_unit``): degrees are stored as degrees whatever ``Units`` says, and the tolerance's
     property is then an angle."""
-    from generators.spec import LIFT_FIELDS
+    from cam_workbench.generators.spec import LIFT_FIELDS
 
     fps = {f.path: f for f in props.field_properties()}
     assert sorted(f.path for f in fps.values() if f.is_lift) == sorted(LIFT_FIELDS)
@@ -228,7 +228,7 @@ def test_unscale_returns_the_spec_value(value, factor):
 
 
 def test_parse_floats_names_the_entry():
-    from generators.errors import SpecError
+    from cam_workbench.generators.errors import SpecError
 
     assert props.parse_floats("0.3772, 0.4424 0.5148;1", "motion[0].control_x") == (0.3772, 0.4424, 0.5148, 1.0)
     with pytest.raises(SpecError) as e:
@@ -268,7 +268,7 @@ def test_control_point_table_of_a_bspline_segment():
 
 def test_default_polygon_is_a_valid_rise_and_return():
     from cam_workbench.freecad import motion_editor as M
-    from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+    from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
     data = {**DEFAULT_SPEC_DICT, "motion": [dict(r) for r in DEFAULT_SPEC_DICT["motion"]]}
     for i in (1, 3):
@@ -285,7 +285,7 @@ def test_default_polygon_is_a_valid_rise_and_return():
 ])
 def test_row_messages_name_row_field_and_point(field, rows, text):
     from cam_workbench.freecad import motion_editor as M
-    from generators.errors import SpecError
+    from cam_workbench.generators.errors import SpecError
 
     assert M.row_message(SpecError(field, "must be a number"), rows) == text
 
@@ -294,8 +294,8 @@ def test_validation_names_a_bad_control_point():
     """A control point that is not a number, or that breaks the B-spline rules, is named by
     row, field and point — the messages the editor shows."""
     from cam_workbench.freecad import motion_editor as M
-    from generators.errors import SpecError
-    from generators.spec import CamSpec, load_spec
+    from cam_workbench.generators.errors import SpecError
+    from cam_workbench.generators.spec import CamSpec, load_spec
 
     from .conftest import ROOT
 

@@ -8,9 +8,9 @@ import json
 
 import pytest
 
-from generators.checks.design import run_checks
-from generators.spec.examples import example_dict, example_spec
-from generators.studies.remedies import add_remedies, refusal_remedies
+from cam_workbench.generators.checks.design import run_checks
+from cam_workbench.generators.spec.examples import example_dict, example_spec
+from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
 
 from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 
@@ -20,7 +20,7 @@ CHECK = """
 import FreeCAD
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad.check_design import design_report
-from generators.spec.examples import example_dict
+from cam_workbench.generators.spec.examples import example_dict
 doc = FreeCAD.newDocument("remedy")
 cam = create(doc, example_dict("paper"))           # 46.2° > 30°
 doc.recompute()
@@ -48,8 +48,8 @@ def test_check_design_shows_the_remedies(tmp_path, fc_home):
     assert f"  to pass: pressure angle: {text}" in p["text"].splitlines()
     g = r["groove"]
     spec = example_spec("groove").replace(**{"cam.outer_diameter": 120.0})
-    from generators.cam_design import design_cam
-    from generators.errors import GeometryError
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.errors import GeometryError
 
     with pytest.raises(GeometryError) as refused:
         design_cam(spec)

@@ -15,7 +15,7 @@ import sys
 
 import pytest
 
-from generators.spec import load_spec
+from cam_workbench.generators.spec import load_spec
 
 from .conftest import ROOT, SAFETY_S, requires_ocp
 from .freecad_support import cli_env, fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
@@ -87,7 +87,7 @@ def test_every_section_is_a_property_group_with_units(props_run):
 
 BSPLINE = """
 import FreeCAD
-from generators.spec import load_spec
+from cam_workbench.generators.spec import load_spec
 from cam_workbench.freecad.feature import create
 from cam_workbench.freecad import properties as P
 spec = load_spec(EX5)
@@ -114,7 +114,7 @@ def test_bspline_cam_volume_equals_the_cadquery_build(tmp_path, fc_home):
     exact Green's-theorem volume; the kernel's exact-offset solid differs from it by the fit."""
     from cam_workbench import PlateCam
     from cam_workbench.occ_build import cam_solid, kernel_volume
-    from generators.cam_design import design_cam
+    from cam_workbench.generators.cam_design import design_cam
 
     r = run_freecadcmd(f"EX5 = {str(EX5)!r}\n" + BSPLINE, tmp_path, fc_home).check().result
     spec = load_spec(EX5)
@@ -134,7 +134,7 @@ def test_bspline_cam_volume_equals_the_cadquery_build(tmp_path, fc_home):
     assert abs(bs["volume"] / in3 - fitted) / fitted < 1e-9
     assert abs(bs["volume"] / in3 - design.volume) / design.volume < 1e-9
     assert abs(fitted - exact_offset) / exact_offset < 1e-9   # the fit's own error (≈ 7e-13)
-    from generators.pitch.bspline import bezier_form
+    from cam_workbench.generators.pitch.bspline import bezier_form
 
     # one exact Bézier edge per knot span (a single multi-span edge was off by 1.3e-3)
     assert bs["edges"] == len(bezier_form(design.profile).bezier_pieces()) == 120
@@ -168,7 +168,7 @@ def test_check_design_table_equals_run_checks(tmp_path, fc_home):
     Example 5 fails separation (−1.162 lbf at 120.46°, README); switching Units to mm gives
     the same physics (forces × 4.4482216152605 N/lbf); the thesis' 71 nodes are used when
     asked; a roller too large is reported as not buildable, with the cam angle."""
-    from generators.checks.design import run_checks
+    from cam_workbench.generators.checks.design import run_checks
 
     r = run_freecadcmd(f"EX5 = {str(EX5)!r}\n" + CHECK, tmp_path, fc_home).check().result
     spec = load_spec(EX5)

@@ -3,7 +3,7 @@ without error, in the right units, and the canonical motions it prints (STRAIGHT
 ARC_FEED, arcs rebuilt from end, centre and rotation) must trace a closed path within the
 chord tolerance of the exact tool-centre path everywhere (two-sided, dense).
 
-The exact tool-centre path is computed here independently of ``generators.toolpath``: the
+The exact tool-centre path is computed here independently of ``cam_workbench.generators.machining.toolpath``: the
 foundation's exact profile NURBS moved outward along its own normal by the tool radius
 (the tool touches the profile).  rs274 prints 4 decimals, so the allowance is the chord
 tolerance plus twice that print quantum.
@@ -13,13 +13,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from exporters.gcode import contour_program, rotary_program
-from generators import design_cam
-from generators.machining import machining_plan
-from generators.spec import default_spec
-from generators.toolpath import contour_path, rotary_path
+from cam_workbench.exporters.gcode import contour_program, rotary_program
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.machining import machining_plan
+from cam_workbench.generators.spec import default_spec
+from cam_workbench.generators.machining.toolpath import contour_path, rotary_path
 
-from generators.spec.examples import example_spec
+from cam_workbench.generators.spec.examples import example_spec
 
 from .conftest import paper_case
 
@@ -184,7 +184,7 @@ def test_xc_program_through_rs274(tmp_path, case):
 def test_inch_program_prints_inches(tmp_path):
     """A G20 program: rs274 works (and prints) in inches; the path matches the inch cam."""
     from .conftest import paper_case_dict
-    from generators.spec import CamSpec
+    from cam_workbench.generators.spec import CamSpec
 
     d = paper_case_dict(2, knife=False)
     scale = 1 / 25.4

@@ -139,7 +139,7 @@ def test_library_imports_and_readme_example_runs(env: Env, tmp_path):
 _MISSING = """
 import json
 from cam_workbench import PlateCam
-from generators.errors import MissingDependency
+from cam_workbench.generators.errors import MissingDependency
 cam = PlateCam()
 out = {}
 for name in ("workplane", "solid", "part", "shape"):
@@ -182,7 +182,7 @@ def test_cli_build(env: Env, tmp_path):
         assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
         names = {p.name for p in (tmp_path / "out").iterdir()}
         assert set(BUILD_FILES) <= names, sorted(set(BUILD_FILES) - names)
-        back = env.run_python("from exporters.step import read_step\nfrom cam_workbench import ocp_compat as occ\n"
+        back = env.run_python("from cam_workbench.exporters.step import read_step\nfrom cam_workbench import ocp_compat as occ\n"
                               "s = read_step('out/cam.step')\nprint(occ.is_valid(s), occ.describe())", tmp_path)
         assert back.returncode == 0 and back.stdout.startswith("True"), back.stdout + back.stderr
         return

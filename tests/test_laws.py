@@ -3,7 +3,7 @@ peak coefficients published in Norton, *Design of Machinery* (Table 8-3)."""
 import numpy as np
 import pytest
 
-from generators.laws import END_CONTINUITY, LAW_FUNCTIONS, evaluate_law
+from cam_workbench.generators.motion.laws import END_CONTINUITY, LAW_FUNCTIONS, evaluate_law
 
 LAWS = sorted(LAW_FUNCTIONS)
 

@@ -8,21 +8,25 @@ import sys
 from .conftest import ROOT
 
 FORBIDDEN = ["OCP", "cadquery", "build123d", "FreeCAD", "Part", "ezdxf", "matplotlib",
-             "cam_workbench", "exporters", "rich", "tqdm", "nlopt", "dask", "distributed", "pyarrow"]
+             "rich", "tqdm", "nlopt", "dask", "distributed", "pyarrow"]
+#: of the one import name, the generators may load the package's own __init__ and themselves
+OWN = ("cam_workbench", "cam_workbench.generators")
 #: The only module allowed to import nlopt (lazily, inside the functions that run a solver).
 NLOPT_ALLOWED = ("generators/optimise/run.py",)
 
 
 def test_generators_imports_no_cad_or_file_format_module():
     code = (
-        "import sys, generators, generators.optimise, generators.studies.sweep\n"
-        "from generators import default_spec, design_cam\n"
+        "import sys, cam_workbench.generators.optimise, cam_workbench.generators.studies.sweep\n"
+        "from cam_workbench.generators import default_spec, design_cam\n"
         "d = design_cam(default_spec()); d.summary()\n"
-        "from generators.studies.grid import Grid, parse_vary\n"
-        "from generators.studies.sweep import run_sweep\n"
-        "from generators.studies.sizing import SizingSettings\n"
+        "from cam_workbench.generators.studies.grid import Grid, parse_vary\n"
+        "from cam_workbench.generators.studies.sweep import run_sweep\n"
+        "from cam_workbench.generators.studies.sizing import SizingSettings\n"
         "run_sweep(default_spec(), Grid((parse_vary('motion[1].law=harmonic,cycloidal'),)), sizing=SizingSettings(tol=1.0))\n"
         f"bad = [m for m in {FORBIDDEN!r} if m in sys.modules]\n"
+        f"bad += [m for m in sys.modules if m.startswith('cam_workbench') and m not in {OWN!r}\n"
+        "        and not m.startswith('cam_workbench.generators.')]\n"
         "print(','.join(bad))\n"
     )
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
@@ -32,7 +36,8 @@ def test_generators_imports_no_cad_or_file_format_module():
 
 def test_no_upward_imports_in_source():
     pattern = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP|FreeCAD|Part|ezdxf|matplotlib|"
-                         r"cam_workbench|exporters|dask|distributed|pyarrow)\b", re.M)
+                         r"cam_workbench(?!\.generators\b)|exporters|generators|dask|distributed|pyarrow)\b",
+                         re.M)
     for path in (ROOT / "generators").rglob("*.py"):
         assert not pattern.search(path.read_text()), path
     freecad = ROOT / "cam_workbench" / "freecad"
@@ -42,8 +47,8 @@ def test_no_upward_imports_in_source():
             assert not bad.search(path.read_text()), path
     # exporters may use the OCP adaptor (a leaf: it imports no other project module), nothing
     # else of cam_workbench
-    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench(?!\s+import\s+ocp_compat\b|\.ocp_compat\b)|"
-                     r"cadquery|build123d)\b", re.M)
+    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench(?!\s+import\s+ocp_compat\b|\.ocp_compat\b"
+                     r"|\.generators\b|\.exporters\b)|generators|exporters|cadquery|build123d)\b", re.M)
     for path in (ROOT / "exporters").rglob("*.py"):
         assert not exp.search(path.read_text()), path
 
@@ -67,7 +72,7 @@ def test_only_the_adaptor_imports_ocp():
     imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     imported |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
     project = sorted(m for m in imported if m.split(".")[0] in ("cam_workbench", "exporters", "generators"))
-    assert project == ["generators.errors"], project
+    assert project == ["cam_workbench.generators.errors"], project
 
 
 def test_importing_the_package_loads_no_ocp():
@@ -123,3 +128,14 @@ def test_only_the_parallel_module_imports_dask():
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == ""
+
+
+def test_one_import_name():
+    """The distribution's one import name is ``cam_workbench``: no source, test or benchmark
+    imports the folders ``generators`` or ``exporters`` as top-level packages (in a checkout
+    they would load a second copy of every module beside ``cam_workbench.generators``)."""
+    top = re.compile(r"^\s*(import|from)\s+(generators|exporters)\b", re.M)
+    offenders = [path.relative_to(ROOT).as_posix()
+                 for folder in ("cam_workbench", "exporters", "generators", "tests", "benchmarks")
+                 for path in (ROOT / folder).rglob("*.py") if top.search(path.read_text(encoding="utf-8"))]
+    assert not offenders, offenders

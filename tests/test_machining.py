@@ -13,15 +13,15 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from exporters.commands_csv import commands_csv_text
-from generators import design_cam
-from generators.errors import GeometryError, SpecError
-from generators.interpolator import interpolate
-from generators.machining import machining_plan, smallest_concave_profile_radius
-from generators.examples import PAPER_SPEC_DICT, example_spec
-from generators.spec import CamSpec
-from generators.nurbs import NurbsCurve
-from generators.toolpath import (OffsetLineSolver, check_lead_arcs, contour_path, outward_distance,
+from cam_workbench.exporters.commands_csv import commands_csv_text
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import GeometryError, SpecError
+from cam_workbench.generators.machining.interpolator import interpolate
+from cam_workbench.generators.machining import machining_plan, smallest_concave_profile_radius
+from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT, example_spec
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators.machining.toolpath import (OffsetLineSolver, check_lead_arcs, contour_path, outward_distance,
                                  rotary_path, tool_centre_curve)
 
 from .conftest import paper_case

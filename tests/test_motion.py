@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from generators.motion import MotionProgram
-from generators.spec import CamSpec, default_spec
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import CamSpec, default_spec
 
 
 def multi_level_spec():

@@ -13,12 +13,12 @@ import math
 import numpy as np
 import pytest
 
-from generators.cam_design import design_cam
-from generators.checks.areas import area_summary
-from generators.checks.design import run_checks
-from generators.machining.cutting_time import thesis_cutting_time
-from generators.motion import MotionProgram
-from generators.spec import CamSpec
+from cam_workbench.generators.cam_design import design_cam
+from cam_workbench.generators.checks.areas import area_summary
+from cam_workbench.generators.checks.design import run_checks
+from cam_workbench.generators.machining.cutting_time import thesis_cutting_time
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import CamSpec
 
 from .conftest import requires_ocp
 from .test_cli import run
@@ -124,7 +124,7 @@ def test_mixed_program_builds_for_every_follower(name, representation):
 
 
 def _write(tmp_path, motion, **extra):
-    from generators.spec import to_toml
+    from cam_workbench.generators.spec import to_toml
 
     path = tmp_path / "cam.toml"
     path.write_text(to_toml(CamSpec.from_dict(base(ROLLER, motion, **extra))), encoding="utf-8")

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from generators.checks.design import run_checks
-from generators.errors import SpecError
-from generators.motion import MotionProgram
-from generators.motion.polynomial import Condition, power_coefficients, solve_conditions
-from generators.spec import CamSpec, load_spec, to_toml
+from cam_workbench.generators.checks.design import run_checks
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.motion.polynomial import Condition, power_coefficients, solve_conditions
+from cam_workbench.generators.spec import CamSpec, load_spec, to_toml
 
 H = 10.0     # lift [mm]
 
@@ -283,7 +283,7 @@ def test_area_of_a_blended_stroke_against_quadrature_of_its_formula():
     defining formula ½(R + s)² (smoothstep blends, line)."""
     from scipy.integrate import quad
 
-    from generators.checks.areas import thesis_area
+    from cam_workbench.generators.checks.areas import thesis_area
 
     b, beta, r0 = 30.0, 180.0, 60.0
     s = spec([dwell(60), {"kind": "rise", "angle": beta, "lift": H, "law": "constant_velocity",
@@ -504,7 +504,7 @@ def test_the_documented_table_example():
 
 
 def test_the_packaging_example():
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     s = example_spec("packaging")
     prog = MotionProgram.from_spec(s)

@@ -61,7 +61,7 @@ def test_bspline_evaluates_to_the_nurbs_points():
     """OCCT's evaluation of the curve the adaptor built = our NURBS evaluation (a rational
     quarter circle: the points are on the unit circle, independently)."""
     from cam_workbench import occ_build
-    from generators.nurbs import NurbsCurve
+    from cam_workbench.generators.curves.nurbs import NurbsCurve
 
     w = math.sqrt(0.5)
     quarter = NurbsCurve(2, np.array([0, 0, 0, 1, 1, 1.0]), np.array([[1, 0], [1, 1], [0, 1.0]]),

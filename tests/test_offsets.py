@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 from scipy.interpolate import BSpline
 
-from generators.offsets import offset_nurbs, pitch_nurbs
-from generators.ph_spline import solve_closed_ph_spline
+from cam_workbench.generators.curves.offsets import offset_nurbs, pitch_nurbs
+from cam_workbench.generators.curves.ph_spline import solve_closed_ph_spline
 
 from .test_ph_spline import junctions
-from generators.spec import default_spec
+from cam_workbench.generators.spec import default_spec
 
 
 @pytest.fixture(scope="module")

@@ -12,15 +12,15 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from generators import load_spec, to_toml
-from generators.examples import example_spec
-from generators.cam_area import thesis_area
-from generators.cutting_time import thesis_cutting_time
-from generators.design_checks import StateModel, constraint_arrays, run_checks
-from generators.errors import SpecError
-from generators.optimise import optimise
-from generators.optimise.model import SmoothModel
-from generators.optimise.space import DesignSpace
+from cam_workbench.generators import load_spec, to_toml
+from cam_workbench.generators.spec.examples import example_spec
+from cam_workbench.generators.checks.areas import thesis_area
+from cam_workbench.generators.machining.cutting_time import thesis_cutting_time
+from cam_workbench.generators.checks.design import StateModel, constraint_arrays, run_checks
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.optimise.model import SmoothModel
+from cam_workbench.generators.optimise.space import DesignSpace
 
 from .conftest import ROOT, SAFETY_S
 
@@ -164,7 +164,7 @@ def test_mma_on_example5_uses_few_windows():
     steeply with the number of constraints (≈1.5 s per evaluation with the default 80 windows
     per rise/return), so CCSA methods get at most ``CCSA_WINDOWS`` (refined once to twice that).
     The result must still pass every dense check and reach SLSQP's area (21.304 in², to 0.5 %)."""
-    from generators.optimise.run import CCSA_WINDOWS
+    from cam_workbench.generators.optimise.run import CCSA_WINDOWS
 
     res = optimise(fixture(5, "initial"), objective="area", algorithm="mma")
     assert res.details["windows"] <= 2 * CCSA_WINDOWS
@@ -317,7 +317,7 @@ def test_segment_variable_rules(variables, rule):
 
 
 def test_report_section_shape():
-    """report.json's ``optimise`` section: what exporters.report_html draws (history of
+    """report.json's ``optimise`` section: what cam_workbench.exporters.report_html draws (history of
     {"iteration", "objective", "max_violation"}), thinned to ≤ 400 entries."""
     res = optimise(example_spec("paper"), variables="base_radius")
     rep = res.report(max_history=10)
@@ -341,8 +341,8 @@ def _debian_has_nlopt() -> bool:
 def test_runs_on_debian_python_with_nlopt_27():
     """FreeCAD's Python on Debian: numpy 1.24, scipy 1.10, nlopt 2.7 (python3-nlopt)."""
     code = ("import nlopt, numpy, scipy\n"
-            "from generators.examples import example_spec\n"
-            "from generators.optimise import optimise\n"
+            "from cam_workbench.generators.spec.examples import example_spec\n"
+            "from cam_workbench.generators.optimise import optimise\n"
             "r = optimise(example_spec('paper'), variables='base_radius,offset', max_evaluations=200)\n"
             "print(nlopt.version_major(), nlopt.version_minor(), numpy.__version__, scipy.__version__, "
             "r.status, r.feasible, r.spec.cam.base_radius)\n")
@@ -439,7 +439,7 @@ def test_the_result_records_the_starts_feasibility_and_the_solvers_status():
 def test_a_solver_that_stops_on_roundoff_is_not_reported_converged(monkeypatch):
     """nlopt's "roundoff limited" (the user's report) gives status "stopped", with the solver's
     own text in solver_status and message."""
-    from generators.optimise import run as R
+    from cam_workbench.generators.optimise import run as R
 
     real = R._run_nlopt
 

@@ -5,7 +5,7 @@ Against computations that do not use the optimiser's model:
 
 * the model's pressure angle, force, radius of curvature and stress at its nodes against the design
   checks' own state model (the follower classes, a second code path), and its areas/lengths against
-  ``generators.checks.areas`` (the followers' exact F, V);
+  ``cam_workbench.generators.checks.areas`` (the followers' exact F, V);
 * every constraint's, integral's and geometry row's gradient (R_b, pivot distance, arm length, face
   offset, control points) against complex-step derivatives of the values;
 * a known answer: a translating flat face with only R_b free ends at the smallest cusp-free base
@@ -29,15 +29,15 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from generators import load_spec
-from generators.checks.areas import pitch_area, pitch_length, profile_area, thesis_area
-from generators.checks.design import StateModel, run_checks
-from generators.errors import SpecError
-from generators.optimise import optimise
-from generators.optimise.kinds import force_reference
-from generators.optimise.model import SmoothModel
-from generators.optimise.space import DesignSpace
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec
+from cam_workbench.generators import load_spec
+from cam_workbench.generators.checks.areas import pitch_area, pitch_length, profile_area, thesis_area
+from cam_workbench.generators.checks.design import StateModel, run_checks
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.optimise.kinds import force_reference
+from cam_workbench.generators.optimise.model import SmoothModel
+from cam_workbench.generators.optimise.space import DesignSpace
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec
 
 from .conftest import ROOT
 
@@ -385,8 +385,8 @@ def test_the_model_is_finite_where_the_arm_cannot_reach():
     """Design points outside the follower's geometry (R_b < |d − L|, an arm turned past the line
     through the pivot) give finite rows: the geometry rows positive with their gradients, never an
     exception; the space says why such a design is not a spec."""
-    from generators.optimise.objectives import make_objective
-    from generators.optimise.run import ScaledProblem
+    from cam_workbench.generators.optimise.objectives import make_objective
+    from cam_workbench.generators.optimise.run import ScaledProblem
 
     spec = CamSpec.from_dict(oscillating_roller()).replace(**{"optimise.pivot_distance_max": 200.0,
                                                               "optimise.variables": ARM})

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from generators import load_spec, to_toml
-from generators.cam_design import design_cam
-from generators.errors import SpecError
-from generators.optimise import optimise
-from generators.optimise.model import SmoothModel
-from generators.optimise.space import DesignSpace
-from generators.spec import CamSpec
+from cam_workbench.generators import load_spec, to_toml
+from cam_workbench.generators.cam_design import design_cam
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.optimise.model import SmoothModel
+from cam_workbench.generators.optimise.space import DesignSpace
+from cam_workbench.generators.spec import CamSpec
 
 from .conftest import requires_ocp
 from .test_cli import run
@@ -158,7 +158,7 @@ def test_cylindrical_smallest_cylinder_is_the_pressure_angle_limit():
     """The example barrel cam (cycloidal rise of 20 mm over 120°): the pressure angle at the pitch
     radius, tan φ = s′/R_p, is largest where s′ = 2h/β, so the smallest R_p for 30° is
     (2h/β)/tan 30° and the smallest cylinder has R_o = R_p (the pitch radius within the groove)."""
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     res = optimise(example_spec("cylindrical"), objective="outer_diameter",
                    variables="cylinder_radius, outer_diameter")
@@ -168,7 +168,7 @@ def test_cylindrical_smallest_cylinder_is_the_pressure_angle_limit():
     assert res.value == pytest.approx(2 * rp, rel=3e-4) and res.value >= 2 * rp
     assert res.checks.passed and res.status == "converged"
     assert res.spec.cam.base_radius == res.spec.cam.cylinder_radius
-    from generators.bodies.cylindrical import CylindricalBody
+    from cam_workbench.generators.bodies.cylindrical import CylindricalBody
 
     rep = CylindricalBody.design(res.spec).checks_report["checks"]
     assert rep["passed"] and rep["results"]["pressure_angle"]["value"] <= 30.0
@@ -183,7 +183,7 @@ def test_cylindrical_smallest_cylinder_is_the_pressure_angle_limit():
     ({"objective": "outer_diameter", "algorithm": "slsqp"}, "optimise.algorithm", "cobyla"),
 ])
 def test_cylindrical_refusals(changes, field, says):
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     with pytest.raises(SpecError) as exc:
         optimise(example_spec("cylindrical"), **changes)
@@ -198,7 +198,7 @@ def test_cylinder_radius_is_a_cylindrical_cams_only():
 
 @requires_ocp
 def test_cylindrical_cli_and_api_agree(tmp_path):
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     out = tmp_path / "cyl"
     res = run("optimise", "--example", "cylindrical", "--objective", "outer_diameter", "--variables",
@@ -215,7 +215,7 @@ def test_cylindrical_cli_and_api_agree(tmp_path):
 
 
 def test_docs_quote_the_cylindrical_run():
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     from .conftest import ROOT
 
@@ -235,8 +235,8 @@ def test_cylindrical_oscillating_arm_ends_at_its_pressure_angle_limit():
     """The oscillating-arm barrel cam: the result passes the body's own checks with the pressure
     angle at its 30° limit (to the margin), and a pitch radius 0.1 % smaller fails that check —
     the body's own check function decides, not the optimiser's copy of it."""
-    from generators.bodies.cylindrical import CylindricalBody
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.bodies.cylindrical import CylindricalBody
+    from cam_workbench.generators.spec.examples import example_spec
 
     res = optimise(example_spec("cylindrical_oscillating"), objective="outer_diameter")
     rep = CylindricalBody.design(res.spec).checks_report["checks"]
@@ -249,7 +249,7 @@ def test_cylindrical_oscillating_arm_ends_at_its_pressure_angle_limit():
 
 def test_panel_offers_a_cylindrical_cams_own_variables():
     from cam_workbench.freecad import optimiser as O
-    from generators.spec.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     spec = example_spec("cylindrical")
     assert [c.token for c in O.variable_choices(spec)] == ["cylinder_radius", "outer_diameter", "clearance"]

@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from generators import load_spec, to_toml
-from generators.errors import SpecError
-from generators.optimise import optimise
-from generators.optimise.model import SmoothModel
-from generators.optimise.space import DesignSpace
-from generators.spec import CamSpec
+from cam_workbench.generators import load_spec, to_toml
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise import optimise
+from cam_workbench.generators.optimise.model import SmoothModel
+from cam_workbench.generators.optimise.space import DesignSpace
+from cam_workbench.generators.spec import CamSpec
 
 from .conftest import requires_ocp
 from .test_cli import run

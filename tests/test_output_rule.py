@@ -24,8 +24,8 @@ from pathlib import Path
 
 import pytest
 
-from exporters.atomic import MANIFEST, read_manifest
-from generators.errors import SpecError
+from cam_workbench.exporters.atomic import MANIFEST, read_manifest
+from cam_workbench.generators.errors import SpecError
 
 from .conftest import ROOT, assert_unchanged, requires_ocp, snapshot
 
@@ -344,7 +344,7 @@ def test_platecam_export_follows_the_rule(made, tmp_path):
 
 def test_the_studies_api_follows_the_rule(made, tmp_path):
     from cam_workbench.studies import batch, sweep, write_study
-    from generators.examples import example_spec
+    from cam_workbench.generators.spec.examples import example_spec
 
     theirs = their_set(made, tmp_path / "theirs")
     (tmp_path / "mine").mkdir()

@@ -14,9 +14,9 @@ import time
 
 import pytest
 
-from exporters.atomic import MANIFEST, STAGING_TAG, OutputSet, read_manifest
-from exporters.output_rule import Claim
-from generators.errors import SpecError
+from cam_workbench.exporters.atomic import MANIFEST, STAGING_TAG, OutputSet, read_manifest
+from cam_workbench.exporters.output_rule import Claim
+from cam_workbench.generators.errors import SpecError
 
 from .conftest import ROOT, requires_ocp
 

@@ -28,13 +28,13 @@ import numpy as np
 import pytest
 
 from cam_workbench.freecad.check_design import checks_table
-from exporters.dxf import build_dxf
-from exporters.gcode import contour_program, rotary_program
-from exporters.report_html import render_report
-from generators import default_spec, design_cam
-from generators.machining import machining_plan
-from generators.spec import CamSpec
-from generators.toolpath import contour_path, rotary_path
+from cam_workbench.exporters.dxf import build_dxf
+from cam_workbench.exporters.gcode import contour_program, rotary_program
+from cam_workbench.exporters.report_html import render_report
+from cam_workbench.generators import default_spec, design_cam
+from cam_workbench.generators.machining import machining_plan
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.machining.toolpath import contour_path, rotary_path
 
 from .conftest import ROOT, requires_ocp
 
@@ -43,7 +43,7 @@ from ezdxf import bbox  # noqa: E402
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 
-#: the comparison each check's value must satisfy against its limit (generators.design_checks:
+#: the comparison each check's value must satisfy against its limit (cam_workbench.generators.checks.design:
 #: pressure angle and stress are upper bounds; separation F > min_force and the undercut
 #: ρ − r_f > 0 are strict; oscillation, curvature and convexity pass at the limit)
 EXPECTED_SIGN = {"pressure_angle": "≤", "contact_stress": "≤", "separation": ">", "undercut": ">",
@@ -365,7 +365,7 @@ def test_bspline_outputs_claim_no_exactness(bspline):
 def test_ph_claims_are_exact_where_true(default_design):
     """PH pitch: a roller's profile is the exact rational offset (degree 9), a knife edge's the
     PH pitch curve itself (polynomial degree 5) — said so in the DXF."""
-    from generators.claims import profile_claim
+    from cam_workbench.generators.checks.claims import profile_claim
 
     s = default_design.summary()
     c = profile_claim(s, True)

@@ -18,12 +18,12 @@ pytest.importorskip("distributed")
 
 from cam_workbench.parallel import dask_executor  # noqa: E402
 from cam_workbench.studies import batch  # noqa: E402
-from generators import load_spec, to_toml  # noqa: E402
-from generators.examples import example_spec  # noqa: E402
-from generators.optimise import optimise  # noqa: E402
-from generators.studies.grid import Grid, parse_vary  # noqa: E402
-from generators.studies.sizing import SizingSettings  # noqa: E402
-from generators.studies.sweep import run_sweep  # noqa: E402
+from cam_workbench.generators import load_spec, to_toml  # noqa: E402
+from cam_workbench.generators.spec.examples import example_spec  # noqa: E402
+from cam_workbench.generators.optimise import optimise  # noqa: E402
+from cam_workbench.generators.studies.grid import Grid, parse_vary  # noqa: E402
+from cam_workbench.generators.studies.sizing import SizingSettings  # noqa: E402
+from cam_workbench.generators.studies.sweep import run_sweep  # noqa: E402
 
 from .conftest import ROOT, SAFETY_S  # noqa: E402
 from .dask_cluster import loopback_cluster  # noqa: E402
@@ -205,8 +205,8 @@ def test_worker_memory_is_reported(local):
 @pytest.fixture(scope="module")
 def batch_sources(tmp_path_factory):
     folder = tmp_path_factory.mktemp("specs")
-    from generators.examples import example_dict
-    from generators.spec import dict_to_toml
+    from cam_workbench.generators.spec.examples import example_dict
+    from cam_workbench.generators.spec import dict_to_toml
 
     for name in ("default", "flat", "paper"):
         (folder / f"{name}.toml").write_text(dict_to_toml(example_dict(name)))

@@ -6,12 +6,12 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import root
 
-from generators import bezier
-from generators.errors import SolveError
-from generators.follower import FollowerGeometry
-from generators.motion import MotionProgram
-from generators.ph_spline import residual, solve_closed_ph_spline, starting_approximation
-from generators.spec import default_spec
+from cam_workbench.generators.curves import bezier
+from cam_workbench.generators.errors import SolveError
+from cam_workbench.generators.followers.translating import FollowerGeometry
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.curves.ph_spline import residual, solve_closed_ph_spline, starting_approximation
+from cam_workbench.generators.spec import default_spec
 
 from .conftest import paper_case
 

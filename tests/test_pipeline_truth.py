@@ -10,9 +10,9 @@ import sys
 import numpy as np
 import pytest
 
-from generators.errors import GeometryError
-from generators.examples import example_spec
-from generators.spec import CamSpec, default_spec
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.spec.examples import example_spec
+from cam_workbench.generators.spec import CamSpec, default_spec
 
 from .conftest import ROOT, requires_ocp
 
@@ -26,7 +26,7 @@ def cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
 
 def _true_pitch(spec: CamSpec, theta: np.ndarray) -> np.ndarray:
     """P(θ) = Rot(∓θ)·(e, s₀ + s(θ)) from CAM_SPEC.md, written out here (s from the program)."""
-    from generators.motion import MotionProgram
+    from cam_workbench.generators.motion import MotionProgram
 
     s = MotionProgram.from_spec(spec).s(theta)
     e = spec.follower.offset
@@ -54,8 +54,8 @@ def test_bspline_interpolator_matches_independent_contact(kind, direction):
     """The interpolator's commands on a B-spline pitch curve give the displacement the curve
     itself gives (the class's own scalar Newton on C(u), a different solver), and stay within
     the pitch curve's max deviation of the motion."""
-    from generators.cam_design import design_cam
-    from generators.interpolator import interpolate
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.machining.interpolator import interpolate
 
     spec = default_spec().replace(**{"pitch.representation": "bspline", "follower.kind": kind,
                                      "cam.direction": direction})
@@ -71,9 +71,9 @@ def test_bspline_fitted_tool_centre_error_is_measured(tool_radius):
     """A B-spline pitch curve's tool-centre path is a fitted B-spline: its reported error equals
     the distance of its points from the exact offset, computed here by brute force on the
     true pitch curve's offset (within the fit error of the pitch curve itself)."""
-    from generators.cam_design import design_cam
-    from generators.machining import machining_plan
-    from generators.toolpath import tool_centre_curve, tool_centre_fit_error
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.machining import machining_plan
+    from cam_workbench.generators.machining.toolpath import tool_centre_curve, tool_centre_fit_error
 
     spec = default_spec().replace(**{"pitch.representation": "bspline", "machining.tool_radius": tool_radius})
     d = design_cam(spec)
@@ -95,7 +95,7 @@ def test_bspline_fitted_tool_centre_error_is_measured(tool_radius):
 def test_seam_profile_error_without_dwell_at_zero():
     """e = 0, rise 180° / return 180° (no dwell at 0°): the profile error is measured at the seam
     too (it read as the whole lift when θ = −1e-17 wrapped to 2π)."""
-    from generators.cam_design import design_cam
+    from cam_workbench.generators.cam_design import design_cam
 
     d = design_cam(CamSpec.from_dict({
         "cam": {"base_radius": 40.0, "thickness": 10.0}, "follower": {"kind": "roller", "roller_radius": 5.0},
@@ -160,7 +160,7 @@ def test_build_report_check_platecam_agree(tmp_path, rep):
 
 # ---- the default cam passes; the paper's is one option away ---------------------------------
 def test_default_cam_passes_and_paper_fails_pressure_angle():
-    from generators.design_checks import run_checks
+    from cam_workbench.generators.checks.design import run_checks
 
     d = run_checks(default_spec())
     assert d.passed, d.failed
@@ -174,7 +174,7 @@ def test_default_cam_passes_and_paper_fails_pressure_angle():
 def test_example_option_and_spec_example(tmp_path):
     r = cli("spec", "--example", "paper")
     assert r.returncode == 0
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
 
     (tmp_path / "paper.toml").write_text(r.stdout)
     assert load_spec(tmp_path / "paper.toml") == example_spec("paper")
@@ -187,10 +187,10 @@ def test_example_option_and_spec_example(tmp_path):
 @requires_ocp
 def test_optimise_writes_the_optimised_cams_own_files(tmp_path):
     """optimise's folder holds the optimised cam's set: its cam.step is optimised.toml's cam."""
-    from exporters.step import read_step
+    from cam_workbench.exporters.step import read_step
     from cam_workbench import occ_build
-    from generators.cam_design import design_cam
-    from generators.spec import load_spec
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.spec import load_spec
 
     r = cli("optimise", "--example", "paper", "--max-evaluations", "10", "-o", str(tmp_path / "o"))
     assert r.returncode in (0, 3), r.stderr

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.interpolate import BSpline
 
-from generators import default_spec, design_cam, load_spec
-from generators.pitch_bspline import (PeriodicBSpline, bezier_form, distance_to_true_profile,
+from cam_workbench.generators import default_spec, design_cam, load_spec
+from cam_workbench.generators.pitch.bspline import (PeriodicBSpline, bezier_form, distance_to_true_profile,
                                       least_squares_periodic, offset_points)
 
 from .conftest import ROOT, requires_ocp
@@ -137,7 +137,7 @@ def test_profile_errors_against_an_independent_polyline(designs):
 @pytest.mark.parametrize("name", ["default", "cw_negative_offset", "knife", "example5"])
 def test_kernel_solids_are_valid_with_exact_offset_curves(designs, name, tmp_path):
     from cam_workbench import occ_build
-    from exporters.step import export_step, has_offset_curves, read_step
+    from cam_workbench.exporters.step import export_step, has_offset_curves, read_step
 
     d = designs[name]
     exact = occ_build.cam_solid(d)
@@ -191,7 +191,7 @@ def test_occt_step_writer_drops_offset_curves(tmp_path, bore):
     back as a "valid" shell of negative volume."""
     from cam_workbench import occ_build
     from cam_workbench import ocp_compat as occ
-    from exporters.step import read_step
+    from cam_workbench.exporters.step import read_step
 
     d = design_cam(default_spec().replace(**{"pitch.representation": "bspline", "cam.bore_diameter": bore}))
     writer = occ.STEPControl_Writer()

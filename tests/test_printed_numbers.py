@@ -35,8 +35,8 @@ from typing import Any, Callable
 
 import pytest
 
-from generators import __version__
-from generators.spec.examples import EXAMPLES, example_spec
+from cam_workbench.generators import __version__
+from cam_workbench.generators.spec.examples import EXAMPLES, example_spec
 
 from .conftest import ROOT, requires_ocp
 
@@ -681,12 +681,12 @@ def test_check_table(builds, name, tmp_path):
 @pytest.fixture(scope="module")
 def no_limit(tmp_path_factory):
     """The default cam without material.allowable_stress: its contact stress has no limit."""
-    from generators.spec import to_toml
+    from cam_workbench.generators.spec import to_toml
 
     d = tmp_path_factory.mktemp("nolimit")
     data = example_spec("default").to_dict()
     data["material"].pop("allowable_stress")
-    from generators.spec import CamSpec
+    from cam_workbench.generators.spec import CamSpec
 
     path = d / "cam.toml"
     path.write_text(to_toml(CamSpec.from_dict(data)), encoding="utf-8")
@@ -987,8 +987,8 @@ def test_repr_names_body_follower_and_numbers(name):
 # ---- the examples, listed everywhere ------------------------------------------------------------------
 def test_every_example_is_listed_where_examples_are_named():
     from cam_workbench import PlateCam
-    from generators.spec.examples import DESCRIPTIONS
-    from generators.spec.reference import render
+    from cam_workbench.generators.spec.examples import DESCRIPTIONS
+    from cam_workbench.generators.spec.reference import render
 
     help_text = " ".join(cli("build", "--help").stdout.split())
     docs = {p: (ROOT / "docs" / p).read_text(encoding="utf-8") for p in ("cli.md", "python.md")}

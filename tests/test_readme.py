@@ -22,7 +22,7 @@ section (:data:`SECTION_READER`).  Each reader has
   valid solids, the figures the comments quote;
 * a ``python`` block preceded by ``<!-- freecad -->`` runs in ``freecadcmd`` for the HOME where
   the README's ``cam-workbench freecad install`` put the workbench;
-* ``toml`` blocks are loaded by :func:`generators.spec.load_spec`.
+* ``toml`` blocks are loaded by :func:`cam_workbench.generators.spec.load_spec`.
 
 A block in any other language fails :func:`test_every_block_has_a_runner`, so nothing goes
 untested.  ``make test`` cannot run inside the suite, so the README names it only in prose.
@@ -41,7 +41,7 @@ from pathlib import Path
 
 import pytest
 
-from generators.spec import load_spec
+from cam_workbench.generators.spec import load_spec
 
 from .conftest import ROOT, SAFETY_S
 from .freecad_support import FREECADCMD, run_freecadcmd

@@ -1,6 +1,6 @@
 """Refusals name the field a user changes and never round a violated rule into an identity:
 the number compared with a limit is printed with the digits that differ from it
-(:func:`generators.errors.fmt_apart`), for every declared bound and the cross-field rules; the
+(:func:`cam_workbench.generators.errors.fmt_apart`), for every declared bound and the cross-field rules; the
 continuity note names what promised the order it misses; and no numpy warning reaches a user of
 the command line (the edge specs below, each command's stderr)."""
 from __future__ import annotations
@@ -15,11 +15,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from generators.errors import SpecError, fmt_apart
-from generators.examples import example_dict
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, dict_to_toml
-from generators.spec.model import SECTIONS
-from generators.spec.params import params_of
+from cam_workbench.generators.errors import SpecError, fmt_apart
+from cam_workbench.generators.spec.examples import example_dict
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec, dict_to_toml
+from cam_workbench.generators.spec.model import SECTIONS
+from cam_workbench.generators.spec.params import params_of
 
 from .combinations.invariants import REFUSAL
 from .combinations.test_cli_combinations import assert_clean
@@ -169,8 +169,8 @@ def test_docs_quote_the_bound_message():
 def test_continuity_note_names_a_dwells_promise():
     """A junction short of a dwell's promise (C3: no limit of its own) names the dwell — the
     note once read "… C1, but  promise C3" with nothing before "promise"."""
-    from generators.checks.design import junction_text
-    from generators.motion.program import MotionProgram
+    from cam_workbench.generators.checks.design import junction_text
+    from cam_workbench.generators.motion.program import MotionProgram
 
     d = copy.deepcopy(DEFAULT_SPEC_DICT)
     d["motion"][0:1] = [{"kind": "dwell", "angle": 10.0}, {"kind": "dwell", "angle": 20.0}]
@@ -237,9 +237,9 @@ def test_refusal_of_an_oscillating_flat_face_keeps_its_message():
     read the optional arm_length), and then a neighbouring spec's SolveError in place of the
     user's own refusal; now the refusal is the cusp with its cam angle, and the remedy search
     counts a neighbour that cannot be solved as one that does not pass."""
-    from generators.cam_design import design_cam
-    from generators.errors import GeometryError
-    from generators.studies.remedies import with_remedy
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.errors import GeometryError
+    from cam_workbench.generators.studies.remedies import with_remedy
 
     d = {"units": "mm", "cam": {"base_radius": 4.5, "thickness": 3.0},
          "follower": {"kind": "flat", "motion": "oscillating", "pivot_distance": 5.85, "face_offset": 0.0},

@@ -13,11 +13,11 @@ import shlex
 import numpy as np
 import pytest
 
-from generators.checks.design import run_checks
-from generators.errors import GeometryError
-from generators.spec.examples import example_dict, example_spec
-from generators.studies.remedies import add_remedies, remedy_line, with_remedy
-from generators.studies.sizing import smallest_base_radius
+from cam_workbench.generators.checks.design import run_checks
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.spec.examples import example_dict, example_spec
+from cam_workbench.generators.studies.remedies import add_remedies, remedy_line, with_remedy
+from cam_workbench.generators.studies.sizing import smallest_base_radius
 
 from .conftest import requires_ocp
 from .test_cli import run
@@ -152,7 +152,7 @@ def test_groove_rim_wall_remedy_is_the_closed_form_disc_diameter(tmp_path):
              "-o", str(tmp_path / "ok"))
     assert ok.returncode == 0, ok.stdout + ok.stderr
     with pytest.raises(GeometryError) as refused:                  # the library's own message, with it
-        from generators.cam_design import design_cam
+        from cam_workbench.generators.cam_design import design_cam
 
         design_cam(spec)
     assert refused.value.checks == ("rim_wall",)
@@ -163,8 +163,8 @@ def test_cylindrical_cam_gets_its_cylinder_radius(tmp_path):
     """tan φ = s′/R_p (translating roller along the axis): the smallest R_p is max|s′|/tan 30°."""
     changes = {"cam.cylinder_radius": 20.0}
     spec = example_spec("cylindrical").replace(**changes)
-    from generators.bodies.cylindrical import cylinder_checks
-    from generators.motion.program import MotionProgram
+    from cam_workbench.generators.bodies.cylindrical import cylinder_checks
+    from cam_workbench.generators.motion.program import MotionProgram
 
     checks = add_remedies(cylinder_checks(spec), spec)
     assert checks["failed"] == ["pressure_angle"]
@@ -197,7 +197,7 @@ def test_conjugate_second_cam_gets_the_roller_distance(tmp_path):
 def test_no_single_field_is_said_in_words():
     """Separation needs the follower's load (Example 5's final design: −1.162 lbf), not a size."""
     from .test_cli_check import EX5
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
 
     spec = load_spec(EX5)
     checks = add_remedies(run_checks(spec).to_dict(), spec)
@@ -216,7 +216,7 @@ def test_a_passing_cam_has_no_remedy():
 def test_the_face_width_a_flat_face_needs():
     d = example_dict("flat")
     d["follower"]["face_width"] = 10.0
-    from generators.spec import CamSpec
+    from cam_workbench.generators.spec import CamSpec
 
     spec = CamSpec.from_dict(d)
     checks = add_remedies(run_checks(spec).to_dict(), spec)

@@ -76,7 +76,7 @@ def test_solid_dimensions(cam):
 
 def test_step_roundtrip_same_volume(cam, tmp_path):
     from cam_workbench import occ_build
-    from exporters.step import read_step
+    from cam_workbench.exporters.step import read_step
 
     path = cam.export_step(tmp_path / "cam.step")
     units = cam.spec.units

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from generators.errors import SpecError
-from generators.examples import PAPER_SPEC_DICT, example_spec
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, default_spec, load_spec, to_toml
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT, example_spec
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec, default_spec, load_spec, to_toml
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -151,7 +151,7 @@ def test_bad_toml_and_missing_file(tmp_path):
 
 
 def test_spec_reference_document_is_current():
-    from generators.spec.reference import render
+    from cam_workbench.generators.spec.reference import render
 
     doc = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")
     assert doc == render(), "docs/spec.md is stale: run `make docs`"

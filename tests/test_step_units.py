@@ -18,7 +18,7 @@ CLI = [sys.executable, "-m", "cam_workbench.cli"]
 #: reads a STEP file in mm in a new interpreter: (bounding-box z extent, volume)
 READ_MM = """
 import json, sys
-from exporters.step import read_step
+from cam_workbench.exporters.step import read_step
 from cam_workbench import occ_build, ocp_compat as occ
 shape = read_step(sys.argv[1], "mm")
 box = occ.Bnd_Box(); occ.add_to_box(shape, box)
@@ -37,8 +37,8 @@ def _fresh(code: str, *args: str) -> dict:
 @requires_ocp
 @pytest.mark.parametrize("units", ["in", "mm"])
 def test_step_unit_in_a_fresh_process(tmp_path, units):
-    from generators.cam_design import design_cam
-    from generators.spec import load_spec
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.spec import load_spec
 
     spec = load_spec(EX5)
     if units == "mm":
@@ -46,7 +46,7 @@ def test_step_unit_in_a_fresh_process(tmp_path, units):
                                "follower.roller_radius": 0.5 * 25.4, "cam.bore_diameter": 1.0 * 25.4,
                                **{f"motion[{i}].lift": m.lift * 25.4 for i, m in enumerate(spec.motion)
                                   if m.lift is not None}})
-    (tmp_path / "cam.toml").write_text(__import__("generators.spec", fromlist=["to_toml"]).to_toml(spec))
+    (tmp_path / "cam.toml").write_text(__import__("cam_workbench.generators.spec", fromlist=["to_toml"]).to_toml(spec))
     # `build` in its own process: the first STEP that process writes
     res = subprocess.run([*CLI, "build", str(tmp_path / "cam.toml"), "-o", str(tmp_path / "o")],
                          capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
@@ -67,8 +67,8 @@ def test_step_unit_in_a_fresh_process(tmp_path, units):
 @pytest.mark.skipif(shutil.which("freecadcmd") is None, reason="FreeCAD (freecadcmd) is not installed")
 def test_freecad_reads_an_inch_step_at_its_size(tmp_path):
     """FreeCAD 0.20's STEP importer reads the CLI's inch file in mm at 25.4× the inch numbers."""
-    from generators.cam_design import design_cam
-    from generators.spec import load_spec
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.spec import load_spec
 
     res = subprocess.run([*CLI, "build", str(EX5), "-o", str(tmp_path / "o")], capture_output=True, text=True,
                          cwd=ROOT, stdin=subprocess.DEVNULL)

@@ -14,13 +14,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from generators.errors import SpecError
-from generators.examples import example_spec
-from generators.spec import CamSpec
-from generators.studies.executor import NOT_RUN, SerialExecutor, chunks
-from generators.studies.grid import Grid, apply_changes, parse_vary
-from generators.studies.sizing import SizingSettings, smallest_base_radius
-from generators.studies.sweep import run_sweep
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec.examples import example_spec
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.studies.executor import NOT_RUN, SerialExecutor, chunks
+from cam_workbench.generators.studies.grid import Grid, apply_changes, parse_vary
+from cam_workbench.generators.studies.sizing import SizingSettings, smallest_base_radius
+from cam_workbench.generators.studies.sweep import run_sweep
 
 # ---- the motion laws, written out (rise of h over β, θ from the rise's start) -------------------
 
@@ -299,7 +299,7 @@ def test_sizing_refuses_the_sized_field_on_an_axis():
 # ---- files ------------------------------------------------------------------------------------
 def test_csv_and_parquet_hold_the_same_table(tmp_path):
     pq = pytest.importorskip("pyarrow.parquet")
-    from exporters.study_table import csv_text, parquet_bytes
+    from cam_workbench.exporters.study_table import csv_text, parquet_bytes
 
     grid = Grid((parse_vary("motion[1].lift=10,20"), parse_vary("motion[1].law=harmonic,poly345")))
     table = run_sweep(example_spec("default"), grid)       # the lift of 10 cannot close: bad rows
@@ -331,7 +331,7 @@ def test_csv_and_parquet_hold_the_same_table(tmp_path):
 
 
 def test_sizing_chart_draws_one_panel_per_law():
-    from exporters.study_plots import chart_layout, sizing_chart
+    from cam_workbench.exporters.study_plots import chart_layout, sizing_chart
 
     spec = example_spec("default")
     grid = Grid((parse_vary("motion[1].angle,motion[3].angle=80:120:3"),

@@ -7,9 +7,9 @@ import sys
 import numpy as np
 import pytest
 
-from generators import design_cam, load_spec
-from generators.cam_area import area_summary, pitch_area, profile_area, thesis_area
-from generators.design_checks import StateModel, check_samples, hertz_stress, run_checks
+from cam_workbench.generators import design_cam, load_spec
+from cam_workbench.generators.checks.areas import area_summary, pitch_area, profile_area, thesis_area
+from cam_workbench.generators.checks.design import StateModel, check_samples, hertz_stress, run_checks
 
 from .conftest import ROOT
 

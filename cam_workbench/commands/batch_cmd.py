@@ -41,7 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from generators.errors import SpecError
+    from cam_workbench.generators.errors import SpecError
 
     from ..studies import batch, collect_specs
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from generators.checks.areas import area_label
-from generators.studies.remedies import remedy_lines
+from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.studies.remedies import remedy_lines
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,

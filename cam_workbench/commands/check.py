@@ -7,14 +7,14 @@ import json
 from pathlib import Path
 from typing import Any
 
-from exporters.atomic import OutputSet
-from exporters.report_json import report_json_text
-from generators.checks.areas import area_label, area_summary
-from generators.checks.design import format_value, limit_sign, run_checks
-from generators.errors import GeometryError
-from generators.studies.remedies import add_remedies, remedy_lines, with_remedy
-from generators.motion import MotionProgram
-from generators.spec import CamSpec, spec_digest
+from cam_workbench.exporters.atomic import OutputSet
+from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.generators.checks.areas import area_label, area_summary
+from cam_workbench.generators.checks.design import format_value, limit_sign, run_checks
+from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines, with_remedy
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
 from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, own_design,
@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         error = None
     except GeometryError as exc:
         if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
-            from generators.bodies.cylindrical import cylinder_checks
+            from cam_workbench.generators.bodies.cylindrical import cylinder_checks
 
             checks_dict = cylinder_checks(spec)
             areas = None
@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
     out = None if args.output is None else Path(args.output)
     report = summary if out is None else merged_report(out / "report.json", spec, summary)
     if out is not None:
-        # a set of the same spec keeps its other files (its numbers are these): exporters.output_rule
+        # a set of the same spec keeps its other files (its numbers are these): cam_workbench.exporters.output_rule
         with OutputSet(out, output_claim(args, spec, "check")) as o:
             o.add_text("report.json", report_json_text(report))
     checks = report["checks"]

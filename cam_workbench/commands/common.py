@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING, Any, Callable
 
-from generators.errors import SpecError
-from generators.spec.examples import DESCRIPTIONS, example_spec
-from generators.spec import CamSpec, load_spec
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec.examples import DESCRIPTIONS, example_spec
+from cam_workbench.generators.spec import CamSpec, load_spec
 
 if TYPE_CHECKING:
-    from exporters.output_rule import Claim
-    from generators.cam_design import CamDesign
+    from cam_workbench.exporters.output_rule import Claim
+    from cam_workbench.generators.cam_design import CamDesign
 
 
 def add_spec_arguments(p: argparse.ArgumentParser) -> None:
@@ -46,7 +46,7 @@ def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: 
 
 def source_of(args: argparse.Namespace) -> str:
     """The cam the run is for: ``--source``, SPEC's resolved path, or ``example:NAME``."""
-    from exporters.output_rule import file_source
+    from cam_workbench.exporters.output_rule import file_source
 
     if args.source:
         return str(args.source)
@@ -55,7 +55,7 @@ def source_of(args: argparse.Namespace) -> str:
 
 def output_claim(args: argparse.Namespace, spec: CamSpec, command: str) -> "Claim":
     """The claim of ``command`` writing the files of ``spec``'s cam into ``-o``."""
-    from exporters.output_rule import spec_claim
+    from cam_workbench.exporters.output_rule import spec_claim
 
     return spec_claim(spec, command, source_of(args), replace=args.replace)
 
@@ -64,7 +64,7 @@ def admit_output(args: argparse.Namespace, spec: CamSpec, command: str, names: t
     """Before any work: refuse ``-o`` where ``command`` may not write the files ``names`` (None:
     not known yet — then only what no run could write into; the full rule is applied again when
     the files are written) — exit 2, nothing written."""
-    from exporters.output_rule import admit
+    from cam_workbench.exporters.output_rule import admit
 
     admit(args.output, output_claim(args, spec, command), names)
 
@@ -108,7 +108,7 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
 
 def own_design(spec: CamSpec) -> bool:
     """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
-    from generators.bodies import body_of
+    from cam_workbench.generators.bodies import body_of
 
     return getattr(body_of(spec), "design", None) is not None
 
@@ -124,10 +124,10 @@ def require_ocp(command: str) -> None:
 def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
     """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M; a cam that
     cannot be made is refused with the change that would make it (``remedy``:
-    :func:`generators.studies.remedies.with_remedy`)."""
-    from generators.cam_design import design_cam
-    from generators.errors import GeometryError
-    from generators.studies.remedies import with_remedy
+    :func:`cam_workbench.generators.studies.remedies.with_remedy`)."""
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.errors import GeometryError
+    from cam_workbench.generators.studies.remedies import with_remedy
 
     try:
         if spec.pitch.tolerance is None:

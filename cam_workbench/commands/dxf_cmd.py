@@ -4,10 +4,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from exporters.atomic import OutputSet, atomic_path
-from exporters.output_rule import check_output_file
-from generators.spec.params import params_of
-from generators.spec import DrawingSection, spec_digest
+from cam_workbench.exporters.atomic import OutputSet, atomic_path
+from cam_workbench.exporters.output_rule import check_output_file
+from cam_workbench.generators.spec.params import params_of
+from cam_workbench.generators.spec import DrawingSection, spec_digest
 
 from ..pipeline import run_pipeline
 from .common import add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, spec_from_args
@@ -70,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
     if named_file:
         with atomic_path(target) as tmp:          # a file the user named
             doc.saveas(str(tmp))
-    else:                                         # an output folder: exporters.output_rule
+    else:                                         # an output folder: cam_workbench.exporters.output_rule
         with OutputSet(target.parent, output_claim(args, spec, "dxf")) as o:
             o.add(target.name, lambda p: doc.saveas(str(p)))
     print(f"drawing written to {target}")

@@ -10,12 +10,12 @@ import json
 from pathlib import Path
 from typing import Any
 
-from exporters.atomic import OutputSet
-from exporters.report_json import report_json_text
-from generators.dynamics import analyse_dynamics, validate_dynamics
-from generators.followers import follower_of
-from generators.motion.program import MotionProgram
-from generators.spec import CamSpec, spec_digest
+from cam_workbench.exporters.atomic import OutputSet
+from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.generators.dynamics import analyse_dynamics, validate_dynamics
+from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.motion.program import MotionProgram
+from cam_workbench.generators.spec import CamSpec, spec_digest
 
 from .common import add_output_arguments, add_spec_arguments, admit_output, on_terminal, output_claim, spec_from_args
 
@@ -114,7 +114,7 @@ def merged_report(path: Path, spec: CamSpec, section: dict[str, Any]) -> dict[st
 def train_follower(spec: CamSpec) -> Any:
     """The follower the dynamics drive: the body's own (a cylindrical cam's roller along its axis)
     or the spec's."""
-    from generators.bodies import body_of
+    from cam_workbench.generators.bodies import body_of
 
     own = getattr(body_of(spec), "own_follower", None)
     return own(spec) if own is not None else follower_of(spec)
@@ -126,7 +126,7 @@ def series_csv(result: Any) -> str:
 
     s = result.series()
     lu = "deg" if result.lift_unit == "angle" else result.units
-    from generators.spec.params import unit_name
+    from cam_workbench.generators.spec.params import unit_name
 
     fu, tu = unit_name("force", result.units), unit_name("torque", result.units)
     head = [("theta [deg]", "theta_deg"), (f"s [{lu}]", "lift"), (f"q [{lu}]", "position"),
@@ -140,7 +140,7 @@ def series_csv(result: Any) -> str:
 
 
 def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
-    from exporters import plots
+    from cam_workbench.exporters import plots
 
     out = {}
     makers = [(PLOTS[0], lambda: plots.dynamics_figure(result, section))]
@@ -161,7 +161,7 @@ def print_tables(d: dict[str, Any], out: Path | None) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from exporters.report_html import format_number as fmt
+    from cam_workbench.exporters.report_html import format_number as fmt
 
     con = Console(soft_wrap=True)
     c, m, e, tq = d["contact"], d["model"], d["error"], d["torque"]

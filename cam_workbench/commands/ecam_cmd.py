@@ -9,9 +9,9 @@ import json
 import sys
 from pathlib import Path
 
-from exporters.ecam import ecam_table
-from exporters.output_rule import check_output_file
-from generators.spec import ECAM_TABLES, spec_digest
+from cam_workbench.exporters.ecam import ecam_table
+from cam_workbench.exporters.output_rule import check_output_file
+from cam_workbench.generators.spec import ECAM_TABLES, spec_digest
 
 from .common import add_spec_arguments, spec_from_args
 

@@ -6,9 +6,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from exporters.atomic import write_text_atomic
-from exporters.output_rule import check_output_file
-from generators.spec import spec_digest
+from cam_workbench.exporters.atomic import write_text_atomic
+from cam_workbench.exporters.output_rule import check_output_file
+from cam_workbench.generators.spec import spec_digest
 
 from ..pipeline import run_pipeline
 from .common import add_spec_arguments, design_for, spec_from_args
@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.cam == "second":
         text = outputs.machining.second_gcode
         if text is None:
-            from generators.errors import SpecError
+            from cam_workbench.generators.errors import SpecError
 
             raise SpecError("cam.body", f'--cam second needs a conjugate pair (cam.body = "conjugate"), got '
                             f'"{spec.cam.body}"')

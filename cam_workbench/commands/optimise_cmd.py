@@ -9,9 +9,9 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from generators.checks.areas import area_label
-from generators.optimise import Progress, optimise
-from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
+from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.optimise import Progress, optimise
+from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,

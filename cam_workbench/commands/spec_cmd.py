@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import argparse
 
-from generators.spec.examples import EXAMPLES, example_spec
-from generators.spec import default_spec, to_toml
-from generators.spec.reference import render
+from cam_workbench.generators.spec.examples import EXAMPLES, example_spec
+from cam_workbench.generators.spec import default_spec, to_toml
+from cam_workbench.generators.spec.reference import render
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -58,8 +58,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from exporters.output_rule import admit
-    from generators.studies.grid import Grid
+    from cam_workbench.exporters.output_rule import admit
+    from cam_workbench.generators.studies.grid import Grid
 
     from ..studies import make_grid, sweep, sweep_claim, write_study
     from .common import require_ocp
@@ -91,7 +91,7 @@ def _print(table: Any, out: Path, files: dict[str, str]) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from generators.studies.sizing import digits_of
+    from cam_workbench.generators.studies.sizing import digits_of
 
     from ..studies import grid_columns
 

@@ -3,7 +3,7 @@
 Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, so FreeCAD's
 own Python runs them):
 
-- the **design checks** of ``generators.checks.design.run_checks`` (thesis Ch. 3: pressure
+- the **design checks** of ``cam_workbench.generators.checks.design.run_checks`` (thesis Ch. 3: pressure
   angle, separation, oscillation, Hertz contact stress; for knife edges and rollers curvature
   with the undercut factor and the roller envelope, for flat faces the cusp and the face width),
   with the limits and sampling of the feature's ``[checks]``, ``[material]`` and follower load
@@ -12,7 +12,7 @@ own Python runs them):
 - the **extremes** (the thesis' "Maximum Values": force, pressure angle, stress, reduced
   velocity, acceleration and jerk, signed, with their cam angles);
 - the **follower dynamics** when the feature's ``DynamicsEnabled`` (spec ``dynamics.enabled``) is on:
-  the rows of report.json's ``dynamics`` section (``generators.dynamics.analyse_dynamics(...).summary()``,
+  the rows of report.json's ``dynamics`` section (``cam_workbench.generators.dynamics.analyse_dynamics(...).summary()``,
   the function ``cam-workbench dynamics`` and ``build`` call) — whether the follower stays on the cam,
   the jump speed, the contact forces, the displacement error, the camshaft torque and the residual
   vibration; bad ``[dynamics]`` input shows the library's message naming the field;
@@ -22,7 +22,7 @@ own Python runs them):
   oscillating follower) — and FreeCAD's own verdict on the solid.
 
 A failing check (or a cam that cannot be made) also shows what makes it pass: the remedies of
-report.json's ``checks.results[name].remedy`` (``generators.studies.remedies``), the field named as
+report.json's ``checks.results[name].remedy`` (``cam_workbench.generators.studies.remedies``), the field named as
 its property.
 
 The follower is named by its own label (``Follower.describe()``, report.json's ``follower``
@@ -37,18 +37,18 @@ from typing import Any
 
 import numpy as np
 
-from generators.checks.claims import profile_claim
-from generators.checks.design import format_value as fmt_value
-from generators.checks.design import limit_sign
-from generators.studies.remedies import add_remedies, refusal_remedies
-from generators.errors import CamError, GeometryError, SpecError
+from cam_workbench.generators.checks.claims import profile_claim
+from cam_workbench.generators.checks.design import format_value as fmt_value
+from cam_workbench.generators.checks.design import limit_sign
+from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
+from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
 
 
 @dataclass(frozen=True)
 class CheckRow:
-    """One design check (``generators.checks.design.CheckResult``) as the table shows it."""
+    """One design check (``cam_workbench.generators.checks.design.CheckResult``) as the table shows it."""
 
     name: str
     description: str
@@ -222,8 +222,8 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
         if spec is None:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
-    from generators.bodies import body_of
-    from generators.followers import follower_of
+    from cam_workbench.generators.bodies import body_of
+    from cam_workbench.generators.followers import follower_of
 
     if getattr(body_of(spec), "design", None) is not None:     # not a plane cam: a cylindrical cam
         return _own_body_report(obj, spec, dynamics_error)
@@ -245,7 +245,7 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     """Check design of a body that designs itself (a cylindrical cam): its design checks are the
     ``checks`` section of its report.json (``design.checks_report``: pressure angle at the pitch and
     bottom radii, undercut of the developed centre line), its rows the body's numbers."""
-    from generators.cam_design import design_cam
+    from cam_workbench.generators.cam_design import design_cam
 
     report = DesignReport(True, units=spec.units)
     if dynamics_error is not None:
@@ -319,7 +319,7 @@ def cylindrical_rows(s: dict[str, Any]) -> list[tuple[str, str, str, str]]:
 def _spec_without_dynamics(obj: Any) -> Any:
     """The feature's spec without its ``[dynamics]`` (which break a rule), or None when the rest
     breaks one too."""
-    from generators.spec import CamSpec
+    from cam_workbench.generators.spec import CamSpec
 
     data = props.spec_dict(obj)
     data.pop("dynamics", None)
@@ -400,7 +400,7 @@ def steady_state_text(d: dict[str, Any]) -> str:
 
 
 def _add_dynamics(report: DesignReport, spec: Any, progress: Any) -> None:
-    from generators.dynamics import analyse_dynamics
+    from cam_workbench.generators.dynamics import analyse_dynamics
 
     try:
         # the function `cam-workbench dynamics` and `build` call: its summary() is report.json's section
@@ -452,7 +452,7 @@ def checks_table(checks: Any) -> list[list[str]]:
 
 
 def _add_checks(report: DesignReport, spec: Any) -> None:
-    from generators.checks.design import run_checks
+    from cam_workbench.generators.checks.design import run_checks
 
     try:
         checks = add_remedies(run_checks(spec).to_dict(), spec)  # the dict report.json's checks section is
@@ -468,7 +468,7 @@ def _add_checks(report: DesignReport, spec: Any) -> None:
 
 
 def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
-    from generators.cam_design import design_cam
+    from cam_workbench.generators.cam_design import design_cam
 
     try:
         design = design_cam(spec)

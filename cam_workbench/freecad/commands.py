@@ -105,9 +105,9 @@ class NewPlateCamFromSpec(Command):
                                                      "Cam spec (*.toml)")
         if not name:
             return
-        from generators.errors import SpecError
+        from cam_workbench.generators.errors import SpecError
 
-        from generators.spec import load_spec
+        from cam_workbench.generators.spec import load_spec
 
         try:
             load_spec(name)
@@ -206,7 +206,7 @@ class ExportSpec(Command):
             return
         from PySide import QtGui
 
-        from generators.errors import SpecError
+        from cam_workbench.generators.errors import SpecError
 
         from .properties import describe_field
         from .spec_io import export_spec

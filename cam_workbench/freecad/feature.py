@@ -1,7 +1,7 @@
 """The ``PlateCam`` feature (``Part::FeaturePython``), its reference geometry and :func:`create`.
 
 The feature holds the spec as properties (:mod:`.properties`); ``execute()`` turns them
-into a :class:`~generators.spec.CamSpec`, designs the cam with ``generators.design_cam``
+into a :class:`~cam_workbench.generators.spec.CamSpec`, designs the cam with ``cam_workbench.generators.design_cam``
 and builds the solid with FreeCAD's ``Part`` (:mod:`.part_build`).  A bad value is
 reported in the report view (the property, the spec field and the rule) and the last good
 shape is kept: never a traceback, never an empty shape where there was a cam.
@@ -22,7 +22,7 @@ import os
 import traceback
 from typing import Any, Callable, Mapping
 
-from generators.errors import CamError, GeometryError, SpecError
+from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 
 from . import properties as props
 from .stateless import Stateless
@@ -129,7 +129,7 @@ class PlateCamFeature(Stateless):
         obj.Version = VERSION
         data = spec.to_dict() if spec is not None else None
         if data is None:
-            from generators.spec import default_spec
+            from cam_workbench.generators.spec import default_spec
 
             data = default_spec().to_dict()
         props.ensure_properties(obj, data)
@@ -198,10 +198,10 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
         SpecError, GeometryError, SolveError: bad input or a cam that cannot be made — or a solid
             FreeCAD calls invalid, or whose volume or top face disagrees with the exact numbers
             beyond its integration's allowance, or that lacks its groove wall faces
-            (:func:`generators.checks.solid.check_kernel_solid`).
+            (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
     """
-    from generators.cam_design import design_cam
-    from generators.checks.solid import check_kernel_solid, surface_body
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
 
     from . import part_build
 
@@ -366,7 +366,7 @@ def is_plate_cam(obj: Any) -> bool:
 
 # ---- creation -------------------------------------------------------------------------------
 def _as_spec(spec: Any) -> Any:
-    from generators.spec import CamSpec, default_spec, load_spec
+    from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
 
     if spec is None:
         return default_spec()
@@ -400,7 +400,7 @@ def create(doc: Any = None, spec: Any = None, name: str = "PlateCam", reference:
     PlateCamFeature(obj, spec)
     refs = []
     if reference:
-        from generators.followers import follower_of
+        from cam_workbench.generators.followers import follower_of
 
         # a flat face's design curve is its contact curve (the profile), not a pitch curve
         curve = follower_of(spec).describe()["curve"]

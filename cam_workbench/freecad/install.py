@@ -2,9 +2,10 @@
 
 Runs in the CLI's Python (not inside FreeCAD).  The folder holds FreeCAD's two entry
 files (``Init.py``, ``InitGui.py``, copied from ``cam_workbench/freecad/mod``), a marker
-file, and symbolic links to the packages ``generators``, ``exporters`` and
-``cam_workbench`` of this checkout or installation.  FreeCAD puts every ``Mod/<name>``
-folder on ``sys.path``, so the links make exactly these three packages importable from
+file, and symbolic links to the package ``cam_workbench`` of this installation — or, from a
+checkout, to its folders ``cam_workbench``, ``generators`` and ``exporters`` (the source tree's
+layout of ``cam_workbench.generators`` and ``cam_workbench.exporters``).  FreeCAD puts every
+``Mod/<name>`` folder on ``sys.path``, so the links make exactly this package importable from
 FreeCAD's own Python (never the virtual environment's numpy, scipy or OCP).  Where links
 cannot be made (Windows without the privilege) the packages are copied instead; then
 ``install`` must be run again after an upgrade.
@@ -29,11 +30,12 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from generators.errors import CamError
+from cam_workbench.generators.errors import CamError
 
 MOD_NAME = "CamWorkbench"
 MARKER = ".cam-workbench-install.json"
-PACKAGES = ("generators", "exporters", "cam_workbench")
+#: the folders of a source tree (a checkout): the package and its two subpackages beside it
+SOURCE_FOLDERS = ("cam_workbench", "generators", "exporters")
 FREECAD_COMMANDS = ("freecadcmd", "FreeCADCmd", "freecad-daily-cmd", "FreeCADCmd-daily")
 _QUERY = ("import FreeCAD, sys; "
           "print('CAMWB_DATA=' + FreeCAD.getUserAppDataDir()); "
@@ -59,11 +61,19 @@ class FreeCADInfo:
         return self.user_data / "Mod"
 
 
+def package_folders(root: Path) -> tuple[str, ...]:
+    """The folders under ``root`` that make ``cam_workbench`` importable: the package alone
+    when it holds its subpackages (an installed wheel), else the three folders of a checkout."""
+    if (root / "cam_workbench" / "generators" / "__init__.py").is_file():
+        return ("cam_workbench",)
+    return SOURCE_FOLDERS
+
+
 def source_root() -> Path:
-    """The folder holding ``generators``, ``exporters`` and ``cam_workbench`` (the checkout
-    for an editable install, site-packages for a normal one)."""
+    """The folder holding ``cam_workbench`` (site-packages for an installed wheel; the checkout,
+    with ``generators`` and ``exporters`` beside it, for an editable install)."""
     root = Path(__file__).resolve().parents[2]
-    missing = [p for p in PACKAGES if not (root / p / "__init__.py").is_file()]
+    missing = [p for p in package_folders(root) if not (root / p / "__init__.py").is_file()]
     if missing:
         raise InstallError(f"cannot find the packages {', '.join(missing)} next to {root}")
     return root
@@ -155,7 +165,7 @@ def install_into(mod_dir: Path, root: Path | None = None, copy: bool = False) ->
         for name in ("Init.py", "InitGui.py"):
             shutil.copy2(mod_template() / name, staging / name)
         mode = "copied" if copy else "linked"
-        for pkg in PACKAGES:
+        for pkg in package_folders(root):
             if not copy:
                 try:
                     os.symlink(root / pkg, staging / pkg, target_is_directory=True)
@@ -209,8 +219,8 @@ def _remove_tree(folder: Path) -> None:
 VERIFY_SCRIPT = """\
 import sys
 try:
-    import generators, cam_workbench.freecad.feature as f
-    from generators import default_spec, design_cam
+    import cam_workbench.generators as generators, cam_workbench.freecad.feature as f
+    from cam_workbench.generators import default_spec, design_cam
     import numpy, scipy
     d = design_cam(default_spec())
     print('CAMWB_OK=' + generators.__file__ + ' numpy ' + numpy.__version__ + ', scipy ' + scipy.__version__)

@@ -18,9 +18,9 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from generators.errors import CamError, SpecError
-from generators.spec.params import params_of, unit_name
-from generators.spec import LIFT_FIELDS, CamSpec, MotionSegment
+from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.spec.params import params_of, unit_name
+from cam_workbench.generators.spec import LIFT_FIELDS, CamSpec, MotionSegment
 
 from . import properties as props
 
@@ -49,7 +49,7 @@ class ControlPoint:
 
 
 def _order(row: dict[str, Any]) -> int:
-    from generators.motion.bspline_law import DEFAULT_ORDER
+    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER
 
     k = row.get("order")
     return k if isinstance(k, int) and 3 <= k <= 10 else DEFAULT_ORDER
@@ -106,7 +106,7 @@ def default_polygon(row: dict[str, Any]) -> dict[str, Any]:
     """A starting polygon for a row switched to ``law = "bspline"``: the thesis' order 5 with
     11 control points, equally spaced in θ (degrees from the segment start), the free lifts
     P4 … P6 at ¼, ½, ¾ of the way — a smooth, valid rise or return to shape from."""
-    from generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
+    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
 
     angle = row.get("angle") if isinstance(row.get("angle"), float) else 90.0
     n = DEFAULT_POINTS - 1
@@ -168,7 +168,7 @@ def validate_rows(obj: Any, rows: list[dict[str, Any]], design: bool = False) ->
     try:
         spec = spec_with_rows(obj, rows)
         if design:
-            from generators.cam_design import design_cam
+            from cam_workbench.generators.cam_design import design_cam
 
             design_cam(spec)
     except SpecError as exc:

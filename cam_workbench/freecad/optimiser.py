@@ -13,7 +13,7 @@ calls, so scripts and tests drive the same code:
   none are given;
 - :func:`run_spec` — the spec with the panel's choices as its ``[optimise]`` section
   (validated: a bad choice raises ``SpecError`` naming the field);
-- :class:`OptimiseJob` — :func:`generators.optimise.optimise` in a worker thread, its progress
+- :class:`OptimiseJob` — :func:`cam_workbench.generators.optimise.optimise` in a worker thread, its progress
   (evaluations, objective, violation, history) readable from the GUI thread, and
   :meth:`OptimiseJob.cancel` (the library's ``threading.Event``: the run stops at the next
   evaluation with status ``"cancelled"``);
@@ -36,8 +36,8 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from generators.errors import CamError, SpecError
-from generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec
+from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec
 
 from . import properties as props
 
@@ -96,10 +96,10 @@ def _bspline_rows(spec: CamSpec) -> list[int]:
 
 def variable_choices(spec: CamSpec, objective: str | None = None) -> list[VariableChoice]:
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
-    from generators.motion.bspline_law import fixed_end_points
-    from generators.motion import MotionProgram
+    from cam_workbench.generators.motion.bspline_law import fixed_end_points
+    from cam_workbench.generators.motion import MotionProgram
 
-    from generators.spec.model import FOLLOWER_VARIABLES, follower_variable_rule
+    from cam_workbench.generators.spec.model import FOLLOWER_VARIABLES, follower_variable_rule
 
     objective = objective or spec.optimise.objective
     u = spec.units
@@ -138,7 +138,7 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
                                       f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
                                       len(seg.points), True))
     # a groove cam's disc and groove
-    from generators.spec.model import body_variable_rule
+    from cam_workbench.generators.spec.model import body_variable_rule
 
     body_labels = {"outer_diameter": f"Disc outer diameter [{u}]", "clearance": f"Groove clearance [{u}]"}
     for name, label in body_labels.items():
@@ -152,7 +152,7 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
 def selected_tokens(spec: CamSpec) -> set[str]:
     """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects."""
-    from generators.spec import optimise_control_rows, optimise_variables
+    from cam_workbench.generators.spec import optimise_control_rows, optimise_variables
 
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
@@ -201,12 +201,12 @@ class Settings:
 
 def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
     """(R_b lower, R_b upper, |e| upper): the ones ``[optimise]`` gives, and for those it leaves
-    out the library's defaults (``generators.optimise.space.DesignSpace``: ½ × and 2 × the
+    out the library's defaults (``cam_workbench.generators.optimise.space.DesignSpace``: ½ × and 2 × the
     initial R_b, the lower at least 1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower
     bound or |e₀|; default bounds always contain the starting design, which is never moved).
     A given bound is shown as given even when it excludes the start: the run then refuses it
     with the library's message naming the field."""
-    from generators.optimise.space import DesignSpace
+    from cam_workbench.generators.optimise.space import DesignSpace
 
     translating = spec.follower.motion == "translating"       # only a translating follower has an offset
     probe = spec.replace(**{"optimise.variables": "base_radius, offset" if translating else "base_radius",
@@ -246,7 +246,7 @@ def run_spec(spec: CamSpec, settings: Settings) -> CamSpec:
 
 # ---- the threaded run ---------------------------------------------------------------------------
 class OptimiseJob:
-    """One run of :func:`generators.optimise.optimise` in a worker thread.
+    """One run of :func:`cam_workbench.generators.optimise.optimise` in a worker thread.
 
     The worker only touches plain data; read :attr:`latest`, :attr:`history` (a list the worker
     appends to), :attr:`done`, :attr:`result` and :attr:`error` from any thread.
@@ -255,7 +255,7 @@ class OptimiseJob:
 
     def __init__(self, spec: CamSpec):
         self.spec = spec
-        self.latest: Any = None            # the last generators.optimise.Progress
+        self.latest: Any = None            # the last cam_workbench.generators.optimise.Progress
         self.history: list[tuple[int, float, float, str]] = []  # (evaluation, objective, violation, phase)
         self.result: Any = None
         self.error: str | None = None
@@ -278,7 +278,7 @@ class OptimiseJob:
         return True
 
     def _work(self) -> None:
-        from generators.optimise import optimise
+        from cam_workbench.generators.optimise import optimise
 
         try:
             self.result = optimise(self.spec, progress=self._progress, cancel=self.cancel_event)
@@ -355,11 +355,11 @@ def _worst_text(w: dict[str, Any]) -> str:
 
 def figures(result: Any) -> list[Figure]:
     """The before/after figures of a result: objective (computed independently of the solver's
-    model: :func:`generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
+    model: :func:`cam_workbench.generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
     check closest to or furthest past its limit), the design checks' verdict."""
-    from generators.optimise import worst_constraint
-    from generators.optimise.objectives import UNITS
-    from generators.optimise.objectives import label as objective_label
+    from cam_workbench.generators.optimise import worst_constraint
+    from cam_workbench.generators.optimise.objectives import UNITS
+    from cam_workbench.generators.optimise.objectives import label as objective_label
 
     a, b = result.initial_spec, result.spec
     u = a.units
@@ -388,12 +388,12 @@ def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final
               ) -> list[tuple[str, str]]:
     """(key of report.json's ``areas``, row name) of the areas the result shows — those that
     exist for the follower: the thesis' Eq. 4.21 area (a translating knife edge or roller's;
-    ``None`` for every other follower: ``generators.checks.areas.area_summary``), else the exact
+    ``None`` for every other follower: ``cam_workbench.generators.checks.areas.area_summary``), else the exact
     area inside the design curve (the pitch curve, or a flat face's contact curve); the area
     inside the profile unless it is that same area (a knife edge or a flat face: offset 0); the
     cross-section minus the bore when there is a bore."""
-    from generators.checks.areas import area_label
-    from generators.followers import follower_of
+    from cam_workbench.generators.checks.areas import area_label
+    from cam_workbench.generators.followers import follower_of
 
     curve = follower_of(spec).describe()["curve"]
     keys = []
@@ -453,7 +453,7 @@ def history_arrays(history: list[tuple[int, float, float, str]]) -> dict[str, An
 # ---- apply ----------------------------------------------------------------------------------------
 def _design_part(spec: CamSpec) -> CamSpec:
     """The spec without its [optimise] section (how to optimise, not what the cam is)."""
-    from generators.spec import OptimiseSection
+    from cam_workbench.generators.spec import OptimiseSection
 
     return dataclasses.replace(spec, optimise=OptimiseSection())
 

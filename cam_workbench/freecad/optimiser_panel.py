@@ -26,9 +26,9 @@ from __future__ import annotations
 import time
 from typing import Any
 
-from generators.errors import SpecError
-from generators.optimise.objectives import label as objective_label
-from generators.spec import OPTIMISE_ALGORITHMS
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise.objectives import label as objective_label
+from cam_workbench.generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
 from . import properties as props
@@ -444,13 +444,13 @@ class OptimiserPanel:
                 f"largest constraint value {p.max_violation:+.3e} ({feas}; ≤ 0 is feasible)")
 
     def _unit(self, objective: str) -> str:
-        from generators.optimise.objectives import UNITS
+        from cam_workbench.generators.optimise.objectives import UNITS
 
         return UNITS[objective].replace("length", self.units)
 
     def _phase_unit(self, phase: str, objective: str) -> str:
         """The unit of what a phase minimises ("slsqp on thesis_length": the smooth stand-in)."""
-        from generators.optimise.objectives import UNITS
+        from cam_workbench.generators.optimise.objectives import UNITS
 
         name = phase.split(" on ", 1)[1].split()[0] if " on " in phase else objective
         return self._unit(name if name in UNITS else objective)

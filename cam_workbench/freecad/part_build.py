@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from generators.cam_design import CamDesign
-from generators.curves.nurbs import NurbsCurve
-from generators.pitch.bspline import bezier_form
+from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators.pitch.bspline import bezier_form
 
 
 def bspline_curve(curve: NurbsCurve, scale: float = 1.0, z: float = 0.0) -> Any:
@@ -75,7 +75,7 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
 
 
 def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
-    """The cam: its body's prisms (:mod:`generators.bodies`) fused and cut in order, as
+    """The cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
     ``cam_workbench.occ_build.cam_solid`` does — for a plain plate cam the profile face (with
     the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
     exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
@@ -103,7 +103,7 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
 
 
 def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
-    """Body prisms (:class:`generators.bodies.Prism`) extruded and fused or cut in order."""
+    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
     from FreeCAD import Vector
 
     shape = None
@@ -120,7 +120,7 @@ def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
 # ---- the cylindrical (barrel) cam -----------------------------------------------------------
 def wall_surface(wall: Any, scale: float = 1.0) -> Any:
     """A ``Part.BSplineSurface`` with exactly the data of a groove wall
-    (:class:`generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
+    (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
     degrees 5 × 5), the poles scaled to mm."""
     import Part
     from FreeCAD import Vector
@@ -216,12 +216,12 @@ def wall_faces(shape: Any, radii: tuple[float, float], per_direction: int = 15) 
 
 
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
-    """A closed wire of a body loop (:class:`generators.bodies.Loop`): exact NURBS pieces (one
+    """A closed wire of a body loop (:class:`cam_workbench.generators.bodies.Loop`): exact NURBS pieces (one
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
     import Part
     from FreeCAD import Vector
 
-    from generators.bodies import Arc, Curve, Line
+    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     edges: list[Any] = []
     for piece in loop.pieces:
@@ -296,7 +296,7 @@ def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
 
 def follower_size(design: CamDesign) -> float:
     """The drawn length of a stem (``Follower.sketch``'s ``size``), as the report's drawing of
-    the cam takes it (``exporters.plots.draw_cam``): the largest lift — as an arc on the base
+    the cam takes it (``cam_workbench.exporters.plots.draw_cam``): the largest lift — as an arc on the base
     circle for an arm's degrees — plus the roller's diameter (at least a fifth of R_b)."""
     spec = design.spec
     fol = design.follower
@@ -307,7 +307,7 @@ def follower_size(design: CamDesign) -> float:
 
 def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
     """The follower where it stands at ``angle_deg`` of cam rotation, in the cam's frame, as it
-    draws itself (:meth:`generators.followers.base.Follower.sketch`, which the plots and the DXF
+    draws itself (:meth:`cam_workbench.generators.followers.base.Follower.sketch`, which the plots and the DXF
     drawing read too): a compound of its roller circles, its segments (stem, arm, face), the
     arm's pivot (a vertex with a small circle round it) and the follower point (a vertex: the
     roller centre or knife tip on the pitch curve, a flat face's contact point), on the plane

@@ -93,7 +93,7 @@ def show_plots(obj: Any) -> Any:
     import FreeCADGui
     from PySide import QtGui
 
-    from generators.errors import CamError
+    from cam_workbench.generators.errors import CamError
 
     from .feature import build
     from . import properties as props

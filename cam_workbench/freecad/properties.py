@@ -1,8 +1,8 @@
 """Spec fields ↔ FreeCAD properties, generated from the one spec declaration.
 
-Every declared spec field (``generators.spec.params.params_of`` over ``generators.spec.SECTIONS``)
+Every declared spec field (``cam_workbench.generators.spec.params.params_of`` over ``cam_workbench.generators.spec.SECTIONS``)
 becomes one property of the feature; its type, group, tooltip, unit and bounds come from
-the field's :class:`~generators.spec.params.Param`, nothing is written twice.  A field added to
+the field's :class:`~cam_workbench.generators.spec.params.Param`, nothing is written twice.  A field added to
 the spec later appears on new features and is added to old ones when they are restored.
 
 Naming: ``cam.base_radius`` → ``CamBaseRadius``; top-level ``units`` → ``Units``; a field of
@@ -20,7 +20,7 @@ and exports): switching ``Units`` never changes the cam.  Unit kinds that are th
 unit systems (rpm, seconds) are plain numbers.  Torques, torsional spring rates and moments of
 inertia (an oscillating arm's load) are plain numbers in N·mm, N·mm/rad and kg·mm².
 
-Lifts: the fields of ``generators.spec.LIFT_FIELDS`` (``motion[].lift``, ``pitch.tolerance``)
+Lifts: the fields of ``cam_workbench.generators.spec.LIFT_FIELDS`` (``motion[].lift``, ``pitch.tolerance``)
 are in the follower's lift unit (``Follower.lift_unit``, from ``FollowerMotion`` and
 ``FollowerKind``): a length as above for a translating follower, degrees of arm rotation for
 an oscillating one — stored as degrees whatever ``Units`` says, ``PitchTolerance`` then an
@@ -38,9 +38,9 @@ import re
 from dataclasses import dataclass
 from typing import Any, Iterator
 
-from generators.errors import SpecError
-from generators.spec.params import REQUIRED, Param, params_of, unit_name
-from generators.spec import LIFT_FIELDS, SECTIONS, CamSpec, default_spec
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec.params import REQUIRED, Param, params_of, unit_name
+from cam_workbench.generators.spec import LIFT_FIELDS, SECTIONS, CamSpec, default_spec
 
 MM_PER_INCH = 25.4
 #: 1 lbf in N (exact by definition: 0.45359237 kg × 9.80665 m/s²).
@@ -138,7 +138,7 @@ class FieldProperty:
 
     @property
     def is_lift(self) -> bool:
-        """In the follower's lift unit (``generators.spec.LIFT_FIELDS``): a length, or the arm's
+        """In the follower's lift unit (``cam_workbench.generators.spec.LIFT_FIELDS``): a length, or the arm's
         degrees for an oscillating follower."""
         return self.path in LIFT_FIELDS
 
@@ -350,7 +350,7 @@ def lift_unit(motion: str, kind: str) -> str:
     """The unit kind of a follower's lifts ("length" or "angle"), read from its class
     (``Follower.lift_unit``); "length" for a combination the library does not know (the
     spec's validation names it)."""
-    from generators.followers import follower_class
+    from cam_workbench.generators.followers import follower_class
 
     try:
         return follower_class(motion or "translating", kind).lift_unit

@@ -5,9 +5,9 @@ import os
 from pathlib import Path
 from typing import Any
 
-from exporters.atomic import write_text_atomic
-from generators.errors import SpecError
-from generators.spec import to_toml
+from cam_workbench.exporters.atomic import write_text_atomic
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import to_toml
 
 from . import properties as props
 
@@ -26,7 +26,7 @@ def open(filename: str) -> Any:  # noqa: A001 - FreeCAD's importer protocol
     """Open a spec file as a new document holding one plate cam (no document on a bad spec)."""
     import FreeCAD
 
-    from generators.spec import load_spec
+    from cam_workbench.generators.spec import load_spec
 
     try:
         load_spec(filename)

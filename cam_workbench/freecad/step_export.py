@@ -1,7 +1,7 @@
 """Export STEP from FreeCAD: the cam solid through FreeCAD's own ``Part`` (never OCP).
 
 The file is written atomically (temporary file beside the target, then rename —
-``exporters.atomic``): an error leaves no half-written or clobbered file.  Lengths are
+``cam_workbench.exporters.atomic``): an error leaves no half-written or clobbered file.  Lengths are
 FreeCAD's millimetres, whatever the spec's ``Units``.
 """
 from __future__ import annotations
@@ -10,7 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from exporters.atomic import atomic_path
+from cam_workbench.exporters.atomic import atomic_path
 
 
 def export_step(obj: Any, path: str | os.PathLike[str]) -> Path:

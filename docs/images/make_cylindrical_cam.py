@@ -1,5 +1,5 @@
 """Draw docs/images/cylindrical_cam.png (the README's and docs/bodies.md's picture of the built-in
-cylindrical example) with :func:`exporters.plots.cylindrical_figure`:
+cylindrical example) with :func:`cam_workbench.exporters.plots.cylindrical_figure`:
 
     PYTHONPATH=. python docs/images/make_cylindrical_cam.py
 """
@@ -7,9 +7,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from exporters import plots
-from generators import design_cam
-from generators.spec.examples import example_spec
+from cam_workbench.exporters import plots
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec.examples import example_spec
 
 
 def main() -> Path:

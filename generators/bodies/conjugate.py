@@ -2,7 +2,7 @@
 rollers, so the follower is held both ways without a spring (form closure).
 
 The first cam is the spec's own plate cam (its PH pitch curve, the exact offset by the roller
-radius).  The second roller is fixed to the same follower body (:mod:`generators.followers.conjugate`:
+radius).  The second roller is fixed to the same follower body (:mod:`cam_workbench.generators.followers.conjugate`:
 on the yoke, ``conjugate.roller_distance`` below the first on its line of motion; or on a second
 arm at ``conjugate.arm_angle`` about the same pivot); its centre's path in the cam frame is the
 second cam's pitch curve, built as the first's — the C² PH quintic spline through the second
@@ -138,7 +138,7 @@ class ConjugateBody:
 
 
 def second_cam(design):
-    """The second cam of a conjugate design: a :class:`~generators.cam_design.CamDesign` of the
+    """The second cam of a conjugate design: a :class:`~cam_workbench.generators.cam_design.CamDesign` of the
     second roller — its PH pitch curve (the first's junction angles, or its own uniform count
     for ``pitch.tolerance``), the exact offset by its roller radius, its buildability checks.
 
@@ -286,7 +286,7 @@ def roller_distance_error(first, second, n: int | None = None) -> RollerDistance
 
 
 def drive_cams(design) -> dict[str, Any]:
-    """Which cam drives the follower where (:func:`generators.bodies.groove.force_sides`): the
+    """Which cam drives the follower where (:func:`cam_workbench.generators.bodies.groove.force_sides`): the
     first while the follower needs a push away from the cam axis, the second while it must be
     pulled back."""
     from .groove import force_sides

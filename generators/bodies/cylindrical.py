@@ -50,7 +50,7 @@ holes as :func:`.features.timing_mark` does.  None of them meets the groove (the
 R_b − min_wall, the mark is shallower than the groove's distance from the end face), so the exact
 volume is Σ ± prism volumes (arcs and lines: closed-form areas) − V_groove.
 
-Its drawing: :mod:`exporters.dxf_cylindrical`; its follower for the force laws and the dynamics of a
+Its drawing: :mod:`cam_workbench.exporters.dxf_cylindrical`; its follower for the force laws and the dynamics of a
 translating roller: :class:`CylindricalFollower` (tan φ = s′/R_p).  What it does not carry: the
 dynamics of an oscillating arm (refused naming ``follower.motion``).
 """
@@ -554,7 +554,7 @@ def _result(description, kind, value, at, limit, unit, no_limit: str = "", note:
 @dataclass(frozen=True)
 class CylindricalDesign:
     """A designed cylindrical cam (plain values; no CAD kernel). The plane-cam members of
-    :class:`~generators.cam_design.CamDesign` (pitch curve, profile) do not exist here."""
+    :class:`~cam_workbench.generators.cam_design.CamDesign` (pitch curve, profile) do not exist here."""
 
     spec: Any
     program: Any

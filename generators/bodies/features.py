@@ -1,5 +1,5 @@
 """Features every cam body can carry: the bore with a keyway, a hub, mounting holes on a pitch
-circle and a timing mark at θ = 0 — as loops and prisms (:mod:`generators.bodies.base`).
+circle and a timing mark at θ = 0 — as loops and prisms (:mod:`cam_workbench.generators.bodies.base`).
 
 Keyways are sized from the bore by a standard or given explicitly:
 

@@ -1,7 +1,7 @@
 """Design checks of a cam and its follower (thesis Ch. 3, §5.3), for every follower kind.
 
 Everything is evaluated on the design intent — the motion program s(θ) and the follower
-(:mod:`generators.followers`) — vectorised over sample angles.  The formulas below are the
+(:mod:`cam_workbench.generators.followers`) — vectorised over sample angles.  The formulas below are the
 translating follower's (the thesis'); the follower interface gives each kind's own (the
 oscillating arm's pressure angle against the velocity perpendicular to the arm, its force from
 the torque about the pivot, a flat face's φ and ρ):
@@ -22,13 +22,13 @@ face_width (flat)  face width the contact needs, centred on stem / arm_length  �
 
 A check that cannot be decided is "skipped", never "pass": no load to check, a positive drive, or no
 limit given (``material.allowable_stress``, ``follower.face_width``: the value is reported, the note
-names the field; :mod:`generators.checks.status`).
+names the field; :mod:`cam_workbench.generators.checks.status`).
 
 ρ_c = ρ − r_f is the cam surface's signed radius of curvature (+ convex, − concave), so the
 same Eq. 3.6 covers convex and concave contact (the thesis put the pitch radius ρ there;
 :func:`hertz_stress` takes whichever radius it is given; a flat face is a cylinder on a plane).
 
-Units are the spec's (:mod:`generators.followers.load`); an oscillating follower's lifts and
+Units are the spec's (:mod:`cam_workbench.generators.followers.load`); an oscillating follower's lifts and
 reduced kinematics are in degrees of arm rotation.
 
 For an optimiser, :func:`constraint_arrays` gives every constraint as a normalised array
@@ -114,7 +114,7 @@ class CamState:
 
 class StateModel:
     """The spec's numbers the checks need, and :meth:`state` that evaluates them at any θ
-    through the follower's interface (:class:`generators.followers.base.Follower`)."""
+    through the follower's interface (:class:`cam_workbench.generators.followers.base.Follower`)."""
 
     def __init__(self, spec: CamSpec, program: MotionProgram | None = None, follower: Follower | None = None):
         self.spec = spec

@@ -15,7 +15,7 @@ The interpolation conditions ∫₀¹ r'_k = Δq_k give the cyclic quadratic sys
 
 solved by complex Newton iteration.  f is holomorphic in z, so the Jacobian is a
 complex cyclic tridiagonal matrix and each Newton step is one O(M) banded solve
-(:mod:`generators.banded`).  The starting approximation follows Farouki, Kuspa,
+(:mod:`cam_workbench.generators.curves.banded`).  The starting approximation follows Farouki, Kuspa,
 Manni & Sestini (Numer. Algor. 27, 2001): z_k ≈ √(r'(½)) of the periodic C² cubic
 spline through the same points, with the square-root branches made continuous.
 """

@@ -3,7 +3,7 @@
 Below it the follower stays on the cam and the train is linear, so the smallest contact force of
 the periodic steady state, F_min(ω) = min_θ Q(θ; ω)·lever(θ), tells exactly when contact is first
 lost: at the first ω where F_min(ω) = 0.  It is found by a sweep of ``sweep_points`` speeds (all
-solved at once, :func:`generators.dynamics.periodic.min_force_vs_speed`) and Brent's method
+solved at once, :func:`cam_workbench.generators.dynamics.periodic.min_force_vs_speed`) and Brent's method
 between the last speed that keeps contact and the first that does not.  A resonance narrower than
 the sweep's spacing can hide between two speeds; ``dynamics.sweep_points`` sets the spacing.
 

@@ -213,7 +213,7 @@ class Follower(ABC):
         pivot (oscillating) — at the design contact of ``k``: 1/cos φ, 1/(L·cos φ), 1/lever, …
 
         It is :meth:`contact_force` of this follower loaded by a unit preload alone, so every kind
-        gives it through its own force law (the dynamics read it: :mod:`generators.dynamics`)."""
+        gives it through its own force law (the dynamics read it: :mod:`cam_workbench.generators.dynamics`)."""
         unit = dataclasses.replace(self, load=LoadSpec(preload=1.0, mass_force=self.load.mass_force))
         return np.asarray(unit.contact_force(k, 0.0), dtype=float)
 

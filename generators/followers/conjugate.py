@@ -1,5 +1,5 @@
 """The second roller of a conjugate follower: a point fixed to the first follower's moving body,
-behind the same interface as every follower (:class:`generators.followers.base.Follower`).
+behind the same interface as every follower (:class:`cam_workbench.generators.followers.base.Follower`).
 
 A conjugate (dual) cam pair drives one follower through two rollers, each on its own cam: the
 first cam pushes the follower one way, the second the other way, so no spring is needed.  The
@@ -25,7 +25,7 @@ its pressure angle against the direction the second roller's centre moves (the b
 curve drives the follower back through the first follower's contact residual at F₁ = (q − b)/a
 (Eq. 13 generalised), and its lift is the first follower's lift there: both rollers' lifts are
 in the same units, and their difference is the distance error between the rollers
-(:mod:`generators.bodies.conjugate`).
+(:mod:`cam_workbench.generators.bodies.conjugate`).
 
 Loads: the generalised force the follower needs, Q (the force along the line of motion for a
 translating follower, the torque about the pivot for an arm), is taken by the first cam where

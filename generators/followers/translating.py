@@ -8,8 +8,8 @@ is (CAM_SPEC.md; paper Eq. 10)
 
 Points are returned as complex numbers x + iy.  The pressure angle and the radius of
 curvature are the thesis' closed forms (Eq. 3.4 and 3.7), which the generic formulas of
-:mod:`generators.followers.base` reproduce; the built curve meets the follower where
-Re(e^{iδθ}·r(ξ)) = e (paper Eq. 13), solved by :class:`generators.pitch.contact.FollowerLineSolver`.
+:mod:`cam_workbench.generators.followers.base` reproduce; the built curve meets the follower where
+Re(e^{iδθ}·r(ξ)) = e (paper Eq. 13), solved by :class:`cam_workbench.generators.pitch.contact.FollowerLineSolver`.
 """
 from __future__ import annotations
 

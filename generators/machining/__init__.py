@@ -1,6 +1,6 @@
 """Machining: the plan (:mod:`.plan`), the rotational PH interpolator (:mod:`.interpolator`),
 exact tool paths (:mod:`.toolpath`) and the thesis' cutting time (:mod:`.cutting_time`).
-``generators.machining`` re-exports :mod:`generators.machining.plan`.
+``cam_workbench.generators.machining`` re-exports :mod:`cam_workbench.generators.machining.plan`.
 """
 from .plan import (  # noqa: F401
     MachiningPlan, smallest_concave_profile_radius, check_tool_fits, machining_plan,

@@ -33,7 +33,7 @@ monotonic sections, by cubic Hermite interpolation (values and derivatives); 2 0
 samples per segment give the same turns and S within 1e-4 (tests).
 
 **The G-code contour time** (:func:`contour_time`): cutting length / feed plus a per-block time
-for the XY program of :mod:`generators.toolpath` (lead arcs, contour, plunges; rapids excluded).
+for the XY program of :mod:`cam_workbench.generators.machining.toolpath` (lead arcs, contour, plunges; rapids excluded).
 """
 from __future__ import annotations
 
@@ -284,7 +284,7 @@ def thesis_cutting_time(spec: CamSpec, program: MotionProgram | None = None, *,
 # ---- the project's own G-code contour -----------------------------------------------------
 @dataclass(frozen=True)
 class ContourTime:
-    """Estimated run time of the XY contour program (``exporters.gcode.contour_program``)."""
+    """Estimated run time of the XY contour program (``cam_workbench.exporters.gcode.contour_program``)."""
 
     time: float            # [s]
     cutting_length: float  # lead arcs + contour, all passes [length]

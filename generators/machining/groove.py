@@ -6,7 +6,7 @@ The groove is the band between the pitch curve's offsets at ±w/2 (w = 2r + clea
 radius R_t < w/2 touches the inner wall when its centre runs on the offset at −(w/2 − R_t) and the
 outer wall on +(w/2 − R_t).  Those tool-centre curves are exact rational NURBS offsets of a PH pitch
 curve (fitted B-splines for a B-spline pitch curve, with their error measured), emitted as biarcs
-or chords within the chord tolerance (:func:`generators.machining.toolpath.fit_contour`).  Passes
+or chords within the chord tolerance (:func:`cam_workbench.generators.machining.toolpath.fit_contour`).  Passes
 between the walls are spaced at most 1.6·R_t apart so that neighbours overlap.
 
 Directions follow ``machining.milling`` with spindle M3: climb milling runs the pass against the

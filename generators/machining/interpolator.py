@@ -14,7 +14,7 @@ is solved for ξ by Newton's method (Eq. 14).  The paper starts each Newton solv
 from the previous command's root, which is sequential; here every command starts
 from a cubic Hermite guess of ξ(θ) inside its segment (ξ and dξ/dθ are known exactly
 at the junctions, where ξ = 0 or 1), so that one vectorised Newton sweep over all
-commands converges in 2–3 steps (:class:`generators.follower_line.FollowerLineSolver`).
+commands converges in 2–3 steps (:class:`cam_workbench.generators.pitch.contact.FollowerLineSolver`).
 The command is the point r_i(ξ_k) in the cam frame (Eq. 15) and the follower
 displacement it produces is s_actual = Im(e^{iδθ_k}·r_i(ξ_k)) − s₀.
 

@@ -1,10 +1,10 @@
 """Tool paths that cut a designed cam, as plain geometry (the G-code text is made in
-``exporters.gcode``).
+``cam_workbench.exporters.gcode``).
 
 The tool centre must stay at the tool radius R_t from the profile, and the profile is
 the pitch curve moved inward by the roller radius r, so the exact tool-centre path is
 the **pitch curve offset outward by R_t − r** (by R_t for a knife edge): an exact
-degree-9 rational NURBS (:func:`generators.offsets.offset_nurbs`), the pitch curve
+degree-9 rational NURBS (:func:`cam_workbench.generators.curves.offsets.offset_nurbs`), the pitch curve
 itself when the tool is the roller's size.
 
 Two ways to follow it:
@@ -163,7 +163,7 @@ def straighten_flat_arcs(path: Path2D, max_sagitta: float) -> Path2D:
 
 def fit_contour(curve: NurbsCurve, tolerance: float, arcs: bool = True) -> tuple[Path2D, float]:
     """Biarcs (or chords) within ``FIT_MARGIN·tolerance`` of ``curve``, checked by the
-    independent dense two-sided :func:`generators.approx.max_distance`; returns
+    independent dense two-sided :func:`cam_workbench.generators.curves.approx.max_distance`; returns
     (path, measured distance)."""
     fit_tol = FIT_MARGIN * tolerance
     for _ in range(8):

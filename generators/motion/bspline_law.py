@@ -4,7 +4,7 @@
 
 of order k (degree k − 1) with n + 1 control points and the uniform clamped knots of
 thesis Eq. 2.12, u ∈ [0, n − k + 2].  θ is in radians measured from the segment start
-here (the spec also accepts the thesis' absolute angles, :mod:`generators.spec`); y is the
+here (the spec also accepts the thesis' absolute angles, :mod:`cam_workbench.generators.spec`); y is the
 normalised lift (a rise runs 0 → 1, a return 1 → 0; the follower displacement is
 level + L·y for a rise).
 
@@ -128,7 +128,7 @@ class BSplineLift:
         y: (n+1,) control-point normalised lifts.
         knots: (n + k + 1,) knot vector; default (None) the thesis' uniform clamped knots
             (Eq. 2.12).  Piecewise laws (a constant-velocity segment with blended ends,
-            :mod:`generators.motion.segments`) give clamped knots of their own.
+            :mod:`cam_workbench.generators.motion.segments`) give clamped knots of their own.
     """
 
     order: int
@@ -151,7 +151,7 @@ class BSplineLift:
     @cached_property
     def _linear_breaks(self) -> tuple[np.ndarray, np.ndarray] | None:
         """(u, θ) at the distinct knots when θ(u) is linear on every knot span (the lifts solved or
-        fitted with θ(u) linear: :mod:`generators.motion.segments`), else None.  Exact test: θ(u) of
+        fitted with θ(u) linear: :mod:`cam_workbench.generators.motion.segments`), else None.  Exact test: θ(u) of
         degree p equals the chord on a span iff it does at p + 1 points of it."""
         ub = np.unique(self.knots)
         p = self.degree
@@ -328,7 +328,7 @@ _FRAME_UNIT = {"relative_deg": "°", "absolute_rad": " rad"}
 
 def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSplineLift:
     """The :class:`BSplineLift` of a ``law = "bspline"`` motion segment, checking its control
-    polygon; raises :class:`~generators.errors.SpecError` naming the field and control point.
+    polygon; raises :class:`~cam_workbench.generators.errors.SpecError` naming the field and control point.
 
     Args:
         seg: the motion segment (``order``, ``control_x``, ``control_y``, ``control_frame``,

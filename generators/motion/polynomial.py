@@ -10,7 +10,7 @@ acceleration at both ends of a rise of height h give the 3-4-5 polynomial, zero 
 The polynomial is solved and kept in Bernstein form on x = (θ − θ₀)/β ∈ [0, 1] (well conditioned
 where the power basis is not), which *is* the B-spline lift law of one knot span (a Bézier segment:
 order d + 1, clamped knots 0 and 1, θ(u) linear): :func:`bezier_lift` hands it to the rest of the
-program as a :class:`~generators.motion.bspline_law.BSplineLift`, so the checks, areas, cutting
+program as a :class:`~cam_workbench.generators.motion.bspline_law.BSplineLift`, so the checks, areas, cutting
 time and optimiser read it exactly as they read the thesis' B-spline lifts.
 
 A constant-velocity segment (:func:`cruise_pieces`) is a line s′ = V with optional blends at its

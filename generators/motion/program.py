@@ -47,7 +47,7 @@ class MotionProgram:
     kinds: tuple[str, ...]
     #: per segment: the B-spline lift of a law = "bspline" segment (thesis §2.6) and of the laws
     #: solved from boundary conditions or fitted (polynomial, constant_velocity, table:
-    #: :mod:`generators.motion.segments`, θ(u) linear), else None
+    #: :mod:`cam_workbench.generators.motion.segments`, θ(u) linear), else None
     curves: tuple[BSplineLift | None, ...] = ()
     #: per segment: the order of continuity its (start, end) promise (:func:`law_promise`);
     #: empty: derived from the laws
@@ -245,7 +245,7 @@ class Junction:
     ``values_left``/``values_right`` are (s, s′, s″, s‴) on either side, ``jumps`` right − left;
     ``order`` is the highest n with s … s^(n) continuous (−1: s itself jumps; 3: up to the jerk,
     the highest derivative the program carries); ``promised`` the lower of the orders the two
-    laws promise at this end (:func:`~generators.motion.segments.law_promise`)."""
+    laws promise at this end (:func:`~cam_workbench.generators.motion.segments.law_promise`)."""
 
     index: int
     left: int

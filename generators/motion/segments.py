@@ -17,7 +17,7 @@ until all are; a cycle of segments each waiting for the other is an error naming
 that would break it.  Position is always continuous: each segment starts at its predecessor's
 end level.
 
-Each solved segment is a :class:`~generators.motion.bspline_law.BSplineLift` (θ(u) linear), so the
+Each solved segment is a :class:`~cam_workbench.generators.motion.bspline_law.BSplineLift` (θ(u) linear), so the
 rest of the program reads it as it reads the thesis' B-spline lifts.
 """
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 A ``law = "table"`` rise or return is the least-squares B-spline s(θ) of order k (default 5:
 quartic, C³ inside) on uniform clamped knots, with θ(u) linear (control angles at the Greville
-abscissae), so the fit is a :class:`~generators.motion.bspline_law.BSplineLift` like the thesis'
+abscissae), so the fit is a :class:`~cam_workbench.generators.motion.bspline_law.BSplineLift` like the thesis'
 lifts.  Its ends are held exactly: s at the segment's start and end levels, and the derivatives
 the program gives the ends (the neighbours' to the segment's continuity, or the spec's values) as
 equality constraints.  The number of knot spans is the fewest (by doubling, then bisection) whose

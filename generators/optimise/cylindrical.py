@@ -1,11 +1,11 @@
 """The optimiser of a cylindrical (barrel) cam: its own design, not the plane cams' model.
 
-A cylindrical cam (:mod:`generators.bodies.cylindrical`) keeps its motion; its size is the pitch
+A cylindrical cam (:mod:`cam_workbench.generators.bodies.cylindrical`) keeps its motion; its size is the pitch
 radius R_p (``cam.cylinder_radius``), the cylinder's outer radius R_o (``cam.outer_diameter``/2) and
 the groove's ``groove.clearance`` c (width w = 2r + c).  Objective ``outer_diameter``: the smallest
 cylinder, 2R_o.  Constraints, normalised g ≤ −``optimise.constraint_margin``, all from the design's
 own check functions on its dense angles (``program.dense_angles(2001)``, as
-:func:`~generators.bodies.cylindrical.check_cylinder`):
+:func:`~cam_workbench.generators.bodies.cylindrical.check_cylinder`):
 
 * pressure angle at R_p, tan φ = s′/R_p:            max |φ|/φ_max − 1
 * undercut of the developed centre line over the groove's depth (5 radii, R_o − depth … R_o):
@@ -120,7 +120,7 @@ def cylinder_checks(spec: CamSpec) -> DesignChecks:
 def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = None,
                          cancel: Any = None) -> Any:
     """Minimise a cylindrical cam's outer diameter over cylinder_radius, outer_diameter and
-    clearance with COBYLA (module docstring); an :class:`~generators.optimise.run.OptimiseResult`.
+    clearance with COBYLA (module docstring); an :class:`~cam_workbench.generators.optimise.run.OptimiseResult`.
 
     Raises:
         SpecError: ``optimise.objective`` other than outer_diameter, ``optimise.variables`` naming

@@ -2,7 +2,7 @@
 (m,) and their exact partial derivatives (m, k) with respect to k seeded inputs through
 +, −, ×, ÷, powers, √, sin, cos, arccos, arctan and :func:`where`.
 
-The follower kinds' check formulas (:mod:`generators.optimise.kinds`) are written once with the
+The follower kinds' check formulas (:mod:`cam_workbench.generators.optimise.kinds`) are written once with the
 functions below and run either on plain numpy arrays (values only: the dense window scans) or on
 jets (values with their partials: the solver's Jacobian).  The derivatives are the chain rule
 applied exactly, operation by operation — not differences — and every operation is analytic, so

@@ -3,7 +3,7 @@ as smooth local functions of (geometry, s, s′, s″) with exact partial deriva
 integrands (areas, lengths) and the rows that keep its geometry valid.
 
 One class per follower kind (:data:`KIND_MODELS`, keyed by the follower class of
-:mod:`generators.followers`, the one place that maps a kind to its model):
+:mod:`cam_workbench.generators.followers`, the one place that maps a kind to its model):
 
 =============================  ======================  =============================================
 follower                       geometry (design vars)  checks (normalised g ≤ 0)
@@ -29,7 +29,7 @@ The translating knife/roller keeps the thesis' closed forms with hand-derived pa
 3.4–3.7; the tests check them by complex step).  The other kinds write their formulas once with
 the functions of :mod:`.jet`: on plain arrays they give values (the dense window scans), on
 :class:`~.jet.Jet` inputs values and exact partials (the Jacobian at the window maxima).  They are
-derived here from the follower geometry of :mod:`generators.followers` (the fixed-frame point F,
+derived here from the follower geometry of :mod:`cam_workbench.generators.followers` (the fixed-frame point F,
 V = F_θ − iδF, W = F_θθ − 2iδF_θ − F; ρ = |V|³/(−δ·V×W)) in real components so that complex
 steps pass through them; the tests compare them with the followers' own pressure angle, radius of
 curvature and force.

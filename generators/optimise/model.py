@@ -17,7 +17,7 @@ reference); the solver sees :meth:`SmoothModel.window_max`: the largest value of
 each of ``optimise.windows`` equal parameter windows, refined between the samples, so that the
 constraints are the dense maxima and not values at nodes.
 
-Constraints (normalised as :func:`generators.design_checks.constraint_arrays`):
+Constraints (normalised as :func:`cam_workbench.generators.checks.design.constraint_arrays`):
 
 =================  ====================================================
 pressure_angle     (φ/φ_max)² − 1                       (Eq. 5.5)
@@ -46,7 +46,7 @@ from ..motion.laws import evaluate_law
 from .kinds import KindModel
 from .space import DesignSpace
 
-#: The translating knife/roller's constraint families (other kinds: :mod:`generators.optimise.kinds`).
+#: The translating knife/roller's constraint families (other kinds: :mod:`cam_workbench.generators.optimise.kinds`).
 FAMILIES = ("pressure_angle", "curvature", "convexity", "separation", "contact_stress")
 #: Gauss–Legendre nodes per knot span (B-spline) or per segment (other laws) for the integrals.
 GAUSS_PER_SPAN = 16
@@ -103,7 +103,7 @@ class SmoothModel:
         prog = space.program
         self.program = prog
         samples = samples or 201
-        #: the follower kind's checks and integrands (:mod:`generators.optimise.kinds`)
+        #: the follower kind's checks and integrands (:mod:`cam_workbench.generators.optimise.kinds`)
         self.kind: KindModel = space.kind
         self.sense = self.kind.sense
         self.rr = self.kind.rr

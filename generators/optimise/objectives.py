@@ -1,6 +1,6 @@
-"""Objectives (thesis §5.2) on a :class:`~generators.optimise.space.DesignSpace`.
+"""Objectives (thesis §5.2) on a :class:`~cam_workbench.generators.optimise.space.DesignSpace`.
 
-Smooth ones return exact gradients (:class:`~generators.optimise.model.SmoothModel`); the
+Smooth ones return exact gradients (:class:`~cam_workbench.generators.optimise.model.SmoothModel`); the
 machining times are piecewise constant in whole turns/blocks and return values only.
 
 ==================  ========================================================  ==========
@@ -66,7 +66,7 @@ def describe(name: str, spec: Any) -> str:
 
 
 #: each objective in a few words, as printouts name it beside its value (``area`` and
-#: ``profile_area`` as report.json's ``areas`` names them: :data:`generators.checks.areas.AREA_LABELS`)
+#: ``profile_area`` as report.json's ``areas`` names them: :data:`cam_workbench.generators.checks.areas.AREA_LABELS`)
 LABELS = {
     "profile_area": "area inside the profile",
     "machining_time": "thesis cutting time (Eq. 4.20)",

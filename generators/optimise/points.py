@@ -2,15 +2,15 @@
 ``points``, ``motion[k].points``).
 
 A ``law = "polynomial"`` rise/return is the lowest-degree polynomial meeting its SVAJ conditions
-(Norton; :mod:`generators.motion.polynomial`), kept as Bernstein coefficients c — which the program
+(Norton; :mod:`cam_workbench.generators.motion.polynomial`), kept as Bernstein coefficients c — which the program
 reads as a one-span B-spline lift with θ(u) linear.  The conditions are linear in their values, so
 with the angles of the points fixed
 
     c(q) = c(q₀) + Φᵀ (q − q₀),      q = the points' lifts s_i [lift units],
 
-Φ (m × (d + 1)) from :func:`generators.motion.segments.polynomial_point_basis` (unit right-hand
+Φ (m × (d + 1)) from :func:`cam_workbench.generators.motion.segments.polynomial_point_basis` (unit right-hand
 sides).  A :class:`PointBlock` is that affine map behind the interface of a B-spline
-:class:`~generators.optimise.space.LiftBlock` (``arrays``, ``y_jac``, ``x_cols``, ``y_cols``), so the
+:class:`~cam_workbench.generators.optimise.space.LiftBlock` (``arrays``, ``y_jac``, ``x_cols``, ``y_cols``), so the
 smooth model's kinematics, checks, integrals and exact gradients take it unchanged:
 ∂y/∂q = Φᵀ / h (normalised lifts y = (c − low)/h).
 
@@ -43,7 +43,7 @@ MONOTONIC_DEGREE = 128
 
 class ControlPolygon:
     """What the smooth model reads of a rise/return's control polygon ``x`` (angles from the segment
-    start [rad]): shared by the B-spline blocks (:class:`~generators.optimise.space.LiftBlock`) and
+    start [rad]): shared by the B-spline blocks (:class:`~cam_workbench.generators.optimise.space.LiftBlock`) and
     :class:`PointBlock`."""
 
     x: np.ndarray

@@ -1,8 +1,8 @@
 """The optimiser: :func:`optimise` (thesis Ch. 5–7 with nlopt).
 
 Problem (thesis Eq. 5.1–5.13): minimise an objective over the design vector of
-:mod:`~generators.optimise.space` subject to every design check as the window maxima of
-:mod:`~generators.optimise.model` (g ≤ −margin), the linear polygon constraints, and bounds.
+:mod:`~cam_workbench.generators.optimise.space` subject to every design check as the window maxima of
+:mod:`~cam_workbench.generators.optimise.model` (g ≤ −margin), the linear polygon constraints, and bounds.
 The solver sees scaled variables z ∈ [0, 1] and the objective divided by its initial value.
 
 Algorithms (``optimise.algorithm``, nlopt imported lazily — ``import generators`` never loads it):
@@ -18,8 +18,8 @@ Algorithms (``optimise.algorithm``, nlopt imported lazily — ``import generator
   then BOBYQA with the exterior penalty on the true time.
 
 Constraints are the largest value of every check in each parameter window of every rise/return
-(:meth:`~generators.optimise.model.SmoothModel.window_max`), so the solver works on the dense maxima.
-After a solve, the independent :func:`generators.design_checks.run_checks` (θ-sampled, refined
+(:meth:`~cam_workbench.generators.optimise.model.SmoothModel.window_max`), so the solver works on the dense maxima.
+After a solve, the independent :func:`cam_workbench.generators.checks.design.run_checks` (θ-sampled, refined
 extrema) re-checks the design; while it fails, the solve is repeated with twice the windows (at most
 ``refine_rounds`` times).  ``multistart`` adds local runs from random designs (seeded); the best
 feasible result wins.
@@ -97,7 +97,7 @@ class _Stalled(Exception):
 @dataclass
 class OptimiseResult:
     """An optimisation's outcome.  ``spec`` is the optimised spec (write it with
-    :func:`generators.spec.to_toml`); ``report()`` is report.json's ``optimise`` section."""
+    :func:`cam_workbench.generators.spec.to_toml`); ``report()`` is report.json's ``optimise`` section."""
 
     spec: CamSpec
     initial_spec: CamSpec
@@ -742,7 +742,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             With a parallel executor it is called in this thread, a few times a second per
             running start, with the evaluations of all starts together.
         cancel: a ``threading.Event``; setting it cancels the run (from any thread).
-        executor: where the starts run (:mod:`generators.studies.executor`); None runs them one
+        executor: where the starts run (:mod:`cam_workbench.generators.studies.executor`); None runs them one
             after another in this process.  ``multistart``'s random starts are drawn here, before
             any run, and the best result is picked by the same rule whatever ran where, so the
             result is the same as without an executor (e.g. Dask's:
@@ -763,7 +763,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
             raise SpecError(key, "unknown optimiser setting")
     spec = spec.replace(**changes) if changes else spec
-    if spec.cam.body == "cylindrical":          # its own design and checks: generators.optimise.cylindrical
+    if spec.cam.body == "cylindrical":          # its own design and checks: cam_workbench.generators.optimise.cylindrical
         from .cylindrical import optimise_cylindrical
 
         return optimise_cylindrical(spec, progress=progress, cancel=cancel)
@@ -881,7 +881,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
 
 def final_value(objective: str, spec: CamSpec) -> float:
     """The objective of ``spec`` computed independently of the optimiser's model: exact areas
-    (:mod:`generators.cam_area`), the cutting times at full resolution, and the dense, refined
+    (:mod:`cam_workbench.generators.checks.areas`), the cutting times at full resolution, and the dense, refined
     extrema of the design checks for the peak objectives."""
     if objective == "area":
         return thesis_area(spec) if area_is_thesis(spec) else pitch_area(spec)

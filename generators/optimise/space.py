@@ -87,7 +87,7 @@ class DesignSpace:
         p0: list[float] = []
         lo: list[float] = []
         hi: list[float] = []
-        #: the follower kind's optimiser model (:mod:`generators.optimise.kinds`)
+        #: the follower kind's optimiser model (:mod:`cam_workbench.generators.optimise.kinds`)
         self.kind = kind_model(spec)
         #: the kind's geometric scalars (R_b and the follower's position), in order
         self.geometry_names = self.kind.geometry

@@ -1,6 +1,6 @@
 """Pitch curves: the C² PH quintic spline (:mod:`.ph`), the periodic B-spline (:mod:`.bspline`)
-and the follower-path contact solve (:mod:`.contact`).  ``generators.pitch`` re-exports
-:mod:`generators.pitch.ph`.
+and the follower-path contact solve (:mod:`.contact`).  ``cam_workbench.generators.pitch`` re-exports
+:mod:`cam_workbench.generators.pitch.ph`.
 """
 from .ph import (  # noqa: F401
     TWO_PI, DEFAULT_STEP_DEG, MAX_TOLERANCE_SEGMENTS, junction_angles, PitchCurve,

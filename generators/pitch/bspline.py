@@ -13,7 +13,7 @@ it exactly (OCCT: ``Geom_OffsetCurve``, :mod:`cam_workbench.occ_build`); for eve
 (STEP, DXF, checks) :func:`fit_offset` gives a B-spline fitted to it, and the error of both
 against the true profile is measured (:func:`profile_errors`).
 
-Neutral curves (:class:`~generators.nurbs.NurbsCurve`) are parametrised by v = θ·N/(2π) on
+Neutral curves (:class:`~cam_workbench.generators.curves.nurbs.NurbsCurve`) are parametrised by v = θ·N/(2π) on
 [0, N], N the number of knot spans, so that "segment k, ξ" ↔ v = k + ξ as for the PH spline
 (a linear change of the knots leaves a B-spline's shape unchanged).
 """
@@ -201,7 +201,7 @@ def fit_pitch(program: MotionProgram, geometry: Follower, spans: int) -> Periodi
 
 class _SegmentView:
     """The fitted curve seen through (segment, ξ) pairs, segment k ↔ θ ∈ 2π[k, k+1]/N — the
-    interface of :class:`~generators.ph_spline.PHSpline` that the geometry checks use."""
+    interface of :class:`~cam_workbench.generators.curves.ph_spline.PHSpline` that the geometry checks use."""
 
     iterations = None
     residual = None
@@ -236,7 +236,7 @@ class _SegmentView:
 
 @dataclass(frozen=True)
 class BSplinePitchCurve:
-    """A fitted periodic B-spline pitch curve, queried like :class:`~generators.pitch.PitchCurve`."""
+    """A fitted periodic B-spline pitch curve, queried like :class:`~cam_workbench.generators.pitch.PitchCurve`."""
 
     curve: PeriodicBSpline
     program: MotionProgram

@@ -181,7 +181,7 @@ def _horner_rows(coeffs: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 
 class ContactSolver(FollowerLineSolver):
-    """Eq. 13 generalised to any follower kind (:class:`generators.followers.base.Follower`): at
+    """Eq. 13 generalised to any follower kind (:class:`cam_workbench.generators.followers.base.Follower`): at
     cam angle θ the chain turned into the fixed frame, q(ξ) = e^{iδθ}·r(ξ), touches the follower
     where the kind's residual g(q, q′, q″) = 0; Newton's method on ξ for every sample at once,
     the segment found by ``searchsorted`` on the angles at which its ends are touched, moving to

@@ -1,5 +1,5 @@
 """The cam spec (stage room: declarations, sections, the CamSpec model, validation, TOML in/out,
-the generated reference).  ``generators.spec`` re-exports :mod:`generators.spec.model`.
+the generated reference).  ``cam_workbench.generators.spec`` re-exports :mod:`cam_workbench.generators.spec.model`.
 """
 from .model import (  # noqa: F401
     REQUIRED, Param, param, params_of, LAWS, CLOSED_FORM_LAWS, BSPLINE_FIELDS, SPAN_TOL_DEG, LIFT_FIELDS,

@@ -1,7 +1,7 @@
 """Built-in example cams, by name: the spec dicts behind ``--example NAME`` and
 :func:`example_spec`.
 
-* ``default`` — the cam ``make demo`` builds (:data:`generators.spec.DEFAULT_SPEC_DICT`): the
+* ``default`` — the cam ``make demo`` builds (:data:`cam_workbench.generators.spec.DEFAULT_SPEC_DICT`): the
   paper's motion program (cycloidal 20 mm rise and return over 120°) on a 40 mm base radius
   with a radial 8 mm roller, a spring-loaded follower and a 1000 MPa contact-stress limit; it
   passes every design check.

@@ -2,7 +2,7 @@
 
 The field names and rules are the contract of ``shared/CAM_SPEC.md``; the project's
 own reference is ``docs/spec.md``, generated from the declarations below by
-``python -m generators.spec.reference``.
+``python -m cam_workbench.generators.spec.reference``.
 
 Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rpm.
 """
@@ -20,10 +20,10 @@ from .params import REQUIRED, Param, param, params_of
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
         "polynomial", "constant_velocity", "table")
-#: The laws implemented by :mod:`generators.motion.laws` (closed forms); "bspline" is the thesis'
-#: parametric B-spline (:mod:`generators.motion.bspline_law`), shaped by control points;
+#: The laws implemented by :mod:`cam_workbench.generators.motion.laws` (closed forms); "bspline" is the thesis'
+#: parametric B-spline (:mod:`cam_workbench.generators.motion.bspline_law`), shaped by control points;
 #: "polynomial", "constant_velocity" and "table" are solved from boundary conditions or fitted to
-#: points (:mod:`generators.motion.segments`).
+#: points (:mod:`cam_workbench.generators.motion.segments`).
 CLOSED_FORM_LAWS = LAWS[:6]
 #: Motion-segment fields that only a law = "bspline" segment may have.
 BSPLINE_FIELDS = ("order", "control_x", "control_y", "control_frame", "control_start")
@@ -544,7 +544,7 @@ OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "
                       "orientation")
 #: The design variables that are the cam body's own (a groove cam's disc and groove), in order.
 BODY_VARIABLES = ("outer_diameter", "clearance")
-#: A cylindrical cam's design variables (its own optimiser: :mod:`generators.optimise.cylindrical`).
+#: A cylindrical cam's design variables (its own optimiser: :mod:`cam_workbench.generators.optimise.cylindrical`).
 CYLINDER_VARIABLES = ("cylinder_radius", "outer_diameter", "clearance")
 #: The design variables that are follower fields, in the design vector's order.
 FOLLOWER_VARIABLES = ("offset", "pivot_distance", "arm_length", "face_offset")
@@ -1170,7 +1170,7 @@ def _validate_motion(spec: CamSpec) -> None:
         raise SpecError("motion",
                         f"program does not close: total rise − total fall = {level:g}, must be 0")
     # the laws solved from boundary conditions or fitted, s ≥ 0 inside every segment, the program's
-    # junction values (generators.motion.segments): errors name the field
+    # junction values (cam_workbench.generators.motion.segments): errors name the field
     from ..motion.program import MotionProgram
 
     MotionProgram.from_segments(spec.motion)
@@ -1488,7 +1488,7 @@ def default_spec() -> CamSpec:
     on a 40 mm base radius with a radial 8 mm roller, 10 mm thick, 12 mm bore, a follower of
     0.5 kg held by a 20 N preload and a 1 N/mm spring, at 60 rpm, contact stress limited to
     1000 MPa.  It passes every design check.  The paper's own case-2 cam (e = 10 mm, which
-    fails the 30° pressure-angle limit) is ``generators.examples.example_spec("paper")``."""
+    fails the 30° pressure-angle limit) is ``cam_workbench.generators.spec.examples.example_spec("paper")``."""
     return CamSpec.from_dict(DEFAULT_SPEC_DICT)
 
 

@@ -8,19 +8,19 @@ Each failing check is mapped to the fields that move it (:func:`plans`):
   wall and outer-wall undercut), ``cam.outer_diameter`` for a groove's rim wall,
   ``cam.cylinder_radius`` for a cylindrical cam, ``conjugate.roller_distance`` for the second cam
   of a yoke pair: the smallest value that passes, by the bisection of ``sweep --size``
-  (:func:`generators.studies.sizing.smallest_value`);
+  (:func:`cam_workbench.generators.studies.sizing.smallest_value`);
 * a translating follower's ``follower.offset`` for its pressure angle (the offset whose sign lowers
   the binding φ), an oscillating arm's ``follower.pivot_distance`` and its ``cam.base_radius``
   (passing is not monotonic in them): the nearest value that passes on either side
-  (:func:`generators.studies.sizing.nearest_value`);
+  (:func:`cam_workbench.generators.studies.sizing.nearest_value`);
 * ``follower.face_width``: the width the contact needs;
 * what no single size fixes (separation, oscillation, continuity, a conjugate arm pair's second
   cam) in words.
 
 A search first asks every check to pass; when a check no field of it moves also fails (or nothing
 passes every check) it asks only the checks the field is searched for, and says which still fail.
-The design checks are searched with :func:`~generators.checks.design.run_checks` (a groove's walls
-with the whole design, :func:`~generators.cam_design.design_cam`, whose refusal names its failing
+The design checks are searched with :func:`~cam_workbench.generators.checks.design.run_checks` (a groove's walls
+with the whole design, :func:`~cam_workbench.generators.cam_design.design_cam`, whose refusal names its failing
 walls; a cylindrical cam with its own checks).  The value found is rounded to the tolerance's digits
 towards the passing side (then the smallest such value that passes: a value one digit nearer the
 spec's own fails), and the spec at that value is checked again, buildability and walls included:

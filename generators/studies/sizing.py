@@ -4,7 +4,7 @@ point; a failing check's remedy).
 :func:`smallest_value` bisects on one field — ``cam.base_radius`` for ``sweep --size`` and
 :func:`smallest_base_radius`, or another of :data:`SIZED_FIELDS` (a groove's disc diameter, a
 cylindrical cam's cylinder radius, a conjugate pair's roller distance) — with an evaluation of the
-spec (default: the dense design checks, :func:`generators.checks.design.run_checks`: 1001 samples
+spec (default: the dense design checks, :func:`cam_workbench.generators.checks.design.run_checks`: 1001 samples
 per rise/return, extrema refined):
 
 1. ``lo`` = the largest value the spec's rules refuse whatever the motion (for R_b: R_b ≤ |offset|,

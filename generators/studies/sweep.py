@@ -1,12 +1,12 @@
-"""Sweeps: every point of a :class:`~generators.studies.grid.Grid` evaluated (designed and checked,
+"""Sweeps: every point of a :class:`~cam_workbench.generators.studies.grid.Grid` evaluated (designed and checked,
 no solid), or sized (the smallest base radius meeting the checks), through an executor.
 
-``run_sweep(spec, grid)`` returns a :class:`~generators.studies.table.StudyTable` with one row per
+``run_sweep(spec, grid)`` returns a :class:`~cam_workbench.generators.studies.table.StudyTable` with one row per
 grid point in grid order: the grid's columns, ``status``/``error``, then the key numbers
-(:func:`~generators.studies.table.summary_row`) or the sizing columns
-(:func:`~generators.studies.sizing.sizing_row`).  A point whose spec breaks a rule, or whose cam
+(:func:`~cam_workbench.generators.studies.table.summary_row`) or the sizing columns
+(:func:`~cam_workbench.generators.studies.sizing.sizing_row`).  A point whose spec breaks a rule, or whose cam
 cannot be made, is a row saying why; the others go on.  The points are handed to the executor in
-consecutive pieces (:func:`~generators.studies.executor.chunks`); each row depends on its point
+consecutive pieces (:func:`~cam_workbench.generators.studies.executor.chunks`); each row depends on its point
 only, so the table is the same whatever ran where.
 """
 from __future__ import annotations
@@ -119,7 +119,7 @@ def run_sweep(spec: CamSpec, grid: Grid, *, sizing: SizingSettings | None = None
     Args:
         spec: the base spec; each point changes the grid's fields (and ``grid.balance``).
         grid: the points (checked against ``spec`` first: bad fields raise before any work).
-        sizing: size each point (:func:`~generators.studies.sizing.smallest_base_radius`).
+        sizing: size each point (:func:`~cam_workbench.generators.studies.sizing.smallest_base_radius`).
         executor: where the points run (None: one after another here).
         progress: ``progress(done, total)`` as points finish (this thread); return False to stop.
         cancel: a ``threading.Event`` that stops the sweep.

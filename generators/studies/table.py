@@ -1,4 +1,4 @@
-"""A study's result table (plain rows; the files are written by :mod:`exporters.study_table`)
+"""A study's result table (plain rows; the files are written by :mod:`cam_workbench.exporters.study_table`)
 and the key numbers of one cam as a row: the same columns for a batch, a sweep and a sizing chart.
 
 Row columns (lengths in the spec's ``units``, angles in degrees):

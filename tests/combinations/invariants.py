@@ -57,7 +57,7 @@ def _bore_area(spec) -> float:
     """The bore, with its keyway: the circle plus a rectangle b wide out to r + t from the chord,
     minus the circular segment under it (the keyway's size from the spec, or from the standard's
     table — whose rows tests/test_bodies.py checks)."""
-    from generators.bodies.features import keyway_size
+    from cam_workbench.generators.bodies.features import keyway_size
 
     r = spec.cam.bore_diameter / 2
     if r <= 0:
@@ -94,8 +94,8 @@ def check_design(design, summary: dict) -> None:
     """Green's area of the profile (independent evaluation) and the features' formulas against the
     summary's area; the profile at the roller radius (plus half a groove's clearance) from the pitch
     curve; the report's verdict = run_checks."""
-    from generators.bodies.features import resolved
-    from generators.checks.design import run_checks
+    from cam_workbench.generators.bodies.features import resolved
+    from cam_workbench.generators.checks.design import run_checks
 
     spec = design.spec
     prof = nurbs_points(design.profile)
@@ -131,8 +131,8 @@ def cylindrical_volume(spec) -> float:
     the roller centre's path — (0, s′) along the axis, or the arm's (−L sin β β′, L cos β β′),
     β′ = s′·π/180 — scaled by ρ/R_p along the circumference; s′ by central differences of the
     motion on a fine periodic grid (the motion program is the input, not the body's code)."""
-    from generators.bodies.features import resolved
-    from generators.motion.program import MotionProgram
+    from cam_workbench.generators.bodies.features import resolved
+    from cam_workbench.generators.motion.program import MotionProgram
 
     cam, fol = spec.cam, spec.follower
     rp, depth = cam.cylinder_radius, spec.groove.depth

@@ -205,7 +205,7 @@ def _conjugate(draw: Any, spec: dict[str, Any], roller: float, u: float) -> None
     the pivot and the axis (some draws do not fit: a clean refusal naming the field)."""
     import math
 
-    from generators.followers.oscillating import zero_lift_arm_angle
+    from cam_workbench.generators.followers.oscillating import zero_lift_arm_angle
 
     cam, fol = spec["cam"], spec["follower"]
     cam["body"] = "conjugate"

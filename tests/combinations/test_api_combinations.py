@@ -8,7 +8,7 @@ import json
 import pytest
 from hypothesis import given, settings
 
-from generators.errors import GeometryError, SpecError, SolveError
+from cam_workbench.generators.errors import GeometryError, SpecError, SolveError
 
 from ..conftest import requires_ocp
 from .conftest import examples

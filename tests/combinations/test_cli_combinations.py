@@ -14,9 +14,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from exporters.atomic import MANIFEST, read_manifest
-from generators.errors import SpecError
-from generators.spec import CamSpec, to_toml
+from cam_workbench.exporters.atomic import MANIFEST, read_manifest
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import CamSpec, to_toml
 
 from ..conftest import ROOT, SAFETY_S, assert_unchanged, requires_ocp, snapshot
 from ..rs274 import RS274

@@ -8,8 +8,8 @@ import json
 
 from hypothesis import given, settings
 
-from generators.errors import CamError, SpecError
-from generators.spec import CamSpec
+from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.spec import CamSpec
 
 from ..freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noqa: F401
 from .conftest import examples
@@ -47,7 +47,7 @@ def test_freecad_cylindrical_any_valid_spec(tmp_path_factory, fc_home, d):  # no
 
 
 def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
-    from generators.cam_design import design_cam
+    from cam_workbench.generators.cam_design import design_cam
 
     try:
         spec = CamSpec.from_dict(d)

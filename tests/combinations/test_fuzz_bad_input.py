@@ -12,8 +12,8 @@ import sys
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from generators.errors import SpecError
-from generators.spec import DEFAULT_SPEC_DICT, CamSpec, load_spec, to_toml
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import DEFAULT_SPEC_DICT, CamSpec, load_spec, to_toml
 
 from ..conftest import ROOT, SAFETY_S
 from .conftest import examples

@@ -45,8 +45,8 @@ WHERE: dict[str, str] = {
     "cli": "cam_workbench.cli",
     "api": "cam_workbench:PlateCam",
     "ocp": "cam_workbench.ocp_compat",
-    "examples": "generators.spec.examples:EXAMPLES",
-    "ecam_tables": "generators.spec:ECAM_TABLES",
+    "examples": "cam_workbench.generators.spec.examples:EXAMPLES",
+    "ecam_tables": "cam_workbench.generators.spec:ECAM_TABLES",
 }
 
 _RENAMED = tuple((re.compile(p), r) for p, r in RENAMED)
