@@ -22,12 +22,12 @@ _API = ("PlateCam", "plate_cam", "register")
 
 
 def __getattr__(name: str):
-    """The API (:mod:`cam_workbench.platecam`) loads when first asked for, so that importing
+    """The API (:mod:`cam_workbench.cam`) loads when first asked for, so that importing
     :mod:`cam_workbench.generators` — inside FreeCAD's Python too — loads numpy and scipy only."""
     if name in _API:
-        from . import platecam  # deferred: the API layer (OCP adaptor, solid builders)
+        from . import cam  # deferred: the API layer (OCP adaptor, solid builders)
 
-        return getattr(platecam, name)
+        return getattr(cam, name)
     raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
 
 

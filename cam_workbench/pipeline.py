@@ -1,7 +1,7 @@
 """The one output pipeline: design → solid → summary → machining → drawing → report.
 
 Every entry point that makes files or numbers of a cam — ``build``, ``report``, ``check``,
-``optimise``, ``gcode``, ``dxf``, :class:`~cam_workbench.platecam.PlateCam` and the FreeCAD
+``optimise``, ``gcode``, ``dxf``, :class:`~cam_workbench.cam.PlateCam` and the FreeCAD
 exports (which run these commands) — goes through :func:`run_pipeline`, so that the numbers
 they print or write come from one ``summary`` dict, the one ``report.json`` holds.
 

@@ -253,7 +253,7 @@ def test_build_report_html_and_platecam_show_the_remedy(tmp_path):
 
 
 def test_platecam_refusal_says_how_to_make_it():
-    from cam_workbench.platecam import PlateCam
+    from cam_workbench.cam import PlateCam
 
     with pytest.raises(GeometryError) as refused:
         PlateCam(example_spec("groove").replace(**{"cam.outer_diameter": 120.0}))
