@@ -1,7 +1,8 @@
-"""cam_workbench: exact plate cams as CadQuery/build123d solids, STEP, CLI and a FreeCAD workbench.
+"""cam_workbench: exact cams (plate, groove, conjugate, cylindrical) as CadQuery/build123d solids,
+STEP, DXF, G-code, reports, a CLI and a FreeCAD workbench.
 
-    from cam_workbench import PlateCam
-    cam = PlateCam()                 # the built-in default cam
+    from cam_workbench import Cam
+    cam = Cam()                      # the built-in default cam (PlateCam: the same class)
     cam.workplane()                  # cadquery.Workplane
 
 One import name: the mathematics is :mod:`cam_workbench.generators`, the writers are
@@ -18,7 +19,7 @@ if not _os.path.isdir(_os.path.join(_here, "generators")):
 
 from cam_workbench.generators import CamSpec, GeometryError, SpecError, default_spec, load_spec  # noqa: E402
 
-_API = ("PlateCam", "plate_cam", "register")
+_API = ("Cam", "PlateCam", "plate_cam", "register")
 
 
 def __getattr__(name: str):
@@ -31,6 +32,6 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
 
 
-__all__ = ["CamSpec", "GeometryError", "PlateCam", "SpecError", "default_spec", "load_spec",
+__all__ = ["Cam", "CamSpec", "GeometryError", "PlateCam", "SpecError", "default_spec", "load_spec",
            "plate_cam", "register"]
 __version__ = "0.1.0"

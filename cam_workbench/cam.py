@@ -1,11 +1,17 @@
-"""``PlateCam``: the parametric plate cam a CadQuery / build123d user touches.
+"""``Cam``: the parametric cam a CadQuery / build123d user touches, of every body — plate,
+groove, conjugate, cylindrical (``PlateCam`` is the same class, the name it had before the bodies).
 
-    >>> from cam_workbench import PlateCam
-    >>> cam = PlateCam("cam.toml")            # or PlateCam() for the built-in default
+    >>> from cam_workbench import Cam
+    >>> cam = Cam("cam.toml")                 # or Cam() for the built-in default
     >>> cam.solid()                           # cadquery.Solid
     >>> cam.workplane()                       # cadquery.Workplane
     >>> cam.part()                            # build123d.Part
     >>> cam.export_step("cam.step")
+
+Every public member serves every body, or refuses with
+:class:`~cam_workbench.generators.errors.NotAvailable` naming the body and what to use instead (a
+cylindrical cam has no plane pitch curve or profile: :meth:`Cam.pitch_edge`, :meth:`Cam.profile_edge`);
+docs/python.md tables which.  In Jupyter a cam shows its picture (:meth:`Cam._repr_svg_`).
 
 The geometry is designed once (``cam_workbench.generators.design_cam``) and the B-rep built once,
 lazily; CadQuery and build123d are imported only when their objects are asked for, and each is
@@ -22,7 +28,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from cam_workbench.generators.cam_design import CamDesign, design_cam
-from cam_workbench.generators.errors import GeometryError
+from cam_workbench.generators.errors import GeometryError, NotAvailable
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
 from cam_workbench.generators.studies.remedies import with_remedy
 
@@ -30,15 +36,15 @@ from . import occ_build, ocp_compat
 from .extras import import_build123d, import_cadquery
 
 
-class PlateCam:
-    """A plate cam built from a spec.
+class Cam:
+    """A cam of any body (``cam.body``: plate, groove, conjugate, cylindrical) built from a spec.
 
     Args:
         spec: a :class:`CamSpec`, a path to a TOML spec, TOML text, a dict in the spec's
             structure, or None for the built-in default (example "default": the paper's motion
             program on a 40 mm base radius with an 8 mm roller).
         **changes: dotted-path overrides applied to the spec, e.g.
-            ``PlateCam(**{"cam.base_radius": 30, "follower.roller_radius": 6})``.
+            ``Cam(**{"cam.base_radius": 30, "follower.roller_radius": 6})``.
 
     Attributes:
         source: the cam's source, recorded in the manifest of the folders :meth:`export` writes
@@ -49,6 +55,10 @@ class PlateCam:
     Raises:
         SpecError: bad input (the message names the field and the rule).
         GeometryError: the cam cannot be made (undercut, self-intersection, bore), with the cam angle.
+
+    A member the cam's body does not have raises :class:`NotAvailable` naming the body and what
+    to use instead (docs/python.md tables them); a member whose library is missing raises
+    :class:`~cam_workbench.generators.errors.MissingDependency` naming the extra.
     """
 
     def __init__(self, spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
@@ -73,11 +83,9 @@ class PlateCam:
         self._outputs: Any = None
 
     @classmethod
-    def example(cls, name: str = "default", **changes: Any) -> "PlateCam":
-        """A built-in example cam by name: "default", "paper" (the paper's Table 1, case 2),
-        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
-        "cylindrical_oscillating" (``cam_workbench.generators.spec.examples.DESCRIPTIONS`` says what each is;
-        docs/spec.md lists them)."""
+    def example(cls, name: str = "default", **changes: Any) -> "Cam":
+        """A built-in example cam by name: a key of ``cam_workbench.generators.spec.examples.EXAMPLES``
+        (the CLI's ``--example``; ``DESCRIPTIONS`` says what each is, docs/spec.md lists them)."""
         from cam_workbench.generators.spec.examples import example_spec
 
         cam = cls(example_spec(name), **changes)
@@ -85,53 +93,72 @@ class PlateCam:
         return cam
 
     @classmethod
-    def from_toml(cls, path: str | os.PathLike[str]) -> "PlateCam":
+    def from_toml(cls, path: str | os.PathLike[str]) -> "Cam":
         """Load a spec file."""
         return cls(Path(path))
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> "PlateCam":
+    def from_dict(cls, data: Mapping[str, Any]) -> "Cam":
+        """A cam from a dict in the spec's structure (as TOML reads it)."""
         return cls(data)
 
     # ---- B-rep ------------------------------------------------------------------
     @cached_property
     def shape(self) -> Any:
         """The cam as an OCP ``TopoDS_Solid`` (built once; needs OCP, which every extra brings)."""
-        ocp_compat.require("PlateCam's solid")
+        ocp_compat.require("Cam's solid")
         return occ_build.cam_solid(self.design)
 
     def solid(self) -> Any:
         """The cam as a ``cadquery.Solid`` (needs the ``[cadquery]`` extra)."""
-        cq = import_cadquery("PlateCam.solid()")
+        cq = import_cadquery("Cam.solid()")
 
         return cq.Solid(self.shape)
 
     def workplane(self) -> Any:
         """A ``cadquery.Workplane`` on the XY plane holding the cam solid (needs the
         ``[cadquery]`` extra)."""
-        cq = import_cadquery("PlateCam.workplane()")
+        cq = import_cadquery("Cam.workplane()")
 
         return cq.Workplane("XY").newObject([self.solid()])
 
     def part(self) -> Any:
         """The cam as a ``build123d.Part`` (needs the ``[build123d]`` extra)."""
-        bd = import_build123d("PlateCam.part()")
+        bd = import_build123d("Cam.part()")
 
         return bd.Part([bd.Solid(self.shape)])
 
     def profile_edge(self) -> Any:
-        """The exact profile as a ``cadquery.Edge`` (for sketches and further modelling; needs
-        the ``[cadquery]`` extra)."""
-        cq = import_cadquery("PlateCam.profile_edge()")
+        """The exact profile as a ``cadquery.Edge`` in the XY plane, counter-clockwise (for
+        sketches and further modelling; needs the ``[cadquery]`` extra): a plate cam's outline, a
+        groove cam's inner wall, a conjugate pair's first cam.
+
+        Raises:
+            NotAvailable: the body has no plane profile (a cylindrical cam), saying what to use instead.
+        """
+        self._refuse_without_plane_curves("profile_edge()", "profile")
+        cq = import_cadquery("Cam.profile_edge()")
 
         return cq.Edge(occ_build.nurbs_to_edge(self.design.profile_ccw()))
 
     def pitch_edge(self) -> Any:
-        """The pitch curve as a ``cadquery.Edge`` (reference geometry; needs the ``[cadquery]``
-        extra)."""
-        cq = import_cadquery("PlateCam.pitch_edge()")
+        """The pitch curve (a flat face's contact curve; a conjugate pair's first) as a
+        ``cadquery.Edge`` in the XY plane (reference geometry; needs the ``[cadquery]`` extra).
+
+        Raises:
+            NotAvailable: the body has no plane pitch curve (a cylindrical cam), saying what to use instead.
+        """
+        self._refuse_without_plane_curves("pitch_edge()", "pitch curve")
+        cq = import_cadquery("Cam.pitch_edge()")
 
         return cq.Edge(occ_build.nurbs_to_edge(self.design.pitch_nurbs))
+
+    def _refuse_without_plane_curves(self, member: str, curve: str) -> None:
+        """NotAvailable when the design declares that it has no plane curves (its words say what
+        stands for them)."""
+        instead = self.design.without_plane_curves
+        if instead is not None:
+            raise NotAvailable(f"Cam.{member}: a {self.spec.cam.body} cam has no plane {curve} — {instead}")
 
     # ---- outputs ----------------------------------------------------------------
     def export_step(self, path: str | os.PathLike[str]) -> Path:
@@ -150,13 +177,15 @@ class PlateCam:
         return occ_build.cam_solid(self.design, exact_offset=False)
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
-        """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
-        if getattr(self.design, "plane", True):
-            from cam_workbench.exporters.dxf import export_dxf
-        else:                          # a cylindrical cam: developed, side and end views
-            from cam_workbench.exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
+        """Write the manufacturing drawing (DXF, as the spec's [drawing] section says; the body's
+        own views — a cylindrical cam's developed, side and end views), atomically."""
+        from cam_workbench.exporters.atomic import atomic_path
 
-        export_dxf(self.design, path)
+        from .pipeline import drawing_document
+
+        doc, _ = drawing_document(self.design)
+        with atomic_path(path) as tmp:
+            doc.saveas(str(tmp))
         return Path(path)
 
     def outputs(self) -> Any:
@@ -187,7 +216,7 @@ class PlateCam:
 
         from .pipeline import write_outputs
 
-        claim = spec_claim(self.spec, "PlateCam.export", self.source, replace=replace, option="folder")
+        claim = spec_claim(self.spec, "Cam.export", self.source, replace=replace, option="folder")
         admit(folder, claim)                    # before the pipeline runs
         return write_outputs(self.outputs(), folder, claim)
 
@@ -228,11 +257,15 @@ class PlateCam:
 
     @property
     def area(self) -> float:
-        """Cross-section area (profile minus bore) by Green's theorem on the exact NURBS."""
+        """Area of the top face [length²], exact: Green's theorem on the body's loops (a plate cam's
+        profile minus bore, keyway and holes; a groove cam's disc minus the groove; a cylindrical
+        cam's end face at z = its length)."""
         return self.design.area
 
     @property
     def volume(self) -> float:
+        """The body's exact volume [length³] (its loops × heights; a cylindrical cam's groove in
+        closed form)."""
         return self.design.volume
 
     def is_valid(self) -> bool:
@@ -241,9 +274,32 @@ class PlateCam:
 
     def __repr__(self) -> str:
         """The body, the follower and the numbers that identify the cam (``design.label()``), e.g.
-        ``PlateCam(plate cam, lengths in mm: translating roller r = 8, offset e = 0; R_b = 40, thickness 10;
+        ``Cam(plate cam, lengths in mm: translating roller r = 8, offset e = 0; R_b = 40, thickness 10;
         PH quintic pitch curve, M = 60)``."""
-        return f"PlateCam({self.design.label()})"
+        return f"Cam({self.design.label()})"
+
+    def _repr_svg_(self) -> str | None:
+        """The cam's picture for Jupyter (SVG text; :func:`cam_workbench.exporters.plots.picture`:
+        the cam and its follower beside the motion, or a cylindrical cam's cylinder beside its
+        developed view); None without matplotlib or a figure for the design (Jupyter then shows the
+        repr)."""
+        try:
+            import matplotlib  # noqa: F401  (deferred: heavy, and only a picture needs it)
+        except ImportError:
+            return None
+        from cam_workbench.exporters import plots
+
+        fig = plots.picture(self.design)
+        if fig is None:                     # a design no figure draws
+            return None
+        try:
+            return plots.figure_bytes(fig, "svg").decode("utf-8")
+        finally:
+            plots.close(fig)
+
+
+#: the name of :class:`Cam` before it served every body (kept: scripts that use it keep working)
+PlateCam = Cam
 
 
 def plate_cam(spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
@@ -251,7 +307,7 @@ def plate_cam(spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None 
     """A ``cadquery.Workplane`` holding the cam solid: ``plate_cam("cam.toml").faces(">Z")…``
     (needs the ``[cadquery]`` extra)."""
     import_cadquery("plate_cam()")
-    return PlateCam(spec, **changes).workplane()
+    return Cam(spec, **changes).workplane()
 
 
 def register() -> None:
@@ -260,7 +316,7 @@ def register() -> None:
     cq = import_cadquery("cam_workbench.register() (Workplane.plateCam)")
 
     def _plate_cam(self: Any, spec: Any = None, **changes: Any) -> Any:
-        solid = PlateCam(spec, **changes).solid()
+        solid = Cam(spec, **changes).solid()
         placed = solid.moved(self.plane.location)
         return self.newObject([placed])
 

@@ -1,7 +1,7 @@
 """The one output pipeline: design → solid → summary → machining → drawing → report.
 
 Every entry point that makes files or numbers of a cam — ``build``, ``report``, ``check``,
-``optimise``, ``gcode``, ``dxf``, :class:`~cam_workbench.cam.PlateCam` and the FreeCAD
+``optimise``, ``gcode``, ``dxf``, :class:`~cam_workbench.cam.Cam` and the FreeCAD
 exports (which run these commands) — goes through :func:`run_pipeline`, so that the numbers
 they print or write come from one ``summary`` dict, the one ``report.json`` holds.
 
@@ -136,14 +136,20 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     return machining
 
 
-def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
-    """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
+def drawing_document(design: CamDesign, summary: dict[str, Any] | None = None) -> Any:
+    """(ezdxf document, its info) of the cam's drawing, the title block quoting ``summary``
+    (``design.summary()`` when None); nothing written."""
     if getattr(design, "plane", True):
         from cam_workbench.exporters.dxf import build_dxf
     else:                                   # a cylindrical cam: developed, side and end views
         from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
 
-    doc, info = build_dxf(design, summary)
+    return build_dxf(design, summary)
+
+
+def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
+    """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
+    doc, info = drawing_document(design, summary)
     summary["drawing"] = info.summary()
     return doc, info
 

@@ -19,6 +19,8 @@ figure                     what it shows
 :func:`convergence_figure` an optimiser's objective and constraint violation
 :func:`dynamics_figure`    contact force, camshaft torque and displacement error at speed
 :func:`jump_speed_figure`  smallest contact force against the cam speed (the jump speed)
+:func:`cylindrical_figure` a cylindrical cam: the cylinder with its groove beside the developed view
+:func:`picture`            the figure that shows a designed cam at a glance (the API's picture in Jupyter)
 =========================  =======================================================
 """
 from __future__ import annotations
@@ -26,10 +28,11 @@ from __future__ import annotations
 import io
 import os
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
+from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.design import limit_sign
 
@@ -767,3 +770,16 @@ def cylindrical_pressure_angle_figure(design: Any, limit_deg: float | None) -> A
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+#: the figure that shows a design at a glance, by the design's class (:func:`picture`)
+PICTURES: dict[type, Callable[..., Any]] = {CamDesign: cam_figure, CylindricalDesign: cylindrical_figure}
+
+
+def picture(design: Any, follower_angle_deg: float = 75.0) -> Any:
+    """The figure that shows a designed cam at a glance — the Python API's picture in Jupyter:
+    a cam of plane curves beside its motion (:func:`cam_figure`), a cylindrical cam's cylinder
+    beside its developed view (:func:`cylindrical_figure`) — or None for a design of a class
+    :data:`PICTURES` does not list."""
+    figure = PICTURES.get(type(design))
+    return None if figure is None else figure(design, follower_angle_deg)

@@ -4,12 +4,12 @@ Imports only numpy, scipy and the standard library (no CAD kernel, no file forma
 beyond TOML), so it runs inside FreeCAD's own Python as well as beside CadQuery.
 """
 from .cam_design import CamDesign, design_cam
-from .errors import CamError, GeometryError, SolveError, SpecError
+from .errors import CamError, GeometryError, NotAvailable, SolveError, SpecError
 from .curves.nurbs import NurbsCurve
 from .spec.model import CamSpec, default_spec, load_spec, to_toml
 
 __all__ = [
-    "CamDesign", "CamError", "CamSpec", "GeometryError", "NurbsCurve", "SolveError", "SpecError",
+    "CamDesign", "CamError", "CamSpec", "GeometryError", "NotAvailable", "NurbsCurve", "SolveError", "SpecError",
     "default_spec", "design_cam", "load_spec", "to_toml",
 ]
 __version__ = "0.1.0"

@@ -7,7 +7,7 @@ and the numbers of ``report.json`` (units of the spec; angles in degrees).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 
@@ -61,6 +61,9 @@ class CamDesign:
     #: the body (plate, groove, …) as prisms of exact loops, and what its checks measured
     body: BodyGeometry | None = field(default=None, repr=False)
     body_report: dict = field(default_factory=dict, repr=False)
+    #: None: the cam has plane curves — ``pitch_nurbs`` and ``profile`` in the XY plane (every
+    #: design declares this; one without them says here, in words, what stands for them)
+    without_plane_curves: ClassVar[str | None] = None
 
     @property
     def program(self) -> MotionProgram:

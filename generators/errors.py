@@ -62,6 +62,13 @@ class SolveError(CamError, RuntimeError):
     """A numerical solve (PH spline Newton, follower-line root) did not converge."""
 
 
+class NotAvailable(CamError):
+    """A member of the Python API that the cam's body does not have (a cylindrical cam's plane
+    pitch curve): the message names the member, the body and what to use instead.
+
+    Not an AttributeError: the member exists on every cam; this body refuses it."""
+
+
 class MissingDependency(CamError, ImportError):
     """A feature needs a package that is not installed, or that is installed but fails to
     import; the message names the feature and the ``pip install`` (extra) that brings it.

@@ -563,6 +563,10 @@ class CylindricalDesign:
     checks_report: dict
     #: the cam is not a plane cam: the pipeline skips the plane-only stages (drawing, interpolator)
     plane = False
+    #: no plane pitch curve or profile (``CamDesign.without_plane_curves``): what stands for them
+    without_plane_curves = ("its groove walls are surfaces around the cylinder: use solid() for the wall faces, "
+                            "design.wall_points(side, theta, rho) for exact points of a wall, or export_dxf() "
+                            "for the developed view instead")
     #: no fitted B-spline pitch curve (the plane cams' ``pitch.representation = "bspline"``)
     bspline = None
 
