@@ -682,7 +682,7 @@ class DynamicsSection:
     """`[dynamics]`: the follower train as a spring–mass–damper at speed — dynamic contact force, separation, the jump speed, residual vibration and the camshaft torque (docs/dynamics.md)."""
 
     enabled: bool = param(
-        "Analyse the dynamics in build, report, check and PlateCam.report() (report.json's dynamics section, the "
+        "Analyse the dynamics in build, report, check and Cam.report() (report.json's dynamics section, the "
         "report's figures); `cam-workbench dynamics` analyses them whatever this says",
         kind="bool", default=False, group="Dynamics")
     speed_rpm: float | None = param("Cam speed of the analysis (default cam.speed_rpm)", unit="speed", gt=0,

@@ -53,7 +53,7 @@ HEADER = """# Spec reference
 generators/spec.py; a test fails if this file and the code disagree. Do not edit by hand. -->
 
 One TOML file describes one plate cam and everything made from it; the CLI, the
-Python API (`PlateCam(spec)`, `load_spec`) and the FreeCAD feature all read this
+Python API (`Cam(spec)`, `load_spec`) and the FreeCAD feature all read this
 model. The contract is `shared/CAM_SPEC.md`; this page is the project's complete
 reference, including the fields added since.
 
@@ -247,11 +247,11 @@ def render() -> str:
 
 
 def examples_section() -> str:
-    """The built-in examples (``--example NAME``, ``PlateCam.example(name)``) as a table, from
+    """The built-in examples (``--example NAME``, ``Cam.example(name)``) as a table, from
     :data:`cam_workbench.generators.spec.examples.DESCRIPTIONS`."""
     lines = ["## Built-in examples\n",
              "`cam-workbench build --example NAME` (every command that designs a cam takes `--example`), "
-             "`cam-workbench spec --example NAME` (its spec as TOML) and `PlateCam.example(NAME)`:\n",
+             "`cam-workbench spec --example NAME` (its spec as TOML) and `Cam.example(NAME)`:\n",
              "| example | what |", "|---|---|"]
     lines += [f"| `{name}` | {text} |" for name, text in EXAMPLE_DESCRIPTIONS.items()]
     return "\n".join(lines) + "\n"

@@ -79,12 +79,13 @@ def motion_programs(draw: Any, lift: float) -> list[dict[str, Any]]:
 
 
 @st.composite
-def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
-    """A valid spec dict over the documented options."""
+def specs(draw: Any, borderline: bool = True, body: str | None = None) -> dict[str, Any]:
+    """A valid spec dict over the documented options; ``body`` ("plate", "groove", "conjugate"):
+    only that body (a groove or a conjugate pair has a roller), else any."""
     units = draw(st.sampled_from(["mm", "in"]))
     u = 1.0 if units == "mm" else 1 / 25.4
     motion = draw(st.sampled_from(["translating", "translating", "oscillating"]))
-    kind = draw(st.sampled_from(["roller", "knife", "flat"]))
+    kind = draw(st.sampled_from(["roller", "knife", "flat"])) if body in (None, "plate") else "roller"
     lift_len = draw(st.floats(5.0, 25.0)) * u
     roller = draw(st.floats(2.0, 10.0)) * u if kind == "roller" else 0.0
     tight = borderline and draw(st.integers(0, 9)) == 0
@@ -157,17 +158,22 @@ def specs(draw: Any, borderline: bool = True) -> dict[str, Any]:
     spec["drawing"] = {"curves": curves, "dxf_version": version, "title": draw(st.sampled_from(["Cam", "Nocken Ø40 — Typ A"])),
                        "dimensions": draw(st.booleans()), "title_block": draw(st.booleans())}
     spec["checks"] = {"sampling": draw(st.sampled_from(["dense", "thesis71"]))}
-    _body(draw, spec, kind, base, roller, lift_len if motion == "translating" else 0.0, u)
+    _body(draw, spec, kind, base, roller, lift_len if motion == "translating" else 0.0, u, body)
     return spec
 
 
-def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float, lift: float, u: float) -> None:
-    """The body and its features: a groove cam (a roller only: the XY program) or the plate; a
-    keyway by a standard or explicit, a hub, mounting holes between the bore and the profile, a
-    timing mark — sized from the cam so that most draws fit and some do not (a clean refusal)."""
+def _body(draw: Any, spec: dict[str, Any], kind: str, base: float, roller: float, lift: float, u: float,
+          body: str | None = None) -> None:
+    """The body (``body``, else any the follower allows) and its features: a groove cam (a roller
+    only: the XY program), a conjugate pair or the plate; a keyway by a standard or explicit, a
+    hub, mounting holes between the bore and the profile, a timing mark — sized from the cam so
+    that most draws fit and some do not (a clean refusal)."""
     cam = spec["cam"]
     bore = cam["bore_diameter"]
-    pick = draw(st.integers(0, 5)) if kind == "roller" else 5
+    if body in ("groove", "conjugate"):
+        pick = 0 if body == "groove" else 1
+    else:                                    # 2…5: the plate
+        pick = draw(st.integers(0 if body is None else 2, 5)) if kind == "roller" else 5
     if pick == 1:
         _conjugate(draw, spec, roller, u)
     if pick == 0:
