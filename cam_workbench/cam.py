@@ -84,8 +84,10 @@ class Cam:
 
     @classmethod
     def example(cls, name: str = "default", **changes: Any) -> "Cam":
-        """A built-in example cam by name: a key of ``cam_workbench.generators.spec.examples.EXAMPLES``
-        (the CLI's ``--example``; ``DESCRIPTIONS`` says what each is, docs/spec.md lists them)."""
+        """A built-in example cam by name (the CLI's ``--example``): "default", "paper",
+        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
+        "cylindrical_oscillating" (``cam_workbench.generators.spec.examples.DESCRIPTIONS`` says what
+        each is; docs/spec.md lists them)."""
         from cam_workbench.generators.spec.examples import example_spec
 
         cam = cls(example_spec(name), **changes)

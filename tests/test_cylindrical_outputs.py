@@ -66,11 +66,11 @@ def test_check_cli_numbers_and_table(tmp_path):
 
 
 def test_check_api_equals_cli(tmp_path):
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
     res = run("check", "--example", "cylindrical", "-o", str(tmp_path / "out"))
     rep = json.loads((tmp_path / "out" / "report.json").read_text())
-    api = json.loads(json.dumps(PlateCam.example("cylindrical").checks()))
+    api = json.loads(json.dumps(Cam.example("cylindrical").checks()))
     assert api["results"] == rep["checks"]["results"] and res.returncode == 0
 
 
@@ -233,9 +233,9 @@ def test_dxf_arcs_and_polyline_walls(tmp_path, curves, version):
 def test_api_export_dxf(tmp_path):
     import ezdxf
 
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
-    p = PlateCam.example("cylindrical").export_dxf(tmp_path / "c.dxf")
+    p = Cam.example("cylindrical").export_dxf(tmp_path / "c.dxf")
     assert len(ezdxf.readfile(str(p)).modelspace().query("SPLINE")) == 15
 
 
@@ -244,13 +244,13 @@ DYN = ["--set", "dynamics.stiffness=2000", "--set", "dynamics.mass=2", "--speed"
 
 
 def test_dynamics_cli_equals_api_and_virtual_work(tmp_path):
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
     res = run("dynamics", "--example", "cylindrical", *DYN, "-o", str(tmp_path / "o"))
     assert res.returncode == 0, res.stderr
     cli = json.loads((tmp_path / "o" / "report.json").read_text())["dynamics"]
     # the speed through the spec, as the CLI's --speed sets it
-    r = PlateCam.example("cylindrical", **{"dynamics.speed_rpm": 300.0}).dynamics(sweep=False, stiffness=2000.0,
+    r = Cam.example("cylindrical", **{"dynamics.speed_rpm": 300.0}).dynamics(sweep=False, stiffness=2000.0,
                                                                                   mass=2.0)
     assert json.loads(json.dumps(r.summary())) == cli
     # virtual work: T = Q·s′ and the normal force F = Q/cos φ, tan φ = s′/R_p

@@ -602,9 +602,9 @@ def test_freecad_dxf_importer_reads_the_cubic_splines(drawings, tmp_path):
         assert float(np.max(distance_to_segments(z, [exact[layer]]))) <= stated * 1.001 + 1e-9, layer
 
 
-def test_platecam_export_dxf(tmp_path):
-    from cam_workbench import PlateCam
+def test_cam_export_dxf(tmp_path):
+    from cam_workbench import Cam
 
-    cam = PlateCam(**{"drawing.curves": "arcs"})
+    cam = Cam(**{"drawing.curves": "arcs"})
     path = cam.export_dxf(tmp_path / "c.dxf")
     assert max_distance(read_profile_path(path), cam.design.profile_ccw()) <= cam.spec.drawing.chord_tolerance

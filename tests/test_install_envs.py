@@ -138,9 +138,9 @@ def test_library_imports_and_readme_example_runs(env: Env, tmp_path):
 
 _MISSING = """
 import json
-from cam_workbench import PlateCam
+from cam_workbench import Cam
 from cam_workbench.generators.errors import MissingDependency
-cam = PlateCam()
+cam = Cam()
 out = {}
 for name in ("workplane", "solid", "part", "shape"):
     try:
@@ -165,7 +165,7 @@ def test_missing_extras_are_named(env: Env, tmp_path):
             assert out[name] is None, out[name]
         else:
             assert f'pip install "cam-workbench[{extra}]"' in out[name], out[name]
-            assert out[name].startswith(f"PlateCam.{name}() needs "), out[name]
+            assert out[name].startswith(f"Cam.{name}() needs "), out[name]
     if env.scenario.ocp:
         assert out["shape"] is None, out["shape"]
     else:

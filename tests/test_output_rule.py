@@ -7,7 +7,7 @@ holding another cam's set, (iii) into a folder of the user's own files, (iv) wit
 file; every file that was there before must be byte-identical with its mtime unchanged, and
 nothing created where the run is refused (exit 2, one line ``error: -o: …``).  Then the runs the
 rule allows (the identical spec, the same cam written whole, ``--replace``) and the Python API
-(``PlateCam.export``, the studies' ``batch``/``sweep``/``write_study``).
+(``Cam.export``, the studies' ``batch``/``sweep``/``write_study``).
 
 The commands run in this process (``cam_workbench.cli.main``, as the console script does) in a
 fresh working folder each; the one set they meet is a real ``build`` of the paper's cam, made
@@ -313,14 +313,14 @@ def test_a_study_is_refused_over_another_study_and_replaces_its_own_tables(made,
 
 
 # ---- the Python API -------------------------------------------------------------------------------
-def test_platecam_export_follows_the_rule(made, tmp_path):
-    from cam_workbench import PlateCam
+def test_cam_export_follows_the_rule(made, tmp_path):
+    from cam_workbench import Cam
 
     theirs = their_set(made, tmp_path / "theirs")
     (tmp_path / "mine").mkdir()
     (tmp_path / "mine" / "notes.txt").write_text("keep me")
     before = snapshot(tmp_path)
-    cam = PlateCam.example("default")
+    cam = Cam.example("default")
     assert cam.source == "example:default"
     with pytest.raises(SpecError) as err:
         cam.export(theirs)
@@ -334,11 +334,11 @@ def test_platecam_export_follows_the_rule(made, tmp_path):
     (tmp_path / "a.txt").unlink()
     assert_unchanged(tmp_path, before)
     # the same spec file's cam, edited: the export writes every file again, so it replaces the set
-    edited = PlateCam(made / "mine.toml", **{"cam.thickness": 12})
+    edited = Cam(made / "mine.toml", **{"cam.thickness": 12})
     assert edited.source == str(made / "mine.toml")
     report = edited.export(theirs)
     manifest = read_manifest(theirs)
-    assert manifest["command"] == "PlateCam.export" and manifest["spec_digest"] == report["spec_digest"]
+    assert manifest["command"] == "Cam.export" and manifest["spec_digest"] == report["spec_digest"]
     assert sorted(p.name for p in theirs.iterdir()) == sorted([*manifest["files"], MANIFEST])
 
 

@@ -1,5 +1,5 @@
 """One pipeline, one truth: both pitch representations through every stage, the numbers of
-build / report / check / PlateCam equal, undercut refusals quoting the checks, the default
+build / report / check / Cam equal, undercut refusals quoting the checks, the default
 cam passing and the paper's cam one option away.  Independent computations are written here."""
 from __future__ import annotations
 
@@ -135,8 +135,8 @@ def test_undercut_refusal_quotes_the_check(tmp_path):
 # ---- every command reports the same numbers ------------------------------------------------
 @requires_ocp
 @pytest.mark.parametrize("rep", ["ph", "bspline"])
-def test_build_report_check_platecam_agree(tmp_path, rep):
-    from cam_workbench import PlateCam
+def test_build_report_check_cam_agree(tmp_path, rep):
+    from cam_workbench import Cam
 
     over = ["--set", f"pitch.representation={rep}", "--set", "machining.program=xc"]
     assert cli("build", *over, "-o", str(tmp_path / "b")).returncode == 0
@@ -149,7 +149,7 @@ def test_build_report_check_platecam_agree(tmp_path, rep):
             if key in c:
                 assert c[key] == b[key], key
     assert {"pitch", "pressure_angle", "curvature", "profile", "checks", "areas"} <= set(c)
-    api = PlateCam(default_spec().replace(**{"pitch.representation": rep, "machining.program": "xc"})).report()
+    api = Cam(default_spec().replace(**{"pitch.representation": rep, "machining.program": "xc"})).report()
     api = json.loads(json.dumps(api))
     for key in ("pitch", "pressure_angle", "curvature", "profile", "checks", "interpolator", "machining"):
         assert api[key] == b[key], key

@@ -729,9 +729,9 @@ def test_a_check_without_a_limit_in_report_html(no_limit, tmp_path):
 
 @pytest.mark.parametrize("name", ["cylindrical", "cylindrical_oscillating"])
 def test_cylindrical_bottom_pressure_angle_has_no_limit_and_is_not_passed(name):
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
-    r = PlateCam.example(name).checks()["results"]["pressure_angle_bottom"]
+    r = Cam.example(name).checks()["results"]["pressure_angle_bottom"]
     assert r["limit"] is None and r["status"] == "skipped" and r["note"].startswith("no limit")
 
 
@@ -880,10 +880,10 @@ def test_dynamics(name, tmp_path):
 
 
 def test_dynamics_summary_keeps_the_speed_exact():
-    """``PlateCam().dynamics().summary()`` gave ``speed_rpm 59.99999999999999`` (rpm → rad/s → rpm)."""
-    from cam_workbench import PlateCam
+    """``Cam().dynamics().summary()`` gave ``speed_rpm 59.99999999999999`` (rpm → rad/s → rpm)."""
+    from cam_workbench import Cam
 
-    cam = PlateCam()
+    cam = Cam()
     assert cam.dynamics(stiffness=2000, sweep=False).summary()["speed_rpm"] == 60.0
     s = cam.dynamics(77.7, stiffness=2000, sweep=False).summary()
     assert s["speed_rpm"] == 77.7
@@ -971,22 +971,22 @@ REPR_NUMBERS = {
 
 @pytest.mark.parametrize("name", NAMES)
 def test_repr_names_body_follower_and_numbers(name):
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
-    text = repr(PlateCam.example(name))
-    assert text.startswith("PlateCam(") and "lengths in mm" in text
+    text = repr(Cam.example(name))
+    assert text.startswith("Cam(") and "lengths in mm" in text
     for part in REPR_NUMBERS[name]:
         assert part in text, (part, text)
     if name == "oscillating":
         assert "e =" not in text and "e=" not in text
-    if name == "conjugate":                  # docs/python.md quotes it
+    if name in ("conjugate", "cylindrical"):     # docs/python.md quotes them
         doc = " ".join((ROOT / "docs" / "python.md").read_text(encoding="utf-8").split())
         assert f"`{text}`" in doc
 
 
 # ---- the examples, listed everywhere ------------------------------------------------------------------
 def test_every_example_is_listed_where_examples_are_named():
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
     from cam_workbench.generators.spec.examples import DESCRIPTIONS
     from cam_workbench.generators.spec.reference import render
 
@@ -999,4 +999,4 @@ def test_every_example_is_listed_where_examples_are_named():
         assert f"| `{name}` | {DESCRIPTIONS[name]} |" in spec_md
         for p, text in docs.items():
             assert f"`{name}`" in text, (p, name)
-        assert f'"{name}"' in PlateCam.example.__doc__, name
+        assert f'"{name}"' in Cam.example.__doc__, name

@@ -229,12 +229,12 @@ def test_the_face_width_a_flat_face_needs():
 
 # ---- every entry point ------------------------------------------------------------------------------
 @requires_ocp
-def test_build_report_html_and_platecam_show_the_remedy(tmp_path):
+def test_build_report_html_and_cam_show_the_remedy(tmp_path):
     """The paper's cam (46.2° > 30°): build's summary line, report.html's checks section and
-    PlateCam.checks() carry report.json's remedy, word for word."""
+    Cam.checks() carry report.json's remedy, word for word."""
     import html
 
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
     out = tmp_path / "b"
     res = run("build", "--example", "paper", "-o", str(out))
@@ -247,14 +247,14 @@ def test_build_report_html_and_platecam_show_the_remedy(tmp_path):
     page = (out / "report.html").read_text()
     assert (f'<li data-key="checks.results.pressure_angle.remedy"><code>pressure_angle</code>: '
             f"{html.escape(line[len('pressure_angle: '):])}</li>") in page
-    assert PlateCam.example("paper").checks()["results"]["pressure_angle"]["remedy"] == rem
+    assert Cam.example("paper").checks()["results"]["pressure_angle"]["remedy"] == rem
     ok = run("check", "--example", "paper", *shlex.split(rem["command"]), "-o", str(tmp_path / "ok"))
     assert ok.returncode == 0, ok.stdout + ok.stderr
 
 
-def test_platecam_refusal_says_how_to_make_it():
-    from cam_workbench.cam import PlateCam
+def test_cam_refusal_says_how_to_make_it():
+    from cam_workbench.cam import Cam
 
     with pytest.raises(GeometryError) as refused:
-        PlateCam(example_spec("groove").replace(**{"cam.outer_diameter": 120.0}))
+        Cam(example_spec("groove").replace(**{"cam.outer_diameter": 120.0}))
     assert "rim_wall: cam.outer_diameter = 142.11 mm passes every check" in str(refused.value)

@@ -37,9 +37,9 @@ VARIANTS = {
 
 @pytest.fixture(scope="module", params=sorted(VARIANTS))
 def cam(request):
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
 
-    return PlateCam(**VARIANTS[request.param])
+    return Cam(**VARIANTS[request.param])
 
 
 def test_valid_single_solid(cam):
@@ -105,10 +105,10 @@ ELSEWHERE = "not installed here; runs in the build123d environment of tests/test
 
 def test_build123d_objects():
     bd = pytest.importorskip("build123d", reason=f"build123d {ELSEWHERE}")
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
     from cam_workbench import ocp_compat as occ
 
-    cam = PlateCam()
+    cam = Cam()
     part = cam.part()
     assert isinstance(part, bd.Part) and part.volume == pytest.approx(cam.volume, rel=1e-9)
     assert occ.is_valid(part.wrapped) and len(part.solids()) == 1
@@ -121,9 +121,9 @@ def test_build123d_objects():
 
 def test_cadquery_objects():
     cq = pytest.importorskip("cadquery", reason="CadQuery is not installed here (the [cadquery] extra)")
-    from cam_workbench import PlateCam, plate_cam, register
+    from cam_workbench import Cam, plate_cam, register
 
-    cam = PlateCam()
+    cam = Cam()
     assert isinstance(cam.solid(), cq.Solid) and cam.solid().isValid()
     wp = cam.workplane()
     assert isinstance(wp, cq.Workplane)

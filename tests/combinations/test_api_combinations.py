@@ -1,4 +1,4 @@
-"""Every documented option against every other through the Python API (PlateCam): a valid
+"""Every documented option against every other through the Python API (Cam): a valid
 solid whose numbers pass the independent invariants, or a clean refusal (SpecError naming a
 field, GeometryError with a cam angle) — never another exception."""
 from __future__ import annotations
@@ -19,11 +19,11 @@ from .strategies import cylindrical_specs, specs
 @requires_ocp
 @settings(max_examples=examples(24, 600))
 @given(specs())
-def test_platecam_any_valid_spec(tmp_path_factory, d):
-    from cam_workbench import PlateCam
+def test_cam_any_valid_spec(tmp_path_factory, d):
+    from cam_workbench import Cam
 
     try:
-        cam = PlateCam(d)
+        cam = Cam(d)
     except SpecError as exc:
         assert exc.field and str(exc).startswith(exc.field), str(exc)
         return
@@ -55,11 +55,11 @@ def test_cylindrical_any_valid_spec(tmp_path_factory, d):
     """Cylindrical cams over their options: a valid solid with the volume computed here from the
     groove's definition, walls within their reported error of the exact walls, a STEP file that
     reads back — or a clean refusal."""
-    from cam_workbench import PlateCam
+    from cam_workbench import Cam
     from cam_workbench.occ_build import kernel_volume
 
     try:
-        cam = PlateCam(d)
+        cam = Cam(d)
         report = cam.report()
     except SpecError as exc:
         assert exc.field and str(exc).startswith(exc.field), str(exc)

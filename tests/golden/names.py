@@ -43,7 +43,7 @@ TMP = "<tmp>"
 #: module's lists of the built-in examples and of the e-cam formats' tables.
 WHERE: dict[str, str] = {
     "cli": "cam_workbench.cli",
-    "api": "cam_workbench:PlateCam",
+    "api": "cam_workbench:Cam",
     "ocp": "cam_workbench.ocp_compat",
     "examples": "cam_workbench.generators.spec.examples:EXAMPLES",
     "ecam_tables": "cam_workbench.generators.spec:ECAM_TABLES",

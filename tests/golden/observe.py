@@ -13,7 +13,7 @@ names one output the way a user gets it:
   program; for a single cam, the refusal), ``cli check`` (its table
   and exit status), ``cli dxf --curves C`` for every ``drawing.curves`` value (the drawing and
   what the command prints);
-* ``api report()``, ``api checks()``, ``api area``, ``api volume`` of ``PlateCam.example(NAME)``,
+* ``api report()``, ``api checks()``, ``api area``, ``api volume`` of ``Cam.example(NAME)``,
   and ``api export_step(): cam.step``.
 
 Not observed: report.html and the plots (PNG), which a later issue redraws.
@@ -386,7 +386,7 @@ def cli_jobs(name: str, folder: Path) -> list[Callable[[], dict[str, Any]]]:
 
 # ---- the API -------------------------------------------------------------------------------
 def api_outputs(name: str, folder: Path, probe_boxes: list[list[float]] | None = None) -> dict[str, Any]:
-    """``PlateCam.example(name)``'s report(), checks(), area, volume and its export_step() read
+    """``Cam.example(name)``'s report(), checks(), area, volume and its export_step() read
     back (:func:`step_record`)."""
     cls: Any = where("api")
     cam = cls.example(name)
