@@ -219,11 +219,10 @@ for dist in ("generators", "exporters"):
             if digest != f.hash.value:
                 out["changed"].append(str(f))
     out[dist + "_files"] = len(d.files)
-import generators
-out["generators"] = generators.__file__
+from importlib import import_module   # the foreign packages, by their import names
+out["generators"] = import_module("generators").__file__
 try:
-    import exporters
-    out["exporters"] = exporters.__file__
+    out["exporters"] = import_module("exporters").__file__
 except Exception as exc:  # its own code: Python 2 syntax
     out["exporters"] = f"{type(exc).__name__}: {getattr(exc, 'filename', '')}"
 import cam_workbench.generators as g, cam_workbench.exporters as e
