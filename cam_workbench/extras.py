@@ -12,7 +12,7 @@ from types import ModuleType
 
 from cam_workbench.generators.errors import MissingDependency
 
-from .ocp_compat import two_distributions_note
+from .kernel.ocp import two_distributions_note
 
 #: library module → (its name for people, the extra that brings it)
 EXTRAS = {"cadquery": ("CadQuery", "cadquery"), "build123d": ("build123d", "build123d")}

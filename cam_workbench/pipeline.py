@@ -79,7 +79,7 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     """
     from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
 
-    from . import occ_build, ocp_compat
+    from .kernel import ocp as ocp_compat, solids as occ_build
 
     ocp_compat.require("the cam's solid")
     shape = occ_build.cam_solid(design)
@@ -266,7 +266,7 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
     """
     from cam_workbench.exporters.atomic import OutputSet
     from cam_workbench.exporters.report_json import report_json_text
-    from cam_workbench.exporters.step import write_step
+    from cam_workbench.kernel.step import write_step
 
     files: dict[str, Any] = {}
     extra_texts = extra_texts or {}

@@ -26,7 +26,7 @@ from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
 from cam_workbench.generators.studies.remedies import with_remedy
 
-from . import occ_build, ocp_compat
+from .kernel import ocp as ocp_compat, solids as occ_build
 from .extras import import_build123d, import_cadquery
 
 
@@ -136,7 +136,7 @@ class PlateCam:
     # ---- outputs ----------------------------------------------------------------
     def export_step(self, path: str | os.PathLike[str]) -> Path:
         """Write the solid as STEP in the spec's units, atomically."""
-        from cam_workbench.exporters.step import export_step
+        from cam_workbench.kernel.step import export_step
 
         return export_step(self.step_shape, path, self.spec.units)
 

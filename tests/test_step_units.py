@@ -18,8 +18,8 @@ CLI = [sys.executable, "-m", "cam_workbench.cli"]
 #: reads a STEP file in mm in a new interpreter: (bounding-box z extent, volume)
 READ_MM = """
 import json, sys
-from cam_workbench.exporters.step import read_step
-from cam_workbench import occ_build, ocp_compat as occ
+from cam_workbench.kernel.step import read_step
+from cam_workbench.kernel import ocp as occ, solids as occ_build
 shape = read_step(sys.argv[1], "mm")
 box = occ.Bnd_Box(); occ.add_to_box(shape, box)
 x0, y0, z0, x1, y1, z1 = occ.box_limits(box)

@@ -116,7 +116,7 @@ def own_design(spec: CamSpec) -> bool:
 def require_ocp(command: str) -> None:
     """Before any work: the commands that build the solid (build, report, optimise) need OCP;
     without it they exit 2 with one line naming the extras that bring it (nothing written)."""
-    from ..ocp_compat import require
+    from ..kernel.ocp import require
 
     require(f"cam-workbench {command} (the solid, its checks and cam.step)")
 

@@ -3,7 +3,7 @@
 The model's numbers are in the spec's units; the file declares the same unit, so
 a CAD system reading it gets the right size (an inch cam stays 2.5 in, not 2.5 mm).
 
-Every OCP name comes from the OCP adaptor :mod:`cam_workbench.ocp_compat` (the one module of
+Every OCP name comes from the OCP adaptor :mod:`cam_workbench.kernel.ocp` (the one module of
 ``cam_workbench`` that ``exporters`` may import: it imports no other project module), imported
 when a function runs, so that the DXF and G-code exporters never need OCP.
 """
@@ -13,7 +13,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .atomic import atomic_path
+from cam_workbench.exporters.atomic import atomic_path
 
 _OCC_UNIT = {"mm": "MM", "in": "INCH"}
 
@@ -28,7 +28,7 @@ def _topods(shape: Any) -> Any:
 def write_step(shape: Any, path: str | os.PathLike[str], units: str = "mm",
                product_name: str = "plate cam") -> None:
     """Write ``shape`` to ``path`` (not atomic; see :func:`export_step`)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     occ.require("STEP export")
     if units not in _OCC_UNIT:
@@ -55,7 +55,7 @@ def _set_static(values: dict[str, str]) -> None:
 
     Raises:
         RuntimeError: OCCT refuses a value (the file would not say what it holds)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     occ.init_step()
     for name, value in values.items():
@@ -65,7 +65,7 @@ def _set_static(values: dict[str, str]) -> None:
 
 def has_offset_curves(shape: Any) -> bool:
     """True when an edge of ``shape`` lies on an offset curve (``GeomAbs_OffsetCurve``)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     ex = occ.TopExp_Explorer(shape, occ.TopAbs_EDGE)
     while ex.More():
@@ -77,7 +77,7 @@ def has_offset_curves(shape: Any) -> bool:
 
 def _quiet_occt() -> None:
     """Stop OCCT's translators printing transfer statistics on stdout."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     for printer in occ.message_printers():
         printer.SetTraceLevel(occ.Message_Gravity.Message_Fail)
@@ -92,7 +92,7 @@ def export_step(shape: Any, path: str | os.PathLike[str], units: str = "mm") -> 
 
 def read_step(path: str | os.PathLike[str], units: str = "mm") -> Any:
     """Read a STEP file into one TopoDS_Shape, converted to ``units`` (for checks and tests)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     occ.require("reading STEP")
     _set_static({"xstep.cascade.unit": _OCC_UNIT[units]})

@@ -4,7 +4,7 @@ only one that knows that OCP's versions differ.
 Every OCP class, enum and static method the project uses is taken from here, by a name that is
 the same for every supported OCP:
 
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
     occ.require("cam-workbench build")         # MissingDependency naming the extras, when absent
     poles = occ.pnt_array([occ.gp_Pnt(x, y, 0) for x, y in xy])
     curve = occ.Geom_BSplineCurve(poles, occ.real_array(w), …)
@@ -342,7 +342,7 @@ def message_printers() -> list[Any]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Say which OCP this environment has; 1 unless exactly one OCP distribution is installed and
-    OCP imports (the Makefile checks its venv so: ``python -c "from cam_workbench.ocp_compat
+    OCP imports (the Makefile checks its venv so: ``python -c "from cam_workbench.kernel.ocp
     import main; raise SystemExit(main())"``)."""
     import sys
 

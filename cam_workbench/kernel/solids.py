@@ -2,7 +2,7 @@
 
 This is the only place the CadQuery/build123d side turns generator output into
 B-rep; FreeCAD has its own adaptor in ``cam_workbench/freecad`` (never both OCCT
-builds in one process).  Every OCP name comes from :mod:`cam_workbench.ocp_compat`
+builds in one process).  Every OCP name comes from :mod:`cam_workbench.kernel.ocp`
 (``occ.``), which knows the OCP versions; nothing here does.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
 
-from . import ocp_compat as occ
+from . import ocp as occ
 
 
 def _occ_arrays(curve: NurbsCurve, pole_array: Any, point: Any) -> tuple[Any, Any, Any, Any]:
