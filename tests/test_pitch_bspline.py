@@ -137,7 +137,8 @@ def test_profile_errors_against_an_independent_polyline(designs):
 @pytest.mark.parametrize("name", ["default", "cw_negative_offset", "knife", "example5"])
 def test_kernel_solids_are_valid_with_exact_offset_curves(designs, name, tmp_path):
     from cam_workbench.kernel import solids as occ_build
-    from cam_workbench.kernel.step import export_step, has_offset_curves, read_step
+    from cam_workbench.exporters.step import export_step
+    from cam_workbench.kernel.step import has_offset_curves, read_step
 
     d = designs[name]
     exact = occ_build.cam_solid(d)

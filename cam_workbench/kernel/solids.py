@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.bodies.base import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -191,8 +192,6 @@ def _boolean(op: Any, a: Any, b: Any) -> Any:
 def loop_wire(loop: Any, z: float = 0.0) -> Any:
     """A closed wire of a body loop (:class:`cam_workbench.generators.bodies.Loop`): exact NURBS pieces (one edge
     per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
-    from cam_workbench.generators.bodies import Arc, Curve, Line
-
     mk = occ.BRepBuilderAPI_MakeWire()
     for piece in loop.pieces:
         if isinstance(piece, Curve):
