@@ -181,6 +181,20 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     return prog, callback
 
 
+def sweep_progress() -> tuple[Any, Any]:
+    """A rich progress bar over the jump-speed sweep and bisection, and its callback."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                   TimeElapsedColumn(), transient=True, disable=not on_terminal())
+    task = bar.add_task("jump-speed sweep", total=None)
+
+    def callback(done: int, total: int, what: str) -> None:
+        bar.update(task, completed=done, total=total, description=what)
+
+    return bar, callback
+
+
 def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], None] | None]:
     """A rich progress bar over the jump-speed sweep when the spec asks for its dynamics
     (``dynamics.enabled``), else a no-op context and no callback."""
@@ -188,8 +202,6 @@ def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], Non
 
     if not (spec.dynamics.enabled and spec.dynamics.sweep_points > 0):
         return contextlib.nullcontext(), None
-    from .dynamics_cmd import sweep_progress
-
     return sweep_progress()
 
 

@@ -17,7 +17,8 @@ from cam_workbench.generators.followers import follower_of
 from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 
-from .common import add_output_arguments, add_spec_arguments, admit_output, on_terminal, output_claim, spec_from_args
+from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, spec_from_args,
+                     sweep_progress)
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -44,20 +45,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-sweep", action="store_true", help="skip the jump-speed sweep (dynamics.sweep_points = 0)")
     add_output_arguments(p, None)
     p.set_defaults(run=run)
-
-
-def sweep_progress() -> tuple[Any, Any]:
-    """A rich progress bar over the jump-speed sweep and bisection, and its callback."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                   TimeElapsedColumn(), transient=True, disable=not on_terminal())
-    task = bar.add_task("jump-speed sweep", total=None)
-
-    def callback(done: int, total: int, what: str) -> None:
-        bar.update(task, completed=done, total=total, description=what)
-
-    return bar, callback
 
 
 def run(args: argparse.Namespace) -> int:
