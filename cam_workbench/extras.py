@@ -8,6 +8,7 @@ extra to install when the library is missing, and what is wrong when it is insta
 """
 from __future__ import annotations
 
+import importlib
 from types import ModuleType
 
 from cam_workbench.generators.errors import MissingDependency
@@ -19,8 +20,6 @@ EXTRAS = {"cadquery": ("CadQuery", "cadquery"), "build123d": ("build123d", "buil
 
 
 def _import(module: str, what: str) -> ModuleType:
-    import importlib
-
     title, extra = EXTRAS[module]
     try:
         return importlib.import_module(module)

@@ -20,7 +20,8 @@ The rules:
     modules and its Qt binding (present only inside FreeCAD; ``Part``/``FreeCADGui`` exist only
     there), the plotting and file-format libraries that only some outputs need (matplotlib,
     ezdxf), and the engines of the optional extras (nlopt for the optimiser, dask/distributed
-    and pyarrow for the studies' parallel runs and Parquet tables).  Each is either an extra of
+    and pyarrow for the studies' parallel runs and Parquet tables, psutil that distributed
+    brings, read on its workers).  Each is either an extra of
     the distribution or a program's own module: deferring it is what lets ``import
     cam_workbench.generators`` (and FreeCAD's workbench) load numpy and scipy only.  Nothing of
     the project, and nothing of the standard library, is imported inside a function: a project
@@ -65,6 +66,7 @@ DEFERRABLE = frozenset({
     "matplotlib", "ezdxf",                                # plots; DXF
     "nlopt",                                              # the optimiser's solvers
     "dask", "distributed", "pyarrow",                     # the studies' parallel runs, Parquet
+    "psutil",                                             # distributed's own, read on a Dask worker
 })
 
 #: the layers (rule (c)): a module under the key imports, of the project, only modules under these
