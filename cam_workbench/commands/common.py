@@ -1,10 +1,11 @@
 """Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, the output folder's
-claim, progress."""
+claim, progress, the run that ``build`` and ``report`` share."""
 from __future__ import annotations
 
 import argparse
 import contextlib
 import sys
+from pathlib import Path
 from typing import Any, Callable
 
 from rich.console import Console
@@ -20,6 +21,7 @@ from cam_workbench.generators.studies.remedies import with_remedy
 
 from ..kernel.ocp import require
 from ..parallel import import_distributed
+from ..pipeline import plot_count, run_pipeline, write_outputs
 
 try:
     import tomllib
@@ -134,6 +136,28 @@ def design_for(spec: CamSpec, remedy: bool = True) -> CamDesign:
         if not remedy:
             raise
         raise with_remedy(spec, exc) from None
+
+
+def write_cam(args: argparse.Namespace, command: str, *, report_only: bool = False) -> tuple[dict[str, Any], Path]:
+    """The run ``build`` and ``report`` share: the spec, OCP and the ``-o`` folder checked before
+    any work, the design (with its progress), every stage of the pipeline (the dynamics with a
+    progress bar when the spec asks), then the files written as one set with a progress bar over
+    the figures.  ``report_only``: of the files, only the report's (report.json, report.html, the
+    plots) — its numbers are still ``build``'s.  Returns (the report as written, the folder)."""
+    spec = spec_from_args(args)
+    require_ocp(command)
+    admit_output(args, spec, command)
+    design = design_for(spec)
+    bar, dcb = dynamics_progress(spec)
+    with bar:
+        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
+    if report_only:
+        outputs.step_shape = outputs.machining = outputs.dxf = None
+    out = Path(args.output)
+    prog, cb = plot_progress(plot_count(outputs))
+    with prog:
+        report = write_outputs(outputs, out, output_claim(args, spec, command), progress=cb)
+    return report, out
 
 
 def on_terminal() -> bool:
