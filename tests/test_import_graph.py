@@ -16,21 +16,25 @@ The rules:
 
 (b) **An import inside a function (or a class body) defers a heavy optional dependency**, and says
     which on its line or the line above (``# deferred: OCP``).  :data:`DEFERRABLE` lists them:
-    the CAD kernels (OCP and the two front ends over it, cadquery and build123d), FreeCAD's own
-    modules and its Qt binding (present only inside FreeCAD; ``Part``/``FreeCADGui`` exist only
-    there), the plotting and file-format libraries that only some outputs need (matplotlib,
-    ezdxf), and the engines of the optional extras (nlopt for the optimiser, dask/distributed
-    and pyarrow for the studies' parallel runs and Parquet tables, psutil that distributed
-    brings, read on its workers).  Each is either an extra of
-    the distribution or a program's own module: deferring it is what lets ``import
-    cam_workbench.generators`` (and FreeCAD's workbench) load numpy and scipy only.  Nothing of
-    the project, and nothing of the standard library, is imported inside a function: a project
-    module imported late hides a cycle or an upward import, and the standard library costs
-    nothing to import at the top.  One exception, by its construction: a package
-    ``__init__``'s module ``__getattr__`` (PEP 562) may import that package's own submodule —
-    the lazy API of ``cam_workbench`` (``from cam_workbench import PlateCam`` builds the API
-    layer when asked; ``import cam_workbench.generators`` does not) — and it too says what it
-    defers.  The edge still counts for (a).
+    the CAD kernel and its front ends (OCP, cadquery, build123d: extras, never requirements);
+    FreeCAD's modules and its Qt binding (``FreeCAD``, ``FreeCADGui``, ``Part``, ``PySide*``: they
+    exist only inside FreeCAD); the engines of the ``[dask]`` extra (dask, distributed, pyarrow,
+    and psutil that distributed brings, read on its workers); and three requirements that only
+    some outputs or commands use and that are slow to import (measured on a quiet machine,
+    interpreter start included: ezdxf 0.6 s, matplotlib 0.35 s, nlopt 0.25 s) — deferring them
+    keeps ``import cam_workbench.generators`` and the FreeCAD workbench at numpy and scipy, and
+    the command line's start free of them.  Not in the list: rich (a requirement, 0.05 s the same way, the command
+    line's own), numpy and scipy (the mathematics' own), the standard library, and
+    every module of the project — a project module imported late hides a cycle or an upward
+    import.  One exception, by its construction: a package ``__init__``'s module ``__getattr__``
+    (PEP 562) may import that package's own submodule — the lazy API of ``cam_workbench`` (``from
+    cam_workbench import PlateCam`` loads the API layer when asked; ``import
+    cam_workbench.generators`` does not) — and it too says what it defers.  Its edge still counts
+    for (a).
+
+    Loading a module by its name (``importlib.import_module``, ``__import__``), which this reading
+    cannot follow, is left to the two loaders of optional dependencies: the OCP adaptor and
+    ``cam_workbench.extras`` (CadQuery, build123d).
 
 (c) **Layers point down**: ``cam_workbench.generators`` imports nothing of the project outside
     itself; ``cam_workbench.exporters`` only the generators and the kernel; the kernel
@@ -185,13 +189,15 @@ def project_target(target: str, known: set[str]) -> str | None:
     return None
 
 
-def all_imports() -> list[Import]:
+@functools.lru_cache(maxsize=None)
+def all_imports() -> tuple[Import, ...]:
+    """Every import statement's targets, of every module."""
     mods = modules()
     known = set(mods)
-    return [imp for name, path in mods.items() for imp in imports_of(name, path, known)]
+    return tuple(imp for name, path in mods.items() for imp in imports_of(name, path, known))
 
 
-def graph(imports: list[Import]) -> dict[str, set[str]]:
+def graph(imports: tuple[Import, ...]) -> dict[str, set[str]]:
     """Project module → the project modules it imports (every statement, TYPE_CHECKING aside)."""
     known = set(modules())
     edges: dict[str, set[str]] = {m: set() for m in known}
@@ -281,6 +287,22 @@ def test_imports_inside_functions_defer_heavy_optional_dependencies():
     assert not bad, f"{len(bad)} imports inside functions or class bodies:\n" + "\n".join(bad)
 
 
+#: the modules that may load a module by its name (rule (b))
+NAME_LOADERS = frozenset({"cam_workbench.kernel.ocp", "cam_workbench.extras"})
+
+
+def test_modules_are_loaded_by_name_only_in_the_loaders():
+    bad = []
+    for name, path in modules().items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and (
+                    (isinstance(node.func, ast.Attribute) and node.func.attr == "import_module")
+                    or (isinstance(node.func, ast.Name) and node.func.id in ("__import__", "import_module"))):
+                if name not in NAME_LOADERS:
+                    bad.append(f"{path.relative_to(ROOT).as_posix()}:{node.lineno}")
+    assert not bad, "modules loaded by name outside the loaders: " + ", ".join(bad)
+
+
 def test_layers_point_down():
     imports = all_imports()
     known = set(modules())
@@ -305,6 +327,19 @@ def test_freecad_app_side_imports_no_gui_side():
            if imp.module.startswith("cam_workbench.freecad") and imp.module not in FREECAD_GUI_SIDE
            for target in [project_target(imp.target, known)] if target in FREECAD_GUI_SIDE]
     assert not bad, "\n".join(bad)
+
+
+def test_the_command_line_starts_without_the_deferred_dependencies():
+    """What the deferring is for: the command line's parser, the API's module and the kernel load
+    none of the deferred dependencies until a command or a method needs one."""
+    import subprocess
+
+    code = ("import sys, cam_workbench.cli, cam_workbench.platecam, cam_workbench.kernel.step\n"
+            "cam_workbench.cli.build_parser()\n"
+            f"print(','.join(sorted(m for m in {sorted(DEFERRABLE)!r} if m in sys.modules)))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == "", f"loaded at start: {res.stdout.strip()}"
 
 
 def test_the_graph_sees_every_import():
