@@ -29,8 +29,10 @@ The rules:
     import.  One exception, by its construction: a package ``__init__``'s module ``__getattr__``
     (PEP 562) may import that package's own submodule — the lazy API of ``cam_workbench`` (``from
     cam_workbench import PlateCam`` loads the API layer when asked; ``import
-    cam_workbench.generators`` does not) — and it too says what it defers.  Its edge still counts
-    for (a).
+    cam_workbench.generators`` does not); and so may the methods FreeCAD calls when the user first
+    opens the workbench (:data:`HOOKS`: FreeCAD runs ``mod/InitGui.py`` at every start with
+    ``exec()``, whose module-level names its methods cannot see, so ``Initialize`` imports the
+    workbench's commands).  Each says what it defers; their edges still count for (a).
 
     Loading a module by its name (``importlib.import_module``, ``__import__``), which this reading
     cannot follow, is left to the two loaders of optional dependencies: the OCP adaptor and
@@ -73,6 +75,9 @@ DEFERRABLE = frozenset({
     "psutil",                                             # distributed's own, read on a Dask worker
 })
 
+#: (module, method) that FreeCAD calls late, where the workbench's own modules are imported (rule (b))
+HOOKS = frozenset({("cam_workbench.freecad.mod.InitGui", "CamWorkbench.Initialize")})
+
 #: the layers (rule (c)): a module under the key imports, of the project, only modules under these
 LAYERS = {
     "cam_workbench.generators": ("cam_workbench.generators",),
@@ -97,7 +102,7 @@ class Import:
     target: str        #: the absolute name imported (a module, or the package a name comes from)
     line: int
     place: str         #: "module", "function" or "class"
-    in_getattr: bool   #: inside a module-level ``__getattr__``
+    scope: str         #: the enclosing definitions ("" at module level; "CamWorkbench.Initialize")
     comment: str       #: the comments on its lines and the line above
 
 
@@ -143,39 +148,38 @@ def imports_of(name: str, path: Path, known: set[str]) -> list[Import]:
         base = base[:len(base) - (node.level - 1)]
         return ".".join(base + ([node.module] if node.module else []))
 
-    def add(node: ast.stmt, target: str, place: str, in_getattr: bool) -> None:
+    def add(node: ast.stmt, target: str, place: str, scope: str) -> None:
         text_ = " ".join(comments.get(i, "") for i in range(node.lineno - 1, (node.end_lineno or node.lineno) + 1))
-        found.append(Import(name, target, node.lineno, place, in_getattr, text_))
+        found.append(Import(name, target, node.lineno, place, scope, text_))
 
-    def visit(node: ast.AST, place: str, in_getattr: bool) -> None:
+    def visit(node: ast.AST, place: str, scope: str) -> None:
         for child in ast.iter_child_nodes(node):
             if isinstance(child, ast.If) and _is_type_checking(child):
                 for sub in child.orelse:
-                    visit_one(sub, place, in_getattr)
+                    visit_one(sub, place, scope)
                 continue
-            visit_one(child, place, in_getattr)
+            visit_one(child, place, scope)
 
-    def visit_one(child: ast.AST, place: str, in_getattr: bool) -> None:
+    def visit_one(child: ast.AST, place: str, scope: str) -> None:
         if isinstance(child, ast.Import):
             for alias in child.names:
-                add(child, alias.name, place, in_getattr)
+                add(child, alias.name, place, scope)
         elif isinstance(child, ast.ImportFrom):
             base = resolve(child)
             for alias in child.names:
                 sub = f"{base}.{alias.name}"
-                add(child, sub if sub in known else base, place, in_getattr)
+                add(child, sub if sub in known else base, place, scope)
         elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
-            getattr_ = in_getattr or (place == "module" and getattr(child, "name", "") == "__getattr__")
-            visit(child, "function", getattr_)
+            visit(child, "function", f"{scope}.{getattr(child, 'name', '<lambda>')}".lstrip("."))
         elif isinstance(child, ast.ClassDef):
-            visit(child, "function" if place == "function" else "class", in_getattr)
+            visit(child, "function" if place == "function" else "class", f"{scope}.{child.name}".lstrip("."))
         elif isinstance(child, ast.If) and _is_type_checking(child):
             for sub in child.orelse:
-                visit_one(sub, place, in_getattr)
+                visit_one(sub, place, scope)
         else:
-            visit(child, place, in_getattr)
+            visit(child, place, scope)
 
-    visit(ast.parse(text, filename=str(path)), "module", False)
+    visit(ast.parse(text, filename=str(path)), "module", "")
     return found
 
 
@@ -258,10 +262,11 @@ def area(module: str) -> str:
 
 def deferral_problem(imp: Import) -> str | None:
     """Why an import inside a function or class body breaks rule (b), or None when it keeps it."""
-    if imp.in_getattr and modules()[imp.module].name == "__init__.py" \
-            and imp.target.startswith(imp.module + "."):
-        # a package's PEP 562 lazy submodule: the comment says what it defers
-        return None if "defer" in imp.comment.lower() else "a lazy submodule without a '# deferred: …' comment"
+    lazy = imp.scope == "__getattr__" and modules()[imp.module].name == "__init__.py" \
+        and imp.target.startswith(imp.module + ".")
+    if lazy or (imp.module, imp.scope) in HOOKS:
+        # a package's PEP 562 lazy submodule, a FreeCAD hook: the comment says what it defers
+        return None if "defer" in imp.comment.lower() else "no '# deferred: …' comment"
     root = imp.target.split(".")[0]
     if root not in DEFERRABLE:
         return f"{imp.target} is not a heavy optional dependency"
