@@ -76,7 +76,7 @@ def test_feature_volume_equals_cadquery_build(built, key):
     """FreeCAD's solid (FreeCAD's OCCT 7.6) has the volume of the CadQuery build (OCP's OCCT
     7.9) and of the exact Green's-theorem value, to 1e-9 relative, for the same spec."""
     from cam_workbench import PlateCam
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.solids import kernel_volume
 
     specs, res = built
     r = res[key]
@@ -480,8 +480,8 @@ def test_step_export_through_freecad(tmp_path, fc_home):
     the CadQuery build's volume; the spec exported as TOML opens as the same cam; a spec
     that breaks a rule writes no TOML file."""
     from cam_workbench import PlateCam
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.occ_build import is_valid, kernel_volume
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.solids import is_valid, kernel_volume
 
     paths = {k: str(tmp_path / n) for k, n in (("STEP_PATH", "cam.step"), ("TOML_PATH", "cam.toml"),
                                                ("BAD_STEP_PATH", "bad.step"),

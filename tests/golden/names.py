@@ -44,7 +44,7 @@ TMP = "<tmp>"
 WHERE: dict[str, str] = {
     "cli": "cam_workbench.cli",
     "api": "cam_workbench:PlateCam",
-    "ocp": "cam_workbench.ocp_compat",
+    "ocp": "cam_workbench.kernel.ocp",
     "examples": "cam_workbench.generators.spec.examples:EXAMPLES",
     "ecam_tables": "cam_workbench.generators.spec:ECAM_TABLES",
 }
