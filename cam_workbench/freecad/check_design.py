@@ -1,4 +1,4 @@
-"""Check design: the design checks, their extremes and the buildability of a ``PlateCam``.
+"""Check design: the design checks, their extremes and the buildability of a ``Cam`` feature.
 
 Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, so FreeCAD's
 own Python runs them):

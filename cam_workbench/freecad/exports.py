@@ -375,7 +375,7 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
 def suggested(obj: Any, kind: str) -> Path:
     """Where the dialog proposes to write: beside the document (else the working folder)."""
     folder = os.path.dirname(obj.Document.FileName or "") or os.getcwd()
-    label = re.sub(r"[^\w.-]+", "_", obj.Label) or "PlateCam"
+    label = re.sub(r"[^\w.-]+", "_", obj.Label) or "Cam"
     return Path(folder) / KINDS[kind].default_name.format(label=label)
 
 

@@ -1,4 +1,4 @@
-"""Kinematics plots of a ``PlateCam`` feature (matplotlib, shown in a FreeCAD dialog).
+"""Kinematics plots of a ``Cam`` feature (matplotlib, shown in a FreeCAD dialog).
 
 :func:`kinematics_figure` builds a ``matplotlib.figure.Figure`` without pyplot (so it
 works headless and in FreeCAD's Qt alike); :func:`show_plots` embeds it in a dialog with
