@@ -266,6 +266,7 @@ OPEN_V4 = """
 import FreeCAD, shutil, zipfile, re
 from cam_workbench.freecad import feature, properties as P
 shutil.copy(SRC, PATH)
+RESULT["freecad"] = ".".join(FreeCAD.Version()[:3])
 doc = FreeCAD.openDocument(PATH)
 for name in NAMES:
     o = doc.getObject(name)
@@ -313,6 +314,8 @@ def test_v4_plate_cam_document_opens_as_cam(tmp_path, fc_home):
     run = run_freecadcmd(head + OPEN_V4, tmp_path / "run", fc_home).check()
     first, _, second = run.console.partition("=== reopened")
     res = run.result
+    print(f"FreeCAD {res['freecad']}:", *[ln for ln in first.splitlines() if ln.startswith(tuple(V4_CAMS))],
+          sep="\n  ")
     for name, (example, rel) in V4_CAMS.items():
         r = res[name]
         spec = example_spec(example)
