@@ -1,6 +1,6 @@
 """The workbench's commands and its menu/toolbar layout.
 
-Importing this module is cheap (FreeCAD, FreeCADGui, os): every command imports what it
+Importing this module is cheap (FreeCAD, FreeCADGui, PySide, os): every command imports what it
 needs (numpy, scipy, generators, matplotlib) only when it runs.  A new command is a
 :class:`Command` subclass registered in :data:`COMMANDS` and placed in :data:`LAYOUT`.
 """
@@ -12,6 +12,7 @@ from typing import Any
 
 import FreeCAD
 import FreeCADGui
+from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
 
 ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
 #: The proxies' class names (restored documents hold these classes whatever name they stored)
@@ -108,14 +109,12 @@ class NewCamFromSpec(Command):
     needs_cam = False
 
     def run(self) -> None:
-        from PySide import QtGui
-
         name, _f = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Cam spec", "",
                                                      "Cam spec (*.toml)")
         if not name:
             return
+        # deferred: the generators load numpy, scipy
         from cam_workbench.generators.errors import SpecError
-
         from cam_workbench.generators.spec import load_spec
 
         try:
@@ -141,7 +140,7 @@ class EditMotion(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .motion_editor import open_editor
+            from .motion_editor import open_editor  # deferred: numpy, scipy, the generators
 
             open_editor(cam)
 
@@ -156,7 +155,7 @@ class Optimise(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .optimiser_panel import open_panel
+            from .optimiser_panel import open_panel  # deferred: numpy, scipy, the generators
 
             open_panel(cam)
 
@@ -172,7 +171,7 @@ class CheckDesign(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .check_design import show_report
+            from .check_design import show_report  # deferred: numpy, scipy, the generators
 
             show_report(cam)
 
@@ -186,7 +185,7 @@ class ShowPlots(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .plots import show_plots
+            from .plots import show_plots  # deferred: numpy, scipy, the generators
 
             show_plots(cam)
 
@@ -199,7 +198,7 @@ class ExportStep(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .step_export import export_step_dialog
+            from .step_export import export_step_dialog  # deferred: numpy, scipy, the generators
 
             export_step_dialog(cam)
 
@@ -213,8 +212,7 @@ class ExportSpec(Command):
         cam = target_cam()
         if cam is None:
             return
-        from PySide import QtGui
-
+        # deferred: numpy, scipy, the generators
         from cam_workbench.generators.errors import SpecError
 
         from .properties import describe_field
@@ -241,7 +239,7 @@ class _Export(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .export_dialog import open_export_dialog
+            from .export_dialog import open_export_dialog  # deferred: numpy, scipy, the generators
 
             open_export_dialog(cam, self.group)
 

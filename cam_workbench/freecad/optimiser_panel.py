@@ -26,7 +26,10 @@ from __future__ import annotations
 import time
 from typing import Any
 
+import numpy as np
+
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
 from cam_workbench.generators.spec import OPTIMISE_ALGORITHMS
 
@@ -466,14 +469,10 @@ class OptimiserPanel:
                 f"largest constraint value {p.max_violation:+.3e} ({feas}; ≤ 0 is feasible)")
 
     def _unit(self, objective: str) -> str:
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         return UNITS[objective].replace("length", self.units)
 
     def _phase_unit(self, phase: str, objective: str) -> str:
         """The unit of what a phase minimises ("slsqp on thesis_length": the smooth stand-in)."""
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         name = phase.split(" on ", 1)[1].split()[0] if " on " in phase else objective
         return self._unit(name if name in UNITS else objective)
 
@@ -604,7 +603,6 @@ class OptimiserPanel:
         rebuilt, so a redraw costs the GUI thread little while the worker runs)."""
         if getattr(self, "fig", None) is None:
             return
-        import numpy as np
 
         ax, av = self.ax_obj, self.ax_viol
         data = opt.history_arrays(history)

@@ -11,6 +11,11 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.errors import CamError
+
+from . import properties as props
+from .feature import build
+
 
 def kinematics_data(design: Any, samples_per_segment: int = 721) -> dict[str, np.ndarray]:
     """Cam angle [deg] and the follower's s, v, a, j per second at the spec's speed, the
@@ -92,11 +97,6 @@ def show_plots(obj: Any) -> Any:
     import FreeCAD
     import FreeCADGui
     from PySide import QtGui
-
-    from cam_workbench.generators.errors import CamError
-
-    from .feature import build
-    from . import properties as props
 
     try:
         import matplotlib  # noqa: F401
