@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -220,8 +221,6 @@ def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
     import Part
     from FreeCAD import Vector
-
-    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     edges: list[Any] = []
     for piece in loop.pieces:
