@@ -8,19 +8,18 @@ extra to install when the library is missing, and what is wrong when it is insta
 """
 from __future__ import annotations
 
+import importlib
 from types import ModuleType
 
 from cam_workbench.generators.errors import MissingDependency
 
-from .ocp_compat import two_distributions_note
+from .kernel.ocp import two_distributions_note
 
 #: library module → (its name for people, the extra that brings it)
 EXTRAS = {"cadquery": ("CadQuery", "cadquery"), "build123d": ("build123d", "build123d")}
 
 
 def _import(module: str, what: str) -> ModuleType:
-    import importlib
-
     title, extra = EXTRAS[module]
     try:
         return importlib.import_module(module)
@@ -39,12 +38,12 @@ def _broken(title: str, what: str, exc: BaseException) -> MissingDependency:
 
 
 def import_cadquery(what: str) -> ModuleType:
-    """``import cadquery`` for ``what`` (e.g. "PlateCam.workplane()"), or MissingDependency
+    """``import cadquery`` for ``what`` (e.g. "Cam.workplane()"), or MissingDependency
     naming the ``[cadquery]`` extra."""
     return _import("cadquery", what)
 
 
 def import_build123d(what: str) -> ModuleType:
-    """``import build123d`` for ``what`` (e.g. "PlateCam.part()"), or MissingDependency naming
+    """``import build123d`` for ``what`` (e.g. "Cam.part()"), or MissingDependency naming
     the ``[build123d]`` extra."""
     return _import("build123d", what)

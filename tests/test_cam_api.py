@@ -64,8 +64,8 @@ def _same_cam(a: Any, b: Any) -> None:
 
 
 def _is_solid(v: Any) -> None:
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.occ_build import count_solids, is_valid
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.solids import count_solids, is_valid
 
     assert isinstance(v, occ.TopoDS_Shape) and count_solids(v) == 1 and is_valid(v)
 
