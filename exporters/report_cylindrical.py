@@ -9,7 +9,8 @@ import html
 from typing import Any, Callable, Mapping
 
 from . import plots
-from .report_html import CSS, _checks_section, _inline_svg, _quantity_table
+from .report_cells import _quantity_table
+from .report_html import CSS, _checks_section, _inline_svg
 
 #: (name of the PNG, title) of the figures
 FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),

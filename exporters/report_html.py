@@ -38,10 +38,9 @@ always                          the cam drawing with the follower, key numbers, 
 from __future__ import annotations
 
 import html
-import math
 import re
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -56,6 +55,7 @@ from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
 from cam_workbench.generators.studies.remedies import remedy_line
 
 from . import interpolator_plots, plots
+from .report_cells import _has, _num_cell, _quantity_table, _scalars_table, check_result, format_number
 
 
 @dataclass(frozen=True)
@@ -502,64 +502,6 @@ def _figure(p: Plot, svg: str) -> str:
             f"<figcaption>{html.escape(p.caption)}</figcaption></figure>")
 
 
-# ---- numbers -------------------------------------------------------------------------------
-def lookup(report: Mapping[str, Any], key: str) -> Any:
-    """The value at a dotted path (list indices as numbers): ``spec.motion.1.lift``."""
-    node: Any = report
-    for part in key.split("."):
-        if isinstance(node, list):
-            node = node[int(part)]
-        elif isinstance(node, Mapping) and part in node:
-            node = node[part]
-        else:
-            raise KeyError(key)
-    return node
-
-
-def _has(report: Mapping[str, Any], key: str) -> bool:
-    try:
-        lookup(report, key)
-        return True
-    except (KeyError, IndexError, ValueError):
-        return False
-
-
-def format_number(v: Any) -> str:
-    """How a number is shown: 6 significant digits (integers and booleans as they are)."""
-    if v is None:
-        return "—"
-    if isinstance(v, bool):
-        return "yes" if v else "no"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if not math.isfinite(v):
-            return str(v)
-        return f"{v:.6g}"
-    return html.escape(str(v))
-
-
-def _num_cell(report: Mapping[str, Any], key: str) -> str:
-    v = lookup(report, key)
-    if isinstance(v, str):
-        return f'<td data-key="{key}">{html.escape(v)}</td>'
-    data = "null" if v is None else ("true" if v is True else "false" if v is False else repr(v))
-    return f'<td class="num" data-key="{key}" data-value="{data}">{format_number(v)}</td>'
-
-
-def _quantity_table(report: Mapping[str, Any], rows: Iterable[tuple[str, str, str, str | None]]) -> str:
-    """Rows (label, key, unit, key of the cam angle or None); rows whose key is absent are left out."""
-    out = ['<table class="q"><tr><th>quantity</th><th>value</th><th>unit</th><th>at cam angle [deg]</th></tr>']
-    for label, key, unit, at in rows:
-        if not _has(report, key):
-            continue
-        at_cell = _num_cell(report, at) if at and _has(report, at) else "<td></td>"
-        out.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, key)}<td>{html.escape(unit)}</td>"
-                   f"{at_cell}</tr>")
-    out.append("</table>")
-    return "".join(out)
-
-
 def _area_rows(report: Mapping[str, Any], u: str) -> list[tuple[str, str, str, None]]:
     """Key-number rows of report.json's design-intent ``areas`` the cam has (the thesis' Eq. 4.21
     area, the areas inside the design curve and the profile), each named as :data:`AREA_LABELS` names it."""
@@ -580,33 +522,6 @@ def _objective_note(report: Mapping[str, Any]) -> str:
     return (f'<p class="note" id="objective">Objective <b>{html.escape(str(opt.get("objective")))}</b>: '
             f'{html.escape(str(opt.get("objective_label", "")))}{where}; the cam\'s cross-section is report.json '
             "<code>area</code>.</p>")
-
-
-def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[str] = ()) -> str:
-    """Every scalar of ``report[section]`` (nested dicts flattened) as key/value rows."""
-    rows = []
-
-    def walk(node: Any, path: str) -> None:
-        if isinstance(node, Mapping):
-            for k, v in node.items():
-                if path == section and k in exclude:
-                    continue
-                walk(v, f"{path}.{k}")
-        elif not isinstance(node, list):
-            label = path[len(section) + 1:].replace("_", " ")
-            rows.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, path)}</tr>")
-
-    walk(report[section], section)
-    return '<table class="kv"><tr><th>item</th><th>value</th></tr>' + "".join(rows) + "</table>"
-
-
-def check_result(report: Mapping[str, Any], name: str) -> Mapping[str, Any] | None:
-    """report.json's ``checks.results[name]``, or None when the report has no such check."""
-    checks = report.get("checks")
-    if not isinstance(checks, Mapping) or not isinstance(checks.get("results"), Mapping):
-        return None
-    r = checks["results"].get(name)
-    return r if isinstance(r, Mapping) else None
 
 
 def _deviation_count(design: CamDesign) -> int:

@@ -161,7 +161,7 @@ def print_tables(d: dict[str, Any], out: Path | None) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from cam_workbench.exporters.report_html import format_number as fmt
+    from cam_workbench.exporters.report_cells import format_number as fmt
 
     con = Console(soft_wrap=True)
     c, m, e, tq = d["contact"], d["model"], d["error"], d["torque"]
