@@ -10,7 +10,8 @@ from typing import Any, Callable, Mapping
 
 from . import plots
 from .report_cells import _quantity_table
-from .report_html import CSS, _checks_section, _inline_svg
+from .report_html import CSS, _inline_svg
+from .report_sections import _checks_section
 
 #: (name of the PNG, title) of the figures
 FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
