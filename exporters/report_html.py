@@ -47,14 +47,12 @@ import numpy as np
 from cam_workbench.generators import __version__
 from cam_workbench.generators.bodies import drawing_title
 from cam_workbench.generators.cam_design import CamDesign
-from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.checks.claims import pitch_text, profile_claim
 
 from . import interpolator_plots, plots
-from .report_cells import _quantity_table, _scalars_table, check_result
-from .report_sections import (_area_rows, _buildability_section, _checks_section, _drawing_section,
-                              _dynamics_section, _files_section, _junctions_table, _objective_note,
-                              _segments_table, _spec_section, _verdict)
+from .report_cells import check_result
+from .report_sections import PageData, page_sections
+
 
 @dataclass(frozen=True)
 class Series:
@@ -301,178 +299,13 @@ pre{background:#f8f9f9;border:1px solid #d5d8dc;padding:8px;font-size:12px;overf
 
 def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot],
           figures: Mapping[str, str]) -> str:
+    """The page: title, the line under it, the navigation and the sections
+    (:func:`cam_workbench.exporters.report_sections.page_sections`)."""
     spec = design.spec
     dr = spec.drawing
     u = report.get("units", spec.units)
     fig = {p.key: _figure(p, figures[p.key]) for p in plot_list}
-    sections: list[tuple[str, str, str]] = []  # (id, title, body)
-
-    lu = report.get("motion", {}).get("lift_unit", u)
-    key_rows = [
-        ("follower", "follower.label", "", None),
-        ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
-        ("base circle radius (the profile at zero lift)", "profile.base_circle_radius", u, None),
-        ("smallest profile radius (built)", "profile.min_radius", u, None),
-        ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
-        ("follower offset e", "follower.offset", u, None),
-        ("arm pivot distance d", "follower.pivot_distance", u, None),
-        ("arm length L", "follower.arm_length", u, None),
-        ("arm angle at zero lift ψ₀", "follower.arm_angle_at_zero_lift_deg", "deg", None),
-        ("face offset from the pivot f", "follower.face_offset", u, None),
-        ("face normal angle at zero lift β₀", "follower.face_angle_at_zero_lift_deg", "deg", None),
-        ("roller radius", "spec.follower.roller_radius", u, None),
-        ("bore diameter", "spec.cam.bore_diameter", u, None),
-        ("thickness", "spec.cam.thickness", u, None),
-        (area_label("area"), "area", f"{u}²", None),
-        *_area_rows(report, u),
-        ("volume", "volume", f"{u}³", None),
-        ("max pressure angle", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
-        ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
-        ("max follower deviation", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
-    ]
-    if spec.follower.kind != "roller":
-        key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
-    claim = profile_claim(report, spec.is_roller, u) if "profile" in report else None
-    sections.append(("cam", "The cam", f'<div class="grid"><div>{fig["cam"]}</div><div>'
-                     f'{_verdict(report)}{_quantity_table(report, key_rows)}</div></div>'))
-    sections.append(("spec", "Specification", _spec_section(spec, report)))
-    motion_rows = [
-        ("largest lift", "motion.max_lift", lu, None),
-        ("max |velocity|", "motion.max_velocity", f"{lu}/s", None),
-        ("max |acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
-        ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
-    ]
-    sections.append(("motion", "Follower motion", fig["kinematics"] + _quantity_table(report, motion_rows)
-                     + _segments_table(report, lu) + _junctions_table(report, lu)))
-    pa_rows = [
-        ("max |φ| (design)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
-        ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
-        ("max |φ| (built curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
-    ]
-    sections.append(("pressure", "Pressure angle", fig["pressure_angle"] + _quantity_table(report, pa_rows)))
-    cv_rows = [
-        (f"min convex {report.get('follower', {}).get('curve', 'pitch curve')} radius (design)",
-         "curvature.min_pitch_radius", u, "curvature.at_deg"),
-        ("min convex profile radius (design)", "curvature.min_profile_radius", u, "curvature.at_deg"),
-        ("min concave pitch radius (design)", "curvature.min_concave_pitch_radius", u, None),
-        ("min convex pitch radius (built)", "curvature.as_built.min_pitch_radius", u, "curvature.as_built.at_deg"),
-        ("min convex profile radius (built)", "curvature.as_built.min_profile_radius", u,
-         "curvature.as_built.at_deg"),
-        ("min concave pitch radius (built)", "curvature.as_built.min_concave_pitch_radius", u, None),
-    ]
-    sections.append(("curvature", "Radius of curvature", fig["curvature"] + _quantity_table(report, cv_rows)))
-    acc_rows = [
-        ("max |s_actual − s|", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
-        ("target deviation (pitch.tolerance)", "pitch.tolerance", lu, None),
-        ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
-         None),
-        ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
-        ("Newton residual (relative)", "pitch.newton_residual", "", None),
-        ("pitch-curve arc length" + (" (closed form, PH)" if spec.pitch.representation == "ph" else ""),
-         "pitch.arc_length", u, None),
-        ("profile NURBS degree", "profile.degree", "", None),
-        ("profile NURBS rational", "profile.rational", "", None),
-        ("profile poles", "profile.poles", "", None),
-        ("profile: max distance from the design-intent profile", "profile.max_error", u,
-         "profile.max_error_at_deg"),
-        ("profile: fitted offset vs the exact offset of the fitted pitch B-spline",
-         "profile.fitted_vs_kernel_offset", u, None),
-        ("profile: exact offset of the fitted pitch B-spline vs the design-intent profile",
-         "profile.kernel_offset.max_error", u, "profile.kernel_offset.max_error_at_deg"),
-        ("solid: OCCT volume", "solid.kernel_volume", f"{u}³", None),
-        ("solid: volume of the profile NURBS (Green's theorem × thickness)", "volume", f"{u}³", None),
-        ("solid: OCCT cross-section area", "solid.cross_section_area", f"{u}²", None),
-        ("solid: cross-section of the profile NURBS (Green's theorem)", "area", f"{u}²", None),
-        ("solid: OCCT volume / Green's theorem − 1", "solid.volume_rel_diff", "", None),
-        ("solid: OCCT cross-section / Green's theorem − 1", "solid.area_rel_diff", "", None),
-    ]
-    acc_note = ""
-    if claim is not None:
-        where = ("so the only approximation in the geometry is the pitch curve's interpolation of the "
-                 "motion, measured above" if claim.exact else
-                 "so the geometry carries both the pitch curve's interpolation error and the fit's error, "
-                 "each measured above")
-        acc_note = (f'<p class="note" id="profile-claim" data-exact="{str(claim.exact).lower()}">The profile '
-                    f"is the {html.escape(claim.text)}, {where}. OCCT's numbers are an independent check of "
-                    "the built solid.</p>")
-    sections.append(("accuracy", "Interpolation error and accuracy",
-                     fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
-    if "conjugate" in fig:
-        lu2 = "deg" if report["body"]["roller_distance_error"]["lift_unit"] == "deg" else u
-        cj_rows = [
-            ("second roller", "body.second_cam.follower.label", "", None),
-            ("second cam from z", "body.second_cam.z.0", u, None),
-            ("second cam to z", "body.second_cam.z.1", u, None),
-            ("axial gap", "body.gap", u, None),
-            ("spacer diameter", "body.spacer_diameter", u, None),
-            ("second cam: max |φ| (design)", "body.second_cam.pressure_angle.max_deg", "deg",
-             "body.second_cam.pressure_angle.at_deg"),
-            ("second cam: max |φ| (built curve)", "body.second_cam.pressure_angle.as_built.max_deg", "deg",
-             "body.second_cam.pressure_angle.as_built.at_deg"),
-            ("second cam: min convex pitch radius", "body.second_cam.curvature.min_pitch_radius", u,
-             "body.second_cam.curvature.at_deg"),
-            ("second cam: min convex profile radius", "body.second_cam.curvature.min_profile_radius", u,
-             "body.second_cam.curvature.at_deg"),
-            ("second cam: smallest radius", "body.second_cam.profile.min_radius", u, None),
-            ("second cam: largest radius", "body.second_cam.profile.max_radius", u,
-             "body.second_cam.profile.max_radius_at_deg"),
-            ("second cam: PH segments M", "body.second_cam.pitch.segments", "", None),
-            ("second cam: max |s_actual − s|", "body.second_cam.pitch.max_deviation", lu2,
-             "body.second_cam.pitch.max_deviation_at_deg"),
-            ("second cam: profile's max distance from the design-intent profile",
-             "body.second_cam.profile.max_error", u, "body.second_cam.profile.max_error_at_deg"),
-            ("distance error between the rollers: max", "body.roller_distance_error.max", u,
-             "body.roller_distance_error.at_deg"),
-            ("largest interference", "body.roller_distance_error.largest_interference", u, None),
-            ("largest play", "body.roller_distance_error.largest_play", u, None),
-            ("max |s₁ − s₂| (lift)", "body.roller_distance_error.lift_max", lu2,
-             "body.roller_distance_error.lift_at_deg"),
-            ("bound: first + second cam's max deviation", "body.roller_distance_error.lift_bound", lu2, None),
-            ("share of the turn the first cam drives", "body.drive.first_cam_share", "", None),
-            ("share of the turn the second cam drives", "body.drive.second_cam_share", "", None),
-        ]
-        sections.append(("conjugate", "Conjugate cams", fig["conjugate"] + _quantity_table(report, cj_rows)
-                         + fig["roller_distance"]))
-    if "force_stress" in fig:
-        sections.append(("force", "Contact force and stress", fig["force_stress"]))
-    if isinstance(report.get("dynamics"), Mapping):
-        sections.append(("dynamics", "Follower dynamics", _dynamics_section(report, fig)))
-    if "interpolator_kinematics" in fig:
-        ip_rows = [
-            ("cam speed", "interpolator.speed_rpm", "rpm", None),
-            ("sample period Δt", "interpolator.sample_period", "s", None),
-            ("cam rotation per command", "interpolator.step_deg", "deg", None),
-            ("commands per revolution", "interpolator.commands", "", None),
-            ("max |s_actual − s| at the commands", "interpolator.max_deviation", lu,
-             "interpolator.max_deviation_at_deg"),
-            ("max |v| from the commands", "interpolator.velocity.max", f"{lu}/s", "interpolator.velocity.at_deg"),
-            ("max |v| desired", "interpolator.velocity.desired_max", f"{lu}/s", None),
-            ("max |a| from the commands", "interpolator.acceleration.max", f"{lu}/s²",
-             "interpolator.acceleration.at_deg"),
-            ("max |a| desired", "interpolator.acceleration.desired_max", f"{lu}/s²", None),
-            ("increase of max |a| [%]", "interpolator.acceleration.increase_percent", "%", None),
-            ("max |j| from the commands", "interpolator.jerk.max", f"{lu}/s³", "interpolator.jerk.at_deg"),
-            ("max |j| desired", "interpolator.jerk.desired_max", f"{lu}/s³", None),
-            ("increase of max |j| [%]", "interpolator.jerk.increase_percent", "%", None),
-        ]
-        note = report["interpolator"].get("warning")
-        warn = f'<p class="note"><b>warning:</b> {html.escape(str(note))}</p>' if note else ""
-        sections.append(("interpolator", "Machining commands (rotational PH interpolator)",
-                         fig["interpolator_kinematics"] + _quantity_table(report, ip_rows) +
-                         fig["interpolator_deviation"] + warn))
-    # the verdicts come right after the cam, before the curves they are judged on
-    verdicts = [("buildability", "Buildability", _buildability_section(report))]
-    if isinstance(report.get("checks"), Mapping):
-        verdicts.insert(0, ("checks", "Design checks", _checks_section(report)))
-    sections[1:1] = verdicts
-    if isinstance(report.get("optimise"), Mapping):
-        body = _objective_note(report) + _scalars_table(report, "optimise", exclude=("history",))
-        sections.append(("optimise", "Optimiser", fig.get("convergence", "") + body))
-    if isinstance(report.get("drawing"), Mapping):
-        sections.append(("drawing", "Manufacturing drawing (DXF)", _drawing_section(report)))
-    if isinstance(report.get("files"), Mapping):
-        sections.append(("files", "Files", _files_section(report)))
-
+    sections = page_sections(PageData(spec, report, fig))
     title = html.escape(drawing_title(spec))
     sub = [str(report.get("follower", {}).get("name", spec.follower.kind)) + " follower",
            f"{len(spec.motion)} motion segments",

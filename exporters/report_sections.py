@@ -4,16 +4,17 @@ number a :mod:`cam_workbench.exporters.report_cells` cell) and the figures alrea
 from __future__ import annotations
 
 import html
-from typing import Any, Mapping
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
 
 from cam_workbench.generators.checks.areas import area_label
-from cam_workbench.generators.checks.claims import checks_verdict
+from cam_workbench.generators.checks.claims import checks_verdict, profile_claim
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
 from cam_workbench.generators.studies.remedies import remedy_line
 
-from .report_cells import _has, _num_cell, _quantity_table, format_number
+from .report_cells import _has, _num_cell, _quantity_table, _scalars_table, format_number
 
 
 def _area_rows(report: Mapping[str, Any], u: str) -> list[tuple[str, str, str, None]]:
@@ -394,3 +395,283 @@ def _files_section(report: Mapping[str, Any]) -> str:
             out.append(f"<tr><td><code>{html.escape(str(n))}</code></td><td>{html.escape(k)}</td></tr>")
     out.append("</table>")
     return "".join(out)
+
+
+# ---- the page's sections, in order ------------------------------------------------------------
+#: (id, title, body HTML) of one section of the page
+Section = tuple[str, str, str]
+
+
+@dataclass(frozen=True)
+class PageData:
+    """What the section views read.
+
+    Attributes:
+        spec: the cam's spec (field names and units of the spec tables, the TOML).
+        report: the report.json content as written.
+        fig: figure key → its ``<figure>`` element (only the figures the report has).
+    """
+
+    spec: CamSpec
+    report: Mapping[str, Any]
+    fig: Mapping[str, str]
+
+    @property
+    def u(self) -> str:
+        """The length unit ("mm" or "in")."""
+        return self.report.get("units", self.spec.units)
+
+    @property
+    def lu(self) -> str:
+        """The follower's lift unit: the length unit, or "deg" for an arm's rotation."""
+        return self.report.get("motion", {}).get("lift_unit", self.u)
+
+
+def cam_view(p: PageData) -> Section:
+    """The cam drawing beside the checks' verdict and the key numbers."""
+    report, u, lu = p.report, p.u, p.lu
+    key_rows = [
+        ("follower", "follower.label", "", None),
+        ("base radius R_b (prime circle)", "spec.cam.base_radius", u, None),
+        ("base circle radius (the profile at zero lift)", "profile.base_circle_radius", u, None),
+        ("smallest profile radius (built)", "profile.min_radius", u, None),
+        ("largest profile radius", "profile.max_radius", u, "profile.max_radius_at_deg"),
+        ("follower offset e", "follower.offset", u, None),
+        ("arm pivot distance d", "follower.pivot_distance", u, None),
+        ("arm length L", "follower.arm_length", u, None),
+        ("arm angle at zero lift ψ₀", "follower.arm_angle_at_zero_lift_deg", "deg", None),
+        ("face offset from the pivot f", "follower.face_offset", u, None),
+        ("face normal angle at zero lift β₀", "follower.face_angle_at_zero_lift_deg", "deg", None),
+        ("roller radius", "spec.follower.roller_radius", u, None),
+        ("bore diameter", "spec.cam.bore_diameter", u, None),
+        ("thickness", "spec.cam.thickness", u, None),
+        (area_label("area"), "area", f"{u}²", None),
+        *_area_rows(report, u),
+        ("volume", "volume", f"{u}³", None),
+        ("max pressure angle", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
+        ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
+        ("max follower deviation", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
+    ]
+    if p.spec.follower.kind != "roller":
+        key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
+    return ("cam", "The cam", f'<div class="grid"><div>{p.fig["cam"]}</div><div>'
+            f'{_verdict(report)}{_quantity_table(report, key_rows)}</div></div>')
+
+
+def checks_view(p: PageData) -> Section | None:
+    """The design checks (when report.json has them): right after the cam, before the curves
+    they are judged on."""
+    if not isinstance(p.report.get("checks"), Mapping):
+        return None
+    return ("checks", "Design checks", _checks_section(p.report))
+
+
+def buildability_view(p: PageData) -> Section:
+    """The buildability verdicts (after the design checks)."""
+    return ("buildability", "Buildability", _buildability_section(p.report))
+
+
+def spec_view(p: PageData) -> Section:
+    """Every spec field, the motion program and the spec as TOML."""
+    return ("spec", "Specification", _spec_section(p.spec, p.report))
+
+
+def motion_view(p: PageData) -> Section:
+    """s/v/a/j, their maxima, the solved segments and the junctions."""
+    lu = p.lu
+    motion_rows = [
+        ("largest lift", "motion.max_lift", lu, None),
+        ("max |velocity|", "motion.max_velocity", f"{lu}/s", None),
+        ("max |acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
+        ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
+    ]
+    return ("motion", "Follower motion", p.fig["kinematics"] + _quantity_table(p.report, motion_rows)
+            + _segments_table(p.report, lu) + _junctions_table(p.report, lu))
+
+
+def pressure_view(p: PageData) -> Section:
+    """The pressure angle over the cycle and its maxima, design and built."""
+    pa_rows = [
+        ("max |φ| (design)", "pressure_angle.max_deg", "deg", "pressure_angle.at_deg"),
+        ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
+        ("max |φ| (built curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
+    ]
+    return ("pressure", "Pressure angle", p.fig["pressure_angle"] + _quantity_table(p.report, pa_rows))
+
+
+def curvature_view(p: PageData) -> Section:
+    """The radius of curvature and its minima, design and built."""
+    u = p.u
+    cv_rows = [
+        (f"min convex {p.report.get('follower', {}).get('curve', 'pitch curve')} radius (design)",
+         "curvature.min_pitch_radius", u, "curvature.at_deg"),
+        ("min convex profile radius (design)", "curvature.min_profile_radius", u, "curvature.at_deg"),
+        ("min concave pitch radius (design)", "curvature.min_concave_pitch_radius", u, None),
+        ("min convex pitch radius (built)", "curvature.as_built.min_pitch_radius", u, "curvature.as_built.at_deg"),
+        ("min convex profile radius (built)", "curvature.as_built.min_profile_radius", u,
+         "curvature.as_built.at_deg"),
+        ("min concave pitch radius (built)", "curvature.as_built.min_concave_pitch_radius", u, None),
+    ]
+    return ("curvature", "Radius of curvature", p.fig["curvature"] + _quantity_table(p.report, cv_rows))
+
+
+def accuracy_view(p: PageData) -> Section:
+    """The pitch curve's interpolation error, the profile NURBS and the solid's OCCT numbers, and
+    what the profile is (exact offset or fit)."""
+    report, spec, u, lu = p.report, p.spec, p.u, p.lu
+    acc_rows = [
+        ("max |s_actual − s|", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
+        ("target deviation (pitch.tolerance)", "pitch.tolerance", lu, None),
+        ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
+         None),
+        ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
+        ("Newton residual (relative)", "pitch.newton_residual", "", None),
+        ("pitch-curve arc length" + (" (closed form, PH)" if spec.pitch.representation == "ph" else ""),
+         "pitch.arc_length", u, None),
+        ("profile NURBS degree", "profile.degree", "", None),
+        ("profile NURBS rational", "profile.rational", "", None),
+        ("profile poles", "profile.poles", "", None),
+        ("profile: max distance from the design-intent profile", "profile.max_error", u,
+         "profile.max_error_at_deg"),
+        ("profile: fitted offset vs the exact offset of the fitted pitch B-spline",
+         "profile.fitted_vs_kernel_offset", u, None),
+        ("profile: exact offset of the fitted pitch B-spline vs the design-intent profile",
+         "profile.kernel_offset.max_error", u, "profile.kernel_offset.max_error_at_deg"),
+        ("solid: OCCT volume", "solid.kernel_volume", f"{u}³", None),
+        ("solid: volume of the profile NURBS (Green's theorem × thickness)", "volume", f"{u}³", None),
+        ("solid: OCCT cross-section area", "solid.cross_section_area", f"{u}²", None),
+        ("solid: cross-section of the profile NURBS (Green's theorem)", "area", f"{u}²", None),
+        ("solid: OCCT volume / Green's theorem − 1", "solid.volume_rel_diff", "", None),
+        ("solid: OCCT cross-section / Green's theorem − 1", "solid.area_rel_diff", "", None),
+    ]
+    claim = profile_claim(report, spec.is_roller, u) if "profile" in report else None
+    acc_note = ""
+    if claim is not None:
+        where = ("so the only approximation in the geometry is the pitch curve's interpolation of the "
+                 "motion, measured above" if claim.exact else
+                 "so the geometry carries both the pitch curve's interpolation error and the fit's error, "
+                 "each measured above")
+        acc_note = (f'<p class="note" id="profile-claim" data-exact="{str(claim.exact).lower()}">The profile '
+                    f"is the {html.escape(claim.text)}, {where}. OCCT's numbers are an independent check of "
+                    "the built solid.</p>")
+    return ("accuracy", "Interpolation error and accuracy",
+            p.fig["deviation"] + _quantity_table(report, acc_rows) + acc_note)
+
+
+def conjugate_view(p: PageData) -> Section | None:
+    """A conjugate pair's second cam and the distance error between the rollers (with its figures)."""
+    if "conjugate" not in p.fig:
+        return None
+    u = p.u
+    lu2 = "deg" if p.report["body"]["roller_distance_error"]["lift_unit"] == "deg" else u
+    cj_rows = [
+        ("second roller", "body.second_cam.follower.label", "", None),
+        ("second cam from z", "body.second_cam.z.0", u, None),
+        ("second cam to z", "body.second_cam.z.1", u, None),
+        ("axial gap", "body.gap", u, None),
+        ("spacer diameter", "body.spacer_diameter", u, None),
+        ("second cam: max |φ| (design)", "body.second_cam.pressure_angle.max_deg", "deg",
+         "body.second_cam.pressure_angle.at_deg"),
+        ("second cam: max |φ| (built curve)", "body.second_cam.pressure_angle.as_built.max_deg", "deg",
+         "body.second_cam.pressure_angle.as_built.at_deg"),
+        ("second cam: min convex pitch radius", "body.second_cam.curvature.min_pitch_radius", u,
+         "body.second_cam.curvature.at_deg"),
+        ("second cam: min convex profile radius", "body.second_cam.curvature.min_profile_radius", u,
+         "body.second_cam.curvature.at_deg"),
+        ("second cam: smallest radius", "body.second_cam.profile.min_radius", u, None),
+        ("second cam: largest radius", "body.second_cam.profile.max_radius", u,
+         "body.second_cam.profile.max_radius_at_deg"),
+        ("second cam: PH segments M", "body.second_cam.pitch.segments", "", None),
+        ("second cam: max |s_actual − s|", "body.second_cam.pitch.max_deviation", lu2,
+         "body.second_cam.pitch.max_deviation_at_deg"),
+        ("second cam: profile's max distance from the design-intent profile",
+         "body.second_cam.profile.max_error", u, "body.second_cam.profile.max_error_at_deg"),
+        ("distance error between the rollers: max", "body.roller_distance_error.max", u,
+         "body.roller_distance_error.at_deg"),
+        ("largest interference", "body.roller_distance_error.largest_interference", u, None),
+        ("largest play", "body.roller_distance_error.largest_play", u, None),
+        ("max |s₁ − s₂| (lift)", "body.roller_distance_error.lift_max", lu2,
+         "body.roller_distance_error.lift_at_deg"),
+        ("bound: first + second cam's max deviation", "body.roller_distance_error.lift_bound", lu2, None),
+        ("share of the turn the first cam drives", "body.drive.first_cam_share", "", None),
+        ("share of the turn the second cam drives", "body.drive.second_cam_share", "", None),
+    ]
+    return ("conjugate", "Conjugate cams", p.fig["conjugate"] + _quantity_table(p.report, cj_rows)
+            + p.fig["roller_distance"])
+
+
+def force_view(p: PageData) -> Section | None:
+    """Contact force and Hertz stress over the cycle (when the spec gives a load)."""
+    if "force_stress" not in p.fig:
+        return None
+    return ("force", "Contact force and stress", p.fig["force_stress"])
+
+
+def dynamics_view(p: PageData) -> Section | None:
+    """The follower train at speed (report.json ``dynamics``)."""
+    if not isinstance(p.report.get("dynamics"), Mapping):
+        return None
+    return ("dynamics", "Follower dynamics", _dynamics_section(p.report, p.fig))
+
+
+def interpolator_view(p: PageData) -> Section | None:
+    """The rotational interpolator's commands: the follower motion they give against the design."""
+    if "interpolator_kinematics" not in p.fig:
+        return None
+    lu = p.lu
+    ip_rows = [
+        ("cam speed", "interpolator.speed_rpm", "rpm", None),
+        ("sample period Δt", "interpolator.sample_period", "s", None),
+        ("cam rotation per command", "interpolator.step_deg", "deg", None),
+        ("commands per revolution", "interpolator.commands", "", None),
+        ("max |s_actual − s| at the commands", "interpolator.max_deviation", lu,
+         "interpolator.max_deviation_at_deg"),
+        ("max |v| from the commands", "interpolator.velocity.max", f"{lu}/s", "interpolator.velocity.at_deg"),
+        ("max |v| desired", "interpolator.velocity.desired_max", f"{lu}/s", None),
+        ("max |a| from the commands", "interpolator.acceleration.max", f"{lu}/s²",
+         "interpolator.acceleration.at_deg"),
+        ("max |a| desired", "interpolator.acceleration.desired_max", f"{lu}/s²", None),
+        ("increase of max |a| [%]", "interpolator.acceleration.increase_percent", "%", None),
+        ("max |j| from the commands", "interpolator.jerk.max", f"{lu}/s³", "interpolator.jerk.at_deg"),
+        ("max |j| desired", "interpolator.jerk.desired_max", f"{lu}/s³", None),
+        ("increase of max |j| [%]", "interpolator.jerk.increase_percent", "%", None),
+    ]
+    note = p.report["interpolator"].get("warning")
+    warn = f'<p class="note"><b>warning:</b> {html.escape(str(note))}</p>' if note else ""
+    return ("interpolator", "Machining commands (rotational PH interpolator)",
+            p.fig["interpolator_kinematics"] + _quantity_table(p.report, ip_rows) +
+            p.fig["interpolator_deviation"] + warn)
+
+
+def optimise_view(p: PageData) -> Section | None:
+    """The optimiser's objective, its scalar entries and the convergence figure."""
+    if not isinstance(p.report.get("optimise"), Mapping):
+        return None
+    body = _objective_note(p.report) + _scalars_table(p.report, "optimise", exclude=("history",))
+    return ("optimise", "Optimiser", p.fig.get("convergence", "") + body)
+
+
+def drawing_view(p: PageData) -> Section | None:
+    """The DXF: how the profile was written and its measured error."""
+    if not isinstance(p.report.get("drawing"), Mapping):
+        return None
+    return ("drawing", "Manufacturing drawing (DXF)", _drawing_section(p.report))
+
+
+def files_view(p: PageData) -> Section | None:
+    """The files of the output folder (report.json ``files``)."""
+    if not isinstance(p.report.get("files"), Mapping):
+        return None
+    return ("files", "Files", _files_section(p.report))
+
+
+#: the section views in page order (a view returns None when its data is absent)
+VIEWS: tuple[Callable[[PageData], Section | None], ...] = (
+    cam_view, checks_view, buildability_view, spec_view, motion_view, pressure_view, curvature_view,
+    accuracy_view, conjugate_view, force_view, dynamics_view, interpolator_view, optimise_view, drawing_view,
+    files_view)
+
+
+def page_sections(p: PageData) -> list[Section]:
+    """The sections the page has, in order."""
+    return [s for s in (view(p) for view in VIEWS) if s is not None]
