@@ -77,8 +77,8 @@ class Command:
 
 class NewPlateCam(Command):
     menu_text = "New plate cam"
-    tooltip = ("Add a parametric plate cam (the built-in default: the paper's Table 1 case 2 with "
-               "a 5 mm roller); edit its properties and its motion program")
+    tooltip = ("Add a parametric plate cam (the built-in default: the paper's motion program on a 40 mm "
+               "base radius with a radial 8 mm roller); edit its properties and its motion program")
     icon = "PlateCam.svg"
     needs_cam = False
 
