@@ -142,7 +142,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
              f"s_actual − s [{small}]: the follower {'rotation' if fol['lift_unit'] == 'angle' else 'displacement'} "
              f"the built {curve} ({pitch_text(report) if 'pitch' in report else built}) gives (the follower "
              "touching the curve, paper Eq. 13 generalised) minus the design's, every "
-             f"{360 / _deviation_count(design):.3g}°; ticks: {ticks}.",
+             f"{360 / design.pitch.deviation_count():.3g}°; ticks: {ticks}.",
              lambda: plots.deviation_figure(design)),
     ]
     panels = [series[k] for k in FORCE_STRESS_KEYS if k in series]
@@ -331,14 +331,6 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
 def _figure(p: Plot, svg: str) -> str:
     return (f'<figure id="fig-{p.key}" data-png="{p.png_name}">{svg}'
             f"<figcaption>{html.escape(p.caption)}</figcaption></figure>")
-
-
-def _deviation_count(design: CamDesign) -> int:
-    """Samples of the deviation figure (the pitch curve's own rule when it has one)."""
-    count = getattr(design.pitch, "deviation_count", None)
-    if count is not None:
-        return int(count())
-    return len(design.pitch.deviation()[0])
 
 
 def _history(report: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray | None] | None:
