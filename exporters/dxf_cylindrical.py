@@ -287,3 +287,13 @@ def _title(msp: Any, design: Any, summary: dict[str, Any], info: CylDxfInfo, x0:
     for x in (x0, x1, x2):
         msp.add_line((x, top - 2.6 * h), (x, y), dxfattribs=att)
     add_closed_outline(msp, [(x0, y), (x2, y), (x2, top), (x0, top)], att)
+
+
+def export_cylindrical_dxf(design: Any, path: Any, summary: dict[str, Any] | None = None) -> CylDxfInfo:
+    """Write the drawing to ``path`` atomically (temporary file, then rename)."""
+    from .atomic import atomic_path
+
+    doc, info = build_cylindrical_dxf(design, summary)
+    with atomic_path(path) as tmp:
+        doc.saveas(str(tmp))
+    return info
