@@ -96,7 +96,19 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
                  series: Mapping[str, Series] | None = None, dynamics: Any = None) -> list[Plot]:
     """The figures this report will have, in order (optional ones only with their data);
     ``dynamics``: the :class:`cam_workbench.generators.dynamics.DynamicsResult` behind ``report["dynamics"]``."""
-    series = series or {}
+    return (_design_plots(design, report) + _force_plots(design, series or {})
+            + _interpolator_plots(design, report) + _dynamics_plots(design, report, dynamics)
+            + _conjugate_plots(design, report) + _convergence_plots(report))
+
+
+def _ticks(design: CamDesign) -> str:
+    """What the deviation figures' ticks mark."""
+    return "PH junctions" if design.spec.pitch.representation == "ph" else "B-spline knots"
+
+
+def _design_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
+    """The figures every report has: the cam, the motion, the pressure angle, the curvature and
+    the interpolation error."""
     u = design.spec.units
     fol = design.follower.describe()
     curve = fol["curve"]
@@ -108,8 +120,8 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
     built = f"PH {curve}" if ph else f"fitted B-spline {curve}"
     claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
     prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
-    ticks = "PH junctions" if ph else "B-spline knots"
-    out = [
+    ticks = _ticks(design)
+    return [
         Plot("cam", "The cam and its follower",
              f"{prof_words} " + ("the face's contact points (dashed), the base circle and the bore"
                                  if flat else f"the {curve} traced by the follower point (dashed), the prime and "
@@ -145,6 +157,11 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
              f"{360 / design.pitch.deviation_count():.3g}°; ticks: {ticks}.",
              lambda: plots.deviation_figure(design)),
     ]
+
+
+def _force_plots(design: CamDesign, series: Mapping[str, Series]) -> list[Plot]:
+    """Contact force and Hertz stress over the cycle, when the report has their series."""
+    out: list[Plot] = []
     panels = [series[k] for k in FORCE_STRESS_KEYS if k in series]
     if panels:
         out.append(Plot(
@@ -154,6 +171,17 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             lambda: plots.series_figure(
                 [(p.theta_deg, p.values, f"{p.label} [{p.unit}]", p.limit, p.limit_kind) for p in panels],
                 design)))
+    return out
+
+
+def _interpolator_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
+    """The follower motion the machining commands give, and their displacement error."""
+    u = design.spec.units
+    fol = design.follower.describe()
+    small = plots.small_unit(u, design.follower.lift_unit)[1]
+    ph = design.spec.pitch.representation == "ph"
+    ticks = _ticks(design)
+    out: list[Plot] = []
     it_rep = report.get("interpolator")
     if isinstance(it_rep, Mapping):
         acc_cache: dict[str, Any] = {}
@@ -181,6 +209,13 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             lambda: interpolator_plots.deviation_figure(accuracy(), "deg" if fol["lift_unit"] == "angle" else u,
                                                         junction_angles=design.pitch.angles,
                                                         junction_label=ticks)))
+    return out
+
+
+def _dynamics_plots(design: CamDesign, report: Mapping[str, Any], dynamics: Any) -> list[Plot]:
+    """The follower train at speed and the jump speed, with the DynamicsResult behind report.json's section."""
+    u = design.spec.units
+    out: list[Plot] = []
     dyn = report.get("dynamics")
     if dynamics is not None and isinstance(dyn, Mapping):
         u_small = plots.small_unit(u, design.follower.lift_unit)[1]
@@ -200,6 +235,13 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
                 "(refined by Brent's method between two speeds of the sweep). Lines: the analysis speed, the jump "
                 "speed and the rigid follower's.",
                 lambda: plots.jump_speed_figure(dynamics, dyn)))
+    return out
+
+
+def _conjugate_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
+    """A conjugate pair: both cams, and the distance error between the rollers."""
+    small = plots.small_unit(design.spec.units, design.follower.lift_unit)[1]
+    out: list[Plot] = []
     second = _second_cam(design, report)
     if second is not None:
         err_cache: dict[str, Any] = {}
@@ -224,6 +266,12 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
             "rollers that follows — the second roller's centre where the first cam puts the follower minus where "
             "the second cam wants it, along its path (report.json body.roller_distance_error).",
             lambda: plots.roller_distance_figure(design, error())))
+    return out
+
+
+def _convergence_plots(report: Mapping[str, Any]) -> list[Plot]:
+    """The optimiser's convergence, when report.json's ``optimise`` has a history."""
+    out: list[Plot] = []
     hist = _history(report)
     if hist is not None:
         it, obj, viol = hist
