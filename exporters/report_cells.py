@@ -21,7 +21,8 @@ def lookup(report: Mapping[str, Any], key: str) -> Any:
     return node
 
 
-def _has(report: Mapping[str, Any], key: str) -> bool:
+def has(report: Mapping[str, Any], key: str) -> bool:
+    """Whether report.json has a value at the dotted path ``key``."""
     try:
         lookup(report, key)
         return True
@@ -44,7 +45,10 @@ def format_number(v: Any) -> str:
     return html.escape(str(v))
 
 
-def _num_cell(report: Mapping[str, Any], key: str) -> str:
+def num_cell(report: Mapping[str, Any], key: str) -> str:
+    """The ``<td>`` of the value at ``key``: ``data-key`` the path, ``data-value`` the exact value
+    (a number's ``repr``; true, false, null as in JSON), the text :func:`format_number`'s; a
+    string's cell holds the string and no ``data-value``."""
     v = lookup(report, key)
     if isinstance(v, str):
         return f'<td data-key="{key}">{html.escape(v)}</td>'
@@ -52,20 +56,20 @@ def _num_cell(report: Mapping[str, Any], key: str) -> str:
     return f'<td class="num" data-key="{key}" data-value="{data}">{format_number(v)}</td>'
 
 
-def _quantity_table(report: Mapping[str, Any], rows: Iterable[tuple[str, str, str, str | None]]) -> str:
+def quantity_table(report: Mapping[str, Any], rows: Iterable[tuple[str, str, str, str | None]]) -> str:
     """Rows (label, key, unit, key of the cam angle or None); rows whose key is absent are left out."""
     out = ['<table class="q"><tr><th>quantity</th><th>value</th><th>unit</th><th>at cam angle [deg]</th></tr>']
     for label, key, unit, at in rows:
-        if not _has(report, key):
+        if not has(report, key):
             continue
-        at_cell = _num_cell(report, at) if at and _has(report, at) else "<td></td>"
-        out.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, key)}<td>{html.escape(unit)}</td>"
+        at_cell = num_cell(report, at) if at and has(report, at) else "<td></td>"
+        out.append(f"<tr><td>{html.escape(label)}</td>{num_cell(report, key)}<td>{html.escape(unit)}</td>"
                    f"{at_cell}</tr>")
     out.append("</table>")
     return "".join(out)
 
 
-def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[str] = ()) -> str:
+def scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[str] = ()) -> str:
     """Every scalar of ``report[section]`` (nested dicts flattened) as key/value rows."""
     rows = []
 
@@ -77,7 +81,7 @@ def _scalars_table(report: Mapping[str, Any], section: str, exclude: Sequence[st
                 walk(v, f"{path}.{k}")
         elif not isinstance(node, list):
             label = path[len(section) + 1:].replace("_", " ")
-            rows.append(f"<tr><td>{html.escape(label)}</td>{_num_cell(report, path)}</tr>")
+            rows.append(f"<tr><td>{html.escape(label)}</td>{num_cell(report, path)}</tr>")
 
     walk(report[section], section)
     return '<table class="kv"><tr><th>item</th><th>value</th></tr>' + "".join(rows) + "</table>"

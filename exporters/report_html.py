@@ -312,7 +312,7 @@ def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[
             progress(p.title)
         fig = p.make()
         try:
-            figures[p.key] = _inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), p.key)
+            figures[p.key] = inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), p.key)
             pngs[p.png_name] = plots.figure_bytes(fig, "png", dpi=130)
         finally:
             plots.close(fig)
@@ -401,7 +401,7 @@ _ID = re.compile(r'id="([^"]+)"')
 _REF = re.compile(r'(id="|url\(#|href="#)([^"\)]+)')
 
 
-def _inline_svg(svg: str, prefix: str) -> str:
+def inline_svg(svg: str, prefix: str) -> str:
     """Matplotlib's SVG made fit for inlining: no XML prolog, scalable, and its ids made
     unique per figure (several figures define the same glyph and clip ids)."""
     svg = svg[svg.index("<svg"):]

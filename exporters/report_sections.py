@@ -14,7 +14,7 @@ from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
 from cam_workbench.generators.studies.remedies import remedy_line
 
-from .report_cells import _has, _num_cell, _quantity_table, _scalars_table, format_number
+from .report_cells import format_number, has, num_cell, quantity_table, scalars_table
 
 
 def _area_rows(report: Mapping[str, Any], u: str) -> list[tuple[str, str, str, None]]:
@@ -39,7 +39,7 @@ def _objective_note(report: Mapping[str, Any]) -> str:
             "<code>area</code>.</p>")
 
 
-def _checks_section(report: Mapping[str, Any]) -> str:
+def checks_section(report: Mapping[str, Any]) -> str:
     """The verdict, one row per check of ``checks.results`` and the extremes table."""
     checks = report["checks"]
     results = checks.get("results") if isinstance(checks.get("results"), Mapping) else {}
@@ -61,11 +61,11 @@ def _checks_section(report: Mapping[str, Any]) -> str:
             f'<tr class="check {cls}" data-check="{html.escape(name)}" data-status="{html.escape(status)}">'
             f'<td title="{desc}"><code>{html.escape(name)}</code> <span class="note">({html.escape(kind)}: '
             f"{desc})</span></td>"
-            f"{_num_cell(report, prefix + '.value')}"
+            f"{num_cell(report, prefix + '.value')}"
             f'<td class="sign" data-sign="{html.escape(sign)}">{html.escape(sign)}</td>'
-            f"{_num_cell(report, prefix + '.limit')}"
+            f"{num_cell(report, prefix + '.limit')}"
             f"<td>{html.escape(str(r.get('unit', '')))}</td>"
-            f"{_num_cell(report, prefix + '.at_deg')}"
+            f"{num_cell(report, prefix + '.at_deg')}"
             f'<td class="{cls}" data-key="{prefix}.status">{html.escape(status)}</td>'
             f'<td data-key="{prefix}.note">{html.escape(str(r.get("note", "")))}</td></tr>')
     out.append("</table>")
@@ -77,8 +77,8 @@ def _checks_section(report: Mapping[str, Any]) -> str:
                    "<th>at cam angle [deg]</th></tr>")
         for name, e in ext.items():
             prefix = f"checks.extremes.{name}"
-            at = _num_cell(report, prefix + ".at_deg") if "at_deg" in e else "<td></td>"
-            out.append(f"<tr><td>{html.escape(name.replace('_', ' '))}</td>{_num_cell(report, prefix + '.value')}"
+            at = num_cell(report, prefix + ".at_deg") if "at_deg" in e else "<td></td>"
+            out.append(f"<tr><td>{html.escape(name.replace('_', ' '))}</td>{num_cell(report, prefix + '.value')}"
                        f"<td>{html.escape(str(e.get('unit', '')))}</td>{at}</tr>")
         out.append("</table>")
     return "".join(out)
@@ -121,7 +121,7 @@ def _segments_table(report: Mapping[str, Any], lu: str) -> str:
             if key in seg:
                 u = lu if unit == "lift" else (lu + unit if unit.startswith("/") else unit)
                 rows.append(f"<tr><td>{i}</td><td>{html.escape(str(seg['law']))}</td><td>{html.escape(label)}</td>"
-                            f"{_num_cell(report, f'motion.segments.{i}.{key}')}<td>{html.escape(u)}</td></tr>")
+                            f"{num_cell(report, f'motion.segments.{i}.{key}')}<td>{html.escape(u)}</td></tr>")
         if "coefficients" in seg:
             coef = ", ".join(f"{c:.6g}" for c in seg["coefficients"])
             rows.append(f"<tr><td>{i}</td><td>polynomial</td><td>coefficients a₀ … a_d of s = Σ a_k x^k, "
@@ -152,13 +152,13 @@ def _junctions_table(report: Mapping[str, Any], lu: str) -> str:
         ok = bool(j.get("ok"))
         cls = "pass" if ok else "fail"
         out.append(
-            f'<tr class="{cls}">{_num_cell(report, pre + ".at_deg")}'
+            f'<tr class="{cls}">{num_cell(report, pre + ".at_deg")}'
             f"<td>motion[{j.get('from')}] {html.escape(str(j.get('from_law')))} → motion[{j.get('to')}] "
             f"{html.escape(str(j.get('to_law')))}</td>"
-            f"{_num_cell(report, pre + '.jumps.velocity')}{_num_cell(report, pre + '.jumps.acceleration')}"
-            f"{_num_cell(report, pre + '.jumps.jerk')}{_num_cell(report, pre + '.order')}"
-            f"{_num_cell(report, pre + '.promised')}"
-            f"{_num_cell(report, pre + '.ok')}</tr>")
+            f"{num_cell(report, pre + '.jumps.velocity')}{num_cell(report, pre + '.jumps.acceleration')}"
+            f"{num_cell(report, pre + '.jumps.jerk')}{num_cell(report, pre + '.order')}"
+            f"{num_cell(report, pre + '.promised')}"
+            f"{num_cell(report, pre + '.ok')}</tr>")
     out.append("</table>")
     return "".join(out)
 
@@ -220,7 +220,7 @@ def _dynamics_section(report: Mapping[str, Any], fig: Mapping[str, str]) -> str:
         ("steady state reached", "dynamics.steady_state.periodic", "", None),
     ]
     out.append(fig.get("dynamics", ""))
-    out.append(_quantity_table(report, rows))
+    out.append(quantity_table(report, rows))
     notes = [f'<span data-key="dynamics.steady_state.method">{html.escape(str(d["steady_state"]["method"]))}</span>']
     jp = d.get("jump_speed")
     if isinstance(jp, Mapping) and jp.get("note"):
@@ -235,8 +235,8 @@ def _dynamics_section(report: Mapping[str, Any], fig: Mapping[str, str]) -> str:
             key = f"dynamics.residual_vibration.{i}"
             out.append(f"<tr><td>motion[{int(r['after'])}] ({html.escape(str(r['kind']))})</td>"
                        f"<td>motion[{int(r['next'])}] ({html.escape(str(r['next_kind']))})</td>"
-                       f"{_num_cell(report, key + '.amplitude')}<td>{html.escape(lu)}</td>"
-                       f"{_num_cell(report, key + '.at_deg')}</tr>")
+                       f"{num_cell(report, key + '.amplitude')}<td>{html.escape(lu)}</td>"
+                       f"{num_cell(report, key + '.at_deg')}</tr>")
         out.append("</table>")
     out.append(fig.get("jump_speed", ""))
     return "".join(out)
@@ -323,11 +323,11 @@ def _spec_section(spec: CamSpec, report: Mapping[str, Any]) -> str:
             if is_list:
                 continue
             for field, p in params_of(cls).items():
-                if _has(report, f"spec.{name}.{field}"):
+                if has(report, f"spec.{name}.{field}"):
                     rows.append((f"{name}.{field}", f"spec.{name}.{field}", unit_name(p.unit, units)))
         out.append('<table class="spec"><tr><th>field</th><th>value</th><th>unit</th></tr>')
         for label, key, unit in rows:
-            out.append(f"<tr><td><code>{html.escape(label)}</code></td>{_num_cell(report, key)}"
+            out.append(f"<tr><td><code>{html.escape(label)}</code></td>{num_cell(report, key)}"
                        f"<td>{html.escape(unit)}</td></tr>")
         out.append("</table>")
         motion = report["spec"].get("motion", [])
@@ -339,7 +339,7 @@ def _spec_section(spec: CamSpec, report: Mapping[str, Any]) -> str:
             cells = []
             for f in ("angle", "lift", "law", "junctions"):
                 key = f"spec.motion.{i}.{f}"
-                cells.append(_num_cell(report, key) if _has(report, key) else "<td>—</td>")
+                cells.append(num_cell(report, key) if has(report, key) else "<td>—</td>")
             out.append(f"<tr><td>{i}</td><td>{html.escape(str(seg.get('kind')))}</td>"
                        f'<td class="num">{start:g}</td>{"".join(cells)}</tr>')
             start += float(seg.get("angle", 0.0))
@@ -374,7 +374,7 @@ def _drawing_section(report: Mapping[str, Any]) -> str:
         for sub in (v if isinstance(v, Mapping) else [None]):     # a dict: one row per entry
             key = f"drawing.{k}" + (f".{sub}" if sub is not None else "")
             out.append(f"<tr><td>{html.escape(label + (f': {sub}' if sub is not None else ''))}</td>"
-                       f"{_num_cell(report, key)}</tr>")
+                       f"{num_cell(report, key)}</tr>")
     out.append("</table>")
     spline = {"spline": "The SPLINE on PROFILE carries the degree, knots, control points and weights of the "
                         "profile NURBS" + (f" (the {html.escape(str(d['profile_curve']))})"
@@ -455,7 +455,7 @@ def cam_view(p: PageData) -> Section:
     if p.spec.follower.kind != "roller":
         key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
     return ("cam", "The cam", f'<div class="grid"><div>{p.fig["cam"]}</div><div>'
-            f'{_verdict(report)}{_quantity_table(report, key_rows)}</div></div>')
+            f'{_verdict(report)}{quantity_table(report, key_rows)}</div></div>')
 
 
 def checks_view(p: PageData) -> Section | None:
@@ -463,7 +463,7 @@ def checks_view(p: PageData) -> Section | None:
     they are judged on."""
     if not isinstance(p.report.get("checks"), Mapping):
         return None
-    return ("checks", "Design checks", _checks_section(p.report))
+    return ("checks", "Design checks", checks_section(p.report))
 
 
 def buildability_view(p: PageData) -> Section:
@@ -485,7 +485,7 @@ def motion_view(p: PageData) -> Section:
         ("max |acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
         ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
     ]
-    return ("motion", "Follower motion", p.fig["kinematics"] + _quantity_table(p.report, motion_rows)
+    return ("motion", "Follower motion", p.fig["kinematics"] + quantity_table(p.report, motion_rows)
             + _segments_table(p.report, lu) + _junctions_table(p.report, lu))
 
 
@@ -496,7 +496,7 @@ def pressure_view(p: PageData) -> Section:
         ("signed φ at that angle", "pressure_angle.signed_deg", "deg", None),
         ("max |φ| (built curve)", "pressure_angle.as_built.max_deg", "deg", "pressure_angle.as_built.at_deg"),
     ]
-    return ("pressure", "Pressure angle", p.fig["pressure_angle"] + _quantity_table(p.report, pa_rows))
+    return ("pressure", "Pressure angle", p.fig["pressure_angle"] + quantity_table(p.report, pa_rows))
 
 
 def curvature_view(p: PageData) -> Section:
@@ -512,7 +512,7 @@ def curvature_view(p: PageData) -> Section:
          "curvature.as_built.at_deg"),
         ("min concave pitch radius (built)", "curvature.as_built.min_concave_pitch_radius", u, None),
     ]
-    return ("curvature", "Radius of curvature", p.fig["curvature"] + _quantity_table(p.report, cv_rows))
+    return ("curvature", "Radius of curvature", p.fig["curvature"] + quantity_table(p.report, cv_rows))
 
 
 def accuracy_view(p: PageData) -> Section:
@@ -555,7 +555,7 @@ def accuracy_view(p: PageData) -> Section:
                     f"is the {html.escape(claim.text)}, {where}. OCCT's numbers are an independent check of "
                     "the built solid.</p>")
     return ("accuracy", "Interpolation error and accuracy",
-            p.fig["deviation"] + _quantity_table(report, acc_rows) + acc_note)
+            p.fig["deviation"] + quantity_table(report, acc_rows) + acc_note)
 
 
 def conjugate_view(p: PageData) -> Section | None:
@@ -596,7 +596,7 @@ def conjugate_view(p: PageData) -> Section | None:
         ("share of the turn the first cam drives", "body.drive.first_cam_share", "", None),
         ("share of the turn the second cam drives", "body.drive.second_cam_share", "", None),
     ]
-    return ("conjugate", "Conjugate cams", p.fig["conjugate"] + _quantity_table(p.report, cj_rows)
+    return ("conjugate", "Conjugate cams", p.fig["conjugate"] + quantity_table(p.report, cj_rows)
             + p.fig["roller_distance"])
 
 
@@ -639,7 +639,7 @@ def interpolator_view(p: PageData) -> Section | None:
     note = p.report["interpolator"].get("warning")
     warn = f'<p class="note"><b>warning:</b> {html.escape(str(note))}</p>' if note else ""
     return ("interpolator", "Machining commands (rotational PH interpolator)",
-            p.fig["interpolator_kinematics"] + _quantity_table(p.report, ip_rows) +
+            p.fig["interpolator_kinematics"] + quantity_table(p.report, ip_rows) +
             p.fig["interpolator_deviation"] + warn)
 
 
@@ -647,7 +647,7 @@ def optimise_view(p: PageData) -> Section | None:
     """The optimiser's objective, its scalar entries and the convergence figure."""
     if not isinstance(p.report.get("optimise"), Mapping):
         return None
-    body = _objective_note(p.report) + _scalars_table(p.report, "optimise", exclude=("history",))
+    body = _objective_note(p.report) + scalars_table(p.report, "optimise", exclude=("history",))
     return ("optimise", "Optimiser", p.fig.get("convergence", "") + body)
 
 
