@@ -3,7 +3,9 @@ CSS, no scripts, nothing loaded from elsewhere), plus the same plots as PNG file
 
 Every number in a table is the value of ``report.json`` at the path in the cell's
 ``data-key`` (``data-value`` holds it exactly, the text shows it to 6 digits), so the
-page and the JSON cannot disagree.
+page and the JSON cannot disagree (the cells: :mod:`cam_workbench.exporters.report_cells`).
+This module draws the figures and assembles the page; each section is one view of
+:mod:`cam_workbench.exporters.report_sections` (``VIEWS``, in page order).
 
 Sections appear when their data is present:
 
