@@ -48,8 +48,10 @@ import numpy as np
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.bodies import drawing_title
+from cam_workbench.generators.bodies.conjugate import roller_distance_error
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import pitch_text, profile_claim
+from cam_workbench.generators.machining.interpolator import interpolator_accuracy
 
 from . import interpolator_plots, plots
 from .report_cells import check_result
@@ -190,8 +192,6 @@ def _interpolator_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Pl
 
         def accuracy() -> Any:
             if "acc" not in acc_cache:
-                from cam_workbench.generators.machining.interpolator import interpolator_accuracy
-
                 acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
                                                          float(it_rep["sample_period"]))
             return acc_cache["acc"]
@@ -250,8 +250,6 @@ def _conjugate_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]
 
         def error() -> Any:
             if "err" not in err_cache:
-                from cam_workbench.generators.bodies.conjugate import roller_distance_error
-
                 err_cache["err"] = roller_distance_error(design.pitch, second.pitch)
             return err_cache["err"]
 
