@@ -9,11 +9,14 @@ Bézier segments the contact solve runs on, and the cam angles bounding them) an
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from ..followers import Follower
-from ..motion.program import MotionProgram
-from .contact import Contact, FollowerLineSolver
+if TYPE_CHECKING:                    # annotations only: the representations import these themselves
+    from ..followers import Follower
+    from ..motion.program import MotionProgram
+    from .contact import Contact, FollowerLineSolver
 
 TWO_PI = 2.0 * np.pi
 #: the deviation's default sample spacing [deg]
