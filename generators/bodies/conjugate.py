@@ -33,8 +33,8 @@ import numpy as np
 from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.conjugate import second_roller_of
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark
-from .plate import feature_checks, profile_radius_along, zero_angle
+from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark, zero_angle
+from .plate import feature_checks, profile_radius_along
 
 #: the suffix of the second cam's check names (``pressure_angle_cam2``, …)
 SECOND = "cam2"

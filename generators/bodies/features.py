@@ -195,11 +195,16 @@ def hole_ligaments(spec, inner_radius_at, bore: float) -> dict:
     return {"to_bore": rc - rh - bore, "to_outer": outer, "between": between}
 
 
+def zero_angle(design) -> float:
+    """Cam-frame polar angle [rad] of the follower's contact at θ = 0 (where the timing mark goes)."""
+    k = design.program.evaluate(np.array([0.0]))
+    p = design.follower.points(np.array([0.0]), k)[0]
+    return float(np.angle(p))
+
+
 def plate_features(design, t: float) -> list[Prism]:
     """The features of a body whose top face is the plate's (0 ≤ z ≤ t): the hub below it, the
     mounting holes through it and the timing mark from the bore (and keyway) to the profile."""
-    from .plate import zero_angle
-
     spec = design.spec
     out = [p for p in (hub_prism(spec),) if p is not None]
     out += mounting_holes(spec, 0.0, t)

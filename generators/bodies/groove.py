@@ -18,8 +18,8 @@ import numpy as np
 
 from ..errors import GeometryError, SpecError, fmt_apart
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, plate_features, resolved
-from .plate import feature_checks, profile_radius_along, zero_angle
+from .features import bore_extent, bore_loop, plate_features, resolved, zero_angle
+from .plate import feature_checks, profile_radius_along
 
 
 def half_width(spec) -> float:

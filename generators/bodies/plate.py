@@ -59,13 +59,6 @@ class PlateBody:
         return feature_checks(design, lambda a: profile_radius_along(design.profile, a), "profile")
 
 
-def zero_angle(design) -> float:
-    """Cam-frame polar angle [rad] of the follower's contact at θ = 0 (where the timing mark goes)."""
-    k = design.program.evaluate(np.array([0.0]))
-    p = design.follower.points(np.array([0.0]), k)[0]
-    return float(np.angle(p))
-
-
 def profile_radius_along(curve, angles: np.ndarray, per_span: int = 64) -> np.ndarray:
     """Radius of a star-shaped closed curve along rays at polar ``angles`` [rad]: the dense
     samples' polar radius interpolated in angle (the curves here are star-shaped about the axis)."""
