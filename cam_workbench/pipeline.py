@@ -138,7 +138,7 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
-    if getattr(design, "plane", True):
+    if design.plane:
         from cam_workbench.exporters.dxf import build_dxf
     else:                                   # a cylindrical cam: developed, side and end views
         from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
@@ -210,7 +210,7 @@ def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
     from cam_workbench.exporters.report_html import report_plots
 
-    if not getattr(outputs.design, "plane", True):
+    if not outputs.design.plane:
         from cam_workbench.exporters.report_cylindrical import FIGURES
 
         return len(FIGURES)
@@ -227,7 +227,7 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     from cam_workbench.exporters.report_json import report_json_text
 
     design, summary = outputs.design, outputs.summary
-    if not getattr(design, "plane", True):             # a cylindrical cam: its own page and figures
+    if not design.plane:             # a cylindrical cam: its own page and figures
         from cam_workbench.exporters.report_cylindrical import FIGURES, render_cylindrical_report
 
         files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])

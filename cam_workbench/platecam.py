@@ -151,7 +151,7 @@ class PlateCam:
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
-        if getattr(self.design, "plane", True):
+        if self.design.plane:
             from cam_workbench.exporters.dxf import export_dxf
         else:                          # a cylindrical cam: developed, side and end views
             from cam_workbench.exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf

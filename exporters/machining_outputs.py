@@ -70,7 +70,7 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
         SpecError: a machining setting cannot be met (lead radius, sample period).
     """
-    if not getattr(design, "plane", True):        # a body that is not a plane cam: its own program
+    if not design.plane:        # a body that is not a plane cam: its own program
         return cylindrical_outputs(design, summary)
     spec = design.spec
     plan = machining_plan(design)

@@ -46,7 +46,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from cam_workbench.generators import __version__
-from cam_workbench.generators.bodies import drawing_title
+from cam_workbench.generators.kinds import drawing_title
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim

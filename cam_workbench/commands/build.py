@@ -40,12 +40,12 @@ def run(args: argparse.Namespace) -> int:
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
         report = write_outputs(outputs, out, output_claim(args, spec, "build"), progress=cb)
-    _print_summary(report, out)
+    _print_summary(report, out, outputs.design.plane)
     return 0
 
 
-def _print_summary(s: dict, out: Path) -> None:
-    if "pitch" not in s:          # not a plane cam (cylindrical): its body's numbers
+def _print_summary(s: dict, out: Path, plane: bool) -> None:
+    if not plane:          # not a plane cam (``Design.plane``): its body's numbers
         _print_body_summary(s, out)
         return
     u = s["units"]

@@ -107,10 +107,11 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
 
 
 def own_design(spec: CamSpec) -> bool:
-    """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
-    from cam_workbench.generators.bodies import body_of
+    """Whether the spec's body is not a plane cam (``Body.plane``): it has its own design, checks
+    and outputs (a cylindrical cam)."""
+    from cam_workbench.generators.kinds import body_of
 
-    return getattr(body_of(spec), "design", None) is not None
+    return not body_of(spec).plane
 
 
 def require_ocp(command: str) -> None:

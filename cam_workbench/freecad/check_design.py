@@ -222,10 +222,9 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
         if spec is None:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
-    from cam_workbench.generators.bodies import body_of
-    from cam_workbench.generators.followers import follower_of
+    from cam_workbench.generators.kinds import body_of, follower_of
 
-    if getattr(body_of(spec), "design", None) is not None:     # not a plane cam: a cylindrical cam
+    if not body_of(spec).plane:     # not a plane cam: the body's own design and checks
         return _own_body_report(obj, spec, dynamics_error)
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
@@ -553,7 +552,7 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
         ("FreeCAD solid", "valid, one solid", "yes" if valid else "no", "pass" if valid else "FAIL"),
         ("FreeCAD solid", "kernel volume vs exact", f"{rel:.2e} relative", ""),
     ]
-    if not getattr(design, "plane", True):
+    if not design.plane:
         from . import part_build
 
         lay = design.layout

@@ -7,14 +7,23 @@ from typing import Any
 import numpy as np
 
 from ..errors import SpecError, fmt_apart
+from ..kinds import register_body
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, plate_features
+from .plane import PlaneCamBody
 
 
-class PlateBody:
+@register_body
+class PlateBody(PlaneCamBody):
     """The outside profile; a spring (or gravity) keeps the follower on it."""
 
     kind = "plate"
+    #: a stack of prisms of plane loops, with a pitch curve and a profile
+    plane = True
+    #: the [cam] fields only this body reads
+    own_fields = ()
+    #: further modules of the body (beyond this one)
+    modules = ()
     #: the body's name in drawing and report titles
     title = "Plate cam"
     #: a spring (force closure) keeps the follower on the cam: it can leave it (separation)
@@ -37,12 +46,6 @@ class PlateBody:
     def label(spec) -> str:
         """The numbers that identify a plate cam (spec lengths, no unit): R_b and the thickness."""
         return f"R_b = {spec.cam.base_radius:g}, thickness {spec.cam.thickness:g}"
-
-    @staticmethod
-    def further_followers(spec) -> tuple:
-        """(suffix, follower) of every further cam's roller the design checks cover (a plate has
-        one cam)."""
-        return ()
 
     @staticmethod
     def geometry(design) -> BodyGeometry:

@@ -26,7 +26,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import follower_of
+from ..kinds import follower_of
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 

@@ -42,7 +42,11 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import Follower, follower_of, force_reference
+from ..followers import force_reference
+from ..followers.base import Follower
+from ..kinds import body_of, follower_of
+from ..motion.segments import MATCHING_LAWS
+from .buildability import _segments_intersect
 from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
@@ -130,8 +134,6 @@ class StateModel:
         self.moduli = (mat.modulus("cam", spec.units), mat.cam_poisson,
                        mat.modulus("follower", spec.units), mat.follower_poisson)
         self.direction = np.sign(self.program.lifts)
-        from ..bodies import body_of
-
         #: a groove or a conjugate pair holds the follower both ways: no separation, and where the
         #: contact force changes sign the other wall (the other cam) takes the load
         self.body = body_of(spec)
@@ -410,8 +412,6 @@ def continuity_check(program: MotionProgram, min_continuity: int | None, lab: di
     either side promise (and ``checks.min_continuity``).  Reported when it can fail: when the
     program has a law solved from boundary conditions or fitted, or ``min_continuity`` is given
     (dwell-to-dwell closed-form and B-spline laws meet their promises by construction)."""
-    from ..motion.segments import MATCHING_LAWS
-
     junctions = program.junctions()
     required = [max(j.promised, min_continuity if min_continuity is not None else -1) for j in junctions]
     short = [(j, r) for j, r in zip(junctions, required) if j.order < r]
@@ -605,8 +605,6 @@ def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 20
     moved by r_f along the inward normal) crosses itself, or None.  A profile whose polar
     angle is monotonic cannot cross itself; otherwise every pair of edges of the sampled
     polygon is tested."""
-    from .buildability import _segments_intersect
-
     prog = model.program
     th = np.concatenate([prog.starts[k] + prog.spans[k] * np.linspace(0, 1, per_segment if prog.laws[k] else 64,
                                                                         endpoint=False)

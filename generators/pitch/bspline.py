@@ -29,7 +29,8 @@ from scipy.sparse.linalg import spsolve
 
 from ..motion.bspline_law import basis_derivatives
 from ..errors import SolveError, SpecError
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import follower_of
 from ..curves.bezier import BezierChain, bernstein_from_power
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram

@@ -15,7 +15,8 @@ from typing import Callable
 import numpy as np
 
 from ..errors import SpecError
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import follower_of
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline

@@ -15,8 +15,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from ..bodies.features import validate_features
 from ..errors import SpecError, fmt_apart
+from ..kinds import body_of, follower_class_of
+from ..motion.bspline_law import lift_from_segment
+from ..motion.program import MotionProgram
+from ..motion.table import TableError, read_csv
 from .params import REQUIRED, Param, param, params_of
+from .train import validate_dynamics
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
         "polynomial", "constant_velocity", "table")
@@ -963,8 +969,6 @@ def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) ->
     if not isinstance(motion, (list, tuple)) or not any(
             isinstance(m, Mapping) and "table_file" in m for m in motion):
         return data
-    from ..motion.table import TableError, read_csv
-
     rows = []
     for i, m in enumerate(motion):
         if isinstance(m, Mapping) and "table_file" in m:
@@ -1041,18 +1045,14 @@ def validate(spec: CamSpec) -> None:
                         f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
                         "radius")
     _validate_motion(spec)
-    from ..bodies import validate_body
-    from ..followers import validate_follower   # the kinds' own geometric rules
-
-    validate_follower(spec)
-    validate_body(spec)
+    follower_class_of(spec).validate(spec)     # the kinds' own rules, then the features every body shares
+    body_of(spec).validate(spec)
+    validate_features(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
     _validate_machining(spec)
     _validate_optimise(spec)
-    from ..dynamics.model import validate_dynamics   # the train's rules (and, when enabled, its data)
-
-    validate_dynamics(spec)
+    validate_dynamics(spec)                    # the train's rules (and, when enabled, its data)
     _validate_ecam(spec)
 
 
@@ -1144,9 +1144,7 @@ def _validate_motion(spec: CamSpec) -> None:
         if not seg.lift > 0:
             raise SpecError(f"{p}.lift", f"must be > 0 for a {seg.kind}, got {seg.lift:g}")
         if seg.law == "bspline":
-            from ..motion.bspline_law import lift_from_segment
-
-            lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
+                    lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
         if seg.law == "table":
             if seg.table is None:
                 raise SpecError(f"{p}.table", 'is required for law = "table" (inline [[angle, s], …] rows, '
@@ -1171,8 +1169,6 @@ def _validate_motion(spec: CamSpec) -> None:
                         f"program does not close: total rise − total fall = {level:g}, must be 0")
     # the laws solved from boundary conditions or fitted, s ≥ 0 inside every segment, the program's
     # junction values (cam_workbench.generators.motion.segments): errors name the field
-    from ..motion.program import MotionProgram
-
     MotionProgram.from_segments(spec.motion)
     has_j = [seg.junctions is not None for seg in spec.motion]
     if any(has_j) and not all(has_j):
