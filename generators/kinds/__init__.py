@@ -15,7 +15,7 @@ explicitly.  A consumer that cannot serve a kind refuses through :func:`refuse`,
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Iterator, TypeVar
+from typing import TYPE_CHECKING, Any, Callable, Iterator, TypeVar
 
 from ..errors import SpecError
 
@@ -25,6 +25,7 @@ if TYPE_CHECKING:  # the protocols, for the type checker only
 
 _BODIES: dict[str, "type[Body]"] = {}
 _FOLLOWERS: dict[tuple[str, str], "type[Follower]"] = {}
+_OPTIMISERS: dict[str, Callable[..., Any]] = {}
 
 B = TypeVar("B")
 
@@ -96,6 +97,23 @@ def followers() -> dict[tuple[str, str], "type[Follower]"]:
     return dict(_FOLLOWERS)
 
 
+def register_optimiser(body: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Function decorator: the body ``body`` (its ``kind``) has an optimiser of its own,
+    ``fn(spec, progress=…, cancel=…) -> OptimiseResult``, in place of the plane-cam optimiser."""
+    def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
+        if body in _OPTIMISERS and _OPTIMISERS[body] is not fn:
+            raise ValueError(f"the optimiser of cam.body {body!r} is registered twice")
+        _OPTIMISERS[body] = fn
+        return fn
+    return deco
+
+
+def own_optimiser(spec: Any) -> Callable[..., Any] | None:
+    """The optimiser the spec's body registered for itself, or None: the plane-cam optimiser
+    (:func:`cam_workbench.generators.optimise.run.optimise`) serves it."""
+    return _OPTIMISERS.get(spec.cam.body)
+
+
 def refuse(field: str, consumer: str, option: str, value: str, serves: str = "") -> SpecError:
     """The refusal of a consumer that cannot serve a kind: a SpecError naming the option and its
     value (``serves``: what the consumer does serve, in words), for the caller to raise."""
@@ -116,4 +134,4 @@ def own_modules() -> Iterator[tuple[frozenset[str], tuple[str, ...]]]:
 
 
 __all__ = ["bodies", "body_named", "body_of", "drawing_title", "follower_class", "follower_class_of", "follower_of", "followers",
-           "own_modules", "refuse", "register_body", "register_follower"]
+           "own_modules", "own_optimiser", "refuse", "register_body", "register_follower", "register_optimiser"]

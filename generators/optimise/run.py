@@ -46,6 +46,7 @@ import numpy as np
 from ..checks.areas import area_summary, pitch_area, profile_area, thesis_area
 from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
+from ..kinds import own_optimiser
 from ..spec.model import CamSpec
 from ..studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
 from .kinds import force_reference, kind_model
@@ -763,10 +764,9 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
             raise SpecError(key, "unknown optimiser setting")
     spec = spec.replace(**changes) if changes else spec
-    if spec.cam.body == "cylindrical":          # its own design and checks: cam_workbench.generators.optimise.cylindrical
-        from .cylindrical import optimise_cylindrical
-
-        return optimise_cylindrical(spec, progress=progress, cancel=cancel)
+    own = own_optimiser(spec)
+    if own is not None:          # a body with an optimiser of its own (the cylindrical cam's)
+        return own(spec, progress=progress, cancel=cancel)
     cfg = spec.optimise
     space = DesignSpace(spec)
     space.check_start()
