@@ -85,7 +85,7 @@ def _comment_text(text: str) -> str:
 
 def _exact_word(design: CamDesign) -> str:
     """ "exact " where the tool-centre path is the exact offset of a PH pitch curve, else "". """
-    return "exact " if design.spec.pitch.representation == "ph" else ""
+    return "exact " if design.pitch.exact else ""
 
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
@@ -119,7 +119,7 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
             w.comment(checks_verdict(checks))
         w.comment(f"spec digest: {summary.get('spec_digest', '-')}")
     else:
-        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if spec.pitch.representation == "ph"
+        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if design.pitch.exact
                 else f"fitted periodic B-spline, {design.pitch.M} knot spans")
         w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {lu}")
         w.comment("design checks: not stated [program written without the report summary]")

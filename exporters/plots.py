@@ -47,7 +47,8 @@ POINT_GID = "point-{name}"
 
 
 def _is_ph(design: CamDesign) -> bool:
-    return design.spec.pitch.representation == "ph"
+    """The pitch curve has exact offsets (a PH spline: ``exact``)."""
+    return design.pitch.exact
 
 
 def _pitch_words(design: CamDesign) -> str:

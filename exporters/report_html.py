@@ -108,7 +108,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
     pa_check = check_result(report, "pressure_angle")
     cv_check = check_result(report, "cusp" if flat else "curvature")
     small = plots.small_unit(u, design.follower.lift_unit)[1]
-    ph = design.spec.pitch.representation == "ph"
+    ph = design.pitch.exact
     built = f"PH {curve}" if ph else f"fitted B-spline {curve}"
     claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
     prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
@@ -366,11 +366,11 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
     acc_rows = [
         ("max |s_actual − s|", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
         ("target deviation (pitch.tolerance)", "pitch.tolerance", lu, None),
-        ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
+        ("PH segments M" if design.pitch.exact else "B-spline knot spans", "pitch.segments", "",
          None),
         ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
         ("Newton residual (relative)", "pitch.newton_residual", "", None),
-        ("pitch-curve arc length" + (" (closed form, PH)" if spec.pitch.representation == "ph" else ""),
+        ("pitch-curve arc length" + (" (closed form, PH)" if design.pitch.exact else ""),
          "pitch.arc_length", u, None),
         ("profile NURBS degree", "profile.degree", "", None),
         ("profile NURBS rational", "profile.rational", "", None),

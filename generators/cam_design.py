@@ -16,7 +16,7 @@ from .checks.areas import area_summary
 from .checks.design import DesignChecks, run_checks
 from .curves.extrema import refine_max
 from .followers.base import Follower
-from .kinds import body_of
+from .kinds import body_of, pitch_of
 from .checks.buildability import (CurvatureSamples, check_bore, check_self_intersection,
                               check_undercut, pitch_curvature_samples)
 from .motion.program import MotionProgram
@@ -83,7 +83,7 @@ class CamDesign:
         ``Follower.label()`` words them), the body's numbers and the pitch curve's spans (spec units)."""
         spec = self.spec
         curve = self.follower.describe()["curve"]
-        pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if spec.pitch.representation == "ph"
+        pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if self.pitch.exact
                  else f"B-spline {curve}, {self.pitch.M} knot spans")
         return (f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; "
                 f"{pitch}")
@@ -432,7 +432,7 @@ def design_plane(spec: CamSpec, *, progress: Callable[[int, float], None] | None
         GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
         SolveError: the PH spline did not converge.
     """
-    if spec.pitch.representation == "bspline":
+    if not pitch_of(spec).exact:      # a fitted pitch curve: its offset is fitted too
         return _design_bspline(spec, progress)
     checks = checked_intent(spec)
     pitch = build_pitch(spec, progress=progress)

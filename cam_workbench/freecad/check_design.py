@@ -42,6 +42,7 @@ from cam_workbench.generators.checks.design import format_value as fmt_value
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
+from cam_workbench.generators.kinds import pitch_named
 
 from . import properties as props
 
@@ -499,7 +500,7 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
     p = s["pitch"]
     moved = "rotation" if fol["lift_unit"] == "angle" else "displacement"
     rows += [
-        (group, "PH quintic segments M" if p.get("representation", "ph") == "ph"
+        (group, "PH quintic segments M" if pitch_named(p.get("representation", "ph")).exact
          else "B-spline knot spans", str(p["segments"]), ""),
         (group, f"max follower {moved} deviation |s_actual − s|",
          f"{p['max_deviation']:.3g} {lu} at {p['max_deviation_at_deg']:.2f}°",

@@ -36,7 +36,7 @@ from ..curves.offsets import offset_nurbs, pitch_nurbs
 from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.conjugate import second_roller_of
 from ..followers.oscillating import zero_lift_arm_angle
-from ..kinds import follower_class_of, register_body
+from ..kinds import follower_class_of, pitch_of, register_body
 from ..motion.program import Kinematics
 from ..pitch.ph import build_pitch_curve, segments_for_tolerance
 from .base import BodyGeometry, Loop, Prism
@@ -328,7 +328,7 @@ def validate_conjugate(spec) -> None:
     fol, c = spec.follower, spec.conjugate
     if not spec.is_roller:
         raise SpecError("cam.body", f'a conjugate pair needs a roller follower, got follower.kind = "{fol.kind}"')
-    if spec.pitch.representation != "ph":
+    if not pitch_of(spec).exact:
         raise SpecError("pitch.representation", 'a conjugate pair is built on PH pitch curves (exact offsets): "ph"')
     smallest = MIN_GAP_MM if spec.units == "mm" else MIN_GAP_MM / 25.4
     if 0 < c.gap < smallest:

@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # the protocols, for the type checker only
 _BODIES: dict[str, "type[Body]"] = {}
 _FOLLOWERS: dict[tuple[str, str], "type[Follower]"] = {}
 _OPTIMISERS: dict[str, Callable[..., Any]] = {}
+_PITCHES: dict[str, type] = {}
 
 B = TypeVar("B")
 
@@ -97,6 +98,30 @@ def followers() -> dict[tuple[str, str], "type[Follower]"]:
     return dict(_FOLLOWERS)
 
 
+def register_pitch(cls: B) -> B:
+    """Class decorator: the pitch-curve class of ``pitch.representation = cls.representation``; it
+    declares ``exact`` (the curve has exact rational offsets: the profile is its offset, not a fit)
+    and ``words`` (the representation in words: "PH quintic spline", "periodic B-spline")."""
+    name = cls.representation  # type: ignore[attr-defined]
+    if name in _PITCHES and _PITCHES[name] is not cls:
+        raise ValueError(f"pitch.representation {name!r} is registered twice")
+    _PITCHES[name] = cls  # type: ignore[assignment]
+    return cls
+
+
+def pitch_named(representation: str) -> type:
+    """The pitch-curve class registered for ``pitch.representation`` (as report.json names it)."""
+    try:
+        return _PITCHES[representation]
+    except KeyError:
+        raise SpecError("pitch.representation", f"no pitch curve {representation!r} is registered") from None
+
+
+def pitch_of(spec: Any) -> type:
+    """The pitch-curve class of a spec (``pitch.representation``)."""
+    return pitch_named(spec.pitch.representation)
+
+
 def register_optimiser(body: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Function decorator: the body ``body`` (its ``kind``) has an optimiser of its own,
     ``fn(spec, progress=…, cancel=…) -> OptimiseResult``, in place of the plane-cam optimiser."""
@@ -131,7 +156,10 @@ def own_modules() -> Iterator[tuple[frozenset[str], tuple[str, ...]]]:
         owners.setdefault(cls, set()).update(key)
     for cls, names in owners.items():
         yield frozenset(names), (cls.__module__, *cls.modules)
+    for name, pitch in _PITCHES.items():
+        yield frozenset({name}), (pitch.__module__,)
 
 
 __all__ = ["bodies", "body_named", "body_of", "drawing_title", "follower_class", "follower_class_of", "follower_of", "followers",
-           "own_modules", "own_optimiser", "refuse", "register_body", "register_follower", "register_optimiser"]
+           "own_modules", "own_optimiser", "pitch_named", "pitch_of", "refuse", "register_body", "register_follower",
+           "register_optimiser", "register_pitch"]

@@ -30,7 +30,7 @@ from scipy.sparse.linalg import spsolve
 from ..motion.bspline_law import basis_derivatives
 from ..errors import SolveError, SpecError
 from ..followers.base import Follower
-from ..kinds import follower_of
+from ..kinds import follower_of, register_pitch
 from ..curves.bezier import BezierChain, bernstein_from_power
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
@@ -235,6 +235,7 @@ class _SegmentView:
         return float(np.sum(np.abs(self.curve.evaluate(u, 1)[1]) * w))
 
 
+@register_pitch
 @dataclass(frozen=True)
 class BSplinePitchCurve:
     """A fitted periodic B-spline pitch curve, queried like :class:`~cam_workbench.generators.pitch.PitchCurve`."""
@@ -243,6 +244,12 @@ class BSplinePitchCurve:
     program: MotionProgram
     follower: Follower
     spline: _SegmentView = field(init=False, repr=False)
+    #: pitch.representation
+    representation = "bspline"
+    #: no exact offsets: the profile is a fitted offset, its error measured
+    exact = False
+    #: the representation in words
+    words = "periodic B-spline"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "spline", _SegmentView(self.curve))

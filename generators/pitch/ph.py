@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import SpecError
 from ..followers.base import Follower
-from ..kinds import follower_of
+from ..kinds import follower_of, register_pitch
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
@@ -42,6 +42,7 @@ def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:
     return TWO_PI * np.arange(m) / m
 
 
+@register_pitch
 @dataclass(frozen=True)
 class PitchCurve:
     """A solved PH design curve (the pitch curve of a knife edge or roller, the profile of a
@@ -51,6 +52,12 @@ class PitchCurve:
     angles: np.ndarray            # junction angles [rad]
     program: MotionProgram
     follower: Follower
+    #: pitch.representation
+    representation = "ph"
+    #: exact rational offsets: the profile is the pitch curve's exact offset, its arc length closed form
+    exact = True
+    #: the representation in words
+    words = "PH quintic spline"
 
     @property
     def geometry(self) -> Follower:
