@@ -35,6 +35,7 @@ from typing import Any, Callable, Mapping, Sequence
 
 from ..errors import CamError, GeometryError, SpecError
 from ..spec.model import CamSpec
+from .plan import Plan
 from .sizing import (SIZED_FIELDS, Evaluate, SizingSettings, design_checks_evaluation, digits_of, nearest_value,
                      smallest_value)
 
@@ -57,17 +58,6 @@ WORDS = {
     "second_arm": "the second arm's geometry: conjugate.arm_length or conjugate.arm_angle (the pair's second cam "
                   "follows from them)",
 }
-
-
-@dataclass(frozen=True)
-class Plan:
-    """One field to search for a check: ``search`` "smallest" (the sizing bisection), "nearest"
-    (both sides of the spec's value, short of ``bounds``) or "needed" (the check's value)."""
-
-    field: str
-    search: str
-    evaluation: str = "checks"              # "checks" | "design" | "cylinder"
-    bounds: tuple[float, float] = (-math.inf, math.inf)
 
 
 @dataclass(frozen=True)
