@@ -146,10 +146,9 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     body = design.body
     if body is not None and not body.prismatic:
         return cylindrical_solid(design)
-    plain_plate = body is None or (body.kind == "plate" and len(body.prisms) == 1
-                                   and all(h.is_circle for h in body.prisms[0].holes))
+    plain_plate = body is None or body.plain_plate
     kernel_offset = exact_offset and design.bspline is not None and design.spec.roller_radius > 0 and \
-        (body is None or body.kind == "plate")
+        (body is None or body.has("plate"))
     if plain_plate:
         if kernel_offset:
             face = offset_profile_face(design)

@@ -335,7 +335,7 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     w.comment(f"cylinder: pitch radius {lay.pitch_radius:g} {u}, outer radius {lay.outer_radius:g} {u}, length "
               f"{lay.length:g} {u}, {spec.cam.direction}; groove {path.groove_width:g} {u} wide to radius "
               f"{lay.bottom_radius:g} {u}")
-    oscillating = getattr(lay.path, "motion", "translating") == "oscillating"
+    oscillating = lay.path.pivoted
     lu = "deg of arm" if oscillating else u
     motion = " / ".join(f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
                         for m in spec.motion)

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.kinds import own_tool_path
 from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
 from cam_workbench.generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
@@ -75,15 +76,9 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
-    if design.spec.cam.body == "groove":
-        from cam_workbench.generators.machining.groove import groove_path
-
-        if plan.program != "xy":
-            from cam_workbench.generators.errors import SpecError
-
-            raise SpecError("machining.program", 'a groove is milled with the XY program ("xy"); the XC rotary '
-                            "program cuts a plate cam's outside profile")
-        path = groove_path(design, plan)
+    own_path = own_tool_path(design.spec)
+    if own_path is not None:                        # a body milled along its own path (a groove's passes)
+        path = own_path(design, plan)
         gcode = groove_program(design, plan, path, summary=summary)
     elif plan.program == "xy":
         path = contour_path(design, plan)

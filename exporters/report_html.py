@@ -119,7 +119,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
                                  if flat else f"the {curve} traced by the follower point (dashed), the prime and "
                                  "base circles and the bore") +
              f"; the follower ({fol['label']}) is drawn where it stands at 75° of cam rotation"
-             + (", with its arm and pivot." if fol["motion"] == "oscillating" else "."),
+             + (", with its arm and pivot." if design.follower.pivoted else "."),
              lambda: plots.cam_drawing_figure(design)),
         Plot("kinematics", "Follower motion",
              f"Displacement, velocity, acceleration and jerk at {design.spec.cam.speed_rpm:g} rpm from the "
@@ -332,7 +332,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
         ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
         ("max follower deviation", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
     ]
-    if spec.follower.kind != "roller":
+    if not spec.is_roller:
         key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
     claim = profile_claim(report, spec.is_roller, u) if "profile" in report else None
     sections.append(("cam", "The cam", f'<div class="grid"><div>{fig["cam"]}</div><div>'
@@ -399,7 +399,7 @@ def _page(design: CamDesign, report: Mapping[str, Any], plot_list: Sequence[Plot
                     "the built solid.</p>")
     sections.append(("accuracy", "Interpolation error and accuracy",
                      fig["deviation"] + _quantity_table(report, acc_rows) + acc_note))
-    if "conjugate" in fig:
+    if _second_cam(design, report) is not None:        # a pair: its figure and numbers
         lu2 = "deg" if report["body"]["roller_distance_error"]["lift_unit"] == "deg" else u
         cj_rows = [
             ("second roller", "body.second_cam.follower.label", "", None),

@@ -84,8 +84,7 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
     body = design.body
     if body is not None and not body.prismatic:
         return cylindrical_solid(design, scale)
-    if body is None or (body.kind == "plate" and len(body.prisms) == 1
-                        and all(h.is_circle for h in body.prisms[0].holes)):
+    if body is None or body.plain_plate:
         face = profile_face(design, scale)
         return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
     shape = None

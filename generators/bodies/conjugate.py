@@ -39,6 +39,7 @@ from ..followers.oscillating import zero_lift_arm_angle
 from ..kinds import follower_class_of, pitch_of, register_body
 from ..motion.program import Kinematics
 from ..pitch.ph import build_pitch_curve, segments_for_tolerance
+from ..spec.model import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark, zero_angle
 from .groove import force_sides
@@ -55,6 +56,14 @@ class ConjugateBody(PlaneCamBody):
 
     kind = "conjugate"
     plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = None
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = tuple(o for o in OBJECTIVES if o != "outer_diameter")
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = ()
     own_fields = ()
     modules = ("cam_workbench.generators.followers.conjugate",)
     title = "Conjugate cam pair"

@@ -70,7 +70,9 @@ from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.translating import TranslatingFollower
 from ..kinds import follower_class_of, register_body
 from ..motion.program import MotionProgram
-from ..spec.model import spec_digest
+from ..spec.model import CYLINDER_VARIABLES, spec_digest
+from ..studies.plan import Plan
+from ..studies.table import checks_row
 from .base import Loop, Prism
 from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
                             centre_line, expand, mid_arm_angle, pressure_angle)
@@ -643,6 +645,51 @@ class CylindricalBody:
     @staticmethod
     def refuse_foreign(spec) -> None:
         """Rules this body puts on the specs of other bodies: none beyond its own fields."""
+
+    #: the field that sizes the cam (its pitch radius)
+    size_field = "cam.cylinder_radius"
+    #: no plane drawing of the body (its own figures)
+    drawing_label = None
+    #: the objectives its own optimiser serves: the cylinder's size
+    optimise_objectives = ("outer_diameter",)
+    #: the optimiser's design variables (its own optimiser: cam_workbench.generators.optimise.cylindrical)
+    optimise_variables = CYLINDER_VARIABLES
+
+    @staticmethod
+    def study_row(summary, base_radius: float) -> dict[str, Any]:
+        """The key numbers of a designed cylindrical cam for a study's table (no plane profile:
+        the cylinder's own numbers) from its summary."""
+        pa, mo = summary["pressure_angle"], summary["motion"]
+        body = summary["body"]
+        row = {"units": summary["units"], "follower": summary["follower"]["label"],
+               "base_radius": float(base_radius), "max_lift": mo["max_lift"],
+               "pressure_angle_deg": pa["max_deg"], "pressure_angle_at_deg": pa["at_deg"],
+               "pressure_angle_bottom_deg": pa["bottom_max_deg"],
+               "min_developed_curvature_radius": body["min_developed_curvature_radius"]["value"],
+               "outer_radius": body["outer_radius"], "area": summary["area"], "volume": summary["volume"]}
+        row.update(checks_row(summary["checks"]))
+        return row
+
+    @staticmethod
+    def own_checks(spec) -> dict[str, Any]:
+        """The cylinder's design checks, refusing nothing (:func:`cylinder_checks`)."""
+        return cylinder_checks(spec)
+
+    @staticmethod
+    def remedy_plans(spec, check: str) -> list[Plan]:
+        """The pitch radius sizes the pressure angle and, unless the centre line turns a corner (its
+        radius of curvature 0 at any size), the undercut; searched with the cylinder's own checks."""
+        sized = check == "pressure_angle" or (check == "undercut" and not cylinder_corners(spec))
+        return [Plan("cam.cylinder_radius", "smallest", "body")] if sized else []
+
+    @staticmethod
+    def remedy_words(spec, check: str) -> str | None:
+        """An undercut at a corner of the centre line: no size removes it."""
+        if check != "undercut":
+            return None
+        c = cylinder_corners(spec)[0]
+        return (f"the groove's centre line turns a corner at {c.junction.at_deg % 360.0:.2f}° (the velocity jumps): "
+                f"no size removes it — {c.fix}")
 
     @staticmethod
     def profile_inset(spec) -> float:

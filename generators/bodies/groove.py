@@ -21,8 +21,9 @@ from ..checks.buildability import min_radius
 from ..checks.design import StateModel
 from ..followers.load import hertz_stress
 from ..kinds import register_body
+from ..spec.model import BODY_VARIABLES, OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, plate_features, resolved, zero_angle
+from .features import bore_extent, bore_loop, plate_features, resolved
 from .plane import PlaneCamBody
 from .plate import feature_checks, profile_radius_along
 
@@ -42,6 +43,14 @@ class GrooveBody(PlaneCamBody):
 
     kind = "groove"
     plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = "groove cam (walls: the pitch curve's exact offsets ±(r + c/2))"
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = OBJECTIVES
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = BODY_VARIABLES
     own_fields = ("outer_diameter",)
     modules = ("cam_workbench.generators.machining.groove",)
     title = "Groove cam"

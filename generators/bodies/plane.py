@@ -7,8 +7,10 @@ from __future__ import annotations
 from typing import Any, Callable
 
 from ..cam_design import design_plane
+from ..checks.design import run_checks
 from ..followers.base import Follower
 from ..kinds import follower_of
+from ..studies.plan import Plan
 
 
 class PlaneCamBody:
@@ -31,6 +33,27 @@ class PlaneCamBody:
     def dynamics_follower(spec: Any) -> Follower:
         """The follower the dynamics drive: the spec's own."""
         return follower_of(spec)
+
+    @staticmethod
+    def study_row(summary: Any, base_radius: float) -> dict[str, Any] | None:
+        """A study's table row of its own: None, the plane cam's row."""
+        return None
+
+    @staticmethod
+    def own_checks(spec: Any) -> dict[str, Any]:
+        """The design checks of the design intent (report.json's ``checks`` section), refusing nothing."""
+        return run_checks(spec).to_dict()
+
+    @staticmethod
+    def remedy_plans(spec: Any, check: str) -> list[Plan] | None:
+        """The fields that move the failing ``check`` of this body: None, the follower's fields
+        (``Follower.remedy_plans``) and the plane cam's size."""
+        return None
+
+    @staticmethod
+    def remedy_words(spec: Any, check: str) -> str | None:
+        """What to change, in words, for a ``check`` no field passes: None, the common words."""
+        return None
 
     @staticmethod
     def further_followers(spec: Any) -> tuple:

@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import SpecError, fmt_apart
 from ..kinds import register_body
+from ..spec.model import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, plate_features
 from .plane import PlaneCamBody
@@ -20,6 +21,14 @@ class PlateBody(PlaneCamBody):
     kind = "plate"
     #: a stack of prisms of plane loops, with a pitch curve and a profile
     plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = None
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = tuple(o for o in OBJECTIVES if o != "outer_diameter")
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = ()
     #: the [cam] fields only this body reads
     own_fields = ()
     #: further modules of the body (beyond this one)

@@ -42,6 +42,7 @@ import numpy as np
 from ..errors import SpecError, fmt_apart
 from ..motion.program import Kinematics
 from ..pitch.contact import ContactSolver
+from ..studies.plan import Plan
 
 TWO_PI = 2.0 * np.pi
 
@@ -123,6 +124,12 @@ class Follower(ABC):
         Raises:
             SpecError: naming the field and the rule.
         """
+
+    @classmethod
+    def remedy_plans(cls, spec: Any, check: str) -> list:
+        """The fields (:class:`cam_workbench.generators.studies.plan.Plan`) that move a failing size
+        ``check`` (pressure angle, curvature, undercut, …) of a plane cam with this follower."""
+        return [Plan("cam.base_radius", "smallest")]
 
     # ---- the design curve ----------------------------------------------------------------
     @abstractmethod
@@ -263,6 +270,8 @@ class Follower(ABC):
     # ---- description -----------------------------------------------------------------------
     #: the contact in words ("roller", "knife-edge", "flat-faced")
     contact_words: ClassVar[str]
+    #: a Hertz contact stress is defined (:meth:`contact_stress`; not for a knife edge)
+    has_contact_stress: ClassVar[bool]
 
     @property
     def name(self) -> str:

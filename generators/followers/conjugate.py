@@ -89,6 +89,7 @@ class SecondRoller(Follower):
 
     contact = "roller"
     contact_words = "roller"
+    has_contact_stress = True
     design_curve = "pitch"
 
     @property

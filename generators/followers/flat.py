@@ -36,6 +36,7 @@ from ..errors import SpecError, fmt_apart
 from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
+from ..studies.plan import Plan
 from .base import Follower, FollowerSketch, LoadSpec, arm_moment, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
@@ -60,6 +61,7 @@ class FlatFaceFollower(Follower):
 
     contact = "flat"
     contact_words = "flat-faced"
+    has_contact_stress = True
     design_curve = "profile"
     profile_offset = 0.0
     contact_order = 2
@@ -138,6 +140,10 @@ class TranslatingFlatFollower(FlatFaceFollower):
     kinds = (("translating", "flat"),)
     pivoted = False
     motion = "translating"
+    #: the profile's radius of curvature (the cusp check's words)
+    cusp_formula = "R_b + s + s″"
+    #: where positions along the face are measured from
+    face_origin = "stem"
     pressure_angle_text = "0: the face's normal is the line of motion"
     curvature_text = "ρ = R_b + s + s″ (the face's envelope)"
 
@@ -223,6 +229,8 @@ class OscillatingFlatFollower(FlatFaceFollower):
     kinds = (("oscillating", "flat"),)
     pivoted = True
     motion = "oscillating"
+    cusp_formula = "h + h_γγ"
+    face_origin = "foot of the pivot"
     lift_scale = DEG
     lift_unit = "angle"
     pressure_angle_text = "between the face's normal and the contact point's velocity about the pivot, atan(f/t)"
@@ -241,6 +249,15 @@ class OscillatingFlatFollower(FlatFaceFollower):
                             f"|cam.base_radius + face_offset| = {fmt_apart(abs(rb + f), d)} < pivot_distance, got "
                             f"{fmt_apart(d, abs(rb + f))}")
         refuse_lift_beyond(spec, cls.from_spec(spec).lift_extent(), "face")
+
+    @classmethod
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The face must reach the base circle, |R_b + face_offset| < d (its arm_length, optional,
+        only places the face's centre): the pivot distance and the base radius within that."""
+        fol = spec.follower
+        d, f, rb = fol.pivot_distance, fol.face_offset or 0.0, spec.cam.base_radius
+        return [Plan("follower.pivot_distance", "nearest", bounds=(abs(rb + f), math.inf)),
+                Plan("cam.base_radius", "nearest", bounds=(max(0.0, -d - f), d - f))]
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFlatFollower":

@@ -29,6 +29,7 @@ from ..errors import SpecError, fmt_apart
 from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
+from ..studies.plan import Plan
 from .base import Follower, FollowerSketch, LoadSpec, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
@@ -78,6 +79,15 @@ class OscillatingFollower(Follower):
         refuse_lift_beyond(spec, cls.from_spec(spec).lift_extent(), "arm")
 
     @classmethod
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The pivot distance and the base radius, each short of where the arm stops reaching the
+        prime circle."""
+        fol = spec.follower
+        d, arm, rb = fol.pivot_distance, fol.arm_length, spec.cam.base_radius
+        return [Plan("follower.pivot_distance", "nearest", bounds=(0.0, arm + rb)),
+                Plan("cam.base_radius", "nearest", bounds=(abs(d - arm), d + arm))]
+
+    @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFollower":
         f = spec.follower
         return cls(f.pivot_distance, f.arm_length, spec.cam.base_radius, 1 if spec.cam.direction == "ccw" else -1,
@@ -108,6 +118,10 @@ class OscillatingFollower(Follower):
     @property
     def contact_words(self) -> str:  # type: ignore[override]
         return "roller" if self.roller_radius > 0 else "knife-edge"
+
+    @property
+    def has_contact_stress(self) -> bool:  # type: ignore[override]
+        return self.roller_radius > 0
 
     @property
     def profile_offset(self) -> float:  # type: ignore[override]

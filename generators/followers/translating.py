@@ -22,6 +22,7 @@ from ..kinds import follower_of, register_follower
 from ..motion.program import Kinematics, MotionProgram
 from ..pitch.contact import FollowerLineSolver
 from ..spec.model import CamSpec
+from ..studies.plan import Plan
 from .base import Follower, FollowerSketch, LoadSpec
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
@@ -44,6 +45,15 @@ class TranslatingFollower(Follower):
     curvature_text = "thesis Eq. 3.7"
 
     @classmethod
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The base radius; the offset too for the pressure angle."""
+        out = [Plan("cam.base_radius", "smallest")]
+        if check == "pressure_angle":
+            rb = spec.cam.base_radius
+            out.append(Plan("follower.offset", "nearest", bounds=(-rb, rb)))
+        return out
+
+    @classmethod
     def from_spec(cls, spec: CamSpec) -> "TranslatingFollower":
         f = spec.follower
         return cls(f.offset, spec.prime_offset, 1 if spec.cam.direction == "ccw" else -1, spec.roller_radius,
@@ -57,6 +67,10 @@ class TranslatingFollower(Follower):
     @property
     def contact_words(self) -> str:  # type: ignore[override]
         return "roller" if self.roller_radius > 0 else "knife-edge"
+
+    @property
+    def has_contact_stress(self) -> bool:  # type: ignore[override]
+        return self.roller_radius > 0
 
     @property
     def profile_offset(self) -> float:  # type: ignore[override]

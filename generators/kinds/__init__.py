@@ -11,7 +11,8 @@ without importing a kind's module; :mod:`cam_workbench.generators` imports the b
 What a body and a follower answer is declared by :class:`.protocols.Body` and
 :class:`cam_workbench.generators.followers.base.Follower`; the capabilities consumers ask
 (``plane``, ``closure``, ``pivoted``, ``lift_unit``, …) are attributes every class defines
-explicitly.  A consumer that cannot serve a kind refuses through :func:`refuse`, naming the option.
+explicitly.  A consumer that cannot serve a kind refuses through the protocol, naming the option
+(e.g. ``Body.dynamics_follower`` raises a SpecError naming ``follower.motion``).
 """
 from __future__ import annotations
 
@@ -27,6 +28,7 @@ _BODIES: dict[str, "type[Body]"] = {}
 _FOLLOWERS: dict[tuple[str, str], "type[Follower]"] = {}
 _OPTIMISERS: dict[str, Callable[..., Any]] = {}
 _PITCHES: dict[str, type] = {}
+_TOOL_PATHS: dict[str, Callable[..., Any]] = {}
 
 B = TypeVar("B")
 
@@ -139,11 +141,21 @@ def own_optimiser(spec: Any) -> Callable[..., Any] | None:
     return _OPTIMISERS.get(spec.cam.body)
 
 
-def refuse(field: str, consumer: str, option: str, value: str, serves: str = "") -> SpecError:
-    """The refusal of a consumer that cannot serve a kind: a SpecError naming the option and its
-    value (``serves``: what the consumer does serve, in words), for the caller to raise."""
-    tail = f" ({serves})" if serves else ""
-    return SpecError(field, f"{consumer} cannot serve {option} = \"{value}\"{tail}")
+def register_tool_path(body: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Function decorator: the body ``body`` (its ``kind``) is machined along a path of its own,
+    ``fn(design, plan) -> path``, in place of the plane cam's outside contour."""
+    def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
+        if body in _TOOL_PATHS and _TOOL_PATHS[body] is not fn:
+            raise ValueError(f"the tool path of cam.body {body!r} is registered twice")
+        _TOOL_PATHS[body] = fn
+        return fn
+    return deco
+
+
+def own_tool_path(spec: Any) -> Callable[..., Any] | None:
+    """The tool path the spec's body registered for itself, or None: the plane cam's contour
+    (:func:`cam_workbench.generators.machining.toolpath.contour_path`) serves it."""
+    return _TOOL_PATHS.get(spec.cam.body)
 
 
 def own_modules() -> Iterator[tuple[frozenset[str], tuple[str, ...]]]:
@@ -161,5 +173,5 @@ def own_modules() -> Iterator[tuple[frozenset[str], tuple[str, ...]]]:
 
 
 __all__ = ["bodies", "body_named", "body_of", "drawing_title", "follower_class", "follower_class_of", "follower_of", "followers",
-           "own_modules", "own_optimiser", "pitch_named", "pitch_of", "refuse", "register_body", "register_follower",
-           "register_optimiser", "register_pitch"]
+           "own_modules", "own_optimiser", "own_tool_path", "pitch_named", "pitch_of", "register_body", "register_follower",
+           "register_optimiser", "register_pitch", "register_tool_path"]

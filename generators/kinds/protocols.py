@@ -34,12 +34,15 @@ class Body(Protocol):
     drive_note: ClassVar[str]
     #: a plane cam: prisms of plane loops, a pitch curve and a profile (see the module docstring)
     plane: ClassVar[bool]
-    #: the (follower.motion, follower.kind) it serves (None: every registered follower)
-    serves_followers: ClassVar[tuple[tuple[str, str], ...] | None]
-    #: the pitch.representation values it serves
-    serves_pitch: ClassVar[tuple[str, ...]]
     #: the [cam] fields only this body reads (an error on any other body)
     own_fields: ClassVar[tuple[str, ...]]
+    #: the field that sizes the cam (cam.base_radius; a cylindrical cam's pitch radius)
+    size_field: ClassVar[str]
+    #: the objectives and the design variables its optimiser serves
+    optimise_objectives: ClassVar[tuple[str, ...]]
+    optimise_variables: ClassVar[tuple[str, ...]]
+    #: the legend of its first added region in the cam drawing (None: the profile's)
+    drawing_label: ClassVar[str | None]
     #: further modules of this kind (beyond the class's own), dotted names
     modules: ClassVar[tuple[str, ...]]
 
@@ -66,6 +69,26 @@ class Body(Protocol):
     @staticmethod
     def dynamics_follower(spec: Any) -> Any:
         """The follower the dynamics drive (SpecError naming the option the body's dynamics lack)."""
+
+    @staticmethod
+    def refuse_foreign(spec: Any) -> None:
+        """Rules this body puts on the specs of other bodies (its own sections left empty)."""
+
+    @staticmethod
+    def own_checks(spec: Any) -> dict[str, Any]:
+        """The design checks of the spec (report.json's ``checks`` section), refusing nothing."""
+
+    @staticmethod
+    def remedy_plans(spec: Any, check: str) -> list | None:
+        """The fields that move a failing ``check`` (None: the follower's and the plane cam's size)."""
+
+    @staticmethod
+    def remedy_words(spec: Any, check: str) -> str | None:
+        """What to change, in words, for a check no field passes (None: the common words)."""
+
+    @staticmethod
+    def study_row(summary: Any, base_radius: float) -> dict[str, Any] | None:
+        """A study table's row of its own (None: the plane cam's row)."""
 
 
 @runtime_checkable

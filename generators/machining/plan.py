@@ -134,7 +134,7 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
         contour=mc.contour,
         lead_radius=float(mc.lead_radius if mc.lead_radius is not None else tool),
         milling=mc.milling,
-        rotary_line=mc.rotary_line or ("follower" if spec.follower.motion == "translating" else "axis"),
+        rotary_line=mc.rotary_line or ("axis" if design.follower.pivoted else "follower"),
         work_offset=mc.work_offset,
         line_numbers=mc.line_numbers,
         coolant=mc.coolant,

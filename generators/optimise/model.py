@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from ..bodies.features import bore_extent, resolved
 from ..motion.bspline_law import basis_derivatives, basis_matrix
 from ..motion.laws import evaluate_law
 from .kinds import KindModel
@@ -375,8 +376,6 @@ class SmoothModel:
           pitch radius is below w/2)
 
         ``vals``/``jac``: the window maxima of :meth:`_groove_channels`, channel-major."""
-        from ..bodies.features import bore_extent, resolved
-
         sp = self.space
         spec = self.spec
         ref = self.kind.length_ref

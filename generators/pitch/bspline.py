@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from math import factorial
 from typing import Callable
 
 import numpy as np
@@ -103,8 +104,6 @@ class PeriodicBSpline:
     def _power_form(self) -> np.ndarray:
         """(N, p+1) complex monomial coefficients of each span in t = (u − b_k)/(b_{k+1} − b_k):
         the Taylor coefficients C^(d)(b_k)·h_k^d/d! from the basis derivatives at b_k."""
-        from math import factorial
-
         p = self.degree
         idx, ders = self.basis(self.breaks[:-1], p)
         taylor = np.einsum("ndj,nj->nd", ders, self.poles[idx])            # C^(d)(b_k)

@@ -9,11 +9,17 @@ Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rp
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
 
 from ..bodies.features import validate_features
 from ..errors import SpecError, fmt_apart
@@ -891,8 +897,6 @@ def _section_dict(obj: Any) -> dict[str, Any]:
 def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
     """Set the field at a dotted ``path`` (``cam.base_radius``, ``motion[1].lift``) in the spec's
     TOML structure; a path that does not fit the structure is a SpecError naming it."""
-    import re
-
     if not isinstance(path, str) or not path:
         raise SpecError(str(path) or "--set", "is not a valid field path (write e.g. cam.base_radius=30)")
     parts = path.split(".")
@@ -1458,10 +1462,6 @@ def load_spec(source: str | Path | Mapping[str, Any]) -> CamSpec:
             raise SpecError(str(source), f"is not UTF-8 text (byte {exc.start}): a TOML spec is UTF-8") from None
     else:
         text = str(source)
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib  # type: ignore[no-redef]
     where = str(p) if p else "spec"
     if "\x00" in text:
         raise SpecError(where, "holds NUL bytes: not a TOML text")
@@ -1574,8 +1574,6 @@ def spec_digest(spec: CamSpec) -> str:
     """SHA-256 of the spec's canonical TOML without ``[checks]``, ``[optimise]``, ``[dynamics]`` and
     ``[ecam]`` (how to check, optimise, analyse or export, not what):
     names the cam a report was made from."""
-    import hashlib
-
     data = spec.to_dict()
     for how in ("checks", "optimise", "dynamics", "ecam"):
         data.pop(how, None)

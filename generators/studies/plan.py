@@ -14,5 +14,5 @@ class Plan:
 
     field: str
     search: str
-    evaluation: str = "checks"              # "checks" | "design" | "cylinder"
+    evaluation: str = "checks"              # "checks" | "design" | "body" (the body's own checks)
     bounds: tuple[float, float] = (-math.inf, math.inf)
