@@ -804,7 +804,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
     cam = spec.cam
     if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
             or (cam.mounting_holes and None in (cam.mounting_hole_diameter, cam.mounting_circle_diameter)):
-        return                     # the shared feature rules (bodies.validate_body) name the field next
+        return                     # the shared feature rules (bodies.features.validate_features) name the field next
     reach = bore_extent(spec)
     if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
         name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
