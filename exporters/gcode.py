@@ -33,8 +33,8 @@ from cam_workbench.generators import __version__
 from cam_workbench.generators.curves.approx import Path2D
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
-from cam_workbench.generators.machining import MachiningPlan
-from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
+from cam_workbench.generators.machining import MachiningPlan, machining_plan
+from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath, contour_path, rotary_path
 
 from .atomic import write_text_atomic
 
@@ -302,9 +302,6 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
                summary: Mapping[str, Any] | None = None) -> str:
     """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
     omitted; ``summary`` as for :func:`contour_program`)."""
-    from cam_workbench.generators.machining import machining_plan
-    from cam_workbench.generators.machining.toolpath import contour_path, rotary_path
-
     plan = plan or machining_plan(design)
     if mode == "xy":
         return contour_program(design, plan, contour_path(design, plan), summary=summary)

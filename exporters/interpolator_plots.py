@@ -21,10 +21,10 @@ PLOT_FILES = {"deviation": "interpolator_deviation.png", "kinematics": "interpol
 
 
 def _plt() -> Any:
-    import matplotlib
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: matplotlib, loaded when a figure is drawn
 
     return plt
 

@@ -46,11 +46,13 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from cam_workbench.generators import __version__
+from cam_workbench.generators.bodies.conjugate import roller_distance_error
 from cam_workbench.generators.kinds import drawing_title
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from cam_workbench.generators.checks.design import limit_sign
+from cam_workbench.generators.machining.interpolator import interpolator_accuracy
 from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
 from cam_workbench.generators.studies.remedies import remedy_line
@@ -164,8 +166,6 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def accuracy() -> Any:
             if "acc" not in acc_cache:
-                from cam_workbench.generators.machining.interpolator import interpolator_accuracy
-
                 acc_cache["acc"] = interpolator_accuracy(design.pitch, float(it_rep["speed_rpm"]),
                                                          float(it_rep["sample_period"]))
             return acc_cache["acc"]
@@ -210,8 +210,6 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
         def error() -> Any:
             if "err" not in err_cache:
-                from cam_workbench.generators.bodies.conjugate import roller_distance_error
-
                 err_cache["err"] = roller_distance_error(design.pitch, second.pitch)
             return err_cache["err"]
 

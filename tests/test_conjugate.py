@@ -347,8 +347,8 @@ FEATURES = dict(keyway="DIN6885", hub_diameter=30.0, hub_length=8.0, mounting_ho
 @requires_ocp
 @pytest.mark.parametrize("layout", ["spacer_round_the_holes", "spacer_inside_the_holes", "no_gap"])
 def test_volume_solid_and_step(tmp_path, layout):
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import read_step, write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel.step import read_step, write_step
 
     d = yoke_dict()
     d["cam"].update(FEATURES)

@@ -1,4 +1,4 @@
-"""Every cam body in the ``PlateCam`` feature inside a real FreeCAD (``freecadcmd``).
+"""Every cam body in the ``Cam`` feature inside a real FreeCAD (``freecadcmd``).
 
 A groove cam (mm, keyway by DIN 6885-1, hub, holes, timing mark), the same groove in inches
 (ANSI B17.1 keyway), a conjugate yoke pair and a conjugate arm pair, and a plate cam with every

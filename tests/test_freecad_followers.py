@@ -1,4 +1,4 @@
-"""Every follower kind in the ``PlateCam`` feature inside a real FreeCAD (``freecadcmd``).
+"""Every follower kind in the ``Cam`` feature inside a real FreeCAD (``freecadcmd``).
 
 An oscillating roller (the built-in example), an oscillating knife edge (inches, cw), a
 translating flat face (the built-in example) and an oscillating flat face are created with
@@ -179,7 +179,7 @@ from cam_workbench.freecad.feature import reference_of
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.openDocument(PATH)
 for o in doc.Objects:
-    if type(getattr(o, "Proxy", None)).__name__ != "PlateCamFeature":
+    if type(getattr(o, "Proxy", None)).__name__ != "CamFeature":
         continue
     RESULT[o.Name] = {"version": o.Version, "restored_volume": o.Shape.Volume, "spec": P.spec_dict(o),
                       "types": [o.getTypeIdOfProperty(n) for n in ("PitchTolerance", "MaxDeviation")],
@@ -522,7 +522,7 @@ def test_saved_and_reopened(built):
     run, reopened, _specs_dir = built
     for key in SPECS:
         r = reopened.result[key]
-        assert r["version"] == 4
+        assert r["version"] == 5
         assert CamSpec.from_dict(r["spec"]) == CamSpec.from_dict(SPECS[key])
         want = "App::PropertyAngle" if SPECS[key]["follower"].get("motion") == "oscillating" else "App::PropertyLength"
         assert r["types"] == [want, want]

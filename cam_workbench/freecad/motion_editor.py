@@ -14,15 +14,19 @@ spec rules and the cam can be made; messages name the row, the field and the con
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any
 
+from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
 from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import LIFT_FIELDS, CamSpec, MotionSegment
 
 from . import properties as props
+from .qt_compat import fit_task_width, standard_buttons
 
 SECTION = "motion"
 TRANSACTION = "Edit motion program"
@@ -49,8 +53,6 @@ class ControlPoint:
 
 
 def _order(row: dict[str, Any]) -> int:
-    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER
-
     k = row.get("order")
     return k if isinstance(k, int) and 3 <= k <= 10 else DEFAULT_ORDER
 
@@ -106,8 +108,6 @@ def default_polygon(row: dict[str, Any]) -> dict[str, Any]:
     """A starting polygon for a row switched to ``law = "bspline"``: the thesis' order 5 with
     11 control points, equally spaced in θ (degrees from the segment start), the free lifts
     P4 … P6 at ¼, ½, ¾ of the way — a smooth, valid rise or return to shape from."""
-    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
-
     angle = row.get("angle") if isinstance(row.get("angle"), float) else 90.0
     n = DEFAULT_POINTS - 1
     xs = tuple(round(angle * i / n, 9) for i in range(1, n))
@@ -168,8 +168,6 @@ def validate_rows(obj: Any, rows: list[dict[str, Any]], design: bool = False) ->
     try:
         spec = spec_with_rows(obj, rows)
         if design:
-            from cam_workbench.generators.cam_design import design_cam
-
             design_cam(spec)
     except SpecError as exc:
         return row_message(exc, rows)
@@ -250,7 +248,6 @@ class MotionEditorPanel:
         self.status.setWordWrap(True)
         layout.addWidget(self.total)
         layout.addWidget(self.status)
-        from .qt_compat import fit_task_width
 
         fit_task_width(self.form)
         self._filling = False
@@ -425,8 +422,6 @@ class MotionEditorPanel:
 
     def _end_x(self, row: dict[str, Any], r: int) -> tuple[float, float]:
         """P0's and Pn's x in the row's control frame."""
-        import math
-
         angle = row.get("angle") if isinstance(row.get("angle"), float) else 0.0
         if row.get("control_frame") != "absolute_rad":
             return 0.0, angle
@@ -490,8 +485,6 @@ class MotionEditorPanel:
 
     # -- task dialog protocol
     def getStandardButtons(self) -> int:
-        from .qt_compat import standard_buttons
-
         return standard_buttons("Ok", "Cancel")
 
     def accept(self) -> bool:

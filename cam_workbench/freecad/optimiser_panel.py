@@ -26,13 +26,17 @@ from __future__ import annotations
 import time
 from typing import Any
 
+import numpy as np
+
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
 from cam_workbench.generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
 from . import properties as props
 from .check_design import _AMBER, _GREEN, _RED
+from .qt_compat import fit_task_width, standard_buttons
 
 POLL_MS = 100
 PLOT_EVERY_S = 1.0
@@ -43,7 +47,7 @@ class OptimiserPanel:
     """The task panel for one cam (``FreeCADGui.Control.showDialog(panel)``)."""
 
     def __init__(self, obj: Any):
-        from PySide import QtCore, QtGui
+        from PySide import QtCore  # deferred: FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
 
         self.obj = obj
         self.spec = props.spec_of(obj)        # raises SpecError: the command reports it
@@ -56,10 +60,38 @@ class OptimiserPanel:
         self.plot_seconds: list[float] = []   # time of each redraw of the convergence plot
         self._last_plot = 0.0
 
-        # 1. problem ---------------------------------------------------------------------------
+        problem, bounds, algo = self._problem_box(), self._bounds_box(), self._algorithm_box()
+        runbox, resbox = self._run_box(), self._result_box()
+        self.form = [problem, bounds, algo, runbox, resbox]
+        for w in self.form:
+            fit_task_width(w)
+        self.settings_widgets = [problem, bounds, algo]
+        self._timer = QtCore.QTimer(runbox)
+        self._timer.setInterval(POLL_MS)
+        self._timer.timeout.connect(self._poll)
+        # closed without Close (another task panel, the document closed): stop the run too
+        runbox.destroyed.connect(lambda *_: self._abandon())
+        self._vars_touched = False
+        self.objective.currentIndexChanged.connect(lambda *_: self._objective_changed())
+        self.algorithm.currentIndexChanged.connect(lambda *_: self.refresh())
+        for cb in self.var_boxes.values():
+            cb.clicked.connect(lambda *_: self._vars_clicked())
+            cb.toggled.connect(lambda *_: self.refresh())
+        for spin in (self.rb_max, self.e_max, self.max_evals, self.multistart, self.seed):
+            if spin is None:
+                continue
+            spin.valueChanged.connect(lambda *_: self.refresh())
+        self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
+        self.refresh()
+
+    # -- the five boxes
+    def _problem_box(self) -> Any:
+        """1. Problem: the objective, the design variables' check boxes and the status line."""
+        from PySide import QtCore, QtGui
+
         problem = QtGui.QWidget()
         problem.setObjectName("OptimiseProblem")
-        problem.setWindowTitle(f"Optimise {obj.Label}")
+        problem.setWindowTitle(f"Optimise {self.obj.Label}")
         pl = QtGui.QVBoxLayout(problem)
         form = QtGui.QFormLayout()
         self.objective = QtGui.QComboBox()
@@ -88,8 +120,12 @@ class OptimiserPanel:
         self.status.setWordWrap(True)
         self.status.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         pl.addWidget(self.status)
+        return problem
 
-        # 2. bounds ----------------------------------------------------------------------------
+    def _bounds_box(self) -> Any:
+        """2. Bounds: the base radius' lower bound first and in bold, then R_b's upper bound and |e|'s."""
+        from PySide import QtGui
+
         bounds = QtGui.QWidget()
         bounds.setObjectName("OptimiseBounds")
         bounds.setWindowTitle("Bounds")
@@ -123,8 +159,12 @@ class OptimiserPanel:
                 continue
             spin.setToolTip(props.field_tooltip(f"optimise.{field}"))
         self._rb_min_default = opt.bound_is_default(self.spec)
+        return bounds
 
-        # 3. algorithm -------------------------------------------------------------------------
+    def _algorithm_box(self) -> Any:
+        """3. Algorithm: the algorithm, the evaluation budget, the random restarts and the seed."""
+        from PySide import QtGui
+
         algo = QtGui.QWidget()
         algo.setObjectName("OptimiseAlgorithm")
         algo.setWindowTitle("Algorithm")
@@ -150,8 +190,12 @@ class OptimiserPanel:
         self.seed.setValue(self.defaults.seed)
         self.seed.setToolTip(props.field_tooltip("optimise.seed"))
         af.addRow("Seed:", self.seed)
+        return algo
 
-        # 4. run -------------------------------------------------------------------------------
+    def _run_box(self) -> Any:
+        """4. Run: Run / Cancel, the progress bar, the live figures and the convergence plot."""
+        from PySide import QtCore, QtGui
+
         runbox = QtGui.QWidget()
         runbox.setObjectName("OptimiseRun")
         runbox.setWindowTitle("Run")
@@ -177,8 +221,12 @@ class OptimiserPanel:
         self.canvas = self._make_canvas()
         if self.canvas is not None:
             rl2.addWidget(self.canvas)
+        return runbox
 
-        # 5. result ----------------------------------------------------------------------------
+    def _result_box(self) -> Any:
+        """5. Result: the verdict, the figures and the checks before → after, and Apply."""
+        from PySide import QtCore, QtGui
+
         resbox = QtGui.QWidget()
         resbox.setObjectName("OptimiseResult")
         resbox.setWindowTitle("Result: before → after")
@@ -197,30 +245,7 @@ class OptimiserPanel:
         self.apply_button.setEnabled(False)
         self.apply_button.clicked.connect(self.apply)
         self.result_layout.addWidget(self.apply_button)
-
-        self.form = [problem, bounds, algo, runbox, resbox]
-        from .qt_compat import fit_task_width
-
-        for w in self.form:
-            fit_task_width(w)
-        self.settings_widgets = [problem, bounds, algo]
-        self._timer = QtCore.QTimer(runbox)
-        self._timer.setInterval(POLL_MS)
-        self._timer.timeout.connect(self._poll)
-        # closed without Close (another task panel, the document closed): stop the run too
-        runbox.destroyed.connect(lambda *_: self._abandon())
-        self._vars_touched = False
-        self.objective.currentIndexChanged.connect(lambda *_: self._objective_changed())
-        self.algorithm.currentIndexChanged.connect(lambda *_: self.refresh())
-        for cb in self.var_boxes.values():
-            cb.clicked.connect(lambda *_: self._vars_clicked())
-            cb.toggled.connect(lambda *_: self.refresh())
-        for spin in (self.rb_max, self.e_max, self.max_evals, self.multistart, self.seed):
-            if spin is None:
-                continue
-            spin.valueChanged.connect(lambda *_: self.refresh())
-        self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
-        self.refresh()
+        return resbox
 
     # -- widgets
     def _length_spin(self, value: float) -> Any:
@@ -444,14 +469,10 @@ class OptimiserPanel:
                 f"largest constraint value {p.max_violation:+.3e} ({feas}; ≤ 0 is feasible)")
 
     def _unit(self, objective: str) -> str:
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         return UNITS[objective].replace("length", self.units)
 
     def _phase_unit(self, phase: str, objective: str) -> str:
         """The unit of what a phase minimises ("slsqp on thesis_length": the smooth stand-in)."""
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         name = phase.split(" on ", 1)[1].split()[0] if " on " in phase else objective
         return self._unit(name if name in UNITS else objective)
 
@@ -582,7 +603,6 @@ class OptimiserPanel:
         rebuilt, so a redraw costs the GUI thread little while the worker runs)."""
         if getattr(self, "fig", None) is None:
             return
-        import numpy as np
 
         ax, av = self.ax_obj, self.ax_viol
         data = opt.history_arrays(history)
@@ -650,8 +670,6 @@ class OptimiserPanel:
         return True
 
     def getStandardButtons(self) -> int:
-        from .qt_compat import standard_buttons
-
         return standard_buttons("Close")
 
     def reject(self) -> bool:

@@ -1,6 +1,6 @@
 """FreeCAD ``Part`` adaptor: neutral NURBS data → edges, wires, faces and the cam solid.
 
-The FreeCAD twin of ``cam_workbench.occ_build`` (which serves CadQuery/build123d through
+The FreeCAD twin of ``cam_workbench.kernel.solids`` (which serves CadQuery/build123d through
 OCP): same geometry, FreeCAD's own OCCT.  Each Bézier span of a profile becomes one exact
 ``Part.BSplineCurve`` edge (poles, weights, knots and degree copied, nothing refitted):
 OCCT integrates single Bézier edges exactly, so the solid's volume matches the exact
@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -76,7 +77,7 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
 
 def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
     """The cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
-    ``cam_workbench.occ_build.cam_solid`` does — for a plain plate cam the profile face (with
+    ``cam_workbench.kernel.solids.cam_solid`` does — for a plain plate cam the profile face (with
     the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
     exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
     from FreeCAD import Vector
@@ -219,8 +220,6 @@ def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
     import Part
     from FreeCAD import Vector
-
-    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     edges: list[Any] = []
     for piece in loop.pieces:

@@ -1,4 +1,4 @@
-"""Kinematics plots of a ``PlateCam`` feature (matplotlib, shown in a FreeCAD dialog).
+"""Kinematics plots of a ``Cam`` feature (matplotlib, shown in a FreeCAD dialog).
 
 :func:`kinematics_figure` builds a ``matplotlib.figure.Figure`` without pyplot (so it
 works headless and in FreeCAD's Qt alike); :func:`show_plots` embeds it in a dialog with
@@ -10,6 +10,11 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+
+from cam_workbench.generators.errors import CamError
+
+from . import properties as props
+from .feature import build
 
 
 def kinematics_data(design: Any, samples_per_segment: int = 721) -> dict[str, np.ndarray]:
@@ -92,11 +97,6 @@ def show_plots(obj: Any) -> Any:
     import FreeCAD
     import FreeCADGui
     from PySide import QtGui
-
-    from cam_workbench.generators.errors import CamError
-
-    from .feature import build
-    from . import properties as props
 
     try:
         import matplotlib  # noqa: F401

@@ -26,7 +26,7 @@ is built as one tensor-product B-spline surface per motion segment (s is smooth 
 degree 5 in θ and in ρ, interpolating the exact points on a grid (not-a-knot), so neighbouring
 faces share their boundary curves exactly (the same ρ-interpolant of the same points).  Their
 distance from the exact wall is measured at points between the grid nodes (``wall_fit_error``)
-and, in the OCCT solid, on the built faces (``cam_workbench.occ_build``: ``wall_error``).
+and, in the OCCT solid, on the built faces (``cam_workbench.kernel.solids``: ``wall_error``).
 
 **Volume** (independent of the surfaces): at radius ρ the groove's developed cross-section is
 the band between the offsets ±w/2 of C_ρ, whose area over one turn is exactly w·ℓ(ρ),

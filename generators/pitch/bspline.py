@@ -9,7 +9,7 @@ paper's measure (as the PH curve's): max |s_actual − s| where s_actual comes f
 line meeting C (paper Eq. 13).
 
 The exact roller offset of C is not a polynomial curve.  Kernels that have offset curves build
-it exactly (OCCT: ``Geom_OffsetCurve``, :mod:`cam_workbench.occ_build`); for everything else
+it exactly (OCCT: ``Geom_OffsetCurve``, :mod:`cam_workbench.kernel.solids`); for everything else
 (STEP, DXF, checks) :func:`fit_offset` gives a B-spline fitted to it, and the error of both
 against the true profile is measured (:func:`profile_errors`).
 

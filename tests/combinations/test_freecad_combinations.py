@@ -86,7 +86,7 @@ def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
 
 def _adaptive_volume(path) -> float:
     """Volume of a BREP file by OCCT's adaptive integration (relative error 1e-7)."""
-    from cam_workbench.ocp_compat import read_brep
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.ocp import read_brep
+    from cam_workbench.kernel.solids import kernel_volume
 
     return kernel_volume(read_brep(path), 1e-7)
