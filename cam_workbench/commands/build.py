@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from cam_workbench.generators.checks.areas import area_label
-from cam_workbench.generators.kinds import pitch_named
+from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.studies.remedies import remedy_lines
 
 from .common import add_output_arguments, add_spec_arguments, write_cam
@@ -33,8 +33,8 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_summary(s: dict, out: Path, plane: bool) -> None:
-    if not plane:          # not a plane cam (``Design.plane``): its body's numbers
+def _print_summary(s: dict, out: Path) -> None:
+    if not body_named(s["body"]["kind"]).plane:          # not a plane cam (``Body.plane``): its body's numbers
         _print_body_summary(s, out)
         return
     u = s["units"]
