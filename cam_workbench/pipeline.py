@@ -145,7 +145,7 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
     # a cylindrical cam: developed, side and end views
-    build = build_dxf if getattr(design, "plane", True) else build_cylindrical_dxf
+    build = build_dxf if design.plane else build_cylindrical_dxf
     doc, info = build(design, summary)
     summary["drawing"] = info.summary()
     return doc, info
@@ -205,7 +205,7 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
 
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
-    if not getattr(outputs.design, "plane", True):
+    if not outputs.design.plane:
         return len(FIGURES)
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
                             outputs.extra.get("dynamics")))
@@ -217,7 +217,7 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     (name → file) is completed with them and stored in report.json.  Returns the report as
     written (the HTML shows exactly what the JSON holds)."""
     design, summary = outputs.design, outputs.summary
-    if not getattr(design, "plane", True):             # a cylindrical cam: its own page and figures
+    if not design.plane:             # a cylindrical cam: its own page and figures
         files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
         text = report_json_text(summary, files)
         report = json.loads(text)

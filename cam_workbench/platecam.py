@@ -154,7 +154,7 @@ class PlateCam:
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
         # a cylindrical cam: developed, side and end views
-        export = export_dxf if getattr(self.design, "plane", True) else export_cylindrical_dxf
+        export = export_dxf if self.design.plane else export_cylindrical_dxf
         export(self.design, path)
         return Path(path)
 

@@ -81,7 +81,7 @@ def _comment_text(text: str) -> str:
 
 def _exact_word(design: CamDesign) -> str:
     """ "exact " where the tool-centre path is the exact offset of a PH pitch curve, else "". """
-    return "exact " if design.spec.pitch.representation == "ph" else ""
+    return "exact " if design.pitch.exact else ""
 
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
@@ -115,7 +115,7 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
             w.comment(checks_verdict(checks))
         w.comment(f"spec digest: {summary.get('spec_digest', '-')}")
     else:
-        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if spec.pitch.representation == "ph"
+        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if design.pitch.exact
                 else f"fitted periodic B-spline, {design.pitch.M} knot spans")
         w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {lu}")
         w.comment("design checks: not stated [program written without the report summary]")
@@ -322,7 +322,7 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     w.comment(f"cylinder: pitch radius {lay.pitch_radius:g} {u}, outer radius {lay.outer_radius:g} {u}, length "
               f"{lay.length:g} {u}, {spec.cam.direction}; groove {path.groove_width:g} {u} wide to radius "
               f"{lay.bottom_radius:g} {u}")
-    oscillating = getattr(lay.path, "motion", "translating") == "oscillating"
+    oscillating = lay.path.pivoted
     lu = "deg of arm" if oscillating else u
     motion = " / ".join(f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
                         for m in spec.motion)

@@ -47,7 +47,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from cam_workbench.generators import __version__
-from cam_workbench.generators.bodies import drawing_title
+from cam_workbench.generators.kinds import drawing_title
 from cam_workbench.generators.bodies.conjugate import roller_distance_error
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import pitch_text, profile_claim
@@ -107,7 +107,7 @@ def report_plots(design: CamDesign, report: Mapping[str, Any],
 
 def _ticks(design: CamDesign) -> str:
     """What the deviation figures' ticks mark."""
-    return "PH junctions" if design.spec.pitch.representation == "ph" else "B-spline knots"
+    return "PH junctions" if design.pitch.exact else "B-spline knots"
 
 
 def _design_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
@@ -120,7 +120,7 @@ def _design_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
     pa_check = check_result(report, "pressure_angle")
     cv_check = check_result(report, "cusp" if flat else "curvature")
     small = plots.small_unit(u, design.follower.lift_unit)[1]
-    ph = design.spec.pitch.representation == "ph"
+    ph = design.pitch.exact
     built = f"PH {curve}" if ph else f"fitted B-spline {curve}"
     claim = profile_claim(report, design.spec.is_roller, u) if "profile" in report else None
     prof_words = (f"The profile (filled) is the {claim.text}. Also drawn:" if claim else "The profile (filled),")
@@ -131,7 +131,7 @@ def _design_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Plot]:
                                  if flat else f"the {curve} traced by the follower point (dashed), the prime and "
                                  "base circles and the bore") +
              f"; the follower ({fol['label']}) is drawn where it stands at 75° of cam rotation"
-             + (", with its arm and pivot." if fol["motion"] == "oscillating" else "."),
+             + (", with its arm and pivot." if design.follower.pivoted else "."),
              lambda: plots.cam_drawing_figure(design)),
         Plot("kinematics", "Follower motion",
              f"Displacement, velocity, acceleration and jerk at {design.spec.cam.speed_rpm:g} rpm from the "
@@ -183,7 +183,7 @@ def _interpolator_plots(design: CamDesign, report: Mapping[str, Any]) -> list[Pl
     u = design.spec.units
     fol = design.follower.describe()
     small = plots.small_unit(u, design.follower.lift_unit)[1]
-    ph = design.spec.pitch.representation == "ph"
+    ph = design.pitch.exact
     ticks = _ticks(design)
     out: list[Plot] = []
     it_rep = report.get("interpolator")

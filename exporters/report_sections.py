@@ -10,6 +10,7 @@ from typing import Any, Callable, Mapping
 from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.checks.claims import checks_verdict, profile_claim
 from cam_workbench.generators.checks.design import limit_sign
+from cam_workbench.generators.kinds import pitch_of
 from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import SECTIONS, CamSpec, to_toml
 from cam_workbench.generators.studies.remedies import remedy_line
@@ -452,7 +453,7 @@ def cam_view(p: PageData) -> Section:
         ("min profile radius of curvature", "curvature.min_profile_radius", u, "curvature.at_deg"),
         ("max follower deviation", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
     ]
-    if p.spec.follower.kind != "roller":
+    if not p.spec.is_roller:
         key_rows = [r for r in key_rows if r[1] != "spec.follower.roller_radius"]
     return ("cam", "The cam", f'<div class="grid"><div>{p.fig["cam"]}</div><div>'
             f'{_verdict(report)}{quantity_table(report, key_rows)}</div></div>')
@@ -522,11 +523,11 @@ def accuracy_view(p: PageData) -> Section:
     acc_rows = [
         ("max |s_actual − s|", "pitch.max_deviation", lu, "pitch.max_deviation_at_deg"),
         ("target deviation (pitch.tolerance)", "pitch.tolerance", lu, None),
-        ("PH segments M" if spec.pitch.representation == "ph" else "B-spline knot spans", "pitch.segments", "",
+        ("PH segments M" if pitch_of(spec).exact else "B-spline knot spans", "pitch.segments", "",
          None),
         ("Newton iterations of the spline solve", "pitch.newton_iterations", "", None),
         ("Newton residual (relative)", "pitch.newton_residual", "", None),
-        ("pitch-curve arc length" + (" (closed form, PH)" if spec.pitch.representation == "ph" else ""),
+        ("pitch-curve arc length" + (" (closed form, PH)" if pitch_of(spec).exact else ""),
          "pitch.arc_length", u, None),
         ("profile NURBS degree", "profile.degree", "", None),
         ("profile NURBS rational", "profile.rational", "", None),
@@ -560,7 +561,7 @@ def accuracy_view(p: PageData) -> Section:
 
 def conjugate_view(p: PageData) -> Section | None:
     """A conjugate pair's second cam and the distance error between the rollers (with its figures)."""
-    if "conjugate" not in p.fig:
+    if "second_cam" not in p.report.get("body", {}):          # not a pair
         return None
     u = p.u
     lu2 = "deg" if p.report["body"]["roller_distance_error"]["lift_unit"] == "deg" else u

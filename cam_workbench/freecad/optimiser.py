@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.kinds import body_of, follower_class_of, own_optimiser
 from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec
 
 from . import properties as props
@@ -67,11 +68,10 @@ assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set
 
 
 def objective_choices(spec: CamSpec) -> tuple[str, ...]:
-    """The objectives the panel offers for ``spec``: every one, outer_diameter only for a groove
-    cam (its disc; ``cam.body = "groove"``); a cylindrical cam: outer_diameter alone."""
-    if spec.cam.body == "cylindrical":
-        return ("outer_diameter",)
-    return tuple(o for o in OBJECTIVES if o != "outer_diameter" or spec.cam.body == "groove")
+    """The objectives the panel offers for ``spec``: those its body's optimiser serves
+    (``Body.optimise_objectives``: every one, outer_diameter only for a groove cam's disc; a
+    cylindrical cam: outer_diameter alone)."""
+    return body_of(spec).optimise_objectives
 
 
 class ApplyError(CamError):
@@ -103,10 +103,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
     objective = objective or spec.optimise.objective
     u = spec.units
-    if spec.cam.body == "cylindrical":          # its own optimiser: the cylinder's size only
-        return [VariableChoice("cylinder_radius", f"Pitch radius R_p [{u}]", 1, True),
-                VariableChoice("outer_diameter", f"Cylinder outer diameter [{u}]", 1, True),
-                VariableChoice("clearance", f"Groove clearance [{u}]", 1, True)]
+    if own_optimiser(spec) is not None:          # its own optimiser: the body's own variables only
+        own = {"cylinder_radius": f"Pitch radius R_p [{u}]", "outer_diameter": f"Cylinder outer diameter [{u}]",
+               "clearance": f"Groove clearance [{u}]"}
+        return [VariableChoice(n, own[n], 1, True) for n in body_of(spec).optimise_variables]
     out = [VariableChoice("base_radius", f"Base radius R_b [{u}]", 1, True)]
     # the follower's position: offset (translating), pivot distance and arm length (oscillating),
     # the face's offset from the pivot (oscillating flat face) — only those its kind has
@@ -116,7 +116,7 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
         rule = follower_variable_rule(spec, name)
         if rule is None:
             out.append(VariableChoice(name, labels[name], 1, True))
-        elif spec.follower.motion == "oscillating" and name == "arm_length":
+        elif follower_class_of(spec).pivoted and name == "arm_length":
             out.append(VariableChoice(name, labels[name], 1, False, rule))
     program = MotionProgram.from_spec(spec)
     for k in _bspline_rows(spec):
@@ -208,7 +208,7 @@ def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
     with the library's message naming the field."""
     from cam_workbench.generators.optimise.space import DesignSpace
 
-    translating = spec.follower.motion == "translating"       # only a translating follower has an offset
+    translating = not follower_class_of(spec).pivoted       # only a translating follower has an offset
     probe = spec.replace(**{"optimise.variables": "base_radius, offset" if translating else "base_radius",
                             "optimise.objective": "area", "optimise.algorithm": "auto"})
     space = DesignSpace(probe)

@@ -83,10 +83,9 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
     from FreeCAD import Vector
 
     body = design.body
-    if body is not None and not getattr(body, "prismatic", True):
+    if body is not None and not body.prismatic:
         return cylindrical_solid(design, scale)
-    if body is None or (body.kind == "plate" and len(body.prisms) == 1
-                        and all(h.is_circle for h in body.prisms[0].holes)):
+    if body is None or body.plain_plate:
         face = profile_face(design, scale)
         return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
     shape = None
@@ -259,7 +258,7 @@ def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0)
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:
     """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment;
     a cylindrical cam's: the roller's centre line on the pitch cylinder (:func:`cylindrical_pitch_wire`)."""
-    if not getattr(design, "plane", True):
+    if not design.plane:
         return cylindrical_pitch_wire(design, scale)
     return nurbs_wire(design.pitch_nurbs, scale)
 
@@ -288,7 +287,7 @@ def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 6
 def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
     """The base (prime) circle of radius R_b traced by the follower point at zero lift (a
     cylindrical cam's: the pitch circle R_p at the zero-lift height z₀)."""
-    if not getattr(design, "plane", True):
+    if not design.plane:
         return circle_wire(design.layout.pitch_radius * scale, design.layout.z0 * scale)
     return circle_wire(design.spec.cam.base_radius * scale)
 
@@ -314,7 +313,7 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     import Part
     from FreeCAD import Vector
 
-    if not getattr(design, "plane", True):
+    if not design.plane:
         return cylindrical_follower_shape(design, scale, angle_deg)
     spec = design.spec
     fol = design.follower

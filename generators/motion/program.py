@@ -9,14 +9,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .bspline_law import BSplineLift
 from .laws import evaluate_law
 from .segments import build_segments, law_promise
-from ..spec.model import CamSpec, MotionSegment
+
+if TYPE_CHECKING:  # types only: the spec sits above the motion program
+    from ..spec.model import CamSpec, MotionSegment
 
 TWO_PI = 2.0 * np.pi
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from math import factorial
 from typing import Callable
 
 import numpy as np
@@ -29,7 +30,8 @@ from scipy.sparse.linalg import spsolve
 
 from ..motion.bspline_law import basis_derivatives
 from ..errors import SolveError, SpecError
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import follower_of, register_pitch
 from ..curves.bezier import BezierChain, bernstein_from_power
 from .contact import Contact
 from ..motion.program import MotionProgram
@@ -102,8 +104,6 @@ class PeriodicBSpline:
     def _power_form(self) -> np.ndarray:
         """(N, p+1) complex monomial coefficients of each span in t = (u − b_k)/(b_{k+1} − b_k):
         the Taylor coefficients C^(d)(b_k)·h_k^d/d! from the basis derivatives at b_k."""
-        from math import factorial
-
         p = self.degree
         idx, ders = self.basis(self.breaks[:-1], p)
         taylor = np.einsum("ndj,nj->nd", ders, self.poles[idx])            # C^(d)(b_k)
@@ -234,6 +234,7 @@ class _SegmentView:
         return float(np.sum(np.abs(self.curve.evaluate(u, 1)[1]) * w))
 
 
+@register_pitch
 @dataclass(frozen=True)
 class BSplinePitchCurve(PitchQueries):
     """A fitted periodic B-spline pitch curve, queried like :class:`~cam_workbench.generators.pitch.PitchCurve`."""
@@ -242,6 +243,12 @@ class BSplinePitchCurve(PitchQueries):
     program: MotionProgram
     follower: Follower
     spline: _SegmentView = field(init=False, repr=False)
+    #: pitch.representation
+    representation = "bspline"
+    #: no exact offsets: the profile is a fitted offset, its error measured
+    exact = False
+    #: the representation in words
+    words = "periodic B-spline"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "spline", _SegmentView(self.curve))

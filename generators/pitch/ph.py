@@ -15,8 +15,9 @@ from typing import Callable
 import numpy as np
 
 from ..errors import SpecError
-from ..followers import Follower, follower_of
-from .contact import Contact
+from ..followers.base import Follower
+from ..kinds import follower_of, register_pitch
+from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
 from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
@@ -41,6 +42,7 @@ def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:
     return TWO_PI * np.arange(m) / m
 
 
+@register_pitch
 @dataclass(frozen=True)
 class PitchCurve(PitchQueries):
     """A solved PH design curve (the pitch curve of a knife edge or roller, the profile of a
@@ -50,6 +52,12 @@ class PitchCurve(PitchQueries):
     angles: np.ndarray            # junction angles [rad]
     program: MotionProgram
     follower: Follower
+    #: pitch.representation
+    representation = "ph"
+    #: exact rational offsets: the profile is the pitch curve's exact offset, its arc length closed form
+    exact = True
+    #: the representation in words
+    words = "PH quintic spline"
 
     @property
     def M(self) -> int:
