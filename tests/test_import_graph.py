@@ -379,6 +379,23 @@ def test_the_graph_sees_every_import():
         ("pkg.d", "function")]
     assert "OCP" in got[4].comment
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    # a workbench module that reaches the Gui side every way it can
+    text = ("from . import view_providers\n"
+            "def f():\n    from .commands import register\n"
+            "class C:\n    def g(self):\n        import cam_workbench.freecad.motion_editor as m\n"
+            "from .. import freecad\n"
+            "import FreeCADGui\n")
+    gui = {"cam_workbench.freecad.view_providers", "cam_workbench.freecad.commands",
+           "cam_workbench.freecad.motion_editor"}
+    with tempfile.TemporaryDirectory() as tmp:
+        p = Path(tmp) / "a.py"
+        p.write_text(text)
+        got = imports_of("cam_workbench.freecad.a", p, gui | {"cam_workbench.freecad", "cam_workbench"})
+    assert [(i.line, i.target, i.place, i.scope) for i in got] == [
+        (1, "cam_workbench.freecad.view_providers", "module", ""),
+        (3, "cam_workbench.freecad.commands", "function", "f"),
+        (6, "cam_workbench.freecad.motion_editor", "function", "C.g"),
+        (7, "cam_workbench.freecad", "module", ""), (8, "FreeCADGui", "module", "")]
 
 
 def counts() -> str:
