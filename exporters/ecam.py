@@ -176,13 +176,6 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
                      notes)
 
 
-def write_ecam(path: str | os.PathLike[str], spec: CamSpec, format: str | None = None, **options: Any) -> EcamTable:
-    """:func:`ecam_table` written to ``path`` (atomically); returns the table."""
-    t = ecam_table(spec, format, **options)
-    t.write(path)
-    return t
-
-
 # ---- numbers as the files hold them -------------------------------------------------------
 def iec_real(v: float) -> str:
     """An IEC 61131-3 real literal with every bit of the double (digits '.' digits [E exponent])."""

@@ -17,7 +17,7 @@ from rich.table import Table
 
 from cam_workbench.exporters import plots
 from cam_workbench.exporters.atomic import OutputSet
-from cam_workbench.exporters.report_html import format_number as fmt
+from cam_workbench.exporters.report_cells import format_number as fmt
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.generators.bodies import body_of
 from cam_workbench.generators.dynamics import analyse_dynamics, validate_dynamics

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 from bisect import bisect_left
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -47,9 +47,8 @@ from ..motion.laws import evaluate_law
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 
-#: The thesis' tolerance (0.01 in) in each unit system, and its time per turn.
+#: The thesis' tolerance (0.01 in) in each unit system.
 DEFAULT_TOLERANCE = {"in": 0.01, "mm": 0.25}
-TURN_TIME = 0.4
 DEFAULT_SAMPLES = 4000
 
 

@@ -1,5 +1,6 @@
-"""Pitch curves: the C² PH quintic spline (:mod:`.ph`), the periodic B-spline (:mod:`.bspline`)
-and the follower-path contact solve (:mod:`.contact`).  ``cam_workbench.generators.pitch`` re-exports
+"""Pitch curves: the C² PH quintic spline (:mod:`.ph`), the periodic B-spline (:mod:`.bspline`),
+what both answer alike — lift, deviation, contact angles (:mod:`.queries`) — and the
+follower-path contact solve (:mod:`.contact`).  ``cam_workbench.generators.pitch`` re-exports
 :mod:`cam_workbench.generators.pitch.ph`.
 """
 from .ph import (  # noqa: F401

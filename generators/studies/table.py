@@ -29,11 +29,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping, Sequence
 
-#: the key numbers' columns, in table order (the check columns follow)
-KEY_COLUMNS = ("units", "follower", "base_radius", "max_lift", "pressure_angle_deg", "pressure_angle_at_deg",
-               "min_pitch_radius", "min_profile_radius", "max_profile_radius", "area", "volume",
-               "checks_passed", "failed_checks")
-
 
 @dataclass
 class StudyTable:
