@@ -563,7 +563,7 @@ _GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
 def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | tuple[int, ...] | None = None
            ) -> Any:
     """A read-only table; the cells of ``status_col`` (one column or several) coloured by status."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only: the report is read in any Python)
 
     status_cols = (status_col,) if isinstance(status_col, int) else tuple(status_col or ())
     table = QtGui.QTableWidget(len(rows), len(headers))
@@ -589,11 +589,9 @@ def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int
 
 def show_report(obj: Any) -> DesignReport:
     """Print the report to the report view and show it in a (non-modal) dialog."""
-    import FreeCAD
-    import FreeCADGui
-    from PySide import QtGui
-
-    from PySide import QtCore
+    import FreeCAD  # deferred: FreeCAD (the dialog only: the report is read in any Python)
+    import FreeCADGui  # deferred: FreeCADGui (the GUI's; this module is App side)
+    from PySide import QtCore, QtGui  # deferred: PySide (the dialog only)
 
     if getattr(obj, "DynamicsEnabled", False):
         FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the follower dynamics "
@@ -676,7 +674,7 @@ def show_report(obj: Any) -> DesignReport:
 
 def _dynamics_page(report: DesignReport) -> Any:
     """The Follower dynamics tab: the verdict, then report.json's ``dynamics`` numbers."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only)
 
     page = QtGui.QWidget()
     page.setObjectName("dynamics_page")
