@@ -160,11 +160,11 @@ class Cam:
         return cq.Edge(occ_build.nurbs_to_edge(self.design.pitch_nurbs))
 
     def _refuse_without_plane_curves(self, member: str, curve: str) -> None:
-        """NotAvailable when the design declares that it has no plane curves (its words say what
-        stands for them)."""
-        instead = self.design.without_plane_curves
-        if instead is not None:
-            raise NotAvailable(f"Cam.{member}: a {self.spec.cam.body} cam has no plane {curve} — {instead}")
+        """NotAvailable when the design is not a plane cam (its ``plane`` capability), in the
+        design's words for what stands for the plane curves."""
+        if not self.design.plane:
+            raise NotAvailable(f"Cam.{member}: a {self.spec.cam.body} cam has no plane {curve} — "
+                               f"{self.design.instead_of_plane_curves}")
 
     # ---- outputs ----------------------------------------------------------------
     def export_step(self, path: str | os.PathLike[str]) -> Path:

@@ -146,7 +146,7 @@ def drawing_document(design: CamDesign, summary: dict[str, Any] | None = None) -
     """(ezdxf document, its info) of the cam's drawing, the title block quoting ``summary``
     (``design.summary()`` when None); nothing written."""
     # a cylindrical cam: developed, side and end views
-    build = build_dxf if getattr(design, "plane", True) else build_cylindrical_dxf
+    build = build_dxf if design.plane else build_cylindrical_dxf
     return build(design, summary)
 
 
@@ -211,7 +211,7 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
 
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
-    if not getattr(outputs.design, "plane", True):
+    if not outputs.design.plane:
         return len(FIGURES)
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
                             outputs.extra.get("dynamics")))
@@ -223,7 +223,7 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     (name → file) is completed with them and stored in report.json.  Returns the report as
     written (the HTML shows exactly what the JSON holds)."""
     design, summary = outputs.design, outputs.summary
-    if not getattr(design, "plane", True):             # a cylindrical cam: its own page and figures
+    if not design.plane:             # a cylindrical cam: its own page and figures
         files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
         text = report_json_text(summary, files)
         report = json.loads(text)

@@ -49,6 +49,7 @@ from cam_workbench.exporters.study_plots import sizing_chart
 from cam_workbench.exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
 from cam_workbench.generators.checks.design import run_checks
 from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.spec import CamSpec, load_spec, spec_digest
 from cam_workbench.generators.studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
 from cam_workbench.generators.studies.grid import Axis, Grid, parse_vary
@@ -396,9 +397,10 @@ def sweep(spec: CamSpec, vary: Sequence[str | Axis] | Mapping[str, Any], *, bala
     """
     grid = make_grid(vary, balance)
     sizing = None
-    if size and spec.cam.body == "cylindrical":
-        raise SpecError("--size", "sizes cam.base_radius of a plane cam; a cylindrical cam's pitch radius is "
-                                  "cam.cylinder_radius: sweep it with --vary cam.cylinder_radius=…")
+    body = body_of(spec)
+    if size and not body.plane:          # the sizing searches a plane cam's base radius
+        raise SpecError("--size", f"sizes cam.base_radius of a plane cam; a {body.title.lower()}'s pitch radius is "
+                                  f"{body.size_field}: sweep it with --vary {body.size_field}=…")
     if size:
         if build is not None:
             raise SpecError("--build", "builds the grid's cams as they are; it cannot be combined with --size")

@@ -52,7 +52,8 @@ from typing import Any
 import numpy as np
 
 from cam_workbench.generators import __version__
-from cam_workbench.generators.bodies import Arc, Curve, Line, body_of, drawing_title
+from cam_workbench.generators.bodies import Arc, Curve, Line
+from cam_workbench.generators.kinds import body_of, drawing_title
 from cam_workbench.generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
@@ -493,7 +494,7 @@ _CLAIM_WORDS = {"ph_offset": "EXACT OFFSET OF THE PH PITCH CURVE", "ph_pitch": "
 
 
 def title_line(spec: Any) -> str:
-    """The title block's title: :func:`~cam_workbench.generators.bodies.drawing_title` in capitals, followed by
+    """The title block's title: :func:`~cam_workbench.generators.kinds.drawing_title` in capitals, followed by
     the body's name when a title given in the spec does not say it ("FEED CAM (GROOVE CAM)"): a
     drawing always names what is to be made."""
     title = drawing_title(spec).upper()

@@ -66,6 +66,7 @@ from typing import Any
 import numpy as np
 
 from cam_workbench.generators import __version__
+from cam_workbench.generators.kinds import follower_class_of
 from cam_workbench.generators.ecam import Deviation, TablePoints, interpolation_deviation, table_points
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.motion.program import MotionProgram
@@ -160,7 +161,7 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     if ec.format == "codesys" and exact.count > CODESYS_MAX_ELEMENTS:
         raise SpecError("ecam.step", f"gives {exact.count} points; CODESYS counts a cam's elements in an INT: at "
                         f"most {CODESYS_MAX_ELEMENTS}")
-    lift_unit = "deg" if spec.follower.motion == "oscillating" else spec.units
+    lift_unit = "deg" if follower_class_of(spec).lift_unit == "angle" else spec.units
     writer = _WRITERS[(ec.format, tab)]
     text, written = writer(exact, ec.name, lift_unit)
     kinds = ("linear", "quintic") if ec.format == "csv" else (TABLE_KINDS[tab][0] if ec.format != "lenze" else "linear",)
@@ -174,13 +175,6 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     text = _fill_deviation(text, _deviation_text(deviations, lift_unit))
     return EcamTable(ec.format, tab, text, written, deviations, interpolation, lift_unit, suffix, ec.step, ec.name,
                      notes)
-
-
-def write_ecam(path: str | os.PathLike[str], spec: CamSpec, format: str | None = None, **options: Any) -> EcamTable:
-    """:func:`ecam_table` written to ``path`` (atomically); returns the table."""
-    t = ecam_table(spec, format, **options)
-    t.write(path)
-    return t
 
 
 # ---- numbers as the files hold them -------------------------------------------------------

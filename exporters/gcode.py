@@ -23,11 +23,9 @@ to upper case; G93 is an option on many Fanuc controls.
 """
 from __future__ import annotations
 
-import os
+from typing import Any, Iterable, Mapping
 
 import numpy as np
-from pathlib import Path
-from typing import Any, Iterable, Mapping
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.curves.approx import Path2D
@@ -35,8 +33,6 @@ from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
 from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath, contour_path, rotary_path
-
-from .atomic import write_text_atomic
 
 MODES = ("xy", "xc")
 _DECIMALS = {"mm": 4, "in": 5}
@@ -85,7 +81,7 @@ def _comment_text(text: str) -> str:
 
 def _exact_word(design: CamDesign) -> str:
     """ "exact " where the tool-centre path is the exact offset of a PH pitch curve, else "". """
-    return "exact " if design.spec.pitch.representation == "ph" else ""
+    return "exact " if design.pitch.exact else ""
 
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
@@ -119,7 +115,7 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
             w.comment(checks_verdict(checks))
         w.comment(f"spec digest: {summary.get('spec_digest', '-')}")
     else:
-        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if spec.pitch.representation == "ph"
+        kind = (f"C2 PH quintic spline, M = {design.pitch.M} segments" if design.pitch.exact
                 else f"fitted periodic B-spline, {design.pitch.M} knot spans")
         w.comment(f"pitch: {kind}, max follower deviation {design.max_deviation[0]:.3g} {lu}")
         w.comment("design checks: not stated [program written without the report summary]")
@@ -310,12 +306,6 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
     raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
 
 
-def export_gcode(design: CamDesign, path: str | os.PathLike[str], mode: str = "xy",
-                 plan: MachiningPlan | None = None, *, summary: Mapping[str, Any] | None = None) -> Path:
-    """Write the ``mode`` program to ``path`` atomically."""
-    return write_text_atomic(path, gcode_text(design, mode, plan, summary=summary))
-
-
 def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | None = None) -> str:
     """The 4-axis X-Z-A program that mills a cylindrical cam's groove (text): the cam's axis along
     X, the tool's axis radial along Z (Z = the tool tip's distance from the cam axis), A the cam's
@@ -332,7 +322,7 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     w.comment(f"cylinder: pitch radius {lay.pitch_radius:g} {u}, outer radius {lay.outer_radius:g} {u}, length "
               f"{lay.length:g} {u}, {spec.cam.direction}; groove {path.groove_width:g} {u} wide to radius "
               f"{lay.bottom_radius:g} {u}")
-    oscillating = getattr(lay.path, "motion", "translating") == "oscillating"
+    oscillating = lay.path.pivoted
     lu = "deg of arm" if oscillating else u
     motion = " / ".join(f"{m.kind} {m.angle:g} deg" + (f" {m.lift:g} {lu} {m.law}" if m.lift is not None else "")
                         for m in spec.motion)

@@ -15,8 +15,8 @@ from typing import Any, Mapping
 
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.kinds import own_tool_path
 from cam_workbench.generators.machining.cylindrical import cylindrical_path
-from cam_workbench.generators.machining.groove import groove_path
 from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
 from cam_workbench.generators.machining.plan import check_tool_fits
@@ -74,16 +74,14 @@ def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, 
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
         SpecError: a machining setting cannot be met (lead radius, sample period).
     """
-    if not getattr(design, "plane", True):        # a body that is not a plane cam: its own program
+    if not design.plane:        # a body that is not a plane cam: its own program
         return cylindrical_outputs(design, summary)
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
-    if design.spec.cam.body == "groove":
-        if plan.program != "xy":
-            raise SpecError("machining.program", 'a groove is milled with the XY program ("xy"); the XC rotary '
-                            "program cuts a plate cam's outside profile")
-        path = groove_path(design, plan)
+    own_path = own_tool_path(design.spec)
+    if own_path is not None:                        # a body milled along its own path (a groove's passes)
+        path = own_path(design, plan)
         gcode = groove_program(design, plan, path, summary=summary)
     elif plan.program == "xy":
         path = contour_path(design, plan)

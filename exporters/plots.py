@@ -35,6 +35,7 @@ import numpy as np
 from cam_workbench.generators.bodies.cylindrical import CylindricalDesign, pressure_angles
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.design import limit_sign
+from cam_workbench.generators.kinds import body_of
 
 from .atomic import atomic_path
 from .dxf_cylindrical import developed_points
@@ -51,7 +52,8 @@ POINT_GID = "point-{name}"
 
 
 def _is_ph(design: CamDesign) -> bool:
-    return design.spec.pitch.representation == "ph"
+    """The pitch curve has exact offsets (a PH spline: ``exact``)."""
+    return design.pitch.exact
 
 
 def _pitch_words(design: CamDesign) -> str:
@@ -143,8 +145,7 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
     else:
         prof_label = "cam (fitted offset B-spline profile)" if rr > 0 else "cam (profile = fitted B-spline)"
     body = design.body
-    drawn_body = body is not None and not (body.kind == "plate" and len(body.prisms) == 1
-                                           and all(h.is_circle for h in body.prisms[0].holes))
+    drawn_body = body is not None and not body.plain_plate
     if drawn_body:
         _draw_body_top(ax, design, prof_label)
     else:
@@ -211,8 +212,7 @@ def _draw_body_top(ax: Any, design: CamDesign, prof_label: str) -> None:
         add = prism.op == "add"
         label = None
         if add and first_add:
-            label = ("groove cam (walls: the pitch curve's exact offsets ±(r + c/2))" if body.kind == "groove"
-                     else prof_label)
+            label = body_of(design.spec).drawing_label or prof_label
             first_add = False
         ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="#b8c7d9" if add else "white",
                                edgecolor=COLORS["profile"], lw=1.0, zorder=1 if add else 3, label=label))

@@ -6,7 +6,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from cam_workbench.generators.bodies import body_of
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.spec import CamSpec
 from cam_workbench.kernel.step import write_step
 

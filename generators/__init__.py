@@ -7,6 +7,7 @@ from .cam_design import CamDesign, design_cam
 from .errors import CamError, GeometryError, NotAvailable, SolveError, SpecError
 from .curves.nurbs import NurbsCurve
 from .spec.model import CamSpec, default_spec, load_spec, to_toml
+from .kinds import builtin  # noqa: F401,E402  (the built-in bodies and followers register themselves)
 
 __all__ = [
     "CamDesign", "CamError", "CamSpec", "GeometryError", "NotAvailable", "NurbsCurve", "SolveError", "SpecError",

@@ -7,15 +7,16 @@ and the numbers of ``report.json`` (units of the spec; angles in degrees).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, ClassVar
+from typing import Any, Callable
 
 import numpy as np
 
-from .bodies import BodyGeometry, body_of
+from .bodies.base import BodyGeometry
 from .checks.areas import area_summary
 from .checks.design import DesignChecks, run_checks
 from .curves.extrema import refine_max
-from .followers import Follower
+from .followers.base import Follower
+from .kinds import body_of, pitch_of
 from .checks.buildability import (CurvatureSamples, check_bore, check_self_intersection,
                               check_undercut, pitch_curvature_samples)
 from .motion.program import MotionProgram
@@ -61,9 +62,11 @@ class CamDesign:
     #: the body (plate, groove, …) as prisms of exact loops, and what its checks measured
     body: BodyGeometry | None = field(default=None, repr=False)
     body_report: dict = field(default_factory=dict, repr=False)
-    #: None: the cam has plane curves — ``pitch_nurbs`` and ``profile`` in the XY plane (every
-    #: design declares this; one without them says here, in words, what stands for them)
-    without_plane_curves: ClassVar[str | None] = None
+    #: a plane cam (:class:`cam_workbench.generators.kinds.protocols.Design`): pitch curve, profile, prisms
+    plane = True
+    #: what stands for a pitch curve and a profile in the cam's plane where a design has none (words
+    #: for the API's refusal, naming what to use instead); "": a plane cam has them
+    instead_of_plane_curves = ""
 
     @property
     def program(self) -> MotionProgram:
@@ -83,7 +86,7 @@ class CamDesign:
         ``Follower.label()`` words them), the body's numbers and the pitch curve's spans (spec units)."""
         spec = self.spec
         curve = self.follower.describe()["curve"]
-        pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if spec.pitch.representation == "ph"
+        pitch = (f"PH quintic {curve}, M = {self.pitch.M}" if self.pitch.exact
                  else f"B-spline {curve}, {self.pitch.M} knot spans")
         return (f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; "
                 f"{pitch}")
@@ -411,18 +414,28 @@ def _design_bspline(spec: CamSpec, progress: Callable[[int, float], None] | None
                                checks=checks))
 
 
-def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
-    """Build the pitch curve and exact profile of ``spec`` and run the buildability checks.
+def design_cam(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> Any:
+    """The designed cam of ``spec``, as its body designs it (``Body.design``): a :class:`CamDesign`
+    for a plane cam, the body's own design otherwise (both answer the Design protocol,
+    :class:`cam_workbench.generators.kinds.protocols.Design`).
 
     Raises:
         SpecError: bad input (already raised when the spec was loaded).
         GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
         SolveError: the PH spline did not converge.
     """
-    own = getattr(body_of(spec), "design", None)
-    if own is not None:                  # a body that is not a plane cam designs itself (cylindrical)
-        return own(spec)
-    if spec.pitch.representation == "bspline":
+    return body_of(spec).design(spec, progress=progress)
+
+
+def design_plane(spec: CamSpec, *, progress: Callable[[int, float], None] | None = None) -> CamDesign:
+    """Build the pitch curve and exact profile of a plane cam's ``spec``, run the buildability
+    checks and build its body (the plane-cam bodies' ``design``).
+
+    Raises:
+        GeometryError: undercut, self-intersection or a bore through the profile, with the cam angle.
+        SolveError: the PH spline did not converge.
+    """
+    if not pitch_of(spec).exact:      # a fitted pitch curve: its offset is fitted too
         return _design_bspline(spec, progress)
     checks = checked_intent(spec)
     pitch = build_pitch(spec, progress=progress)

@@ -95,7 +95,7 @@ def design_of(case):
 # ---- the geometry, written out here ---------------------------------------------------------
 def roller_centres(spec, th):
     """(first, second) roller centres in the cam frame at cam angles ``th`` [rad], from the motion
-    and the yoke / arm geometry (CAM_SPEC.md frames: fixed-frame point F → e^{−iδθ}F)."""
+    and the yoke / arm geometry (docs/followers.md's frames: fixed-frame point F → e^{−iδθ}F)."""
     s = MotionProgram.from_spec(spec).s(th)
     delta = 1 if spec.cam.direction == "ccw" else -1
     fol, c = spec.follower, spec.conjugate

@@ -32,7 +32,11 @@ The rules:
     cam_workbench.generators`` does not); and so may the methods FreeCAD calls when the user first
     opens the workbench (:data:`HOOKS`: FreeCAD runs ``mod/InitGui.py`` at every start with
     ``exec()``, whose module-level names its methods cannot see, so ``Initialize`` imports the
-    workbench's commands).  Each says what it defers; their edges still count for (a).
+    workbench's commands); and so may the workbench's commands (:data:`LATE_LOADERS`): FreeCAD
+    imports ``cam_workbench.freecad.commands`` when the workbench is activated, and each command
+    loads its own module (numpy, scipy, the generators, matplotlib, the task panels) only when it
+    runs, so that activating the workbench stays cheap (``tests/test_freecad_gui.py``).  Each says
+    what it defers; their edges still count for (a).
 
     Loading a module by its name (``importlib.import_module``, ``__import__``), which this reading
     cannot follow, is left to the two loaders of optional dependencies: the OCP adaptor and
@@ -78,6 +82,10 @@ DEFERRABLE = frozenset({
 #: (module, method) that FreeCAD calls late, where the workbench's own modules are imported (rule (b))
 HOOKS = frozenset({("cam_workbench.freecad.mod.InitGui", "CamWorkbench.Initialize")})
 
+#: module → the project packages its functions may import late (rule (b)): the workbench's commands,
+#: imported when the workbench is activated, load what a command needs when it runs
+LATE_LOADERS = {"cam_workbench.freecad.commands": ("cam_workbench.freecad", "cam_workbench.generators")}
+
 #: the layers (rule (c)): a module under the key imports, of the project, only modules under these
 LAYERS = {
     "cam_workbench.generators": ("cam_workbench.generators",),
@@ -85,13 +93,20 @@ LAYERS = {
     "cam_workbench.kernel": ("cam_workbench.kernel", "cam_workbench.generators"),
 }
 
-#: the FreeCAD workbench's Gui side: its commands, task panels, dialogs, view providers and Qt
-#: helpers (they import FreeCADGui or PySide).  Every other module of ``cam_workbench.freecad``
-#: is App side (the document object, its Part builder, properties, exports, the install
-#: script): it runs in ``freecadcmd`` and must import none of these.
+#: The FreeCAD workbench's two sides (rule (c); ``tests/test_freecad_layering.py`` holds every
+#: module to one of them).  The Gui side runs with the GUI up only: its view providers, commands,
+#: task panels, dialogs, Qt helpers, the GUI's spec importer and ``mod/InitGui.py``.
 FREECAD_GUI_SIDE = frozenset(f"cam_workbench.freecad.{m}" for m in (
-    "check_design", "commands", "export_dialog", "motion_editor", "optimiser_panel", "plots",
-    "qt_compat", "step_export", "view_providers", "mod.InitGui"))
+    "commands", "export_dialog", "motion_editor", "optimiser_panel", "qt_compat", "spec_io_gui",
+    "view_providers", "mod.InitGui"))
+#: The App side runs in ``freecadcmd`` too and imports no Gui-side module: the feature, its
+#: properties and Part builder, the spec's files, the exports, the checks, the plots, the
+#: optimiser's model, the install script, ``mod/Init.py``.  A module whose headless function has a
+#: dialog beside it (``check_design.show_report``) is App side and imports FreeCADGui and PySide
+#: inside that function only.
+FREECAD_APP_SIDE = frozenset(["cam_workbench.freecad"] + [f"cam_workbench.freecad.{m}" for m in (
+    "check_design", "exports", "feature", "install", "optimiser", "part_build", "plots", "properties",
+    "spec_io", "stateless", "step_export", "view_hook", "mod.Init")])
 
 
 @dataclass(frozen=True)
@@ -264,8 +279,10 @@ def deferral_problem(imp: Import) -> str | None:
     """Why an import inside a function or class body breaks rule (b), or None when it keeps it."""
     lazy = imp.scope == "__getattr__" and modules()[imp.module].name == "__init__.py" \
         and imp.target.startswith(imp.module + ".")
-    if lazy or (imp.module, imp.scope) in HOOKS:
-        # a package's PEP 562 lazy submodule, a FreeCAD hook: the comment says what it defers
+    late = imp.target.startswith(LATE_LOADERS.get(imp.module, ("\0",)))
+    if lazy or late or (imp.module, imp.scope) in HOOKS:
+        # a package's PEP 562 lazy submodule, a FreeCAD hook, a command's module: the comment
+        # says what it defers
         return None if "defer" in imp.comment.lower() else "no '# deferred: …' comment"
     root = imp.target.split(".")[0]
     if root not in DEFERRABLE:
@@ -362,6 +379,23 @@ def test_the_graph_sees_every_import():
         ("pkg.d", "function")]
     assert "OCP" in got[4].comment
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    # a workbench module that reaches the Gui side every way it can
+    text = ("from . import view_providers\n"
+            "def f():\n    from .commands import register\n"
+            "class C:\n    def g(self):\n        import cam_workbench.freecad.motion_editor as m\n"
+            "from .. import freecad\n"
+            "import FreeCADGui\n")
+    gui = {"cam_workbench.freecad.view_providers", "cam_workbench.freecad.commands",
+           "cam_workbench.freecad.motion_editor"}
+    with tempfile.TemporaryDirectory() as tmp:
+        p = Path(tmp) / "a.py"
+        p.write_text(text)
+        got = imports_of("cam_workbench.freecad.a", p, gui | {"cam_workbench.freecad", "cam_workbench"})
+    assert [(i.line, i.target, i.place, i.scope) for i in got] == [
+        (1, "cam_workbench.freecad.view_providers", "module", ""),
+        (3, "cam_workbench.freecad.commands", "function", "f"),
+        (6, "cam_workbench.freecad.motion_editor", "function", "C.g"),
+        (7, "cam_workbench.freecad", "module", ""), (8, "FreeCADGui", "module", "")]
 
 
 def counts() -> str:

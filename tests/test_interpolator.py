@@ -22,7 +22,7 @@ from scipy.optimize import brentq
 from cam_workbench.generators.errors import SolveError
 from cam_workbench.generators.machining.interpolator import (RotationalInterpolator, command_count, finite_differences,
                                      interpolate, interpolator_accuracy)
-from cam_workbench.generators.pitch import build_pitch_for_segments
+from cam_workbench.generators.pitch.ph import build_pitch_for_segments
 
 from .conftest import paper_case
 
@@ -210,7 +210,7 @@ def test_paper_tolerance_chooses_the_papers_m(case):
     """ε_all = 0.2 µm (paper §4.2): pitch.tolerance (the contract's dense deviation) picks
     M = 60, the paper's choice, and the interpolated commands of that M meet it too; M = 59
     misses it by 5× (junctions off the motion boundaries)."""
-    from cam_workbench.generators.pitch import segments_for_tolerance
+    from cam_workbench.generators.pitch.ph import segments_for_tolerance
 
     pc, dev, _ = segments_for_tolerance(paper_case(case), 2e-4)
     assert pc.M == 60 and dev <= 2e-4

@@ -1,4 +1,4 @@
-"""DESIGN.md's layering, checked: importing and running `generators` loads no CAD kernel,
+"""The layering of docs/layout.md, checked: importing and running `generators` loads no CAD kernel,
 file-format or upper-layer module; `cam_workbench/freecad` never imports OCP/cadquery/build123d."""
 import ast
 import re

@@ -25,7 +25,7 @@ def cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
 
 
 def _true_pitch(spec: CamSpec, theta: np.ndarray) -> np.ndarray:
-    """P(θ) = Rot(∓θ)·(e, s₀ + s(θ)) from CAM_SPEC.md, written out here (s from the program)."""
+    """P(θ) = Rot(∓θ)·(e, s₀ + s(θ)) from docs/conventions.md, written out here (s from the program)."""
     from cam_workbench.generators.motion import MotionProgram
 
     s = MotionProgram.from_spec(spec).s(theta)

@@ -4,7 +4,7 @@ knife edge, Table 1 parameters.  Plus the tolerance-driven choice of M."""
 import numpy as np
 import pytest
 
-from cam_workbench.generators.pitch import build_pitch_for_segments, segments_for_tolerance
+from cam_workbench.generators.pitch.ph import build_pitch_for_segments, segments_for_tolerance
 
 from .conftest import paper_case
 

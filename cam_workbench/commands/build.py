@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.studies.remedies import remedy_lines
 
 from .common import add_output_arguments, add_spec_arguments, write_cam
@@ -33,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print_summary(s: dict, out: Path) -> None:
-    if "pitch" not in s:          # not a plane cam (cylindrical): its body's numbers
+    if not body_named(s["body"]["kind"]).plane:          # not a plane cam (``Body.plane``): its body's numbers
         _print_body_summary(s, out)
         return
     u = s["units"]
@@ -44,7 +45,7 @@ def _print_summary(s: dict, out: Path) -> None:
     print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
           f"{len(f['plots'])} plots")
     print(f"  follower (lengths in {u}): {fol['label']}")
-    kind = ("PH quintic spline, M" if p["representation"] == "ph"
+    kind = ("PH quintic spline, M" if pitch_named(p["representation"]).exact
             else f"periodic B-spline (degree {p['degree']}), knot spans")
     print(f"  {fol['curve']}: {kind} = {p['segments']}, max deviation {p['max_deviation']:.3g} {lu}"
           f" at {p['max_deviation_at_deg']:.2f}°; profile within {s['profile']['max_error']:.3g} {u} of the true one")

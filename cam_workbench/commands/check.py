@@ -16,6 +16,7 @@ from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.generators.bodies.cylindrical import cylinder_checks
 from cam_workbench.generators.checks.areas import area_label, area_summary
 from cam_workbench.generators.checks.design import format_value, limit_sign, run_checks
+from cam_workbench.generators.kinds import follower_class_of
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines, with_remedy
 from cam_workbench.generators.motion import MotionProgram
@@ -140,7 +141,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
     if checks["extremes"]:
         console.print(ext)
     if junctions:
-        console.print(junction_table(junctions, spec.units if spec.follower.motion == "translating" else "deg"))
+        console.print(junction_table(junctions, spec.units if follower_class_of(spec).lift_unit == "length" else "deg"))
     if areas is not None:       # a cylindrical cam has no plane cross-section
         console.print(escape(area_line(areas, spec.units, follower_curve)))
     verdict = ("[green]all checks pass[/]" if checks["passed"]

@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from cam_workbench.exporters.output_rule import Claim, admit, file_source, spec_claim
-from cam_workbench.generators.bodies import body_of
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.cam_design import CamDesign, design_cam
 from cam_workbench.generators.errors import GeometryError, SpecError
 from cam_workbench.generators.spec.examples import DESCRIPTIONS, example_spec
@@ -112,8 +112,9 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
 
 
 def own_design(spec: CamSpec) -> bool:
-    """Whether the spec's body designs itself (not a plane cam: a cylindrical cam)."""
-    return getattr(body_of(spec), "design", None) is not None
+    """Whether the spec's body is not a plane cam (``Body.plane``): it has its own design, checks
+    and outputs (a cylindrical cam)."""
+    return not body_of(spec).plane
 
 
 def require_ocp(command: str) -> None:

@@ -17,11 +17,10 @@ from rich.table import Table
 
 from cam_workbench.exporters import plots
 from cam_workbench.exporters.atomic import OutputSet
-from cam_workbench.exporters.report_html import format_number as fmt
+from cam_workbench.exporters.report_cells import format_number as fmt
 from cam_workbench.exporters.report_json import report_json_text
-from cam_workbench.generators.bodies import body_of
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.dynamics import analyse_dynamics, validate_dynamics
-from cam_workbench.generators.followers import follower_of
 from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 from cam_workbench.generators.spec.params import unit_name
@@ -110,8 +109,7 @@ def merged_report(path: Path, spec: CamSpec, section: dict[str, Any]) -> dict[st
 def train_follower(spec: CamSpec) -> Any:
     """The follower the dynamics drive: the body's own (a cylindrical cam's roller along its axis)
     or the spec's."""
-    own = getattr(body_of(spec), "own_follower", None)
-    return own(spec) if own is not None else follower_of(spec)
+    return body_of(spec).dynamics_follower(spec)
 
 
 def series_csv(result: Any) -> str:

@@ -37,14 +37,13 @@ from typing import Any
 
 import numpy as np
 
-from cam_workbench.generators.bodies import body_of
 from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.checks.claims import profile_claim
 from cam_workbench.generators.checks.design import format_value as fmt_value
 from cam_workbench.generators.checks.design import limit_sign, run_checks
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
-from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.kinds import body_of, follower_of, pitch_named
 from cam_workbench.generators.spec import CamSpec
 from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
 
@@ -229,7 +228,7 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
 
-    if getattr(body_of(spec), "design", None) is not None:     # not a plane cam: a cylindrical cam
+    if not body_of(spec).plane:     # not a plane cam: the body's own design and checks
         return _own_body_report(obj, spec, dynamics_error)
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
@@ -494,7 +493,7 @@ def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
     p = s["pitch"]
     moved = "rotation" if fol["lift_unit"] == "angle" else "displacement"
     rows += [
-        (group, "PH quintic segments M" if p.get("representation", "ph") == "ph"
+        (group, "PH quintic segments M" if pitch_named(p.get("representation", "ph")).exact
          else "B-spline knot spans", str(p["segments"]), ""),
         (group, f"max follower {moved} deviation |s_actual − s|",
          f"{p['max_deviation']:.3g} {lu} at {p['max_deviation_at_deg']:.2f}°",
@@ -547,7 +546,7 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
         ("FreeCAD solid", "valid, one solid", "yes" if valid else "no", "pass" if valid else "FAIL"),
         ("FreeCAD solid", "kernel volume vs exact", f"{rel:.2e} relative", ""),
     ]
-    if not getattr(design, "plane", True):
+    if not design.plane:
         lay = design.layout
         pts = part_build.wall_face_points(shape, radii=((lay.bottom_radius - 1e-6) * scale,
                                                         (lay.outer_radius + 1e-6) * scale)) / scale
@@ -564,7 +563,7 @@ _GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
 def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | tuple[int, ...] | None = None
            ) -> Any:
     """A read-only table; the cells of ``status_col`` (one column or several) coloured by status."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only: the report is read in any Python)
 
     status_cols = (status_col,) if isinstance(status_col, int) else tuple(status_col or ())
     table = QtGui.QTableWidget(len(rows), len(headers))
@@ -590,11 +589,9 @@ def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int
 
 def show_report(obj: Any) -> DesignReport:
     """Print the report to the report view and show it in a (non-modal) dialog."""
-    import FreeCAD
-    import FreeCADGui
-    from PySide import QtGui
-
-    from PySide import QtCore
+    import FreeCAD  # deferred: FreeCAD (the dialog only: the report is read in any Python)
+    import FreeCADGui  # deferred: FreeCADGui (the GUI's; this module is App side)
+    from PySide import QtCore, QtGui  # deferred: PySide (the dialog only)
 
     if getattr(obj, "DynamicsEnabled", False):
         FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the follower dynamics "
@@ -677,7 +674,7 @@ def show_report(obj: Any) -> DesignReport:
 
 def _dynamics_page(report: DesignReport) -> Any:
     """The Follower dynamics tab: the verdict, then report.json's ``dynamics`` numbers."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only)
 
     page = QtGui.QWidget()
     page.setObjectName("dynamics_page")

@@ -69,9 +69,8 @@ class Command:
 
     def Activated(self) -> None:
         try:
-            # deferred: the view providers load numpy, scipy and the generators (activating the
-            # workbench stays cheap); registered before a command may make a cam
-            from . import view_providers
+            # registered before a command may make a cam; activating the workbench stays cheap:
+            from . import view_providers  # deferred: numpy, scipy, the generators
 
             view_providers.register()
             self.run()
@@ -115,7 +114,7 @@ class NewCamFromSpec(Command):
             return
         # deferred: the generators load numpy, scipy
         from cam_workbench.generators.errors import SpecError
-        from cam_workbench.generators.spec import load_spec
+        from cam_workbench.generators.spec import load_spec  # deferred: as above
 
         try:
             load_spec(name)
@@ -215,8 +214,8 @@ class ExportSpec(Command):
         # deferred: numpy, scipy, the generators
         from cam_workbench.generators.errors import SpecError
 
-        from .properties import describe_field
-        from .spec_io import export_spec
+        from .properties import describe_field  # deferred: numpy, scipy, the generators
+        from .spec_io import export_spec  # deferred: numpy, scipy, the generators
 
         name, _f = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export spec",
                                                      f"{cam.Label}.toml", "Cam spec (*.toml)")

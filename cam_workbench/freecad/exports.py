@@ -169,7 +169,7 @@ def find_cli() -> Cli:
     if env:
         return _as_cli(env, f"${ENV_CLI}")
     try:
-        import FreeCAD
+        import FreeCAD  # deferred: FreeCAD (this module runs in any Python; outside FreeCAD no parameter)
 
         configured = FreeCAD.ParamGet(PARAM_PATH).GetString("CliPath", "")
     except ImportError:

@@ -178,7 +178,7 @@ class CamFeature(Stateless):
             update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
         obj.CrossSectionArea = float(design.area) * scale * scale
-        if not getattr(design, "plane", True):
+        if not design.plane:
             # a cylindrical cam: no PH pitch curve (its walls are B-spline surfaces of the exact
             # offsets, see body.wall_fit_error); the area is its end face's at z = length
             obj.JunctionCount = 0

@@ -11,6 +11,9 @@ list of the feature and recomputes inside ONE transaction, so a single Undo rest
 the previous program (and shape).  Nothing is written unless the program passes the
 spec rules and the cam can be made; messages name the row, the field and the control point
 (``row 1, control_x[3] (P4): must be a number, got 'abc'``).
+
+FreeCAD and Qt are imported inside the panel's methods: the logic imports in any Python
+(``tests/test_freecad_properties.py`` runs it without FreeCAD).
 """
 from __future__ import annotations
 
@@ -200,7 +203,8 @@ class MotionEditorPanel:
     selected B-spline segment, its control points; live validation."""
 
     def __init__(self, obj: Any):
-        from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
+        # deferred: PySide, FreeCAD's shim: PySide2 in 0.20, PySide6 in 1.x (see the module docstring)
+        from PySide import QtGui
 
         self.obj = obj
         self.units = getattr(obj, "Units", "mm")
@@ -280,7 +284,7 @@ class MotionEditorPanel:
         self.refresh()
 
     def _insert(self, r: int, row: dict[str, Any]) -> None:
-        from PySide import QtGui
+        from PySide import QtGui  # deferred: PySide (see the module docstring)
 
         self.table.insertRow(r)
         self.extra.insert(r, {f: row[f] for f in POINT_FIELDS if f in row})
@@ -360,7 +364,7 @@ class MotionEditorPanel:
 
     def show_points(self) -> None:
         """Fill the control-point table from the selected row (disabled for other laws)."""
-        from PySide import QtCore, QtGui
+        from PySide import QtCore, QtGui  # deferred: PySide (see the module docstring)
 
         r = self.table.currentRow()
         self._points_row = r
@@ -493,7 +497,7 @@ class MotionEditorPanel:
         if msg is not None:
             self.status.setText(msg)
             self.status.setStyleSheet("color: #c62828")
-            import FreeCAD
+            import FreeCAD  # deferred: FreeCAD (see the module docstring)
 
             FreeCAD.Console.PrintError(f"{self.obj.Label}: motion program not applied: {msg}\n")
             return False
@@ -508,7 +512,7 @@ class MotionEditorPanel:
     def _leave(self) -> None:
         """End editing: through the document's edit mode when the panel came from
         ``setEdit`` (the view provider's ``unsetEdit`` closes the panel), else directly."""
-        import FreeCADGui
+        import FreeCADGui  # deferred: FreeCADGui (see the module docstring)
 
         gdoc = FreeCADGui.getDocument(self.obj.Document.Name)
         if gdoc is not None and gdoc.getInEdit() is not None:
@@ -542,7 +546,7 @@ def _parse(text: str, kind: str) -> Any:
 def open_editor(obj: Any) -> None:
     """Edit ``obj``'s motion program: enters edit mode, whose view provider shows the panel
     (the same path as a double-click in the tree)."""
-    import FreeCADGui
+    import FreeCADGui  # deferred: FreeCADGui (see the module docstring)
 
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()

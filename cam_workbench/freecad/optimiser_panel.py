@@ -26,7 +26,10 @@ from __future__ import annotations
 import time
 from typing import Any
 
+import FreeCAD
+import FreeCADGui
 import numpy as np
+from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
 
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.optimise.objectives import UNITS
@@ -47,8 +50,6 @@ class OptimiserPanel:
     """The task panel for one cam (``FreeCADGui.Control.showDialog(panel)``)."""
 
     def __init__(self, obj: Any):
-        from PySide import QtCore  # deferred: FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
-
         self.obj = obj
         self.spec = props.spec_of(obj)        # raises SpecError: the command reports it
         self.units = self.spec.units
@@ -87,8 +88,6 @@ class OptimiserPanel:
     # -- the five boxes
     def _problem_box(self) -> Any:
         """1. Problem: the objective, the design variables' check boxes and the status line."""
-        from PySide import QtCore, QtGui
-
         problem = QtGui.QWidget()
         problem.setObjectName("OptimiseProblem")
         problem.setWindowTitle(f"Optimise {self.obj.Label}")
@@ -124,8 +123,6 @@ class OptimiserPanel:
 
     def _bounds_box(self) -> Any:
         """2. Bounds: the base radius' lower bound first and in bold, then R_b's upper bound and |e|'s."""
-        from PySide import QtGui
-
         bounds = QtGui.QWidget()
         bounds.setObjectName("OptimiseBounds")
         bounds.setWindowTitle("Bounds")
@@ -163,8 +160,6 @@ class OptimiserPanel:
 
     def _algorithm_box(self) -> Any:
         """3. Algorithm: the algorithm, the evaluation budget, the random restarts and the seed."""
-        from PySide import QtGui
-
         algo = QtGui.QWidget()
         algo.setObjectName("OptimiseAlgorithm")
         algo.setWindowTitle("Algorithm")
@@ -194,8 +189,6 @@ class OptimiserPanel:
 
     def _run_box(self) -> Any:
         """4. Run: Run / Cancel, the progress bar, the live figures and the convergence plot."""
-        from PySide import QtCore, QtGui
-
         runbox = QtGui.QWidget()
         runbox.setObjectName("OptimiseRun")
         runbox.setWindowTitle("Run")
@@ -225,8 +218,6 @@ class OptimiserPanel:
 
     def _result_box(self) -> Any:
         """5. Result: the verdict, the figures and the checks before → after, and Apply."""
-        from PySide import QtCore, QtGui
-
         resbox = QtGui.QWidget()
         resbox.setObjectName("OptimiseResult")
         resbox.setWindowTitle("Result: before → after")
@@ -249,8 +240,6 @@ class OptimiserPanel:
 
     # -- widgets
     def _length_spin(self, value: float) -> Any:
-        from PySide import QtGui
-
         spin = QtGui.QDoubleSpinBox()
         spin.setDecimals(5 if self.units == "in" else 4)
         spin.setRange(0.0, 1e6)
@@ -260,8 +249,6 @@ class OptimiserPanel:
         return spin
 
     def _table(self, name: str, headers: list[str]) -> Any:
-        from PySide import QtGui
-
         t = QtGui.QTableWidget(0, len(headers))
         t.setObjectName(name)
         t.setHorizontalHeaderLabels(headers)
@@ -273,10 +260,13 @@ class OptimiserPanel:
 
     def _make_canvas(self) -> Any:
         try:
+            # deferred: matplotlib (optional in FreeCAD's Python; slow to import)
             from matplotlib.figure import Figure
             try:
+                # deferred: matplotlib (its Qt canvas)
                 from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
             except ImportError:
+                # deferred: matplotlib (older matplotlib: the Qt5 canvas)
                 from matplotlib.backends.backend_qt5agg import FigureCanvasQTAgg
         except ImportError:
             return None  # no matplotlib in FreeCAD's Python: the numbers are shown all the same
@@ -335,8 +325,6 @@ class OptimiserPanel:
 
     def refresh(self) -> Any:
         """Enable what applies, describe the R_b bound, validate; returns the run spec or None."""
-        from PySide import QtGui
-
         objective = self.objective.currentData()
         choices = {c.token: c for c in opt.variable_choices(self.spec, objective)}
         for token, cb in self.var_boxes.items():
@@ -392,8 +380,6 @@ class OptimiserPanel:
 
     def start(self) -> bool:
         """Start a run with the current choices (False, with the reason shown, if they are bad)."""
-        import FreeCAD
-
         if self.running:
             return False
         spec = self.refresh()
@@ -477,8 +463,6 @@ class OptimiserPanel:
         return self._unit(name if name in UNITS else objective)
 
     def _finished(self) -> None:
-        import FreeCAD
-
         job = self.job
         for w in self.settings_widgets:
             w.setEnabled(True)
@@ -508,8 +492,6 @@ class OptimiserPanel:
 
     # -- results
     def _show_result(self, res: Any) -> None:
-        from PySide import QtGui
-
         self.figure_table.setVisible(res is not None)
         self.check_table.setVisible(res is not None)
         if res is None:
@@ -562,8 +544,6 @@ class OptimiserPanel:
     @staticmethod
     def scroll_to(widget: Any) -> None:
         """Scroll the task view so that ``widget`` (a box of the panel) starts at its top."""
-        from PySide import QtCore, QtGui
-
         area = widget.parentWidget()
         while area is not None and not isinstance(area, QtGui.QScrollArea):
             area = area.parentWidget()
@@ -576,8 +556,6 @@ class OptimiserPanel:
     def _fit(table: Any, fixed: int) -> None:
         """The first ``fixed`` columns to their contents, the others share the width (text wraps);
         the table as high as its rows, so the task view scrolls, not the table."""
-        from PySide import QtCore, QtGui
-
         header = table.horizontalHeader()
         for c in range(table.columnCount()):
             header.setSectionResizeMode(c, QtGui.QHeaderView.ResizeToContents if c < fixed
@@ -591,8 +569,6 @@ class OptimiserPanel:
 
     @staticmethod
     def _fill(table: Any, rows: list[list[str]]) -> None:
-        from PySide import QtGui
-
         table.setRowCount(len(rows))
         for r, row in enumerate(rows):
             for c, text in enumerate(row):
@@ -638,10 +614,6 @@ class OptimiserPanel:
     # -- apply / close
     def apply(self) -> bool:
         """Write the result into the cam (one undo step); ask first if it fails a check."""
-        import FreeCAD
-        import FreeCADGui
-        from PySide import QtGui
-
         res = self.result
         if res is None or self.running:
             return False
@@ -664,8 +636,6 @@ class OptimiserPanel:
         self.applied = True
         FreeCAD.Console.PrintMessage(f"{self.obj.Label}: optimised design applied ({res.objective} "
                                      f"{res.initial_value:.6g} → {res.value:.6g}); Undo restores the cam\n")
-        from PySide import QtCore
-
         QtCore.QTimer.singleShot(0, self._close)   # not from inside the button's own signal
         return True
 
@@ -688,8 +658,6 @@ class OptimiserPanel:
             _PANELS.remove(self)
 
     def _close(self) -> None:
-        import FreeCADGui
-
         self._timer.stop()
         if self in _PANELS:
             _PANELS.remove(self)
@@ -698,9 +666,6 @@ class OptimiserPanel:
 
 def open_panel(obj: Any) -> OptimiserPanel | None:
     """Show the optimiser panel for ``obj`` (closing another task panel first)."""
-    import FreeCAD
-    import FreeCADGui
-
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     try:

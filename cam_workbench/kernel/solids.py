@@ -145,12 +145,11 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     (``exact_offset=False``: what STEP can hold — OCCT's STEP writer has no mapping for
     offset curves and writes an empty model)."""
     body = design.body
-    if body is not None and not getattr(body, "prismatic", True):
+    if body is not None and not body.prismatic:
         return cylindrical_solid(design)
-    plain_plate = body is None or (body.kind == "plate" and len(body.prisms) == 1
-                                   and all(h.is_circle for h in body.prisms[0].holes))
+    plain_plate = body is None or body.plain_plate
     kernel_offset = exact_offset and design.bspline is not None and design.spec.roller_radius > 0 and \
-        (body is None or body.kind == "plate")
+        (body is None or body.has("plate"))
     if plain_plate:
         if kernel_offset:
             face = offset_profile_face(design)
@@ -412,7 +411,7 @@ def body_measures(design: Any, shape: Any) -> dict[str, Any]:
     """What the solid stage measures of a body beyond volume and face area: a cylindrical cam's
     built wall faces against the exact walls (``wall_error``); nothing for the prism bodies."""
     body = design.body
-    if body is None or getattr(body, "prismatic", True):
+    if body is None or body.prismatic:
         return {}
     return {"wall_error": cylindrical_wall_error(design, shape)}
 

@@ -187,6 +187,13 @@ class BodyGeometry:
     def has(self, role: str) -> bool:
         return any(p.role == role for p in self.prisms)
 
+    @property
+    def plain_plate(self) -> bool:
+        """One plate prism (role "plate": the profile) with round holes only — the profile face
+        extruded, nothing fused or cut."""
+        return (len(self.prisms) == 1 and self.prisms[0].role == "plate"
+                and all(h.is_circle for h in self.prisms[0].holes))
+
     def loops(self) -> list[Loop]:
         """Every loop of every prism (for drawings)."""
         out = []

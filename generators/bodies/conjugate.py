@@ -30,20 +30,42 @@ from typing import Any
 
 import numpy as np
 
+from ..cam_design import CamDesign, profile_offset_distance, refuse_undercut
+from ..checks.buildability import check_bore, check_self_intersection, check_undercut, pitch_curvature_samples
+from ..curves.offsets import offset_nurbs, pitch_nurbs
 from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.conjugate import second_roller_of
+from ..followers.oscillating import zero_lift_arm_angle
+from ..kinds import follower_class_of, pitch_of, register_body
+from ..motion.program import Kinematics
+from ..pitch.ph import build_pitch_curve, segments_for_tolerance
+from ..spec.model import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
-from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark
-from .plate import feature_checks, profile_radius_along, zero_angle
+from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark, zero_angle
+from .groove import force_sides
+from .plane import PlaneCamBody
+from .plate import feature_checks, profile_radius_along
 
 #: the suffix of the second cam's check names (``pressure_angle_cam2``, …)
 SECOND = "cam2"
 
 
-class ConjugateBody:
+@register_body
+class ConjugateBody(PlaneCamBody):
     """Two plate cams stacked on one shaft, each driving its own roller of one follower."""
 
     kind = "conjugate"
+    plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = None
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = tuple(o for o in OBJECTIVES if o != "outer_diameter")
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = ()
+    own_fields = ()
+    modules = ("cam_workbench.generators.followers.conjugate",)
     title = "Conjugate cam pair"
     #: the two cams hold the follower both ways (form closure): it cannot leave them
     closure = "form"
@@ -51,6 +73,14 @@ class ConjugateBody:
     drive_note = ("the two cams hold the follower both ways; the cam that drives changes where the contact force "
                   "changes sign (positive: pushing the follower away from the cam axis, the first cam; "
                   "negative: the second cam)")
+
+    @staticmethod
+    def validate(spec) -> None:
+        validate_conjugate(spec)
+
+    @staticmethod
+    def refuse_foreign(spec) -> None:
+        refuse_stray_fields(spec)
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -146,11 +176,6 @@ def second_cam(design):
         GeometryError: the second cam undercuts, crosses itself or is cut by the bore (the
             message says "second cam", with the cam angle).
     """
-    from ..cam_design import CamDesign, profile_offset_distance, refuse_undercut
-    from ..checks.buildability import check_bore, check_self_intersection, check_undercut, pitch_curvature_samples
-    from ..curves.offsets import offset_nurbs, pitch_nurbs
-    from ..pitch.ph import build_pitch_curve, segments_for_tolerance
-
     spec = design.spec
     fol = second_roller_of(spec)
     r2 = fol.roller_radius
@@ -267,8 +292,6 @@ class RollerDistanceError:
 def roller_distance_error(first, second, n: int | None = None) -> RollerDistanceError:
     """Both rollers' lifts from their built PH pitch curves (the contact solve, every 0.02° and at
     least 8 samples per segment of either curve) and the distance error between the rollers."""
-    from ..motion.program import Kinematics
-
     n = n or max(first.deviation_count(), second.deviation_count())
     th = 2 * np.pi * np.arange(n) / n
     s1 = first.actual_displacement(th)
@@ -289,8 +312,6 @@ def drive_cams(design) -> dict[str, Any]:
     """Which cam drives the follower where (:func:`cam_workbench.generators.bodies.groove.force_sides`): the
     first while the follower needs a push away from the cam axis, the second while it must be
     pulled back."""
-    from .groove import force_sides
-
     sides = force_sides(design)
     return {"changes_at_deg": sides["changes_at_deg"], "first_cam_share": sides["positive_share"],
             "second_cam_share": sides["negative_share"],
@@ -314,9 +335,9 @@ def validate_conjugate(spec) -> None:
         SpecError: naming the field and the rule.
     """
     fol, c = spec.follower, spec.conjugate
-    if fol.kind != "roller":
+    if not spec.is_roller:
         raise SpecError("cam.body", f'a conjugate pair needs a roller follower, got follower.kind = "{fol.kind}"')
-    if spec.pitch.representation != "ph":
+    if not pitch_of(spec).exact:
         raise SpecError("pitch.representation", 'a conjugate pair is built on PH pitch curves (exact offsets): "ph"')
     smallest = MIN_GAP_MM if spec.units == "mm" else MIN_GAP_MM / 25.4
     if 0 < c.gap < smallest:
@@ -325,7 +346,7 @@ def validate_conjugate(spec) -> None:
     r2 = c.roller_radius if c.roller_radius is not None else fol.roller_radius
     clear = r2 + spec.cam.bore_diameter / 2          # the second roller's centre must stay this far from the axis
     h = spec.max_lift
-    if fol.motion == "translating":
+    if not follower_class_of(spec).pivoted:
         for name in ("arm_angle", "arm_length"):
             if getattr(c, name) is not None:
                 raise SpecError(f"conjugate.{name}", "applies to an oscillating arm pair only: a translating yoke's "
@@ -350,8 +371,6 @@ def validate_conjugate(spec) -> None:
     if c.arm_angle is None:
         raise SpecError("conjugate.arm_angle", "is required for an oscillating follower (the angle from the first "
                         "arm to the second about the pivot)")
-    from ..followers.oscillating import zero_lift_arm_angle
-
     psi0 = math.degrees(zero_lift_arm_angle(spec.cam.base_radius, fol.pivot_distance, fol.arm_length))
     psi2 = (psi0 + c.arm_angle + 180.0) % 360.0 - 180.0   # the second arm's angle at zero lift, in [−180°, 180°)
     lo = (-180.0 + h - psi0 + 180.0) % 360.0 - 180.0     # the allowed arm angles, from lo to lo + 180° − h

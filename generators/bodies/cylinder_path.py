@@ -66,6 +66,8 @@ class RollerPath(Protocol):
     """A follower's developed roller-centre path (see the module docstring)."""
 
     motion: str
+    #: the roller swings on an arm (its lift an angle)
+    pivoted: bool
 
     def evaluate(self, k) -> PathKinematics:
         """The path at the motion program's kinematics ``k`` (s, s′, s″ arrays)."""
@@ -87,6 +89,7 @@ class TranslatingPath:
     z0: float
     max_lift: float
     motion = "translating"
+    pivoted = False
 
     def evaluate(self, k) -> PathKinematics:
         s = np.asarray(k.s, dtype=float)
@@ -110,6 +113,7 @@ class OscillatingPath:
     max_lift: float             # s_max [deg]
     pivot_z: float              # Z_p
     motion = "oscillating"
+    pivoted = True
 
     @staticmethod
     def of(pivot_distance: float, arm_length: float, max_lift_deg: float, length: float) -> "OscillatingPath":

@@ -62,13 +62,21 @@ from typing import Any
 
 import numpy as np
 
+from scipy.interpolate import BSpline, make_interp_spline
+
+from ..checks.design import continuity_check, junction_text, unit_labels
 from ..checks.status import limited_status
 from ..errors import GeometryError, SpecError, fmt_apart
+from ..followers.translating import TranslatingFollower
+from ..kinds import follower_class_of, register_body
+from ..motion.program import MotionProgram
+from ..spec.model import CYLINDER_VARIABLES, spec_digest
+from ..studies.plan import Plan
+from ..studies.table import checks_row
+from .base import Loop, Prism
 from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerPath, TranslatingPath,
                             centre_line, expand, mid_arm_angle, pressure_angle)
-from .base import Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
-from ..followers.translating import TranslatingFollower
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
 NODES_PER_RAD = 45.0
@@ -107,7 +115,7 @@ class CylinderLayout:
         rp = cam.cylinder_radius
         depth = spec.groove.depth
         ro = cam.outer_diameter / 2 if cam.outer_diameter is not None else rp + depth / 2
-        if spec.follower.motion == "oscillating":
+        if follower_class_of(spec).pivoted:
             f = spec.follower
             path: RollerPath = OscillatingPath.of(f.pivot_distance, f.arm_length, spec.max_lift, cam.length)
             z0 = path.z_range()[0]
@@ -205,8 +213,6 @@ class WallSurface:
 
     def evaluate(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Points at parameters (u, v) (1-D arrays of equal length), (n, 3)."""
-        from scipy.interpolate import BSpline
-
         nu, nv, _ = self.poles.shape
         su = BSpline(self.knots_u, self.poles.reshape(nu, nv * 3), self.degree_u, extrapolate=False)
         rows = su(np.asarray(u, dtype=float)).reshape(-1, nv, 3)
@@ -226,8 +232,6 @@ class WallSurface:
 
 def wall_surfaces(layout: CylinderLayout, program, rho0: float, rho1: float) -> tuple[WallSurface, ...]:
     """Both walls, one surface per motion segment each, over ρ ∈ [rho0, rho1]."""
-    from scipy.interpolate import make_interp_spline
-
     rho = np.linspace(rho0, rho1, RHO_NODES)
     bounds = program.boundaries
     out = []
@@ -396,9 +400,7 @@ class Corner:
 def centre_line_corners(spec, program, layout: CylinderLayout) -> list[Corner]:
     """Every corner of the groove's centre line (:class:`Corner`): the junctions whose velocity jumps,
     by :meth:`MotionProgram.junctions` (the continuity check's own analysis, 1e-6 of the values)."""
-    from ..checks.design import junction_text, unit_labels
-
-    lab = unit_labels(spec.units, "angle" if layout.path.motion == "oscillating" else "length")
+    lab = unit_labels(spec.units, "angle" if layout.path.pivoted else "length")
     radii = np.linspace(layout.bottom_radius, layout.outer_radius, 5)
     out = []
     for j in program.junctions():
@@ -420,8 +422,6 @@ def centre_line_corners(spec, program, layout: CylinderLayout) -> list[Corner]:
 
 def cylinder_corners(spec) -> list[Corner]:
     """:func:`centre_line_corners` of a validated spec (its program and layout)."""
-    from ..motion.program import MotionProgram
-
     return centre_line_corners(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec))
 
 
@@ -452,7 +452,7 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
     radius of curvature 0, the undercut at its cam angle — the walls' offsets part there."""
     th = program.dense_angles(2001)
     w2 = layout.half_width
-    oscillating = layout.path.motion == "oscillating"
+    oscillating = layout.path.pivoted
     if oscillating:
         # the developed centre line must advance with the cam: |u′| < R_p (else it turns back on itself)
         pk = layout.path.evaluate(program.evaluate(th))
@@ -516,8 +516,6 @@ def check_cylinder(spec, program, layout: CylinderLayout, refuse: bool = True) -
                             "against undercut_factor × groove half width", "min", worst[0], worst[1],
                             factor * w2, spec.units, note=undercut_note),
     }
-    from ..checks.design import continuity_check, unit_labels
-
     cont = continuity_check(program, spec.checks.min_continuity,
                             unit_labels(spec.units, "angle" if oscillating else "length"))
     if cont is not None:
@@ -563,8 +561,8 @@ class CylindricalDesign:
     checks_report: dict
     #: the cam is not a plane cam: the pipeline skips the plane-only stages (drawing, interpolator)
     plane = False
-    #: no plane pitch curve or profile (``CamDesign.without_plane_curves``): what stands for them
-    without_plane_curves = ("its groove walls are surfaces around the cylinder: use solid() for the wall faces, "
+    #: what stands for the plane pitch curve and profile it does not have (``CamDesign.instead_of_plane_curves``)
+    instead_of_plane_curves = ("its groove walls are surfaces around the cylinder: use solid() for the wall faces, "
                             "design.wall_points(side, theta, rho) for exact points of a wall, or export_dxf() "
                             "for the developed view instead")
     #: no fitted B-spline pitch curve (the plane cams' ``pitch.representation = "bspline"``)
@@ -596,11 +594,11 @@ class CylindricalDesign:
     def _follower(self) -> dict[str, Any]:
         r = self.spec.roller_radius
         path = self.layout.path
-        if path.motion == "oscillating":
-            return {"kind": "roller", "motion": "oscillating", "roller_radius": r,
+        if path.pivoted:
+            return {"kind": "roller", "motion": path.motion, "roller_radius": r,
                     "label": f"oscillating roller r = {r:g}, pivot d = {path.pivot_distance:g}, arm L = "
                              f"{path.arm_length:g} (radial pivot, developed pitch plane)", **path.describe()}
-        return {"kind": "roller", "motion": "translating", "label": f"translating roller r = {r:g}, along the cam "
+        return {"kind": "roller", "motion": path.motion, "label": f"translating roller r = {r:g}, along the cam "
                 "axis", "roller_radius": r}
 
     def label(self) -> str:
@@ -609,8 +607,6 @@ class CylindricalDesign:
                 f"{CylindricalBody.label(self.spec)}")
 
     def summary(self) -> dict[str, Any]:
-        from ..spec.model import spec_digest
-
         spec = self.spec
         maxima = self.program.maxima(spec.cam.speed_rpm * 2 * np.pi / 60)
         return {
@@ -618,7 +614,7 @@ class CylindricalDesign:
             "spec_digest": spec_digest(spec),
             "pressure_angle": self.checks_report["pressure_angle"],
             "follower": self._follower(),
-            "motion": {"lift_unit": "deg" if self.layout.path.motion == "oscillating" else spec.units,
+            "motion": {"lift_unit": "deg" if self.layout.path.pivoted else spec.units,
                        "max_lift": spec.max_lift, "max_velocity": maxima["velocity"],
                        "max_acceleration": maxima["acceleration"], "max_jerk": maxima["jerk"],
                        **self.program.report()},
@@ -629,20 +625,75 @@ class CylindricalDesign:
         }
 
 
+@register_body
 class CylindricalBody:
     """A groove around a cylinder (see the module docstring)."""
 
     kind = "cylindrical"
     title = "Cylindrical cam"
+    #: not a plane cam: walls are surfaces, no pitch curve or profile in a plane
+    plane = False
+    own_fields = ("outer_diameter", "cylinder_radius", "length")
+    modules = ("cam_workbench.generators.bodies.cylinder_path", "cam_workbench.generators.machining.cylindrical",
+               "cam_workbench.generators.optimise.cylindrical")
     closure = "form"
     #: which side drives (the follower dynamics' form-closure note)
     drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
                   "changes sign (positive: pushing the follower along +s, the lower wall; negative: the upper wall)")
 
     @staticmethod
-    def own_follower(spec) -> "CylindricalFollower":
+    def dynamics_follower(spec) -> "CylindricalFollower":
         """The follower the dynamics drive (:func:`cylindrical_follower`)."""
         return cylindrical_follower(spec)
+
+    @staticmethod
+    def refuse_foreign(spec) -> None:
+        """Rules this body puts on the specs of other bodies: none beyond its own fields."""
+
+    #: the field that sizes the cam (its pitch radius)
+    size_field = "cam.cylinder_radius"
+    #: no plane drawing of the body (its own figures)
+    drawing_label = None
+    #: the objectives its own optimiser serves: the cylinder's size
+    optimise_objectives = ("outer_diameter",)
+    #: the optimiser's design variables (its own optimiser: cam_workbench.generators.optimise.cylindrical)
+    optimise_variables = CYLINDER_VARIABLES
+
+    @staticmethod
+    def study_row(summary, base_radius: float) -> dict[str, Any]:
+        """The key numbers of a designed cylindrical cam for a study's table (no plane profile:
+        the cylinder's own numbers) from its summary."""
+        pa, mo = summary["pressure_angle"], summary["motion"]
+        body = summary["body"]
+        row = {"units": summary["units"], "follower": summary["follower"]["label"],
+               "base_radius": float(base_radius), "max_lift": mo["max_lift"],
+               "pressure_angle_deg": pa["max_deg"], "pressure_angle_at_deg": pa["at_deg"],
+               "pressure_angle_bottom_deg": pa["bottom_max_deg"],
+               "min_developed_curvature_radius": body["min_developed_curvature_radius"]["value"],
+               "outer_radius": body["outer_radius"], "area": summary["area"], "volume": summary["volume"]}
+        row.update(checks_row(summary["checks"]))
+        return row
+
+    @staticmethod
+    def own_checks(spec) -> dict[str, Any]:
+        """The cylinder's design checks, refusing nothing (:func:`cylinder_checks`)."""
+        return cylinder_checks(spec)
+
+    @staticmethod
+    def remedy_plans(spec, check: str) -> list[Plan]:
+        """The pitch radius sizes the pressure angle and, unless the centre line turns a corner (its
+        radius of curvature 0 at any size), the undercut; searched with the cylinder's own checks."""
+        sized = check == "pressure_angle" or (check == "undercut" and not cylinder_corners(spec))
+        return [Plan("cam.cylinder_radius", "smallest", "body")] if sized else []
+
+    @staticmethod
+    def remedy_words(spec, check: str) -> str | None:
+        """An undercut at a corner of the centre line: no size removes it."""
+        if check != "undercut":
+            return None
+        c = cylinder_corners(spec)[0]
+        return (f"the groove's centre line turns a corner at {c.junction.at_deg % 360.0:.2f}° (the velocity jumps): "
+                f"no size removes it — {c.fix}")
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -660,10 +711,9 @@ class CylindricalBody:
         return ()
 
     @staticmethod
-    def design(spec) -> CylindricalDesign:
-        """The cylindrical cam of ``spec`` (GeometryError: an undercut wall, with the cam angle)."""
-        from ..motion.program import MotionProgram
-
+    def design(spec, progress=None) -> CylindricalDesign:
+        """The cylindrical cam of ``spec`` (GeometryError: an undercut wall, with the cam angle);
+        ``progress`` is not reported (no iterative solve)."""
         program = MotionProgram.from_spec(spec)
         layout = CylinderLayout.of(spec)
         report = check_cylinder(spec, program, layout)
@@ -758,7 +808,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
     cam = spec.cam
     if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
             or (cam.mounting_holes and None in (cam.mounting_hole_diameter, cam.mounting_circle_diameter)):
-        return                     # the shared feature rules (bodies.validate_body) name the field next
+        return                     # the shared feature rules (bodies.features.validate_features) name the field next
     reach = bore_extent(spec)
     if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
         name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"
@@ -781,7 +831,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
         depth = resolved(spec, "cam", "timing_mark_depth")
         fol = spec.follower
         travel = (2 * fol.pivot_distance * math.sin(math.radians(spec.max_lift) / 2)
-                  if fol.motion == "oscillating" else spec.max_lift)      # the roller centre's axial travel
+                  if follower_class_of(spec).pivoted else spec.max_lift)      # the roller centre's axial travel
         room = (cam.length - travel - w) / 2
         if not depth < room:
             raise SpecError("cam.timing_mark_depth", f"must be < the groove's distance from the end face "
@@ -791,7 +841,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
 def validate_cylindrical(spec) -> None:
     """The cylindrical body's own rules (called by the spec's validation)."""
     cam, fol = spec.cam, spec.follower
-    if fol.kind != "roller":
+    if not spec.is_roller:
         raise SpecError("follower.kind", f'a cylindrical cam needs a roller follower, got "{fol.kind}"')
     if fol.offset != 0:
         raise SpecError("follower.offset", "does not apply to a cylindrical cam (the roller axis is radial)")
@@ -823,7 +873,7 @@ def validate_cylindrical(spec) -> None:
                         f"({min_wall:g}) to the bore (radius {cam.bore_diameter / 2:g}): depth ≤ "
                         f"{fmt_apart(most, depth, 4)}, got {fmt_apart(depth, most)}")
     w = 2 * half_width(spec)
-    if fol.motion == "oscillating":
+    if follower_class_of(spec).pivoted:
         travel = _validate_arm(spec)
         if not cam.length >= travel + w + 2 * min_wall:
             raise SpecError("cam.length", f"the roller's axial travel 2·pivot_distance·sin(lift/2) = {travel:.6g} "
@@ -837,7 +887,7 @@ def validate_cylindrical(spec) -> None:
                             f"groove.min_wall {min_wall:g} at both ends needs cam.length ≥ {fmt_apart(need, cam.length)}, "
                             f"got {fmt_apart(cam.length, need)}")
     _validate_features(spec, rb, min_wall, w)
-    if spec.dynamics.enabled and fol.motion == "oscillating":
+    if spec.dynamics.enabled and follower_class_of(spec).pivoted:
         raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
                         "only (an oscillating arm's train is not modelled yet)")
 
@@ -869,8 +919,6 @@ def cylinder_checks(spec) -> dict[str, Any]:
     """The cylindrical cam's design checks (report.json's ``checks`` section) without refusing an
     undercut wall (its check fails instead): what ``cam-workbench check`` shows for a cam that
     cannot be made."""
-    from ..motion.program import MotionProgram
-
     return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
 
 
@@ -899,7 +947,7 @@ class CylindricalFollower(TranslatingFollower):
 def cylindrical_follower(spec) -> CylindricalFollower:
     """The follower of a cylindrical cam's spec (:class:`CylindricalFollower`): a translating roller
     (an oscillating arm's force laws are not modelled: SpecError naming ``follower.motion``)."""
-    if spec.follower.motion != "translating":
+    if follower_class_of(spec).pivoted:
         raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
                         "only (an oscillating arm's train is not modelled yet)")
     base = TranslatingFollower.from_spec(spec)

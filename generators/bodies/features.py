@@ -22,7 +22,8 @@ import math
 
 import numpy as np
 
-from ..errors import SpecError
+from ..errors import SpecError, fmt_apart
+from ..kinds import bodies, body_of
 from .base import Arc, Line, Loop, Prism
 
 #: DIN 6885-1: (shaft diameter over, up to [mm], key width b, hub keyway depth t₂ [mm])
@@ -195,11 +196,16 @@ def hole_ligaments(spec, inner_radius_at, bore: float) -> dict:
     return {"to_bore": rc - rh - bore, "to_outer": outer, "between": between}
 
 
+def zero_angle(design) -> float:
+    """Cam-frame polar angle [rad] of the follower's contact at θ = 0 (where the timing mark goes)."""
+    k = design.program.evaluate(np.array([0.0]))
+    p = design.follower.points(np.array([0.0]), k)[0]
+    return float(np.angle(p))
+
+
 def plate_features(design, t: float) -> list[Prism]:
     """The features of a body whose top face is the plate's (0 ≤ z ≤ t): the hub below it, the
     mounting holes through it and the timing mark from the bore (and keyway) to the profile."""
-    from .plate import zero_angle
-
     spec = design.spec
     out = [p for p in (hub_prism(spec),) if p is not None]
     out += mounting_holes(spec, 0.0, t)
@@ -207,3 +213,54 @@ def plate_features(design, t: float) -> list[Prism]:
     mark = timing_mark(spec, zero_angle(design), bore_extent(spec) + 1.5 * mw,
                        design.min_profile_radius - 1.5 * mw, t)
     return out + ([mark] if mark is not None else [])
+
+
+def validate_features(spec) -> None:
+    """The rules every body shares (called by the spec's validation after the body's own): no
+    field another body owns (its ``own_fields``, its ``refuse_foreign`` rules), and a bore, keyway,
+    hub, mounting holes and timing mark that fit.
+
+    Raises:
+        SpecError: naming the field and the rule.
+    """
+    cam = spec.cam
+    mine = body_of(spec)
+    for other in bodies().values():
+        if other is not mine:
+            other.refuse_foreign(spec)
+    owned = {b.kind: b.own_fields for b in bodies().values() if b.own_fields}
+    for name in sorted({n for names in owned.values() for n in names}):
+        owners = [b for b, names in owned.items() if name in names]
+        if name not in mine.own_fields and getattr(cam, name) is not None:
+            which = " and ".join(owners)
+            raise SpecError(f"cam.{name}", f"applies to {which} cams only (cam.body = "
+                            + " or ".join(f'"{b}"' for b in owners) + ")")
+    if (cam.keyway is not None or cam.keyway_width is not None) and cam.bore_diameter <= 0:
+        raise SpecError("cam.keyway" if cam.keyway is not None else "cam.keyway_width",
+                        "needs a bore: cam.bore_diameter > 0")
+    if cam.keyway is not None and (cam.keyway_width is not None or cam.keyway_depth is not None):
+        raise SpecError("cam.keyway", "give a standard or keyway_width and keyway_depth, not both")
+    if (cam.keyway_width is None) != (cam.keyway_depth is None):
+        missing = "cam.keyway_depth" if cam.keyway_depth is None else "cam.keyway_width"
+        raise SpecError(missing, "is required with the other explicit keyway dimension")
+    if cam.keyway_width is not None and not cam.keyway_width < cam.bore_diameter:
+        raise SpecError("cam.keyway_width", f"must be < cam.bore_diameter ({fmt_apart(cam.bore_diameter, cam.keyway_width)}), "
+                        f"got {fmt_apart(cam.keyway_width, cam.bore_diameter)}")
+    if (cam.hub_diameter is None) != (cam.hub_length is None):
+        missing = "cam.hub_length" if cam.hub_length is None else "cam.hub_diameter"
+        raise SpecError(missing, "is required with the other hub dimension")
+    if cam.hub_diameter is not None:
+        if not cam.hub_diameter / 2 > bore_extent(spec):
+            reach = bore_extent(spec)
+            raise SpecError("cam.hub_diameter", f"must leave material around the bore and keyway (they reach "
+                            f"{fmt_apart(reach, cam.hub_diameter / 2, 4)} from the axis), got "
+                            f"{fmt_apart(cam.hub_diameter, 2 * reach)}")
+    if cam.mounting_holes:
+        for name in ("mounting_hole_diameter", "mounting_circle_diameter"):
+            if getattr(cam, name) is None:
+                raise SpecError(f"cam.{name}", "is required with cam.mounting_holes")
+    if cam.timing_mark and not resolved(spec, "cam", "timing_mark_depth") < cam.thickness:
+        depth = resolved(spec, "cam", "timing_mark_depth")
+        raise SpecError("cam.timing_mark_depth", f"must be < cam.thickness ({fmt_apart(cam.thickness, depth)}), got "
+                        f"{fmt_apart(depth, cam.thickness)}")
+

@@ -17,9 +17,15 @@ from typing import Any
 import numpy as np
 
 from ..errors import GeometryError, SpecError, fmt_apart
+from ..checks.buildability import min_radius
+from ..checks.design import StateModel
+from ..followers.load import hertz_stress
+from ..kinds import register_body
+from ..spec.model import BODY_VARIABLES, OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, plate_features, resolved
-from .plate import feature_checks, profile_radius_along, zero_angle
+from .plane import PlaneCamBody
+from .plate import feature_checks, profile_radius_along
 
 
 def half_width(spec) -> float:
@@ -31,10 +37,22 @@ def groove_depth(spec) -> float:
     return spec.groove.depth if spec.groove.depth is not None else 2.0 / 3.0 * spec.cam.thickness
 
 
-class GrooveBody:
+@register_body
+class GrooveBody(PlaneCamBody):
     """A disc with the groove in its top face."""
 
     kind = "groove"
+    plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = "groove cam (walls: the pitch curve's exact offsets ±(r + c/2))"
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = OBJECTIVES
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = BODY_VARIABLES
+    own_fields = ("outer_diameter",)
+    modules = ("cam_workbench.generators.machining.groove",)
     title = "Groove cam"
     #: the groove holds the roller both ways (form closure): it cannot leave the cam
     closure = "form"
@@ -42,6 +60,10 @@ class GrooveBody:
     drive_note = ("the groove holds the roller both ways; the wall that drives changes where the contact force "
                   "changes sign (positive: pushing the follower away from the cam axis, the inner wall; "
                   "negative: the outer wall)")
+
+    @staticmethod
+    def validate(spec) -> None:
+        validate_groove(spec)
 
     @staticmethod
     def profile_inset(spec) -> float:
@@ -60,16 +82,10 @@ class GrooveBody:
                 f"groove {2 * half_width(spec):g} wide, {groove_depth(spec):g} deep")
 
     @staticmethod
-    def further_followers(spec) -> tuple:
-        return ()
-
-    @staticmethod
     def reverse_contact_stress(model, force: np.ndarray, rho: np.ndarray) -> np.ndarray:
         """Hertz stress where the force is negative, taken by the groove's outer wall: the roller
         (radius r) against a surface of signed radius −(ρ + r) (concave where the pitch curve is
         convex)."""
-        from ..followers.load import hertz_stress
-
         r = model.follower.profile_offset
         return hertz_stress(-force, r, -(rho + r), model.contact_length, *model.moduli)
 
@@ -120,8 +136,6 @@ class GrooveBody:
                              f"rim at cam angle {at_rim:.2f}°, less than groove.min_wall {fmt_apart(min_wall, rim, 4)}: a "
                              "larger cam.outer_diameter", at_rim))
         # material to the bore (and keyway)
-        from ..checks.buildability import min_radius
-
         r_in, u_in = min_radius(design.profile)
         at_bore = cam_angle_at_parameter(design, u_in)
         bore_wall = r_in - bore_extent(spec)
@@ -151,8 +165,6 @@ def force_sides(design) -> dict[str, Any]:
     from the cam axis) and where negative (pulling it back): the cam angles [deg] where it changes
     sign (the zero crossings, interpolated linearly between samples every 0.05°) and each sign's
     share of the turn (a zero force counts as positive)."""
-    from ..checks.design import StateModel
-
     model = StateModel(design.spec, design.program)
     th = np.linspace(0.0, 2 * np.pi, 7201)
     k = design.program.evaluate(th)
@@ -179,7 +191,7 @@ def drive_sides(design) -> dict[str, Any]:
 
 def validate_groove(spec) -> None:
     """The groove body's own rules (called by the spec's validation)."""
-    if spec.follower.kind != "roller":
+    if not spec.is_roller:
         raise SpecError("cam.body", f'a groove needs a roller follower, got follower.kind = "{spec.follower.kind}"')
     if spec.cam.outer_diameter is None:
         raise SpecError("cam.outer_diameter", "is required for a groove cam")

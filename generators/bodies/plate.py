@@ -7,14 +7,32 @@ from typing import Any
 import numpy as np
 
 from ..errors import SpecError, fmt_apart
+from ..kinds import register_body
+from ..spec.model import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, plate_features
+from .plane import PlaneCamBody
 
 
-class PlateBody:
+@register_body
+class PlateBody(PlaneCamBody):
     """The outside profile; a spring (or gravity) keeps the follower on it."""
 
     kind = "plate"
+    #: a stack of prisms of plane loops, with a pitch curve and a profile
+    plane = True
+    #: the field that sizes the cam
+    size_field = "cam.base_radius"
+    #: the legend of the body's first added region in the cam drawing (None: the profile's)
+    drawing_label = None
+    #: the objectives its optimiser serves (optimise.objective; outer_diameter: a groove's disc)
+    optimise_objectives = tuple(o for o in OBJECTIVES if o != "outer_diameter")
+    #: the optimiser's design variables this body adds (optimise.variables)
+    optimise_variables = ()
+    #: the [cam] fields only this body reads
+    own_fields = ()
+    #: further modules of the body (beyond this one)
+    modules = ()
     #: the body's name in drawing and report titles
     title = "Plate cam"
     #: a spring (force closure) keeps the follower on the cam: it can leave it (separation)
@@ -39,12 +57,6 @@ class PlateBody:
         return f"R_b = {spec.cam.base_radius:g}, thickness {spec.cam.thickness:g}"
 
     @staticmethod
-    def further_followers(spec) -> tuple:
-        """(suffix, follower) of every further cam's roller the design checks cover (a plate has
-        one cam)."""
-        return ()
-
-    @staticmethod
     def geometry(design) -> BodyGeometry:
         spec = design.spec
         t = spec.cam.thickness
@@ -57,13 +69,6 @@ class PlateBody:
     def check(design, geometry: BodyGeometry) -> dict[str, Any]:
         """Material around the features; GeometryError naming the field when it is not there."""
         return feature_checks(design, lambda a: profile_radius_along(design.profile, a), "profile")
-
-
-def zero_angle(design) -> float:
-    """Cam-frame polar angle [rad] of the follower's contact at θ = 0 (where the timing mark goes)."""
-    k = design.program.evaluate(np.array([0.0]))
-    p = design.follower.points(np.array([0.0]), k)[0]
-    return float(np.angle(p))
 
 
 def profile_radius_along(curve, angles: np.ndarray, per_span: int = 64) -> np.ndarray:

@@ -26,7 +26,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import follower_of
+from ..kinds import follower_class_of, follower_of
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 
@@ -131,9 +131,9 @@ def area_summary(spec: CamSpec, program: MotionProgram | None = None) -> dict[st
     program = program or MotionProgram.from_spec(spec)
     bore = spec.cam.bore_diameter / 2
     prof = profile_area(spec, program)
-    # the thesis' formula (R₀ + s)² is a translating follower's
-    thesis = (thesis_area(spec, program) if spec.follower.motion == "translating" and spec.follower.kind != "flat"
-              else None)
+    # the thesis' formula (R₀ + s)² is a translating follower's pitch curve
+    kind = follower_class_of(spec)
+    thesis = thesis_area(spec, program) if not kind.pivoted and kind.design_curve == "pitch" else None
     return {
         "thesis_eq_4_21": thesis,
         "pitch_curve": pitch_area(spec, program),

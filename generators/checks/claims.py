@@ -27,6 +27,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from ..kinds import pitch_named
+
 
 @dataclass(frozen=True)
 class ProfileClaim:
@@ -64,18 +66,18 @@ def profile_claim(summary: Mapping[str, Any], is_roller: bool, units: str | None
     """
     u = units or summary.get("units", "")
     prof = summary["profile"]
-    rep = summary.get("pitch", {}).get("representation", "ph")
+    exact = pitch_named(summary.get("pitch", {}).get("representation", "ph")).exact
     design_error = prof.get("max_error")
     words = _nurbs_words(prof)
     if summary.get("follower", {}).get("design_curve") == "profile":
         # a flat face: the profile is the curve through the face's exact contact points, not the
         # envelope itself — its distance from the envelope is measured
-        curve = "PH quintic spline" if rep == "ph" else "periodic B-spline fitted"
+        curve = "PH quintic spline" if exact else "periodic B-spline fitted"
         text = (f"{curve} through the exact contact points of the face ({words}), max error "
                 f"{_g(design_error)} {u} from the true envelope")
-        return ProfileClaim(False, "ph_contact" if rep == "ph" else "bspline_contact", text, design_error,
+        return ProfileClaim(False, "ph_contact" if exact else "bspline_contact", text, design_error,
                             design_error)
-    if rep == "ph":
+    if exact:
         if is_roller:
             text = f"exact offset of the PH pitch curve ({words})"
             if prof.get("rational"):
@@ -97,7 +99,7 @@ def pitch_text(summary: Mapping[str, Any]) -> str:
     (degree 5) fitted to the design pitch curve, 60 knot spans"."""
     p = summary["pitch"]
     flat = summary.get("follower", {}).get("design_curve") == "profile"
-    if p.get("representation", "ph") == "ph":
+    if pitch_named(p.get("representation", "ph")).exact:
         return f"C² PH quintic spline, M = {p['segments']} segments" + (
             " through the face's contact points" if flat else "")
     return (f"periodic B-spline (degree {p.get('degree')}) fitted to the design "

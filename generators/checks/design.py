@@ -42,7 +42,11 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import Follower, follower_of, force_reference
+from ..followers import force_reference
+from ..followers.base import Follower
+from ..kinds import body_of, follower_of
+from ..motion.segments import MATCHING_LAWS
+from .buildability import _segments_intersect
 from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
@@ -130,8 +134,6 @@ class StateModel:
         self.moduli = (mat.modulus("cam", spec.units), mat.cam_poisson,
                        mat.modulus("follower", spec.units), mat.follower_poisson)
         self.direction = np.sign(self.program.lifts)
-        from ..bodies import body_of
-
         #: a groove or a conjugate pair holds the follower both ways: no separation, and where the
         #: contact force changes sign the other wall (the other cam) takes the load
         self.body = body_of(spec)
@@ -319,7 +321,7 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
             "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
             fmin, _deg(t), cfg.min_force, lab["force"], "pass" if fmin > cfg.min_force else "fail"))
     else:
-        loads = ("preload_torque, arm_inertia and spring_torque_rate" if fol.motion == "oscillating"
+        loads = ("preload_torque, arm_inertia and spring_torque_rate" if fol.pivoted
                  else "preload, mass and spring_rate")
         results.append(CheckResult(
             "separation", "smallest driving force (thesis Eq. 3.5, with the spring rate)", "min",
@@ -342,7 +344,7 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
         results.append(cont)
 
     # contact stress (Eq. 3.6, 5.13)
-    if fol.contact != "knife" and model.has_load:
+    if fol.has_contact_stress and model.has_load:
         v, t, _ = _extreme(st.stress, st, model, lambda s: s.stress, refine)
         lim = spec.material.allowable_stress
         results.append(CheckResult(
@@ -353,7 +355,7 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
         results.append(CheckResult(
             "contact_stress", "largest Hertz contact stress (thesis Eq. 3.6; convex and concave)",
             "max", None, None, spec.material.allowable_stress, lab["stress"], "skipped",
-            "knife-edge follower" if fol.contact == "knife" else "no follower load given"))
+            f"{fol.contact_words} follower" if not fol.has_contact_stress else "no follower load given"))
 
     if fol.design_curve == "profile":
         results.extend(_flat_face_checks(model, st, refine, cfg, lab))
@@ -410,8 +412,6 @@ def continuity_check(program: MotionProgram, min_continuity: int | None, lab: di
     either side promise (and ``checks.min_continuity``).  Reported when it can fail: when the
     program has a law solved from boundary conditions or fitted, or ``min_continuity`` is given
     (dwell-to-dwell closed-form and B-spline laws meet their promises by construction)."""
-    from ..motion.segments import MATCHING_LAWS
-
     junctions = program.junctions()
     required = [max(j.promised, min_continuity if min_continuity is not None else -1) for j in junctions]
     short = [(j, r) for j, r in zip(junctions, required) if j.order < r]
@@ -487,7 +487,7 @@ def _flat_face_checks(model: StateModel, st: CamState, refine: bool, cfg: Any, l
     results: list[CheckResult] = []
     v, t, _ = _extreme(-st.pitch_radius, st, model, lambda s: -s.pitch_radius, refine)
     rho_min = -v
-    formula = "R_b + s + s″" if fol.motion == "translating" else "h + h_γγ"
+    formula = fol.cusp_formula
     results.append(CheckResult(
         "cusp", f"smallest radius of curvature of the profile ρ = {formula} (a flat face needs ρ > 0)",
         "min", _finite(rho_min), _deg(t), 0.0, lab["length"], "pass" if rho_min > 0 else "fail",
@@ -501,7 +501,7 @@ def _flat_face_checks(model: StateModel, st: CamState, refine: bool, cfg: Any, l
     limit = model.spec.follower.face_width
     centre = fol.face_centre
     note = (f"contact from {lo:.4g} to {hi:.4g} along the face from the "
-            f"{'stem' if fol.motion == 'translating' else 'foot of the pivot'}")
+            f"{fol.face_origin}")
     if limit is None:
         note += "; " + NO_LIMIT.format(field="follower.face_width")
     elif centre is None:
@@ -605,8 +605,6 @@ def envelope_crossing(model: StateModel, cs: CheckSamples, per_segment: int = 20
     moved by r_f along the inward normal) crosses itself, or None.  A profile whose polar
     angle is monotonic cannot cross itself; otherwise every pair of edges of the sampled
     polygon is tested."""
-    from .buildability import _segments_intersect
-
     prog = model.program
     th = np.concatenate([prog.starts[k] + prog.spans[k] * np.linspace(0, 1, per_segment if prog.laws[k] else 64,
                                                                         endpoint=False)
@@ -668,6 +666,6 @@ def constraint_arrays(spec: CamSpec, samples: CheckSamples | None = None,
         scale = force_reference(spec)
         if not model.form_closed:
             g["separation"] = (cfg.min_force - st.force) / scale                           # Eq. 5.10
-        if model.follower.contact != "knife" and spec.material.allowable_stress:
+        if model.follower.has_contact_stress and spec.material.allowable_stress:
             g["contact_stress"] = (st.stress / spec.material.allowable_stress) ** 2 - 1.0   # Eq. 5.13
     return ConstraintArrays(cs.theta, g)

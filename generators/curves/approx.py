@@ -18,6 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import make_interp_spline
+from scipy.spatial import cKDTree
 
 from .nurbs import NurbsCurve
 
@@ -233,8 +235,6 @@ def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0
     with equal derivatives on both sides (C¹; the exact curve's own continuity at a knot may be
     lower than C² — an offset's — which a global C² cubic could only follow at O(h²)).  A closed
     curve gives a closed cubic (first pole = last pole)."""
-    from scipy.interpolate import make_interp_spline
-
     if tol <= 0:
         raise ValueError("tol must be > 0")
     breaks = _initial_breaks(curve)
@@ -302,8 +302,6 @@ def _distance_to_polyline(x: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Distance of points x to a dense polyline: nearest vertex by k-d tree, then the two
     adjacent segments (error ~h²κ/8 for vertex spacing h).  A closed polyline (last vertex
     = first) wraps round, so points near the seam see the segments on both sides of it."""
-    from scipy.spatial import cKDTree
-
     closed = len(poly) > 2 and abs(poly[-1] - poly[0]) <= 1e-12 * np.max(np.abs(poly))
     if closed:
         poly = poly[:-1]

@@ -22,7 +22,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import body_of
 from ..motion.program import MotionProgram
 from ..spec.model import SWEEP_LOW_FRACTION, CamSpec
 from ..spec.params import unit_name
@@ -269,11 +270,8 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         SpecError: the spec lacks the train's data (naming the field).
         SolveError: an undamped train resonates exactly.
     """
-    from ..bodies import body_of
-
     body = body_of(spec)
-    own = getattr(body, "own_follower", None)
-    fol = follower or (own(spec) if own is not None else follower_of(spec))
+    fol = follower or body.dynamics_follower(spec)
     form_closed = body.closure == "form"
     model = train_model(spec, fol)
     program = program or MotionProgram.from_spec(spec)

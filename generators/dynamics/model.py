@@ -24,15 +24,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import SpecError, fmt_apart
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import follower_of
 from ..spec.model import CamSpec
-
-
-#: the [dynamics] fields of each coordinate kind: (inertia, stiffness), and the follower field
-#: the inertia defaults to
-TRAIN_FIELDS = {"length": ("mass", "stiffness", "mass"),
-                "angle": ("arm_inertia", "torsional_stiffness", "arm_inertia")}
+from ..spec.train import TRAIN_FIELDS, validate_dynamics
 
 
 @dataclass(frozen=True)
@@ -101,44 +96,6 @@ def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
     return TrainModel(inertia=inertia * ld.mass_force, stiffness=float(getattr(dy, stiffness_field)),
                       spring_rate=ld.rate, preload=ld.preload, damping_ratio=dy.damping_ratio,
                       lift_scale=fol.lift_scale, coordinate=fol.lift_unit, mass_force=ld.mass_force)
-
-
-def validate_dynamics(spec: CamSpec, required: bool = False) -> None:
-    """The rules of ``[dynamics]``: fields of the other follower motion are refused, the sweep's
-    range must be a range, and — when ``dynamics.enabled`` or ``required`` (``cam-workbench
-    dynamics``) — the train must have its stiffness and a mass.
-
-    Raises:
-        SpecError: naming the field and the rule.
-    """
-    dy = spec.dynamics
-    if (dy.enabled or required) and spec.cam.body == "cylindrical" and spec.follower.motion != "translating":
-        # first: no field of [dynamics] would make it work
-        raise SpecError("follower.motion", "the follower dynamics of a cylindrical cam cover a translating roller "
-                        "only (an oscillating arm's train is not modelled yet)")
-    coordinate = "angle" if spec.follower.motion == "oscillating" else "length"
-    mine = TRAIN_FIELDS[coordinate]
-    other = TRAIN_FIELDS["length" if coordinate == "angle" else "angle"]
-    motion = spec.follower.motion
-    for name in other[:2]:
-        if getattr(dy, name) is not None:
-            raise SpecError(f"dynamics.{name}", f"does not apply to {'an' if motion == 'oscillating' else 'a'} {motion} "
-                            f"follower: give dynamics.{mine[other.index(name)]}")
-    lo, hi = dy.sweep_min_rpm, dy.sweep_max_rpm
-    if lo is not None and hi is not None and not lo < hi:
-        raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({fmt_apart(lo, hi)}), got "
-                        f"{fmt_apart(hi, lo)}")
-    if not (dy.enabled or required):
-        return
-    inertia_field, stiffness_field, follower_field = mine
-    if getattr(dy, stiffness_field) is None:
-        raise SpecError(f"dynamics.{stiffness_field}",
-                        f"is required for the dynamics of {'an' if motion == 'oscillating' else 'a'} {motion} follower (the follower train's stiffness "
-                        "between the cam contact and the lumped mass)")
-    if not (getattr(dy, inertia_field) or getattr(spec.follower, follower_field)):
-        raise SpecError(f"dynamics.{inertia_field}",
-                        f"the follower train needs a {inertia_field.replace('_', ' ')} > 0 for the dynamics: give "
-                        f"dynamics.{inertia_field} or follower.{follower_field}")
 
 
 def analysis_rpm(spec: CamSpec) -> float:

@@ -35,11 +35,14 @@ from __future__ import annotations
 import dataclasses
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
+from ..errors import SpecError, fmt_apart
 from ..motion.program import Kinematics
+from ..pitch.contact import ContactSolver
+from ..studies.plan import Plan
 
 TWO_PI = 2.0 * np.pi
 
@@ -94,8 +97,16 @@ class Follower(ABC):
         lift_unit: "length" or "angle" (the unit kind of lifts, deviations and s′, s″).
         design_curve: "pitch" (knife, roller: the follower point's path) or "profile" (flat face).
         load: the follower train's load.
+
+    Declared by every registered class (:func:`cam_workbench.generators.kinds.register_follower`):
+    ``kinds``, the (follower.motion, follower.kind) pairs it serves; ``pivoted``, whether the
+    follower turns about a pivot (its lift an angle, its geometry an arm's); ``modules``, further
+    modules of the kind.
     """
 
+    kinds: ClassVar[tuple[tuple[str, str], ...]]
+    pivoted: ClassVar[bool]
+    modules: ClassVar[tuple[str, ...]] = ()
     motion: str
     contact: str
     sense: int
@@ -104,6 +115,21 @@ class Follower(ABC):
     lift_unit: str = "length"
     design_curve: str = "pitch"
     load: LoadSpec = LoadSpec()
+
+    @classmethod
+    def validate(cls, spec: Any) -> None:
+        """The kind's own geometric rules (called by the spec's validation, after the motion
+        program's; none unless the kind declares them).
+
+        Raises:
+            SpecError: naming the field and the rule.
+        """
+
+    @classmethod
+    def remedy_plans(cls, spec: Any, check: str) -> list:
+        """The fields (:class:`cam_workbench.generators.studies.plan.Plan`) that move a failing size
+        ``check`` (pressure angle, curvature, undercut, …) of a plane cam with this follower."""
+        return [Plan("cam.base_radius", "smallest")]
 
     # ---- the design curve ----------------------------------------------------------------
     @abstractmethod
@@ -196,8 +222,6 @@ class Follower(ABC):
     def contact_solver(self, chain: Any, angles: np.ndarray) -> Any:
         """A solver of :meth:`contact_residual` on a closed chain of Bézier segments whose
         segment k is touched between cam angles ``angles[k]`` and ``angles[k+1]``."""
-        from ..pitch.contact import ContactSolver
-
         return ContactSolver(chain, angles, self)
 
     # ---- loads ----------------------------------------------------------------------------
@@ -226,6 +250,10 @@ class Follower(ABC):
     #: the highest ξ-derivative of the built curve :meth:`contact_residual` reads (1: q, q′; 2: q″ too)
     contact_order = 1
 
+    #: the lever [length] that turns the follower's generalised load into a force (1: a
+    #: translating follower's load is a force; an arm's torque over its arm length or pivot distance)
+    load_lever: float = 1.0
+
     @property
     def has_load(self) -> bool:
         return self.load.any
@@ -240,11 +268,15 @@ class Follower(ABC):
         return complex(np.exp(-1j * self.sense * theta) * z)
 
     # ---- description -----------------------------------------------------------------------
+    #: the contact in words ("roller", "knife-edge", "flat-faced")
+    contact_words: ClassVar[str]
+    #: a Hertz contact stress is defined (:meth:`contact_stress`; not for a knife edge)
+    has_contact_stress: ClassVar[bool]
+
     @property
     def name(self) -> str:
         """E.g. "translating roller", "oscillating flat-faced"."""
-        c = {"flat": "flat-faced", "knife": "knife-edge"}.get(self.contact, self.contact)
-        return f"{self.motion} {c}"
+        return f"{self.motion} {self.contact_words}"
 
     @property
     def base_circle_radius(self) -> float:
@@ -273,6 +305,25 @@ class Follower(ABC):
     def lift_extent(self) -> float:
         """The largest lift the geometry allows (spec lift units), inf when unbounded."""
         return float("inf")
+
+
+def refuse_lift_beyond(spec: Any, extent: float, what: str) -> None:
+    """The highest level the motion program reaches must stay below ``extent`` [spec lift units],
+    the largest lift the follower's geometry allows (``what``: "arm", "face").
+
+    Raises:
+        SpecError: naming the segment whose lift first reaches the top.
+    """
+    level, top, at = 0.0, 0.0, 0
+    for i, seg in enumerate(spec.motion):
+        level += (seg.lift or 0.0) * (1 if seg.kind == "rise" else -1 if seg.kind == "return" else 0)
+        if level > top:
+            top, at = level, i
+    if not top < extent:
+        raise SpecError(f"motion[{at}].lift",
+                        f"the {what} would turn {fmt_apart(top, extent)}° and reach the line through the pivot and the "
+                        f"cam axis at {fmt_apart(extent, top, 4)}°: the lift must stay below it (a smaller lift, or move "
+                        "the pivot)")
 
 
 def arm_moment(contact_point: np.ndarray, normal: np.ndarray, pivot: complex) -> np.ndarray:

@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from ..kinds import follower_of
 from ..motion.program import Kinematics
 from .base import Follower, FollowerSketch
 from .load import hertz_stress
@@ -87,7 +88,13 @@ class SecondRoller(Follower):
         return self.first.load
 
     contact = "roller"
+    contact_words = "roller"
+    has_contact_stress = True
     design_curve = "pitch"
+
+    @property
+    def pivoted(self) -> bool:  # type: ignore[override]
+        return self.first.pivoted
 
     @property
     def profile_offset(self) -> float:  # type: ignore[override]
@@ -241,19 +248,12 @@ def _zero_lift() -> Kinematics:
 
 
 def second_roller_of(spec) -> SecondRoller:
-    """The second roller of a conjugate spec (cam.body = "conjugate"), from its first follower."""
-    from . import follower_of
-
+    """The second roller of a conjugate spec (cam.body = "conjugate"), from its first follower: on
+    the arm pair of a pivoted follower, else on the translating yoke."""
     first = follower_of(spec)
     c = spec.conjugate
     r2 = c.roller_radius if c.roller_radius is not None else spec.follower.roller_radius
-    return SECOND_ROLLERS[first.motion](spec, first, r2)
-
-
-#: follower.motion → the second roller of a conjugate pair with that motion
-SECOND_ROLLERS = {
-    "translating": lambda spec, first, r2: YokeRoller.of(first, spec.conjugate.roller_distance, r2),
-    "oscillating": lambda spec, first, r2: ArmPairRoller.of(
-        first, spec.conjugate.arm_angle,
-        spec.conjugate.arm_length if spec.conjugate.arm_length is not None else spec.follower.arm_length, r2),
-}
+    if first.pivoted:
+        return ArmPairRoller.of(first, c.arm_angle, c.arm_length if c.arm_length is not None else spec.follower.arm_length,
+                                r2)
+    return YokeRoller.of(first, c.roller_distance, r2)

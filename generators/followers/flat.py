@@ -32,9 +32,12 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import SpecError, fmt_apart
+from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
-from .base import Follower, LoadSpec, arm_moment
+from ..studies.plan import Plan
+from .base import Follower, FollowerSketch, LoadSpec, arm_moment, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
 DEG = math.pi / 180.0
@@ -57,6 +60,8 @@ class FlatFaceFollower(Follower):
     """The envelope machinery shared by the flat faces; a kind gives β(s), h(s) and derivatives."""
 
     contact = "flat"
+    contact_words = "flat-faced"
+    has_contact_stress = True
     design_curve = "profile"
     profile_offset = 0.0
     contact_order = 2
@@ -123,6 +128,7 @@ class FlatFaceFollower(Follower):
         return None
 
 
+@register_follower
 @dataclass(frozen=True)
 class TranslatingFlatFollower(FlatFaceFollower):
     """A translating flat face perpendicular to the line of motion x = e (the stem)."""
@@ -131,7 +137,13 @@ class TranslatingFlatFollower(FlatFaceFollower):
     offset: float
     sense: int
     load: LoadSpec = field(default=LoadSpec())
+    kinds = (("translating", "flat"),)
+    pivoted = False
     motion = "translating"
+    #: the profile's radius of curvature (the cusp check's words)
+    cusp_formula = "R_b + s + s″"
+    #: where positions along the face are measured from
+    face_origin = "stem"
     pressure_angle_text = "0: the face's normal is the line of motion"
     curvature_text = "ρ = R_b + s + s″ (the face's envelope)"
 
@@ -188,8 +200,6 @@ class TranslatingFlatFollower(FlatFaceFollower):
         return f"translating flat face, offset e = {self.offset:g}"
 
     def sketch(self, theta, k, size, face_width=None):
-        from .base import FollowerSketch
-
         c = complex(self.points(np.array([theta]), k)[0])
         h = self.base_radius + float(np.asarray(k.s).ravel()[0])
         w = face_width or 2 * abs(float(np.asarray(self.face_position(k)).ravel()[0])) + 0.5 * size
@@ -204,6 +214,7 @@ def zero_lift_face_angle(base_radius: float, pivot_distance: float, face_offset:
     return math.acos(c) if -1.0 < c < 1.0 else float("nan")
 
 
+@register_follower
 @dataclass(frozen=True)
 class OscillatingFlatFollower(FlatFaceFollower):
     """An oscillating flat face: the line at ``face_offset`` from the pivot, turning with the arm;
@@ -215,10 +226,38 @@ class OscillatingFlatFollower(FlatFaceFollower):
     sense: int
     arm_length: float | None = None
     load: LoadSpec = field(default=LoadSpec())
+    kinds = (("oscillating", "flat"),)
+    pivoted = True
     motion = "oscillating"
+    cusp_formula = "h + h_γγ"
+    face_origin = "foot of the pivot"
     lift_scale = DEG
     lift_unit = "angle"
     pressure_angle_text = "between the face's normal and the contact point's velocity about the pivot, atan(f/t)"
+
+    @classmethod
+    def validate(cls, spec: CamSpec) -> None:
+        """On a plane cam the face must touch the base circle and must not turn onto the line
+        through the pivot and the cam axis within the lift."""
+        if not body_of(spec).plane:
+            return
+        fol, rb = spec.follower, spec.cam.base_radius
+        d, f = fol.pivot_distance, fol.face_offset or 0.0
+        if not abs(rb + f) < d:
+            raise SpecError("follower.pivot_distance",
+                            f"the face at face_offset {f:g} from the pivot cannot touch the base circle: needs "
+                            f"|cam.base_radius + face_offset| = {fmt_apart(abs(rb + f), d)} < pivot_distance, got "
+                            f"{fmt_apart(d, abs(rb + f))}")
+        refuse_lift_beyond(spec, cls.from_spec(spec).lift_extent(), "face")
+
+    @classmethod
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The face must reach the base circle, |R_b + face_offset| < d (its arm_length, optional,
+        only places the face's centre): the pivot distance and the base radius within that."""
+        fol = spec.follower
+        d, f, rb = fol.pivot_distance, fol.face_offset or 0.0, spec.cam.base_radius
+        return [Plan("follower.pivot_distance", "nearest", bounds=(abs(rb + f), math.inf)),
+                Plan("cam.base_radius", "nearest", bounds=(max(0.0, -d - f), d - f))]
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFlatFollower":
@@ -230,6 +269,10 @@ class OscillatingFlatFollower(FlatFaceFollower):
     @property
     def prime_radius(self) -> float:  # type: ignore[override]
         return self.base_radius
+
+    @property
+    def load_lever(self) -> float:  # type: ignore[override]
+        return self.pivot_distance
 
     @property
     def beta0(self) -> float:
@@ -299,8 +342,6 @@ class OscillatingFlatFollower(FlatFaceFollower):
                 + (f", face centre at {self.arm_length:g}" if self.arm_length is not None else ""))
 
     def sketch(self, theta, k, size, face_width=None):
-        from .base import FollowerSketch
-
         t = self.terms(k)
         n = complex(t.n.ravel()[0])
         u = 1j * n

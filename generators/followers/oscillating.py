@@ -25,9 +25,12 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import SpecError, fmt_apart
+from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
-from .base import Follower, LoadSpec
+from ..studies.plan import Plan
+from .base import Follower, FollowerSketch, LoadSpec, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
 DEG = math.pi / 180.0
@@ -40,6 +43,7 @@ def zero_lift_arm_angle(prime_radius: float, pivot_distance: float, arm_length: 
     return math.acos(c) if -1.0 < c < 1.0 else float("nan")
 
 
+@register_follower
 @dataclass(frozen=True)
 class OscillatingFollower(Follower):
     """An oscillating knife edge or roller (lengths in spec units; ψ₀ in rad)."""
@@ -50,11 +54,38 @@ class OscillatingFollower(Follower):
     sense: int
     roller_radius: float
     load: LoadSpec = field(default=LoadSpec())
+    kinds = (("oscillating", "knife"), ("oscillating", "roller"))
+    pivoted = True
     motion = "oscillating"
     lift_scale = DEG
     lift_unit = "angle"
     pressure_angle_text = "between the pitch-curve normal and the roller centre's velocity, perpendicular to the arm"
     curvature_text = "from the exact derivatives of the arm's path"
+
+    @classmethod
+    def validate(cls, spec: CamSpec) -> None:
+        """On a plane cam the arm must reach the prime circle and must not turn onto the line
+        through the pivot and the cam axis within the lift (a body that is not plane rules its arm
+        itself)."""
+        if not body_of(spec).plane:
+            return
+        fol, rb = spec.follower, spec.cam.base_radius
+        d, L = fol.pivot_distance, fol.arm_length
+        if not abs(d - L) < rb < d + L:
+            raise SpecError("follower.arm_length",
+                            f"the arm cannot reach the prime circle: needs |pivot_distance − arm_length| < "
+                            f"cam.base_radius < pivot_distance + arm_length (|d − L| = {fmt_apart(abs(d - L), rb)}, "
+                            f"d + L = {fmt_apart(d + L, rb)}, R_b = {fmt_apart(rb, abs(d - L) if rb <= abs(d - L) else d + L)})")
+        refuse_lift_beyond(spec, cls.from_spec(spec).lift_extent(), "arm")
+
+    @classmethod
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The pivot distance and the base radius, each short of where the arm stops reaching the
+        prime circle."""
+        fol = spec.follower
+        d, arm, rb = fol.pivot_distance, fol.arm_length, spec.cam.base_radius
+        return [Plan("follower.pivot_distance", "nearest", bounds=(0.0, arm + rb)),
+                Plan("cam.base_radius", "nearest", bounds=(abs(d - arm), d + arm))]
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "OscillatingFollower":
@@ -68,6 +99,10 @@ class OscillatingFollower(Follower):
         return self.base_radius
 
     @property
+    def load_lever(self) -> float:  # type: ignore[override]
+        return self.arm_length
+
+    @property
     def psi0(self) -> float:
         """Arm angle at zero lift [rad]."""
         return zero_lift_arm_angle(self.base_radius, self.pivot_distance, self.arm_length)
@@ -79,6 +114,14 @@ class OscillatingFollower(Follower):
     @property
     def contact(self) -> str:  # type: ignore[override]
         return "roller" if self.roller_radius > 0 else "knife"
+
+    @property
+    def contact_words(self) -> str:  # type: ignore[override]
+        return "roller" if self.roller_radius > 0 else "knife-edge"
+
+    @property
+    def has_contact_stress(self) -> bool:  # type: ignore[override]
+        return self.roller_radius > 0
 
     @property
     def profile_offset(self) -> float:  # type: ignore[override]
@@ -144,8 +187,6 @@ class OscillatingFollower(Follower):
         return f"oscillating {what}, pivot d = {self.pivot_distance:g}, arm L = {self.arm_length:g}"
 
     def sketch(self, theta, k, size, face_width=None):
-        from .base import FollowerSketch
-
         p = complex(self.points(np.array([theta]), k)[0])
         pivot = self._to_cam(theta, self.pivot)
         r = self.roller_radius

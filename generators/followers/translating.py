@@ -18,12 +18,16 @@ from typing import Any
 
 import numpy as np
 
+from ..kinds import follower_of, register_follower
 from ..motion.program import Kinematics, MotionProgram
+from ..pitch.contact import FollowerLineSolver
 from ..spec.model import CamSpec
-from .base import Follower, LoadSpec
-from .load import hertz_stress
+from ..studies.plan import Plan
+from .base import Follower, FollowerSketch, LoadSpec
+from .load import MASS_FORCE_FACTOR, hertz_stress
 
 
+@register_follower
 @dataclass(frozen=True)
 class TranslatingFollower(Follower):
     """A translating knife edge or roller: the plain numbers that fix the follower point
@@ -34,14 +38,23 @@ class TranslatingFollower(Follower):
     sense: int  # +1 ccw, −1 cw
     roller_radius: float
     load: LoadSpec = field(default=LoadSpec())
+    kinds = (("translating", "knife"), ("translating", "roller"))
+    pivoted = False
     motion = "translating"
     pressure_angle_text = "φ = atan((s′ − e)/(s₀ + s)) (thesis Eq. 3.4)"
     curvature_text = "thesis Eq. 3.7"
 
     @classmethod
-    def from_spec(cls, spec: CamSpec) -> "TranslatingFollower":
-        from .load import MASS_FORCE_FACTOR
+    def remedy_plans(cls, spec: CamSpec, check: str) -> list[Plan]:
+        """The base radius; the offset too for the pressure angle."""
+        out = [Plan("cam.base_radius", "smallest")]
+        if check == "pressure_angle":
+            rb = spec.cam.base_radius
+            out.append(Plan("follower.offset", "nearest", bounds=(-rb, rb)))
+        return out
 
+    @classmethod
+    def from_spec(cls, spec: CamSpec) -> "TranslatingFollower":
         f = spec.follower
         return cls(f.offset, spec.prime_offset, 1 if spec.cam.direction == "ccw" else -1, spec.roller_radius,
                    LoadSpec(f.preload, f.spring_rate, f.mass, MASS_FORCE_FACTOR[spec.units]))
@@ -50,6 +63,14 @@ class TranslatingFollower(Follower):
     @property
     def contact(self) -> str:  # type: ignore[override]
         return "roller" if self.roller_radius > 0 else "knife"
+
+    @property
+    def contact_words(self) -> str:  # type: ignore[override]
+        return "roller" if self.roller_radius > 0 else "knife-edge"
+
+    @property
+    def has_contact_stress(self) -> bool:  # type: ignore[override]
+        return self.roller_radius > 0
 
     @property
     def profile_offset(self) -> float:  # type: ignore[override]
@@ -103,8 +124,6 @@ class TranslatingFollower(Follower):
         return self.sense * (np.arccos(np.clip(self.offset / r, -1.0, 1.0)) - np.angle(p))
 
     def contact_solver(self, chain: Any, angles: np.ndarray) -> Any:
-        from ..pitch.contact import FollowerLineSolver
-
         return FollowerLineSolver(chain, angles, self.offset, self.sense, lift_origin=self.s0)
 
     def kinematic_state(self, k: Kinematics) -> tuple[np.ndarray, np.ndarray]:
@@ -130,8 +149,6 @@ class TranslatingFollower(Follower):
         return f"translating {what}, offset e = {self.offset:g}"
 
     def sketch(self, theta, k, size, face_width=None):
-        from .base import FollowerSketch
-
         p = complex(self.points(np.array([theta]), k)[0])
         up = self._to_cam(theta, 1j)
         r = self.roller_radius
@@ -158,8 +175,6 @@ FollowerGeometry = TranslatingFollower
 
 def design_pitch(spec: CamSpec, theta: np.ndarray) -> tuple[np.ndarray, Kinematics]:
     """Design-curve points and kinematics of the design intent at angles ``theta`` [rad]."""
-    from . import follower_of
-
     prog = MotionProgram.from_spec(spec)
     fol = follower_of(spec)
     k = prog.evaluate(theta)

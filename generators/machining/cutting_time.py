@@ -39,17 +39,18 @@ from __future__ import annotations
 
 from bisect import bisect_left
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..motion.laws import evaluate_law
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
+from .plan import machining_plan
+from .toolpath import contour_path
 
-#: The thesis' tolerance (0.01 in) in each unit system, and its time per turn.
+#: The thesis' tolerance (0.01 in) in each unit system.
 DEFAULT_TOLERANCE = {"in": 0.01, "mm": 0.25}
-TURN_TIME = 0.4
 DEFAULT_SAMPLES = 4000
 
 
@@ -302,9 +303,6 @@ def contour_time(design: Any, plan: Any = None, block_time: float | None = None)
     """Time of the XY contour G-code of ``design``: per pass, (lead-in + contour + lead-out)/feed
     and the plunge/plunge feed, plus ``block_time`` per motion block (default
     ``optimise.block_time``); rapid moves are left out (their speed is the machine's)."""
-    from .plan import machining_plan
-    from .toolpath import contour_path
-
     plan = plan or machining_plan(design)
     path = contour_path(design, plan)
     bt = design.spec.optimise.block_time if block_time is None else block_time

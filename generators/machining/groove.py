@@ -22,10 +22,11 @@ from typing import Any
 
 import numpy as np
 
-from ..bodies.groove import groove_depth, half_width
+from ..bodies.groove import GrooveBody, groove_depth, half_width
 from ..curves.approx import Path2D
 from ..curves.nurbs import NurbsCurve
 from ..errors import SpecError, fmt_apart
+from ..kinds import register_tool_path
 from .plan import MachiningPlan
 from .toolpath import entry_junction, fit_contour, reverse_path, _roll
 
@@ -80,12 +81,17 @@ def groove_offsets(half: float, tool_radius: float) -> np.ndarray:
     return np.concatenate([inner[order], [-span, span]])
 
 
+@register_tool_path(GrooveBody.kind)
 def groove_path(design, plan: MachiningPlan) -> GroovePath:
     """The groove's passes for ``plan`` (see the module docstring).
 
     Raises:
-        SpecError: ``machining.tool_radius`` — the tool is not smaller than the groove.
+        SpecError: ``machining.program`` other than "xy"; ``machining.tool_radius`` — the tool is
+            not smaller than the groove.
     """
+    if plan.program != "xy":
+        raise SpecError("machining.program", 'a groove is milled with the XY program ("xy"); the XC rotary '
+                        "program cuts a plate cam's outside profile")
     spec = design.spec
     w2 = half_width(spec)
     rt = plan.tool_radius

@@ -31,6 +31,7 @@ import numpy as np
 from ..errors import SolveError
 from ..pitch.contact import Contact, FollowerLineSolver
 from ..pitch.ph import PitchCurve
+from ..pitch.contact import horner
 
 TWO_PI = 2.0 * np.pi
 #: Finite-difference schemes for the actual kinematics (see :func:`finite_differences`).
@@ -141,8 +142,6 @@ class RotationalInterpolator:
 
     def _at(self, seg: np.ndarray, xi: np.ndarray, theta: np.ndarray):
         """q, q′, q″ of the chain at (seg, ξ), turned into the fixed frame at θ."""
-        from ..pitch.contact import horner
-
         s = self.solver
         rot = np.exp(1j * s.sense * theta)
         d2 = s._dpc[:, 1:] * np.arange(1, s._deg)

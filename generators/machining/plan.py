@@ -18,6 +18,7 @@ import numpy as np
 
 from ..cam_design import CamDesign
 from ..errors import GeometryError, fmt_apart
+from ..kinds import body_of
 
 _UNIT_DEFAULTS = {
     "mm": {"feed_rate": 300.0, "safe_height": 5.0, "chord_tolerance": 0.005},
@@ -105,8 +106,6 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
     spec = design.spec
     mc = spec.machining
     d = _UNIT_DEFAULTS[spec.units]
-    from ..bodies import body_of
-
     body = body_of(spec).machining_defaults(spec)
     if mc.tool_radius is not None:
         tool = mc.tool_radius
@@ -135,7 +134,7 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
         contour=mc.contour,
         lead_radius=float(mc.lead_radius if mc.lead_radius is not None else tool),
         milling=mc.milling,
-        rotary_line=mc.rotary_line or ("follower" if spec.follower.motion == "translating" else "axis"),
+        rotary_line=mc.rotary_line or ("axis" if design.follower.pivoted else "follower"),
         work_offset=mc.work_offset,
         line_numbers=mc.line_numbers,
         coolant=mc.coolant,

@@ -45,6 +45,8 @@ from ..curves.nurbs import NurbsCurve
 from ..curves.offsets import offset_nurbs
 from ..curves.ph_spline import PHSpline
 from ..pitch.ph import PitchCurve
+from ..followers.translating import TranslatingFollower
+from ..pitch.bspline import BSplinePitchCurve, distance_to_offset, fit_offset
 
 TWO_PI = 2.0 * np.pi
 #: Fit the contour to this fraction of the chord tolerance; of the rest, BLEND_SHARE goes to
@@ -78,8 +80,6 @@ def tool_centre_curve(design: CamDesign, plan: MachiningPlan) -> NurbsCurve:
 
 
 def _fitted_tool_centre(design: CamDesign, distance: float) -> Any:
-    from ..pitch.bspline import fit_offset
-
     pitch = design.pitch
     return fit_offset(pitch.curve, pitch.geometry.sense * distance, refine=OFFSET_REFINE)
 
@@ -91,8 +91,6 @@ def tool_centre_fit_error(design: CamDesign, plan: MachiningPlan) -> float:
     d = plan.centre_offset
     if d == 0.0 or design.pitch.exact_offsets:
         return 0.0
-    from ..pitch.bspline import distance_to_offset
-
     fit = _fitted_tool_centre(design, d)
     u = np.linspace(0.0, TWO_PI, 64 * fit.n_spans, endpoint=False)
     pts = fit.evaluate(u)[0]
@@ -364,9 +362,6 @@ class OffsetLineSolver:
 def _fitted_line_positions(design: CamDesign, distance: float, line: float, theta: np.ndarray) -> np.ndarray:
     """B-spline pitch curve: position along the tool's line x = ``line`` where it meets the
     fitted tool-centre B-spline at cam angles θ (Eq. 13 on that curve)."""
-    from ..followers.translating import TranslatingFollower
-    from ..pitch.bspline import BSplinePitchCurve
-
     pitch = design.pitch
     machine_line = TranslatingFollower(line, 0.0, pitch.follower.sense, 0.0)   # the tool's line x = line
     centre = BSplinePitchCurve(_fitted_tool_centre(design, distance), pitch.program, machine_line)

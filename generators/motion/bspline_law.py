@@ -24,6 +24,7 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
+from ..errors import SpecError, fmt_apart
 
 #: Default order k (degree k − 1) and control-point count, as in the thesis (§2.7, §2.8).
 DEFAULT_ORDER = 5
@@ -165,10 +166,6 @@ class BSplineLift:
         if np.any(np.abs(tu - chord) > 1e-13 * max(abs(self.span), 1e-300)):
             return None
         return ub, tb
-
-    def with_points(self, x: np.ndarray, y: np.ndarray) -> "BSplineLift":
-        """The same B-spline (order and knots) with new control points."""
-        return BSplineLift(self.order, x, y, self.knots)
 
     @property
     def degree(self) -> int:
@@ -337,8 +334,6 @@ def lift_from_segment(seg: Any, path: str, start: float, span: float) -> BSpline
         start: the segment's start in the program [rad].
         span: the segment's span [rad].
     """
-    from ..errors import SpecError, fmt_apart
-
     k = seg.order or DEFAULT_ORDER
     if seg.control_x is None:
         raise SpecError(f"{path}.control_x", 'is required for law = "bspline" '
@@ -398,8 +393,6 @@ def _check_theta_increasing(lift: BSplineLift, path: str, frame: str, to_user) -
     combination of B-splines); otherwise θ'(u) is sampled 64 times per knot span and the
     control point of the non-increasing step nearest to its minimum is named — the earlier of its
     two points when that one is the odd one out (not before the point after next either)."""
-    from ..errors import SpecError, fmt_apart
-
     c = lift.theta_derivative_coefficients()
     if np.all(c > 0):
         return

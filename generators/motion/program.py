@@ -9,14 +9,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .bspline_law import BSplineLift
 from .laws import evaluate_law
-from .segments import ORDER_NAMES, build_segments, law_promise
-from ..spec.model import CamSpec, MotionSegment
+from .segments import build_segments, law_promise
+
+if TYPE_CHECKING:  # types only: the spec sits above the motion program
+    from ..spec.model import CamSpec, MotionSegment
 
 TWO_PI = 2.0 * np.pi
 
@@ -262,11 +264,6 @@ class Junction:
     @property
     def ok(self) -> bool:
         return self.order >= self.promised
-
-    @property
-    def first_jump(self) -> str | None:
-        """The lowest derivative that jumps ("velocity", …), or None."""
-        return ORDER_NAMES[self.order + 1] if self.order < 3 else None
 
     def to_dict(self) -> dict[str, Any]:
         names = ("s", "velocity", "acceleration", "jerk")

@@ -27,12 +27,14 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..bodies.cylindrical import CylinderLayout, developed_curvature_radius, pressure_angles
+from ..bodies.cylindrical import CylinderLayout, CylindricalBody, check_cylinder, developed_curvature_radius, pressure_angles
 from ..bodies.features import resolved
 from ..checks.design import CheckResult, DesignChecks
 from ..errors import CamError, SpecError
 from ..motion.program import MotionProgram
+from ..kinds import register_optimiser
 from ..spec.model import CYLINDER_VARIABLES, CamSpec
+from .run import OptimiseResult, Progress, _nlopt
 
 #: spec path of each design variable
 PATHS = {"cylinder_radius": "cam.cylinder_radius", "outer_diameter": "cam.outer_diameter",
@@ -108,8 +110,6 @@ def cylinder_constraints(spec: CamSpec, program: MotionProgram, values: dict[str
 def cylinder_checks(spec: CamSpec) -> DesignChecks:
     """The body's own dense checks (:func:`check_cylinder`, an undercut a failing ``undercut`` row)
     as :class:`DesignChecks`."""
-    from ..bodies.cylindrical import check_cylinder
-
     program = MotionProgram.from_spec(spec)
     rep = check_cylinder(spec, program, CylinderLayout.of(spec), refuse=False)["checks"]["results"]
     rows = [CheckResult(k, r["description"], r["kind"], r["value"], r["at_deg"], r["limit"], r["unit"],
@@ -117,6 +117,7 @@ def cylinder_checks(spec: CamSpec) -> DesignChecks:
     return DesignChecks(tuple(rows), {}, "dense", SAMPLES, spec.units, None)
 
 
+@register_optimiser(CylindricalBody.kind)
 def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = None,
                          cancel: Any = None) -> Any:
     """Minimise a cylindrical cam's outer diameter over cylinder_radius, outer_diameter and
@@ -127,8 +128,6 @@ def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = 
             another variable or without outer_diameter, or ``optimise.algorithm`` other than auto
             or cobyla.
     """
-    from .run import OptimiseResult, Progress, _nlopt
-
     t0 = time.perf_counter()
     cfg = spec.optimise
     if cfg.objective != "outer_diameter":

@@ -50,7 +50,8 @@ import numpy as np
 
 from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
-from ..spec.model import BODY_VARIABLES, CamSpec, optimise_variables
+from ..kinds import body_of
+from ..spec.model import CamSpec, optimise_variables
 from . import jet
 from .jet import arccos, arctan, cos, sin, sqrt, where
 
@@ -106,7 +107,7 @@ class KindModel:
         self.margin = spec.optimise.constraint_margin
         #: a groove cam with body variables: ``local`` also gives the pitch radius and curvature (the
         #: groove's rows of :meth:`SmoothModel.check_rows`)
-        self.groove = spec.cam.body == "groove" and bool(set(BODY_VARIABLES) & set(optimise_variables(spec)))
+        self.groove = bool(set(body_of(spec).optimise_variables) & set(optimise_variables(spec)))
 
     # ---- what the kind checks ---------------------------------------------------------------
     @property
@@ -411,7 +412,7 @@ class FlatModel(KindModel):
 
     @property
     def families(self) -> list[str]:
-        osc = self.follower.motion != "translating"
+        osc = self.follower.pivoted
         out = ["pressure_angle", "cusp", "turning"] if osc else ["cusp"]
         if self.has_load:
             out.append("separation")
@@ -465,7 +466,7 @@ class FlatModel(KindModel):
             return 0.5 * rho_g * q["h"]
         if which == "pitch_length":
             return sqrt(rho_g * rho_g)
-        if which == "thesis_length" and self.follower.motion == "translating":
+        if which == "thesis_length" and not self.follower.pivoted:
             r = geo[0]
             return sqrt((r + s) ** 2 + v * v)
         raise ValueError(f"{which} is not defined for a flat face")

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from ..bodies.features import bore_extent, resolved
 from ..motion.bspline_law import basis_derivatives, basis_matrix
 from ..motion.laws import evaluate_law
 from .kinds import KindModel
@@ -72,7 +73,7 @@ class SegmentNodes:
     """Sample parameters of one motion segment: u (B-spline) or θ − start (others)."""
 
     index: int
-    kind: str                 # "bspline", "law", "dwell"
+    law: str                  # the segment's lift: "bspline", "law" (a closed form), "dwell"
     params: np.ndarray
     block: Any = None         # LiftBlock for a varied B-spline segment
     cache: dict = field(default_factory=dict)
@@ -126,9 +127,9 @@ class SmoothModel:
     def _gauss_params(self, sn: SegmentNodes) -> tuple[np.ndarray, np.ndarray]:
         """Gauss parameters and weights (in the segment's parameter) for the integrals."""
         prog = self.program
-        if sn.kind == "dwell":
+        if sn.law == "dwell":
             return np.array([0.0]), np.array([prog.spans[sn.index]])
-        if sn.kind == "bspline":
+        if sn.law == "bspline":
             curve = prog.curves[sn.index]
             xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_SPAN)
             br = np.unique(curve.knots)
@@ -151,10 +152,10 @@ class SmoothModel:
         nv = self.space.n
         dtype = np.result_type(p.dtype, float)
         zeros = (lambda: np.zeros((m, nv), dtype=dtype)) if grad else (lambda: None)
-        if sn.kind == "dwell":
+        if sn.law == "dwell":
             one = np.ones(m, dtype=dtype)
             return Kin(prog.levels[k] * one, 0 * one, 0 * one, one, zeros(), zeros(), zeros(), zeros())
-        if sn.kind == "law":
+        if sn.law == "law":
             cache = sn.cache.get(key) if key else None
             if cache is None:
                 f, f1, f2, _ = evaluate_law(prog.laws[k], params / prog.spans[k])
@@ -258,7 +259,7 @@ class SmoothModel:
 
     def theta_at(self, sn: SegmentNodes, params: np.ndarray, p: np.ndarray) -> np.ndarray:
         start = self.program.starts[sn.index]
-        if sn.kind == "bspline":
+        if sn.law == "bspline":
             curve = self.program.curves[sn.index]
             x = sn.block.arrays(np.asarray(p, dtype=float))[0] if sn.block is not None else curve.x
             return start + basis_matrix(curve.knots, curve.degree, curve.n_points, params, 0) @ x
@@ -375,8 +376,6 @@ class SmoothModel:
           pitch radius is below w/2)
 
         ``vals``/``jac``: the window maxima of :meth:`_groove_channels`, channel-major."""
-        from ..bodies.features import bore_extent, resolved
-
         sp = self.space
         spec = self.spec
         ref = self.kind.length_ref
@@ -420,7 +419,7 @@ class SmoothModel:
         vals_out: list[list[np.ndarray]] = [[] for _ in channels]
         jac_out: list[list[np.ndarray]] = [[] for _ in channels]
         for sn in self.segments:
-            if sn.kind == "dwell":
+            if sn.law == "dwell":
                 kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
                 loc = self.local(geo, kin.s, kin.v, kin.a, grad)
                 for c, (name, fac) in enumerate(channels):

@@ -30,8 +30,12 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..machining.cutting_time import staircase_moves
+from ..cam_design import design_cam
+from ..checks.areas import area_label
 from ..errors import CamError
+from ..kinds import follower_class_of
+from ..machining.cutting_time import DEFAULT_TOLERANCE, contour_time, staircase_moves
+from .kinds import kind_model
 from .model import SmoothModel
 
 SMOOTH = ("area", "profile_area", "peak_acceleration", "peak_pressure_angle", "thesis_length", "pitch_length",
@@ -58,8 +62,6 @@ AREA_DESIGN_CURVE = ("cam area: the exact area inside the design curve, 1/2 |int
 
 def describe(name: str, spec: Any) -> str:
     """The objective ``name`` of ``spec`` in words (report.json's ``objective_description``)."""
-    from .kinds import kind_model
-
     if name == "area" and kind_model(spec).area_integral != "thesis_area":
         return AREA_DESIGN_CURVE
     return DESCRIPTIONS[name]
@@ -86,11 +88,9 @@ def label(name: str, spec: Any) -> str:
     """The objective ``name`` of ``spec`` in a few words (report.json's ``objective_label``): "area"
     is the thesis' Eq. 4.21 area for a translating knife edge or roller, else the area inside the
     follower's design curve."""
-    from ..checks.areas import area_label
-
     if name == "area":
         key = report_key(name, spec).removeprefix("areas.")
-        return area_label(key, "contact curve" if spec.follower.kind == "flat" else "pitch curve")
+        return area_label(key, "pitch curve" if follower_class_of(spec).design_curve == "pitch" else "contact curve")
     return LABELS[name]
 
 
@@ -98,8 +98,6 @@ def report_key(name: str, spec: Any) -> str | None:
     """The path in report.json where the objective ``name`` of ``spec`` is (report.json's
     ``objective_key``): "area" → ``areas.thesis_eq_4_21`` (thesis Eq. 4.21) or ``areas.pitch_curve``
     (the area inside the design curve); None when report.json has no such number."""
-    from .kinds import kind_model
-
     if name == "area":
         return "areas.thesis_eq_4_21" if kind_model(spec).area_integral == "thesis_area" else "areas.pitch_curve"
     return REPORT_KEYS.get(name)
@@ -153,8 +151,6 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
         return Objective(name, model, diameter, True)
     if name == "machining_time":
         opt = spec.optimise
-        from ..machining.cutting_time import DEFAULT_TOLERANCE
-
         eps = opt.machining_tolerance or DEFAULT_TOLERANCE[spec.units]
         per_min = spec.machining.feed_rate if spec.machining.feed_rate is not None else {"in": 12.0, "mm": 300.0}[spec.units]
         feed = per_min / 60.0
@@ -166,9 +162,6 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
 
         return Objective(name, model, mtime, False)
     if name == "gcode_time":
-        from ..cam_design import design_cam
-        from ..machining.cutting_time import contour_time
-
         def gtime(p: np.ndarray, grad: bool) -> tuple[float, None]:
             try:
                 return contour_time(design_cam(sp.spec_at(p))).time, None

@@ -46,6 +46,10 @@ import numpy as np
 from ..checks.areas import area_summary, pitch_area, profile_area, thesis_area
 from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
+from ..machining.cutting_time import thesis_cutting_time
+from ..cam_design import design_cam
+from ..machining.cutting_time import contour_time
+from ..kinds import own_optimiser
 from ..spec.model import CamSpec
 from ..studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
 from .kinds import force_reference, kind_model
@@ -763,10 +767,9 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
             raise SpecError(key, "unknown optimiser setting")
     spec = spec.replace(**changes) if changes else spec
-    if spec.cam.body == "cylindrical":          # its own design and checks: cam_workbench.generators.optimise.cylindrical
-        from .cylindrical import optimise_cylindrical
-
-        return optimise_cylindrical(spec, progress=progress, cancel=cancel)
+    own = own_optimiser(spec)
+    if own is not None:          # a body with an optimiser of its own (the cylindrical cam's)
+        return own(spec, progress=progress, cancel=cancel)
     cfg = spec.optimise
     space = DesignSpace(spec)
     space.check_start()
@@ -854,8 +857,6 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     initial_checks = run_checks(spec)
     details["areas"] = {"initial": area_summary(spec), "final": area_summary(final_spec)}
     if cfg.objective == "machining_time":
-        from ..machining.cutting_time import thesis_cutting_time
-
         details["cutting_time"] = {"initial": thesis_cutting_time(spec).summary(),
                                    "final": thesis_cutting_time(final_spec).summary()}
     details["constraint_margin"] = cfg.constraint_margin
@@ -888,13 +889,8 @@ def final_value(objective: str, spec: CamSpec) -> float:
     if objective == "profile_area":
         return profile_area(spec)
     if objective == "machining_time":
-        from ..machining.cutting_time import thesis_cutting_time
-
         return thesis_cutting_time(spec).time
     if objective == "gcode_time":
-        from ..cam_design import design_cam
-        from ..machining.cutting_time import contour_time
-
         return contour_time(design_cam(spec)).time
     if objective == "outer_diameter":
         return float(spec.cam.outer_diameter)

@@ -30,10 +30,11 @@ from typing import Any
 
 import numpy as np
 
+from ..bodies.features import resolved
 from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError, fmt_apart
 from ..motion.program import MotionProgram
-from ..spec.model import BODY_VARIABLES, CamSpec, optimise_control_rows, optimise_variables
+from ..spec.model import BODY_VARIABLES, CamSpec, follower_variable_rule, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
 from .points import ControlPolygon, PointBlock, curve_at, point_block, point_bounds
 
@@ -199,8 +200,6 @@ class DesignSpace:
 
     def body_start(self, name: str) -> float:
         """The spec's cam.outer_diameter or groove.clearance (its default when absent)."""
-        from ..bodies.features import resolved
-
         if name == "outer_diameter":
             return float(self.spec.cam.outer_diameter)
         return float(resolved(self.spec, "groove", "clearance"))
@@ -417,8 +416,6 @@ def geometry_bounds(spec: CamSpec) -> dict[str, tuple[float, float]]:
     widened to contain the start — by name: base_radius and offset (translating followers),
     pivot_distance and arm_length (oscillating), face_offset (an oscillating flat face; its
     arm_length when given).  For a GUI that shows the bounds before a run."""
-    from ..spec.model import follower_variable_rule
-
     names = [n for n in kind_model(spec).geometry if n == "base_radius" or follower_variable_rule(spec, n) is None]
     probe = spec.replace(**{"optimise.variables": ", ".join(names), "optimise.objective": "area",
                             "optimise.algorithm": "auto"})

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from math import factorial
 from typing import Callable
 
 import numpy as np
@@ -29,18 +30,19 @@ from scipy.sparse.linalg import spsolve
 
 from ..motion.bspline_law import basis_derivatives
 from ..errors import SolveError, SpecError
-from ..followers import Follower, follower_of
+from ..followers.base import Follower
+from ..kinds import follower_of, register_pitch
 from ..curves.bezier import BezierChain, bernstein_from_power
-from .contact import Contact, FollowerLineSolver
+from .contact import Contact
 from ..motion.program import MotionProgram
 from ..curves.nurbs import NurbsCurve
 from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
+from .queries import PitchQueries
 
 TWO_PI = 2.0 * np.pi
 DEGREE = 5
 FIT_SAMPLES_PER_SPAN = 12
 MAX_SPANS = MAX_SEGMENTS
-DEFAULT_STEP_DEG = 0.02
 
 
 # ---- periodic B-splines ------------------------------------------------------------------
@@ -102,8 +104,6 @@ class PeriodicBSpline:
     def _power_form(self) -> np.ndarray:
         """(N, p+1) complex monomial coefficients of each span in t = (u − b_k)/(b_{k+1} − b_k):
         the Taylor coefficients C^(d)(b_k)·h_k^d/d! from the basis derivatives at b_k."""
-        from math import factorial
-
         p = self.degree
         idx, ders = self.basis(self.breaks[:-1], p)
         taylor = np.einsum("ndj,nj->nd", ders, self.poles[idx])            # C^(d)(b_k)
@@ -234,22 +234,24 @@ class _SegmentView:
         return float(np.sum(np.abs(self.curve.evaluate(u, 1)[1]) * w))
 
 
+@register_pitch
 @dataclass(frozen=True)
-class BSplinePitchCurve:
+class BSplinePitchCurve(PitchQueries):
     """A fitted periodic B-spline pitch curve, queried like :class:`~cam_workbench.generators.pitch.PitchCurve`."""
 
     curve: PeriodicBSpline
     program: MotionProgram
     follower: Follower
     spline: _SegmentView = field(init=False, repr=False)
+    #: pitch.representation
+    representation = "bspline"
+    #: no exact offsets: the profile is a fitted offset, its error measured
+    exact = False
+    #: the representation in words
+    words = "periodic B-spline"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "spline", _SegmentView(self.curve))
-
-    @property
-    def geometry(self) -> Follower:
-        """The follower (the name before the follower interface)."""
-        return self.follower
 
     @property
     def M(self) -> int:
@@ -297,14 +299,6 @@ class BSplinePitchCurve:
         b = self.angles
         return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
 
-    def solver(self) -> FollowerLineSolver:
-        """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
-        return self.follower.contact_solver(self.segments, self.solver_angles)
-
-    def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
-        """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per span."""
-        return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
-
     def contact(self, theta: np.ndarray, tol: float = 1e-14, max_iter: int = 30) -> Contact:
         """Paper Eq. 13 (generalised to the follower kind) on the B-spline, Newton from u = θ
         (the fit's parameter is the cam angle, so the root is close)."""
@@ -329,32 +323,6 @@ class BSplinePitchCurve:
         return Contact(seg=seg, xi=v - seg, point=c, Y=(rot * c).imag, iterations=0,
                        lift=fol.lift_at(rot * c, rot * d))
 
-    def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
-        return self.contact(theta).lift
-
-    def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
-        n = n or self.deviation_count(step_deg)
-        th = TWO_PI * np.arange(n) / n
-        return th, self.actual_displacement(th) - self.program.s(th)
-
-    def max_deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None) -> tuple[float, float]:
-        th, dev = self.deviation(step_deg, n)
-        k = int(np.argmax(np.abs(dev)))
-        return float(abs(dev[k])), float(np.rad2deg(th[k]))
-
-    def cam_angle_of_point(self, pts: np.ndarray, tangents: np.ndarray | None = None) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which a point of the curve touches the follower (closed
-        form; a flat face needs the tangent too)."""
-        if tangents is None:
-            if self.follower.design_curve != "pitch":
-                raise ValueError("a flat face's contact angle needs the curve's tangent too")
-            tangents = np.ones_like(pts)
-        return np.mod(np.rad2deg(self.follower.cam_angle_of(pts, tangents)), 360.0)
-
-    def cam_angle_at(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which the curve's point (segment, ξ) touches the follower."""
-        return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
 def build_bspline_pitch(spec: CamSpec, progress: Callable[[int, float], None] | None = None

@@ -13,6 +13,7 @@ angles, and samples whose root leaves [0, 1] move to the neighbouring segment.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import comb
 
 import numpy as np
 
@@ -25,8 +26,6 @@ TWO_PI = 2.0 * np.pi
 
 def power_coeffs(ctrl: np.ndarray) -> np.ndarray:
     """Monomial coefficients c_0..c_n (lowest first) of Bernstein segments (S, n+1)."""
-    from math import comb
-
     n = ctrl.shape[-1] - 1
     mat = np.zeros((n + 1, n + 1))
     for j in range(n + 1):          # Bernstein index

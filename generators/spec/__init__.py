@@ -1,5 +1,7 @@
-"""The cam spec (stage room: declarations, sections, the CamSpec model, validation, TOML in/out,
-the generated reference).  ``cam_workbench.generators.spec`` re-exports :mod:`cam_workbench.generators.spec.model`.
+"""The cam spec: one declaration per parameter (:mod:`.params`); the sections, the CamSpec model,
+its validation and TOML in/out (:mod:`.model`); the built-in examples (:mod:`.examples`); the
+reference generated from the declarations (:mod:`.reference`, docs/spec.md).  This package
+re-exports :mod:`cam_workbench.generators.spec.model`'s names.
 """
 from .model import (  # noqa: F401
     REQUIRED, Param, param, params_of, LAWS, CLOSED_FORM_LAWS, BSPLINE_FIELDS, SPAN_TOL_DEG, LIFT_FIELDS,

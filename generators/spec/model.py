@@ -9,14 +9,26 @@ Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rp
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
+
+from ..bodies.features import validate_features
 from ..errors import SpecError, fmt_apart
+from ..kinds import body_of, follower_class_of
+from ..motion.bspline_law import lift_from_segment
+from ..motion.program import MotionProgram
+from ..motion.table import TableError, read_csv
 from .params import REQUIRED, Param, param, params_of
+from .train import validate_dynamics
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
         "polynomial", "constant_velocity", "table")
@@ -885,8 +897,6 @@ def _section_dict(obj: Any) -> dict[str, Any]:
 def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
     """Set the field at a dotted ``path`` (``cam.base_radius``, ``motion[1].lift``) in the spec's
     TOML structure; a path that does not fit the structure is a SpecError naming it."""
-    import re
-
     if not isinstance(path, str) or not path:
         raise SpecError(str(path) or "--set", "is not a valid field path (write e.g. cam.base_radius=30)")
     parts = path.split(".")
@@ -963,8 +973,6 @@ def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) ->
     if not isinstance(motion, (list, tuple)) or not any(
             isinstance(m, Mapping) and "table_file" in m for m in motion):
         return data
-    from ..motion.table import TableError, read_csv
-
     rows = []
     for i, m in enumerate(motion):
         if isinstance(m, Mapping) and "table_file" in m:
@@ -1041,18 +1049,14 @@ def validate(spec: CamSpec) -> None:
                         f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
                         "radius")
     _validate_motion(spec)
-    from ..bodies import validate_body
-    from ..followers import validate_follower   # the kinds' own geometric rules
-
-    validate_follower(spec)
-    validate_body(spec)
+    follower_class_of(spec).validate(spec)     # the kinds' own rules, then the features every body shares
+    body_of(spec).validate(spec)
+    validate_features(spec)
     _validate_pitch(spec)
     _validate_drawing(spec)
     _validate_machining(spec)
     _validate_optimise(spec)
-    from ..dynamics.model import validate_dynamics   # the train's rules (and, when enabled, its data)
-
-    validate_dynamics(spec)
+    validate_dynamics(spec)                    # the train's rules (and, when enabled, its data)
     _validate_ecam(spec)
 
 
@@ -1144,9 +1148,7 @@ def _validate_motion(spec: CamSpec) -> None:
         if not seg.lift > 0:
             raise SpecError(f"{p}.lift", f"must be > 0 for a {seg.kind}, got {seg.lift:g}")
         if seg.law == "bspline":
-            from ..motion.bspline_law import lift_from_segment
-
-            lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
+                    lift_from_segment(seg, p, math.radians(start_deg), math.radians(seg.angle))
         if seg.law == "table":
             if seg.table is None:
                 raise SpecError(f"{p}.table", 'is required for law = "table" (inline [[angle, s], …] rows, '
@@ -1171,8 +1173,6 @@ def _validate_motion(spec: CamSpec) -> None:
                         f"program does not close: total rise − total fall = {level:g}, must be 0")
     # the laws solved from boundary conditions or fitted, s ≥ 0 inside every segment, the program's
     # junction values (cam_workbench.generators.motion.segments): errors name the field
-    from ..motion.program import MotionProgram
-
     MotionProgram.from_segments(spec.motion)
     has_j = [seg.junctions is not None for seg in spec.motion]
     if any(has_j) and not all(has_j):
@@ -1462,10 +1462,6 @@ def load_spec(source: str | Path | Mapping[str, Any]) -> CamSpec:
             raise SpecError(str(source), f"is not UTF-8 text (byte {exc.start}): a TOML spec is UTF-8") from None
     else:
         text = str(source)
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib  # type: ignore[no-redef]
     where = str(p) if p else "spec"
     if "\x00" in text:
         raise SpecError(where, "holds NUL bytes: not a TOML text")
@@ -1578,8 +1574,6 @@ def spec_digest(spec: CamSpec) -> str:
     """SHA-256 of the spec's canonical TOML without ``[checks]``, ``[optimise]``, ``[dynamics]`` and
     ``[ecam]`` (how to check, optimise, analyse or export, not what):
     names the cam a report was made from."""
-    import hashlib
-
     data = spec.to_dict()
     for how in ("checks", "optimise", "dynamics", "ecam"):
         data.pop(how, None)

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import SpecError, fmt_apart
 from ..spec.model import SECTIONS, CamSpec, _set_path, params_of
+from ..spec.model import follow_cylinder_fields
 
 #: most points a grid may have (a typo such as 5:30:6000 is refused before any work)
 MAX_POINTS = 100_000
@@ -204,8 +205,6 @@ def apply_changes(spec: CamSpec, changes: Mapping[str, Any], balance: str | None
     data = spec.to_dict()
     for path, value in changes.items():
         _set_path(data, path, value)
-    from ..spec.model import follow_cylinder_fields
-
     follow_cylinder_fields(data, changes)
     if balance is not None:
         k = int(re.fullmatch(r"motion\[(\d+)\]\.angle", balance).group(1))  # type: ignore[union-attr]

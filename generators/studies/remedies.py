@@ -33,8 +33,12 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
+from ..cam_design import design_cam
+from ..checks.design import CAM_SUFFIXES, base_check_name
 from ..errors import CamError, GeometryError, SpecError
+from ..kinds import body_of, follower_class_of
 from ..spec.model import CamSpec
+from .plan import Plan
 from .sizing import (SIZED_FIELDS, Evaluate, SizingSettings, design_checks_evaluation, digits_of, nearest_value,
                      smallest_value)
 
@@ -57,17 +61,6 @@ WORDS = {
     "second_arm": "the second arm's geometry: conjugate.arm_length or conjugate.arm_angle (the pair's second cam "
                   "follows from them)",
 }
-
-
-@dataclass(frozen=True)
-class Plan:
-    """One field to search for a check: ``search`` "smallest" (the sizing bisection), "nearest"
-    (both sides of the spec's value, short of ``bounds``) or "needed" (the check's value)."""
-
-    field: str
-    search: str
-    evaluation: str = "checks"              # "checks" | "design" | "cylinder"
-    bounds: tuple[float, float] = (-math.inf, math.inf)
 
 
 @dataclass(frozen=True)
@@ -111,57 +104,32 @@ def _fmt(v: float, digits: int) -> str:
 def plans(spec: CamSpec, name: str) -> list[Plan]:
     """The fields to search for the failing check ``name`` of ``spec`` (its body's wall checks
     included), first the one to show; [] when no single field moves it."""
-    from ..checks.design import CAM_SUFFIXES, base_check_name
-
     base = base_check_name(name)
-    fol, body = spec.follower, spec.cam.body
     if base != name:                                        # a further cam's own check: a conjugate pair's
-        if "cam2" in CAM_SUFFIXES and fol.motion == "translating" and base in SIZE_CHECKS:
+        if "cam2" in CAM_SUFFIXES and not follower_class_of(spec).pivoted and base in SIZE_CHECKS:
             return [Plan("conjugate.roller_distance", "smallest")]
         return []
     if name in WALL_FIELDS:
         return [Plan(WALL_FIELDS[name], "smallest", "design")]
-    if body == "cylindrical":
-        from ..bodies.cylindrical import cylinder_corners
-
-        # a corner of the groove's centre line (the velocity jumps) has radius of curvature 0 at any size
-        sized = base == "pressure_angle" or (base == "undercut" and not cylinder_corners(spec))
-        return [Plan("cam.cylinder_radius", "smallest", "cylinder")] if sized else []
-    if name == "face_width" and fol.kind == "flat":
+    own = body_of(spec).remedy_plans(spec, base)
+    if own is not None:                                     # a body that sizes itself (its own checks)
+        return own
+    if name == "face_width":                                # a flat face's own check
         return [Plan("follower.face_width", "needed")]
     if base not in SIZE_CHECKS:
         return []
-    if fol.motion == "oscillating" and fol.kind == "flat":
-        # the face must reach the base circle: |R_b + face_offset| < d (its arm_length, optional, only
-        # places the face's centre)
-        d, f, rb = fol.pivot_distance, fol.face_offset or 0.0, spec.cam.base_radius
-        return [Plan("follower.pivot_distance", "nearest", bounds=(abs(rb + f), math.inf)),
-                Plan("cam.base_radius", "nearest", bounds=(max(0.0, -d - f), d - f))]
-    if fol.motion == "oscillating":
-        d, arm, rb = fol.pivot_distance, fol.arm_length, spec.cam.base_radius
-        return [Plan("follower.pivot_distance", "nearest", bounds=(0.0, arm + rb)),
-                Plan("cam.base_radius", "nearest", bounds=(abs(d - arm), d + arm))]
-    out = [Plan("cam.base_radius", "smallest")]
-    if base == "pressure_angle" and fol.kind != "flat":
-        rb = spec.cam.base_radius
-        out.append(Plan("follower.offset", "nearest", bounds=(-rb, rb)))
-    return out
+    return follower_class_of(spec).remedy_plans(spec, base)
 
 
 def words(spec: CamSpec, name: str) -> str:
     """What to change, in words, for a check no single field passes."""
-    from ..checks.design import base_check_name
-
     base = base_check_name(name)
     if base != name:                    # a further cam's check that no field moves (an arm pair's second cam)
         return WORDS["second_arm"]
-    if base == "undercut" and spec.cam.body == "cylindrical":         # unsized only at a corner (plans)
-        from ..bodies.cylindrical import cylinder_corners
-
-        c = cylinder_corners(spec)[0]
-        return (f"the groove's centre line turns a corner at {c.junction.at_deg % 360.0:.2f}° (the velocity jumps): "
-                f"no size removes it — {c.fix}")
-    osc = spec.follower.motion == "oscillating"
+    own = body_of(spec).remedy_words(spec, base)
+    if own is not None:                 # the body's own words (a cylindrical cam's corner)
+        return own
+    osc = follower_class_of(spec).pivoted
     text = WORDS.get(base, "no single field of the spec moves it")
     return text.format(preload="follower.preload_torque" if osc else "follower.preload",
                        spring="follower.spring_torque_rate" if osc else "follower.spring_rate",
@@ -171,21 +139,21 @@ def words(spec: CamSpec, name: str) -> str:
 # ---- evaluations ---------------------------------------------------------------------------------
 def evaluation(spec: CamSpec, kind: str) -> Evaluate:
     """The evaluation a plan searches with: the dense design checks, the whole design (a groove's
-    walls: a refused body names its failing checks), or a cylindrical cam's own checks."""
+    walls: a refused body names its failing checks), or the body's own checks (``Body.own_checks``:
+    a cylindrical cam's)."""
     if kind == "checks":
         return design_checks_evaluation(spec)
-    if kind == "cylinder":
-        from ..bodies.cylindrical import cylinder_checks
+    if kind == "body":
+        own_checks = body_of(spec).own_checks
 
-        def cylinder(s: CamSpec) -> tuple[tuple[str, ...], Any]:
+        def body(s: CamSpec) -> tuple[tuple[str, ...], Any]:
             try:
-                d = cylinder_checks(s)
+                d = own_checks(s)
             except GeometryError as exc:
                 return exc.checks or (exc.kind,), None
             return tuple(d["failed"]), d
 
-        return cylinder
-    from ..cam_design import design_cam
+        return body
 
     def design(s: CamSpec) -> tuple[tuple[str, ...], Any]:
         try:
@@ -315,8 +283,6 @@ def remedy_for(spec: CamSpec, plan: Plan, targets: tuple[str, ...], all_checks: 
 
 def _design_failures(spec: CamSpec) -> tuple[str, ...]:
     """The checks ``spec`` fails, buildability included (a refusal names its checks)."""
-    from ..cam_design import design_cam
-
     try:
         return tuple(design_cam(spec).design_checks.failed)
     except GeometryError as exc:

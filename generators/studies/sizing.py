@@ -40,6 +40,7 @@ from ..checks.design import DesignChecks, run_checks
 from ..errors import CamError, SpecError
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
+from .table import checks_row
 
 #: every check :func:`run_checks` may report (which ones a spec gets depends on its follower)
 KNOWN_CHECKS = ("pressure_angle", "separation", "oscillation", "contact_stress", "curvature", "convexity",
@@ -347,8 +348,6 @@ def _failure_text(dc: DesignChecks, name: str) -> str:
 def sizing_row(sz: Sizing) -> dict[str, Any]:
     """A sizing outcome as table columns: ``min_base_radius``, the bracket, the binding checks,
     and the design checks at the radius found."""
-    from .table import checks_row
-
     row: dict[str, Any] = {
         "status": sz.status,
         "error": sz.reason,

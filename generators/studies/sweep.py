@@ -22,6 +22,7 @@ from .executor import NOT_RUN, Executor, SerialExecutor, TaskContext, chunks
 from .grid import Grid
 from .sizing import SIZED_FIELD, SizingSettings, sizing_row, smallest_base_radius
 from .table import StudyTable, error_row, summary_row
+from ..cam_design import design_cam
 
 FIRST_COLUMNS = ("status", "error")
 
@@ -39,8 +40,6 @@ class SweepJob:
 def evaluate_point(spec: CamSpec, grid: Grid, point: dict[str, Any]) -> dict[str, Any]:
     """One grid point designed and checked (no solid): the point's columns and the key numbers,
     or the reason there are none."""
-    from ..cam_design import design_cam
-
     row: dict[str, Any] = dict(point)
     try:
         s = grid.spec_at(spec, point)

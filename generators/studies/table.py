@@ -29,10 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping, Sequence
 
-#: the key numbers' columns, in table order (the check columns follow)
-KEY_COLUMNS = ("units", "follower", "base_radius", "max_lift", "pressure_angle_deg", "pressure_angle_at_deg",
-               "min_pitch_radius", "min_profile_radius", "max_profile_radius", "area", "volume",
-               "checks_passed", "failed_checks")
+from ..kinds import body_named
 
 
 @dataclass
@@ -89,15 +86,9 @@ def summary_row(summary: Mapping[str, Any], base_radius: float) -> dict[str, Any
     report.json)."""
     pa, mo = summary["pressure_angle"], summary["motion"]
     body = summary.get("body") or {}
-    if body.get("kind") == "cylindrical":      # no plane profile: the cylinder's own numbers
-        row = {"units": summary["units"], "follower": summary["follower"]["label"],
-               "base_radius": float(base_radius), "max_lift": mo["max_lift"],
-               "pressure_angle_deg": pa["max_deg"], "pressure_angle_at_deg": pa["at_deg"],
-               "pressure_angle_bottom_deg": pa["bottom_max_deg"],
-               "min_developed_curvature_radius": body["min_developed_curvature_radius"]["value"],
-               "outer_radius": body["outer_radius"], "area": summary["area"], "volume": summary["volume"]}
-        row.update(checks_row(summary["checks"]))
-        return row
+    own = body_named(body["kind"]).study_row(summary, base_radius) if body.get("kind") else None
+    if own is not None:      # a body with numbers of its own (no plane profile)
+        return own
     cv = summary["curvature"]
     row: dict[str, Any] = {
         "units": summary["units"],

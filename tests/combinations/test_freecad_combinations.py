@@ -73,7 +73,7 @@ def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
         return
     assert r["valid"] and r["solids"] == 1, r
     # FreeCAD models in mm whatever the spec's units; its OCCT integrates B-spline side faces
-    # to ~1e-5 relative (DESIGN.md)
+    # to ~1e-5 relative (measured)
     exact = design.volume * (25.4**3 if spec.units == "in" else 1.0)
     if getattr(design.body, "prismatic", True):
         assert abs(r["volume"] / exact - 1.0) < 5e-5, (r["volume"], exact)

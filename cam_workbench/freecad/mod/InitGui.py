@@ -20,6 +20,7 @@ class CamWorkbench(FreeCADGui.Workbench):
     Icon = ""
 
     def Initialize(self):
+        # deferred: the workbench's commands, to its first activation (start-up stays cheap)
         from cam_workbench.freecad import commands
 
         commands.register()
