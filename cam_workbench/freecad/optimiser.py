@@ -99,7 +99,7 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
     from cam_workbench.generators.motion.bspline_law import fixed_end_points
     from cam_workbench.generators.motion import MotionProgram
 
-    from cam_workbench.generators.spec.model import FOLLOWER_VARIABLES, follower_variable_rule
+    from cam_workbench.generators.spec.optimise import FOLLOWER_VARIABLES, follower_variable_rule
 
     objective = objective or spec.optimise.objective
     u = spec.units
@@ -138,7 +138,7 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
                                       f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
                                       len(seg.points), True))
     # a groove cam's disc and groove
-    from cam_workbench.generators.spec.model import body_variable_rule
+    from cam_workbench.generators.spec.optimise import body_variable_rule
 
     body_labels = {"outer_diameter": f"Disc outer diameter [{u}]", "clearance": f"Groove clearance [{u}]"}
     for name, label in body_labels.items():

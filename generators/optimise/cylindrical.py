@@ -33,7 +33,8 @@ from ..checks.design import CheckResult, DesignChecks
 from ..errors import CamError, SpecError
 from ..motion.program import MotionProgram
 from ..kinds import register_optimiser
-from ..spec.model import CYLINDER_VARIABLES, CamSpec
+from ..spec.model import CamSpec
+from ..spec.optimise import CYLINDER_VARIABLES
 from .run import OptimiseResult, Progress, _nlopt
 
 #: spec path of each design variable
