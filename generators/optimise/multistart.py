@@ -22,7 +22,6 @@ from .result import Progress, final_value
 from .space import DesignSpace
 
 
-# ---- the driver ---------------------------------------------------------------------------
 @dataclass(frozen=True)
 class StartJob:
     """One local run of an optimisation, as :func:`run_start` takes it: plain values, so that it
@@ -163,12 +162,3 @@ def _pick_key(objective: str, space: DesignSpace, p: np.ndarray) -> tuple[bool, 
         value = math.inf
     return (not run_checks(spec).passed or not math.isfinite(value), value)
 
-
-def _pick(objective: str, space: DesignSpace, candidates: list[np.ndarray]) -> int:
-    """The index of the best candidate: passing the dense check first, then the smallest objective."""
-    best = None
-    for i, p in enumerate(candidates):
-        key = _pick_key(objective, space, p)
-        if key is not None and (best is None or key < best[0]):
-            best = (key, i)
-    return best[1]

@@ -31,6 +31,11 @@ library holds no global state except nlopt's random seed (set for ISRES and the 
 so run one optimisation per process at a time when that matters.  nlopt runs in the calling
 thread; call :func:`optimise` from a worker thread to keep a GUI responsive (the callback runs in
 that worker thread too: post updates to the GUI thread from it).
+
+This module holds :func:`optimise`, which applies the settings, draws the starts and picks the result;
+the parts: :mod:`.settings` (solver constants), :mod:`.problem` (the scaled problem, the tracker),
+:mod:`.driver` (the nlopt and penalty runs, a start's phases), :mod:`.multistart` (the starts as jobs)
+and :mod:`.result` (:class:`~.result.OptimiseResult`, :func:`~.result.final_value`).
 """
 from __future__ import annotations
 

@@ -1,5 +1,8 @@
-"""The cam spec (stage room: declarations, sections, the CamSpec model, validation, TOML in/out,
-the generated reference).  ``cam_workbench.generators.spec`` re-exports :mod:`cam_workbench.generators.spec.model`.
+"""The cam spec: the declarations (:mod:`.params`), one module per TOML table (``cam``, ``follower``,
+``motion``, ``pitch``, ``groove``, ``conjugate``, ``material``, ``checks``, ``drawing``, ``machining``,
+``optimise``, ``dynamics`` with ``train``'s rules, ``ecam``), the root :class:`CamSpec` and the rules across
+tables (:mod:`.model`), TOML in/out (:mod:`.toml_io`), the default cam (:mod:`.default`), the built-in
+examples and the generated reference.  ``cam_workbench.generators.spec`` re-exports the public names below.
 """
 from .cam import CamSection  # noqa: F401
 from .checks import ChecksSection  # noqa: F401

@@ -1,8 +1,12 @@
-"""The cam spec: typed dataclasses, loading from TOML / dict / keywords, and validation.
+"""The spec's root: :class:`CamSpec`, which assembles the tables (``SECTIONS``: one module per TOML
+table, :mod:`~cam_workbench.generators.spec.cam` … :mod:`~cam_workbench.generators.spec.ecam`), loads each
+table into its dataclass against its declarations, and :func:`validate`, the rules across tables (then
+each table's own rules and the kinds'); ``LIFT_FIELDS``, the fields in the follower's lift unit.
 
 The field names and rules are the contract of ``shared/CAM_SPEC.md``; the project's
-own reference is ``docs/spec.md``, generated from the declarations below by
-``python -m cam_workbench.generators.spec.reference``.
+own reference is ``docs/spec.md``, generated from the tables' declarations by
+``python -m cam_workbench.generators.spec.reference``.  Text in and out:
+:mod:`~cam_workbench.generators.spec.toml_io`; the built-in default: :mod:`~cam_workbench.generators.spec.default`.
 
 Conventions: lengths in ``units`` ("mm" or "in"), angles in degrees, speed in rpm.
 """
