@@ -35,7 +35,7 @@ from ..motion.program import MotionProgram
 from ..kinds import register_optimiser
 from ..spec.model import CamSpec
 from ..spec.optimise import CYLINDER_VARIABLES
-from .driver import _nlopt
+from .driver import load_nlopt
 from .result import OptimiseResult, Progress
 
 #: spec path of each design variable
@@ -168,7 +168,7 @@ def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = 
             raise _Stop
         return f, g
 
-    nlopt = _nlopt()
+    nlopt = load_nlopt()
     n = len(names)
     ncons = len(cylinder_constraints(spec, program, start))
     opt = nlopt.opt(nlopt.LN_COBYLA, n)

@@ -1,6 +1,6 @@
 """The solver runs: nlopt (imported lazily) and the exterior-penalty rounds, the phases of one start
-(:class:`_StartRunner`: the size stand-in, the orientation scan, ISRES, the re-solves with more
-windows), and the clean-up of a solver's point (:func:`_polish`).
+(:class:`StartRunner`: the size stand-in, the orientation scan, ISRES, the re-solves with more
+windows), and the clean-up of a solver's point (:func:`polish`).
 """
 from __future__ import annotations
 
@@ -14,13 +14,13 @@ from ..errors import CamError
 from ..spec.model import CamSpec
 from .model import SmoothModel
 from .objectives import SURROGATE, TIME, Objective, make_objective
-from .problem import ScaledProblem, Tracker, _Stalled
+from .problem import ScaledProblem, Stalled, Tracker
 from .settings import CCSA_WINDOWS, FEASIBLE_TOL, LOCAL_GRADIENT, NLOPT_CONVERGED, NLOPT_RESULTS
 from .space import DesignSpace
 
 
 # ---- nlopt runs -------------------------------------------------------------------------------
-def _nlopt():
+def load_nlopt():
     import nlopt  # noqa: PLC0415 - lazily: only the optimiser needs nlopt
 
     return nlopt
@@ -44,7 +44,7 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
                tracker: Tracker) -> tuple[np.ndarray, str, bool]:
     """One nlopt run of ``algo`` (slsqp, mma, ccsaq, cobyla, isres) from z0; returns (z, the
     solver's status text, whether it met a stopping tolerance)."""
-    nlopt = _nlopt()
+    nlopt = load_nlopt()
     name = {"cobyla": "LN_COBYLA", "isres": "GN_ISRES", **LOCAL_GRADIENT}[algo]
     o = nlopt.opt(getattr(nlopt, name), prob.n)
     lo, hi = _bounds(prob)
@@ -70,7 +70,7 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
         if not key[0] and key[1] < last_gain[1] - opt_cfg.ftol_rel * abs(last_gain[1] if math.isfinite(last_gain[1]) else 0):
             last_gain[:] = [count, key[1]]
         elif math.isfinite(last_gain[1]) and count - last_gain[0] > stall:
-            raise _Stalled()
+            raise Stalled()
         if grad.size > 0:
             grad[:] = df
         return fs if math.isfinite(fs) else 1e6
@@ -106,7 +106,7 @@ def _run_nlopt(prob: ScaledProblem, algo: str, z0: np.ndarray, opt_cfg: Any, max
         msg = f"failure: {exc or 'nlopt failure'} (stopped; best point of the run kept)"
         z = seen[0][1] if seen else z
         ok = False
-    except _Stalled:                     # the project's own ftol criterion over many evaluations
+    except Stalled:                     # the project's own ftol criterion over many evaluations
         msg = f"no gain of ftol_rel in {stall} evaluations (best point of the run kept)"
         z = seen[0][1]
         ok = True
@@ -122,7 +122,7 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
                  ) -> tuple[np.ndarray, str, bool]:
     """The thesis' exterior penalty method (Eq. 5.14–5.15) with BOBYQA as the unconstrained
     minimiser; r_p grows ×10 per round."""
-    nlopt = _nlopt()
+    nlopt = load_nlopt()
     lo, hi = _bounds(prob)
     z = np.clip(z0, lo, hi)
     rp = opt_cfg.penalty
@@ -153,7 +153,7 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
             else:
                 best[1] += 1
                 if best[1] > stall:
-                    raise _Stalled()
+                    raise Stalled()
             return val
 
         o = nlopt.opt(nlopt.LN_BOBYQA, prob.n)
@@ -177,7 +177,7 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
             msg = f"failure: {exc or 'nlopt failure'}"
             z = best[2]
             ok = False
-        except _Stalled:
+        except Stalled:
             msg = f"no gain in {stall} evaluations"
             z = best[2]
             ok = True
@@ -189,7 +189,7 @@ def _run_penalty(prob: ScaledProblem, z0: np.ndarray, opt_cfg: Any, maxeval: int
     return z, f"bobyqa + exterior penalty (last r_p = {rp:g}): {msg}", ok
 
 
-class _StartRunner:
+class StartRunner:
     """The solver phases of one start (what :func:`optimise` did in one process before the
     starts could run anywhere)."""
 
@@ -227,7 +227,7 @@ class _StartRunner:
         rounds = cfg.refine_rounds if local_algo not in ("mma", "ccsaq") else min(cfg.refine_rounds, 1)
         for rnd in range(rounds + 1 if final else 1):
             tracker.phase = phase if rnd == 0 else f"{phase} ({windows} windows)"
-            prob = ScaledProblem(space, self.model, o, cfg.constraint_margin, _objective_value(o, space, p), windows)
+            prob = ScaledProblem(space, self.model, o, cfg.constraint_margin, objective_value(o, space, p), windows)
             z0 = space.to_z(p)
             if prob.epigraph:
                 z0 = np.append(z0, prob.t0(p))
@@ -235,10 +235,10 @@ class _StartRunner:
                 z0 = self.solve_local(prob, z0, "isres", cfg.max_evaluations)
             z = self.solve_local(prob, z0, local_algo, cfg.max_evaluations)
             p_prev = p
-            p = _polish(space, prob.p_of(z))
+            p = polish(space, prob.p_of(z))
             bf = tracker.best_feasible
-            if bf is not None and bf[0] < _objective_value(o, space, p) * (1 - 1e-12):
-                p = _polish(space, bf[1])          # derivative-free runs end near, not at, their best
+            if bf is not None and bf[0] < objective_value(o, space, p) * (1 - 1e-12):
+                p = polish(space, bf[1])          # derivative-free runs end near, not at, their best
             if not space.is_valid(p):
                 # a run that ended outside the follower's geometry (the arm cannot reach the prime
                 # circle, …) — only possible when it stopped early and infeasible: keep its start
@@ -267,7 +267,7 @@ class _StartRunner:
         return self.solve_phase(self.obj, self.local, p, phase, global_first=(algo == "isres"))
 
 
-def _objective_value(obj: Objective, space: DesignSpace, p: np.ndarray) -> float:
+def objective_value(obj: Objective, space: DesignSpace, p: np.ndarray) -> float:
     try:
         v = obj.value(p, False)[0]
     except (CamError, ValueError, FloatingPointError):
@@ -275,7 +275,7 @@ def _objective_value(obj: Objective, space: DesignSpace, p: np.ndarray) -> float
     return float(v)
 
 
-def _polish(space: DesignSpace, p: np.ndarray) -> np.ndarray:
+def polish(space: DesignSpace, p: np.ndarray) -> np.ndarray:
     """Remove the solver's round-off violations of the linear constraints (≤ 1e-6): lifts made
     exactly monotonic, control angles at least the gap apart."""
     p = np.clip(np.asarray(p, dtype=float).copy(), space.lower, space.upper)
@@ -306,7 +306,7 @@ def _orientation_scan(obj: Objective, space: DesignSpace, model: SmoothModel, p:
     for d in np.arange(-45.0, 45.0, 1.0):
         q = p.copy()
         q[space.b_index] = np.clip(b0 + math.radians(d), space.lower[space.b_index], space.upper[space.b_index])
-        f = _objective_value(obj, space, q)
+        f = objective_value(obj, space, q)
         tracker.record(q, f, viol)
         if f < best[0]:
             best = (f, q)

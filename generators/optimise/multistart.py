@@ -16,7 +16,7 @@ from ..checks.design import run_checks
 from ..errors import CamError
 from ..spec.model import CamSpec
 from ..studies.executor import TaskContext
-from .driver import _StartRunner
+from .driver import StartRunner
 from .problem import Cancelled, Tracker
 from .result import Progress, final_value
 from .space import DesignSpace
@@ -73,7 +73,7 @@ def run_start(job: StartJob, ctx: TaskContext) -> StartOutcome:
     with its best points when ``ctx.cancelled()`` says so.  Its result does not depend on the
     process it runs in."""
     tracker = Tracker(job.budget, lambda p: ctx.report(dataclasses.asdict(p)), _CancelFlag(ctx))
-    runner = _StartRunner(job.spec, tracker)
+    runner = StartRunner(job.spec, tracker)
     space = runner.space
     p: np.ndarray | None = None
     key: tuple[bool, float] | None = None
@@ -94,7 +94,7 @@ def run_start(job: StartJob, ctx: TaskContext) -> StartOutcome:
                         cancelled=cancelled)
 
 
-class _Progress:
+class StartsProgress:
     """The progress of every start together, for the caller's callback (called in the caller's
     thread): evaluations summed over the starts, the best feasible objective of any start."""
 
@@ -123,7 +123,7 @@ class _Progress:
         return self.stop or (self.cancel is not None and self.cancel.is_set())
 
 
-def _random_start(space: DesignSpace, rng: np.random.Generator, tries: int = 200) -> np.ndarray | None:
+def random_start(space: DesignSpace, rng: np.random.Generator, tries: int = 200) -> np.ndarray | None:
     """A random design in the box with valid control polygons (sorted angles, monotonic lifts)
     that is a valid spec (an oscillating arm reaches the prime circle: redrawn up to ``tries``
     times; None if none does)."""

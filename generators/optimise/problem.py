@@ -21,7 +21,7 @@ class Cancelled(Exception):
     """Raised inside the solver's callback to stop it."""
 
 
-class _Stalled(Exception):
+class Stalled(Exception):
     """A run stops making progress (raised in the callback; the run's best point is kept)."""
 
 

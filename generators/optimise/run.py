@@ -52,9 +52,9 @@ from ..kinds import own_optimiser
 from ..machining.cutting_time import thesis_cutting_time
 from ..spec.model import CamSpec
 from ..studies.executor import NOT_RUN, Executor, SerialExecutor
-from .driver import _objective_value, _polish
+from .driver import objective_value, polish
 from .model import SmoothModel
-from .multistart import StartJob, StartOutcome, _Progress, _random_start, run_start
+from .multistart import StartJob, StartOutcome, StartsProgress, random_start, run_start
 from .objectives import TIME, make_objective
 from .result import OptimiseResult, Progress, final_value
 from .space import DesignSpace
@@ -109,7 +109,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     budget = cfg.max_evaluations * runs * (2 if cfg.objective in TIME and algo == "auto" else 1)
     details: dict[str, Any] = {}
     p_init = space.p0.copy()
-    f_init_model = _objective_value(obj, space, p_init)
+    f_init_model = objective_value(obj, space, p_init)
     # the start's objective, independently: a start that cannot be built (gcode_time builds the cam)
     # is refused here, before any solver work, by the CamError that says why
     v0 = final_value(cfg.objective, spec)
@@ -119,12 +119,12 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     skipped: dict[int, str] = {}
     rng = np.random.default_rng(cfg.seed)
     for i in range(cfg.multistart):
-        z_rand = _random_start(space, rng)
+        z_rand = random_start(space, rng)
         if z_rand is None:
             skipped[i + 1] = f"start {i + 2}: no random design of the box builds (skipped)"
         else:
             jobs.append(StartJob(i + 1, spec, z_rand, budget))
-    agg = _Progress(budget, progress, cancel)
+    agg = StartsProgress(budget, progress, cancel)
     ran = (executor or SerialExecutor()).run(run_start, jobs, on_progress=agg.on_progress,
                                              should_stop=agg.should_stop)
     outcomes: dict[int, StartOutcome] = {o.index: o for o in ran if o is not NOT_RUN}
@@ -170,7 +170,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
             p_best = best_feasible[1]
         elif best_any is not None:
             p_best = best_any[2]
-        p_best = _polish(space, p_best)
+        p_best = polish(space, p_best)
         if not space.is_valid(p_best):
             p_best = p_init
         if 0 in outcomes and outcomes[0].windows is not None:

@@ -20,5 +20,5 @@ NLOPT_RESULTS = {1: "success", 2: "stopval reached", 3: "ftol reached", 4: "xtol
 NLOPT_CONVERGED = {1, 2, 3, 4}
 #: A point whose normalised constraints exceed 0 by less than this counts as feasible while
 #: solving (the solvers' own tolerance); the margin keeps the checks' values below their limits,
-#: and :func:`_polish` removes such round-off from the linear rows.
+#: and :func:`polish` removes such round-off from the linear rows.
 FEASIBLE_TOL = 1e-6

@@ -58,7 +58,7 @@ class DrawingSection:
         kind="bool", default=False, group="Drawing")
 
 
-def _validate_drawing(spec: CamSpec) -> None:
+def validate_drawing(spec: CamSpec) -> None:
     dr = spec.drawing
     if dr.chord_tolerance is not None and dr.chord_tolerance < 1e-7 * spec.cam.base_radius:
         low = 1e-7 * spec.cam.base_radius

@@ -52,7 +52,7 @@ MAX_ECAM_POINTS = 200_000
 _IEC_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,63}$")
 
 
-def _validate_ecam(spec: CamSpec) -> None:
+def validate_ecam(spec: CamSpec) -> None:
     ec = spec.ecam
     if ec.table != "auto" and ec.table not in ECAM_TABLES[ec.format]:
         raise SpecError("ecam.table", f"{ec.table!r} is not a table of ecam.format = {ec.format!r} (its tables: "

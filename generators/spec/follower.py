@@ -76,7 +76,7 @@ OSCILLATING_ONLY = ("pivot_distance", "arm_length", "face_offset", "arm_inertia"
                     "spring_torque_rate")
 
 
-def _validate_follower_motion(spec: CamSpec) -> None:
+def validate_follower_motion(spec: CamSpec) -> None:
     fol = spec.follower
     if fol.motion == "translating":
         for name in OSCILLATING_ONLY:
@@ -100,6 +100,6 @@ def _validate_follower_motion(spec: CamSpec) -> None:
         raise SpecError("follower.face_offset", "applies to flat-faced followers only")
 
 
-def _validate_face(spec: CamSpec) -> None:
+def validate_face(spec: CamSpec) -> None:
     if spec.follower.kind != "flat" and spec.follower.face_width is not None:
         raise SpecError("follower.face_width", "applies to flat-faced followers only")

@@ -74,7 +74,7 @@ class MachiningSection:
                          default="linuxcnc", group="Machining")
 
 
-def _validate_machining(spec: CamSpec) -> None:
+def validate_machining(spec: CamSpec) -> None:
     mc = spec.machining
     if mc.rotary_line == "follower" and spec.follower.motion != "translating":
         raise SpecError("machining.rotary_line", '"follower" needs a translating follower\'s line of motion; an '

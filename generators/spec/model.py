@@ -25,17 +25,17 @@ from ..kinds import body_of, follower_class_of
 from .cam import CamSection
 from .checks import ChecksSection
 from .conjugate import ConjugateSection
-from .drawing import DrawingSection, _validate_drawing
+from .drawing import DrawingSection, validate_drawing
 from .dynamics import DynamicsSection
-from .ecam import EcamSection, _validate_ecam
-from .follower import FollowerSection, _validate_face, _validate_follower_motion
+from .ecam import EcamSection, validate_ecam
+from .follower import FollowerSection, validate_face, validate_follower_motion
 from .groove import GrooveSection
-from .machining import MachiningSection, _validate_machining
+from .machining import MachiningSection, validate_machining
 from .material import MaterialSection
-from .motion import MotionSegment, _inline_table_files, _validate_motion
-from .optimise import OptimiseSection, _validate_optimise
+from .motion import MotionSegment, inline_table_files, validate_motion
+from .optimise import OptimiseSection, validate_optimise
 from .params import REQUIRED, param, params_of
-from .pitch import PitchSection, _validate_pitch
+from .pitch import PitchSection, validate_pitch
 from .train import validate_dynamics
 
 
@@ -98,7 +98,7 @@ class CamSpec:
         if not isinstance(data, Mapping):
             raise SpecError("spec", f"must be a table of sections, got {type(data).__name__}")
         _reject_unknown("", data, {"units", *SECTIONS})
-        data = _inline_table_files(data, base_dir)
+        data = inline_table_files(data, base_dir)
         data = _cylindrical_defaults(data)
         values: dict[str, Any] = {"units": params_of(CamSpec)["units"].check("units", data.get("units", "mm"))}
         for name, (section_cls, is_list, required) in SECTIONS.items():
@@ -293,8 +293,8 @@ def validate(spec: CamSpec) -> None:
     cam, fol = spec.cam, spec.follower
     if fol.kind == "roller" and not fol.roller_radius > 0:
         raise SpecError("follower.roller_radius", f"must be > 0 for a roller follower, got {fmt_apart(fol.roller_radius, 0)}")
-    _validate_follower_motion(spec)
-    _validate_face(spec)
+    validate_follower_motion(spec)
+    validate_face(spec)
     if not abs(fol.offset) < cam.base_radius:
         raise SpecError("follower.offset",
                         f"|offset| must be < cam.base_radius ({fmt_apart(cam.base_radius, abs(fol.offset))}), got "
@@ -310,16 +310,16 @@ def validate(spec: CamSpec) -> None:
                         f"follower.roller_radius {spec.roller_radius:g}) = {fmt_apart(2 * r_surface, cam.bore_diameter)}, "
                         f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
                         "radius")
-    _validate_motion(spec)
+    validate_motion(spec)
     follower_class_of(spec).validate(spec)     # the kinds' own rules, then the features every body shares
     body_of(spec).validate(spec)
     validate_features(spec)
-    _validate_pitch(spec)
-    _validate_drawing(spec)
-    _validate_machining(spec)
-    _validate_optimise(spec)
+    validate_pitch(spec)
+    validate_drawing(spec)
+    validate_machining(spec)
+    validate_optimise(spec)
     validate_dynamics(spec)                    # the train's rules (and, when enabled, its data)
-    _validate_ecam(spec)
+    validate_ecam(spec)
 
 
 __all__ = ["CamSpec", "validate", "SECTIONS", "LIFT_FIELDS"]

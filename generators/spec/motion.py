@@ -174,7 +174,7 @@ class MotionSegment:
         unit="length", gt=0, optional=True, group="Motion")
 
 
-def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) -> Mapping[str, Any]:
+def inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) -> Mapping[str, Any]:
     """``data`` with every ``motion[i].table_file`` read into ``motion[i].table`` (a copy; the
     spec then holds the points themselves, so its TOML, digest and reports do not depend on the file)."""
     motion = data.get("motion")
@@ -208,7 +208,7 @@ def _inline_table_files(data: Mapping[str, Any], base_dir: str | Path | None) ->
 MAX_MOTION_SEGMENTS = 100
 
 
-def _validate_motion(spec: CamSpec) -> None:
+def validate_motion(spec: CamSpec) -> None:
     if len(spec.motion) > MAX_MOTION_SEGMENTS:
         raise SpecError("motion", f"has {len(spec.motion)} segments, at most {MAX_MOTION_SEGMENTS}")
     total = 0.0

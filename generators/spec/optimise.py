@@ -271,7 +271,7 @@ def body_variable_rule(spec: CamSpec, name: str) -> str | None:
             f'groove.clearance); this cam\'s body is "{body}", which has none')
 
 
-def _validate_optimise(spec: CamSpec) -> None:
+def validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
     names = optimise_variables(spec)
     if not names:

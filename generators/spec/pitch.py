@@ -40,7 +40,7 @@ class PitchSection:
 DEFAULT_SEGMENTS = 60
 
 
-def _validate_pitch(spec: CamSpec) -> None:
+def validate_pitch(spec: CamSpec) -> None:
     pt = spec.pitch
     if pt.tolerance is not None and pt.tolerance < 1e-9 * spec.cam.base_radius:
         low = 1e-9 * spec.cam.base_radius
