@@ -47,7 +47,7 @@ $(STAMP): pyproject.toml dev-constraints.txt
 	@echo "== 3/4 cam-workbench with [$(DEV_EXTRAS)]: CadQuery and its OCP, Dask, the test tools (a few minutes the first time; downloads cached in $(PIP_CACHE_DIR))"
 	$(PY) -m pip install $(PIP_QUIET) -c dev-constraints.txt -e '.[$(DEV_EXTRAS)]'
 	@echo "== 4/4 exactly one OCP in $(VENV)"
-	$(PY) -c 'from cam_workbench.ocp_compat import main; raise SystemExit(main())'
+	$(PY) -c 'from cam_workbench.kernel.ocp import main; raise SystemExit(main())'
 	touch $(STAMP)
 
 demo: $(STAMP)

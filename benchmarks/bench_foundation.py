@@ -52,8 +52,8 @@ def bench_ph() -> list[str]:
 
 
 def bench_solid() -> list[str]:
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel.step import write_step
     from cam_workbench.generators.cam_design import design_cam
 
     rows = ["| M | design (spline, offset, checks) [ms] | solid [ms] | STEP write [ms] | total [ms] | STEP size [kB] |",

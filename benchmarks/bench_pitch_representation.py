@@ -13,8 +13,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from cam_workbench import occ_build  # noqa: E402
-from cam_workbench.exporters.step import write_step  # noqa: E402
+from cam_workbench.kernel import solids as occ_build  # noqa: E402
+from cam_workbench.kernel.step import write_step  # noqa: E402
 from cam_workbench.generators import default_spec, design_cam, load_spec  # noqa: E402
 from cam_workbench.generators.pitch.bspline import bezier_form  # noqa: E402
 

@@ -11,9 +11,13 @@ table says why; the others are written), 1 an internal error.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from typing import Sequence
 
+from rich.console import Console
+
+from cam_workbench.generators import __version__
 from cam_workbench.generators.errors import CamError
 
 from .commands import COMMANDS
@@ -48,8 +52,6 @@ say why), 130 interrupted, 1 internal error.
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered command."""
-    from cam_workbench.generators import __version__
-
     parser = argparse.ArgumentParser(
         prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -104,10 +106,6 @@ def _one_line(text: str) -> str:
 def _broken_pipe_raises() -> None:
     """rich ends the process with exit 1 when stdout's reader goes away; let it raise
     BrokenPipeError instead, which :func:`main` turns into the command's own status."""
-    try:
-        from rich.console import Console
-    except ImportError:
-        return
 
     def on_broken_pipe(self: Console) -> None:
         raise BrokenPipeError(32, "Broken pipe")
@@ -118,8 +116,6 @@ def _broken_pipe_raises() -> None:
 def _silence_stdout() -> None:
     """Point stdout at /dev/null so that Python's flush at exit does not raise again
     (see the Python docs' note on SIGPIPE)."""
-    import os
-
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

@@ -8,19 +8,18 @@ extra to install when the library is missing, and what is wrong when it is insta
 """
 from __future__ import annotations
 
+import importlib
 from types import ModuleType
 
 from cam_workbench.generators.errors import MissingDependency
 
-from .ocp_compat import two_distributions_note
+from .kernel.ocp import two_distributions_note
 
 #: library module → (its name for people, the extra that brings it)
 EXTRAS = {"cadquery": ("CadQuery", "cadquery"), "build123d": ("build123d", "build123d")}
 
 
 def _import(module: str, what: str) -> ModuleType:
-    import importlib
-
     title, extra = EXTRAS[module]
     try:
         return importlib.import_module(module)

@@ -34,10 +34,16 @@ import signal
 import threading
 import time
 import uuid
+from multiprocessing import resource_tracker
 from typing import Any, Callable, Iterator, Sequence
 
 from cam_workbench.generators.errors import MissingDependency, SpecError
 from cam_workbench.generators.studies.executor import NOT_RUN, TaskContext
+
+try:
+    import resource
+except ImportError:                 # not POSIX (Windows): no peak memory
+    resource = None  # type: ignore[assignment]
 
 #: seconds between two progress reports of one task, and between two looks at the cancel flag
 REPORT_INTERVAL = 0.2
@@ -49,7 +55,7 @@ INSTALL_HINT = 'pip install "cam-workbench[dask]"'
 def import_distributed(what: str = "running on Dask") -> Any:
     """``import distributed``, or MissingDependency naming the ``[dask]`` extra."""
     try:
-        import distributed
+        import distributed  # deferred: distributed, of the [dask] extra
     except ImportError as exc:
         raise MissingDependency(f"{what} needs Dask (dask.distributed), which is not installed: "
                                 f"{INSTALL_HINT}; or --workers 0 to run in this process") from exc
@@ -59,7 +65,7 @@ def import_distributed(what: str = "running on Dask") -> Any:
 def dask_available() -> bool:
     """Dask's distributed scheduler is importable."""
     try:
-        import distributed  # noqa: F401
+        import distributed  # noqa: F401  (deferred: distributed, of the [dask] extra)
     except ImportError:
         return False
     return True
@@ -91,7 +97,7 @@ class _DaskContext:
         self._send(info, now)
 
     def _send(self, info: Any, now: float) -> None:
-        from distributed import get_worker
+        from distributed import get_worker  # deferred: distributed (this runs on a Dask worker)
 
         self._held = None
         self._sent = now
@@ -106,7 +112,7 @@ class _DaskContext:
             return True
         now = time.monotonic()
         if now - self._looked >= REPORT_INTERVAL:
-            from distributed import Event
+            from distributed import Event  # deferred: distributed (this runs on a Dask worker)
 
             self._looked = now
             self._flag = bool(Event(self.event_name).is_set())
@@ -240,12 +246,11 @@ class DaskExecutor:
 
 
 def _memory() -> dict[str, float]:
-    import resource
-
-    import psutil
+    import psutil  # deferred: psutil, distributed's own dependency (this runs on a Dask worker)
 
     rss = psutil.Process().memory_info().rss / 2**20
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024      # Linux: KiB
+    peak = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024      # Linux: KiB
+            if resource is not None else float("nan"))
     return {"rss_mib": rss, "peak_rss_mib": peak}
 
 
@@ -322,8 +327,6 @@ def _sigint_held() -> Iterator[list[int]]:
     previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum)) if main else None
     blocks = hasattr(signal, "pthread_sigmask")          # POSIX
     if blocks:
-        from multiprocessing import resource_tracker
-
         # started by the first worker's spawn, it would unblock SIGINT in the thread that starts
         # it (CPython's ensure_running ends with SIG_UNBLOCK): start it here, before the block
         resource_tracker.ensure_running()

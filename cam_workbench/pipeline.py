@@ -22,16 +22,30 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
 import numpy as np
 
+from cam_workbench.exporters.atomic import OutputSet
+from cam_workbench.exporters.dxf import build_dxf
+from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf
+from cam_workbench.exporters.machining_outputs import machining_outputs
+from cam_workbench.exporters.output_rule import Claim
+from cam_workbench.exporters.report_cylindrical import FIGURES, render_cylindrical_report
+from cam_workbench.exporters.report_html import Series, render_report, report_plots
+from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.exporters.step import product_name
 from cam_workbench.generators.cam_design import CamDesign, design_cam
+from cam_workbench.generators.checks.design import StateModel, check_samples
+from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
+from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.params import unit_name
+from cam_workbench.generators.studies.remedies import add_remedies
 
-if TYPE_CHECKING:
-    from cam_workbench.exporters.output_rule import Claim
+from .kernel import ocp, solids
+from .kernel.step import write_step
 
 JSON_NAME = "report.json"
 HTML_NAME = "report.html"
@@ -77,39 +91,35 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
             disagrees with the exact numbers beyond what its integration allows, or a surface
             body's solid lacks its wall faces (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
     """
-    from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
-
-    from . import occ_build, ocp_compat
-
-    ocp_compat.require("the cam's solid")
-    shape = occ_build.cam_solid(design)
+    ocp.require("the cam's solid")
+    shape = solids.cam_solid(design)
     # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
     # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
-    step_shape = shape if design.bspline is None else occ_build.cam_solid(design, exact_offset=False)
+    step_shape = shape if design.bspline is None else solids.cam_solid(design, exact_offset=False)
     for s in {id(shape): shape, id(step_shape): step_shape}.values():
-        if not occ_build.is_valid(s) or occ_build.count_solids(s) != 1:
+        if not solids.is_valid(s) or solids.count_solids(s) != 1:
             raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     t = design.spec.cam.thickness
     surfaces = surface_body(design)
     solid: dict[str, Any] = {
-        "valid": occ_build.is_valid(shape),
-        "solids": occ_build.count_solids(shape),
+        "valid": solids.is_valid(shape),
+        "solids": solids.count_solids(shape),
         # prisms: OCCT's Gauss rule is exact; wall surfaces (a cylindrical cam) need its adaptive rule
-        "kernel_volume": occ_build.kernel_volume(shape, occ_build.SURFACE_VOLUME_EPS if surfaces else None),
-        "cross_section_area": occ_build.top_face_area(shape, t),
+        "kernel_volume": solids.kernel_volume(shape, solids.SURFACE_VOLUME_EPS if surfaces else None),
+        "cross_section_area": solids.top_face_area(shape, t),
     }
     # how far the kernel's integrals are from the exact (Green's theorem) numbers
     solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
     solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
-    solid.update(occ_build.body_measures(design, shape))
+    solid.update(solids.body_measures(design, shape))
     check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
                        adaptive=surfaces, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
     if design.bspline is not None:
         solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
         solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
-        solid["step_cross_section_area"] = occ_build.top_face_area(step_shape, t)
+        solid["step_cross_section_area"] = solids.top_face_area(step_shape, t)
         # the solid STEP writes: the fitted offset itself, the exact numbers' own profile
-        check_kernel_solid(design, occ_build.kernel_volume(step_shape), solid["step_cross_section_area"],
+        check_kernel_solid(design, solids.kernel_volume(step_shape), solid["step_cross_section_area"],
                            kernel="OCCT (the STEP solid)", adaptive=False)
     return shape, step_shape, solid
 
@@ -117,8 +127,6 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
 def summary_stage(design: CamDesign) -> dict[str, Any]:
     """design.summary() with the spec itself (the part of report.json every entry point shares),
     and each failing check's remedy (:func:`cam_workbench.generators.studies.remedies.add_remedies`)."""
-    from cam_workbench.generators.studies.remedies import add_remedies
-
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
     add_remedies(summary["checks"], design.spec)
@@ -128,8 +136,6 @@ def summary_stage(design: CamDesign) -> dict[str, Any]:
 def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """The machining outputs (G-code of ``machining.program``, command table), adding the
     ``interpolator`` and ``machining`` sections to ``summary``."""
-    from cam_workbench.exporters.machining_outputs import machining_outputs
-
     machining = machining_outputs(design, plots=False, summary=summary)
     summary["interpolator"] = machining.interpolator_summary
     summary["machining"] = machining.machining_summary
@@ -138,12 +144,9 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """(ezdxf document, DxfInfo) of the drawing, adding the ``drawing`` section to ``summary``."""
-    if design.plane:
-        from cam_workbench.exporters.dxf import build_dxf
-    else:                                   # a cylindrical cam: developed, side and end views
-        from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf as build_dxf
-
-    doc, info = build_dxf(design, summary)
+    # a cylindrical cam: developed, side and end views
+    build = build_dxf if design.plane else build_cylindrical_dxf
+    doc, info = build(design, summary)
     summary["drawing"] = info.summary()
     return doc, info
 
@@ -152,8 +155,6 @@ def dynamics_stage(design: CamDesign, summary: dict[str, Any],
                    progress: Callable[[int, int, str], None] | None = None) -> Any:
     """The follower train at speed (:func:`cam_workbench.generators.dynamics.analyse_dynamics`), adding the
     ``dynamics`` section to ``summary``; returns the result (its θ-series, for the figures)."""
-    from cam_workbench.generators.dynamics import analyse_dynamics
-
     result = analyse_dynamics(design.spec, design.program, progress=progress, follower=design.follower)
     summary["dynamics"] = result.summary()
     return result
@@ -187,10 +188,6 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
     """θ-series for the report's "Contact force and stress" figure: the driving force
     (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
     spec gives the follower a load (preload, spring or mass); otherwise nothing."""
-    from cam_workbench.exporters.report_html import Series
-    from cam_workbench.generators.checks.design import StateModel, check_samples
-    from cam_workbench.generators.spec.params import unit_name
-
     spec = design.spec
     model = StateModel(spec, design.program)
     if not model.has_load:
@@ -208,11 +205,7 @@ def optional_series(design: CamDesign) -> dict[str, Any]:
 
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
-    from cam_workbench.exporters.report_html import report_plots
-
     if not outputs.design.plane:
-        from cam_workbench.exporters.report_cylindrical import FIGURES
-
         return len(FIGURES)
     return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
                             outputs.extra.get("dynamics")))
@@ -223,13 +216,8 @@ def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
     """Add report.json, report.html and the plot PNGs to the OutputSet ``out``; ``files``
     (name → file) is completed with them and stored in report.json.  Returns the report as
     written (the HTML shows exactly what the JSON holds)."""
-    from cam_workbench.exporters.report_html import render_report, report_plots
-    from cam_workbench.exporters.report_json import report_json_text
-
     design, summary = outputs.design, outputs.summary
     if not design.plane:             # a cylindrical cam: its own page and figures
-        from cam_workbench.exporters.report_cylindrical import FIGURES, render_cylindrical_report
-
         files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
         text = report_json_text(summary, files)
         report = json.loads(text)
@@ -264,16 +252,13 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
     Raises:
         SpecError: the folder is refused (naming ``claim.option``; nothing written).
     """
-    from cam_workbench.exporters.atomic import OutputSet
-    from cam_workbench.exporters.report_json import report_json_text
-    from cam_workbench.exporters.step import write_step
-
     files: dict[str, Any] = {}
     extra_texts = extra_texts or {}
     with OutputSet(Path(folder), claim) as o:
         if outputs.step_shape is not None:
             shape, units = outputs.step_shape, outputs.spec.units
-            o.add(STEP_NAME, lambda p: write_step(shape, p, units))
+            name = product_name(outputs.spec)
+            o.add(STEP_NAME, lambda p: write_step(shape, p, units, name))
             files["step"] = STEP_NAME
         if outputs.dxf is not None:
             doc = outputs.dxf[0]

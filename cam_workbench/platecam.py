@@ -21,13 +21,21 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
+from cam_workbench.exporters.dxf import export_dxf
+from cam_workbench.exporters.dxf_cylindrical import export_cylindrical_dxf
+from cam_workbench.exporters.ecam import ecam_table
+from cam_workbench.exporters.output_rule import admit, file_source, script_source, spec_claim
+from cam_workbench.exporters.step import export_step, product_name
 from cam_workbench.generators.cam_design import CamDesign, design_cam
+from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
+from cam_workbench.generators.spec.examples import example_spec
 from cam_workbench.generators.studies.remedies import with_remedy
 
-from . import occ_build, ocp_compat
 from .extras import import_build123d, import_cadquery
+from .kernel import ocp as ocp_compat, solids as occ_build
+from .pipeline import run_pipeline, write_outputs
 
 
 class PlateCam:
@@ -53,8 +61,6 @@ class PlateCam:
 
     def __init__(self, spec: CamSpec | str | os.PathLike[str] | Mapping[str, Any] | None = None,
                  **changes: Any):
-        from cam_workbench.exporters.output_rule import file_source, script_source
-
         self.source: str = script_source()
         if spec is None:
             spec = default_spec()
@@ -78,8 +84,6 @@ class PlateCam:
         "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
         "cylindrical_oscillating" (``cam_workbench.generators.spec.examples.DESCRIPTIONS`` says what each is;
         docs/spec.md lists them)."""
-        from cam_workbench.generators.spec.examples import example_spec
-
         cam = cls(example_spec(name), **changes)
         cam.source = f"example:{name}"
         return cam
@@ -136,9 +140,7 @@ class PlateCam:
     # ---- outputs ----------------------------------------------------------------
     def export_step(self, path: str | os.PathLike[str]) -> Path:
         """Write the solid as STEP in the spec's units, atomically."""
-        from cam_workbench.exporters.step import export_step
-
-        return export_step(self.step_shape, path, self.spec.units)
+        return export_step(self.step_shape, path, self.spec.units, product_name(self.spec))
 
     @cached_property
     def step_shape(self) -> Any:
@@ -151,19 +153,14 @@ class PlateCam:
 
     def export_dxf(self, path: str | os.PathLike[str]) -> Path:
         """Write the manufacturing drawing (DXF, as the spec's [drawing] section says), atomically."""
-        if self.design.plane:
-            from cam_workbench.exporters.dxf import export_dxf
-        else:                          # a cylindrical cam: developed, side and end views
-            from cam_workbench.exporters.dxf_cylindrical import export_cylindrical_dxf as export_dxf
-
-        export_dxf(self.design, path)
+        # a cylindrical cam: developed, side and end views
+        export = export_dxf if self.design.plane else export_cylindrical_dxf
+        export(self.design, path)
         return Path(path)
 
     def outputs(self) -> Any:
         """Every output of the cam, computed by the one pipeline ``cam-workbench build`` runs
         (:class:`cam_workbench.pipeline.CamOutputs`; nothing written)."""
-        from .pipeline import run_pipeline
-
         if self._outputs is None:
             self._outputs = run_pipeline(self.spec, design=self.design)
         return self._outputs
@@ -183,10 +180,6 @@ class PlateCam:
             SpecError: ``folder`` refused — files that are not cam-workbench output (always),
                 another cam's set, or a set this export would only partly replace; nothing written.
         """
-        from cam_workbench.exporters.output_rule import admit, spec_claim
-
-        from .pipeline import write_outputs
-
         claim = spec_claim(self.spec, "PlateCam.export", self.source, replace=replace, option="folder")
         admit(folder, claim)                    # before the pipeline runs
         return write_outputs(self.outputs(), folder, claim)
@@ -194,8 +187,6 @@ class PlateCam:
     def checks(self) -> dict[str, Any]:
         """report.json's ``checks`` section (the numbers ``cam-workbench check`` prints), without
         building the solid; for every body, the cylindrical cam's own checks included."""
-        from .pipeline import run_pipeline
-
         return run_pipeline(self.spec, solid=False, machining=False, drawing=False, design=self.design,
                             dynamics=False).summary["checks"]
 
@@ -208,8 +199,6 @@ class PlateCam:
         Raises:
             SpecError: the train lacks its data (naming the field).
         """
-        from cam_workbench.generators.dynamics import analyse_dynamics
-
         spec = self.spec.replace(**{f"dynamics.{k}": v for k, v in fields.items()}) if fields else self.spec
         return analyse_dynamics(spec, self.design.program, speed_rpm=speed_rpm, sweep=sweep,
                                 follower=self.design.follower)
@@ -219,8 +208,6 @@ class PlateCam:
         :class:`cam_workbench.exporters.ecam.EcamTable` (its ``text``, ``points``, ``deviation``), written
         atomically to ``path`` when given.  ``format``: "csv", "codesys", "beckhoff" or "lenze";
         ``options``: ``table``, ``step``, ``boundaries``, ``name`` (default: the spec's ``[ecam]``)."""
-        from cam_workbench.exporters.ecam import ecam_table
-
         table = ecam_table(self.spec, format, program=self.design.program, **options)
         if path is not None:
             table.write(path)

@@ -33,6 +33,7 @@ import contextlib
 import json
 import os
 import re
+import shutil
 import tempfile
 import threading
 import time
@@ -40,9 +41,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
-from cam_workbench.exporters.atomic import OutputSet, write_text_atomic
+from cam_workbench.exporters.atomic import OutputSet, write_bytes_atomic, write_text_atomic
 from cam_workbench.exporters.output_rule import (MANIFEST, Claim, admit, file_source, read_manifest, script_source, spec_claim,
                                    study_digest)
+from cam_workbench.exporters.plots import close, figure_bytes
+from cam_workbench.exporters.study_plots import sizing_chart
+from cam_workbench.exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
+from cam_workbench.generators.checks.design import run_checks
 from cam_workbench.generators.errors import CamError, SpecError
 from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.spec import CamSpec, load_spec, spec_digest
@@ -51,6 +56,9 @@ from cam_workbench.generators.studies.grid import Axis, Grid, parse_vary
 from cam_workbench.generators.studies.sizing import SizingSettings, check_names
 from cam_workbench.generators.studies.sweep import Counter, run_sweep
 from cam_workbench.generators.studies.table import StudyTable, error_row, summary_row
+
+from .parallel import dask_available, dask_executor, default_workers
+from .pipeline import run_pipeline, write_outputs
 
 SUMMARY_CSV = "summary.csv"
 SUMMARY_PARQUET = "summary.parquet"
@@ -74,8 +82,6 @@ def executor_scope(executor: Executor | None = None, workers: int | None = None,
         yield SerialExecutor()
         return
     if scheduler is None and workers is None:
-        from .parallel import dask_available, default_workers
-
         n = default_workers() if tasks is None else min(default_workers(), max(tasks, 1))
         if n <= 1:
             yield SerialExecutor()
@@ -87,7 +93,6 @@ def executor_scope(executor: Executor | None = None, workers: int | None = None,
             yield SerialExecutor()
             return
         workers = n
-    from .parallel import dask_executor
 
     with dask_executor(workers, scheduler) as ex:
         yield ex
@@ -118,8 +123,6 @@ def build_task(job: BuildJob, ctx: TaskContext) -> BuildOutcome:
     """The full ``build`` pipeline for one spec, written into a private temporary folder and
     returned as bytes (so that the caller writes the output set, wherever this ran); a spec that
     cannot be made, or any error, is a row saying why."""
-    from .pipeline import run_pipeline, write_outputs
-
     row = dict(job.row)
     if job.spec is None:
         status, msg = job.error or ("bad input", "no spec")
@@ -186,8 +189,6 @@ class SetsFolder:
                 o.add_bytes(fname, data)
 
     def write_file(self, name: str, data: bytes) -> None:
-        from cam_workbench.exporters.atomic import write_bytes_atomic
-
         write_bytes_atomic(self.folder / name, data)
 
     def finish(self, written: Sequence[str]) -> None:
@@ -195,8 +196,6 @@ class SetsFolder:
         set's other entries are removed — its manifest listed them, and this run was admitted
         to replace them (the same study making them again, a cam that now fails among them, or
         ``replace``)."""
-        import shutil
-
         keep = set(written) | set(self.kept)
         for name in (self.earlier or {}).get("files", []):
             if name not in keep and "/" not in name and name not in ("", ".", ".."):
@@ -209,8 +208,6 @@ class SetsFolder:
 
 
 def _table_files(table: StudyTable, csv_name: str, parquet_name: str) -> dict[str, bytes]:
-    from cam_workbench.exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
-
     files = {csv_name: csv_text(table).encode("utf-8"), STUDY_JSON: meta_text(table).encode("utf-8")}
     if have_parquet():
         files[parquet_name] = parquet_bytes(table)
@@ -455,8 +452,6 @@ def sweep_claim(spec: CamSpec, grid: Grid, *, size: bool = False, checks: str | 
 
 
 def _checks_of(spec: CamSpec) -> Any:
-    from cam_workbench.generators.checks.design import run_checks
-
     return run_checks(spec).results
 
 
@@ -502,9 +497,6 @@ def grid_columns(table: StudyTable) -> list[str]:
 
 def sizing_chart_png(table: StudyTable, **layout: Any) -> bytes | None:
     """The sizing chart of ``table`` as PNG bytes (None when no axis is numeric)."""
-    from cam_workbench.exporters.plots import close, figure_bytes
-    from cam_workbench.exporters.study_plots import sizing_chart
-
     try:
         fig = sizing_chart(table, grid_columns(table), **layout)
     except ValueError:

@@ -8,7 +8,11 @@ may write into is :mod:`cam_workbench.exporters.output_rule`'s rule.
 """
 from __future__ import annotations
 
+import ctypes
+import errno
+import json
 import os
+import shutil
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -66,9 +70,6 @@ _AT_FDCWD = -100
 def _exchange(a: Path, b: Path) -> bool:
     """Swap two directory entries atomically (Linux renameat2 RENAME_EXCHANGE); False where the
     system cannot (then the caller falls back to two renames)."""
-    import ctypes
-    import errno
-
     try:
         libc = ctypes.CDLL(None, use_errno=True)
         fn = libc.renameat2
@@ -94,8 +95,6 @@ def _pid_alive(pid: int) -> bool:
 
 def _remove_stale_staging(target: Path) -> None:
     """Staging folders of earlier runs that were killed (their process is gone)."""
-    import shutil
-
     prefix = f".{target.name}{STAGING_TAG}"
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
@@ -179,14 +178,9 @@ class OutputSet:
             try:
                 os.link(self.folder / name, dst)
             except OSError:
-                import shutil
-
                 shutil.copy2(self.folder / name, dst)
 
     def _commit(self) -> None:
-        import json
-        import shutil
-
         staging = self._stage()
         # the rule with this run's files: nothing foreign appeared meanwhile, nothing contradicting stays
         kept = admit(self.folder, self.claim, {n.split("/")[0] for n in self._pending})
@@ -207,8 +201,6 @@ class OutputSet:
         self._staging = None
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        import shutil
-
         try:
             if exc_type is None and self._pending:
                 self._commit()

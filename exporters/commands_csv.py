@@ -11,14 +11,10 @@ the command produces; ``s_desired_<u>`` the motion program's s(θ).
 from __future__ import annotations
 
 import io
-import os
-from pathlib import Path
 
 import numpy as np
 
 from cam_workbench.generators.machining.interpolator import Commands
-
-from .atomic import write_text_atomic
 
 
 def commands_csv_text(cmds: Commands, units: str = "mm") -> str:
@@ -33,8 +29,3 @@ def commands_csv_text(cmds: Commands, units: str = "mm") -> str:
     np.savetxt(buf, data, delimiter=",",
                fmt=["%d", "%.9g", "%.12g", "%.12g", "%d", "%.17g", "%.17g", "%.17g", "%.17g", "%.17g"])
     return buf.getvalue()
-
-
-def export_commands_csv(cmds: Commands, path: str | os.PathLike[str], units: str = "mm") -> Path:
-    """Write the command table to ``path`` atomically."""
-    return write_text_atomic(path, commands_csv_text(cmds, units))

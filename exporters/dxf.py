@@ -43,6 +43,7 @@ for the Standard style differ by up to 20 %).
 """
 from __future__ import annotations
 
+import logging
 import math
 import os
 from dataclasses import dataclass
@@ -51,6 +52,7 @@ from typing import Any
 import numpy as np
 
 from cam_workbench.generators import __version__
+from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.kinds import body_of, drawing_title
 from cam_workbench.generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
 from cam_workbench.generators.cam_design import CamDesign
@@ -300,7 +302,7 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
     if dr.title_block:
         _title_block(msp, design, s, info, _extents(msp, r_max, h), h)
     try:
-        from ezdxf import zoom
+        from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
 
         zoom.extents(msp, factor=1.05)
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
@@ -324,8 +326,6 @@ def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_
                 ) -> list[CurveExport]:
     """The body's loops besides the profile: circles as CIRCLE, arcs as ARC, lines as LINE, NURBS
     (a groove's outer wall, a second cam's profile) as the profile is drawn; returns their exports."""
-    from cam_workbench.generators.bodies import Arc, Curve, Line
-
     seen: set[tuple] = set()
     out: list[CurveExport] = []
     for loop in body.loops():
@@ -360,9 +360,7 @@ def _body_loops(msp: Any, body: Any, curves: str, tol: float, r12: bool, closed_
 def _new_document(version: str, insunits: int) -> Any:
     """A new ezdxf document with the standard linetypes, text and dimension styles.
     R12 files cannot carry $INSUNITS (the title block states the units instead)."""
-    import logging
-
-    import ezdxf
+    import ezdxf  # deferred: ezdxf, loaded when a drawing is made
 
     log = logging.getLogger("ezdxf")
     level = log.level
@@ -637,7 +635,7 @@ def _extents(msp: Any, r_max: float, h: float) -> Box:
     widened to :func:`text_width` (another reader's font may draw it wider); the circle of
     radius ``r_max`` when ezdxf cannot measure."""
     try:
-        from ezdxf import bbox
+        from ezdxf import bbox  # deferred: ezdxf, loaded when a drawing is made
 
         box = bbox.extents(msp, fast=False)
         if box.has_data:
@@ -737,7 +735,7 @@ def export_dxf(design: CamDesign, path: str | os.PathLike[str], summary: dict[st
 def read_profile_path(path: str | os.PathLike[str], layer: str = "PROFILE") -> Path2D:
     """The ARC/LINE/polyline entities of a layer as one head-to-tail :class:`Path2D` (for
     checking spline-less drawings against the exact profile)."""
-    import ezdxf
+    import ezdxf  # deferred: ezdxf, loaded when a drawing is made
 
     doc = ezdxf.readfile(str(path))
     starts, ends, centers, ccws = [], [], [], []

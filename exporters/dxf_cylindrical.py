@@ -29,11 +29,13 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import make_interp_spline
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.curves.approx import max_distance
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 
+from .atomic import atomic_path
 from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_closed_outline, add_path, approximate,
                   text_width, title_line)
 
@@ -108,8 +110,6 @@ def _segment_spline(design: Any, layer: str, rho: float, side: int, seg: int, a:
                     ) -> DevelopedCurve:
     """The not-a-knot cubic through ``n`` exact points of one motion segment, its error measured off
     the nodes: at the span midpoints and 8 points inside every span."""
-    from scipy.interpolate import make_interp_spline
-
     th = np.linspace(a, b, n)
     sp = make_interp_spline(th, developed_points(design, rho, side, th, np.full(n, seg)), k=DEGREE)
     fr = np.linspace(0, 1, 10)[1:-1]
@@ -227,7 +227,7 @@ def build_cylindrical_dxf(design: Any, summary: dict[str, Any] | None = None) ->
     if dr.title_block:
         _title(msp, design, s, info, x_a, min(-h, ye - ro) - 3 * h, h)
     try:
-        from ezdxf import zoom
+        from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
 
         zoom.extents(msp, factor=1.05)
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
@@ -291,8 +291,6 @@ def _title(msp: Any, design: Any, summary: dict[str, Any], info: CylDxfInfo, x0:
 
 def export_cylindrical_dxf(design: Any, path: Any, summary: dict[str, Any] | None = None) -> CylDxfInfo:
     """Write the drawing to ``path`` atomically (temporary file, then rename)."""
-    from .atomic import atomic_path
-
     doc, info = build_cylindrical_dxf(design, summary)
     with atomic_path(path) as tmp:
         doc.saveas(str(tmp))

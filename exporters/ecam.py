@@ -68,6 +68,7 @@ import numpy as np
 from cam_workbench.generators import __version__
 from cam_workbench.generators.kinds import follower_class_of
 from cam_workbench.generators.ecam import Deviation, TablePoints, interpolation_deviation, table_points
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import ECAM_TABLES, CamSpec
 
@@ -152,8 +153,6 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     Raises:
         SpecError: a bad option, naming ``ecam.<field>``.
     """
-    from cam_workbench.generators.errors import SpecError
-
     spec = resolve_options(spec, format, table=table, step=step, boundaries=boundaries, name=name)
     ec = spec.ecam
     tab = ECAM_TABLES[ec.format][0] if ec.table == "auto" else ec.table
@@ -176,13 +175,6 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     text = _fill_deviation(text, _deviation_text(deviations, lift_unit))
     return EcamTable(ec.format, tab, text, written, deviations, interpolation, lift_unit, suffix, ec.step, ec.name,
                      notes)
-
-
-def write_ecam(path: str | os.PathLike[str], spec: CamSpec, format: str | None = None, **options: Any) -> EcamTable:
-    """:func:`ecam_table` written to ``path`` (atomically); returns the table."""
-    t = ecam_table(spec, format, **options)
-    t.write(path)
-    return t
 
 
 # ---- numbers as the files hold them -------------------------------------------------------

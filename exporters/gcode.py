@@ -23,20 +23,16 @@ to upper case; G93 is an option on many Fanuc controls.
 """
 from __future__ import annotations
 
-import os
+from typing import Any, Iterable, Mapping
 
 import numpy as np
-from pathlib import Path
-from typing import Any, Iterable, Mapping
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.curves.approx import Path2D
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
-from cam_workbench.generators.machining import MachiningPlan
-from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath
-
-from .atomic import write_text_atomic
+from cam_workbench.generators.machining import MachiningPlan, machining_plan
+from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath, contour_path, rotary_path
 
 MODES = ("xy", "xc")
 _DECIMALS = {"mm": 4, "in": 5}
@@ -302,21 +298,12 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
                summary: Mapping[str, Any] | None = None) -> str:
     """The program of ``mode`` ("xy" or "xc") for ``design`` (plan resolved from its spec if
     omitted; ``summary`` as for :func:`contour_program`)."""
-    from cam_workbench.generators.machining import machining_plan
-    from cam_workbench.generators.machining.toolpath import contour_path, rotary_path
-
     plan = plan or machining_plan(design)
     if mode == "xy":
         return contour_program(design, plan, contour_path(design, plan), summary=summary)
     if mode == "xc":
         return rotary_program(design, plan, rotary_path(design, plan), summary=summary)
     raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
-
-
-def export_gcode(design: CamDesign, path: str | os.PathLike[str], mode: str = "xy",
-                 plan: MachiningPlan | None = None, *, summary: Mapping[str, Any] | None = None) -> Path:
-    """Write the ``mode`` program to ``path`` atomically."""
-    return write_text_atomic(path, gcode_text(design, mode, plan, summary=summary))
 
 
 def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | None = None) -> str:

@@ -15,16 +15,14 @@ import numpy as np
 from cam_workbench.generators.machining.interpolator import DEFAULT_SCHEME, InterpolatorAccuracy
 from cam_workbench.generators.motion import MotionProgram
 
-from .plots import save_figure
-
 PLOT_FILES = {"deviation": "interpolator_deviation.png", "kinematics": "interpolator_kinematics.png"}
 
 
 def _plt() -> Any:
-    import matplotlib
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: matplotlib, loaded when a figure is drawn
 
     return plt
 
@@ -119,15 +117,3 @@ def write_png(fig: Any, path: str | os.PathLike[str], dpi: int = 130) -> Path:
     fig.savefig(path, format="png", dpi=dpi, bbox_inches="tight")
     _plt().close(fig)
     return Path(path)
-
-
-def export_interpolator_plots(acc: InterpolatorAccuracy, program: MotionProgram, folder: str | os.PathLike[str],
-                              units: str = "mm", dense: tuple[np.ndarray, np.ndarray] | None = None,
-                              junction_angles: np.ndarray | None = None) -> dict[str, Path]:
-    """Write both figures into ``folder`` atomically (names in :data:`PLOT_FILES`)."""
-    folder = Path(folder)
-    return {
-        "deviation": save_figure(deviation_figure(acc, units, dense, junction_angles),
-                                 folder / PLOT_FILES["deviation"]),
-        "kinematics": save_figure(kinematics_figure(acc, program, units), folder / PLOT_FILES["kinematics"]),
-    }

@@ -14,14 +14,17 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.kinds import own_tool_path
+from cam_workbench.generators.machining.cylindrical import cylindrical_path
 from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
+from cam_workbench.generators.machining.plan import check_tool_fits
 from cam_workbench.generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
-from .gcode import contour_program, groove_program, rotary_program
+from .gcode import contour_program, cylindrical_program, groove_program, rotary_program
 from .interpolator_plots import PLOT_FILES, deviation_figure, kinematics_figure, write_png
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
@@ -144,7 +147,6 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
     second = second_cam_of(design)
     if second is None:
         return None
-    from cam_workbench.generators.machining.plan import check_tool_fits
 
     spec = design.spec
     plan2 = dataclasses.replace(plan, roller_radius=second.follower.profile_offset, rotary_line="axis")
@@ -183,8 +185,6 @@ class CylindricalMachiningOutputs:
 
     @property
     def commands_csv(self) -> str:
-        from cam_workbench.generators.errors import SpecError
-
         raise SpecError("--mode", "a cylindrical cam has no interpolator command table (its program is the 4-axis "
                         "X-Z-A one)")
 
@@ -198,10 +198,6 @@ class CylindricalMachiningOutputs:
 
 def cylindrical_outputs(design: Any, summary: dict[str, Any] | None = None) -> CylindricalMachiningOutputs:
     """The groove program of a cylindrical cam (:mod:`cam_workbench.generators.machining.cylindrical`)."""
-    from cam_workbench.generators.machining.cylindrical import cylindrical_path
-
-    from .gcode import cylindrical_program
-
     path = cylindrical_path(design)
     gcode = cylindrical_program(design, path, summary=summary)
     return CylindricalMachiningOutputs(path, gcode, {**path.summary(), "gcode_lines": gcode.count("\n")})

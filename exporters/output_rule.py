@@ -21,14 +21,17 @@ out; nothing is created or changed.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Collection, Mapping
 
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.spec import spec_digest
 
 MANIFEST = ".cam-workbench.json"
 STAGING_TAG = ".cam-workbench-staging-"
@@ -72,8 +75,6 @@ class Claim:
         this run kept (the identical spec: the set stays that source's, its commands listed
         before this one); ``digest`` False: none recorded (a study's plan, before its entries
         are made)."""
-        import time
-
         commands = list(earlier.get("commands") or [earlier.get("command")]) if earlier else []
         commands = [c for c in commands if isinstance(c, str) and c != self.command] + [self.command]
         source = (earlier.get("source") if earlier else None) or self.source
@@ -252,13 +253,9 @@ def _show(v: Any) -> str:
 
 def spec_claim(spec: Any, command: str, source: str | None, *, replace: bool = False, option: str = "-o") -> Claim:
     """The claim of a run writing the files of one cam made from ``spec`` (a CamSpec)."""
-    from cam_workbench.generators.spec import spec_digest
-
     return Claim(command, source, spec_digest(spec), spec.to_dict(), replace, option)
 
 
 def study_digest(definition: Mapping[str, Any]) -> str:
     """SHA-256 of a study's definition (JSON, keys sorted): names the study a folder was made by."""
-    import hashlib
-
     return hashlib.sha256(json.dumps(definition, sort_keys=True, default=str).encode("utf-8")).hexdigest()

@@ -30,11 +30,13 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from cam_workbench.generators.bodies.cylindrical import pressure_angles
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.kinds import body_of
 
 from .atomic import atomic_path
+from .dxf_cylindrical import developed_points
 
 SERIES_COLORS = ("#2e7d32", "#c0392b", "#6a1b9a", "#1f3b5c")
 COLORS = {"profile": "#1f3b5c", "pitch": "#c0392b", "follower": "#8a6212", "s": "#1f3b5c",
@@ -57,10 +59,10 @@ def _pitch_words(design: CamDesign) -> str:
 
 
 def _plt() -> Any:
-    import matplotlib
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: matplotlib, loaded when a figure is drawn
 
     return plt
 
@@ -76,7 +78,7 @@ def save_figure(fig: Any, path: str | os.PathLike[str], dpi: int = 150) -> Path:
 
 def figure_bytes(fig: Any, fmt: str, dpi: int = 150) -> bytes:
     """The figure as PNG or SVG bytes (SVG text keeps glyphs as paths: no font files needed)."""
-    import matplotlib
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
 
     buf = io.BytesIO()
     with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "cam_workbench"}):
@@ -193,7 +195,7 @@ def _draw_body_top(ax: Any, design: CamDesign, prof_label: str) -> None:
     """The body seen from +Z: every prism region that reaches the top face, material filled and
     cuts (a groove between its walls, the bore with its keyway, holes, the timing mark) white, in
     the body's order; a groove's walls labelled as the exact offsets they are."""
-    from matplotlib.patches import PathPatch
+    from matplotlib.patches import PathPatch  # deferred: matplotlib, loaded when a figure is drawn
     from matplotlib.path import Path as MplPath
 
     body = design.body
@@ -685,8 +687,6 @@ def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
     radius and at the groove's bottom, the exact wall points of
     :func:`cam_workbench.generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
     beside the developed view (x = ρ·ψ [length], z): the walls at R_o, the pitch line at R_p."""
-    from cam_workbench.exporters.dxf_cylindrical import developed_points
-
     plt = _plt()
     lay = design.layout
     u = design.spec.units
@@ -747,8 +747,6 @@ def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
 def cylindrical_pressure_angle_figure(design: Any, limit_deg: float | None) -> Any:
     """A cylindrical cam's pressure angle [deg] at R_p and R_b against the cam angle, with the
     check's limit (±``limit_deg``, report.json's)."""
-    from cam_workbench.generators.bodies.cylindrical import pressure_angles
-
     lay = design.layout
     th = design.program.dense_angles(721)
     deg = np.rad2deg(th)

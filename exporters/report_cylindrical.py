@@ -9,7 +9,9 @@ import html
 from typing import Any, Callable, Mapping
 
 from . import plots
-from .report_html import CSS, _checks_section, _inline_svg, _quantity_table
+from .report_cells import quantity_table
+from .report_html import CSS, inline_svg
+from .report_sections import checks_section
 
 #: (name of the PNG, title) of the figures
 FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
@@ -28,7 +30,7 @@ def render_cylindrical_report(design: Any, report: Mapping[str, Any],
             progress(title)
         fig = makers[name]()
         try:
-            svgs[name] = _inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), name.split(".")[0])
+            svgs[name] = inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), name.split(".")[0])
             pngs[name] = plots.figure_bytes(fig, "png", dpi=130)
         finally:
             plots.close(fig)
@@ -71,8 +73,8 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
     return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
             + f"</title><style>{CSS}</style></head><body><main>"
             f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
-            '<h2 id="checks">Design checks</h2>' + _checks_section(report)
-            + '<h2 id="body">The cylinder</h2>' + _quantity_table(report, rows)
+            '<h2 id="checks">Design checks</h2>' + checks_section(report)
+            + '<h2 id="body">The cylinder</h2>' + quantity_table(report, rows)
             + f'<p class="note">{approx}</p>'
             + '<h2 id="figures">Figures</h2>' + figs
             + "</main></body></html>\n")

@@ -1,4 +1,4 @@
-"""``report.json``: the design's numbers (keys in CAM_SPEC.md) plus the files written."""
+"""``report.json``: the design's numbers (its keys: docs/cli.md) plus the files written."""
 from __future__ import annotations
 
 import json

@@ -16,6 +16,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.studies.table import StudyTable
 
 from .plots import SERIES_COLORS, _plt
@@ -42,8 +43,6 @@ def _label(field: str, units: str) -> str:
 def criteria(table: StudyTable) -> str:
     """What the radius meets, in words with the limits: "pressure_angle ≤ 30°, curvature ≥ 12 mm"
     (the limits of the first row that has them), or "every design check"."""
-    from cam_workbench.generators.checks.design import limit_sign
-
     checks = table.meta.get("checks", "all")
     if checks == "all" or not checks:
         return "every design check"

@@ -41,7 +41,7 @@ def csv_text(table: StudyTable) -> str:
 def have_parquet() -> bool:
     """pyarrow is importable (Parquet can be written)."""
     try:
-        import pyarrow  # noqa: F401
+        import pyarrow  # noqa: F401  (deferred: pyarrow, of the [dask] extra)
         import pyarrow.parquet  # noqa: F401
     except ImportError:
         return False
@@ -49,7 +49,7 @@ def have_parquet() -> bool:
 
 
 def _arrow_column(values: list[Any]) -> Any:
-    import pyarrow as pa
+    import pyarrow as pa  # deferred: pyarrow, of the [dask] extra
 
     present = [v for v in values if v is not None]
     if present and all(isinstance(v, bool) for v in present):
@@ -63,7 +63,7 @@ def _arrow_column(values: list[Any]) -> Any:
 
 def parquet_bytes(table: StudyTable) -> bytes:
     """The table as a Parquet file (needs pyarrow)."""
-    import pyarrow as pa
+    import pyarrow as pa  # deferred: pyarrow, of the [dask] extra
     import pyarrow.parquet as pq
 
     arrays = [_arrow_column(table.column(c)) for c in table.columns]

@@ -30,6 +30,8 @@ WATCHED = ("build123d", "cadquery", *OCP_DISTS)
 IGNORE = shutil.ignore_patterns(".git", ".venv", ".cache", "out", "test-artifacts", "__pycache__",
                                 ".pytest_cache", "*.egg-info", "build", "dist")
 PIP_TIMEOUT_S = 1800
+#: unrelated PyPI projects whose import names were once ours (issue 21): installed beside the wheel
+FOREIGN = ("generators==2020.4.27", "exporters==0.7.0")
 
 
 @dataclass(frozen=True)
@@ -60,6 +62,8 @@ SCENARIOS: dict[str, Scenario] = {s.name: s for s in (
              title="(f) cam-workbench alone, from the sdist: no OCP"),
     Scenario("build123d-0.12-first", ("build123d==0.12.0",), "build123d", "build123d", True,
              title="(g) pip install build123d==0.12.0 (OCP 7.9 without VTK), then cam-workbench[build123d]"),
+    Scenario("foreign-names", FOREIGN, "ocp", None, True,
+             title="(h) PyPI's generators and exporters first, then cam-workbench[ocp]: one import name each"),
 )}
 
 

@@ -76,7 +76,7 @@ def _keyed_bore_area(r: float, b: float, t2: float) -> float:
 
 @requires_ocp
 def test_groove_cam_volume_and_solid():
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
 
     d = groove_dict(keyway="DIN6885", hub_diameter=36.0, hub_length=14.0, mounting_holes=4,
                     mounting_hole_diameter=6.0, mounting_circle_diameter=44.0)
@@ -175,7 +175,7 @@ def test_cli_refuses_a_groove_without_a_roller(tmp_path):
 
 @requires_ocp
 def test_plate_with_features_volume():
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
 
     d = copy.deepcopy(DEFAULT_SPEC_DICT)
     d["cam"].update(keyway_width=4.0, keyway_depth=2.0, hub_diameter=30.0, hub_length=12.0, mounting_holes=3,

@@ -14,7 +14,7 @@ from html.parser import HTMLParser
 
 import pytest
 
-from cam_workbench.exporters.report_html import format_number, lookup
+from cam_workbench.exporters.report_cells import format_number, lookup
 
 from .conftest import ROOT, requires_ocp
 

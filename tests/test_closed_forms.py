@@ -1,5 +1,5 @@
 """Closed forms: a radial follower with a simple-harmonic rise over 180° and return over 180°
-has the limaçon pitch curve r(θ) = R_b + h/2·(1 − cos θ) (DESIGN.md).  Its pressure angle,
+has the limaçon pitch curve r(θ) = R_b + h/2·(1 − cos θ).  Its pressure angle,
 radius of curvature and area are known in closed form; both the design-intent formulas
 (from s(θ)) and the built PH curve must reproduce them."""
 import numpy as np

@@ -95,7 +95,7 @@ def design_of(case):
 # ---- the geometry, written out here ---------------------------------------------------------
 def roller_centres(spec, th):
     """(first, second) roller centres in the cam frame at cam angles ``th`` [rad], from the motion
-    and the yoke / arm geometry (CAM_SPEC.md frames: fixed-frame point F → e^{−iδθ}F)."""
+    and the yoke / arm geometry (docs/followers.md's frames: fixed-frame point F → e^{−iδθ}F)."""
     s = MotionProgram.from_spec(spec).s(th)
     delta = 1 if spec.cam.direction == "ccw" else -1
     fol, c = spec.follower, spec.conjugate
@@ -347,8 +347,8 @@ FEATURES = dict(keyway="DIN6885", hub_diameter=30.0, hub_length=8.0, mounting_ho
 @requires_ocp
 @pytest.mark.parametrize("layout", ["spacer_round_the_holes", "spacer_inside_the_holes", "no_gap"])
 def test_volume_solid_and_step(tmp_path, layout):
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import read_step, write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel.step import read_step, write_step
 
     d = yoke_dict()
     d["cam"].update(FEATURES)

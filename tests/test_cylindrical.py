@@ -145,9 +145,9 @@ def test_volume_closed_form(design):
 
 @requires_ocp
 def test_solid_valid_volume_walls_and_step(design, tmp_path):
-    from cam_workbench import occ_build
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.exporters.step import read_step, write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1
@@ -171,7 +171,7 @@ def test_solid_valid_volume_walls_and_step(design, tmp_path):
 def bspline_face_points(shape, nu: int, nv: int, r0: float, r1: float) -> list[tuple[float, float, float]]:
     """Points of every B-spline face of ``shape`` (OCCT's evaluator) on an nu × nv grid of its
     parameters, those between the radii r0 and r1 (the groove's walls)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     out = []
     fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)

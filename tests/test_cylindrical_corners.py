@@ -251,8 +251,8 @@ def test_blended_solid_has_the_exact_volume(fixed_volume, tmp_path):
     assert abs(solid["volume_rel_diff"]) <= 1e-9 and abs(solid["area_rel_diff"]) <= 1e-12
     assert solid["wall_error"]["faces"] == 10 and solid["wall_error"]["points"] > 1000
     assert rep["checks"]["passed"]
-    from cam_workbench.occ_build import SURFACE_VOLUME_EPS, kernel_volume
-    from cam_workbench.exporters.step import read_step
+    from cam_workbench.kernel.solids import SURFACE_VOLUME_EPS, kernel_volume
+    from cam_workbench.kernel.step import read_step
 
     back = read_step(tmp_path / "out" / "cam.step", "mm")
     assert kernel_volume(back, SURFACE_VOLUME_EPS) == pytest.approx(fixed_volume, rel=1e-9)

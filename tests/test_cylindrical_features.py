@@ -107,9 +107,9 @@ def test_exact_volume_and_end_face_closed_form(design):
 
 @requires_ocp
 def test_solid_volume_face_extent_and_step(design, tmp_path):
-    from cam_workbench import occ_build
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.exporters.step import read_step, write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1

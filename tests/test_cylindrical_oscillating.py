@@ -219,8 +219,8 @@ def test_volume_closed_form(design):
 
 @requires_ocp
 def test_solid_valid_volume_walls_and_step(design, tmp_path):
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import read_step, write_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel.step import read_step, write_step
 
     shape = occ_build.cam_solid(design)
     assert occ_build.is_valid(shape) and occ_build.count_solids(shape) == 1

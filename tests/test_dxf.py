@@ -358,7 +358,7 @@ def test_cadquery_import_gives_the_solids_cross_section(drawings, name):
     knot span; cubic/arcs/polyline: within the measured distance × perimeter)."""
     import cadquery as cq
 
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
 
     design, path, info = drawings[name]
     faces = cq.importers.importDXF(str(path), include=["PROFILE"]).vals()
@@ -387,7 +387,7 @@ def test_cadquery_import_gives_the_solids_cross_section(drawings, name):
 def _occt_green_area(face):
     """½∮(x dy − y dx) over the face's outer wire with OCCT's curve evaluator (D1), 24 Gauss
     points per knot span — exact for these spans to rounding."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     xg, wg = np.polynomial.legendre.leggauss(24)
     total = 0.0

@@ -1,4 +1,4 @@
-"""Every cam body in the ``PlateCam`` feature inside a real FreeCAD (``freecadcmd``).
+"""Every cam body in the ``Cam`` feature inside a real FreeCAD (``freecadcmd``).
 
 A groove cam (mm, keyway by DIN 6885-1, hub, holes, timing mark), the same groove in inches
 (ANSI B17.1 keyway), a conjugate yoke pair and a conjugate arm pair, and a plate cam with every
@@ -120,7 +120,7 @@ def test_body_solid_volume_and_extent(run, name):
     assert r["valid"] and r["solids"] == 1, r
     k = MM_PER_IN if spec.units == "in" else 1.0
     exact = _exact_volume(design) * k**3
-    # FreeCAD's OCCT integrates B-spline side faces to ~1e-5 relative (DESIGN.md); the shoelace on
+    # FreeCAD's OCCT integrates B-spline side faces to ~1e-5 relative (measured); the shoelace on
     # 4000 points per loop is good to ~1e-6
     assert r["volume"] == pytest.approx(exact, rel=5e-5)
     assert r["volume"] == pytest.approx(design.volume * k**3, rel=5e-5)
@@ -137,7 +137,7 @@ def test_groove_walls_in_freecads_solid(run, name):
     k = MM_PER_IN if spec.units == "in" else 1.0
     th = np.linspace(0, 2 * np.pi, 200000, endpoint=False)
     s = MotionProgram.from_spec(spec).s(th)
-    pitch = np.exp(-1j * th) * (1j * (spec.cam.base_radius + s)) * k      # e = 0, ccw (CAM_SPEC.md)
+    pitch = np.exp(-1j * th) * (1j * (spec.cam.base_radius + s)) * k      # e = 0, ccw (docs/conventions.md)
     wall = np.array(run[name]["wall"])
     assert len(wall) > 40
     pts = wall[:, 0] + 1j * wall[:, 1]

@@ -1,4 +1,4 @@
-"""The cylindrical (barrel) cam in the ``PlateCam`` feature inside a real FreeCAD (``freecadcmd``).
+"""The cylindrical (barrel) cam in the ``Cam`` feature inside a real FreeCAD (``freecadcmd``).
 
 Two cams — the example, and the example with a DIN 6885-1 keyway, a hub, four mounting holes and the
 timing mark — are created with ``feature.create`` (what the GUI command calls) and recomputed.  Each

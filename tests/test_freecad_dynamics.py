@@ -282,7 +282,7 @@ state = {{}}
 def setup():
     mw.resize(1400, 900)
     FreeCADGui.activateWorkbench("CamWorkbench")
-    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
+    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Cam"]
     R["menu"] = [a.text() for a in menus[0].actions() if a.text()] if menus else []
     from cam_workbench.generators.spec import load_spec
     from cam_workbench.freecad.feature import create

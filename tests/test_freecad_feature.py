@@ -1,4 +1,4 @@
-"""The PlateCam feature inside a real FreeCAD (``freecadcmd``, Debian's 0.20.2 here).
+"""The Cam feature inside a real FreeCAD (``freecadcmd``, Debian's 0.20.2 here).
 
 Every test creates features through ``cam_workbench.freecad.feature.create`` — the function
 the GUI command calls — and compares with the CadQuery/OCP build of the same spec computed
@@ -76,7 +76,7 @@ def test_feature_volume_equals_cadquery_build(built, key):
     """FreeCAD's solid (FreeCAD's OCCT 7.6) has the volume of the CadQuery build (OCP's OCCT
     7.9) and of the exact Green's-theorem value, to 1e-9 relative, for the same spec."""
     from cam_workbench import PlateCam
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.solids import kernel_volume
 
     specs, res = built
     r = res[key]
@@ -196,7 +196,7 @@ doc.saveAs(PATH)
 REOPEN = """
 import FreeCAD
 doc = FreeCAD.openDocument(PATH)
-cam = doc.getObject("PlateCam")
+cam = doc.getObject("Cam")
 RESULT["restored_volume"] = cam.Shape.Volume
 RESULT["proxy"] = type(cam.Proxy).__module__ + "." + type(cam.Proxy).__name__
 RESULT["version"] = cam.Version
@@ -220,8 +220,8 @@ def test_save_reopen_recompute(tmp_path, fc_home):
     s = run_freecadcmd(f"SPEC = {spec!r}\nPATH = {str(path)!r}\n" + SAVE, tmp_path / "a", fc_home).check().result
     assert path.exists()
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + REOPEN, tmp_path / "b", fc_home).check().result
-    assert r["proxy"] == "cam_workbench.freecad.feature.PlateCamFeature"
-    assert r["version"] == 4
+    assert r["proxy"] == "cam_workbench.freecad.feature.CamFeature"
+    assert r["version"] == 5
     assert r["status"] == "ok" and r["valid"]
     assert abs(r["restored_volume"] - s["volume"]) / s["volume"] < 1e-12
     assert abs(r["volume"] - s["volume"]) / s["volume"] < 1e-12
@@ -247,7 +247,7 @@ doc.saveAs(PATH)
 OPEN_OLD = """
 import FreeCAD
 doc = FreeCAD.openDocument(PATH)
-cam = doc.getObject("PlateCam")
+cam = doc.getObject("Cam")
 RESULT["version"] = cam.Version
 RESULT["has"] = [n for n in ("PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea")
                  if n in cam.PropertiesList]
@@ -267,7 +267,7 @@ def test_old_file_is_upgraded_on_restore(tmp_path, fc_home):
     r = run_freecadcmd(f"PATH = {str(path)!r}\n" + OPEN_OLD, tmp_path / "b", fc_home)
     r.check()
     res = r.result
-    assert res["version"] == 4
+    assert res["version"] == 5
     assert res["has"] == ["PitchTolerance", "MotionJunctions", "Status", "CrossSectionArea"]
     assert res["junctions"] == [0, 0, 0, 0, 0]  # "not given" on each of the 5 existing rows
     assert res["status"] == "ok"
@@ -314,12 +314,12 @@ def test_bad_values_keep_last_good_shape_and_report(tmp_path, fc_home):
     r, out = run.result, run.console
     good = r["good"]
     expected = {
-        "zero_radius": "PlateCam: CamBaseRadius (cam.base_radius): must be > 0, got 0. The last good shape is kept.",
-        "angles": "PlateCam: MotionAngle[4] (motion[4].angle): spans sum to 350°, must be 360°",
-        "undercut": "PlateCam: the cam cannot be made:",
-        "lists": "PlateCam: Motion (motion): the Motion lists disagree: MotionLift has 4 entries, MotionKind has 5",
-        "offset": "PlateCam: FollowerOffset (follower.offset): |offset| must be < cam.base_radius",
-        "law": 'PlateCam: MotionControlX[1] (motion[1].control_x): is required for law = "bspline"',
+        "zero_radius": "Cam: CamBaseRadius (cam.base_radius): must be > 0, got 0. The last good shape is kept.",
+        "angles": "Cam: MotionAngle[4] (motion[4].angle): spans sum to 350°, must be 360°",
+        "undercut": "Cam: the cam cannot be made:",
+        "lists": "Cam: Motion (motion): the Motion lists disagree: MotionLift has 4 entries, MotionKind has 5",
+        "offset": "Cam: FollowerOffset (follower.offset): |offset| must be < cam.base_radius",
+        "law": 'Cam: MotionControlX[1] (motion[1].control_x): is required for law = "bspline"',
     }
     for label, line in expected.items():
         res = r[label]
@@ -480,8 +480,8 @@ def test_step_export_through_freecad(tmp_path, fc_home):
     the CadQuery build's volume; the spec exported as TOML opens as the same cam; a spec
     that breaks a rule writes no TOML file."""
     from cam_workbench import PlateCam
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.occ_build import is_valid, kernel_volume
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.solids import is_valid, kernel_volume
 
     paths = {k: str(tmp_path / n) for k, n in (("STEP_PATH", "cam.step"), ("TOML_PATH", "cam.toml"),
                                                ("BAD_STEP_PATH", "bad.step"),
@@ -667,6 +667,6 @@ def test_cam_that_cannot_be_made_reports_with_angle(tmp_path, fc_home):
     r = run.result
     assert r["status"].startswith(f"error: the cam cannot be made: undercut at cam angle {at:.3f}°")
     assert r["null"] is True
-    assert r["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle", "PlateCamFollower"]
-    assert f"PlateCam: the cam cannot be made: {refused.value}" in run.console
+    assert r["objects"] == ["Cam", "CamPitchCurve", "CamBaseCircle", "CamFollower"]
+    assert f"Cam: the cam cannot be made: {refused.value}" in run.console
     assert "no shape yet." in run.console and "Traceback" not in run.console

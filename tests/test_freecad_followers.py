@@ -1,4 +1,4 @@
-"""Every follower kind in the ``PlateCam`` feature inside a real FreeCAD (``freecadcmd``).
+"""Every follower kind in the ``Cam`` feature inside a real FreeCAD (``freecadcmd``).
 
 An oscillating roller (the built-in example), an oscillating knife edge (inches, cw), a
 translating flat face (the built-in example) and an oscillating flat face are created with
@@ -7,7 +7,7 @@ translating flat face (the built-in example) and an oscillating flat face are cr
 - the solid's volume against the library's exact volume (Green's area × thickness) and against
   ``report.json`` of ``cam-workbench build`` run in a subprocess on the spec FreeCAD exports;
 - the drawn follower (the reference child) against the mechanism computed here from the
-  CAM_SPEC.md conventions — pivot, arm length, roller centre on the pitch point, the flat
+  conventions of docs/followers.md — pivot, arm length, roller centre on the pitch point, the flat
   face's line and contact point, with the laws written out — and against the cam FreeCAD built
   (a roller touches the profile, a face is tangent to it), at two cam angles;
 - Check design's rows (cusp, face width, …) against report.json's ``checks``;
@@ -179,7 +179,7 @@ from cam_workbench.freecad.feature import reference_of
 from cam_workbench.freecad import properties as P
 doc = FreeCAD.openDocument(PATH)
 for o in doc.Objects:
-    if type(getattr(o, "Proxy", None)).__name__ != "PlateCamFeature":
+    if type(getattr(o, "Proxy", None)).__name__ != "CamFeature":
         continue
     RESULT[o.Name] = {"version": o.Version, "restored_volume": o.Shape.Volume, "spec": P.spec_dict(o),
                       "types": [o.getTypeIdOfProperty(n) for n in ("PitchTolerance", "MaxDeviation")],
@@ -227,7 +227,7 @@ def _scale(key: str) -> float:
     return MM_PER_IN if SPECS[key].get("units") == "in" else 1.0
 
 
-# ---- the mechanism, written out here from CAM_SPEC.md ("Follower motion and kinds") ----------
+# ---- the mechanism, written out here from docs/followers.md ("Conventions") -------------------
 def _law(law: str, x: float) -> tuple[float, float]:
     """f(x), f'(x) of a rise from 0 to 1 over x ∈ [0, 1]."""
     if law == "cycloidal":
@@ -522,7 +522,7 @@ def test_saved_and_reopened(built):
     run, reopened, _specs_dir = built
     for key in SPECS:
         r = reopened.result[key]
-        assert r["version"] == 4
+        assert r["version"] == 5
         assert CamSpec.from_dict(r["spec"]) == CamSpec.from_dict(SPECS[key])
         want = "App::PropertyAngle" if SPECS[key]["follower"].get("motion") == "oscillating" else "App::PropertyLength"
         assert r["types"] == [want, want]

@@ -43,15 +43,15 @@ def activate():
     FreeCADGui.activateWorkbench("CamWorkbench")
     R["active"] = FreeCADGui.activeWorkbench().name()
     menus = [a.text().replace("&", "") for a in mw.menuBar().actions()]
-    R["menu"] = "Plate cam" in menus
-    tb = [t for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle() == "Plate cam"]
+    R["menu"] = "Cam" in menus
+    tb = [t for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle() == "Cam"]
     R["toolbar"] = [a.text() for a in tb[0].actions()] if tb else []
 
 def new_cam():
-    FreeCADGui.runCommand("CamWorkbench_NewPlateCam")
+    FreeCADGui.runCommand("CamWorkbench_NewCam")
     doc = FreeCAD.ActiveDocument
     doc.UndoMode = 1
-    cam = doc.getObject("PlateCam")
+    cam = doc.getObject("Cam")
     R["new"] = {{"status": cam.Status, "valid": cam.Shape.isValid(), "volume": cam.Shape.Volume,
                 "objects": [o.Name for o in doc.Objects], "undo": doc.UndoNames[:1]}}
     FreeCADGui.Selection.clearSelection()
@@ -80,7 +80,7 @@ def edit_and_ok():
 
 def after_ok():
     doc = FreeCAD.ActiveDocument
-    cam = doc.getObject("PlateCam")
+    cam = doc.getObject("Cam")
     R["after_ok"] = {{"dialog": bool(FreeCADGui.Control.activeDialog()), "lifts": list(cam.MotionLift),
                      "status": cam.Status, "volume": cam.Shape.Volume,
                      "undo_steps": doc.UndoCount - state["undo_before"], "undo": doc.UndoNames[:1]}}
@@ -102,7 +102,7 @@ def after_bad():
     button("Cancel").click()
 
 def after_cancel():
-    cam = FreeCAD.ActiveDocument.getObject("PlateCam")
+    cam = FreeCAD.ActiveDocument.getObject("Cam")
     R["after_cancel"] = {{"dialog": bool(FreeCADGui.Control.activeDialog()),
                          "angles": list(cam.MotionAngle)}}
     FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
@@ -112,7 +112,7 @@ def after_cancel():
         t.expandAll()
 
 def select_cam():
-    FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("PlateCam"))
+    FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("Cam"))
 
 def screenshot_model():
     shot("freecad_gui_cam.png")
@@ -122,7 +122,7 @@ def screenshot_model():
 def check_design():
     # a stricter pressure-angle limit than the default cam's 30° (which it passes), so the
     # dialog shows a failing row too
-    FreeCAD.ActiveDocument.getObject("PlateCam").ChecksMaxPressureAngle = PA_LIMIT
+    FreeCAD.ActiveDocument.getObject("Cam").ChecksMaxPressureAngle = PA_LIMIT
     FreeCADGui.runCommand("CamWorkbench_CheckDesign")
 
 def check_dialog():
@@ -177,7 +177,7 @@ def delete_cam():
     R["delete_modal"] = None
     when_modal(watch)
     FreeCADGui.Selection.clearSelection()
-    FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("PlateCam"))
+    FreeCADGui.Selection.addSelection(FreeCAD.ActiveDocument.getObject("Cam"))
     FreeCADGui.runCommand("Std_Delete")
 
 def after_delete():
@@ -200,7 +200,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     from cam_workbench.generators import default_spec
     from cam_workbench.generators.checks.design import run_checks
 
-    step = tmp_path / "PlateCam.step"  # the dialog's suggestion (the document is unsaved: cwd)
+    step = tmp_path / "Cam.step"  # the dialog's suggestion (the document is unsaved: cwd)
     run = run_freecad_gui(GUI.format(art=str(artifacts), step=str(step), pa_limit=PA_LIMIT), tmp_path, fc_home)
     (artifacts / "freecad_gui_console.txt").write_text(run.console)  # FreeCAD's own output
     r = run.check().result
@@ -209,12 +209,12 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
                                   "cam_workbench.freecad.commands": False}, "start-up is not cheap"
     assert "CamWorkbench" in r["workbenches"]
     assert r["active"] == "CamWorkbench" and r["menu"]
-    assert r["toolbar"] == ["New plate cam", "Edit motion program", "Optimise", "Check design",
+    assert r["toolbar"] == ["New cam", "Edit motion program", "Optimise", "Check design",
                             "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
                             "Design report (HTML)…"]
     new = r["new"]
     assert new["status"] == "ok" and new["valid"] and new["volume"] > 0
-    assert new["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle", "PlateCamFollower"]
+    assert new["objects"] == ["Cam", "CamPitchCurve", "CamBaseCircle", "CamFollower"]
     assert r["editor_open"] and r["editor_rows"] == 5 and r["editor_status"] == "OK"
     assert r["edited_status"] == "OK"
     ok = r["after_ok"]
@@ -237,7 +237,7 @@ def test_workbench_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["file_dialog"] == "QFileDialog" and r["step_written"]
     assert r.get("delete_modal") is None and r["after_delete"] == []  # children go with the cam
     report = r["report"]
-    assert "PlateCam: motion program not applied: row 5, angle: spans sum to 355°" in report
+    assert "Cam: motion program not applied: row 5, angle: spans sum to 355°" in report
     assert "Traceback" not in report and "Traceback" not in run.console
     assert r["our_warnings"] == []
     bad = [line for line in report.splitlines()

@@ -1,6 +1,6 @@
 """Oscillating and flat-faced followers in the real FreeCAD GUI (Debian's ``freecad``) under Xvfb.
 
-An oscillating roller cam is made from its spec file (*New plate cam from spec…*); its
+An oscillating roller cam is made from its spec file (*New cam from spec…*); its
 follower child is drawn — the roller on its arm, the pivot — and redrawn at another cam angle;
 the motion editor shows the lifts in degrees; Check design shows its rows and the follower's
 label; a flat-faced cam added beside it shows the cusp and face-width rows.  No Python error or
@@ -38,7 +38,7 @@ warnings.showwarning = _record
 warnings.simplefilter("always")
 
 def cam():
-    return FreeCAD.ActiveDocument.getObject("PlateCam")
+    return FreeCAD.ActiveDocument.getObject("Cam")
 
 def follower():
     from cam_workbench.freecad.feature import reference_of
@@ -64,7 +64,7 @@ def activate():
     FreeCADGui.activateWorkbench("CamWorkbench")
 
 def open_spec():
-    # "New plate cam from spec…": its file dialog gets the spec file, as a user picks it
+    # "New cam from spec…": its file dialog gets the spec file, as a user picks it
     def fill(w):
         R["file_dialog"] = type(w).__name__
         # the file name typed into the dialog (selectFile is asynchronous in Qt's own dialog)
@@ -74,11 +74,11 @@ def open_spec():
             R["file_dialog_refused"] = True
             w.reject()
     when_modal(fill, QtGui.QFileDialog)
-    FreeCADGui.runCommand("CamWorkbench_NewPlateCamFromSpec")
+    FreeCADGui.runCommand("CamWorkbench_NewCamFromSpec")
 
 def opened():
     doc = FreeCAD.ActiveDocument
-    if doc is None or doc.getObject("PlateCam") is None:
+    if doc is None or doc.getObject("Cam") is None:
         raise NotYet("document")
     doc.UndoMode = 1
     c, f = cam(), follower()
@@ -177,12 +177,12 @@ def test_followers_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     (artifacts / "freecad_gui_followers_report_view.txt").write_text(r.get("report", ""))
     assert r["file_dialog"] == "QFileDialog" and "file_dialog_refused" not in r
     o = r["opened"]
-    assert o["objects"] == ["PlateCam", "PlateCamPitchCurve", "PlateCamBaseCircle", "PlateCamFollower"]
+    assert o["objects"] == ["Cam", "CamPitchCurve", "CamBaseCircle", "CamFollower"]
     assert o["status"] == "ok"
     exact = design_cam(spec).volume
     assert abs(o["volume"] - exact) / exact < 1e-9
     assert o["visible"] is True and o["angle"] == 0.0
-    assert o["tree"] == ["PlateCam pitch curve", "PlateCam base circle", "PlateCam follower"]
+    assert o["tree"] == ["Cam pitch curve", "Cam base circle", "Cam follower"]
     assert o["tolerance_type"] == "App::PropertyAngle"
     assert o["max_deviation"].endswith("°") or "deg" in o["max_deviation"], o["max_deviation"]
     # the arm and its pivot, the roller: pivot at (d, 0) rotated by −θ (ccw), an arm of L = 45

@@ -42,9 +42,9 @@ def activate():
     cv = task_dock()
     mw.resizeDocks([cv], [700], QtCore.Qt.Horizontal)
     FreeCADGui.activateWorkbench("CamWorkbench")
-    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
+    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Cam"]
     R["menu"] = [a.text() for a in menus[0].actions() if a.text()] if menus else []
-    tb = [t for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle() == "Plate cam"]
+    tb = [t for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle() == "Cam"]
     R["toolbar"] = [a.text() for a in tb[0].actions()] if tb else []
 
 def new_cam():
@@ -295,7 +295,7 @@ def test_optimiser_panel_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     (artifacts / "freecad_gui_optimise_report_view.txt").write_text(r.get("report_view", ""))
     (artifacts / "freecad_gui_optimise_result.json").write_text(__import__("json").dumps(r, indent=1))
     assert "Optimise" in r["menu"] and r["menu"].index("Optimise") == r["menu"].index("Edit motion program") + 1
-    assert r["toolbar"][:3] == ["New plate cam", "Edit motion program", "Optimise"]
+    assert r["toolbar"][:3] == ["New cam", "Edit motion program", "Optimise"]
     assert r["new"]["status"] == "ok"
     p = r["panel"]
     assert p["dialog"] and p["titles"] == ["Optimise Ex5", "Bounds", "Algorithm", "Run", "Result: before → after"]

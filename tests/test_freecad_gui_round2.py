@@ -37,7 +37,7 @@ def activate():
     FreeCADGui.activateWorkbench("CamWorkbench")
 
 def new_cam():
-    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Plate cam"]
+    menus = [m for m in mw.findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Cam"]
     R["menu"] = [a.text() for a in menus[0].actions() if a.text()] if menus else []
     from cam_workbench.freecad.feature import create
     doc = FreeCAD.newDocument("Ex5")
@@ -213,7 +213,7 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     run = run_freecad_gui(GUI.format(art=str(artifacts), out=str(out), ex5=str(ex5)), tmp_path, fc_home)
     r = run.check().result
     (artifacts / "freecad_gui_round2_report_view.txt").write_text(r.get("report_view", ""))
-    assert r["menu"] == ["New plate cam", "New plate cam from spec…", "Edit motion program", "Optimise", "Check design",
+    assert r["menu"] == ["New cam", "New cam from spec…", "Edit motion program", "Optimise", "Check design",
                          "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
                          "Export command table (CSV)…", "Export e-cam table…", "Design report (HTML)…",
                          "Export spec (TOML)…"]

@@ -182,7 +182,7 @@ def test_package_xml_is_read_by_freecad(tmp_path):
 
     r = run_freecadcmd(f"ROOT = {str(ROOT)!r}\n" + METADATA, tmp_path, tmp_path / "home").check()
     out = r.result
-    assert out["name"] == "Plate Cam" and out["version"] == __version__
+    assert out["name"] == "Cam Workbench" and out["version"] == __version__
     assert out["supports"] and out["wb_supports"] and out["freecadmin"].startswith("0.20")
     assert out["content"] == ["workbench"] and out["classname"] == "CamWorkbench"
     assert [lic["name"] for lic in out["licenses"]] == ["LGPL-2.1-or-later"]
@@ -222,7 +222,7 @@ from cam_workbench.freecad import spec_io
 RESULT["generators"] = generators.__file__
 RESULT["import_types"] = FreeCAD.getImportType("toml")
 doc = FreeCAD.newDocument("x")
-cam = feature.create(doc)                       # what "New plate cam" does
+cam = feature.create(doc)                       # what "New cam" does
 doc.recompute()
 RESULT["status"] = cam.Status
 RESULT["volume"] = cam.Shape.Volume
@@ -230,7 +230,7 @@ spec_io.export_spec(cam, os.path.join(os.getcwd(), "cam.toml"))
 cam.CamBaseRadius = 45.0
 doc.recompute()
 RESULT["volume45"] = cam.Shape.Volume
-opened = spec_io.open(os.path.join(os.getcwd(), "cam.toml"))   # "New plate cam from spec…", File › Open
+opened = spec_io.open(os.path.join(os.getcwd(), "cam.toml"))   # "New cam from spec…", File › Open
 FreeCAD.ActiveDocument.recompute()
 RESULT["opened"] = [opened.Status, opened.Shape.Volume]
 """

@@ -113,7 +113,7 @@ def test_bspline_cam_volume_equals_the_cadquery_build(tmp_path, fc_home):
     compared with OCCT's solid of that same profile (``exact_offset=False``) and with its
     exact Green's-theorem volume; the kernel's exact-offset solid differs from it by the fit."""
     from cam_workbench import PlateCam
-    from cam_workbench.occ_build import cam_solid, kernel_volume
+    from cam_workbench.kernel.solids import cam_solid, kernel_volume
     from cam_workbench.generators.cam_design import design_cam
 
     r = run_freecadcmd(f"EX5 = {str(EX5)!r}\n" + BSPLINE, tmp_path, fc_home).check().result

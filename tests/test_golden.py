@@ -53,7 +53,7 @@ def test_the_comparison_finds_what_changed_and_says_where():
     old = {"report": {"max_deg": 21.223026201189022, "at_deg": 274.952353491022,
                       "left": {"acceleration": -7.016709298534876e-15, "jerk": 85.94366926962351},
                       "points": [[-2.4410598047010856e-16, 32.0, 0.0]], "n": 60, "ok": True},
-           "gcode": "%\n(cam_workbench 0.1.0: plate cam)\nG0 Z5\n", "stdout": "see cam_workbench.generators.spec.examples"}
+           "gcode": "%\n(cam_workbench 0.1.0: plate cam)\nG0 Z5\n", "stdout": "see generators.examples"}
     same = {"report": {"max_deg": 21.223026201189022 * (1 + 9e-13), "at_deg": 274.952353491022,
                        "left": {"acceleration": 8e-13, "jerk": 85.94366926962351},
                        "points": [[0.0, 32.0, 0.0]], "n": 60, "ok": True},
@@ -75,7 +75,7 @@ def test_the_comparison_finds_what_changed_and_says_where():
 
 
 def test_the_names_table_renames_and_hides_what_varies():
-    assert normalise("cam_workbench.generators.spec and cam_workbench.exporters.dxf, PlateCam") == \
+    assert normalise("generators.spec and exporters.dxf, PlateCam") == \
         "cam_workbench.generators.spec and cam_workbench.exporters.dxf, Cam"
     assert normalise("cam_workbench.generators.spec, Cam") == "cam_workbench.generators.spec, Cam"
     assert normalise("(cam_workbench 0.1.0: plate cam) cam-workbench 1.2.3.dev4 2025-11-27T05:22:10Z") == \

@@ -5,7 +5,8 @@ them (:data:`tests.install_envs.SCENARIOS`): (a) ``pip install build123d`` first
 ``cam-workbench[build123d]``; (b) ``pip install cadquery`` first, then ``cam-workbench[cadquery]``;
 (c) ``[cadquery]`` alone; (d) ``[build123d]`` alone; (e) ``[ocp]`` alone, for the command line;
 (f) the sdist with no extra (no OCP); (g) build123d 0.12 (OCP 7.9 without VTK) first, then
-``cam-workbench[build123d]``.  In each:
+``cam-workbench[build123d]``; (h) PyPI's unrelated ``generators`` and ``exporters`` first, then
+``cam-workbench[ocp]`` (issue 21: the wheel owns one import name, ``cam_workbench``).  In each:
 
 * ``pip check`` passes, and ``pip list`` shows at most one OCP distribution (exactly one where an
   OCP is expected) and every package the user had before, at the version they had;
@@ -65,16 +66,19 @@ def env(request, install_envs) -> Env:
 
 
 def test_dist_has_the_package_data(install_envs):
-    """The wheel holds the three packages and the FreeCAD icons; its metadata names the extras
-    and no OCP, CadQuery or build123d among the requirements; the sdist holds the sources."""
+    """The wheel holds one package, ``cam_workbench`` (its subpackages ``generators`` and
+    ``exporters`` inside), and the FreeCAD icons; its metadata names the extras and no OCP,
+    CadQuery or build123d among the requirements; the sdist holds the sources."""
     import tarfile
     import zipfile
 
     dist = install_envs.dist
     names = zipfile.ZipFile(dist.wheel).namelist()
-    for pkg in ("cam_workbench/__init__.py", "cam_workbench/ocp_compat.py", "generators/__init__.py",
-                "exporters/step.py"):
+    for pkg in ("cam_workbench/__init__.py", "cam_workbench/kernel/ocp.py", "cam_workbench/kernel/step.py",
+                "cam_workbench/generators/__init__.py", "cam_workbench/generators/spec/model.py",
+                "cam_workbench/exporters/step.py"):
         assert pkg in names, pkg
+    assert {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")} == {"cam_workbench"}
     assert any(n.startswith("cam_workbench/freecad/icons/") and n.endswith(".svg") for n in names)
     meta = next(n for n in names if n.endswith(".dist-info/METADATA"))
     text = zipfile.ZipFile(dist.wheel).read(meta).decode()
@@ -87,7 +91,7 @@ def test_dist_has_the_package_data(install_envs):
     assert extras["ocp"].startswith("cadquery-ocp-novtk>=")
     assert not [r for r in requires if "<" in r and re.match(r"(cadquery|build123d)", r)], "upper bound"
     members = tarfile.open(dist.sdist).getnames()
-    assert any(m.endswith("cam_workbench/ocp_compat.py") for m in members)
+    assert any(m.endswith("cam_workbench/kernel/ocp.py") for m in members)
     assert any(m.endswith("/pyproject.toml") for m in members)
 
 
@@ -109,7 +113,7 @@ def test_nothing_the_user_had_changed(env: Env):
     version: no downgrade of build123d, CadQuery or OCP (nor of anything else)."""
     changed = {n: (v, env.after.get(n)) for n, v in env.before.items() if env.after.get(n) != v}
     assert not changed, changed
-    if env.scenario.first:
+    if env.scenario.first and env.scenario.library:
         assert env.scenario.library in env.before             # the user's library was there
 
 
@@ -124,7 +128,7 @@ def test_library_imports_and_readme_example_runs(env: Env, tmp_path):
     section = README_SECTION[lib]
     code = "\n".join(b.text for b in BLOCKS if b.section == section and b.lang == "python" and not b.freecad)
     assert code.strip(), f"README has no python block under {section!r}"
-    check = (f"\nfrom cam_workbench import ocp_compat as occ\n"
+    check = (f"\nfrom cam_workbench.kernel import ocp as occ\n"
              f"assert occ.is_valid({README_SOLID[lib]}) and occ.is_valid(cam.shape)\n"
              f"import {lib}\nprint('VERSIONS', {lib}.__version__, occ.describe())\n")
     script = tmp_path / "readme_example.py"
@@ -182,7 +186,7 @@ def test_cli_build(env: Env, tmp_path):
         assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
         names = {p.name for p in (tmp_path / "out").iterdir()}
         assert set(BUILD_FILES) <= names, sorted(set(BUILD_FILES) - names)
-        back = env.run_python("from cam_workbench.exporters.step import read_step\nfrom cam_workbench import ocp_compat as occ\n"
+        back = env.run_python("from cam_workbench.kernel.step import read_step\nfrom cam_workbench.kernel import ocp as occ\n"
                               "s = read_step('out/cam.step')\nprint(occ.is_valid(s), occ.describe())", tmp_path)
         assert back.returncode == 0 and back.stdout.startswith("True"), back.stdout + back.stderr
         return
@@ -198,9 +202,56 @@ def test_cli_build(env: Env, tmp_path):
         res = run([cli, *args], cwd=tmp_path, timeout=900)
         assert res.returncode == 0, (args, res.stderr)
     assert (tmp_path / "cam.nc").stat().st_size > 1000 and (tmp_path / "cam.dxf").stat().st_size > 1000
-    res = env.run_python("import sys\nfrom generators import default_spec, design_cam\n"
+    res = env.run_python("import sys\nfrom cam_workbench.generators import default_spec, design_cam\n"
                          "d = design_cam(default_spec())\nprint(d.area, 'OCP' in sys.modules)", tmp_path)
     assert res.returncode == 0 and res.stdout.split()[1] == "False", res.stdout + res.stderr
+
+
+_FOREIGN = """
+import base64, csv, hashlib, importlib.metadata as md, json, sys
+from pathlib import Path
+out = {"changed": [], "ours": {}}
+for dist in ("generators", "exporters"):
+    d = md.distribution(dist)
+    for f in d.files:
+        if f.hash and f.hash.mode == "sha256":
+            digest = base64.urlsafe_b64encode(hashlib.sha256(Path(f.locate()).read_bytes()).digest()).rstrip(b"=").decode()
+            if digest != f.hash.value:
+                out["changed"].append(str(f))
+    out[dist + "_files"] = len(d.files)
+from importlib import import_module   # the foreign packages, by their import names
+out["generators"] = import_module("generators").__file__
+try:
+    out["exporters"] = import_module("exporters").__file__
+except Exception as exc:  # its own code: Python 2 syntax
+    out["exporters"] = f"{type(exc).__name__}: {getattr(exc, 'filename', '')}"
+import cam_workbench.generators as g, cam_workbench.exporters as e
+from cam_workbench import PlateCam
+cam = PlateCam()
+out["ours"] = {"generators": g.__file__, "exporters": e.__file__, "volume": cam.volume}
+print(json.dumps(out))
+"""
+
+
+def test_foreign_generators_and_exporters_are_left_whole(install_envs, tmp_path):
+    """(h): after ``pip install cam-workbench[ocp]`` beside PyPI's ``generators`` 2020.4.27 and
+    ``exporters`` 0.7.0, every file of theirs has the hash their RECORD gives (none overwritten);
+    ``import generators`` is theirs, ``import exporters`` fails with a SyntaxError in their own
+    file (their package is Python 2 code, on any Python 3), and ``cam_workbench.generators`` and
+    ``cam_workbench.exporters`` are ours and build the default cam."""
+    env = install_envs.get("foreign-names")
+    res = env.run_python(_FOREIGN, tmp_path)
+    assert res.returncode == 0, res.stderr[-3000:]
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    site = str(env.path)
+    assert out["changed"] == [] and out["generators_files"] > 0 and out["exporters_files"] > 0, out
+    assert out["generators"].startswith(site) and "/site-packages/generators/" in out["generators"]
+    assert out["exporters"].startswith("SyntaxError: ")
+    assert "/site-packages/exporters/" in out["exporters"]
+    assert out["ours"]["generators"].endswith("/site-packages/cam_workbench/generators/__init__.py")
+    assert out["ours"]["exporters"].endswith("/site-packages/cam_workbench/exporters/__init__.py")
+    assert out["ours"]["volume"] > 0
+    _RECORDS.setdefault("foreign-names", {})["foreign"] = out
 
 
 def test_suite_under_ocp8_with_build123d(install_envs, tmp_path):

@@ -23,8 +23,9 @@ from pathlib import Path
 from .conftest import ROOT
 
 SCANNED = ("generators", "exporters", "cam_workbench")
-#: the comparisons still left (97 on main before the registry): the test fails when the count
-#: grows, and this number comes down to 0 as the remaining sites ask a capability instead
+#: the comparisons still left (89 on main before the registry): the test fails when the count
+#: grows; the one left is the FreeCAD document migration's (cam_workbench/freecad/properties.py,
+#: a document saved before oscillating followers), to go when that module asks the registry
 REMAINING = 1
 #: where every kind literal may be compared: the registry and the spec declarations
 FREE = ("generators/kinds/", "generators/spec/")

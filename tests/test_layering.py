@@ -1,4 +1,4 @@
-"""DESIGN.md's layering, checked: importing and running `generators` loads no CAD kernel,
+"""The layering of docs/layout.md, checked: importing and running `generators` loads no CAD kernel,
 file-format or upper-layer module; `cam_workbench/freecad` never imports OCP/cadquery/build123d."""
 import ast
 import re
@@ -45,19 +45,18 @@ def test_no_upward_imports_in_source():
         bad = re.compile(r"^\s*(import|from)\s+(cadquery|build123d|OCP)\b", re.M)
         for path in freecad.rglob("*.py"):
             assert not bad.search(path.read_text()), path
-    # exporters may use the OCP adaptor (a leaf: it imports no other project module), nothing
-    # else of cam_workbench
-    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench(?!\s+import\s+ocp_compat\b|\.ocp_compat\b"
+    # exporters may use the kernel (which imports only generators), nothing else of cam_workbench
+    exp = re.compile(r"^\s*(import|from)\s+(cam_workbench(?!\s+import\s+kernel\b|\.kernel\b"
                      r"|\.generators\b|\.exporters\b)|generators|exporters|cadquery|build123d)\b", re.M)
     for path in (ROOT / "exporters").rglob("*.py"):
         assert not exp.search(path.read_text()), path
 
 
 def test_only_the_adaptor_imports_ocp():
-    """Every OCP name the project uses comes from cam_workbench/ocp_compat.py, the one module that
+    """Every OCP name the project uses comes from cam_workbench/kernel/ocp.py, the one module that
     knows OCP's versions (issue 12): no other source, test or benchmark imports OCP."""
     ocp = re.compile(r"^\s*(import|from)\s+OCP\b", re.M)
-    adaptor = "cam_workbench/ocp_compat.py"
+    adaptor = "cam_workbench/kernel/ocp.py"
     offenders = []
     for top in ("cam_workbench", "exporters", "generators", "tests", "benchmarks"):
         for path in (ROOT / top).rglob("*.py"):
@@ -78,7 +77,7 @@ def test_only_the_adaptor_imports_ocp():
 def test_importing_the_package_loads_no_ocp():
     """``import cam_workbench`` (and the command line's parser) loads no OCP, cadquery or
     build123d: they are loaded when a solid is asked for."""
-    code = ("import sys, cam_workbench, cam_workbench.cli, cam_workbench.ocp_compat\n"
+    code = ("import sys, cam_workbench, cam_workbench.cli, cam_workbench.kernel.ocp\n"
             "cam_workbench.cli.build_parser()\n"
             "print(','.join(m for m in ('OCP', 'cadquery', 'build123d') if m in sys.modules))\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)

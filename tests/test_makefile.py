@@ -46,7 +46,7 @@ def test_every_install_step_is_announced(tmp_path):
     assert commands[0].endswith(f"-m venv {tmp_path / 'venv'}")
     assert "pip install" in commands[1] and "--upgrade pip" in commands[1]
     assert "pip install" in commands[2] and "-e '.[" in commands[2]
-    assert "ocp_compat import main" in commands[3]
+    assert "kernel.ocp import main" in commands[3]
     assert "a few minutes the first time" in lines[said[2]]
 
 

@@ -1,4 +1,4 @@
-"""The OCP adaptor (cam_workbench/ocp_compat.py) on the installed OCP: every name it hands out
+"""The OCP adaptor (cam_workbench/kernel/ocp.py) on the installed OCP: every name it hands out
 resolves, its arrays hold what they were given, its static-method wrappers do what OCCT's own
 calls do, and the B-spline it builds evaluates to the NURBS data's own points.  The dev venv runs
 this on OCP 7.9 (CadQuery's build); tests/test_install_envs.py runs it on OCP 8 (build123d's)."""
@@ -15,7 +15,7 @@ pytestmark = requires_ocp
 
 
 def test_every_name_resolves():
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     for name in (*occ.RENAMED, *occ.SAME):
         assert getattr(occ, name) is not None, name
@@ -29,7 +29,7 @@ def test_the_renamed_collections_are_the_ones_this_ocp_has():
     """OCP 8 has the template names in OCP.collections and not the old ones; OCP 7.9 the reverse."""
     import importlib
 
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     major = int(occ.version().split(".")[0])
     has_collections = importlib.util.find_spec("OCP.collections") is not None
@@ -45,7 +45,7 @@ def test_the_renamed_collections_are_the_ones_this_ocp_has():
 
 
 def test_arrays_are_one_based_and_hold_the_values():
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     r = occ.real_array([0.5, 1.5, 2.5])
     i = occ.int_array([3, 1, 4])
@@ -60,7 +60,7 @@ def test_arrays_are_one_based_and_hold_the_values():
 def test_bspline_evaluates_to_the_nurbs_points():
     """OCCT's evaluation of the curve the adaptor built = our NURBS evaluation (a rational
     quarter circle: the points are on the unit circle, independently)."""
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
     from cam_workbench.generators.curves.nurbs import NurbsCurve
 
     w = math.sqrt(0.5)
@@ -76,7 +76,7 @@ def test_bspline_evaluates_to_the_nurbs_points():
 
 def test_static_wrappers_on_a_box():
     """Casts, mass properties, bounding box and validity of a 2×3×4 box, against its closed forms."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(occ.gp_Ax3(occ.gp_Pnt(0, 0, 0), occ.gp_Dir(0, 0, 1),
                                                                occ.gp_Dir(1, 0, 0))), 0, 2, 0, 3).Face()
@@ -105,7 +105,7 @@ def test_static_wrappers_on_a_box():
 
 
 def test_step_parameters_round_trip():
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     occ.init_step()
     assert occ.static_set("write.step.unit", "INCH") and occ.static_get("write.step.unit") == "INCH"
@@ -115,7 +115,7 @@ def test_step_parameters_round_trip():
 
 
 def test_unknown_names_are_attribute_errors():
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     with pytest.raises(AttributeError):
         occ.IGESControl_Writer  # noqa: B018 - not a name the project uses: add it to SAME first

@@ -25,7 +25,7 @@ def cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
 
 
 def _true_pitch(spec: CamSpec, theta: np.ndarray) -> np.ndarray:
-    """P(θ) = Rot(∓θ)·(e, s₀ + s(θ)) from CAM_SPEC.md, written out here (s from the program)."""
+    """P(θ) = Rot(∓θ)·(e, s₀ + s(θ)) from docs/conventions.md, written out here (s from the program)."""
     from cam_workbench.generators.motion import MotionProgram
 
     s = MotionProgram.from_spec(spec).s(theta)
@@ -187,8 +187,8 @@ def test_example_option_and_spec_example(tmp_path):
 @requires_ocp
 def test_optimise_writes_the_optimised_cams_own_files(tmp_path):
     """optimise's folder holds the optimised cam's set: its cam.step is optimised.toml's cam."""
-    from cam_workbench.exporters.step import read_step
-    from cam_workbench import occ_build
+    from cam_workbench.kernel.step import read_step
+    from cam_workbench.kernel import solids as occ_build
     from cam_workbench.generators.cam_design import design_cam
     from cam_workbench.generators.spec import load_spec
 

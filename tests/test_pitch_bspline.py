@@ -136,8 +136,9 @@ def test_profile_errors_against_an_independent_polyline(designs):
 @requires_ocp
 @pytest.mark.parametrize("name", ["default", "cw_negative_offset", "knife", "example5"])
 def test_kernel_solids_are_valid_with_exact_offset_curves(designs, name, tmp_path):
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import export_step, has_offset_curves, read_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.exporters.step import export_step
+    from cam_workbench.kernel.step import has_offset_curves, read_step
 
     d = designs[name]
     exact = occ_build.cam_solid(d)
@@ -158,7 +159,7 @@ def test_kernel_solids_are_valid_with_exact_offset_curves(designs, name, tmp_pat
         assert occ_build.face_area(top) == pytest.approx(steiner - bore, rel=1e-9)
         assert occ_build.kernel_volume(exact) == pytest.approx((steiner - bore) * t, rel=1e-8)
         # OCCT's own evaluation of the offset curve = our offset of the same B-spline
-        from cam_workbench import ocp_compat as occ
+        from cam_workbench.kernel import ocp as occ
 
         ex = occ.TopExp_Explorer(top, occ.TopAbs_EDGE)
         worst = 0.0
@@ -189,9 +190,9 @@ def test_occt_step_writer_drops_offset_curves(tmp_path, bore):
     for Geom_OffsetCurve): it reports success and leaves out every face bounded by an offset
     curve — no geometry at all without a bore; with a bore only the bore's cylinder, which reads
     back as a "valid" shell of negative volume."""
-    from cam_workbench import occ_build
-    from cam_workbench import ocp_compat as occ
-    from cam_workbench.exporters.step import read_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.step import read_step
 
     d = design_cam(default_spec().replace(**{"pitch.representation": "bspline", "cam.bore_diameter": bore}))
     writer = occ.STEPControl_Writer()

@@ -363,7 +363,7 @@ def _after_sh(text: str, reader: Reader, res: subprocess.CompletedProcess) -> No
     if runs("pip install"):
         said = res.stdout + res.stderr
         assert "does not provide the extra" not in said, said
-        code = (f"import cam_workbench, {reader.library}\nfrom cam_workbench import ocp_compat\n"
+        code = (f"import cam_workbench, {reader.library}\nfrom cam_workbench.kernel import ocp as ocp_compat\n"
                 f"print(cam_workbench.__file__)\nprint([n for n, v in ocp_compat.distributions()])")
         where = _run([str(reader.python), "-c", code], env=reader.env(), cwd=reader.work, timeout=SAFETY_S)
         assert where.returncode == 0, where.stderr

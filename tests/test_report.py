@@ -12,7 +12,8 @@ from html.parser import HTMLParser
 import numpy as np
 import pytest
 
-from cam_workbench.exporters.report_html import Series, lookup, render_report, report_plots
+from cam_workbench.exporters.report_cells import lookup
+from cam_workbench.exporters.report_html import Series, render_report, report_plots
 from cam_workbench.generators import default_spec, design_cam
 
 from .conftest import ROOT, SAFETY_S, requires_ocp, paper_args

@@ -43,14 +43,14 @@ def cam(request):
 
 
 def test_valid_single_solid(cam):
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
 
     assert occ_build.is_valid(cam.shape)
     assert occ_build.count_solids(cam.shape) == 1
 
 
 def test_volume_equals_cross_section_times_thickness(cam):
-    from cam_workbench import occ_build
+    from cam_workbench.kernel import solids as occ_build
 
     d = cam.design
     # independent cross-section: OCCT's own evaluation of the edges, shoelace
@@ -61,8 +61,8 @@ def test_volume_equals_cross_section_times_thickness(cam):
 
 
 def test_solid_dimensions(cam):
-    from cam_workbench import occ_build
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel import ocp as occ
 
     box = occ.Bnd_Box()
     occ.add_to_box(cam.shape, box, optimal=True)
@@ -75,8 +75,8 @@ def test_solid_dimensions(cam):
 
 
 def test_step_roundtrip_same_volume(cam, tmp_path):
-    from cam_workbench import occ_build
-    from cam_workbench.exporters.step import read_step
+    from cam_workbench.kernel import solids as occ_build
+    from cam_workbench.kernel.step import read_step
 
     path = cam.export_step(tmp_path / "cam.step")
     units = cam.spec.units
@@ -106,7 +106,7 @@ ELSEWHERE = "not installed here; runs in the build123d environment of tests/test
 def test_build123d_objects():
     bd = pytest.importorskip("build123d", reason=f"build123d {ELSEWHERE}")
     from cam_workbench import PlateCam
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     cam = PlateCam()
     part = cam.part()

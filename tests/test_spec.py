@@ -128,9 +128,18 @@ def test_toml_roundtrip_and_sources(tmp_path):
     assert CamSpec.from_kwargs(**copy.deepcopy(DEFAULT_SPEC_DICT)) == s
 
 
-def test_shared_example_loads():
-    """The example of shared/CAM_SPEC.md, verbatim."""
-    text = (ROOT.parent / "shared" / "CAM_SPEC.md").read_text()
+def test_contract_example_loads():
+    """The example of the input contract, CAM_SPEC.md, verbatim: the contract is kept beside the
+    repository (``../shared``, as CI checks it out), not in it; its example must always load."""
+    text = (ROOT.parent / "shared" / "CAM_SPEC.md").read_text(encoding="utf-8")
+    example = text.split("```toml", 1)[1].split("```", 1)[0]
+    s = load_spec(example)
+    assert s.cam.base_radius == 22.3607 and s.pitch.segments == 60
+
+
+def test_conventions_example_loads():
+    """The minimal spec of docs/conventions.md (the paper's Table 1 cam, case 2), verbatim."""
+    text = (ROOT / "docs" / "conventions.md").read_text(encoding="utf-8")
     example = text.split("```toml", 1)[1].split("```", 1)[0]
     s = load_spec(example)
     assert s.cam.base_radius == 22.3607 and s.pitch.segments == 60

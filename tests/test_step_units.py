@@ -18,8 +18,8 @@ CLI = [sys.executable, "-m", "cam_workbench.cli"]
 #: reads a STEP file in mm in a new interpreter: (bounding-box z extent, volume)
 READ_MM = """
 import json, sys
-from cam_workbench.exporters.step import read_step
-from cam_workbench import occ_build, ocp_compat as occ
+from cam_workbench.kernel.step import read_step
+from cam_workbench.kernel import ocp as occ, solids as occ_build
 shape = read_step(sys.argv[1], "mm")
 box = occ.Bnd_Box(); occ.add_to_box(shape, box)
 x0, y0, z0, x1, y1, z1 = occ.box_limits(box)
@@ -86,3 +86,20 @@ def test_freecad_reads_an_inch_step_at_its_size(tmp_path):
     spec = load_spec(EX5)
     assert got["z"] == pytest.approx(spec.cam.thickness * 25.4, rel=1e-6)
     assert got["volume"] == pytest.approx(design_cam(spec).volume * 25.4**3, rel=1e-4)
+
+
+@requires_ocp
+def test_step_product_is_named_for_the_body(tmp_path):
+    """The STEP file's PRODUCT entity (what a CAD system's tree shows) names the cam's body, in
+    the file the API's export_step() writes and in the set export() (the CLI's pipeline) writes."""
+    import re
+
+    from cam_workbench import PlateCam
+
+    def products(path):
+        return re.findall(r"PRODUCT\('([^']*)'", path.read_text())
+
+    PlateCam().export_step(tmp_path / "plate.step")
+    assert products(tmp_path / "plate.step") == ["Plate cam"]
+    PlateCam.example("groove").export(tmp_path / "groove")
+    assert products(tmp_path / "groove" / "cam.step") == ["Groove cam"]

@@ -6,6 +6,12 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from rich.console import Console
+from rich.markup import escape
+
+from cam_workbench.generators.errors import SpecError
+
+from ..studies import batch, collect_specs
 from .common import (add_output_arguments, add_parallel_arguments, check_parallel_arguments, count_progress, note,
                      parse_value, require_ocp)
 
@@ -41,10 +47,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cam_workbench.generators.errors import SpecError
-
-    from ..studies import batch, collect_specs
-
     check_parallel_arguments(args)
     require_ocp("batch")
     changes: dict[str, Any] = {}
@@ -62,9 +64,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _report(table: Any, out: Path) -> int:
-    from rich.console import Console
-    from rich.markup import escape
-
     con = Console(soft_wrap=True)
     rows = table.rows
     ok = [r for r in rows if r["status"] == "ok"]

@@ -6,12 +6,10 @@ import argparse
 from pathlib import Path
 
 from cam_workbench.generators.checks.areas import area_label
-from cam_workbench.generators.kinds import pitch_named
+from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.studies.remedies import remedy_lines
 
-from ..pipeline import plot_count, run_pipeline, write_outputs
-from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
-                     output_claim, plot_progress, require_ocp, spec_from_args)
+from .common import add_output_arguments, add_spec_arguments, write_cam
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -30,23 +28,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    spec = spec_from_args(args)
-    require_ocp("build")
-    admit_output(args, spec, "build")
-    design = design_for(spec)
-    bar, dcb = dynamics_progress(spec)
-    with bar:
-        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
-    out = Path(args.output)
-    prog, cb = plot_progress(plot_count(outputs))
-    with prog:
-        report = write_outputs(outputs, out, output_claim(args, spec, "build"), progress=cb)
-    _print_summary(report, out, outputs.design.plane)
+    report, out = write_cam(args, "build")
+    _print_summary(report, out)
     return 0
 
 
-def _print_summary(s: dict, out: Path, plane: bool) -> None:
-    if not plane:          # not a plane cam (``Design.plane``): its body's numbers
+def _print_summary(s: dict, out: Path) -> None:
+    if not body_named(s["body"]["kind"]).plane:          # not a plane cam (``Body.plane``): its body's numbers
         _print_body_summary(s, out)
         return
     u = s["units"]

@@ -7,8 +7,13 @@ import json
 from pathlib import Path
 from typing import Any
 
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
 from cam_workbench.exporters.atomic import OutputSet
 from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.generators.bodies.cylindrical import cylinder_checks
 from cam_workbench.generators.checks.areas import area_label, area_summary
 from cam_workbench.generators.checks.design import format_value, limit_sign, run_checks
 from cam_workbench.generators.kinds import follower_class_of
@@ -56,8 +61,6 @@ def run(args: argparse.Namespace) -> int:
         error = None
     except GeometryError as exc:
         if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
-            from cam_workbench.generators.bodies.cylindrical import cylinder_checks
-
             checks_dict = cylinder_checks(spec)
             areas = None
         else:
@@ -112,10 +115,6 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
                 junctions: list[dict[str, Any]] | None = None, follower_curve: str = "pitch curve") -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
     Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.table import Table
-
     console = Console()
     mode = ("the thesis' 71 nodes per rise/return" if checks["sampling"] == "thesis71"
             else f"{checks['samples_per_segment']} samples per rise/return, refined extrema")
@@ -150,7 +149,6 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
     console.print(verdict + ("" if out is None else f" — checks written to {out}/report.json"))
 
 
-
 _JUMP_NAMES = ("s", "velocity", "acceleration", "jerk")
 
 
@@ -167,8 +165,6 @@ def area_line(areas: dict[str, Any], units: str, curve: str = "pitch curve") -> 
 def junction_table(junctions: list[dict[str, Any]], lift_unit: str) -> Any:
     """report.json's ``motion.junctions`` as a rich table: where, which laws, the order of
     continuity reached (C0 … C3) against the order promised, and the first jump."""
-    from rich.table import Table
-
     lab = {"velocity": f" {lift_unit}/rad", "acceleration": f" {lift_unit}/rad²", "jerk": f" {lift_unit}/rad³",
            "s": f" {lift_unit}"}
     t = Table(title="segment junctions (continuity of s, s′, s″, s‴)")

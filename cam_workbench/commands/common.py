@@ -1,17 +1,32 @@
 """Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, the output folder's
-claim, progress."""
+claim, progress, the run that ``build`` and ``report`` share."""
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING, Any, Callable
+import contextlib
+import sys
+from pathlib import Path
+from typing import Any, Callable
 
-from cam_workbench.generators.errors import SpecError
+from rich.console import Console
+from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+from cam_workbench.exporters.output_rule import Claim, admit, file_source, spec_claim
+from cam_workbench.generators.kinds import body_of
+from cam_workbench.generators.cam_design import CamDesign, design_cam
+from cam_workbench.generators.errors import GeometryError, SpecError
 from cam_workbench.generators.spec.examples import DESCRIPTIONS, example_spec
 from cam_workbench.generators.spec import CamSpec, load_spec
+from cam_workbench.generators.studies.remedies import with_remedy
 
-if TYPE_CHECKING:
-    from cam_workbench.exporters.output_rule import Claim
-    from cam_workbench.generators.cam_design import CamDesign
+from ..kernel.ocp import require
+from ..parallel import import_distributed
+from ..pipeline import plot_count, run_pipeline, write_outputs
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
 
 
 def add_spec_arguments(p: argparse.ArgumentParser) -> None:
@@ -46,17 +61,13 @@ def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: 
 
 def source_of(args: argparse.Namespace) -> str:
     """The cam the run is for: ``--source``, SPEC's resolved path, or ``example:NAME``."""
-    from cam_workbench.exporters.output_rule import file_source
-
     if args.source:
         return str(args.source)
     return file_source(args.spec) if args.spec else f"example:{args.example or 'default'}"
 
 
-def output_claim(args: argparse.Namespace, spec: CamSpec, command: str) -> "Claim":
+def output_claim(args: argparse.Namespace, spec: CamSpec, command: str) -> Claim:
     """The claim of ``command`` writing the files of ``spec``'s cam into ``-o``."""
-    from cam_workbench.exporters.output_rule import spec_claim
-
     return spec_claim(spec, command, source_of(args), replace=args.replace)
 
 
@@ -64,8 +75,6 @@ def admit_output(args: argparse.Namespace, spec: CamSpec, command: str, names: t
     """Before any work: refuse ``-o`` where ``command`` may not write the files ``names`` (None:
     not known yet — then only what no run could write into; the full rule is applied again when
     the files are written) — exit 2, nothing written."""
-    from cam_workbench.exporters.output_rule import admit
-
     admit(args.output, output_claim(args, spec, command), names)
 
 
@@ -75,10 +84,6 @@ def parse_value(text: str, field: str = "--set") -> Any:
     if low in ("true", "false"):
         return low == "true"
     if low.startswith("["):            # a list, e.g. --set "motion[1].control_y=[0.1, 0.6, 0.9]"
-        try:
-            import tomllib
-        except ModuleNotFoundError:  # Python 3.10
-            import tomli as tomllib  # type: ignore[no-redef]
         try:
             return tomllib.loads(f"v = {text.strip()}")["v"]
         except tomllib.TOMLDecodeError:
@@ -109,27 +114,19 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
 def own_design(spec: CamSpec) -> bool:
     """Whether the spec's body is not a plane cam (``Body.plane``): it has its own design, checks
     and outputs (a cylindrical cam)."""
-    from cam_workbench.generators.kinds import body_of
-
     return not body_of(spec).plane
 
 
 def require_ocp(command: str) -> None:
     """Before any work: the commands that build the solid (build, report, optimise) need OCP;
     without it they exit 2 with one line naming the extras that bring it (nothing written)."""
-    from ..ocp_compat import require
-
     require(f"cam-workbench {command} (the solid, its checks and cam.step)")
 
 
-def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
+def design_for(spec: CamSpec, remedy: bool = True) -> CamDesign:
     """``design_cam(spec)``, with a progress display while ``pitch.tolerance`` chooses M; a cam that
     cannot be made is refused with the change that would make it (``remedy``:
     :func:`cam_workbench.generators.studies.remedies.with_remedy`)."""
-    from cam_workbench.generators.cam_design import design_cam
-    from cam_workbench.generators.errors import GeometryError
-    from cam_workbench.generators.studies.remedies import with_remedy
-
     try:
         if spec.pitch.tolerance is None:
             return design_cam(spec)
@@ -142,18 +139,36 @@ def design_for(spec: CamSpec, remedy: bool = True) -> "CamDesign":
         raise with_remedy(spec, exc) from None
 
 
+def write_cam(args: argparse.Namespace, command: str, *, report_only: bool = False) -> tuple[dict[str, Any], Path]:
+    """The run ``build`` and ``report`` share: the spec, OCP and the ``-o`` folder checked before
+    any work, the design (with its progress), every stage of the pipeline (the dynamics with a
+    progress bar when the spec asks), then the files written as one set with a progress bar over
+    the figures.  ``report_only``: of the files, only the report's (report.json, report.html, the
+    plots) — its numbers are still ``build``'s.  Returns (the report as written, the folder)."""
+    spec = spec_from_args(args)
+    require_ocp(command)
+    admit_output(args, spec, command)
+    design = design_for(spec)
+    bar, dcb = dynamics_progress(spec)
+    with bar:
+        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
+    if report_only:
+        outputs.step_shape = outputs.machining = outputs.dxf = None
+    out = Path(args.output)
+    prog, cb = plot_progress(plot_count(outputs))
+    with prog:
+        report = write_outputs(outputs, out, output_claim(args, spec, command), progress=cb)
+    return report, out
+
+
 def on_terminal() -> bool:
     """Whether standard output is a terminal: progress displays are drawn there only, so that a
     redirected output holds the command's result alone (``gcode`` writes its program there)."""
-    from rich.console import Console
-
     return Console().is_terminal
 
 
 def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], None]]:
     """A rich progress display (context manager) and a callback for the tolerance search."""
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
     prog = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(),
                     transient=True, disable=not on_terminal())
     task = prog.add_task(description, total=None)
@@ -166,8 +181,6 @@ def progress_reporter(description: str) -> tuple[Any, Callable[[int, float], Non
 
 def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     """A rich progress bar over the report's figures, and its callback."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     prog = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                     TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = prog.add_task("report", total=total)
@@ -182,15 +195,23 @@ def plot_progress(total: int) -> tuple[Any, Callable[[str], None]]:
     return prog, callback
 
 
+def sweep_progress() -> tuple[Any, Any]:
+    """A rich progress bar over the jump-speed sweep and bisection, and its callback."""
+    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                   TimeElapsedColumn(), transient=True, disable=not on_terminal())
+    task = bar.add_task("jump-speed sweep", total=None)
+
+    def callback(done: int, total: int, what: str) -> None:
+        bar.update(task, completed=done, total=total, description=what)
+
+    return bar, callback
+
+
 def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], None] | None]:
     """A rich progress bar over the jump-speed sweep when the spec asks for its dynamics
     (``dynamics.enabled``), else a no-op context and no callback."""
-    import contextlib
-
     if not (spec.dynamics.enabled and spec.dynamics.sweep_points > 0):
         return contextlib.nullcontext(), None
-    from .dynamics_cmd import sweep_progress
-
     return sweep_progress()
 
 
@@ -212,23 +233,17 @@ def check_parallel_arguments(args: argparse.Namespace) -> None:
     if args.scheduler is not None and args.workers not in (None,):
         raise SpecError("--scheduler", "give --workers or --scheduler, not both")
     if args.scheduler is not None or (args.workers or 0) >= 1:
-        from ..parallel import import_distributed
-
         import_distributed(f"--{'scheduler' if args.scheduler else 'workers'}")
 
 
 def note(text: str) -> None:
     """One line on standard error (a note, not an error)."""
-    import sys
-
     print(f"note: {text}", file=sys.stderr)
 
 
 def count_progress(total: int, description: str, unit: str) -> tuple[Any, Callable[[int, int], None]]:
     """A rich progress bar over ``total`` items (designs, cams, points) and its callback
     ``(done, total)``."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
-
     prog = Progress(TextColumn("{task.description}"), BarColumn(),
                     TextColumn("{task.completed}/{task.total} " + unit), TimeElapsedColumn(),
                     TextColumn("eta"), TimeRemainingColumn(), transient=True, disable=not on_terminal())

@@ -10,13 +10,23 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from cam_workbench.exporters import plots
 from cam_workbench.exporters.atomic import OutputSet
+from cam_workbench.exporters.report_cells import format_number as fmt
 from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.dynamics import analyse_dynamics, validate_dynamics
 from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
+from cam_workbench.generators.spec.params import unit_name
 
-from .common import add_output_arguments, add_spec_arguments, admit_output, on_terminal, output_claim, spec_from_args
+from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, spec_from_args,
+                     sweep_progress)
 
 EXIT_CONTACT_LOST = 3
 CSV_NAME = "dynamics.csv"
@@ -43,20 +53,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-sweep", action="store_true", help="skip the jump-speed sweep (dynamics.sweep_points = 0)")
     add_output_arguments(p, None)
     p.set_defaults(run=run)
-
-
-def sweep_progress() -> tuple[Any, Any]:
-    """A rich progress bar over the jump-speed sweep and bisection, and its callback."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                   TimeElapsedColumn(), transient=True, disable=not on_terminal())
-    task = bar.add_task("jump-speed sweep", total=None)
-
-    def callback(done: int, total: int, what: str) -> None:
-        bar.update(task, completed=done, total=total, description=what)
-
-    return bar, callback
 
 
 def run(args: argparse.Namespace) -> int:
@@ -113,18 +109,13 @@ def merged_report(path: Path, spec: CamSpec, section: dict[str, Any]) -> dict[st
 def train_follower(spec: CamSpec) -> Any:
     """The follower the dynamics drive: the body's own (a cylindrical cam's roller along its axis)
     or the spec's."""
-    from cam_workbench.generators.kinds import body_of
-
     return body_of(spec).dynamics_follower(spec)
 
 
 def series_csv(result: Any) -> str:
     """The θ-series of one steady-state revolution as CSV (spec units; angles in degrees)."""
-    import numpy as np
-
     s = result.series()
     lu = "deg" if result.lift_unit == "angle" else result.units
-    from cam_workbench.generators.spec.params import unit_name
 
     fu, tu = unit_name("force", result.units), unit_name("torque", result.units)
     head = [("theta [deg]", "theta_deg"), (f"s [{lu}]", "lift"), (f"q [{lu}]", "position"),
@@ -138,8 +129,6 @@ def series_csv(result: Any) -> str:
 
 
 def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
-    from cam_workbench.exporters import plots
-
     out = {}
     makers = [(PLOTS[0], lambda: plots.dynamics_figure(result, section))]
     if "jump_speed" in section:
@@ -155,12 +144,6 @@ def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
 
 def print_tables(d: dict[str, Any], out: Path | None) -> None:
     """report.json's ``dynamics`` section as tables — the values printed are report.json's own."""
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.table import Table
-
-    from cam_workbench.exporters.report_html import format_number as fmt
-
     con = Console(soft_wrap=True)
     c, m, e, tq = d["contact"], d["model"], d["error"], d["torque"]
     lu, fu, tu = e["unit"], c["unit"], tq["unit"]

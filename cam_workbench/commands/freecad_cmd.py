@@ -12,7 +12,7 @@ EXIT_OK, EXIT_CHECK_FAILED = 0, 3
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "freecad", help="install or uninstall the FreeCAD workbench",
-        description="Register the Plate Cam workbench with your FreeCAD (a CamWorkbench folder in "
+        description="Register the Cam Workbench with your FreeCAD (a CamWorkbench folder in "
                     "FreeCAD's per-user Mod folder, linking this installation's packages), or "
                     "remove it. The Mod folder is asked from every FreeCAD found (freecadcmd on "
                     "PATH, or --freecad), so FreeCAD 0.20, 1.0 and 1.1's versioned folders are "
@@ -79,7 +79,7 @@ def run_install(args: argparse.Namespace) -> int:
                 print(f"error: FreeCAD {info.version} ({info.executable}) cannot use the workbench: "
                       f"{detail}\n  FreeCAD's Python needs numpy ≥ 1.24 and scipy ≥ 1.10.")
     if status == EXIT_OK:
-        print("restart FreeCAD and choose the 'Plate Cam' workbench")
+        print("restart FreeCAD and choose the 'Cam Workbench' workbench")
     return status
 
 

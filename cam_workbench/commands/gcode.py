@@ -8,6 +8,7 @@ from pathlib import Path
 
 from cam_workbench.exporters.atomic import write_text_atomic
 from cam_workbench.exporters.output_rule import check_output_file
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.spec import spec_digest
 
 from ..pipeline import run_pipeline
@@ -52,8 +53,6 @@ def run(args: argparse.Namespace) -> int:
     elif args.cam == "second":
         text = outputs.machining.second_gcode
         if text is None:
-            from cam_workbench.generators.errors import SpecError
-
             raise SpecError("cam.body", f'--cam second needs a conjugate pair (cam.body = "conjugate"), got '
                             f'"{spec.cam.body}"')
     else:

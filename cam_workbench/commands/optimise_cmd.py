@@ -9,11 +9,16 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedColumn
+
 from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.optimise import Progress, optimise
 from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
 from ..pipeline import plot_count, run_pipeline, write_outputs
+from ..studies import executor_scope
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
                      check_parallel_arguments, note, on_terminal, output_claim, plot_progress, require_ocp,
                      spec_from_args)
@@ -53,8 +58,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _progress_bar(budget: int) -> tuple[Any, Any]:
-    from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedColumn
-
     bar = Bar(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} evaluations"),
               TimeElapsedColumn(), transient=True, disable=not on_terminal())
     task = bar.add_task("optimising", total=budget)
@@ -69,8 +72,6 @@ def _progress_bar(budget: int) -> tuple[Any, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..studies import executor_scope
-
     check_parallel_arguments(args)
     spec = spec_from_args(args)
     require_ocp("optimise")
@@ -106,9 +107,6 @@ def run(args: argparse.Namespace) -> int:
 def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     """The run's summary, every figure and verdict taken from report.json's ``optimise`` section:
     its status and message exactly as written there, and whether the start was feasible."""
-    from rich.console import Console
-    from rich.markup import escape
-
     con = Console(soft_wrap=True)         # no wrapping: the lines are report.json's own text
     opt = report["optimise"]
     unit = opt["objective_unit"]

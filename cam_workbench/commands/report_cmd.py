@@ -3,11 +3,9 @@ and report.json — the report ``build`` writes, from the same pipeline (:mod:`c
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from ..pipeline import HTML_NAME, JSON_NAME, plot_count, run_pipeline, write_outputs
-from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, dynamics_progress,
-                     output_claim, plot_progress, require_ocp, spec_from_args)
+from ..pipeline import HTML_NAME, JSON_NAME
+from .common import add_output_arguments, add_spec_arguments, write_cam
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -24,18 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    spec = spec_from_args(args)
-    require_ocp("report")
-    admit_output(args, spec, "report")
     # the same numbers as `build` (every stage runs); only the report files are written
-    design = design_for(spec)
-    bar, dcb = dynamics_progress(spec)
-    with bar:
-        outputs = run_pipeline(spec, design=design, dynamics_progress=dcb)
-    outputs.step_shape = outputs.machining = outputs.dxf = None
-    out = Path(args.output)
-    prog, cb = plot_progress(plot_count(outputs))
-    with prog:
-        report = write_outputs(outputs, out, output_claim(args, spec, "report"), progress=cb)
+    report, out = write_cam(args, "report", report_only=True)
     print(f"report written to {out}/: {HTML_NAME}, {JSON_NAME}, " + ", ".join(report["files"]["plots"]))
     return 0

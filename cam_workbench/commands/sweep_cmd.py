@@ -6,8 +6,17 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from cam_workbench.exporters.output_rule import admit
+from cam_workbench.generators.studies.grid import Grid
+from cam_workbench.generators.studies.sizing import digits_of
+
+from ..studies import grid_columns, make_grid, sweep, sweep_claim, write_study
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, check_parallel_arguments,
-                     count_progress, note, source_of, spec_from_args)
+                     count_progress, note, require_ocp, source_of, spec_from_args)
 
 EXIT_SOME_FAILED = 4
 
@@ -58,12 +67,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cam_workbench.exporters.output_rule import admit
-    from cam_workbench.generators.studies.grid import Grid
-
-    from ..studies import make_grid, sweep, sweep_claim, write_study
-    from .common import require_ocp
-
     check_parallel_arguments(args)
     spec = spec_from_args(args)
     grid: Grid = make_grid(args.vary, args.balance)
@@ -87,14 +90,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print(table: Any, out: Path, files: dict[str, str]) -> None:
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.table import Table
-
-    from cam_workbench.generators.studies.sizing import digits_of
-
-    from ..studies import grid_columns
-
     con = Console(soft_wrap=True)
     rows = table.rows
     bad = [r for r in rows if r["status"] not in ("ok", "no radius")]

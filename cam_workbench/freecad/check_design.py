@@ -1,4 +1,4 @@
-"""Check design: the design checks, their extremes and the buildability of a ``PlateCam``.
+"""Check design: the design checks, their extremes and the buildability of a ``Cam`` feature.
 
 Three parts, all computed inside FreeCAD from ``generators`` (pure numpy/scipy, so FreeCAD's
 own Python runs them):
@@ -37,13 +37,17 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.checks.claims import profile_claim
 from cam_workbench.generators.checks.design import format_value as fmt_value
-from cam_workbench.generators.checks.design import limit_sign
-from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
+from cam_workbench.generators.checks.design import limit_sign, run_checks
+from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
-from cam_workbench.generators.kinds import pitch_named
+from cam_workbench.generators.kinds import body_of, follower_of, pitch_named
+from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
 
+from . import part_build
 from . import properties as props
 
 
@@ -223,7 +227,6 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
         if spec is None:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
-    from cam_workbench.generators.kinds import body_of, follower_of
 
     if not body_of(spec).plane:     # not a plane cam: the body's own design and checks
         return _own_body_report(obj, spec, dynamics_error)
@@ -245,8 +248,6 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     """Check design of a body that designs itself (a cylindrical cam): its design checks are the
     ``checks`` section of its report.json (``design.checks_report``: pressure angle at the pitch and
     bottom radii, undercut of the developed centre line), its rows the body's numbers."""
-    from cam_workbench.generators.cam_design import design_cam
-
     report = DesignReport(True, units=spec.units)
     if dynamics_error is not None:
         report.dynamics_enabled, report.dynamics_error = True, dynamics_error
@@ -319,8 +320,6 @@ def cylindrical_rows(s: dict[str, Any]) -> list[tuple[str, str, str, str]]:
 def _spec_without_dynamics(obj: Any) -> Any:
     """The feature's spec without its ``[dynamics]`` (which break a rule), or None when the rest
     breaks one too."""
-    from cam_workbench.generators.spec import CamSpec
-
     data = props.spec_dict(obj)
     data.pop("dynamics", None)
     try:
@@ -400,8 +399,6 @@ def steady_state_text(d: dict[str, Any]) -> str:
 
 
 def _add_dynamics(report: DesignReport, spec: Any, progress: Any) -> None:
-    from cam_workbench.generators.dynamics import analyse_dynamics
-
     try:
         # the function `cam-workbench dynamics` and `build` call: its summary() is report.json's section
         section = analyse_dynamics(spec, progress=progress).summary()
@@ -452,8 +449,6 @@ def checks_table(checks: Any) -> list[list[str]]:
 
 
 def _add_checks(report: DesignReport, spec: Any) -> None:
-    from cam_workbench.generators.checks.design import run_checks
-
     try:
         checks = add_remedies(run_checks(spec).to_dict(), spec)  # the dict report.json's checks section is
     except CamError as exc:
@@ -468,8 +463,6 @@ def _add_checks(report: DesignReport, spec: Any) -> None:
 
 
 def _add_buildability(report: DesignReport, obj: Any, spec: Any) -> None:
-    from cam_workbench.generators.cam_design import design_cam
-
     try:
         design = design_cam(spec)
     except GeometryError as exc:
@@ -554,8 +547,6 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
         ("FreeCAD solid", "kernel volume vs exact", f"{rel:.2e} relative", ""),
     ]
     if not design.plane:
-        from . import part_build
-
         lay = design.layout
         pts = part_build.wall_face_points(shape, radii=((lay.bottom_radius - 1e-6) * scale,
                                                         (lay.outer_radius + 1e-6) * scale)) / scale
@@ -572,7 +563,7 @@ _GREEN, _RED, _AMBER = "#1a7f37", "#c62828", "#9a6700"
 def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int | tuple[int, ...] | None = None
            ) -> Any:
     """A read-only table; the cells of ``status_col`` (one column or several) coloured by status."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only: the report is read in any Python)
 
     status_cols = (status_col,) if isinstance(status_col, int) else tuple(status_col or ())
     table = QtGui.QTableWidget(len(rows), len(headers))
@@ -598,11 +589,9 @@ def _table(name: str, headers: list[str], rows: list[list[str]], status_col: int
 
 def show_report(obj: Any) -> DesignReport:
     """Print the report to the report view and show it in a (non-modal) dialog."""
-    import FreeCAD
-    import FreeCADGui
-    from PySide import QtGui
-
-    from PySide import QtCore
+    import FreeCAD  # deferred: FreeCAD (the dialog only: the report is read in any Python)
+    import FreeCADGui  # deferred: FreeCADGui (the GUI's; this module is App side)
+    from PySide import QtCore, QtGui  # deferred: PySide (the dialog only)
 
     if getattr(obj, "DynamicsEnabled", False):
         FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the follower dynamics "
@@ -685,7 +674,7 @@ def show_report(obj: Any) -> DesignReport:
 
 def _dynamics_page(report: DesignReport) -> Any:
     """The Follower dynamics tab: the verdict, then report.json's ``dynamics`` numbers."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (the dialog only)
 
     page = QtGui.QWidget()
     page.setObjectName("dynamics_page")

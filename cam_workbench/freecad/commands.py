@@ -1,6 +1,6 @@
 """The workbench's commands and its menu/toolbar layout.
 
-Importing this module is cheap (FreeCAD, FreeCADGui, os): every command imports what it
+Importing this module is cheap (FreeCAD, FreeCADGui, PySide, os): every command imports what it
 needs (numpy, scipy, generators, matplotlib) only when it runs.  A new command is a
 :class:`Command` subclass registered in :data:`COMMANDS` and placed in :data:`LAYOUT`.
 """
@@ -12,36 +12,39 @@ from typing import Any
 
 import FreeCAD
 import FreeCADGui
+from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
 
 ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
-PROXY_CLASS = "PlateCamFeature"
-REFERENCE_CLASS = "PlateCamReference"
+#: The proxies' class names (restored documents hold these classes whatever name they stored)
+PROXY_CLASS = "CamFeature"
+REFERENCE_CLASS = "CamReference"
 
 
-def is_plate_cam(obj: Any) -> bool:
+def is_cam(obj: Any) -> bool:
     """Cheap test (no import of the feature module)."""
     return type(getattr(obj, "Proxy", None)).__name__ == PROXY_CLASS
 
 
-def plate_cams(doc: Any) -> list[Any]:
-    return [o for o in doc.Objects if is_plate_cam(o)] if doc is not None else []
+def cams_of(doc: Any) -> list[Any]:
+    """The cam features of ``doc`` (none for no document)."""
+    return [o for o in doc.Objects if is_cam(o)] if doc is not None else []
 
 
 def target_cam() -> Any:
-    """The plate cam a command acts on: the selected one (or the cam of a selected reference
+    """The cam a command acts on: the selected one (or the cam of a selected reference
     curve), else the only cam of the active document; None (with a message) otherwise."""
     for obj in FreeCADGui.Selection.getSelection():
-        if is_plate_cam(obj):
+        if is_cam(obj):
             return obj
         if type(getattr(obj, "Proxy", None)).__name__ == REFERENCE_CLASS:
-            cams = [o for o in obj.InList if is_plate_cam(o)]
+            cams = [o for o in obj.InList if is_cam(o)]
             if cams:
                 return cams[0]
-    cams = plate_cams(FreeCAD.ActiveDocument)
+    cams = cams_of(FreeCAD.ActiveDocument)
     if len(cams) == 1:
         return cams[0]
-    FreeCAD.Console.PrintError("Select a plate cam first" + (" (the document has several)" if cams
-                                                              else " (the document has none)") + "\n")
+    FreeCAD.Console.PrintError("Select a cam first" + (" (the document has several)" if cams
+                                                        else " (the document has none)") + "\n")
     return None
 
 
@@ -62,10 +65,14 @@ class Command:
         doc = FreeCAD.ActiveDocument
         if not self.needs_cam:
             return True
-        return doc is not None and any(is_plate_cam(o) for o in doc.Objects)
+        return doc is not None and any(is_cam(o) for o in doc.Objects)
 
     def Activated(self) -> None:
         try:
+            # registered before a command may make a cam; activating the workbench stays cheap:
+            from . import view_providers  # deferred: numpy, scipy, the generators
+
+            view_providers.register()
             self.run()
         except Exception as exc:  # noqa: BLE001 - one clear line, not a traceback
             FreeCAD.Console.PrintLog(traceback.format_exc())
@@ -75,16 +82,17 @@ class Command:
         raise NotImplementedError
 
 
-class NewPlateCam(Command):
-    menu_text = "New plate cam"
-    tooltip = ("Add a parametric plate cam (the built-in default: the paper's Table 1 case 2 with "
-               "a 5 mm roller); edit its properties and its motion program")
-    icon = "PlateCam.svg"
+class NewCam(Command):
+    menu_text = "New cam"
+    tooltip = ("Add a parametric cam (the built-in default: a plate cam with a radial 8 mm roller on "
+               "the paper's motion program); edit its properties and its motion program, or start "
+               "from a spec of any body")
+    icon = "Cam.svg"
     needs_cam = False
 
     def run(self) -> None:
         doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
-        doc.openTransaction("New plate cam")
+        doc.openTransaction("New cam")
         FreeCADGui.doCommand("from cam_workbench.freecad.feature import create")
         FreeCADGui.doCommand(f"create(App.getDocument({doc.Name!r}))")
         FreeCADGui.doCommand(f"App.getDocument({doc.Name!r}).recompute()")
@@ -92,22 +100,21 @@ class NewPlateCam(Command):
         _fit_view()
 
 
-class NewPlateCamFromSpec(Command):
-    menu_text = "New plate cam from spec…"
-    tooltip = "Add a plate cam from a spec file (TOML, as the cam-workbench CLI reads)"
-    icon = "PlateCamFromSpec.svg"
+class NewCamFromSpec(Command):
+    menu_text = "New cam from spec…"
+    tooltip = ("Add a cam from a spec file (TOML, as the cam-workbench CLI reads): a plate, groove, "
+               "conjugate or cylindrical cam")
+    icon = "CamFromSpec.svg"
     needs_cam = False
 
     def run(self) -> None:
-        from PySide import QtGui
-
         name, _f = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Cam spec", "",
                                                      "Cam spec (*.toml)")
         if not name:
             return
+        # deferred: the generators load numpy, scipy
         from cam_workbench.generators.errors import SpecError
-
-        from cam_workbench.generators.spec import load_spec
+        from cam_workbench.generators.spec import load_spec  # deferred: as above
 
         try:
             load_spec(name)
@@ -116,7 +123,7 @@ class NewPlateCamFromSpec(Command):
             QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), "Cam spec", str(exc))
             return
         doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
-        doc.openTransaction("New plate cam")
+        doc.openTransaction("New cam")
         FreeCADGui.doCommand("from cam_workbench.freecad.feature import create")
         FreeCADGui.doCommand(f"create(App.getDocument({doc.Name!r}), {name!r})")
         FreeCADGui.doCommand(f"App.getDocument({doc.Name!r}).recompute()")
@@ -132,7 +139,7 @@ class EditMotion(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .motion_editor import open_editor
+            from .motion_editor import open_editor  # deferred: numpy, scipy, the generators
 
             open_editor(cam)
 
@@ -147,7 +154,7 @@ class Optimise(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .optimiser_panel import open_panel
+            from .optimiser_panel import open_panel  # deferred: numpy, scipy, the generators
 
             open_panel(cam)
 
@@ -163,7 +170,7 @@ class CheckDesign(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .check_design import show_report
+            from .check_design import show_report  # deferred: numpy, scipy, the generators
 
             show_report(cam)
 
@@ -177,7 +184,7 @@ class ShowPlots(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .plots import show_plots
+            from .plots import show_plots  # deferred: numpy, scipy, the generators
 
             show_plots(cam)
 
@@ -190,7 +197,7 @@ class ExportStep(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .step_export import export_step_dialog
+            from .step_export import export_step_dialog  # deferred: numpy, scipy, the generators
 
             export_step_dialog(cam)
 
@@ -204,12 +211,11 @@ class ExportSpec(Command):
         cam = target_cam()
         if cam is None:
             return
-        from PySide import QtGui
-
+        # deferred: numpy, scipy, the generators
         from cam_workbench.generators.errors import SpecError
 
-        from .properties import describe_field
-        from .spec_io import export_spec
+        from .properties import describe_field  # deferred: numpy, scipy, the generators
+        from .spec_io import export_spec  # deferred: numpy, scipy, the generators
 
         name, _f = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export spec",
                                                      f"{cam.Label}.toml", "Cam spec (*.toml)")
@@ -232,7 +238,7 @@ class _Export(Command):
     def run(self) -> None:
         cam = target_cam()
         if cam is not None:
-            from .export_dialog import open_export_dialog
+            from .export_dialog import open_export_dialog  # deferred: numpy, scipy, the generators
 
             open_export_dialog(cam, self.group)
 
@@ -281,8 +287,8 @@ class DesignReport(_Export):
 
 #: Command name → command class, in menu order.
 COMMANDS: dict[str, type[Command]] = {
-    "CamWorkbench_NewPlateCam": NewPlateCam,
-    "CamWorkbench_NewPlateCamFromSpec": NewPlateCamFromSpec,
+    "CamWorkbench_NewCam": NewCam,
+    "CamWorkbench_NewCamFromSpec": NewCamFromSpec,
     "CamWorkbench_EditMotion": EditMotion,
     "CamWorkbench_Optimise": Optimise,
     "CamWorkbench_CheckDesign": CheckDesign,
@@ -296,14 +302,14 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_ExportSpec": ExportSpec,
 }
 #: Menu layout ("Separator" between groups): create, edit and optimise, check, export.
-LAYOUT = ["CamWorkbench_NewPlateCam", "CamWorkbench_NewPlateCamFromSpec", "Separator",
+LAYOUT = ["CamWorkbench_NewCam", "CamWorkbench_NewCamFromSpec", "Separator",
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
           "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
           "CamWorkbench_ExportCommandTable", "CamWorkbench_ExportEcam", "Separator",
           "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]
 #: Toolbar: the everyday commands.
-TOOLBAR = ["CamWorkbench_NewPlateCam", "CamWorkbench_EditMotion", "CamWorkbench_Optimise",
+TOOLBAR = ["CamWorkbench_NewCam", "CamWorkbench_EditMotion", "CamWorkbench_Optimise",
            "CamWorkbench_CheckDesign",
            "CamWorkbench_ShowPlots", "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf",
            "CamWorkbench_ExportGcode", "CamWorkbench_DesignReport"]

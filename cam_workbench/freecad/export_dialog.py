@@ -13,6 +13,10 @@ from __future__ import annotations
 import threading
 from typing import Any
 
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
+
 from . import exports
 
 #: Command → the export kinds its dialog offers (more than one: radio buttons).
@@ -37,9 +41,6 @@ class ExportDialog:
     """One export dialog for a cam; ``kinds`` are keys of :data:`exports.KINDS`."""
 
     def __init__(self, obj: Any, kinds: tuple[str, ...]):
-        import FreeCADGui
-        from PySide import QtCore, QtGui
-
         self.obj, self.kinds = obj, kinds
         self.result: exports.ExportResult | None = None
         self.error: str | None = None
@@ -125,8 +126,6 @@ class ExportDialog:
 
     # -- contents
     def _kind_changed(self, kind: str) -> None:
-        from PySide import QtGui
-
         self.kind = kind
         k = exports.KINDS[kind]
         self.path_label.setText("Folder:" if not k.suffix else "File:")
@@ -144,8 +143,6 @@ class ExportDialog:
         header.setSectionResizeMode(1, QtGui.QHeaderView.Stretch)
 
     def browse(self) -> None:
-        from PySide import QtGui
-
         k = exports.KINDS[self.kind]
         if not k.suffix:
             name = QtGui.QFileDialog.getExistingDirectory(self.dialog, k.title, self.path.text())
@@ -202,8 +199,6 @@ class ExportDialog:
         self._finish(**self._outcome)
 
     def _finish(self, result: exports.ExportResult | None = None, error: str | None = None) -> None:
-        import FreeCAD
-
         self.busy.setVisible(False)
         self.export_button.setEnabled(True)
         title = exports.KINDS[self.kind].title
@@ -223,8 +218,6 @@ class ExportDialog:
             FreeCAD.Console.PrintMessage("".join(f"  {k}: {v}\n" for k, v in result.details))
 
     def _show_details(self, rows: tuple[tuple[str, str], ...]) -> None:
-        from PySide import QtGui
-
         self.details.setRowCount(len(rows))
         for r, (name, value) in enumerate(rows):
             self.details.setItem(r, 0, QtGui.QTableWidgetItem(name))

@@ -37,8 +37,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import cam_workbench
 from cam_workbench.exporters.output_rule import REPLACE_HINT
 from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.spec import to_toml
+from cam_workbench.generators.spec.params import unit_name
 
 from . import properties as props
 
@@ -146,8 +149,6 @@ def _as_cli(value: str, source: str) -> Cli:
 
 
 def _marker_files() -> list[Path]:
-    import cam_workbench
-
     seen, out = set(), []
     candidates = [Path(cam_workbench.__file__).parent.parent] + [Path(p) for p in sys.path if p]
     for folder in candidates:
@@ -168,7 +169,7 @@ def find_cli() -> Cli:
     if env:
         return _as_cli(env, f"${ENV_CLI}")
     try:
-        import FreeCAD
+        import FreeCAD  # deferred: FreeCAD (this module runs in any Python; outside FreeCAD no parameter)
 
         configured = FreeCAD.ParamGet(PARAM_PATH).GetString("CliPath", "")
     except ImportError:
@@ -271,7 +272,6 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
         spec = props.spec_of(obj)
     except SpecError as exc:
         raise ExportError(f"{props.describe_field(exc.field)}: {exc.rule}") from None
-    from cam_workbench.generators.spec import to_toml
 
     cli = cli or find_cli()
     out = target_path(kind, target)
@@ -343,8 +343,6 @@ def ecam_rows(summary: dict[str, Any]) -> list[tuple[str, str]]:
 def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     """(property, value) pairs the export dialog shows: the values the command line gets, in
     the spec's units ("default" where the property leaves the field to the spec's default)."""
-    from cam_workbench.generators.spec.params import unit_name
-
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
                 "csv": ("machining",), "report": ("checks", "material")}.get(kind, ("ecam",))
     only = {"csv": ("rotary_speed_rpm", "sample_period")}.get(kind)
@@ -375,7 +373,7 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
 def suggested(obj: Any, kind: str) -> Path:
     """Where the dialog proposes to write: beside the document (else the working folder)."""
     folder = os.path.dirname(obj.Document.FileName or "") or os.getcwd()
-    label = re.sub(r"[^\w.-]+", "_", obj.Label) or "PlateCam"
+    label = re.sub(r"[^\w.-]+", "_", obj.Label) or "Cam"
     return Path(folder) / KINDS[kind].default_name.format(label=label)
 
 

@@ -1,4 +1,4 @@
-"""The ``PlateCam`` feature (``Part::FeaturePython``), its reference geometry and :func:`create`.
+"""The ``Cam`` feature (``Part::FeaturePython``) of every body, its reference geometry and :func:`create`.
 
 The feature holds the spec as properties (:mod:`.properties`); ``execute()`` turns them
 into a :class:`~cam_workbench.generators.spec.CamSpec`, designs the cam with ``cam_workbench.generators.design_cam``
@@ -11,10 +11,17 @@ point, exact degree-5 PH segments), the base circle R_b and the follower itself 
 at its ``FollowerAngle`` of cam rotation, drawn from its own sketch
 (``Follower.sketch``: roller, stem, arm and pivot, or face).  They follow the cam.
 
-Document compatibility: the class and module names below are stored in saved documents
-and must not change.  Each feature has a ``Version``; ``onDocumentRestored`` adds the
+Document compatibility: a saved document stores each proxy's module and class name
+(``cam_workbench.freecad.feature`` and ``CamFeature``, ``CamReference``); the module and the
+classes keep those names.  Documents saved before feature version 5 name them
+``PlateCamFeature`` and ``PlateCamReference``: those names stay bound to the same classes
+(end of this module), so such a proxy is restored as a ``CamFeature`` and the next save
+stores the new name.  Each feature has a ``Version``; ``onDocumentRestored`` adds the
 properties of spec fields declared since the file was saved (with the value an absent
 field has, so the cam does not change) and runs the migrations in :data:`MIGRATIONS`.
+
+App side: this module imports no Gui-side module.  A feature made while the GUI is up gets
+its view provider through :mod:`.view_hook`, where the GUI registers the attacher.
 """
 from __future__ import annotations
 
@@ -22,9 +29,17 @@ import os
 import traceback
 from typing import Any, Callable, Mapping
 
-from cam_workbench.generators.errors import CamError, GeometryError, SpecError
+import FreeCAD
 
+from cam_workbench.generators.cam_design import design_cam
+from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
+from cam_workbench.generators.errors import CamError, GeometryError, SpecError
+from cam_workbench.generators.followers import follower_of
+from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
+
+from . import part_build
 from . import properties as props
+from . import view_hook
 from .stateless import Stateless
 
 #: Schema version of the features written by this code.  1: issue 6 round one (forces,
@@ -33,14 +48,18 @@ from .stateless import Stateless
 #: kinds — choice fields that became optional (``machining.rotary_line``) offer "" (absent);
 #: 4: every follower kind — torques, torsional rates, arm inertias in fixed units, an
 #: oscillating follower's lifts in degrees whatever ``Units`` says (``PitchTolerance`` an angle),
-#: ``MaxDeviation`` in the lift's unit, the follower's groups, and a drawn follower child.
-VERSION = 4
+#: ``MaxDeviation`` in the lift's unit, the follower's groups, and a drawn follower child;
+#: 5: the feature of every body is a ``Cam`` (proxies ``CamFeature``, ``CamReference``, view
+#: provider ``ViewProviderCam``; before: ``PlateCam…``), its properties unchanged.
+VERSION = 5
 #: Migrations of a feature from version v to v + 1, run in order on restore BEFORE the
 #: properties of newer fields are added (so a migration only sees what the file had).
 #: Fields added to the spec need none: :func:`properties.ensure_properties` adds them.
 MIGRATIONS: dict[int, Callable[[Any], Any]] = {1: props.migrate_plain_numbers,
                                                2: props.migrate_optional_choices,
                                                3: props.migrate_lift_and_torque_units}
+#: The feature version since which the proxies are ``CamFeature``/``CamReference``.
+_CAM_VERSION = 5
 #: What each migration converts, for the upgrade message.
 _MIGRATED = {1: "force, stress, feed, mass and spring-rate", 3: "lift, torque and arm-inertia"}
 
@@ -65,8 +84,6 @@ ICON_DIR = os.path.join(os.path.dirname(__file__), "icons")
 
 
 def _console() -> Any:
-    import FreeCAD
-
     return FreeCAD.Console
 
 
@@ -114,11 +131,15 @@ def upgrade(obj: Any) -> list[str]:
                  for v, names in converted.items() if names]
         _console().PrintMessage(f"{obj.Label}: upgraded from feature version {version} "
                                 f"({'; '.join(what)})\n")
+    if version < _CAM_VERSION:
+        _console().PrintMessage(f"{obj.Label}: a PlateCamFeature is now a CamFeature, the feature of "
+                                f"every body; saved, the document needs feature version {_CAM_VERSION} "
+                                "or later\n")
     return added
 
 
-class PlateCamFeature(Stateless):
-    """Proxy of the ``PlateCam`` feature (a ``Part::FeaturePython``)."""
+class CamFeature(Stateless):
+    """Proxy of the ``Cam`` feature (a ``Part::FeaturePython``): a cam of any body."""
 
     def __init__(self, obj: Any, spec: Any = None):
         obj.Proxy = self
@@ -129,8 +150,6 @@ class PlateCamFeature(Stateless):
         obj.Version = VERSION
         data = spec.to_dict() if spec is not None else None
         if data is None:
-            from cam_workbench.generators.spec import default_spec
-
             data = default_spec().to_dict()
         props.ensure_properties(obj, data)
         set_lift_results(obj, props.lift_unit_of(obj))
@@ -200,11 +219,6 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
             beyond its integration's allowance, or that lacks its groove wall faces
             (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
     """
-    from cam_workbench.generators.cam_design import design_cam
-    from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
-
-    from . import part_build
-
     spec = props.spec_of(obj)
     design = design_cam(spec)
     scale = props.units_scale(obj)
@@ -266,10 +280,10 @@ _REFERENCES = "References"
 FOLLOWER_ANGLE = "FollowerAngle"
 
 
-class PlateCamReference(Stateless):
+class CamReference(Stateless):
     """Proxy of a reference child of a cam (pitch curve, base circle, the drawn follower).
 
-    The cam links its reference children (``PlateCam.References``) and sets their shapes in its
+    The cam links its reference children (``Cam.References``) and sets their shapes in its
     own ``execute``; their ``Shape`` and ``Placement`` have FreeCAD's *Output* status, so this
     does not touch them (no recompute loop).  The link points from the cam to the children, so
     deleting the cam does not warn about them — its view provider deletes them with it; and a
@@ -308,8 +322,6 @@ def _output_status(obj: Any) -> None:
 
 def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> None:
     """Set a reference curve's shape from the cam's design (called by the cam's execute)."""
-    from . import part_build
-
     if ref.Kind == "pitch curve":
         wire = part_build.pitch_wire(design, scale)
     elif ref.Kind == "follower":
@@ -324,7 +336,7 @@ def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> Non
 def references_of(cam: Any) -> list[Any]:
     """The reference children of a cam."""
     links = getattr(cam, _REFERENCES, None) or []
-    return [o for o in links if isinstance(getattr(o, "Proxy", None), PlateCamReference)]
+    return [o for o in links if isinstance(getattr(o, "Proxy", None), CamReference)]
 
 
 def reference_of(cam: Any, kind: str) -> Any:
@@ -336,38 +348,32 @@ def add_reference(cam: Any, kind: str) -> Any:
     """Add a reference child of ``kind`` to ``cam`` (and link it); e.g. the drawn follower for
     a cam of a document saved before feature version 4, which has none.  The caller
     recomputes.  Returns the existing child when the cam has one."""
-    import FreeCAD
-
     have = reference_of(cam, kind)
     if have is not None:
         return have
     doc = cam.Document
     ref = doc.addObject("Part::FeaturePython", f"{cam.Name}{REFERENCE_NAMES[kind]}")
-    PlateCamReference(ref, kind)
+    CamReference(ref, kind)
     ref.Label = f"{cam.Label} {kind}"
     cam.References = list(cam.References) + [ref]
-    if FreeCAD.GuiUp:
-        from . import view_providers
-
-        view_providers.ViewProviderReference(ref.ViewObject)
+    view_hook.attach_view(ref)
     cam.touch()
     return ref
 
 
 def cam_of(ref: Any) -> Any:
     """The cam a reference curve belongs to (None if it was deleted)."""
-    cams = [o for o in ref.InList if is_plate_cam(o)]
+    cams = [o for o in ref.InList if is_cam(o)]
     return cams[0] if cams else None
 
 
-def is_plate_cam(obj: Any) -> bool:
-    return isinstance(getattr(obj, "Proxy", None), PlateCamFeature)
+def is_cam(obj: Any) -> bool:
+    """Whether ``obj`` is a cam feature (of any body)."""
+    return isinstance(getattr(obj, "Proxy", None), CamFeature)
 
 
 # ---- creation -------------------------------------------------------------------------------
 def _as_spec(spec: Any) -> Any:
-    from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
-
     if spec is None:
         return default_spec()
     if isinstance(spec, CamSpec):
@@ -377,43 +383,44 @@ def _as_spec(spec: Any) -> Any:
     raise TypeError(f"spec must be a CamSpec, a TOML path or text, a dict or None, not {type(spec).__name__}")
 
 
-def create(doc: Any = None, spec: Any = None, name: str = "PlateCam", reference: bool = True) -> Any:
-    """Add a ``PlateCam`` feature (and its reference curves) to ``doc``; used by the GUI
-    command and headless alike.  The caller recomputes.
+def create(doc: Any = None, spec: Any = None, name: str = "Cam", reference: bool = True) -> Any:
+    """Add a ``Cam`` feature (and its reference curves) to ``doc``, of the spec's body; used by
+    the GUI command and headless alike (in the GUI, the objects get their view providers through
+    :mod:`.view_hook`).  The caller recomputes.
 
     Args:
         doc: the document; default the active one (a new one if there is none).
         spec: a CamSpec, a TOML path or text, a dict in the spec's structure, or None for
-            the built-in default (the paper's Table 1, case 2, with a 5 mm roller).
+            the built-in default (``default_spec()``: the paper's motion program on a 40 mm
+            base radius with a radial 8 mm roller, a plate cam).
         name: object name of the feature.
         reference: also add the pitch-curve, base-circle and follower children.
 
     Raises:
         SpecError: ``spec`` is bad (nothing is added to the document).
     """
-    import FreeCAD
-
     spec = _as_spec(spec)
     if doc is None:
         doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
     obj = doc.addObject("Part::FeaturePython", name)
-    PlateCamFeature(obj, spec)
+    CamFeature(obj, spec)
     refs = []
     if reference:
-        from cam_workbench.generators.followers import follower_of
-
         # a flat face's design curve is its contact curve (the profile), not a pitch curve
         curve = follower_of(spec).describe()["curve"]
         for kind, suffix in REFERENCE_NAMES.items():
             ref = doc.addObject("Part::FeaturePython", f"{name}{suffix}")
-            PlateCamReference(ref, kind)
+            CamReference(ref, kind)
             ref.Label = f"{obj.Label} {curve if kind == 'pitch curve' else kind}"
             refs.append(ref)
         obj.References = refs
-    if FreeCAD.GuiUp:
-        from . import view_providers
-
-        view_providers.ViewProviderPlateCam(obj.ViewObject)
-        for ref in refs:
-            view_providers.ViewProviderReference(ref.ViewObject)
+    for new in [obj, *refs]:
+        view_hook.attach_view(new)
     return obj
+
+
+# ---- the names documents saved before feature version 5 store ---------------------------------
+# FreeCAD looks a stored class name up in this module and restores the proxy without calling
+# __init__; these names give the new classes, and a save stores a proxy's own class name.
+PlateCamFeature = CamFeature
+PlateCamReference = CamReference

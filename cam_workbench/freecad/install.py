@@ -30,6 +30,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from cam_workbench import __version__
 from cam_workbench.generators.errors import CamError
 
 MOD_NAME = "CamWorkbench"
@@ -151,8 +152,6 @@ def install_into(mod_dir: Path, root: Path | None = None, copy: bool = False) ->
     Raises:
         InstallError: a ``CamWorkbench`` folder exists that this tool did not make.
     """
-    from cam_workbench import __version__
-
     root = root or source_root()
     target = mod_dir / MOD_NAME
     if (target.exists() or target.is_symlink()) and not is_ours(target):

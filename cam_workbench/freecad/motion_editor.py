@@ -11,18 +11,25 @@ list of the feature and recomputes inside ONE transaction, so a single Undo rest
 the previous program (and shape).  Nothing is written unless the program passes the
 spec rules and the cam can be made; messages name the row, the field and the control point
 (``row 1, control_x[3] (P4): must be a number, got 'abc'``).
+
+FreeCAD and Qt are imported inside the panel's methods: the logic imports in any Python
+(``tests/test_freecad_properties.py`` runs it without FreeCAD).
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any
 
+from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.errors import CamError, SpecError
+from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
 from cam_workbench.generators.spec.params import params_of, unit_name
 from cam_workbench.generators.spec import LIFT_FIELDS, CamSpec, MotionSegment
 
 from . import properties as props
+from .qt_compat import fit_task_width, standard_buttons
 
 SECTION = "motion"
 TRANSACTION = "Edit motion program"
@@ -49,8 +56,6 @@ class ControlPoint:
 
 
 def _order(row: dict[str, Any]) -> int:
-    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER
-
     k = row.get("order")
     return k if isinstance(k, int) and 3 <= k <= 10 else DEFAULT_ORDER
 
@@ -106,8 +111,6 @@ def default_polygon(row: dict[str, Any]) -> dict[str, Any]:
     """A starting polygon for a row switched to ``law = "bspline"``: the thesis' order 5 with
     11 control points, equally spaced in θ (degrees from the segment start), the free lifts
     P4 … P6 at ¼, ½, ¾ of the way — a smooth, valid rise or return to shape from."""
-    from cam_workbench.generators.motion.bspline_law import DEFAULT_ORDER, DEFAULT_POINTS
-
     angle = row.get("angle") if isinstance(row.get("angle"), float) else 90.0
     n = DEFAULT_POINTS - 1
     xs = tuple(round(angle * i / n, 9) for i in range(1, n))
@@ -168,8 +171,6 @@ def validate_rows(obj: Any, rows: list[dict[str, Any]], design: bool = False) ->
     try:
         spec = spec_with_rows(obj, rows)
         if design:
-            from cam_workbench.generators.cam_design import design_cam
-
             design_cam(spec)
     except SpecError as exc:
         return row_message(exc, rows)
@@ -202,7 +203,8 @@ class MotionEditorPanel:
     selected B-spline segment, its control points; live validation."""
 
     def __init__(self, obj: Any):
-        from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
+        # deferred: PySide, FreeCAD's shim: PySide2 in 0.20, PySide6 in 1.x (see the module docstring)
+        from PySide import QtGui
 
         self.obj = obj
         self.units = getattr(obj, "Units", "mm")
@@ -250,7 +252,6 @@ class MotionEditorPanel:
         self.status.setWordWrap(True)
         layout.addWidget(self.total)
         layout.addWidget(self.status)
-        from .qt_compat import fit_task_width
 
         fit_task_width(self.form)
         self._filling = False
@@ -283,7 +284,7 @@ class MotionEditorPanel:
         self.refresh()
 
     def _insert(self, r: int, row: dict[str, Any]) -> None:
-        from PySide import QtGui
+        from PySide import QtGui  # deferred: PySide (see the module docstring)
 
         self.table.insertRow(r)
         self.extra.insert(r, {f: row[f] for f in POINT_FIELDS if f in row})
@@ -363,7 +364,7 @@ class MotionEditorPanel:
 
     def show_points(self) -> None:
         """Fill the control-point table from the selected row (disabled for other laws)."""
-        from PySide import QtCore, QtGui
+        from PySide import QtCore, QtGui  # deferred: PySide (see the module docstring)
 
         r = self.table.currentRow()
         self._points_row = r
@@ -425,8 +426,6 @@ class MotionEditorPanel:
 
     def _end_x(self, row: dict[str, Any], r: int) -> tuple[float, float]:
         """P0's and Pn's x in the row's control frame."""
-        import math
-
         angle = row.get("angle") if isinstance(row.get("angle"), float) else 0.0
         if row.get("control_frame") != "absolute_rad":
             return 0.0, angle
@@ -490,8 +489,6 @@ class MotionEditorPanel:
 
     # -- task dialog protocol
     def getStandardButtons(self) -> int:
-        from .qt_compat import standard_buttons
-
         return standard_buttons("Ok", "Cancel")
 
     def accept(self) -> bool:
@@ -500,7 +497,7 @@ class MotionEditorPanel:
         if msg is not None:
             self.status.setText(msg)
             self.status.setStyleSheet("color: #c62828")
-            import FreeCAD
+            import FreeCAD  # deferred: FreeCAD (see the module docstring)
 
             FreeCAD.Console.PrintError(f"{self.obj.Label}: motion program not applied: {msg}\n")
             return False
@@ -515,7 +512,7 @@ class MotionEditorPanel:
     def _leave(self) -> None:
         """End editing: through the document's edit mode when the panel came from
         ``setEdit`` (the view provider's ``unsetEdit`` closes the panel), else directly."""
-        import FreeCADGui
+        import FreeCADGui  # deferred: FreeCADGui (see the module docstring)
 
         gdoc = FreeCADGui.getDocument(self.obj.Document.Name)
         if gdoc is not None and gdoc.getInEdit() is not None:
@@ -549,7 +546,7 @@ def _parse(text: str, kind: str) -> Any:
 def open_editor(obj: Any) -> None:
     """Edit ``obj``'s motion program: enters edit mode, whose view provider shows the panel
     (the same path as a double-click in the tree)."""
-    import FreeCADGui
+    import FreeCADGui  # deferred: FreeCADGui (see the module docstring)
 
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()

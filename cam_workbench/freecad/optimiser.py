@@ -33,14 +33,29 @@ from __future__ import annotations
 import dataclasses
 import threading
 import time
+import traceback
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
+from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.errors import CamError, SpecError
-from cam_workbench.generators.kinds import body_of, follower_class_of, own_optimiser
-from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec
+from cam_workbench.generators.kinds import body_of, follower_class_of, follower_of, own_optimiser
+from cam_workbench.generators.motion import MotionProgram
+from cam_workbench.generators.motion.bspline_law import fixed_end_points
+from cam_workbench.generators.optimise import optimise, worst_constraint
+from cam_workbench.generators.optimise.objectives import UNITS
+from cam_workbench.generators.optimise.objectives import label as objective_label
+from cam_workbench.generators.optimise.space import DesignSpace
+from cam_workbench.generators.spec import (OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec, OptimiseSection,
+                                           optimise_control_rows, optimise_variables)
+from cam_workbench.generators.spec.optimise import (
+    FOLLOWER_VARIABLES, body_variable_rule, follower_variable_rule,
+)
 
 from . import properties as props
+from .check_design import check_rows, fmt_value
 
 TRANSACTION = "Optimise cam"
 #: What each objective is, for the panel's list (the declaration says more in its tooltip).
@@ -96,11 +111,6 @@ def _bspline_rows(spec: CamSpec) -> list[int]:
 
 def variable_choices(spec: CamSpec, objective: str | None = None) -> list[VariableChoice]:
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
-    from cam_workbench.generators.motion.bspline_law import fixed_end_points
-    from cam_workbench.generators.motion import MotionProgram
-
-    from cam_workbench.generators.spec.optimise import FOLLOWER_VARIABLES, follower_variable_rule
-
     objective = objective or spec.optimise.objective
     u = spec.units
     if own_optimiser(spec) is not None:          # its own optimiser: the body's own variables only
@@ -138,8 +148,6 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
                                       f"row {k + 1} ({seg.kind}): polynomial point lifts at {angles} [{u}]",
                                       len(seg.points), True))
     # a groove cam's disc and groove
-    from cam_workbench.generators.spec.optimise import body_variable_rule
-
     body_labels = {"outer_diameter": f"Disc outer diameter [{u}]", "clearance": f"Groove clearance [{u}]"}
     for name, label in body_labels.items():
         if body_variable_rule(spec, name) is None:
@@ -152,8 +160,6 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
 def selected_tokens(spec: CamSpec) -> set[str]:
     """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects."""
-    from cam_workbench.generators.spec import optimise_control_rows, optimise_variables
-
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
     out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
@@ -206,8 +212,6 @@ def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
     bound or |e₀|; default bounds always contain the starting design, which is never moved).
     A given bound is shown as given even when it excludes the start: the run then refuses it
     with the library's message naming the field."""
-    from cam_workbench.generators.optimise.space import DesignSpace
-
     translating = not follower_class_of(spec).pivoted       # only a translating follower has an offset
     probe = spec.replace(**{"optimise.variables": "base_radius, offset" if translating else "base_radius",
                             "optimise.objective": "area", "optimise.algorithm": "auto"})
@@ -278,15 +282,11 @@ class OptimiseJob:
         return True
 
     def _work(self) -> None:
-        from cam_workbench.generators.optimise import optimise
-
         try:
             self.result = optimise(self.spec, progress=self._progress, cancel=self.cancel_event)
         except CamError as exc:
             self.error = f"{props.describe_field(exc.field)}: {exc.rule}" if isinstance(exc, SpecError) else str(exc)
         except Exception as exc:  # noqa: BLE001 - shown by the panel, never raised in a thread
-            import traceback
-
             self.error = f"{type(exc).__name__}: {exc}"
             self.traceback = traceback.format_exc()
         finally:
@@ -346,8 +346,6 @@ def _fmt(v: Any, unit: str = "") -> str:
 def _worst_text(w: dict[str, Any]) -> str:
     if not w:
         return "—"
-    from .check_design import fmt_value
-
     where = f" at {w['at_deg']:.1f}°" if w.get("at_deg") is not None else ""
     fail = " FAILS" if w["status"] == "fail" else ""
     return f"{w['name'].replace('_', ' ')} {fmt_value(w['value'], w['unit'])}{where}{fail}"
@@ -357,10 +355,6 @@ def figures(result: Any) -> list[Figure]:
     """The before/after figures of a result: objective (computed independently of the solver's
     model: :func:`cam_workbench.generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
     check closest to or furthest past its limit), the design checks' verdict."""
-    from cam_workbench.generators.optimise import worst_constraint
-    from cam_workbench.generators.optimise.objectives import UNITS
-    from cam_workbench.generators.optimise.objectives import label as objective_label
-
     a, b = result.initial_spec, result.spec
     u = a.units
     unit = UNITS[result.objective].replace("length", u)
@@ -392,9 +386,6 @@ def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final
     area inside the design curve (the pitch curve, or a flat face's contact curve); the area
     inside the profile unless it is that same area (a knife edge or a flat face: offset 0); the
     cross-section minus the bore when there is a bore."""
-    from cam_workbench.generators.checks.areas import area_label
-    from cam_workbench.generators.followers import follower_of
-
     curve = follower_of(spec).describe()["curve"]
     keys = []
     first = "thesis_eq_4_21"
@@ -431,8 +422,6 @@ CHECK_HEADERS = ["check", "limit", "before", "at", "status", "after", "at", "sta
 
 def check_comparison(result: Any) -> list[CheckChange]:
     """Every design check of the starting and the optimised design (dense, refined re-check)."""
-    from .check_design import check_rows
-
     before = {r.name: r for r in check_rows(result.initial_checks)}
     after = check_rows(result.checks)
     return [CheckChange(before[r.name], r) for r in after if r.name in before]
@@ -440,8 +429,6 @@ def check_comparison(result: Any) -> list[CheckChange]:
 
 def history_arrays(history: list[tuple[int, float, float, str]]) -> dict[str, Any]:
     """The run's history by phase: {phase: (evaluations, objective, violation)} as numpy arrays."""
-    import numpy as np
-
     out: dict[str, Any] = {}
     for phase in dict.fromkeys(h[3] for h in history):
         sel = [h for h in history if h[3] == phase]
@@ -453,8 +440,6 @@ def history_arrays(history: list[tuple[int, float, float, str]]) -> dict[str, An
 # ---- apply ----------------------------------------------------------------------------------------
 def _design_part(spec: CamSpec) -> CamSpec:
     """The spec without its [optimise] section (how to optimise, not what the cam is)."""
-    from cam_workbench.generators.spec import OptimiseSection
-
     return dataclasses.replace(spec, optimise=OptimiseSection())
 
 

@@ -26,13 +26,20 @@ from __future__ import annotations
 import time
 from typing import Any
 
+import FreeCAD
+import FreeCADGui
+import numpy as np
+from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1.x)
+
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
 from cam_workbench.generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
 from . import properties as props
 from .check_design import _AMBER, _GREEN, _RED
+from .qt_compat import fit_task_width, standard_buttons
 
 POLL_MS = 100
 PLOT_EVERY_S = 1.0
@@ -43,8 +50,6 @@ class OptimiserPanel:
     """The task panel for one cam (``FreeCADGui.Control.showDialog(panel)``)."""
 
     def __init__(self, obj: Any):
-        from PySide import QtCore, QtGui
-
         self.obj = obj
         self.spec = props.spec_of(obj)        # raises SpecError: the command reports it
         self.units = self.spec.units
@@ -56,10 +61,36 @@ class OptimiserPanel:
         self.plot_seconds: list[float] = []   # time of each redraw of the convergence plot
         self._last_plot = 0.0
 
-        # 1. problem ---------------------------------------------------------------------------
+        problem, bounds, algo = self._problem_box(), self._bounds_box(), self._algorithm_box()
+        runbox, resbox = self._run_box(), self._result_box()
+        self.form = [problem, bounds, algo, runbox, resbox]
+        for w in self.form:
+            fit_task_width(w)
+        self.settings_widgets = [problem, bounds, algo]
+        self._timer = QtCore.QTimer(runbox)
+        self._timer.setInterval(POLL_MS)
+        self._timer.timeout.connect(self._poll)
+        # closed without Close (another task panel, the document closed): stop the run too
+        runbox.destroyed.connect(lambda *_: self._abandon())
+        self._vars_touched = False
+        self.objective.currentIndexChanged.connect(lambda *_: self._objective_changed())
+        self.algorithm.currentIndexChanged.connect(lambda *_: self.refresh())
+        for cb in self.var_boxes.values():
+            cb.clicked.connect(lambda *_: self._vars_clicked())
+            cb.toggled.connect(lambda *_: self.refresh())
+        for spin in (self.rb_max, self.e_max, self.max_evals, self.multistart, self.seed):
+            if spin is None:
+                continue
+            spin.valueChanged.connect(lambda *_: self.refresh())
+        self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
+        self.refresh()
+
+    # -- the five boxes
+    def _problem_box(self) -> Any:
+        """1. Problem: the objective, the design variables' check boxes and the status line."""
         problem = QtGui.QWidget()
         problem.setObjectName("OptimiseProblem")
-        problem.setWindowTitle(f"Optimise {obj.Label}")
+        problem.setWindowTitle(f"Optimise {self.obj.Label}")
         pl = QtGui.QVBoxLayout(problem)
         form = QtGui.QFormLayout()
         self.objective = QtGui.QComboBox()
@@ -88,8 +119,10 @@ class OptimiserPanel:
         self.status.setWordWrap(True)
         self.status.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)
         pl.addWidget(self.status)
+        return problem
 
-        # 2. bounds ----------------------------------------------------------------------------
+    def _bounds_box(self) -> Any:
+        """2. Bounds: the base radius' lower bound first and in bold, then R_b's upper bound and |e|'s."""
         bounds = QtGui.QWidget()
         bounds.setObjectName("OptimiseBounds")
         bounds.setWindowTitle("Bounds")
@@ -123,8 +156,10 @@ class OptimiserPanel:
                 continue
             spin.setToolTip(props.field_tooltip(f"optimise.{field}"))
         self._rb_min_default = opt.bound_is_default(self.spec)
+        return bounds
 
-        # 3. algorithm -------------------------------------------------------------------------
+    def _algorithm_box(self) -> Any:
+        """3. Algorithm: the algorithm, the evaluation budget, the random restarts and the seed."""
         algo = QtGui.QWidget()
         algo.setObjectName("OptimiseAlgorithm")
         algo.setWindowTitle("Algorithm")
@@ -150,8 +185,10 @@ class OptimiserPanel:
         self.seed.setValue(self.defaults.seed)
         self.seed.setToolTip(props.field_tooltip("optimise.seed"))
         af.addRow("Seed:", self.seed)
+        return algo
 
-        # 4. run -------------------------------------------------------------------------------
+    def _run_box(self) -> Any:
+        """4. Run: Run / Cancel, the progress bar, the live figures and the convergence plot."""
         runbox = QtGui.QWidget()
         runbox.setObjectName("OptimiseRun")
         runbox.setWindowTitle("Run")
@@ -177,8 +214,10 @@ class OptimiserPanel:
         self.canvas = self._make_canvas()
         if self.canvas is not None:
             rl2.addWidget(self.canvas)
+        return runbox
 
-        # 5. result ----------------------------------------------------------------------------
+    def _result_box(self) -> Any:
+        """5. Result: the verdict, the figures and the checks before → after, and Apply."""
         resbox = QtGui.QWidget()
         resbox.setObjectName("OptimiseResult")
         resbox.setWindowTitle("Result: before → after")
@@ -197,35 +236,10 @@ class OptimiserPanel:
         self.apply_button.setEnabled(False)
         self.apply_button.clicked.connect(self.apply)
         self.result_layout.addWidget(self.apply_button)
-
-        self.form = [problem, bounds, algo, runbox, resbox]
-        from .qt_compat import fit_task_width
-
-        for w in self.form:
-            fit_task_width(w)
-        self.settings_widgets = [problem, bounds, algo]
-        self._timer = QtCore.QTimer(runbox)
-        self._timer.setInterval(POLL_MS)
-        self._timer.timeout.connect(self._poll)
-        # closed without Close (another task panel, the document closed): stop the run too
-        runbox.destroyed.connect(lambda *_: self._abandon())
-        self._vars_touched = False
-        self.objective.currentIndexChanged.connect(lambda *_: self._objective_changed())
-        self.algorithm.currentIndexChanged.connect(lambda *_: self.refresh())
-        for cb in self.var_boxes.values():
-            cb.clicked.connect(lambda *_: self._vars_clicked())
-            cb.toggled.connect(lambda *_: self.refresh())
-        for spin in (self.rb_max, self.e_max, self.max_evals, self.multistart, self.seed):
-            if spin is None:
-                continue
-            spin.valueChanged.connect(lambda *_: self.refresh())
-        self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
-        self.refresh()
+        return resbox
 
     # -- widgets
     def _length_spin(self, value: float) -> Any:
-        from PySide import QtGui
-
         spin = QtGui.QDoubleSpinBox()
         spin.setDecimals(5 if self.units == "in" else 4)
         spin.setRange(0.0, 1e6)
@@ -235,8 +249,6 @@ class OptimiserPanel:
         return spin
 
     def _table(self, name: str, headers: list[str]) -> Any:
-        from PySide import QtGui
-
         t = QtGui.QTableWidget(0, len(headers))
         t.setObjectName(name)
         t.setHorizontalHeaderLabels(headers)
@@ -248,10 +260,13 @@ class OptimiserPanel:
 
     def _make_canvas(self) -> Any:
         try:
+            # deferred: matplotlib (optional in FreeCAD's Python; slow to import)
             from matplotlib.figure import Figure
             try:
+                # deferred: matplotlib (its Qt canvas)
                 from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
             except ImportError:
+                # deferred: matplotlib (older matplotlib: the Qt5 canvas)
                 from matplotlib.backends.backend_qt5agg import FigureCanvasQTAgg
         except ImportError:
             return None  # no matplotlib in FreeCAD's Python: the numbers are shown all the same
@@ -310,8 +325,6 @@ class OptimiserPanel:
 
     def refresh(self) -> Any:
         """Enable what applies, describe the R_b bound, validate; returns the run spec or None."""
-        from PySide import QtGui
-
         objective = self.objective.currentData()
         choices = {c.token: c for c in opt.variable_choices(self.spec, objective)}
         for token, cb in self.var_boxes.items():
@@ -367,8 +380,6 @@ class OptimiserPanel:
 
     def start(self) -> bool:
         """Start a run with the current choices (False, with the reason shown, if they are bad)."""
-        import FreeCAD
-
         if self.running:
             return False
         spec = self.refresh()
@@ -444,20 +455,14 @@ class OptimiserPanel:
                 f"largest constraint value {p.max_violation:+.3e} ({feas}; ≤ 0 is feasible)")
 
     def _unit(self, objective: str) -> str:
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         return UNITS[objective].replace("length", self.units)
 
     def _phase_unit(self, phase: str, objective: str) -> str:
         """The unit of what a phase minimises ("slsqp on thesis_length": the smooth stand-in)."""
-        from cam_workbench.generators.optimise.objectives import UNITS
-
         name = phase.split(" on ", 1)[1].split()[0] if " on " in phase else objective
         return self._unit(name if name in UNITS else objective)
 
     def _finished(self) -> None:
-        import FreeCAD
-
         job = self.job
         for w in self.settings_widgets:
             w.setEnabled(True)
@@ -487,8 +492,6 @@ class OptimiserPanel:
 
     # -- results
     def _show_result(self, res: Any) -> None:
-        from PySide import QtGui
-
         self.figure_table.setVisible(res is not None)
         self.check_table.setVisible(res is not None)
         if res is None:
@@ -541,8 +544,6 @@ class OptimiserPanel:
     @staticmethod
     def scroll_to(widget: Any) -> None:
         """Scroll the task view so that ``widget`` (a box of the panel) starts at its top."""
-        from PySide import QtCore, QtGui
-
         area = widget.parentWidget()
         while area is not None and not isinstance(area, QtGui.QScrollArea):
             area = area.parentWidget()
@@ -555,8 +556,6 @@ class OptimiserPanel:
     def _fit(table: Any, fixed: int) -> None:
         """The first ``fixed`` columns to their contents, the others share the width (text wraps);
         the table as high as its rows, so the task view scrolls, not the table."""
-        from PySide import QtCore, QtGui
-
         header = table.horizontalHeader()
         for c in range(table.columnCount()):
             header.setSectionResizeMode(c, QtGui.QHeaderView.ResizeToContents if c < fixed
@@ -570,8 +569,6 @@ class OptimiserPanel:
 
     @staticmethod
     def _fill(table: Any, rows: list[list[str]]) -> None:
-        from PySide import QtGui
-
         table.setRowCount(len(rows))
         for r, row in enumerate(rows):
             for c, text in enumerate(row):
@@ -582,7 +579,6 @@ class OptimiserPanel:
         rebuilt, so a redraw costs the GUI thread little while the worker runs)."""
         if getattr(self, "fig", None) is None:
             return
-        import numpy as np
 
         ax, av = self.ax_obj, self.ax_viol
         data = opt.history_arrays(history)
@@ -618,10 +614,6 @@ class OptimiserPanel:
     # -- apply / close
     def apply(self) -> bool:
         """Write the result into the cam (one undo step); ask first if it fails a check."""
-        import FreeCAD
-        import FreeCADGui
-        from PySide import QtGui
-
         res = self.result
         if res is None or self.running:
             return False
@@ -644,14 +636,10 @@ class OptimiserPanel:
         self.applied = True
         FreeCAD.Console.PrintMessage(f"{self.obj.Label}: optimised design applied ({res.objective} "
                                      f"{res.initial_value:.6g} → {res.value:.6g}); Undo restores the cam\n")
-        from PySide import QtCore
-
         QtCore.QTimer.singleShot(0, self._close)   # not from inside the button's own signal
         return True
 
     def getStandardButtons(self) -> int:
-        from .qt_compat import standard_buttons
-
         return standard_buttons("Close")
 
     def reject(self) -> bool:
@@ -670,8 +658,6 @@ class OptimiserPanel:
             _PANELS.remove(self)
 
     def _close(self) -> None:
-        import FreeCADGui
-
         self._timer.stop()
         if self in _PANELS:
             _PANELS.remove(self)
@@ -680,9 +666,6 @@ class OptimiserPanel:
 
 def open_panel(obj: Any) -> OptimiserPanel | None:
     """Show the optimiser panel for ``obj`` (closing another task panel first)."""
-    import FreeCAD
-    import FreeCADGui
-
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     try:

@@ -1,12 +1,15 @@
 """FreeCAD ``Part`` adaptor: neutral NURBS data → edges, wires, faces and the cam solid.
 
-The FreeCAD twin of ``cam_workbench.occ_build`` (which serves CadQuery/build123d through
+The FreeCAD twin of ``cam_workbench.kernel.solids`` (which serves CadQuery/build123d through
 OCP): same geometry, FreeCAD's own OCCT.  Each Bézier span of a profile becomes one exact
 ``Part.BSplineCurve`` edge (poles, weights, knots and degree copied, nothing refitted):
 OCCT integrates single Bézier edges exactly, so the solid's volume matches the exact
 Green's-theorem value to ~1e-15 (a single 60-span edge is only good to ~1e-3).
 
 ``scale`` maps spec length units to FreeCAD's millimetres (25.4 for an inch spec).
+
+``Part`` and ``FreeCAD`` are imported inside the builders: the module itself imports in any
+Python, since :mod:`.check_design`, whose tables are read outside FreeCAD too, imports it.
 """
 from __future__ import annotations
 
@@ -14,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -21,7 +25,7 @@ from cam_workbench.generators.pitch.bspline import bezier_form
 
 def bspline_curve(curve: NurbsCurve, scale: float = 1.0, z: float = 0.0) -> Any:
     """A ``Part.BSplineCurve`` with exactly the poles, weights, knots and degree of ``curve``."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     poles = [Vector(float(x) * scale, float(y) * scale, z) for x, y in curve.poles.tolist()]
@@ -39,7 +43,7 @@ def nurbs_wire(curve: NurbsCurve, scale: float = 1.0, z: float = 0.0) -> Any:
     "bspline"``) is first brought to Bézier form by exact knot insertion, as
     ``occ_build.profile_wire`` does: as one multi-span edge its solid's volume was off by
     1.3e-3 (measured on the thesis' Example 5)."""
-    import Part
+    import Part  # deferred: Part (see the module docstring)
 
     pieces = curve.bezier_pieces()
     if len(pieces) == 1 and len(np.unique(curve.knots)) > 2:
@@ -53,7 +57,7 @@ def nurbs_wire(curve: NurbsCurve, scale: float = 1.0, z: float = 0.0) -> Any:
 
 def circle_wire(radius: float, z: float = 0.0) -> Any:
     """A full circle of ``radius`` (mm) about the Z axis."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     return Part.Wire(Part.Circle(Vector(0, 0, z), Vector(0, 0, 1), radius).toShape())
@@ -61,7 +65,7 @@ def circle_wire(radius: float, z: float = 0.0) -> Any:
 
 def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
     """The planar cross-section: the exact profile with the bore as a hole."""
-    import Part
+    import Part  # deferred: Part (see the module docstring)
 
     outer = nurbs_wire(design.profile_ccw(), scale)
     wires = [outer]
@@ -76,10 +80,10 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
 
 def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
     """The cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
-    ``cam_workbench.occ_build.cam_solid`` does — for a plain plate cam the profile face (with
+    ``cam_workbench.kernel.solids.cam_solid`` does — for a plain plate cam the profile face (with
     the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
     exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
-    from FreeCAD import Vector
+    from FreeCAD import Vector  # deferred: FreeCAD (see the module docstring)
 
     body = design.body
     if body is not None and not body.prismatic:
@@ -103,7 +107,7 @@ def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
 
 def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
     """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
-    from FreeCAD import Vector
+    from FreeCAD import Vector  # deferred: FreeCAD (see the module docstring)
 
     shape = None
     for prism in prisms:
@@ -121,7 +125,7 @@ def wall_surface(wall: Any, scale: float = 1.0) -> Any:
     """A ``Part.BSplineSurface`` with exactly the data of a groove wall
     (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
     degrees 5 × 5), the poles scaled to mm."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     ku, mu = np.unique(wall.knots_u, return_counts=True)
@@ -134,7 +138,7 @@ def wall_surface(wall: Any, scale: float = 1.0) -> Any:
 
 
 def _cylinder(radius: float, z0: float, z1: float) -> Any:
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
@@ -146,7 +150,7 @@ def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
     — the piece of an annulus slightly wider than the groove's depth between the two walls (each
     one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
     by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     geo = design.body
@@ -217,10 +221,8 @@ def wall_faces(shape: Any, radii: tuple[float, float], per_direction: int = 15) 
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
     """A closed wire of a body loop (:class:`cam_workbench.generators.bodies.Loop`): exact NURBS pieces (one
     edge per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
-
-    from cam_workbench.generators.bodies import Arc, Curve, Line
 
     edges: list[Any] = []
     for piece in loop.pieces:
@@ -247,7 +249,7 @@ def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
 
 def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0) -> Any:
     """The planar region inside ``outer`` minus ``holes`` (body loops) at height ``z`` [mm]."""
-    import Part
+    import Part  # deferred: Part (see the module docstring)
 
     face = Part.Face([loop_wire(outer, scale, z)] + [loop_wire(h, scale, z) for h in holes],
                      "Part::FaceMakerBullseye")
@@ -268,7 +270,7 @@ def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 6
     """A cylindrical cam's pitch curve: where the roller's axis meets the pitch cylinder,
     (R_p cos φ(θ), R_p sin φ(θ), z₀ + s(θ)), one interpolating B-spline edge per motion segment
     (a reference curve for the eye; the walls are built from the exact data)."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     lay = design.layout
@@ -311,7 +313,7 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     arm's pivot (a vertex with a small circle round it) and the follower point (a vertex: the
     roller centre or knife tip on the pitch curve, a flat face's contact point), on the plane
     of the cam's top face.  No kind is named here: what is drawn is what the sketch holds."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     if not design.plane:
@@ -341,7 +343,7 @@ def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float
     frame: its radial axis (from the groove's bottom to a roller's radius beyond the cylinder), the
     roller's end circles (radius r, in the planes normal to the axis at R_b and R_o) and the
     follower point (the roller's centre on the pitch cylinder, a vertex)."""
-    import Part
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
     lay = design.layout

@@ -1,4 +1,4 @@
-"""Kinematics plots of a ``PlateCam`` feature (matplotlib, shown in a FreeCAD dialog).
+"""Kinematics plots of a ``Cam`` feature (matplotlib, shown in a FreeCAD dialog).
 
 :func:`kinematics_figure` builds a ``matplotlib.figure.Figure`` without pyplot (so it
 works headless and in FreeCAD's Qt alike); :func:`show_plots` embeds it in a dialog with
@@ -9,7 +9,13 @@ from __future__ import annotations
 
 from typing import Any
 
+import FreeCAD
 import numpy as np
+
+from cam_workbench.generators.errors import CamError
+
+from . import properties as props
+from .feature import build
 
 
 def kinematics_data(design: Any, samples_per_segment: int = 721) -> dict[str, np.ndarray]:
@@ -39,7 +45,7 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
     """A matplotlib Figure: displacement, velocity, acceleration, jerk, pressure angle and
     the displacement error of the built PH pitch curve against cam angle — lifts in the
     follower's lift unit (the spec's length, or degrees of an oscillating arm's rotation)."""
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure  # deferred: matplotlib (optional in FreeCAD's Python; slow)
 
     d = kinematics_data(design)
     fol = design.follower
@@ -78,7 +84,7 @@ def kinematics_figure(design: Any, title: str = "") -> Any:
 
 def save_figure(fig: Any, path: str) -> None:
     """Write the figure as PNG (Agg canvas; no GUI needed)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # deferred: matplotlib (optional; slow)
 
     FigureCanvasAgg(fig)
     fig.savefig(path)
@@ -89,20 +95,16 @@ _DIALOGS: list[Any] = []
 
 def show_plots(obj: Any) -> Any:
     """Show the kinematics of ``obj``'s cam in a dialog; report why if it cannot."""
-    import FreeCAD
-    import FreeCADGui
-    from PySide import QtGui
-
-    from cam_workbench.generators.errors import CamError
-
-    from .feature import build
-    from . import properties as props
+    import FreeCADGui  # deferred: FreeCADGui (the dialog only; this module is App side)
+    from PySide import QtGui  # deferred: PySide (the dialog only)
 
     try:
-        import matplotlib  # noqa: F401
+        # deferred: matplotlib (optional in FreeCAD's Python: missing, the dialog says so; slow)
+        import matplotlib  # noqa: F401 - deferred: matplotlib
         from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg, NavigationToolbar2QT
     except ImportError:
         try:
+            # deferred: matplotlib (older matplotlib: the Qt5 backend)
             from matplotlib.backends.backend_qt5agg import FigureCanvasQTAgg, NavigationToolbar2QT
         except ImportError as exc:
             msg = (f"Kinematics plots need matplotlib in FreeCAD's Python, which is missing "

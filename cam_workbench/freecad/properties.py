@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from typing import Any, Iterator
 
 from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.followers import follower_class
 from cam_workbench.generators.spec.params import REQUIRED, Param, params_of, unit_name
 from cam_workbench.generators.spec import LIFT_FIELDS, SECTIONS, CamSpec, default_spec
 
@@ -350,8 +351,6 @@ def lift_unit(motion: str, kind: str) -> str:
     """The unit kind of a follower's lifts ("length" or "angle"), read from its class
     (``Follower.lift_unit``); "length" for a combination the library does not know (the
     spec's validation names it)."""
-    from cam_workbench.generators.followers import follower_class
-
     try:
         return follower_class(motion or "translating", kind).lift_unit
     except KeyError:

@@ -5,6 +5,9 @@ FreeCAD 0.20 and 1.0 (Debian) use PySide2, FreeCAD 1.1 PySide6; both are importe
 ``QDialogButtonBox.Ok | QDialogButtonBox.Cancel`` is no longer an ``int`` (``int()`` of it
 raises TypeError) and a ``Qt.CheckState`` compares equal only to another ``Qt.CheckState``,
 never to the number 2.  These helpers give one answer on both.
+
+They import ``PySide`` when called: :mod:`.motion_editor`, whose logic runs in any Python,
+imports this module.
 """
 from __future__ import annotations
 
@@ -24,7 +27,7 @@ def standard_buttons(*names: str) -> int:
     """``QDialogButtonBox`` standard buttons by name ("Ok", "Cancel", "Close"), or-ed, as the
     integer FreeCAD's task dialogs take from ``getStandardButtons`` (every FreeCAD version
     converts the returned value with ``int()``-like semantics)."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (see the module docstring)
 
     flags = 0
     for name in names:
@@ -35,7 +38,7 @@ def standard_buttons(*names: str) -> int:
 def is_checked(state: Any) -> bool:
     """True for ``Qt.Checked`` whether it arrives as an int (PySide2's ``stateChanged``) or as
     a ``Qt.CheckState`` member (PySide6)."""
-    from PySide import QtCore
+    from PySide import QtCore  # deferred: PySide (see the module docstring)
 
     return enum_int(state) == enum_int(QtCore.Qt.Checked)
 
@@ -45,7 +48,7 @@ def fit_task_width(widget: Any, contents: int = 14) -> None:
     ``contents`` characters (its list still shows the whole text) and every label word-wrapped,
     so that no line of text sets the panel's minimum width (FreeCAD 1.1's Tasks dock is far
     narrower than 0.20's Combo View)."""
-    from PySide import QtGui
+    from PySide import QtGui  # deferred: PySide (see the module docstring)
 
     for combo in widget.findChildren(QtGui.QComboBox):
         combo.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)

@@ -5,11 +5,14 @@ import os
 from pathlib import Path
 from typing import Any
 
+import FreeCAD
+
 from cam_workbench.exporters.atomic import write_text_atomic
 from cam_workbench.generators.errors import SpecError
-from cam_workbench.generators.spec import to_toml
+from cam_workbench.generators.spec import load_spec, to_toml
 
 from . import properties as props
+from .feature import create
 
 
 def export_spec(obj: Any, path: str | os.PathLike[str]) -> Path:
@@ -21,33 +24,26 @@ def export_spec(obj: Any, path: str | os.PathLike[str]) -> Path:
     return write_text_atomic(path, to_toml(props.spec_of(obj)))
 
 
-# ---- FreeCAD import hooks (registered by Init.py: File > Open / Import of a *.toml spec) ----
+# ---- FreeCAD import hooks (registered by Init.py: File > Open / Import of a *.toml spec; in the
+# GUI through :mod:`.spec_io_gui`, which registers the view providers first) ----
 def open(filename: str) -> Any:  # noqa: A001 - FreeCAD's importer protocol
-    """Open a spec file as a new document holding one plate cam (no document on a bad spec)."""
-    import FreeCAD
-
-    from cam_workbench.generators.spec import load_spec
-
+    """Open a spec file as a new document holding one cam (no document on a bad spec)."""
     try:
         load_spec(filename)
     except SpecError as exc:
         FreeCAD.Console.PrintError(f"{filename}: {exc}\n")
         return None
-    name = "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "PlateCam"
+    name = "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "Cam"
     doc = FreeCAD.newDocument(name)
     return insert(filename, doc.Name)
 
 
 def insert(filename: str, docname: str) -> Any:
-    """Add a plate cam built from a spec file to the document ``docname`` ("" — as
+    """Add a cam built from a spec file to the document ``docname`` ("" — as
     ``FreeCAD.loadFile(path)`` passes it — the active document, else a new one)."""
-    import FreeCAD
-
-    from .feature import create
-
     if not docname:
         doc = FreeCAD.ActiveDocument or FreeCAD.newDocument(
-            "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "PlateCam")
+            "".join(c if c.isalnum() else "_" for c in Path(filename).stem) or "Cam")
     else:
         doc = FreeCAD.getDocument(docname)
     try:

@@ -10,6 +10,8 @@ import os
 from pathlib import Path
 from typing import Any
 
+import FreeCAD
+
 from cam_workbench.exporters.atomic import atomic_path
 
 
@@ -33,9 +35,8 @@ def export_step(obj: Any, path: str | os.PathLike[str]) -> Path:
 
 def export_step_dialog(obj: Any) -> Path | None:
     """Ask for a file name and export; report the result in the report view."""
-    import FreeCAD
-    import FreeCADGui
-    from PySide import QtGui
+    import FreeCADGui  # deferred: FreeCADGui (the dialog only; this module is App side)
+    from PySide import QtGui  # deferred: PySide (the dialog only)
 
     start = os.path.join(os.path.dirname(obj.Document.FileName or "") or os.getcwd(), f"{obj.Label}.step")
     name, _filt = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export STEP", start,

@@ -1,7 +1,7 @@
 """What a cam body is made of, as plain data: closed plane loops (exact NURBS pieces, circular
 arcs, straight lines) swept along the cam axis into prisms that are added or cut in order.
 
-Every kernel adaptor (OCP in ``cam_workbench.occ_build``, FreeCAD's Part in
+Every kernel adaptor (OCP in ``cam_workbench.kernel.solids``, FreeCAD's Part in
 ``cam_workbench.freecad.part_build``) and the DXF drawing read this description; the exact
 volume and cross-section come from it too: a prism's volume is its region's area (Green's theorem
 on the exact pieces: the NURBS by Gauss quadrature, arcs and lines in closed form) times its

@@ -26,7 +26,7 @@ is built as one tensor-product B-spline surface per motion segment (s is smooth 
 degree 5 in θ and in ρ, interpolating the exact points on a grid (not-a-knot), so neighbouring
 faces share their boundary curves exactly (the same ρ-interpolant of the same points).  Their
 distance from the exact wall is measured at points between the grid nodes (``wall_fit_error``)
-and, in the OCCT solid, on the built faces (``cam_workbench.occ_build``: ``wall_error``).
+and, in the OCCT solid, on the built faces (``cam_workbench.kernel.solids``: ``wall_error``).
 
 **Volume** (independent of the surfaces): at radius ρ the groove's developed cross-section is
 the band between the offsets ±w/2 of C_ρ, whose area over one turn is exactly w·ℓ(ρ),
@@ -805,7 +805,7 @@ def _validate_features(spec, rb: float, min_wall: float, w: float) -> None:
     cam = spec.cam
     if (cam.keyway_width is None) != (cam.keyway_depth is None) or (cam.keyway_width is not None and cam.keyway) \
             or (cam.mounting_holes and None in (cam.mounting_hole_diameter, cam.mounting_circle_diameter)):
-        return                     # the shared feature rules (bodies.validate_body) name the field next
+        return                     # the shared feature rules (bodies.features.validate_features) name the field next
     reach = bore_extent(spec)
     if (cam.keyway is not None or cam.keyway_width is not None) and not rb - reach >= min_wall:
         name = "cam.keyway_depth" if cam.keyway_width is not None else "cam.keyway"

@@ -149,13 +149,6 @@ class NurbsCurve:
             pieces.append(NurbsCurve(p, kv, self.poles[sl], self.weights[sl]))
         return pieces
 
-    def transformed(self, matrix: np.ndarray, translation: np.ndarray | None = None) -> "NurbsCurve":
-        """Affine image (rational curves are affinely invariant)."""
-        poles = self.poles @ np.asarray(matrix).T
-        if translation is not None:
-            poles = poles + np.asarray(translation)
-        return NurbsCurve(self.degree, self.knots, poles, self.weights)
-
     def reversed(self) -> "NurbsCurve":
         """Same curve traversed the other way."""
         lo, hi = self.domain

@@ -1,4 +1,4 @@
-"""Follower-train dynamics (stage room): a single-degree-of-freedom spring–mass–damper driven by
+"""Follower-train dynamics: a single-degree-of-freedom spring–mass–damper driven by
 the cam, for every follower kind through the follower interface.
 
 * :mod:`.model` — the train's numbers from the spec (mass or arm inertia, stiffness, damping,

@@ -1,4 +1,4 @@
-"""Electronic-cam tables (stage room): the motion program sampled as the points a servo
+"""Electronic-cam tables: the motion program sampled as the points a servo
 controller's cam table holds, and the deviation of the table's own interpolation from the exact
 motion.  The files themselves (CSV, CODESYS, Beckhoff, Lenze) are written by :mod:`cam_workbench.exporters.ecam`.
 """

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 from bisect import bisect_left
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -49,9 +49,8 @@ from ..spec.model import CamSpec
 from .plan import machining_plan
 from .toolpath import contour_path
 
-#: The thesis' tolerance (0.01 in) in each unit system, and its time per turn.
+#: The thesis' tolerance (0.01 in) in each unit system.
 DEFAULT_TOLERANCE = {"in": 0.01, "mm": 0.25}
-TURN_TIME = 0.4
 DEFAULT_SAMPLES = 4000
 
 

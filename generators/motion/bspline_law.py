@@ -167,10 +167,6 @@ class BSplineLift:
             return None
         return ub, tb
 
-    def with_points(self, x: np.ndarray, y: np.ndarray) -> "BSplineLift":
-        """The same B-spline (order and knots) with new control points."""
-        return BSplineLift(self.order, x, y, self.knots)
-
     @property
     def degree(self) -> int:
         return self.order - 1

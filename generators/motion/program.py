@@ -15,7 +15,7 @@ import numpy as np
 
 from .bspline_law import BSplineLift
 from .laws import evaluate_law
-from .segments import ORDER_NAMES, build_segments, law_promise
+from .segments import build_segments, law_promise
 
 if TYPE_CHECKING:  # types only: the spec sits above the motion program
     from ..spec.model import CamSpec
@@ -265,11 +265,6 @@ class Junction:
     @property
     def ok(self) -> bool:
         return self.order >= self.promised
-
-    @property
-    def first_jump(self) -> str | None:
-        """The lowest derivative that jumps ("velocity", …), or None."""
-        return ORDER_NAMES[self.order + 1] if self.order < 3 else None
 
     def to_dict(self) -> dict[str, Any]:
         names = ("s", "velocity", "acceleration", "jerk")

@@ -9,7 +9,7 @@ paper's measure (as the PH curve's): max |s_actual − s| where s_actual comes f
 line meeting C (paper Eq. 13).
 
 The exact roller offset of C is not a polynomial curve.  Kernels that have offset curves build
-it exactly (OCCT: ``Geom_OffsetCurve``, :mod:`cam_workbench.occ_build`); for everything else
+it exactly (OCCT: ``Geom_OffsetCurve``, :mod:`cam_workbench.kernel.solids`); for everything else
 (STEP, DXF, checks) :func:`fit_offset` gives a B-spline fitted to it, and the error of both
 against the true profile is measured (:func:`profile_errors`).
 
@@ -33,17 +33,17 @@ from ..errors import SolveError, SpecError
 from ..followers.base import Follower
 from ..kinds import follower_of, register_pitch
 from ..curves.bezier import BezierChain, bernstein_from_power
-from .contact import Contact, FollowerLineSolver
+from .contact import Contact
 from ..motion.program import MotionProgram
 from ..curves.nurbs import NurbsCurve
 from ..spec.model import CamSpec
 from ..spec.pitch import DEFAULT_SEGMENTS, MAX_SEGMENTS
+from .queries import PitchQueries
 
 TWO_PI = 2.0 * np.pi
 DEGREE = 5
 FIT_SAMPLES_PER_SPAN = 12
 MAX_SPANS = MAX_SEGMENTS
-DEFAULT_STEP_DEG = 0.02
 
 
 # ---- periodic B-splines ------------------------------------------------------------------
@@ -237,7 +237,7 @@ class _SegmentView:
 
 @register_pitch
 @dataclass(frozen=True)
-class BSplinePitchCurve:
+class BSplinePitchCurve(PitchQueries):
     """A fitted periodic B-spline pitch curve, queried like :class:`~cam_workbench.generators.pitch.PitchCurve`."""
 
     curve: PeriodicBSpline
@@ -253,11 +253,6 @@ class BSplinePitchCurve:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "spline", _SegmentView(self.curve))
-
-    @property
-    def geometry(self) -> Follower:
-        """The follower (the name before the follower interface)."""
-        return self.follower
 
     @property
     def M(self) -> int:
@@ -305,14 +300,6 @@ class BSplinePitchCurve:
         b = self.angles
         return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
 
-    def solver(self) -> FollowerLineSolver:
-        """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
-        return self.follower.contact_solver(self.segments, self.solver_angles)
-
-    def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
-        """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per span."""
-        return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
-
     def contact(self, theta: np.ndarray, tol: float = 1e-14, max_iter: int = 30) -> Contact:
         """Paper Eq. 13 (generalised to the follower kind) on the B-spline, Newton from u = θ
         (the fit's parameter is the cam angle, so the root is close)."""
@@ -337,32 +324,6 @@ class BSplinePitchCurve:
         return Contact(seg=seg, xi=v - seg, point=c, Y=(rot * c).imag, iterations=0,
                        lift=fol.lift_at(rot * c, rot * d))
 
-    def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
-        return self.contact(theta).lift
-
-    def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
-        n = n or self.deviation_count(step_deg)
-        th = TWO_PI * np.arange(n) / n
-        return th, self.actual_displacement(th) - self.program.s(th)
-
-    def max_deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None) -> tuple[float, float]:
-        th, dev = self.deviation(step_deg, n)
-        k = int(np.argmax(np.abs(dev)))
-        return float(abs(dev[k])), float(np.rad2deg(th[k]))
-
-    def cam_angle_of_point(self, pts: np.ndarray, tangents: np.ndarray | None = None) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which a point of the curve touches the follower (closed
-        form; a flat face needs the tangent too)."""
-        if tangents is None:
-            if self.follower.design_curve != "pitch":
-                raise ValueError("a flat face's contact angle needs the curve's tangent too")
-            tangents = np.ones_like(pts)
-        return np.mod(np.rad2deg(self.follower.cam_angle_of(pts, tangents)), 360.0)
-
-    def cam_angle_at(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which the curve's point (segment, ξ) touches the follower."""
-        return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
 def build_bspline_pitch(spec: CamSpec, progress: Callable[[int, float], None] | None = None

@@ -22,9 +22,9 @@ from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
 from ..spec.model import CamSpec
 from ..spec.pitch import DEFAULT_SEGMENTS, MAX_SEGMENTS
+from .queries import DEFAULT_STEP_DEG, PitchQueries
 
 TWO_PI = 2.0 * np.pi
-DEFAULT_STEP_DEG = 0.02
 MAX_TOLERANCE_SEGMENTS = MAX_SEGMENTS
 
 
@@ -45,7 +45,7 @@ def junction_angles(spec: CamSpec, segments: int | None = None) -> np.ndarray:
 
 @register_pitch
 @dataclass(frozen=True)
-class PitchCurve:
+class PitchCurve(PitchQueries):
     """A solved PH design curve (the pitch curve of a knife edge or roller, the profile of a
     flat face) with everything needed to query it."""
 
@@ -59,11 +59,6 @@ class PitchCurve:
     exact = True
     #: the representation in words
     words = "PH quintic spline"
-
-    @property
-    def geometry(self) -> Follower:
-        """The follower (the name before the follower interface)."""
-        return self.follower
 
     @property
     def M(self) -> int:
@@ -98,50 +93,10 @@ class PitchCurve:
         b = self.angles
         return b + (np.mod(cross - b + np.pi, TWO_PI) - np.pi)
 
-    def solver(self) -> FollowerLineSolver:
-        """Eq. 13 solver (generalised to the follower kind) on :attr:`segments`."""
-        return self.follower.contact_solver(self.spline, self.solver_angles)
-
     def contact(self, theta: np.ndarray) -> Contact:
         """Eq. 13 solution at cam angles θ [rad]."""
         return self.solver().solve(theta)
 
-    def actual_displacement(self, theta: np.ndarray) -> np.ndarray:
-        """s_actual(θ): the lift the built curve gives the follower [spec lift units]."""
-        return self.contact(theta).lift
-
-    def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
-        """Number of equally spaced samples over 360°: every ``step_deg``, ≥ 8 per PH segment."""
-        return max(int(np.ceil(360.0 / step_deg - 1e-9)), 8 * self.M)
-
-    def deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
-        """(θ samples [rad], s_actual − s) over the cycle, at ``n`` equally spaced angles
-        (default from ``step_deg``)."""
-        n = n or self.deviation_count(step_deg)
-        th = TWO_PI * np.arange(n) / n
-        return th, self.actual_displacement(th) - self.program.s(th)
-
-    def max_deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
-                      ) -> tuple[float, float]:
-        """(max |s_actual − s|, cam angle in degrees where it occurs)."""
-        th, dev = self.deviation(step_deg, n)
-        k = int(np.argmax(np.abs(dev)))
-        return float(abs(dev[k])), float(np.rad2deg(th[k]))
-
-    def cam_angle_of_point(self, pts: np.ndarray, tangents: np.ndarray | None = None) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which a point of the curve (complex, cam frame; with its
-        tangent in the direction of increasing θ for a flat face) touches the follower, in
-        closed form (:meth:`Follower.cam_angle_of`)."""
-        if tangents is None:
-            if self.follower.design_curve != "pitch":
-                raise ValueError("a flat face's contact angle needs the curve's tangent too")
-            tangents = np.ones_like(pts)
-        return np.mod(np.rad2deg(self.follower.cam_angle_of(pts, tangents)), 360.0)
-
-    def cam_angle_at(self, seg: np.ndarray, xi: np.ndarray) -> np.ndarray:
-        """Cam angle [deg, 0..360) at which the curve's point (segment, ξ) touches the follower."""
-        return self.cam_angle_of_point(self.spline.point(seg, xi), self.spline.first_derivative(seg, xi))
 
 
 def build_pitch_curve(program: MotionProgram, follower: Follower, angles: np.ndarray) -> PitchCurve:

@@ -31,11 +31,6 @@ from typing import Any, Iterable, Mapping, Sequence
 
 from ..kinds import body_named
 
-#: the key numbers' columns, in table order (the check columns follow)
-KEY_COLUMNS = ("units", "follower", "base_radius", "max_lift", "pressure_angle_deg", "pressure_angle_at_deg",
-               "min_pitch_radius", "min_profile_radius", "max_profile_radius", "area", "volume",
-               "checks_passed", "failed_checks")
-
 
 @dataclass
 class StudyTable:

@@ -43,7 +43,7 @@ def polyline_distance(points: np.ndarray, curve: np.ndarray) -> np.ndarray:
 
 def check_solid(shape) -> None:
     """One valid solid (OCCT's BRepCheck_Analyzer and a solid count, called here directly)."""
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
 
     assert occ.BRepCheck_Analyzer(shape).IsValid(), "OCCT: invalid solid"
     ex, n = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID), 0

@@ -37,7 +37,7 @@ def test_platecam_any_valid_spec(tmp_path_factory, d):
         return
     check_solid(cam.shape)
     check_design(cam.design, report)
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.solids import kernel_volume
 
     # the kernel's solid (its integrals good to ~1e-5 on B-spline faces) has the body's exact volume
     assert abs(kernel_volume(cam.shape) / report["volume"] - 1) < 5e-5, (kernel_volume(cam.shape), report["volume"])
@@ -56,7 +56,7 @@ def test_cylindrical_any_valid_spec(tmp_path_factory, d):
     groove's definition, walls within their reported error of the exact walls, a STEP file that
     reads back — or a clean refusal."""
     from cam_workbench import PlateCam
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.solids import kernel_volume
 
     try:
         cam = PlateCam(d)

@@ -73,7 +73,7 @@ def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
         return
     assert r["valid"] and r["solids"] == 1, r
     # FreeCAD models in mm whatever the spec's units; its OCCT integrates B-spline side faces
-    # to ~1e-5 relative (DESIGN.md)
+    # to ~1e-5 relative (measured)
     exact = design.volume * (25.4**3 if spec.units == "in" else 1.0)
     if getattr(design.body, "prismatic", True):
         assert abs(r["volume"] / exact - 1.0) < 5e-5, (r["volume"], exact)
@@ -86,7 +86,7 @@ def _feature_agrees(tmp_path_factory, fc_home, d) -> None:  # noqa: F811
 
 def _adaptive_volume(path) -> float:
     """Volume of a BREP file by OCCT's adaptive integration (relative error 1e-7)."""
-    from cam_workbench.ocp_compat import read_brep
-    from cam_workbench.occ_build import kernel_volume
+    from cam_workbench.kernel.ocp import read_brep
+    from cam_workbench.kernel.solids import kernel_volume
 
     return kernel_volume(read_brep(path), 1e-7)

@@ -21,9 +21,9 @@ RENAMED: tuple[tuple[str, str], ...] = (
     (r"(?<![\w.])exporters\.", "cam_workbench.exporters."),
     # the public class of every body (item 2; PlateCam stays as an alias)
     (r"\bPlateCam\b", "Cam"),
-    # the FreeCAD workbench's name, "Plate Cam" (item 2: "a name that fits every body"): no CLI or
-    # API output names it today; when one does and the name changes, the new name goes on the right
-    (r"\bPlate Cam workbench\b", "Plate Cam workbench"),
+    # the FreeCAD workbench's name, "Plate Cam" → "Cam Workbench" (item 2: "a name that fits every
+    # body"; `cam-workbench freecad install` says it)
+    (r"\bPlate Cam\b", "Cam Workbench"),
 )
 
 #: What differs from run to run or from release to release: (regular expression, placeholder).
@@ -44,7 +44,7 @@ TMP = "<tmp>"
 WHERE: dict[str, str] = {
     "cli": "cam_workbench.cli",
     "api": "cam_workbench:PlateCam",
-    "ocp": "cam_workbench.ocp_compat",
+    "ocp": "cam_workbench.kernel.ocp",
     "examples": "cam_workbench.generators.spec.examples:EXAMPLES",
     "ecam_tables": "cam_workbench.generators.spec:ECAM_TABLES",
 }

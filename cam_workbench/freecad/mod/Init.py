@@ -21,4 +21,5 @@ for _camwb_dir in list(sys.path):
             sys.path.insert(0, _camwb_root)
         break
 
-FreeCAD.addImportType("Plate cam spec (*.toml)", "cam_workbench.freecad.spec_io")
+# InitGui.py hands this filter to the GUI's importer (the same text there)
+FreeCAD.addImportType("Cam spec (*.toml)", "cam_workbench.freecad.spec_io")

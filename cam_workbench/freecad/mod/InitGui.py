@@ -11,19 +11,21 @@ import FreeCADGui
 
 
 class CamWorkbench(FreeCADGui.Workbench):
-    """Exact plate cams: PH quintic pitch curves, rational offset profiles, design checks."""
+    """Exact cams — plate, groove, conjugate, cylindrical: PH quintic pitch curves, rational
+    offset profiles, design checks."""
 
-    MenuText = "Plate Cam"
-    ToolTip = ("Exact plate cams: C² PH quintic pitch curves, exact rational (NURBS) profiles, "
-               "design checks, STEP, DXF and G-code export")
+    MenuText = "Cam Workbench"
+    ToolTip = ("Exact cams (plate, groove, conjugate, cylindrical): C² PH quintic pitch curves, exact "
+               "rational (NURBS) profiles, design checks, an optimiser, STEP, DXF and G-code export")
     Icon = ""
 
     def Initialize(self):
+        # deferred: the workbench's commands, to its first activation (start-up stays cheap)
         from cam_workbench.freecad import commands
 
         commands.register()
-        self.appendToolbar("Plate cam", commands.TOOLBAR)
-        self.appendMenu("Plate cam", commands.LAYOUT)
+        self.appendToolbar("Cam", commands.TOOLBAR)
+        self.appendMenu("Cam", commands.LAYOUT)
 
     def Activated(self):
         return None
@@ -47,10 +49,14 @@ for _camwb_dir in list(sys.path):  # a clone in the Mod folder: its root (see In
 _cam_spec = importlib.util.find_spec("cam_workbench")  # finds the package without importing it
 if _cam_spec is None or not _cam_spec.submodule_search_locations:
     FreeCAD.Console.PrintError(
-        "Plate Cam workbench: the cam_workbench package is not on FreeCAD's Python path "
+        "Cam Workbench: the cam_workbench package is not on FreeCAD's Python path "
         "(was the checkout moved or the package uninstalled?). Run `cam-workbench freecad install` "
         "again.\n")
 else:
     CamWorkbench.Icon = os.path.join(list(_cam_spec.submodule_search_locations)[0], "freecad",
                                      "icons", "CamWorkbench.svg")
     FreeCADGui.addWorkbench(CamWorkbench())
+    # File > Open of a spec in the GUI: the importer that also gives the cam its view providers
+    # (Init.py registered the App-side one under the same filter)
+    FreeCAD.changeImportModule("Cam spec (*.toml)", "cam_workbench.freecad.spec_io",
+                               "cam_workbench.freecad.spec_io_gui")

@@ -4,7 +4,7 @@ only one that knows that OCP's versions differ.
 Every OCP class, enum and static method the project uses is taken from here, by a name that is
 the same for every supported OCP:
 
-    from cam_workbench import ocp_compat as occ
+    from cam_workbench.kernel import ocp as occ
     occ.require("cam-workbench build")         # MissingDependency naming the extras, when absent
     poles = occ.pnt_array([occ.gp_Pnt(x, y, 0) for x, y in xy])
     curve = occ.Geom_BSplineCurve(poles, occ.real_array(w), …)
@@ -43,6 +43,9 @@ importable OCP, the first use raises :class:`~cam_workbench.generators.errors.Mi
 from __future__ import annotations
 
 import importlib
+import sys
+import warnings
+from importlib import metadata
 from typing import Any, Iterable, Sequence
 
 from cam_workbench.generators.errors import MissingDependency
@@ -77,7 +80,7 @@ SAME: tuple[str, ...] = (
     "GeomAbs_BSplineCurve", "GeomAbs_BSplineSurface", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
     "IFSelect_RetDone", "Interface_Static", "Message", "Message_Gravity",
     "STEPControl_AsIs", "STEPControl_Controller", "STEPControl_Reader", "STEPControl_Writer",
-    "TopAbs_EDGE", "TopAbs_FACE", "TopAbs_REVERSED", "TopAbs_SOLID", "TopExp_Explorer", "TopoDS",
+    "StepBasic_Product", "TCollection_HAsciiString", "TopAbs_EDGE", "TopAbs_FACE", "TopAbs_REVERSED", "TopAbs_SOLID", "TopExp_Explorer", "TopoDS",
     "gp_Ax2", "gp_Ax3", "gp_Circ", "gp_Dir", "gp_Pln", "gp_Pnt", "gp_Pnt2d", "gp_Vec",
 )
 
@@ -93,7 +96,7 @@ def _import_ocp(what: str | None = None) -> Any:
     """``import OCP``, or MissingDependency saying what needs it and how to install it."""
     need = f"{what} needs" if what else "this needs"
     try:
-        import OCP
+        import OCP  # deferred: OCP, an extra (importing this module loads no OCP)
     except ModuleNotFoundError as exc:
         if exc.name != "OCP":
             raise _broken(need, exc) from exc
@@ -116,8 +119,6 @@ def _warn_two_distributions() -> None:
     _WARNED.append(True)
     note = two_distributions_note()
     if note:
-        import warnings
-
         warnings.warn(f"broken environment{note}", RuntimeWarning, stacklevel=3)
 
 
@@ -149,8 +150,6 @@ def version() -> str:
 def distributions() -> list[tuple[str, str]]:
     """The installed distributions that provide ``OCP`` (name, version); more than one is a
     broken environment (each overwrites the other's files).  Does not import OCP."""
-    from importlib import metadata
-
     found = []
     for name in OCP_DISTRIBUTIONS:
         try:
@@ -201,8 +200,6 @@ def __getattr__(name: str) -> Any:
 
 def _ns() -> Any:
     """This module, for resolving names lazily from the helpers below."""
-    import sys
-
     return sys.modules[__name__]
 
 
@@ -342,10 +339,8 @@ def message_printers() -> list[Any]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Say which OCP this environment has; 1 unless exactly one OCP distribution is installed and
-    OCP imports (the Makefile checks its venv so: ``python -c "from cam_workbench.ocp_compat
+    OCP imports (the Makefile checks its venv so: ``python -c "from cam_workbench.kernel.ocp
     import main; raise SystemExit(main())"``)."""
-    import sys
-
     dists = distributions()
     try:
         print(describe())

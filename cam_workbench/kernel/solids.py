@@ -2,7 +2,7 @@
 
 This is the only place the CadQuery/build123d side turns generator output into
 B-rep; FreeCAD has its own adaptor in ``cam_workbench/freecad`` (never both OCCT
-builds in one process).  Every OCP name comes from :mod:`cam_workbench.ocp_compat`
+builds in one process).  Every OCP name comes from :mod:`cam_workbench.kernel.ocp`
 (``occ.``), which knows the OCP versions; nothing here does.
 """
 from __future__ import annotations
@@ -11,11 +11,12 @@ from typing import Any
 
 import numpy as np
 
+from cam_workbench.generators.bodies.base import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.pitch.bspline import bezier_form
 
-from . import ocp_compat as occ
+from . import ocp as occ
 
 
 def _occ_arrays(curve: NurbsCurve, pole_array: Any, point: Any) -> tuple[Any, Any, Any, Any]:
@@ -190,8 +191,6 @@ def _boolean(op: Any, a: Any, b: Any) -> Any:
 def loop_wire(loop: Any, z: float = 0.0) -> Any:
     """A closed wire of a body loop (:class:`cam_workbench.generators.bodies.Loop`): exact NURBS pieces (one edge
     per Bézier span), circular arcs and lines, in the loop's (counter-clockwise) order."""
-    from cam_workbench.generators.bodies import Arc, Curve, Line
-
     mk = occ.BRepBuilderAPI_MakeWire()
     for piece in loop.pieces:
         if isinstance(piece, Curve):

@@ -1,0 +1,7 @@
+"""The CAD kernel: the only package that imports OCP (OpenCascade's Python bindings).
+
+:mod:`.ocp` is the OCP adaptor (the one module that imports OCP and knows its versions),
+:mod:`.solids` turns the generators' plain NURBS and body data into OCCT edges, faces and the cam
+solid, :mod:`.step` writes and reads STEP.  The exporters and the API sit above it; it imports,
+of the project, only :mod:`cam_workbench.generators`.  Importing it loads no OCP.
+"""
