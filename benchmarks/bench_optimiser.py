@@ -19,17 +19,18 @@ import numpy as np
 
 import _timing  # noqa: F401  (the project root on sys.path)
 
-import cam_workbench.generators.optimise.run as run
+import cam_workbench.generators.optimise.driver as driver
 from cam_workbench.generators import load_spec
 from cam_workbench.generators.checks.areas import thesis_area
 from cam_workbench.generators.machining.cutting_time import thesis_cutting_time
 from cam_workbench.generators.optimise import optimise
 from cam_workbench.generators.optimise.model import SmoothModel
+from cam_workbench.generators.optimise.problem import ScaledProblem
 
 FIX = Path(__file__).resolve().parents[1] / "tests" / "fixtures"
 
 
-class FiniteDifferenceProblem(run.ScaledProblem):
+class FiniteDifferenceProblem(ScaledProblem):
     """The optimiser's problem with its gradients replaced by forward differences."""
 
     step = 1e-7
@@ -62,17 +63,17 @@ def counted(fn):
 
 
 def one_run(spec, finite_differences: bool, **kw):
-    original_problem, original_window = run.ScaledProblem, SmoothModel.window_max
+    original_problem, original_window = driver.ScaledProblem, SmoothModel.window_max
     counter = counted(original_window)
     SmoothModel.window_max = counter
     if finite_differences:
-        run.ScaledProblem = FiniteDifferenceProblem
+        driver.ScaledProblem = FiniteDifferenceProblem
     try:
         t0 = time.perf_counter()
         res = optimise(spec, objective="area", **kw)
         dt = time.perf_counter() - t0
     finally:
-        run.ScaledProblem, SmoothModel.window_max = original_problem, original_window
+        driver.ScaledProblem, SmoothModel.window_max = original_problem, original_window
     return res, dt, counter.calls
 
 

@@ -6,7 +6,9 @@ beyond TOML), so it runs inside FreeCAD's own Python as well as beside CadQuery.
 from .cam_design import CamDesign, design_cam
 from .errors import CamError, GeometryError, NotAvailable, SolveError, SpecError
 from .curves.nurbs import NurbsCurve
-from .spec.model import CamSpec, default_spec, load_spec, to_toml
+from .spec.default import default_spec
+from .spec.model import CamSpec
+from .spec.toml_io import load_spec, to_toml
 from .kinds import builtin  # noqa: F401,E402  (the built-in bodies and followers register themselves)
 
 __all__ = [

@@ -26,7 +26,8 @@ from .pitch.ph import PitchCurve, build_pitch
 from .pitch.bspline import (PeriodicBSpline, ProfileErrors, build_bspline_pitch, built_profile_error,
                             fit_offset, profile_errors)
 from .errors import GeometryError
-from .spec.model import CamSpec, spec_digest
+from .spec.model import CamSpec
+from .spec.toml_io import spec_digest
 
 DESIGN_SAMPLES_PER_SEGMENT = 2001
 #: knot spans of the fitted offset B-spline per span of the fitted pitch B-spline: with 2 its

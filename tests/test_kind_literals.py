@@ -33,7 +33,9 @@ FREE = ("generators/kinds/", "generators/spec/")
 
 def kind_literals() -> frozenset[str]:
     """The values of the spec's kind choices (cam.body, follower.kind/motion, pitch.representation)."""
-    from cam_workbench.generators.spec.model import CamSection, FollowerSection, PitchSection
+    from cam_workbench.generators.spec.cam import CamSection
+    from cam_workbench.generators.spec.follower import FollowerSection
+    from cam_workbench.generators.spec.pitch import PitchSection
     from cam_workbench.generators.spec.params import params_of
 
     values: set[str] = set()

@@ -9,7 +9,9 @@ from cam_workbench.generators import kinds
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.kinds.protocols import Body
 from cam_workbench.generators.spec.examples import example_spec
-from cam_workbench.generators.spec.model import CamSection, FollowerSection, PitchSection
+from cam_workbench.generators.spec.cam import CamSection
+from cam_workbench.generators.spec.follower import FollowerSection
+from cam_workbench.generators.spec.pitch import PitchSection
 from cam_workbench.generators.spec.params import params_of
 
 #: what a body class must declare in its own class body (capabilities consumers ask)

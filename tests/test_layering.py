@@ -12,7 +12,7 @@ FORBIDDEN = ["OCP", "cadquery", "build123d", "FreeCAD", "Part", "ezdxf", "matplo
 #: of the one import name, the generators may load the package's own __init__ and themselves
 OWN = ("cam_workbench", "cam_workbench.generators")
 #: The only module allowed to import nlopt (lazily, inside the functions that run a solver).
-NLOPT_ALLOWED = ("generators/optimise/run.py",)
+NLOPT_ALLOWED = ("generators/optimise/driver.py",)
 
 
 def test_generators_imports_no_cad_or_file_format_module():

@@ -164,7 +164,7 @@ def test_mma_on_example5_uses_few_windows():
     steeply with the number of constraints (≈1.5 s per evaluation with the default 80 windows
     per rise/return), so CCSA methods get at most ``CCSA_WINDOWS`` (refined once to twice that).
     The result must still pass every dense check and reach SLSQP's area (21.304 in², to 0.5 %)."""
-    from cam_workbench.generators.optimise.run import CCSA_WINDOWS
+    from cam_workbench.generators.optimise.settings import CCSA_WINDOWS
 
     res = optimise(fixture(5, "initial"), objective="area", algorithm="mma")
     assert res.details["windows"] <= 2 * CCSA_WINDOWS
@@ -439,7 +439,7 @@ def test_the_result_records_the_starts_feasibility_and_the_solvers_status():
 def test_a_solver_that_stops_on_roundoff_is_not_reported_converged(monkeypatch):
     """nlopt's "roundoff limited" (the user's report) gives status "stopped", with the solver's
     own text in solver_status and message."""
-    from cam_workbench.generators.optimise import run as R
+    from cam_workbench.generators.optimise import driver as R
 
     real = R._run_nlopt
 

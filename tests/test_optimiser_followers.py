@@ -386,7 +386,7 @@ def test_the_model_is_finite_where_the_arm_cannot_reach():
     through the pivot) give finite rows: the geometry rows positive with their gradients, never an
     exception; the space says why such a design is not a spec."""
     from cam_workbench.generators.optimise.objectives import make_objective
-    from cam_workbench.generators.optimise.run import ScaledProblem
+    from cam_workbench.generators.optimise.problem import ScaledProblem
 
     spec = CamSpec.from_dict(oscillating_roller()).replace(**{"optimise.pivot_distance_max": 200.0,
                                                               "optimise.variables": ARM})

@@ -50,7 +50,9 @@ from cam_workbench.generators.optimise.objectives import label as objective_labe
 from cam_workbench.generators.optimise.space import DesignSpace
 from cam_workbench.generators.spec import (OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec, OptimiseSection,
                                            optimise_control_rows, optimise_variables)
-from cam_workbench.generators.spec.model import FOLLOWER_VARIABLES, body_variable_rule, follower_variable_rule
+from cam_workbench.generators.spec.optimise import (
+    FOLLOWER_VARIABLES, body_variable_rule, follower_variable_rule,
+)
 
 from . import properties as props
 from .check_design import check_rows, fmt_value

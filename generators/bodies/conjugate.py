@@ -39,7 +39,7 @@ from ..followers.oscillating import zero_lift_arm_angle
 from ..kinds import follower_class_of, pitch_of, register_body
 from ..motion.program import Kinematics
 from ..pitch.ph import build_pitch_curve, segments_for_tolerance
-from ..spec.model import OBJECTIVES
+from ..spec.optimise import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hub_prism, mounting_holes, resolved, timing_mark, zero_angle
 from .groove import force_sides

@@ -70,7 +70,8 @@ from ..errors import GeometryError, SpecError, fmt_apart
 from ..followers.translating import TranslatingFollower
 from ..kinds import follower_class_of, register_body
 from ..motion.program import MotionProgram
-from ..spec.model import CYLINDER_VARIABLES, spec_digest
+from ..spec.optimise import CYLINDER_VARIABLES
+from ..spec.toml_io import spec_digest
 from ..studies.plan import Plan
 from ..studies.table import checks_row
 from .base import Loop, Prism

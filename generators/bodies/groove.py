@@ -21,7 +21,7 @@ from ..checks.buildability import min_radius
 from ..checks.design import StateModel
 from ..followers.load import hertz_stress
 from ..kinds import register_body
-from ..spec.model import BODY_VARIABLES, OBJECTIVES
+from ..spec.optimise import BODY_VARIABLES, OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, plate_features, resolved
 from .plane import PlaneCamBody

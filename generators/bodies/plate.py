@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SpecError, fmt_apart
 from ..kinds import register_body
-from ..spec.model import OBJECTIVES
+from ..spec.optimise import OBJECTIVES
 from .base import BodyGeometry, Loop, Prism
 from .features import bore_extent, bore_loop, hole_ligaments, plate_features
 from .plane import PlaneCamBody

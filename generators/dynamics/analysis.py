@@ -25,7 +25,8 @@ import numpy as np
 from ..followers.base import Follower
 from ..kinds import body_of
 from ..motion.program import MotionProgram
-from ..spec.model import SWEEP_LOW_FRACTION, CamSpec
+from ..spec.dynamics import SWEEP_LOW_FRACTION
+from ..spec.model import CamSpec
 from ..spec.params import unit_name
 from .contact import SeparatedResponse, separated_response
 from .jump import RPM, SWEEP_MAX_SAMPLES, JumpSpeed, find_jump_speed, rigid_jump_speed, sweep_range

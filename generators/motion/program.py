@@ -18,7 +18,8 @@ from .laws import evaluate_law
 from .segments import build_segments, law_promise
 
 if TYPE_CHECKING:  # types only: the spec sits above the motion program
-    from ..spec.model import CamSpec, MotionSegment
+    from ..spec.model import CamSpec
+    from ..spec.motion import MotionSegment
 
 TWO_PI = 2.0 * np.pi
 

@@ -33,8 +33,10 @@ from ..checks.design import CheckResult, DesignChecks
 from ..errors import CamError, SpecError
 from ..motion.program import MotionProgram
 from ..kinds import register_optimiser
-from ..spec.model import CYLINDER_VARIABLES, CamSpec
-from .run import OptimiseResult, Progress, _nlopt
+from ..spec.model import CamSpec
+from ..spec.optimise import CYLINDER_VARIABLES
+from .driver import load_nlopt
+from .result import OptimiseResult, Progress
 
 #: spec path of each design variable
 PATHS = {"cylinder_radius": "cam.cylinder_radius", "outer_diameter": "cam.outer_diameter",
@@ -121,7 +123,7 @@ def cylinder_checks(spec: CamSpec) -> DesignChecks:
 def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = None,
                          cancel: Any = None) -> Any:
     """Minimise a cylindrical cam's outer diameter over cylinder_radius, outer_diameter and
-    clearance with COBYLA (module docstring); an :class:`~cam_workbench.generators.optimise.run.OptimiseResult`.
+    clearance with COBYLA (module docstring); an :class:`~cam_workbench.generators.optimise.result.OptimiseResult`.
 
     Raises:
         SpecError: ``optimise.objective`` other than outer_diameter, ``optimise.variables`` naming
@@ -166,7 +168,7 @@ def optimise_cylindrical(spec: CamSpec, progress: Callable[[Any], Any] | None = 
             raise _Stop
         return f, g
 
-    nlopt = _nlopt()
+    nlopt = load_nlopt()
     n = len(names)
     ncons = len(cylinder_constraints(spec, program, start))
     opt = nlopt.opt(nlopt.LN_COBYLA, n)

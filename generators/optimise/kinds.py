@@ -51,7 +51,8 @@ import numpy as np
 from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
 from ..kinds import body_of
-from ..spec.model import CamSpec, optimise_variables
+from ..spec.model import CamSpec
+from ..spec.optimise import optimise_variables
 from . import jet
 from .jet import arccos, arctan, cos, sin, sqrt, where
 

@@ -34,7 +34,8 @@ from ..bodies.features import resolved
 from ..motion.bspline_law import BSplineLift, fixed_end_points
 from ..errors import SpecError, fmt_apart
 from ..motion.program import MotionProgram
-from ..spec.model import BODY_VARIABLES, CamSpec, follower_variable_rule, optimise_control_rows, optimise_variables
+from ..spec.model import CamSpec
+from ..spec.optimise import BODY_VARIABLES, follower_variable_rule, optimise_control_rows, optimise_variables
 from .kinds import GEOMETRY_PATHS, kind_model
 from .points import ControlPolygon, PointBlock, curve_at, point_block, point_bounds
 

@@ -36,7 +36,8 @@ from ..curves.bezier import BezierChain, bernstein_from_power
 from .contact import Contact
 from ..motion.program import MotionProgram
 from ..curves.nurbs import NurbsCurve
-from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
+from ..spec.model import CamSpec
+from ..spec.pitch import DEFAULT_SEGMENTS, MAX_SEGMENTS
 from .queries import PitchQueries
 
 TWO_PI = 2.0 * np.pi

@@ -20,7 +20,8 @@ from ..kinds import follower_of, register_pitch
 from .contact import Contact, FollowerLineSolver
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
-from ..spec.model import DEFAULT_SEGMENTS, MAX_SEGMENTS, CamSpec
+from ..spec.model import CamSpec
+from ..spec.pitch import DEFAULT_SEGMENTS, MAX_SEGMENTS
 from .queries import DEFAULT_STEP_DEG, PitchQueries
 
 TWO_PI = 2.0 * np.pi

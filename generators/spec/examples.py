@@ -38,7 +38,8 @@ import math
 from typing import Any
 
 from ..errors import SpecError
-from .model import DEFAULT_SPEC_DICT, CamSpec
+from .default import DEFAULT_SPEC_DICT
+from .model import CamSpec
 
 PAPER_SPEC_DICT: dict[str, Any] = {
     "units": "mm",

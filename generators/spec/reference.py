@@ -11,7 +11,10 @@ from typing import Any
 
 from .params import Param, params_of, unit_name
 from .examples import DESCRIPTIONS as EXAMPLE_DESCRIPTIONS
-from .model import DEFAULT_SEGMENTS, SECTIONS, CamSpec, default_spec, to_toml
+from .default import default_spec
+from .model import SECTIONS, CamSpec
+from .pitch import DEFAULT_SEGMENTS
+from .toml_io import to_toml
 
 def _sections() -> list[tuple[str, type, str]]:
     """(TOML table name, dataclass, introduction) in document order."""

@@ -23,7 +23,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ..errors import SpecError, fmt_apart
-from ..spec.model import SECTIONS, CamSpec, _set_path, params_of
+from ..spec.model import SECTIONS, CamSpec, _set_path
+from ..spec.params import params_of
 from ..spec.model import follow_cylinder_fields
 
 #: most points a grid may have (a typo such as 5:30:6000 is refused before any work)
