@@ -23,10 +23,8 @@ from pathlib import Path
 from .conftest import ROOT
 
 SCANNED = ("generators", "exporters", "cam_workbench")
-#: the comparisons still left (89 on main before the registry): the test fails when the count
-#: grows; the one left is the FreeCAD document migration's (cam_workbench/freecad/properties.py,
-#: a document saved before oscillating followers), to go when that module asks the registry
-REMAINING = 1
+#: the comparisons allowed outside: none (89 on main before the registry)
+REMAINING = 0
 #: where every kind literal may be compared: the registry and the spec declarations
 FREE = ("generators/kinds/", "generators/spec/")
 

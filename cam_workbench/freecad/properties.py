@@ -738,9 +738,8 @@ def migrate_optional_choices(obj: Any) -> list[str]:
             value = getattr(obj, fp.name)
             setattr(obj, fp.name, choices)
             setattr(obj, fp.name, value if value in choices else "")
-    if ("MachiningRotaryLine" in obj.PropertiesList and obj.MachiningRotaryLine == "follower"
-            and getattr(obj, "FollowerMotion", "translating") == "translating"):
-        obj.MachiningRotaryLine = ""
+    if "MachiningRotaryLine" in obj.PropertiesList and obj.MachiningRotaryLine == "follower":
+        obj.MachiningRotaryLine = ""          # a version-2 document's follower is translating
     return []
 
 
