@@ -51,7 +51,7 @@ from cam_workbench.generators.checks.design import run_checks
 from cam_workbench.generators.errors import CamError, SpecError
 from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.spec import CamSpec, load_spec, spec_digest
-from cam_workbench.generators.studies.executor import NOT_RUN, Executor, SerialExecutor, TaskContext
+from cam_workbench.generators.studies.executor import Executor, SerialExecutor, TaskContext
 from cam_workbench.generators.studies.grid import Axis, Grid, parse_vary
 from cam_workbench.generators.studies.sizing import SizingSettings, check_names
 from cam_workbench.generators.studies.sweep import Counter, run_sweep

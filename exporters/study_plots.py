@@ -71,7 +71,6 @@ def chart_layout(table: StudyTable, axes: Sequence[str], x: str | None = None, l
                  panels: Sequence[str] | None = None) -> tuple[str, str | None, list[str]]:
     """(x, lines, panels): the columns that go on the x axis, make the lines and the panels."""
     numeric = [a for a in axes if _numeric(table.column(a))]
-    categorical = [a for a in axes if a not in numeric]
     if x is None:
         if not numeric:
             raise ValueError("a sizing chart needs a numeric --vary axis for its x axis")

@@ -361,12 +361,6 @@ def add_reference(cam: Any, kind: str) -> Any:
     return ref
 
 
-def cam_of(ref: Any) -> Any:
-    """The cam a reference curve belongs to (None if it was deleted)."""
-    cams = [o for o in ref.InList if is_cam(o)]
-    return cams[0] if cams else None
-
-
 def is_cam(obj: Any) -> bool:
     """Whether ``obj`` is a cam feature (of any body)."""
     return isinstance(getattr(obj, "Proxy", None), CamFeature)

@@ -365,12 +365,3 @@ def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float
 PIVOT_MARK = 0.04
 
 
-def profile_edges_rational(shape: Any) -> list[bool]:
-    """For every B-spline edge of ``shape``: is its curve rational (weights not all equal)?"""
-    out = []
-    for e in shape.Edges:
-        c = e.Curve
-        if c.TypeId == "Part::GeomBSplineCurve":
-            w = np.array(c.getWeights())
-            out.append(bool(c.isRational() and np.ptp(w) > 1e-12 * np.max(w)))
-    return out

@@ -35,14 +35,6 @@ def standard_buttons(*names: str) -> int:
     return flags
 
 
-def is_checked(state: Any) -> bool:
-    """True for ``Qt.Checked`` whether it arrives as an int (PySide2's ``stateChanged``) or as
-    a ``Qt.CheckState`` member (PySide6)."""
-    from PySide import QtCore  # deferred: PySide (see the module docstring)
-
-    return enum_int(state) == enum_int(QtCore.Qt.Checked)
-
-
 def fit_task_width(widget: Any, contents: int = 14) -> None:
     """Let a task panel be as narrow as FreeCAD's task area: every combo box sized to
     ``contents`` characters (its list still shows the whole text) and every label word-wrapped,

@@ -226,10 +226,6 @@ class WallSurface:
     def u_range(self) -> tuple[float, float]:
         return float(self.knots_u[0]), float(self.knots_u[-1])
 
-    @property
-    def v_range(self) -> tuple[float, float]:
-        return float(self.knots_v[0]), float(self.knots_v[-1])
-
 
 def wall_surfaces(layout: CylinderLayout, program, rho0: float, rho1: float) -> tuple[WallSurface, ...]:
     """Both walls, one surface per motion segment each, over ρ ∈ [rho0, rho1]."""
@@ -921,7 +917,6 @@ def cylinder_checks(spec) -> dict[str, Any]:
     undercut wall (its check fails instead): what ``cam-workbench check`` shows for a cam that
     cannot be made."""
     return check_cylinder(spec, MotionProgram.from_spec(spec), CylinderLayout.of(spec), refuse=False)["checks"]
-
 
 
 @dataclass(frozen=True)

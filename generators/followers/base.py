@@ -185,9 +185,6 @@ class Follower(ABC):
         """w: unit direction (fixed frame) in which the follower's material point at the
         contact point q moves as the lift grows."""
 
-    def velocity_direction(self, k: Kinematics) -> np.ndarray:
-        """w at the design contact of the kinematics ``k``."""
-        return self.velocity_direction_at(self.fixed(k, 0)[0])
 
     def pressure_angle(self, k: Kinematics) -> np.ndarray:
         """Signed pressure angle φ [rad], |φ| < 90°: between the contact normal and the

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from ..kinds import follower_of, register_follower
-from ..motion.program import Kinematics, MotionProgram
+from ..kinds import register_follower
+from ..motion.program import Kinematics
 from ..pitch.contact import FollowerLineSolver
 from ..spec.model import CamSpec
 from ..studies.plan import Plan
@@ -173,9 +173,3 @@ class TranslatingFollower(Follower):
 FollowerGeometry = TranslatingFollower
 
 
-def design_pitch(spec: CamSpec, theta: np.ndarray) -> tuple[np.ndarray, Kinematics]:
-    """Design-curve points and kinematics of the design intent at angles ``theta`` [rad]."""
-    prog = MotionProgram.from_spec(spec)
-    fol = follower_of(spec)
-    k = prog.evaluate(theta)
-    return fol.points(theta, k), k

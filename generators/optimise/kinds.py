@@ -116,11 +116,6 @@ class KindModel:
         """The constraint families (window-maximised channels) of this kind and spec."""
         raise NotImplementedError
 
-    @property
-    def span_family(self) -> bool:
-        """True when the face width is checked without a given centre: max t − min t ≤ width,
-        which :meth:`SmoothModel.check_rows` builds from the channels ±t/width."""
-        return False
 
     def start_geometry(self) -> tuple[float, ...]:
         """The spec's values of :attr:`geometry` (optional fields absent: 0)."""
@@ -423,9 +418,6 @@ class FlatModel(KindModel):
             out += ["face_span_hi", "face_span_lo"] if self._centre() is None else ["face_hi", "face_lo"]
         return out
 
-    @property
-    def span_family(self) -> bool:
-        return self.spec.follower.face_width is not None and self._centre() is None
 
     def _terms(self, geo, s, v, a) -> dict[str, Any]:
         """h, G, ρG³, tG, φ (None: 0) and the contact force F of the kind."""

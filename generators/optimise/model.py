@@ -47,8 +47,6 @@ from ..motion.laws import evaluate_law
 from .kinds import KindModel
 from .space import DesignSpace
 
-#: The translating knife/roller's constraint families (other kinds: :mod:`cam_workbench.generators.optimise.kinds`).
-FAMILIES = ("pressure_angle", "curvature", "convexity", "separation", "contact_stress")
 #: Gauss–Legendre nodes per knot span (B-spline) or per segment (other laws) for the integrals.
 GAUSS_PER_SPAN = 16
 GAUSS_PER_SEGMENT = 64

@@ -38,8 +38,6 @@ from ..machining.cutting_time import DEFAULT_TOLERANCE, contour_time, staircase_
 from .kinds import kind_model
 from .model import SmoothModel
 
-SMOOTH = ("area", "profile_area", "peak_acceleration", "peak_pressure_angle", "thesis_length", "pitch_length",
-          "outer_diameter")
 PEAK = ("peak_acceleration", "peak_pressure_angle")
 TIME = ("machining_time", "gcode_time")
 SURROGATE = {"machining_time": "thesis_length", "gcode_time": "pitch_length"}

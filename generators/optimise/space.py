@@ -279,10 +279,6 @@ class DesignSpace:
     def to_p(self, z: np.ndarray) -> np.ndarray:
         return self.lower + self.scale * z
 
-    @property
-    def varies_shape(self) -> bool:
-        """True when some control point (or polynomial point lift) is a variable."""
-        return any(b.x_cols.size or b.y_cols.size for b in self.blocks) or bool(self.point_blocks)
 
     # ---- the design at p ----------------------------------------------------------------------
     def base_radius(self, p: np.ndarray) -> Any:

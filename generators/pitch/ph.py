@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import SpecError
 from ..followers.base import Follower
 from ..kinds import follower_of, register_pitch
-from .contact import Contact, FollowerLineSolver
+from .contact import Contact
 from ..motion.program import MotionProgram
 from ..curves.ph_spline import PHSpline, solve_closed_ph_spline
 from ..spec.model import CamSpec
