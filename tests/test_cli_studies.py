@@ -255,7 +255,12 @@ def test_optimise_multistart_on_a_local_cluster_writes_the_sequential_result(tmp
 # item, never on a time; the only time limit is the safety net SAFETY_S that turns a hang into a
 # failure.
 # a session of its own with the terminal on stdin as its controlling terminal, then the command
-_IN_TERMINAL = ("import fcntl, os, sys, termios; os.setsid(); fcntl.ioctl(0, termios.TIOCSCTTY, 0); "
+#: the command as a shell starts a foreground job: its own session with the terminal as its
+#: controlling terminal, SIGINT at its default disposition and unblocked (a pytest process that
+#: inherited or was left with SIGINT ignored would otherwise pass that on through exec)
+_IN_TERMINAL = ("import fcntl, os, signal, sys, termios; os.setsid(); fcntl.ioctl(0, termios.TIOCSCTTY, 0); "
+                "signal.signal(signal.SIGINT, signal.SIG_DFL); "
+                "signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT}); "
                 "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])")
 _ANSI = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]")
 
