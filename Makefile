@@ -53,12 +53,17 @@ $(STAMP): pyproject.toml dev-constraints.txt
 demo: $(STAMP)
 	$(VENV)/bin/cam-workbench build -o out
 
-# The whole suite on the host (FreeCAD 0.20 from bookworm), then the FreeCAD tests with
-# FreeCAD 1.0 and 1.1; every part runs, and `make test` fails if any part failed.
+# The whole suite on the host (FreeCAD 0.20 from bookworm) and, beside it on the second core, the
+# FreeCAD tests with FreeCAD 1.0 and 1.1 (their output in $(ROOTS_LOG), shown when they end);
+# every part runs, and `make test` fails if any part failed.
+ROOTS_LOG ?= $(CACHE)/freecad-roots-tests.log
 test: system-deps $(STAMP)
-	@status=0; \
+	@status=0; mkdir -p $(CACHE); \
+	echo "== the FreeCAD 1.0/1.1 tests run beside the host suite: output in $(ROOTS_LOG), shown when they end"; \
+	$(MAKE) --no-print-directory test-freecad-roots > $(ROOTS_LOG) 2>&1 & roots=$$!; \
 	$(MAKE) --no-print-directory test-host || status=1; \
-	$(MAKE) --no-print-directory test-freecad-roots || status=1; \
+	wait $$roots || status=1; \
+	echo "== the FreeCAD 1.0/1.1 tests ($(ROOTS_LOG)):"; cat $(ROOTS_LOG); \
 	exit $$status
 
 test-host: $(STAMP)

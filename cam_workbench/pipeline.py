@@ -24,31 +24,24 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-import numpy as np
 
 from cam_workbench.exporters.atomic import OutputSet
-from cam_workbench.exporters.dxf import build_dxf
-from cam_workbench.exporters.dxf_cylindrical import build_cylindrical_dxf
+from cam_workbench.exporters.dxf import cam_drawing
 from cam_workbench.exporters.machining_outputs import machining_outputs
 from cam_workbench.exporters.output_rule import Claim
-from cam_workbench.exporters.report_cylindrical import FIGURES, render_cylindrical_report
-from cam_workbench.exporters.report_html import Series, render_report, report_plots
+from cam_workbench.exporters.report_pages import JSON_NAME, ReportPage, add_report_files, report_page
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.exporters.step import product_name
 from cam_workbench.generators.cam_design import CamDesign, design_cam
-from cam_workbench.generators.checks.design import StateModel, check_samples
 from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec
-from cam_workbench.generators.spec.params import unit_name
 from cam_workbench.generators.studies.remedies import add_remedies
 
 from .kernel import ocp, solids
 from .kernel.step import write_step
 
-JSON_NAME = "report.json"
-HTML_NAME = "report.html"
 STEP_NAME = "cam.step"
 DXF_NAME = "cam.dxf"
 
@@ -145,9 +138,7 @@ def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
 def drawing_document(design: CamDesign, summary: dict[str, Any] | None = None) -> Any:
     """(ezdxf document, its info) of the cam's drawing, the title block quoting ``summary``
     (``design.summary()`` when None); nothing written."""
-    # a cylindrical cam: developed, side and end views
-    build = build_dxf if design.plane else build_cylindrical_dxf
-    return build(design, summary)
+    return cam_drawing(design, summary)
 
 
 def drawing_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
@@ -190,61 +181,13 @@ def run_pipeline(spec: CamSpec, *, solid: bool = True, machining: bool = True, d
 
 
 # ---- the report ----------------------------------------------------------------------
-def optional_series(design: CamDesign) -> dict[str, Any]:
-    """θ-series for the report's "Contact force and stress" figure: the driving force
-    (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
-    spec gives the follower a load (preload, spring or mass); otherwise nothing."""
-    spec = design.spec
-    model = StateModel(spec, design.program)
-    if not model.has_load:
-        return {}
-    cs = check_samples(design.program, "dense", spec.checks.samples)
-    st = model.state(cs.theta, cs.segment)
-    deg = np.rad2deg(cs.theta)
-    out = {"contact_force": Series(deg, st.force, "driving force F (thesis Eq. 3.5)",
-                                   unit_name("force", spec.units), spec.checks.min_force, "min")}
-    if spec.is_roller:
-        out["contact_stress"] = Series(deg, st.stress, "Hertz contact stress (thesis Eq. 3.6)",
-                                       unit_name("stress", spec.units), spec.material.allowable_stress, "max")
-    return out
-
-
 def plot_count(outputs: CamOutputs) -> int:
     """How many figures the report of ``outputs`` will draw."""
-    if not outputs.design.plane:
-        return len(FIGURES)
-    return len(report_plots(outputs.design, outputs.summary, optional_series(outputs.design),
-                            outputs.extra.get("dynamics")))
+    return len(_page(outputs).figures)
 
 
-def add_report_files(out: Any, outputs: CamOutputs, files: dict[str, Any],
-                     progress: Callable[[str], None] | None = None) -> dict[str, Any]:
-    """Add report.json, report.html and the plot PNGs to the OutputSet ``out``; ``files``
-    (name → file) is completed with them and stored in report.json.  Returns the report as
-    written (the HTML shows exactly what the JSON holds)."""
-    design, summary = outputs.design, outputs.summary
-    if not design.plane:             # a cylindrical cam: its own page and figures
-        files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=[name for name, _ in FIGURES])
-        text = report_json_text(summary, files)
-        report = json.loads(text)
-        html_text, pngs = render_cylindrical_report(design, report, progress=progress)
-        out.add_text(JSON_NAME, text)
-        out.add_text(HTML_NAME, html_text)
-        for name, _ in FIGURES:
-            out.add_bytes(name, pngs[name])
-        return report
-    series = optional_series(design)
-    dyn = outputs.extra.get("dynamics")
-    names = [p.png_name for p in report_plots(design, summary, series, dyn)]
-    files = dict(files, report=JSON_NAME, html=HTML_NAME, plots=names)
-    text = report_json_text(summary, files)
-    report = json.loads(text)
-    html_text, pngs = render_report(design, report, series, progress=progress, dynamics=dyn)
-    out.add_text(JSON_NAME, text)
-    out.add_text(HTML_NAME, html_text)
-    for name in names:
-        out.add_bytes(name, pngs[name])
-    return report
+def _page(outputs: CamOutputs) -> ReportPage:
+    return report_page(outputs.design, outputs.summary, outputs.extra.get("dynamics"))
 
 
 def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
@@ -277,7 +220,7 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
             o.add_text(name, text)
             files.setdefault("spec" if name.endswith(".toml") else name, name)
         if report:
-            return add_report_files(o, outputs, files, progress=progress)
+            return add_report_files(o, _page(outputs), outputs.summary, files, progress=progress)
         files["report"] = JSON_NAME
         text = report_json_text(outputs.summary, files)
         o.add_text(JSON_NAME, text)

@@ -47,13 +47,14 @@ import logging
 import math
 import os
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.kinds import body_of, drawing_title
+from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.curves.approx import Path2D, curve_distance, fit_biarcs, fit_cubic, flatten, max_distance, polyline_path
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import ProfileClaim, checks_verdict, pitch_text, profile_claim
@@ -250,6 +251,22 @@ def _export_curve(msp: Any, curve: NurbsCurve, layer: str, curves: str, tol: flo
 
 
 # ---- the drawing -----------------------------------------------------------------------
+#: design class → ``fn(design, summary) -> (ezdxf document, info)``: its body's drawing (the plane
+#: cams' :func:`build_dxf` here; a body's own in its module, imported by :mod:`cam_workbench.exporters`)
+DRAWINGS: ByClass[Callable[..., tuple[Any, Any]]] = ByClass("the cam drawing")
+
+
+def cam_drawing(design: Any, summary: dict[str, Any] | None = None) -> tuple[Any, Any]:
+    """(ezdxf document, its info: ``.summary()`` is report.json's ``drawing``) of the cam's drawing
+    by its body's function in :data:`DRAWINGS`, the title block quoting ``summary``; nothing written.
+
+    Raises:
+        NotAvailable: the design's body registers no drawing.
+    """
+    return DRAWINGS.of(design)(design, summary)
+
+
+@DRAWINGS.register(CamDesign)
 def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple[Any, DxfInfo]:
     """The ezdxf document of the drawing and what went into it (nothing written yet).
 

@@ -32,11 +32,12 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from cam_workbench.generators import __version__
+from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 from cam_workbench.generators.curves.approx import max_distance
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 
-from .dxf import (_DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_closed_outline, add_path, approximate,
-                  text_width, title_line)
+from .dxf import (DRAWINGS, _DECIMALS, _INSUNITS, LAYERS, _fmt, _new_document, _text, add_closed_outline, add_path,
+                  approximate, text_width, title_line)
 
 #: layer → (ACI colour, linetype, lineweight [1/100 mm]), in the plate drawing's style
 CYL_LAYERS: dict[str, tuple[int, str, int]] = {
@@ -73,16 +74,6 @@ class DevelopedCurve:
         return NurbsCurve(DEGREE, self.knots, self.poles, np.ones(len(self.poles)))
 
 
-def developed_points(design: Any, rho: float, side: int, theta: np.ndarray, segment: np.ndarray | None = None
-                     ) -> np.ndarray:
-    """Exact developed points (x, z), (n, 2), of the centre line C_ρ at radius ρ offset by
-    side·w/2 along its normal (side 0: the centre line, +1 the upper wall, −1 the lower)."""
-    lay = design.layout
-    c = lay.centre_line(design.program, theta, rho, segment)      # the follower's own path (translating or arm)
-    x, z = c.offset(lay.sense, side * lay.half_width)
-    return np.column_stack([x, z])
-
-
 def developed_curves(design: Any) -> tuple[DevelopedCurve, ...]:
     """The lower and upper walls at R_o and the pitch line at R_p, one cubic spline per motion
     segment each, with their measured fit errors (nodes doubled while an error exceeds a quarter of
@@ -110,10 +101,10 @@ def _segment_spline(design: Any, layer: str, rho: float, side: int, seg: int, a:
     """The not-a-knot cubic through ``n`` exact points of one motion segment, its error measured off
     the nodes: at the span midpoints and 8 points inside every span."""
     th = np.linspace(a, b, n)
-    sp = make_interp_spline(th, developed_points(design, rho, side, th, np.full(n, seg)), k=DEGREE)
+    sp = make_interp_spline(th, design.developed_points(rho, side, th, np.full(n, seg)), k=DEGREE)
     fr = np.linspace(0, 1, 10)[1:-1]
     tt = np.concatenate([(th[:-1] + th[1:]) / 2, (th[:-1, None] + fr[None, :] * np.diff(th)[:, None]).ravel()])
-    err = float(np.max(np.hypot(*(sp(tt) - developed_points(design, rho, side, tt, np.full(tt.size, seg))).T)))
+    err = float(np.max(np.hypot(*(sp(tt) - design.developed_points(rho, side, tt, np.full(tt.size, seg))).T)))
     return DevelopedCurve(layer, seg, np.asarray(sp.t), np.asarray(sp.c), err)
 
 
@@ -168,6 +159,7 @@ class CylDxfInfo:
         }
 
 
+@DRAWINGS.register(CylindricalDesign)
 def build_cylindrical_dxf(design: Any, summary: dict[str, Any] | None = None) -> tuple[Any, CylDxfInfo]:
     """The ezdxf document of a cylindrical cam's drawing and what went into it (nothing written)."""
     spec = design.spec

@@ -11,12 +11,11 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping, Protocol
 
 from cam_workbench.generators.cam_design import CamDesign
-from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.kinds import own_tool_path
-from cam_workbench.generators.machining.cylindrical import cylindrical_path
+from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
 from cam_workbench.generators.machining.plan import check_tool_fits
@@ -24,7 +23,7 @@ from cam_workbench.generators.machining.toolpath import contour_path, rotary_pat
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
-from .gcode import contour_program, cylindrical_program, groove_program, rotary_program
+from .gcode import contour_program, groove_program, rotary_program
 from .interpolator_plots import PLOT_FILES, deviation_figure, kinematics_figure, write_png
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
@@ -65,17 +64,48 @@ class MachiningOutputs:
             out.add(PLOT_FILES[key], lambda p, f=fig: write_png(f, p))
 
 
-def machining_outputs(design: CamDesign, plots: bool = True, summary: dict[str, Any] | None = None
-                      ) -> MachiningOutputs:
-    """Compute the machining outputs of ``design`` (its spec's ``[machining]``); ``summary`` is
-    the report's summary so far (the G-code header quotes its numbers).
+class BodyMachining(Protocol):
+    """What a body's machining outputs are: made by a function registered in :data:`PROGRAMS` for
+    its design class, ``fn(design, plots, summary)``; they answer these members."""
+
+    gcode: str
+    interpolator_summary: Any
+    machining_summary: dict[str, Any]
+    second_gcode: str | None
+
+    @property
+    def commands_csv(self) -> str: ...
+
+    @property
+    def files(self) -> dict[str, str]: ...
+
+    def write(self, out: OutputSet) -> None: ...
+
+
+#: design class → ``fn(design, plots, summary) -> BodyMachining`` (the plane cams' here; a body's
+#: own in its module, imported by :mod:`cam_workbench.exporters` when it loads)
+PROGRAMS: ByClass[Callable[..., BodyMachining]] = ByClass("the machining program")
+
+
+def machining_outputs(design: Any, plots: bool = True, summary: dict[str, Any] | None = None) -> BodyMachining:
+    """Compute the machining outputs of ``design`` (its spec's ``[machining]``), by its body's
+    function in :data:`PROGRAMS`; ``summary`` is the report's summary so far (the G-code header
+    quotes its numbers); ``plots``: the interpolator's figures too (a plane cam's).
 
     Raises:
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
         SpecError: a machining setting cannot be met (lead radius, sample period).
+        NotAvailable: the design's body registers no machining program.
     """
-    if not design.plane:        # a body that is not a plane cam: its own program
-        return cylindrical_outputs(design, summary)
+    return PROGRAMS.of(design)(design, plots=plots, summary=summary)
+
+
+@PROGRAMS.register(CamDesign)
+def plane_outputs(design: CamDesign, plots: bool = True, summary: dict[str, Any] | None = None
+                  ) -> MachiningOutputs:
+    """A plane cam's machining outputs: the contour (XY) or rotary (XC) program of its profile
+    (a groove's passes along its own path), a conjugate pair's second program, the command table
+    and the interpolator's figures (``plots``)."""
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
@@ -170,34 +200,3 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
                   "tool_centre_offset": plan2.centre_offset, "rotary_line": plan2.rotary_line
                   if plan.program == "xc" else None, "gcode_lines": text.count("\n"),
                   "tool_centre_fit_error": tool_centre_fit_error(second, plan2), plan.program: path.summary()}
-
-
-@dataclass
-class CylindricalMachiningOutputs:
-    """A cylindrical cam's machining output: the 4-axis X-Z-A program (``cam.nc``) and its report
-    section (no interpolator, no command table: the cam is not turned against a follower line)."""
-
-    path: Any
-    gcode: str
-    machining_summary: dict[str, Any]
-    interpolator_summary: Any = None
-    second_gcode: str | None = None
-
-    @property
-    def commands_csv(self) -> str:
-        raise SpecError("--mode", "a cylindrical cam has no interpolator command table (its program is the 4-axis "
-                        "X-Z-A one)")
-
-    @property
-    def files(self) -> dict[str, str]:
-        return {"gcode": FILES["gcode"]}
-
-    def write(self, out: OutputSet) -> None:
-        out.add_text(FILES["gcode"], self.gcode)
-
-
-def cylindrical_outputs(design: Any, summary: dict[str, Any] | None = None) -> CylindricalMachiningOutputs:
-    """The groove program of a cylindrical cam (:mod:`cam_workbench.generators.machining.cylindrical`)."""
-    path = cylindrical_path(design)
-    gcode = cylindrical_program(design, path, summary=summary)
-    return CylindricalMachiningOutputs(path, gcode, {**path.summary(), "gcode_lines": gcode.count("\n")})

@@ -8,9 +8,12 @@ from __future__ import annotations
 import html
 from typing import Any, Callable, Mapping
 
-from . import plots
+from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
+
+from . import plots, plots_cylindrical
 from .report_cells import quantity_table
 from .report_html import CSS, inline_svg
+from .report_pages import REPORT_PAGES
 from .report_sections import checks_section
 
 #: (name of the PNG, title) of the figures
@@ -21,8 +24,8 @@ FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
 def render_cylindrical_report(design: Any, report: Mapping[str, Any],
                               progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
     """The HTML text and the PNG files ({name: bytes}) of a cylindrical cam's report."""
-    makers = {"plot_cylinder.png": lambda: plots.cylindrical_figure(design),
-              "plot_pressure_angle.png": lambda: plots.cylindrical_pressure_angle_figure(
+    makers = {"plot_cylinder.png": lambda: plots_cylindrical.cylindrical_figure(design),
+              "plot_pressure_angle.png": lambda: plots_cylindrical.cylindrical_pressure_angle_figure(
                   design, report["checks"]["results"]["pressure_angle"].get("limit"))}
     svgs, pngs = {}, {}
     for name, title in FIGURES:
@@ -35,6 +38,20 @@ def render_cylindrical_report(design: Any, report: Mapping[str, Any],
         finally:
             plots.close(fig)
     return _page(report, svgs), pngs
+
+
+@REPORT_PAGES.register(CylindricalDesign)
+class CylindricalPage:
+    """A cylindrical cam's report page (:func:`render_cylindrical_report`): its two figures."""
+
+    figures = [name for name, _ in FIGURES]
+
+    def __init__(self, design: Any, summary: Mapping[str, Any], dynamics: Any = None) -> None:
+        self.design = design
+
+    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None
+               ) -> tuple[str, dict[str, bytes]]:
+        return render_cylindrical_report(self.design, report, progress=progress)
 
 
 def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:

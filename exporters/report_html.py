@@ -50,11 +50,14 @@ from cam_workbench.generators import __version__
 from cam_workbench.generators.kinds import drawing_title
 from cam_workbench.generators.bodies.conjugate import roller_distance_error
 from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.design import StateModel, check_samples
 from cam_workbench.generators.checks.claims import pitch_text, profile_claim
 from cam_workbench.generators.machining.interpolator import interpolator_accuracy
+from cam_workbench.generators.spec.params import unit_name
 
 from . import interpolator_plots, plots
 from .report_cells import check_result
+from .report_pages import REPORT_PAGES
 from .report_sections import PageData, page_sections
 
 
@@ -289,6 +292,40 @@ def _second_cam(design: CamDesign, report: Mapping[str, Any]) -> CamDesign | Non
     if design.body is None or not isinstance(body, Mapping) or not isinstance(body.get("second_cam"), Mapping):
         return None
     return design.body.extra.get("second_cam")
+
+
+def optional_series(design: CamDesign) -> dict[str, Series]:
+    """θ-series for the report's "Contact force and stress" figure: the driving force
+    (thesis Eq. 3.5) and Hertz stress (Eq. 3.6) from the design checks' state model, when the
+    spec gives the follower a load (preload, spring or mass); otherwise nothing."""
+    spec = design.spec
+    model = StateModel(spec, design.program)
+    if not model.has_load:
+        return {}
+    cs = check_samples(design.program, "dense", spec.checks.samples)
+    st = model.state(cs.theta, cs.segment)
+    deg = np.rad2deg(cs.theta)
+    out = {"contact_force": Series(deg, st.force, "driving force F (thesis Eq. 3.5)",
+                                   unit_name("force", spec.units), spec.checks.min_force, "min")}
+    if spec.is_roller:
+        out["contact_stress"] = Series(deg, st.stress, "Hertz contact stress (thesis Eq. 3.6)",
+                                       unit_name("stress", spec.units), spec.material.allowable_stress, "max")
+    return out
+
+
+@REPORT_PAGES.register(CamDesign)
+class PlanePage:
+    """A plane cam's report page (:func:`render_report`): its figures (:func:`report_plots`, the
+    contact force and stress with :func:`optional_series`) known before it is drawn."""
+
+    def __init__(self, design: CamDesign, summary: Mapping[str, Any], dynamics: Any = None) -> None:
+        self.design, self.dynamics = design, dynamics
+        self.series = optional_series(design)
+        self.figures = [p.png_name for p in report_plots(design, summary, self.series, dynamics)]
+
+    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None
+               ) -> tuple[str, dict[str, bytes]]:
+        return render_report(self.design, report, self.series, progress=progress, dynamics=self.dynamics)
 
 
 def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[str, Series] | None = None,

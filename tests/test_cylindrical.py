@@ -203,7 +203,7 @@ def _feeds(calls):
 
 @requires_rs274
 def test_gcode_through_rs274(design, tmp_path):
-    from cam_workbench.exporters.gcode import cylindrical_program
+    from cam_workbench.exporters.machining_cylindrical import cylindrical_program
     from cam_workbench.generators.machining.cylindrical import cylindrical_path
 
     from .rs274 import run_rs274

@@ -245,7 +245,7 @@ def test_solid_valid_volume_walls_and_step(design, tmp_path):
 @requires_rs274
 def test_gcode_through_rs274(design, tmp_path):
     """Every cutting pass's tool-centre points lie |offset| from the test's developed pitch curve C_Rp."""
-    from cam_workbench.exporters.gcode import cylindrical_program
+    from cam_workbench.exporters.machining_cylindrical import cylindrical_program
     from cam_workbench.generators.machining.cylindrical import cylindrical_path
 
     from .rs274 import run_rs274

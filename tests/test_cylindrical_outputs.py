@@ -332,10 +332,10 @@ def test_batch_builds_a_cylindrical_cam(tmp_path):
 
 # ---- the README picture -------------------------------------------------------------------------------
 def test_cylindrical_figure_draws_the_walls(tmp_path):
-    from cam_workbench.exporters import plots
+    from cam_workbench.exporters import plots, plots_cylindrical
     from cam_workbench.generators import design_cam
 
-    fig = plots.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
+    fig = plots_cylindrical.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
     try:
         developed = fig.axes[1]
         walls = [ln for ln in developed.get_lines() if ln.get_color() == "#1f3a5f"]

@@ -119,9 +119,9 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
     """Dense points of the exact curves of each layer (complex): the NURBS of a plate drawing
     (the exact rational offsets and PH curves, tests/test_dxf.py holds them against the closed
     forms), the developed walls' exact points of a cylindrical one."""
-    if hasattr(design, "layout"):
-        from cam_workbench.exporters.dxf_cylindrical import developed_points
+    from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 
+    if isinstance(design, CylindricalDesign):
         lay, prog = design.layout, design.program
         out = {}
         for layer, rho, side in (("WALL_LOWER", lay.outer_radius, -1), ("WALL_UPPER", lay.outer_radius, 1),
@@ -129,7 +129,7 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
             pieces = []
             for seg in range(len(prog.starts)):
                 th = np.linspace(prog.boundaries[seg], prog.boundaries[seg + 1], 20001)
-                p = developed_points(design, rho, side, th, np.full(th.size, seg))
+                p = design.developed_points(rho, side, th, np.full(th.size, seg))
                 pieces.append(p[:, 0] + 1j * p[:, 1])
             out[layer] = pieces
         return out

@@ -56,7 +56,7 @@ BODY = """
 import FreeCAD
 import numpy as np
 from cam_workbench.freecad.feature import create, reference_of
-from cam_workbench.freecad import check_design, part_build
+from cam_workbench.freecad import check_design, part_cylindrical
 specs = json.loads(SPECS)
 doc = FreeCAD.newDocument("cyl")
 cams = {k: create(doc, d, name=k) for k, d in specs.items()}
@@ -68,7 +68,7 @@ for k, cam in cams.items():
     rep = check_design.design_report(cam)
     fol = reference_of(cam, "follower").Shape
     RESULT[k] = dict(status=cam.Status, valid=s.isValid(), solids=len(s.Solids), volume=s.Volume,
-                     z=[bb.ZMin, bb.ZMax], wall=part_build.wall_face_points(s).tolist(),
+                     z=[bb.ZMin, bb.ZMax], wall=part_cylindrical.wall_face_points(s).tolist(),
                      checks=rep.checks_dict, cells=[c.cells() for c in rep.checks], ok=rep.ok,
                      rows=[list(r) for r in rep.rows], verdict=rep.verdict(),
                      body_choices=cam.getEnumerationsOfProperty("CamBody"),

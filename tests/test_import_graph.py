@@ -100,12 +100,12 @@ FREECAD_GUI_SIDE = frozenset(f"cam_workbench.freecad.{m}" for m in (
     "commands", "export_dialog", "motion_editor", "optimiser_panel", "qt_compat", "spec_io_gui",
     "view_providers", "mod.InitGui"))
 #: The App side runs in ``freecadcmd`` too and imports no Gui-side module: the feature, its
-#: properties and Part builder, the spec's files, the exports, the checks, the plots, the
+#: properties and Part builders, the spec's files, the exports, the checks, the plots, the
 #: optimiser's model, the install script, ``mod/Init.py``.  A module whose headless function has a
 #: dialog beside it (``check_design.show_report``) is App side and imports FreeCADGui and PySide
 #: inside that function only.
 FREECAD_APP_SIDE = frozenset(["cam_workbench.freecad"] + [f"cam_workbench.freecad.{m}" for m in (
-    "check_design", "exports", "feature", "install", "optimiser", "part_build", "plots", "properties",
+    "bodies", "check_design", "exports", "feature", "install", "optimiser", "part_build", "part_cylindrical", "plots", "properties",
     "spec_io", "stateless", "step_export", "view_hook", "mod.Init")])
 
 

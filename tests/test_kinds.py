@@ -109,3 +109,47 @@ def test_a_consumer_that_cannot_serve_a_kind_refuses_naming_the_option():
     with pytest.raises(SpecError) as exc:
         kinds.body_of(spec).dynamics_follower(spec)
     assert exc.value.field == "follower.motion"
+
+
+def _per_design_tables():
+    """Every consumer's table design class → implementation, above the generators (each layer's
+    registrations loaded by importing it)."""
+    from cam_workbench.exporters.dxf import DRAWINGS
+    from cam_workbench.exporters.machining_outputs import PROGRAMS
+    from cam_workbench.exporters.report_pages import REPORT_PAGES
+    from cam_workbench.freecad.bodies import FREECAD_BODIES
+    from cam_workbench.kernel.solids import SOLIDS
+
+    return {"kernel solid": SOLIDS, "drawing": DRAWINGS, "machining": PROGRAMS, "report page": REPORT_PAGES,
+            "FreeCAD builder": FREECAD_BODIES}
+
+
+@pytest.mark.parametrize("example", ["default", "groove", "conjugate", "cylindrical", "cylindrical_oscillating"])
+def test_every_consumer_serves_every_built_in_body(example):
+    """Each layer's table holds an implementation for the design of every built-in example."""
+    from cam_workbench.generators import design_cam
+
+    design = design_cam(example_spec(example))
+    for what, table in _per_design_tables().items():
+        assert table.of(design) is not None, what
+
+
+def test_a_new_body_is_refused_by_every_consumer_never_routed_to_another_body():
+    """A design class nothing registered (a new 3D body, say) is refused by each consumer with
+    NotAvailable naming what is missing and the body — not served by the plane cams' or the
+    cylindrical cam's outputs (issue 21: "a new 3D body would be routed silently into the
+    cylindrical outputs")."""
+    from dataclasses import dataclass
+
+    from cam_workbench.generators.errors import NotAvailable
+
+    @dataclass(frozen=True)
+    class GloboidDesign:          # a stand-in for a body with surfaces of its own
+        spec: object
+        plane = False
+
+    design = GloboidDesign(example_spec("cylindrical").replace(**{"cam.body": "cylindrical"}))
+    for what, table in _per_design_tables().items():
+        with pytest.raises(NotAvailable) as exc:
+            table.of(design)
+        assert table.what in str(exc.value) and "cylindrical cam" in str(exc.value) and "GloboidDesign" in str(exc.value), what

@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Callable
 
 from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.bodies.cylindrical import CylindricalBody
+from cam_workbench.generators.bodies.plane import PlaneCamBody
 from cam_workbench.generators.kinds import body_named, pitch_named
+from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
 from .common import add_output_arguments, add_spec_arguments, write_cam
@@ -33,17 +37,38 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+#: body class → its summary printer ``fn(report, out)``; a body with none gets :func:`_print_any_summary`
+SUMMARIES: ByClass[Callable[[dict, Path], None]] = ByClass("build's summary")
+
+
 def _print_summary(s: dict, out: Path) -> None:
-    if not body_named(s["body"]["kind"]).plane:          # not a plane cam (``Body.plane``): its body's numbers
-        _print_body_summary(s, out)
-        return
+    printer = SUMMARIES.for_class(body_named(s["body"]["kind"])) or _print_any_summary
+    printer(s, out)
+
+
+def _files_line(s: dict, out: Path) -> None:
+    f = s["files"]
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
+          f"{len(f.get('plots', []))} plots")
+
+
+def _print_any_summary(s: dict, out: Path) -> None:
+    """What every body's report.json holds: the files, the volume, the checks' verdict."""
+    _files_line(s, out)
+    print(f"  {s['body']['kind']} cam, volume {s['volume']:.6g} {s['units']}³")
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    _print_remedies(ck)
+
+
+@SUMMARIES.register(PlaneCamBody)
+def _print_plane_summary(s: dict, out: Path) -> None:
+    """A plane cam's: its pitch curve, profile, pressure angle, curvature, areas and drawing."""
     u = s["units"]
     lu = s["motion"]["lift_unit"]
     p = s["pitch"]
-    f = s["files"]
     fol = s["follower"]
-    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
-          f"{len(f['plots'])} plots")
+    _files_line(s, out)
     print(f"  follower (lengths in {u}): {fol['label']}")
     kind = ("PH quintic spline, M" if pitch_named(p["representation"]).exact
             else f"periodic B-spline (degree {p['degree']}), knot spans")
@@ -110,13 +135,12 @@ def area_text(s: dict) -> str:
             f"{area_label(key, s['follower']['curve'])} {areas[key]:.6g} {u}² (areas.{key})")
 
 
-def _print_body_summary(s: dict, out: Path) -> None:
-    """The summary of a cam that is not a plane cam (a cylindrical cam)."""
+@SUMMARIES.register(CylindricalBody)
+def _print_cylinder_summary(s: dict, out: Path) -> None:
+    """A cylindrical cam's: its cylinder and groove, walls, pressure angles, program and drawing."""
     u = s["units"]
-    f = s["files"]
     b = s["body"]
-    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
-          f"{len(f['plots'])} plots")
+    _files_line(s, out)
     print(f"  {b['kind']} cam: pitch radius {b['pitch_radius']:g} {u}, outer radius {b['outer_radius']:g} {u}, "
           f"length {b['length']:g} {u}; groove {b['groove_width']:g} {u} wide, {b['groove_depth']:g} {u} deep")
     pa = s["pressure_angle"]

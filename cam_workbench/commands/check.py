@@ -13,17 +13,16 @@ from rich.table import Table
 
 from cam_workbench.exporters.atomic import OutputSet
 from cam_workbench.exporters.report_json import report_json_text
-from cam_workbench.generators.bodies.cylindrical import cylinder_checks
 from cam_workbench.generators.checks.areas import area_label, area_summary
-from cam_workbench.generators.checks.design import format_value, limit_sign, run_checks
-from cam_workbench.generators.kinds import follower_class_of
+from cam_workbench.generators.checks.design import format_value, limit_sign
+from cam_workbench.generators.kinds import body_of, follower_class_of
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines, with_remedy
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 
 from ..pipeline import run_pipeline
-from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, own_design,
+from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim,
                      spec_from_args)
 
 EXIT_CHECK_FAILED = 3
@@ -60,13 +59,10 @@ def run(args: argparse.Namespace) -> int:
                                design=design_for(spec, remedy=False)).summary
         error = None
     except GeometryError as exc:
-        if own_design(spec):        # a cylindrical cam: its own checks, the undercut failing
-            checks_dict = cylinder_checks(spec)
-            areas = None
-        else:
-            checks_only = run_checks(spec)
-            checks_dict = checks_only.to_dict()
-            areas = area_summary(spec)
+        body = body_of(spec)
+        checks_dict = body.own_checks(spec)
+        # a plane cam's areas; a body with surfaces of its own has no plane profile to measure
+        areas = area_summary(spec) if body.plane else None
         if checks_dict["passed"]:
             # a cam that cannot be made though its checks pass: exit 2, nothing written
             raise with_remedy(spec, exc) from None

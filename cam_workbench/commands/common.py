@@ -12,7 +12,6 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from cam_workbench.exporters.output_rule import Claim, admit, file_source, spec_claim
-from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.cam_design import CamDesign, design_cam
 from cam_workbench.generators.errors import GeometryError, SpecError
 from cam_workbench.generators.spec.examples import DESCRIPTIONS, example_spec
@@ -109,12 +108,6 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
             raise SpecError("--set", f"needs FIELD=VALUE, e.g. cam.base_radius=30, got {item!r}")
         changes[key.strip()] = parse_value(value, key.strip())
     return spec.replace(**changes) if changes else spec
-
-
-def own_design(spec: CamSpec) -> bool:
-    """Whether the spec's body is not a plane cam (``Body.plane``): it has its own design, checks
-    and outputs (a cylindrical cam)."""
-    return not body_of(spec).plane
 
 
 def require_ocp(command: str) -> None:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..pipeline import HTML_NAME, JSON_NAME
+from cam_workbench.exporters.report_pages import HTML_NAME, JSON_NAME
+
 from .common import add_output_arguments, add_spec_arguments, write_cam
 
 

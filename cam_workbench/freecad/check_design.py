@@ -35,7 +35,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
 
 from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.checks.claims import profile_claim
@@ -47,8 +46,8 @@ from cam_workbench.generators.kinds import body_of, follower_of, pitch_named
 from cam_workbench.generators.spec import CamSpec
 from cam_workbench.generators.studies.remedies import add_remedies, refusal_remedies
 
-from . import part_build
 from . import properties as props
+from .bodies import builder_for
 
 
 @dataclass(frozen=True)
@@ -228,7 +227,7 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
 
-    if not body_of(spec).plane:     # not a plane cam: the body's own design and checks
+    if not body_of(spec).plane:     # a body that designs itself: its own design, checks and rows
         return _own_body_report(obj, spec, dynamics_error)
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
@@ -245,9 +244,9 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
 
 
 def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignReport:
-    """Check design of a body that designs itself (a cylindrical cam): its design checks are the
-    ``checks`` section of its report.json (``design.checks_report``: pressure angle at the pitch and
-    bottom radii, undercut of the developed centre line), its rows the body's numbers."""
+    """Check design of a body that is not a plane cam (it designs itself: a cylindrical cam): its
+    design checks are the ``checks`` section of its report.json, its rows the body's numbers
+    (:meth:`cam_workbench.freecad.part_build.FreeCADBody.design_rows`)."""
     report = DesignReport(True, units=spec.units)
     if dynamics_error is not None:
         report.dynamics_enabled, report.dynamics_error = True, dynamics_error
@@ -268,7 +267,7 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     s = design.summary()
     fol = dict(s["follower"])
     fol.setdefault("pressure_angle_text", s["pressure_angle"]["formula"])
-    fol.setdefault("curvature_text", "of the developed centre line, (ρ² + s′²)^{3/2}/(ρ|s″|)")
+    fol.setdefault("curvature_text", builder_for(design).curvature_text)
     report.follower = fol
     checks = add_remedies(s["checks"], spec)  # report.json's checks section
     report.checks_dict = checks
@@ -277,44 +276,10 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
                        for name, e in checks.get("extremes", {}).items()]
-    report.rows += cylindrical_rows(s)
+    report.rows += builder_for(design).design_rows(s)
     report.rows += _kernel_rows(obj, design)
     report.ok = not report.failed_checks and report.buildable and report.dynamics_error is None
     return report
-
-
-def cylindrical_rows(s: dict[str, Any]) -> list[tuple[str, str, str, str]]:
-    """The design numbers of a cylindrical cam from its report.json (``design.summary()``)."""
-    u, b = s["units"], s["body"]
-    w, cr, pa, m = b["walls"], b["min_developed_curvature_radius"], s["pressure_angle"], s["motion"]
-    rows = [
-        ("Buildability", "undercut (developed centre line vs half the groove width)",
-         f"min radius {cr['value']:.4g} {u} at {cr['at_deg']:.2f}° (radius {cr['at_radius']:.4g})", "pass"),
-        ("Buildability", "groove bottom to bore", f"{w['groove_bottom_to_bore']:.4g} {u}", "pass"),
-        ("Buildability", "groove to the end faces", f"{min(w['bottom_to_end'], w['top_to_end']):.4g} {u}", "pass"),
-        ("Cylinder", "pitch / outer / bottom radius",
-         f"{b['pitch_radius']:.6g} / {b['outer_radius']:.6g} / {b['bottom_radius']:.6g} {u}", ""),
-        ("Cylinder", "length, lift range", f"{b['length']:.6g} {u}, z {b['lift_range'][0]:.6g} … "
-                                           f"{b['lift_range'][1]:.6g} {u}", ""),
-        ("Groove", "width × depth", f"{b['groove_width']:.6g} × {b['groove_depth']:.6g} {u}", ""),
-        ("Groove", "wall surfaces", f"{b['wall_surfaces']['faces']} B-spline faces, degree "
-                                    f"{b['wall_surfaces']['degree'][0]}×{b['wall_surfaces']['degree'][1]}", ""),
-        ("Groove", "wall data vs exact walls", f"{b['wall_fit_error']['value']:.3g} {u}", ""),
-        ("Pressure angle", "max |φ| at the pitch radius", f"{pa['max_deg']:.3f}° at {pa['at_deg']:.2f}°", ""),
-        ("Pressure angle", "max |φ| at the groove's bottom",
-         f"{pa['bottom_max_deg']:.3f}° at {pa['bottom_at_deg']:.2f}°", ""),
-        ("Motion", "max lift", f"{m['max_lift']:.6g} {m['lift_unit']}", ""),
-        ("Motion", "max velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
-        ("Motion", "max acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
-        ("Motion", "max jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
-    ]
-    lig = b.get("features", {}).get("hole_ligaments")
-    if lig:
-        rows.append(("Features", "hole ligaments (bore / groove − min wall / between)",
-                     f"{lig['to_bore']:.4g} / {lig['to_outer']:.4g} / {lig['between']:.4g} {u}", "pass"))
-    rows += [("Body", "end face area", f"{s['area']:.8g} {u}²", ""),
-             ("Body", "volume", f"{s['volume']:.8g} {u}³", "")]
-    return rows
 
 
 def _spec_without_dynamics(obj: Any) -> Any:
@@ -546,13 +511,7 @@ def _kernel_rows(obj: Any, design: Any) -> list[tuple[str, str, str, str]]:
         ("FreeCAD solid", "valid, one solid", "yes" if valid else "no", "pass" if valid else "FAIL"),
         ("FreeCAD solid", "kernel volume vs exact", f"{rel:.2e} relative", ""),
     ]
-    if not design.plane:
-        lay = design.layout
-        pts = part_build.wall_face_points(shape, radii=((lay.bottom_radius - 1e-6) * scale,
-                                                        (lay.outer_radius + 1e-6) * scale)) / scale
-        err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
-        rows.append(("FreeCAD solid", "wall faces vs exact walls", f"{float(np.max(err)):.3g} {design.spec.units} "
-                     f"({len(pts)} points)", ""))
+    rows += builder_for(design).solid_rows(design, shape, scale)
     return rows
 
 

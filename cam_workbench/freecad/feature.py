@@ -32,12 +32,13 @@ from typing import Any, Callable, Mapping
 import FreeCAD
 
 from cam_workbench.generators.cam_design import design_cam
-from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
+from cam_workbench.generators.checks.solid import check_kernel_solid
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 from cam_workbench.generators.followers import follower_of
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
 
 from . import part_build
+from .bodies import builder_for
 from . import properties as props
 from . import view_hook
 from .stateless import Stateless
@@ -178,18 +179,10 @@ class CamFeature(Stateless):
             update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
         obj.CrossSectionArea = float(design.area) * scale * scale
-        if not design.plane:
-            # a cylindrical cam: no PH pitch curve (its walls are B-spline surfaces of the exact
-            # offsets, see body.wall_fit_error); the area is its end face's at z = length
-            obj.JunctionCount = 0
-            set_lift_results(obj, "length")
-            obj.MaxDeviation = 0.0
-            return
-        obj.JunctionCount = int(design.pitch.M)
-        lift = design.follower.lift_unit
+        junctions, lift, deviation = builder_for(design).results(design, scale)
+        obj.JunctionCount = junctions
         set_lift_results(obj, lift)
-        # a lift's error in the lift's unit: mm (FreeCAD's lengths) or degrees
-        obj.MaxDeviation = float(design.max_deviation[0]) * (scale if lift == "length" else 1.0)
+        obj.MaxDeviation = deviation
 
     def _fail(self, obj: Any, text: str) -> None:
         kept = "no shape yet" if obj.Shape.isNull() else "The last good shape is kept"
@@ -224,13 +217,11 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     scale = props.units_scale(obj)
     if not solid:
         return design, scale, None
-    shape = part_build.cam_solid(design, scale)
+    builder = builder_for(design)
+    shape = builder.solid(design, scale)
     if not shape.isValid() or len(shape.Solids) != 1:
         raise GeometryError("kernel", "FreeCAD's kernel reports the cam solid as invalid")
-    walls = None
-    if surface_body(design):
-        lay = design.layout
-        walls = part_build.wall_faces(shape, ((lay.bottom_radius - 1e-6) * scale, (lay.outer_radius + 1e-6) * scale))
+    walls = builder.wall_faces(design, shape, scale)
     # FreeCAD's Shape.Volume: OCCT's fixed Gauss rule (no adaptive rule in FreeCAD's Python)
     check_kernel_solid(design, shape.Volume / scale**3, part_build.top_face_area(shape, spec.cam.thickness * scale)
                        / scale**2, kernel="FreeCAD", adaptive=False, walls=walls)
@@ -322,13 +313,14 @@ def _output_status(obj: Any) -> None:
 
 def update_reference(ref: Any, design: Any, scale: float, placement: Any) -> None:
     """Set a reference curve's shape from the cam's design (called by the cam's execute)."""
+    builder = builder_for(design)
     if ref.Kind == "pitch curve":
-        wire = part_build.pitch_wire(design, scale)
+        wire = builder.pitch_wire(design, scale)
     elif ref.Kind == "follower":
         angle = getattr(ref, FOLLOWER_ANGLE, None)
-        wire = part_build.follower_shape(design, scale, float(angle.Value) if angle is not None else 0.0)
+        wire = builder.follower_shape(design, scale, float(angle.Value) if angle is not None else 0.0)
     else:
-        wire = part_build.base_circle_wire(design, scale)
+        wire = builder.base_circle_wire(design, scale)
     wire.Placement = placement
     ref.Shape = wire
 

@@ -13,13 +13,14 @@ Python, since :mod:`.check_design`, whose tables are read outside FreeCAD too, i
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.pitch.bspline import bezier_form
 
 
@@ -78,16 +79,14 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
     return face
 
 
-def cam_solid(design: CamDesign, scale: float = 1.0) -> Any:
-    """The cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
+def plane_solid(design: CamDesign, scale: float = 1.0) -> Any:
+    """A plane cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
     ``cam_workbench.kernel.solids.cam_solid`` does — for a plain plate cam the profile face (with
     the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
     exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
     from FreeCAD import Vector  # deferred: FreeCAD (see the module docstring)
 
     body = design.body
-    if body is not None and not body.prismatic:
-        return cylindrical_solid(design, scale)
     if body is None or body.plain_plate:
         face = profile_face(design, scale)
         return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
@@ -120,82 +119,6 @@ def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
     return shape
 
 
-# ---- the cylindrical (barrel) cam -----------------------------------------------------------
-def wall_surface(wall: Any, scale: float = 1.0) -> Any:
-    """A ``Part.BSplineSurface`` with exactly the data of a groove wall
-    (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
-    degrees 5 × 5), the poles scaled to mm."""
-    import Part  # deferred: Part, FreeCAD (see the module docstring)
-    from FreeCAD import Vector
-
-    ku, mu = np.unique(wall.knots_u, return_counts=True)
-    kv, mv = np.unique(wall.knots_v, return_counts=True)
-    poles = [[Vector(*p) for p in row] for row in (np.asarray(wall.poles, dtype=float) * scale).tolist()]
-    surf = Part.BSplineSurface()
-    surf.buildFromPolesMultsKnots(poles, [int(m) for m in mu], [int(m) for m in mv], [float(k) for k in ku],
-                                  [float(k) for k in kv], False, False, int(wall.degree_u), int(wall.degree_v))
-    return surf
-
-
-def _cylinder(radius: float, z0: float, z1: float) -> Any:
-    import Part  # deferred: Part, FreeCAD (see the module docstring)
-    from FreeCAD import Vector
-
-    return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
-
-
-def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
-    """The cylindrical cam, as ``occ_build.cylindrical_solid`` builds it with OCP: the body's stack
-    of prisms (the keyed, bored cylinder, its hub, mounting holes and timing mark) minus the groove
-    — the piece of an annulus slightly wider than the groove's depth between the two walls (each
-    one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
-    by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
-    import Part  # deferred: Part, FreeCAD (see the module docstring)
-    from FreeCAD import Vector
-
-    geo = design.body
-    lay = geo.layout
-    k = scale
-    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
-    annulus = _cylinder((lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius)) * k, -margin * k,
-                        (lay.length + margin) * k).cut(
-        _cylinder(lay.bottom_radius * k, -2 * margin * k, (lay.length + 2 * margin) * k))
-    shells = []
-    for side in (-1, 1):
-        faces = [Part.Face(wall_surface(w, k)) for w in geo.walls if w.side == side]
-        sewn = Part.Compound(faces)
-        sewn.sewShape(1e-6 * k)
-        shells.append(sewn.Shells[0] if sewn.Shells else sewn)
-    pieces = annulus.generalFuse(shells, 0.0)[0].Solids
-    cx, cy, cz = lay.centre_point(design.program, 0.0)          # the roller centre at θ = 0 (its own path)
-    centre = Vector(cx * k, cy * k, cz * k)
-    groove = next((p for p in pieces if p.isInside(centre, 1e-7, True)), None)
-    if groove is None:
-        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
-    shape = prism_stack(geo.stack, k).cut(groove)
-    return shape.Solids[0] if len(shape.Solids) == 1 else shape
-
-
-def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, float] | None = None) -> Any:
-    """Points (n, 3) [mm] on every B-spline face of ``shape`` (a cylindrical cam's groove walls),
-    on a grid of each face's own (u, v) range, by FreeCAD's evaluator; with ``radii`` (mm) only
-    those whose distance from the cam axis lies within them."""
-    pts = []
-    for f in shape.Faces:
-        if f.Surface.TypeId != "Part::GeomBSplineSurface":
-            continue
-        u0, u1, v0, v1 = f.ParameterRange
-        for a in np.linspace(u0, u1, per_direction).tolist():
-            for b in np.linspace(v0, v1, per_direction).tolist():
-                p = f.valueAt(a, b)
-                pts.append((p.x, p.y, p.z))
-    out = np.array(pts, dtype=float).reshape(-1, 3)
-    if radii is not None:
-        rho = np.hypot(out[:, 0], out[:, 1])
-        out = out[(rho >= radii[0]) & (rho <= radii[1])]
-    return out
-
-
 def top_face_area(shape: Any, z: float) -> float:
     """Area [mm²] of the planar faces of ``shape`` at height ``z`` [mm] whose outward normal is +Z (the
     top face seen from above: a groove cam's is two faces), as ``occ_build.top_face_area``."""
@@ -207,15 +130,6 @@ def top_face_area(shape: Any, z: float) -> float:
         if f.normalAt(u0, v0).z > 0:           # normalAt follows the face's orientation: outward
             total += f.Area
     return total
-
-
-def wall_faces(shape: Any, radii: tuple[float, float], per_direction: int = 15) -> dict[str, Any]:
-    """How many B-spline (groove wall) faces ``shape`` holds and how many points of their
-    ``per_direction``² grids lie between ``radii`` [mm] from the axis (the groove's depth): the
-    ``faces``/``points`` of ``solid.wall_error``, its ``value`` not measured here (None)."""
-    faces = sum(1 for f in shape.Faces if f.Surface.TypeId == "Part::GeomBSplineSurface")
-    points = len(wall_face_points(shape, per_direction, radii))
-    return {"faces": faces, "points": points, "value": None}
 
 
 def loop_wire(loop: Any, scale: float = 1.0, z: float = 0.0) -> Any:
@@ -259,39 +173,12 @@ def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0)
 
 
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment;
-    a cylindrical cam's: the roller's centre line on the pitch cylinder (:func:`cylindrical_pitch_wire`)."""
-    if not design.plane:
-        return cylindrical_pitch_wire(design, scale)
+    """The pitch curve (path of the follower point) as exact degree-5 edges, one per PH segment."""
     return nurbs_wire(design.pitch_nurbs, scale)
 
 
-def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 61) -> Any:
-    """A cylindrical cam's pitch curve: where the roller's axis meets the pitch cylinder,
-    (R_p cos φ(θ), R_p sin φ(θ), z₀ + s(θ)), one interpolating B-spline edge per motion segment
-    (a reference curve for the eye; the walls are built from the exact data)."""
-    import Part  # deferred: Part, FreeCAD (see the module docstring)
-    from FreeCAD import Vector
-
-    lay = design.layout
-    b = design.program.boundaries
-    edges = []
-    for seg in range(len(design.program.starts)):
-        th = np.linspace(float(b[seg]), float(b[seg + 1]), per_segment)
-        c = lay.centre_line(design.program, th, lay.pitch_radius, np.full(th.shape, seg))
-        psi = c.x / lay.pitch_radius                 # C_{R_p} wrapped onto the pitch cylinder
-        pts = np.stack([lay.pitch_radius * np.cos(psi), lay.pitch_radius * np.sin(psi), c.z], axis=-1) * scale
-        c = Part.BSplineCurve()
-        c.interpolate([Vector(*p) for p in pts.tolist()])
-        edges.append(c.toShape())
-    return Part.Wire(edges)
-
-
 def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
-    """The base (prime) circle of radius R_b traced by the follower point at zero lift (a
-    cylindrical cam's: the pitch circle R_p at the zero-lift height z₀)."""
-    if not design.plane:
-        return circle_wire(design.layout.pitch_radius * scale, design.layout.z0 * scale)
+    """The base (prime) circle of radius R_b traced by the follower point at zero lift."""
     return circle_wire(design.spec.cam.base_radius * scale)
 
 
@@ -316,8 +203,6 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     import Part  # deferred: Part, FreeCAD (see the module docstring)
     from FreeCAD import Vector
 
-    if not design.plane:
-        return cylindrical_follower_shape(design, scale, angle_deg)
     spec = design.spec
     fol = design.follower
     th = np.deg2rad(angle_deg)
@@ -338,30 +223,84 @@ def follower_shape(design: CamDesign, scale: float = 1.0, angle_deg: float = 0.0
     return Part.Compound(shapes)
 
 
-def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
-    """A cylindrical cam's roller where it stands at ``angle_deg`` of cam rotation, in the cam's
-    frame: its radial axis (from the groove's bottom to a roller's radius beyond the cylinder), the
-    roller's end circles (radius r, in the planes normal to the axis at R_b and R_o) and the
-    follower point (the roller's centre on the pitch cylinder, a vertex)."""
-    import Part  # deferred: Part, FreeCAD (see the module docstring)
-    from FreeCAD import Vector
-
-    lay = design.layout
-    r = design.spec.roller_radius
-    cx, cy, z = lay.centre_point(design.program, float(np.deg2rad(angle_deg)))
-    phi = float(np.arctan2(cy, cx))
-    u = Vector(np.cos(phi), np.sin(phi), 0)
-
-    def at(rho: float) -> Any:
-        return Vector(rho * np.cos(phi) * scale, rho * np.sin(phi) * scale, z * scale)
-
-    shapes = [Part.Circle(at(rho), u, r * scale).toShape() for rho in (lay.bottom_radius, lay.outer_radius)]
-    shapes.append(Part.LineSegment(at(lay.bottom_radius), at(lay.outer_radius + r)).toShape())
-    shapes.append(Part.Vertex(at(lay.pitch_radius)))
-    return Part.Compound(shapes)
-
-
 #: Radius of the circle drawn round an arm's pivot, per unit of the base radius.
 PIVOT_MARK = 0.04
 
 
+# ---- the bodies' builders -------------------------------------------------------------------------
+Rows = list[tuple[str, str, str, str]]
+
+
+class FreeCADBody(Protocol):
+    """What the FreeCAD feature builds and shows of one body's design (lengths × ``scale``: mm),
+    registered in :data:`FREECAD_BODIES` for its design class."""
+
+    #: the Check design dialog's words for the curvature the undercut check measures
+    curvature_text: str
+
+    @staticmethod
+    def solid(design: Any, scale: float) -> Any:
+        """The cam as a ``Part`` solid."""
+
+    @staticmethod
+    def wall_faces(design: Any, shape: Any, scale: float) -> dict[str, Any] | None:
+        """``check_kernel_solid``'s ``walls``: the built solid's surface faces (None: prisms only)."""
+
+    @staticmethod
+    def pitch_wire(design: Any, scale: float) -> Any:
+        """The path of the follower point, a reference curve."""
+
+    @staticmethod
+    def base_circle_wire(design: Any, scale: float) -> Any:
+        """The circle the follower point traces at zero lift, a reference curve."""
+
+    @staticmethod
+    def follower_shape(design: Any, scale: float, angle_deg: float) -> Any:
+        """The follower where it stands at ``angle_deg`` of cam rotation, a reference shape."""
+
+    @staticmethod
+    def results(design: Any, scale: float) -> tuple[int, str, float]:
+        """The feature's result properties: (JunctionCount, the lift unit of its lift results,
+        MaxDeviation in that unit's FreeCAD storage)."""
+
+    @staticmethod
+    def design_rows(summary: dict[str, Any]) -> Rows:
+        """The Check design dialog's rows of the body's numbers, from ``design.summary()``."""
+
+    @staticmethod
+    def solid_rows(design: Any, shape: Any, scale: float) -> Rows:
+        """Check design rows measuring the built solid beyond volume and validity."""
+
+
+#: design class → its :class:`FreeCADBody` (the plane cams' here; a body's own in its module,
+#: listed in :mod:`cam_workbench.freecad.bodies`)
+FREECAD_BODIES: ByClass[type[FreeCADBody]] = ByClass("the FreeCAD feature's shapes")
+
+
+@FREECAD_BODIES.register(CamDesign)
+class PlanePart:
+    """The plane cams: prisms of exact NURBS loops, the PH (or B-spline) pitch curve, the base circle."""
+
+    curvature_text = "of the pitch curve and the profile"
+    solid = staticmethod(plane_solid)
+    pitch_wire = staticmethod(pitch_wire)
+    base_circle_wire = staticmethod(base_circle_wire)
+    follower_shape = staticmethod(follower_shape)
+
+    @staticmethod
+    def wall_faces(design: Any, shape: Any, scale: float) -> dict[str, Any] | None:
+        return None
+
+    @staticmethod
+    def results(design: Any, scale: float) -> tuple[int, str, float]:
+        lift = design.follower.lift_unit
+        # a lift's error in the lift's unit: mm (FreeCAD's lengths) or degrees
+        return int(design.pitch.M), lift, float(design.max_deviation[0]) * (scale if lift == "length" else 1.0)
+
+    @staticmethod
+    def design_rows(summary: dict[str, Any]) -> Rows:
+        return []
+
+    @staticmethod
+    def solid_rows(design: Any, shape: Any, scale: float) -> Rows:
+        return []

@@ -7,13 +7,14 @@ builds in one process).  Every OCP name comes from :mod:`cam_workbench.kernel.oc
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from cam_workbench.generators.bodies.base import Arc, Curve, Line
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
+from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.pitch.bspline import bezier_form
 
 from . import ocp as occ
@@ -136,8 +137,44 @@ def offset_profile_face(design: CamDesign, z: float = 0.0, holes: Any = None) ->
     return face
 
 
-def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
-    """The cam as a ``TopoDS_Solid``: its body's prisms (:mod:`cam_workbench.generators.bodies`) — for a plate
+class KernelBody(Protocol):
+    """What the kernel builds of one body's design (registered in :data:`SOLIDS` for its class)."""
+
+    @staticmethod
+    def solid(design: Any, exact_offset: bool) -> Any:
+        """The ``TopoDS_Solid`` (``exact_offset``: see :func:`cam_solid`)."""
+
+    @staticmethod
+    def measures(design: Any, shape: Any) -> dict[str, Any]:
+        """What the solid stage measures of the built ``shape`` beyond volume and face area."""
+
+
+#: design class → its :class:`KernelBody` (the plane cams' here; a body's own in its kernel module,
+#: imported by :mod:`cam_workbench.kernel` when it loads)
+SOLIDS: ByClass[type[KernelBody]] = ByClass("the CAD kernel's solid")
+
+
+def cam_solid(design: Any, exact_offset: bool = True) -> Any:
+    """The cam as a ``TopoDS_Solid``, built by its body's :class:`KernelBody`.
+
+    ``exact_offset``: a ``pitch.representation = "bspline"`` plate's profile as OCCT's exact offset
+    of the fitted pitch B-spline (True) or as the fitted offset B-spline (False: what STEP can
+    hold); bodies without such a profile ignore it.
+
+    Raises:
+        NotAvailable: the design's body registers no kernel builder.
+    """
+    return SOLIDS.of(design).solid(design, exact_offset)
+
+
+def body_measures(design: Any, shape: Any) -> dict[str, Any]:
+    """What the solid stage measures of a body beyond volume and face area (a cylindrical cam's
+    built wall faces against the exact walls; nothing for the prism bodies)."""
+    return SOLIDS.of(design).measures(design, shape)
+
+
+def plane_solid(design: CamDesign, exact_offset: bool = True) -> Any:
+    """A plane cam as a ``TopoDS_Solid``: its body's prisms (:mod:`cam_workbench.generators.bodies`) — for a plate
     cam the exact profile face extruded by the thickness, with the bore — fused and cut in order.
 
     For ``pitch.representation = "bspline"`` the plate's profile is OCCT's exact offset of the fitted
@@ -145,8 +182,6 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     (``exact_offset=False``: what STEP can hold — OCCT's STEP writer has no mapping for
     offset curves and writes an empty model)."""
     body = design.body
-    if body is not None and not body.prismatic:
-        return cylindrical_solid(design)
     plain_plate = body is None or body.plain_plate
     kernel_offset = exact_offset and design.bspline is not None and design.spec.roller_radius > 0 and \
         (body is None or body.has("plate"))
@@ -155,32 +190,43 @@ def cam_solid(design: CamDesign, exact_offset: bool = True) -> Any:
             face = offset_profile_face(design)
         else:
             face = profile_face(design.profile_ccw(), design.spec.cam.bore_diameter / 2)
-        return _extrude(face, 0.0, design.spec.cam.thickness)
+        return extrude(face, 0.0, design.spec.cam.thickness)
     shape = None
     for prism in body.prisms:
         if prism.role == "plate" and kernel_offset:
             face = offset_profile_face(design, prism.z0, holes=[loop_wire(h, prism.z0) for h in prism.holes])
         else:
             face = region_face(prism.outer, prism.holes, prism.z0)
-        solid = _extrude(face, prism.z0, prism.z1)
+        solid = extrude(face, prism.z0, prism.z1)
         if shape is None:
             shape = solid
         elif prism.op == "add":
-            shape = _boolean(occ.BRepAlgoAPI_Fuse, shape, solid)
+            shape = boolean(occ.BRepAlgoAPI_Fuse, shape, solid)
         else:
-            shape = _boolean(occ.BRepAlgoAPI_Cut, shape, solid)
+            shape = boolean(occ.BRepAlgoAPI_Cut, shape, solid)
     exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
     return occ.topods_solid(exp.Current()) if count_solids(shape) == 1 else shape
 
+@SOLIDS.register(CamDesign)
+class PlaneSolids:
+    """The plane cams' solids: their bodies' prisms (:func:`plane_solid`); nothing further measured."""
 
-def _extrude(face: Any, z0: float, z1: float) -> Any:
+    solid = staticmethod(plane_solid)
+
+    @staticmethod
+    def measures(design: Any, shape: Any) -> dict[str, Any]:
+        return {}
+
+
+def extrude(face: Any, z0: float, z1: float) -> Any:
     """The face (made at z = z0) swept up to z1, as a solid."""
     shape = occ.BRepPrimAPI_MakePrism(face, occ.gp_Vec(0, 0, z1 - z0), True).Shape()
     exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
     return occ.topods_solid(exp.Current())
 
 
-def _boolean(op: Any, a: Any, b: Any) -> Any:
+def boolean(op: Any, a: Any, b: Any) -> Any:
+    """``op`` (an OCCT boolean class: fuse, cut) of ``a`` and ``b``, built and checked."""
     mk = op(a, b)
     mk.Build()
     if not mk.IsDone():
@@ -310,42 +356,8 @@ def face_area_shoelace(face: Any, samples_per_edge: int = 400) -> float:
     return abs(total)
 
 
-# ---- the cylindrical (barrel) cam -----------------------------------------------------------
-def wall_surface_geom(wall: Any) -> Any:
-    """A ``Geom_BSplineSurface`` with exactly the data of a body's wall surface
-    (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3))."""
-    ku, mu = np.unique(wall.knots_u, return_counts=True)
-    kv, mv = np.unique(wall.knots_v, return_counts=True)
-    return occ.Geom_BSplineSurface(occ.pnt_array2(wall.poles.tolist()), occ.real_array(ku.tolist()),
-                                   occ.real_array(kv.tolist()), occ.int_array(mu.tolist()), occ.int_array(mv.tolist()),
-                                   wall.degree_u, wall.degree_v, False, False)
-
-
-def wall_faces(geometry: Any) -> list[tuple[Any, Any]]:
-    """(wall surface data, ``TopoDS_Face`` on its natural bounds) for every wall face."""
-    out = []
-    for wall in geometry.walls:
-        mk = occ.BRepBuilderAPI_MakeFace(wall_surface_geom(wall), 1e-7)
-        if not mk.IsDone():
-            raise RuntimeError("OCCT could not make a face from a groove wall surface")
-        out.append((wall, mk.Face()))
-    return out
-
-
-def _sewn_shell(faces: list[Any], tolerance: float = 1e-6) -> Any:
-    sew = occ.BRepBuilderAPI_Sewing(tolerance)
-    for f in faces:
-        sew.Add(f)
-    sew.Perform()
-    return sew.SewedShape()
-
-
-def _cylinder(radius: float, z0: float, z1: float) -> Any:
-    ax = occ.gp_Ax2(occ.gp_Pnt(0, 0, z0), occ.gp_Dir(0, 0, 1))
-    return occ.BRepPrimAPI_MakeCylinder(ax, radius, z1 - z0).Shape()
-
-
-def _solids(shape: Any) -> list[Any]:
+def solids_of(shape: Any) -> list[Any]:
+    """Every ``TopoDS_Solid`` of ``shape``."""
     out = []
     exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
     while exp.More():
@@ -354,90 +366,13 @@ def _solids(shape: Any) -> list[Any]:
     return out
 
 
-def _prism_stack(prisms: Any) -> Any:
+def prism_stack(prisms: Any) -> Any:
     """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
     shape = None
     for prism in prisms:
-        solid = _extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)
+        solid = extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)
         if shape is None:
             shape = solid
         else:
-            shape = _boolean(occ.BRepAlgoAPI_Fuse if prism.op == "add" else occ.BRepAlgoAPI_Cut, shape, solid)
+            shape = boolean(occ.BRepAlgoAPI_Fuse if prism.op == "add" else occ.BRepAlgoAPI_Cut, shape, solid)
     return shape
-
-
-def cylindrical_solid(design: Any) -> Any:
-    """The cylindrical cam as a ``TopoDS_Solid``: the cylinder (bored and keyed, with its hub, mounting
-    holes and timing mark: the body's ``stack`` of prisms) minus the groove.
-
-    The groove is cut out of an annulus spanning a little more than the groove's depth
-    (the walls' radial range) by the two walls — each one shell sewn from its per-segment
-    B-spline faces — with ``BRepAlgoAPI_Splitter``; the piece between the walls (the one that holds
-    the pitch point at θ = 0) is the groove, cut from the cylinder."""
-    geo = design.body
-    lay = geo.layout
-    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
-    annulus = _boolean(occ.BRepAlgoAPI_Cut, _cylinder(lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius),
-                                                      -margin, lay.length + margin),
-                       _cylinder(lay.bottom_radius, -2 * margin, lay.length + 2 * margin))
-    faces = wall_faces(geo)
-    tools = occ.ListOfShape()
-    for side in (-1, 1):
-        tools.Append(_sewn_shell([f for w, f in faces if w.side == side]))
-    args = occ.ListOfShape()
-    args.Append(annulus)
-    split = occ.BRepAlgoAPI_Splitter()
-    split.SetArguments(args)
-    split.SetTools(tools)
-    split.Build()
-    if not split.IsDone():
-        raise RuntimeError("OCCT could not split the annulus by the groove walls")
-    # the pitch point at θ = 0: midway between the walls
-    centre = occ.gp_Pnt(*lay.centre_point(design.program, 0.0))
-    groove = None
-    for piece in _solids(split.Shape()):
-        cls = occ.BRepClass3d_SolidClassifier(piece, centre, 1e-7)
-        if cls.State() == occ.TopAbs_IN:
-            groove = piece
-            break
-    if groove is None:
-        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
-    shape = _boolean(occ.BRepAlgoAPI_Cut, _prism_stack(geo.stack), groove)
-    solids = _solids(shape)
-    return solids[0] if len(solids) == 1 else shape
-
-
-def body_measures(design: Any, shape: Any) -> dict[str, Any]:
-    """What the solid stage measures of a body beyond volume and face area: a cylindrical cam's
-    built wall faces against the exact walls (``wall_error``); nothing for the prism bodies."""
-    body = design.body
-    if body is None or body.prismatic:
-        return {}
-    return {"wall_error": cylindrical_wall_error(design, shape)}
-
-
-def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 15) -> dict[str, Any]:
-    """Distance of the built wall faces of ``shape`` from the exact walls: every B-spline face
-    sampled on a grid of its own (u, v) range (OCCT's evaluator), each point's distance from the
-    exact wall of its side (:meth:`CylindricalDesign.wall_distance_error`, the developed offset at
-    the point's radius) — the side told by which wall's surface the face lies on."""
-    lay = design.body.layout
-    worst, faces, n = 0.0, 0, 0
-    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
-    while fx.More():
-        face = occ.topods_face(fx.Current())
-        surf = occ.BRepAdaptor_Surface(face)
-        if surf.GetType() == occ.GeomAbs_BSplineSurface:
-            u = np.linspace(surf.FirstUParameter(), surf.LastUParameter(), per_direction)
-            v = np.linspace(surf.FirstVParameter(), surf.LastVParameter(), per_direction)
-            pts = np.array([[surf.Value(a, b).X(), surf.Value(a, b).Y(), surf.Value(a, b).Z()] for a in u for b in v])
-            err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
-            rho = np.hypot(pts[:, 0], pts[:, 1])
-            inside = (rho >= lay.bottom_radius - 1e-6) & (rho <= lay.outer_radius + 1e-6)
-            worst = max(worst, float(np.max(err[inside])) if inside.any() else 0.0)
-            faces += 1
-            n += int(inside.sum())
-        fx.Next()
-    return {"value": worst, "unit": design.spec.units, "faces": faces, "points": n,
-            "what": "built B-spline wall faces (OCCT's evaluator) vs the exact walls (developed offsets at each "
-                    "point's radius)"}

@@ -585,6 +585,15 @@ class CylindricalDesign:
     def wall_points(self, side: int, theta, rho) -> np.ndarray:
         return wall_points(self.layout, self.program, side, theta, rho)
 
+    def developed_points(self, rho: float, side: int, theta: np.ndarray, segment: np.ndarray | None = None
+                         ) -> np.ndarray:
+        """Exact developed points (x, z), (n, 2), of the centre line C_ρ at radius ρ offset by
+        side·w/2 along its normal (side 0: the centre line, +1 the upper wall, −1 the lower)."""
+        lay = self.layout
+        c = lay.centre_line(self.program, theta, rho, segment)      # the follower's own path (translating or arm)
+        x, z = c.offset(lay.sense, side * lay.half_width)
+        return np.column_stack([x, z])
+
     def wall_distance_error(self, side: int, points: np.ndarray) -> np.ndarray:
         return wall_distance_error(self.layout, self.program, side, points)
 

@@ -2,8 +2,8 @@
 as smooth local functions of (geometry, s, s′, s″) with exact partial derivatives, its closed-curve
 integrands (areas, lengths) and the rows that keep its geometry valid.
 
-One class per follower kind (:data:`KIND_MODELS`, keyed by the follower class of
-:mod:`cam_workbench.generators.followers`, the one place that maps a kind to its model):
+One class per follower kind, each registered in :data:`KIND_MODELS` for the follower class of
+:mod:`cam_workbench.generators.followers` it models:
 
 =============================  ======================  =============================================
 follower                       geometry (design vars)  checks (normalised g ≤ 0)
@@ -50,7 +50,9 @@ import numpy as np
 
 from ..followers import (Follower, force_reference, OscillatingFlatFollower, OscillatingFollower, TranslatingFlatFollower,
                          TranslatingFollower, follower_of)
+from ..errors import SpecError
 from ..kinds import body_of
+from ..kinds.by_class import ByClass
 from ..spec.model import CamSpec
 from ..spec.optimise import optimise_variables
 from . import jet
@@ -66,6 +68,11 @@ X_EPS = 1e-9
 GEOMETRY_PATHS = {"base_radius": "cam.base_radius", "offset": "follower.offset",
                   "pivot_distance": "follower.pivot_distance", "arm_length": "follower.arm_length",
                   "face_offset": "follower.face_offset"}
+
+
+#: follower class → its optimiser model (each model class registers itself below; a new follower
+#: kind's model registers itself in a module of its own, imported by ``kinds/builtin.py``)
+KIND_MODELS: ByClass[type["KindModel"]] = ByClass("the optimiser's model")
 
 
 class KindModel:
@@ -207,6 +214,7 @@ class KindModel:
 
 
 # ---- translating knife edge and roller (thesis Eq. 3.4–3.7, hand-derived partials) ------------------
+@KIND_MODELS.register(TranslatingFollower)
 class TranslatingPointModel(KindModel):
     geometry = ("base_radius", "offset")
     area_integral = "thesis_area"
@@ -322,6 +330,7 @@ class TranslatingPointModel(KindModel):
 
 
 # ---- oscillating knife edge and roller ---------------------------------------------------------------
+@KIND_MODELS.register(OscillatingFollower)
 class OscillatingPointModel(KindModel):
     """A = D + L e^{iψ}, ψ = ψ₀ − s (s in arm degrees), cos ψ₀ = (R_b² − d² − L²)/(2dL)."""
 
@@ -465,6 +474,7 @@ class FlatModel(KindModel):
         raise ValueError(f"{which} is not defined for a flat face")
 
 
+@KIND_MODELS.register(TranslatingFlatFollower)
 class TranslatingFlatModel(FlatModel):
     """The face y = R_b + s: ρ = R_b + s + s″, contact at x = δs′, F = P_L + k s + M s″ω²."""
 
@@ -478,6 +488,7 @@ class TranslatingFlatModel(FlatModel):
         return {"h": h, "G": 1.0 + 0.0 * s, "rhoG3": h + a, "tG": dl * v - e, "phi": None, "force": force}
 
 
+@KIND_MODELS.register(OscillatingFlatFollower)
 class OscillatingFlatModel(FlatModel):
     """The face at f from the pivot, normal e^{iβ}, β = β₀ − s, cos β₀ = (R_b + f)/d:
     h = d cos β − f, ρ = h + h_γγ, t = h_γ + d sin β, tan φ = −δf/t, F = T/|t|."""
@@ -517,19 +528,18 @@ class OscillatingFlatModel(FlatModel):
         return {"h": h, "G": big_g, "rhoG3": rho3, "tG": tg, "phi": phi, "force": torque * big_g / lever}
 
 
-#: follower class → its optimiser model
-KIND_MODELS: dict[type, type[KindModel]] = {
-    TranslatingFollower: TranslatingPointModel,
-    OscillatingFollower: OscillatingPointModel,
-    TranslatingFlatFollower: TranslatingFlatModel,
-    OscillatingFlatFollower: OscillatingFlatModel,
-}
-
-
 def kind_model(spec: CamSpec) -> KindModel:
-    """The optimiser model of the spec's follower kind."""
+    """The optimiser model of the spec's follower kind.
+
+    Raises:
+        SpecError: no model is registered for the follower's class (naming ``follower.kind``).
+    """
     fol = follower_of(spec)
-    return KIND_MODELS[type(fol)](spec, fol)
+    model = KIND_MODELS.for_class(type(fol))
+    if model is None:
+        raise SpecError("follower.kind", f"the optimiser has no model of the {spec.follower.motion} "
+                                         f"{spec.follower.kind} follower (docs/adding-a-kind.md)")
+    return model(spec, fol)
 
 
 __all__ = ["GEOMETRY_PATHS", "KIND_MODELS", "KindModel", "force_reference", "kind_model"]

@@ -37,6 +37,7 @@ analytic gradients against complex-step derivatives (exact to rounding).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import Any
 
 import numpy as np
@@ -66,12 +67,23 @@ def basis_matrices(knots: np.ndarray, degree: int, n_points: int, u: np.ndarray,
     return tuple(out)
 
 
+class Lift(Enum):
+    """How a motion segment's lift is given, as the model samples it."""
+
+    #: a parametric curve (θ(u), s(u)): a B-spline lift law (Teoh 1989), sampled in u
+    CURVE = "curve"
+    #: a closed form s(θ − start)
+    CLOSED_FORM = "closed form"
+    #: no lift (one node)
+    DWELL = "dwell"
+
+
 @dataclass
 class SegmentNodes:
-    """Sample parameters of one motion segment: u (B-spline) or θ − start (others)."""
+    """Sample parameters of one motion segment: u (a parametric curve) or θ − start (others)."""
 
     index: int
-    law: str                  # the segment's lift: "bspline", "law" (a closed form), "dwell"
+    law: Lift
     params: np.ndarray
     block: Any = None         # LiftBlock for a varied B-spline segment
     cache: dict = field(default_factory=dict)
@@ -113,21 +125,21 @@ class SmoothModel:
         for k in range(len(prog.starts)):
             curve = prog.curves[k] if prog.curves else None
             if prog.laws[k] is None:
-                self.segments.append(SegmentNodes(k, "dwell", np.array([0.0])))
+                self.segments.append(SegmentNodes(k, Lift.DWELL, np.array([0.0])))
             elif curve is not None:
-                self.segments.append(SegmentNodes(k, "bspline", np.linspace(0.0, curve.u_max, samples),
+                self.segments.append(SegmentNodes(k, Lift.CURVE, np.linspace(0.0, curve.u_max, samples),
                                                   blocks.get(k)))
             else:
-                self.segments.append(SegmentNodes(k, "law", np.linspace(0.0, prog.spans[k], samples)))
+                self.segments.append(SegmentNodes(k, Lift.CLOSED_FORM, np.linspace(0.0, prog.spans[k], samples)))
         self._gauss = [self._gauss_params(sn) for sn in self.segments]
 
     # ---- parameters --------------------------------------------------------------------------
     def _gauss_params(self, sn: SegmentNodes) -> tuple[np.ndarray, np.ndarray]:
         """Gauss parameters and weights (in the segment's parameter) for the integrals."""
         prog = self.program
-        if sn.law == "dwell":
+        if sn.law is Lift.DWELL:
             return np.array([0.0]), np.array([prog.spans[sn.index]])
-        if sn.law == "bspline":
+        if sn.law is Lift.CURVE:
             curve = prog.curves[sn.index]
             xg, wg = np.polynomial.legendre.leggauss(GAUSS_PER_SPAN)
             br = np.unique(curve.knots)
@@ -150,10 +162,10 @@ class SmoothModel:
         nv = self.space.n
         dtype = np.result_type(p.dtype, float)
         zeros = (lambda: np.zeros((m, nv), dtype=dtype)) if grad else (lambda: None)
-        if sn.law == "dwell":
+        if sn.law is Lift.DWELL:
             one = np.ones(m, dtype=dtype)
             return Kin(prog.levels[k] * one, 0 * one, 0 * one, one, zeros(), zeros(), zeros(), zeros())
-        if sn.law == "law":
+        if sn.law is Lift.CLOSED_FORM:
             cache = sn.cache.get(key) if key else None
             if cache is None:
                 f, f1, f2, _ = evaluate_law(prog.laws[k], params / prog.spans[k])
@@ -257,7 +269,7 @@ class SmoothModel:
 
     def theta_at(self, sn: SegmentNodes, params: np.ndarray, p: np.ndarray) -> np.ndarray:
         start = self.program.starts[sn.index]
-        if sn.law == "bspline":
+        if sn.law is Lift.CURVE:
             curve = self.program.curves[sn.index]
             x = sn.block.arrays(np.asarray(p, dtype=float))[0] if sn.block is not None else curve.x
             return start + basis_matrix(curve.knots, curve.degree, curve.n_points, params, 0) @ x
@@ -417,7 +429,7 @@ class SmoothModel:
         vals_out: list[list[np.ndarray]] = [[] for _ in channels]
         jac_out: list[list[np.ndarray]] = [[] for _ in channels]
         for sn in self.segments:
-            if sn.law == "dwell":
+            if sn.law is Lift.DWELL:
                 kin = self.kinematics(sn, sn.params, p, grad, key="nodes")
                 loc = self.local(geo, kin.s, kin.v, kin.a, grad)
                 for c, (name, fac) in enumerate(channels):

@@ -85,17 +85,7 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         SpecError: a bad setting (field and rule named).
     """
     t_start = time.perf_counter()
-    changes = {f"optimise.{k}": v for k, v in settings.items()}
-    if objective is not None:
-        changes["optimise.objective"] = objective
-    if variables is not None:
-        changes["optimise.variables"] = variables
-    if algorithm is not None:
-        changes["optimise.algorithm"] = algorithm
-    for key in changes:
-        if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
-            raise SpecError(key, "unknown optimiser setting")
-    spec = spec.replace(**changes) if changes else spec
+    spec = _with_settings(spec, objective, variables, algorithm, settings)
     own = own_optimiser(spec)
     if own is not None:          # a body with an optimiser of its own (the cylindrical cam's)
         return own(spec, progress=progress, cancel=cancel)
@@ -104,9 +94,8 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     space.check_start()
     model = SmoothModel(space)
     obj = make_objective(cfg.objective, model)
-    algo = cfg.algorithm
     runs = 1 + cfg.multistart
-    budget = cfg.max_evaluations * runs * (2 if cfg.objective in TIME and algo == "auto" else 1)
+    budget = cfg.max_evaluations * runs * (2 if cfg.objective in TIME and cfg.algorithm == "auto" else 1)
     details: dict[str, Any] = {}
     p_init = space.p0.copy()
     f_init_model = objective_value(obj, space, p_init)
@@ -114,67 +103,24 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     # is refused here, before any solver work, by the CamError that says why
     v0 = final_value(cfg.objective, spec)
 
-    # every start's random numbers first, in start order: the runs may then go anywhere
-    jobs = [StartJob(0, spec, None, budget)]
-    skipped: dict[int, str] = {}
-    rng = np.random.default_rng(cfg.seed)
-    for i in range(cfg.multistart):
-        z_rand = random_start(space, rng)
-        if z_rand is None:
-            skipped[i + 1] = f"start {i + 2}: no random design of the box builds (skipped)"
-        else:
-            jobs.append(StartJob(i + 1, spec, z_rand, budget))
+    jobs, skipped = _start_jobs(space, spec, budget)
     agg = StartsProgress(budget, progress, cancel)
     ran = (executor or SerialExecutor()).run(run_start, jobs, on_progress=agg.on_progress,
                                              should_stop=agg.should_stop)
     outcomes: dict[int, StartOutcome] = {o.index: o for o in ran if o is not NOT_RUN}
     cancelled = len(outcomes) < len(jobs) or any(o.cancelled for o in outcomes.values())
-    messages: list[str] = []
-    history: list[dict[str, Any]] = []
-    evaluations = 0
-    for k in range(runs):
-        if k in skipped:
-            messages.append(skipped[k])
-        if k in outcomes:
-            o = outcomes[k]
-            messages.extend(o.messages)
-            for h in o.history:
-                history.append({**h, "iteration": evaluations + h["iteration"]})
-            evaluations += o.evaluations
-    status = "converged"
-    if not cancelled:
-        best: tuple[tuple[bool, float], int] | None = None
-        for k in sorted(outcomes):          # the first best in start order
-            key = outcomes[k].key
-            if key is not None and (best is None or key < best[0]):
-                best = (key, k)
-        chosen = outcomes[best[1] if best is not None else 0]
-        p_best = chosen.p
-        solver_status, solver_ok = chosen.solver_status, chosen.solver_ok
-        if chosen.windows is not None:
-            details["windows"] = chosen.windows
-    else:
+    messages, history, evaluations = _merged_runs(outcomes, skipped, runs)
+    if cancelled:
         status = "cancelled"
         solver_status, solver_ok = "cancelled (forced stop after the evaluation in progress)", False
-        best_feasible: tuple[float, np.ndarray] | None = None
-        best_any: tuple[float, float, np.ndarray] | None = None
-        for k in sorted(outcomes):          # as one tracker over the starts in order would see them
-            o = outcomes[k]
-            if o.best_feasible is not None and (best_feasible is None or o.best_feasible[0] < best_feasible[0]):
-                best_feasible = o.best_feasible
-            if o.best_any is not None and (best_any is None or (max(o.best_any[0], 0), o.best_any[1])
-                                           < (max(best_any[0], 0), best_any[1])):
-                best_any = o.best_any
-        p_best = p_init
-        if best_feasible is not None:
-            p_best = best_feasible[1]
-        elif best_any is not None:
-            p_best = best_any[2]
-        p_best = polish(space, p_best)
-        if not space.is_valid(p_best):
-            p_best = p_init
-        if 0 in outcomes and outcomes[0].windows is not None:
-            details["windows"] = outcomes[0].windows
+        p_best = _best_so_far(space, outcomes, p_init)
+        chosen = outcomes.get(0)
+    else:
+        status = "converged"
+        chosen = _best_start(outcomes)
+        p_best, solver_status, solver_ok = chosen.p, chosen.solver_status, chosen.solver_ok
+    if chosen is not None and chosen.windows is not None:
+        details["windows"] = chosen.windows
     final_spec = space.spec_at(p_best)
     try:
         v1 = final_value(cfg.objective, final_spec)
@@ -183,14 +129,8 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
         p_best, final_spec, v1 = p_init, spec, v0
         solver_ok = False
     checks = run_checks(final_spec)
-    initial_checks = run_checks(spec)
-    details["areas"] = {"initial": area_summary(spec), "final": area_summary(final_spec)}
-    if cfg.objective == "machining_time":
-        details["cutting_time"] = {"initial": thesis_cutting_time(spec).summary(),
-                                   "final": thesis_cutting_time(final_spec).summary()}
-    details["constraint_margin"] = cfg.constraint_margin
-    details["model_objective_initial"] = f_init_model
-    details["workers"] = int(getattr(executor, "workers", 1)) if executor is not None else 1
+    details.update(_details(spec, final_spec, f_init_model))
+    details["workers"] = int(executor.workers) if executor is not None else 1
     if status != "cancelled":
         if not checks.passed:
             status = "infeasible"
@@ -202,8 +142,98 @@ def optimise(spec: CamSpec, objective: str | None = None, variables: str | None 
     if not checks.passed:
         message += ("; " if message else "") + f"the final design FAILS the dense check: {', '.join(checks.failed)}"
     return OptimiseResult(
-        spec=final_spec, initial_spec=spec, objective=cfg.objective, algorithm=algo,
+        spec=final_spec, initial_spec=spec, objective=cfg.objective, algorithm=cfg.algorithm,
         initial_value=v0, value=v1, variables=space.labels, initial_design=p_init, design=p_best,
         history=history, evaluations=evaluations, time_s=time.perf_counter() - t_start,
-        status=status, message=message, checks=checks, initial_checks=initial_checks, details=details,
+        status=status, message=message, checks=checks, initial_checks=run_checks(spec), details=details,
         solver_status=solver_status)
+
+
+def _with_settings(spec: CamSpec, objective: str | None, variables: str | None, algorithm: str | None,
+                   settings: dict[str, Any]) -> CamSpec:
+    """``spec`` with the call's optimiser settings (SpecError naming an unknown one)."""
+    changes = {f"optimise.{k}": v for k, v in settings.items()}
+    for name, value in (("objective", objective), ("variables", variables), ("algorithm", algorithm)):
+        if value is not None:
+            changes[f"optimise.{name}"] = value
+    for key in changes:
+        if key.split(".", 1)[1] not in spec.optimise.__dataclass_fields__:
+            raise SpecError(key, "unknown optimiser setting")
+    return spec.replace(**changes) if changes else spec
+
+
+def _start_jobs(space: DesignSpace, spec: CamSpec, budget: int) -> tuple[list[StartJob], dict[int, str]]:
+    """Every start's job, its random numbers drawn first, in start order (the runs may then go
+    anywhere), and the words of each random start skipped because no random design builds."""
+    jobs = [StartJob(0, spec, None, budget)]
+    skipped: dict[int, str] = {}
+    rng = np.random.default_rng(spec.optimise.seed)
+    for i in range(spec.optimise.multistart):
+        z_rand = random_start(space, rng)
+        if z_rand is None:
+            skipped[i + 1] = f"start {i + 2}: no random design of the box builds (skipped)"
+        else:
+            jobs.append(StartJob(i + 1, spec, z_rand, budget))
+    return jobs, skipped
+
+
+def _merged_runs(outcomes: dict[int, StartOutcome], skipped: dict[int, str], runs: int
+                 ) -> tuple[list[str], list[dict[str, Any]], int]:
+    """(messages, history, evaluations) of the starts together, in start order (the history's
+    iterations counted on from one start to the next)."""
+    messages: list[str] = []
+    history: list[dict[str, Any]] = []
+    evaluations = 0
+    for k in range(runs):
+        if k in skipped:
+            messages.append(skipped[k])
+        if k in outcomes:
+            o = outcomes[k]
+            messages.extend(o.messages)
+            history.extend({**h, "iteration": evaluations + h["iteration"]} for h in o.history)
+            evaluations += o.evaluations
+    return messages, history, evaluations
+
+
+def _best_start(outcomes: dict[int, StartOutcome]) -> StartOutcome:
+    """The finished run's result: the first best start in start order (the first start when none
+    has a key)."""
+    best: tuple[tuple[bool, float], int] | None = None
+    for k in sorted(outcomes):
+        key = outcomes[k].key
+        if key is not None and (best is None or key < best[0]):
+            best = (key, k)
+    return outcomes[best[1] if best is not None else 0]
+
+
+def _best_so_far(space: DesignSpace, outcomes: dict[int, StartOutcome], p_init: np.ndarray) -> np.ndarray:
+    """A cancelled run's design: the best feasible design any start met (else the least violating),
+    as one tracker over the starts in order would see them, polished; the start if that is not valid."""
+    best_feasible: tuple[float, np.ndarray] | None = None
+    best_any: tuple[float, float, np.ndarray] | None = None
+    for k in sorted(outcomes):
+        o = outcomes[k]
+        if o.best_feasible is not None and (best_feasible is None or o.best_feasible[0] < best_feasible[0]):
+            best_feasible = o.best_feasible
+        if o.best_any is not None and (best_any is None or (max(o.best_any[0], 0), o.best_any[1])
+                                       < (max(best_any[0], 0), best_any[1])):
+            best_any = o.best_any
+    p_best = p_init
+    if best_feasible is not None:
+        p_best = best_feasible[1]
+    elif best_any is not None:
+        p_best = best_any[2]
+    p_best = polish(space, p_best)
+    return p_best if space.is_valid(p_best) else p_init
+
+
+def _details(spec: CamSpec, final_spec: CamSpec, f_init_model: float) -> dict[str, Any]:
+    """The result's ``details``: areas before and after, the thesis' cutting time (objective
+    ``machining_time``), the constraint margin and the model's objective at the start."""
+    out: dict[str, Any] = {"areas": {"initial": area_summary(spec), "final": area_summary(final_spec)}}
+    if spec.optimise.objective == "machining_time":
+        out["cutting_time"] = {"initial": thesis_cutting_time(spec).summary(),
+                               "final": thesis_cutting_time(final_spec).summary()}
+    out["constraint_margin"] = spec.optimise.constraint_margin
+    out["model_objective_initial"] = f_init_model
+    return out

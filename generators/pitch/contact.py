@@ -201,7 +201,7 @@ class ContactSolver(FollowerLineSolver):
     def _newton(self, seg, xi, rot, tol, max_iter):
         fol = self.follower
         # residuals are lengths (or lengths × ξ-derivatives): their rounding floor
-        floor = 256 * np.finfo(float).eps * (self._deg * self._size[seg] + abs(getattr(fol, "prime_radius", 0.0)))
+        floor = 256 * np.finfo(float).eps * (self._deg * self._size[seg] + abs(fol.prime_radius))
         # the segments' polynomials turned by θ once, as contiguous rows (n+1, N)
         c0 = (rot * self._pc[seg].T).copy()
         c1 = (rot * self._dpc[seg].T).copy()

@@ -17,7 +17,7 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 from ..bodies.features import validate_features
 from ..errors import SpecError, fmt_apart
@@ -266,13 +266,17 @@ def _reject_unknown(prefix: str, data: Mapping[str, Any], known: set[str]) -> No
             raise SpecError(path, f"unknown field (known fields: {', '.join(sorted(known))})")
 
 
+#: section class → its rules checked before its fields' own (``fn(data, path)``, SpecError naming the field)
+PRECHECKS: dict[type, Callable[[Mapping[str, Any], str], None]] = {MotionSegment: MotionSegment.precheck}
+
+
 def _load_section(cls: type, data: Any, path: str) -> Any:
     """Load one section table into its dataclass, checking every declared parameter."""
     if not isinstance(data, Mapping):
         raise SpecError(path, f"must be a table, got {data!r}")
     decl = params_of(cls)
     _reject_unknown(path, data, set(decl))
-    precheck = getattr(cls, "precheck", None)
+    precheck = PRECHECKS.get(cls)
     if precheck is not None:
         precheck(data, path)
     values = {}

@@ -1,0 +1,228 @@
+"""The cylindrical (barrel) cam in FreeCAD: its solid from the groove walls' B-spline surfaces,
+its reference curves (the roller's centre line on the pitch cylinder, the pitch circle, the
+radial roller) and its rows in the Check design dialog — registered in
+:data:`cam_workbench.freecad.part_build.FREECAD_BODIES` for
+:class:`~cam_workbench.generators.bodies.cylindrical.CylindricalDesign`.  ``Part`` and
+``FreeCAD`` are imported inside the builders, as in :mod:`.part_build`.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
+
+from .part_build import FREECAD_BODIES, Rows, circle_wire, prism_stack
+
+
+def wall_surface(wall: Any, scale: float = 1.0) -> Any:
+    """A ``Part.BSplineSurface`` with exactly the data of a groove wall
+    (:class:`cam_workbench.generators.bodies.cylindrical.WallSurface`: full knot vectors, poles (n_u, n_v, 3),
+    degrees 5 × 5), the poles scaled to mm."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    ku, mu = np.unique(wall.knots_u, return_counts=True)
+    kv, mv = np.unique(wall.knots_v, return_counts=True)
+    poles = [[Vector(*p) for p in row] for row in (np.asarray(wall.poles, dtype=float) * scale).tolist()]
+    surf = Part.BSplineSurface()
+    surf.buildFromPolesMultsKnots(poles, [int(m) for m in mu], [int(m) for m in mv], [float(k) for k in ku],
+                                  [float(k) for k in kv], False, False, int(wall.degree_u), int(wall.degree_v))
+    return surf
+
+
+
+
+def _cylinder(radius: float, z0: float, z1: float) -> Any:
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
+
+
+
+
+def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
+    """The cylindrical cam, as ``occ_build.cylindrical_solid`` builds it with OCP: the body's stack
+    of prisms (the keyed, bored cylinder, its hub, mounting holes and timing mark) minus the groove
+    — the piece of an annulus slightly wider than the groove's depth between the two walls (each
+    one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
+    by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    geo = design.body
+    lay = geo.layout
+    k = scale
+    margin = 0.5 * (lay.outer_radius - lay.bottom_radius)
+    annulus = _cylinder((lay.outer_radius + 0.5 * (geo.wall_rho[1] - lay.outer_radius)) * k, -margin * k,
+                        (lay.length + margin) * k).cut(
+        _cylinder(lay.bottom_radius * k, -2 * margin * k, (lay.length + 2 * margin) * k))
+    shells = []
+    for side in (-1, 1):
+        faces = [Part.Face(wall_surface(w, k)) for w in geo.walls if w.side == side]
+        sewn = Part.Compound(faces)
+        sewn.sewShape(1e-6 * k)
+        shells.append(sewn.Shells[0] if sewn.Shells else sewn)
+    pieces = annulus.generalFuse(shells, 0.0)[0].Solids
+    cx, cy, cz = lay.centre_point(design.program, 0.0)          # the roller centre at θ = 0 (its own path)
+    centre = Vector(cx * k, cy * k, cz * k)
+    groove = next((p for p in pieces if p.isInside(centre, 1e-7, True)), None)
+    if groove is None:
+        raise RuntimeError("the groove walls did not split the annulus (no piece holds the pitch point)")
+    shape = prism_stack(geo.stack, k).cut(groove)
+    return shape.Solids[0] if len(shape.Solids) == 1 else shape
+
+
+
+
+def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, float] | None = None) -> Any:
+    """Points (n, 3) [mm] on every B-spline face of ``shape`` (a cylindrical cam's groove walls),
+    on a grid of each face's own (u, v) range, by FreeCAD's evaluator; with ``radii`` (mm) only
+    those whose distance from the cam axis lies within them."""
+    pts = []
+    for f in shape.Faces:
+        if f.Surface.TypeId != "Part::GeomBSplineSurface":
+            continue
+        u0, u1, v0, v1 = f.ParameterRange
+        for a in np.linspace(u0, u1, per_direction).tolist():
+            for b in np.linspace(v0, v1, per_direction).tolist():
+                p = f.valueAt(a, b)
+                pts.append((p.x, p.y, p.z))
+    out = np.array(pts, dtype=float).reshape(-1, 3)
+    if radii is not None:
+        rho = np.hypot(out[:, 0], out[:, 1])
+        out = out[(rho >= radii[0]) & (rho <= radii[1])]
+    return out
+
+
+
+
+def wall_faces(shape: Any, radii: tuple[float, float], per_direction: int = 15) -> dict[str, Any]:
+    """How many B-spline (groove wall) faces ``shape`` holds and how many points of their
+    ``per_direction``² grids lie between ``radii`` [mm] from the axis (the groove's depth): the
+    ``faces``/``points`` of ``solid.wall_error``, its ``value`` not measured here (None)."""
+    faces = sum(1 for f in shape.Faces if f.Surface.TypeId == "Part::GeomBSplineSurface")
+    points = len(wall_face_points(shape, per_direction, radii))
+    return {"faces": faces, "points": points, "value": None}
+
+
+
+
+def cylindrical_pitch_wire(design: Any, scale: float = 1.0, per_segment: int = 61) -> Any:
+    """A cylindrical cam's pitch curve: where the roller's axis meets the pitch cylinder,
+    (R_p cos φ(θ), R_p sin φ(θ), z₀ + s(θ)), one interpolating B-spline edge per motion segment
+    (a reference curve for the eye; the walls are built from the exact data)."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    lay = design.layout
+    b = design.program.boundaries
+    edges = []
+    for seg in range(len(design.program.starts)):
+        th = np.linspace(float(b[seg]), float(b[seg + 1]), per_segment)
+        c = lay.centre_line(design.program, th, lay.pitch_radius, np.full(th.shape, seg))
+        psi = c.x / lay.pitch_radius                 # C_{R_p} wrapped onto the pitch cylinder
+        pts = np.stack([lay.pitch_radius * np.cos(psi), lay.pitch_radius * np.sin(psi), c.z], axis=-1) * scale
+        c = Part.BSplineCurve()
+        c.interpolate([Vector(*p) for p in pts.tolist()])
+        edges.append(c.toShape())
+    return Part.Wire(edges)
+
+
+
+
+def cylindrical_follower_shape(design: Any, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
+    """A cylindrical cam's roller where it stands at ``angle_deg`` of cam rotation, in the cam's
+    frame: its radial axis (from the groove's bottom to a roller's radius beyond the cylinder), the
+    roller's end circles (radius r, in the planes normal to the axis at R_b and R_o) and the
+    follower point (the roller's centre on the pitch cylinder, a vertex)."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    lay = design.layout
+    r = design.spec.roller_radius
+    cx, cy, z = lay.centre_point(design.program, float(np.deg2rad(angle_deg)))
+    phi = float(np.arctan2(cy, cx))
+    u = Vector(np.cos(phi), np.sin(phi), 0)
+
+    def at(rho: float) -> Any:
+        return Vector(rho * np.cos(phi) * scale, rho * np.sin(phi) * scale, z * scale)
+
+    shapes = [Part.Circle(at(rho), u, r * scale).toShape() for rho in (lay.bottom_radius, lay.outer_radius)]
+    shapes.append(Part.LineSegment(at(lay.bottom_radius), at(lay.outer_radius + r)).toShape())
+    shapes.append(Part.Vertex(at(lay.pitch_radius)))
+    return Part.Compound(shapes)
+
+
+def cylindrical_rows(s: dict[str, Any]) -> list[tuple[str, str, str, str]]:
+    """The design numbers of a cylindrical cam from its report.json (``design.summary()``)."""
+    u, b = s["units"], s["body"]
+    w, cr, pa, m = b["walls"], b["min_developed_curvature_radius"], s["pressure_angle"], s["motion"]
+    rows = [
+        ("Buildability", "undercut (developed centre line vs half the groove width)",
+         f"min radius {cr['value']:.4g} {u} at {cr['at_deg']:.2f}° (radius {cr['at_radius']:.4g})", "pass"),
+        ("Buildability", "groove bottom to bore", f"{w['groove_bottom_to_bore']:.4g} {u}", "pass"),
+        ("Buildability", "groove to the end faces", f"{min(w['bottom_to_end'], w['top_to_end']):.4g} {u}", "pass"),
+        ("Cylinder", "pitch / outer / bottom radius",
+         f"{b['pitch_radius']:.6g} / {b['outer_radius']:.6g} / {b['bottom_radius']:.6g} {u}", ""),
+        ("Cylinder", "length, lift range", f"{b['length']:.6g} {u}, z {b['lift_range'][0]:.6g} … "
+                                           f"{b['lift_range'][1]:.6g} {u}", ""),
+        ("Groove", "width × depth", f"{b['groove_width']:.6g} × {b['groove_depth']:.6g} {u}", ""),
+        ("Groove", "wall surfaces", f"{b['wall_surfaces']['faces']} B-spline faces, degree "
+                                    f"{b['wall_surfaces']['degree'][0]}×{b['wall_surfaces']['degree'][1]}", ""),
+        ("Groove", "wall data vs exact walls", f"{b['wall_fit_error']['value']:.3g} {u}", ""),
+        ("Pressure angle", "max |φ| at the pitch radius", f"{pa['max_deg']:.3f}° at {pa['at_deg']:.2f}°", ""),
+        ("Pressure angle", "max |φ| at the groove's bottom",
+         f"{pa['bottom_max_deg']:.3f}° at {pa['bottom_at_deg']:.2f}°", ""),
+        ("Motion", "max lift", f"{m['max_lift']:.6g} {m['lift_unit']}", ""),
+        ("Motion", "max velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
+        ("Motion", "max acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
+        ("Motion", "max jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
+    ]
+    lig = b.get("features", {}).get("hole_ligaments")
+    if lig:
+        rows.append(("Features", "hole ligaments (bore / groove − min wall / between)",
+                     f"{lig['to_bore']:.4g} / {lig['to_outer']:.4g} / {lig['between']:.4g} {u}", "pass"))
+    rows += [("Body", "end face area", f"{s['area']:.8g} {u}²", ""),
+             ("Body", "volume", f"{s['volume']:.8g} {u}³", "")]
+    return rows
+
+
+@FREECAD_BODIES.register(CylindricalDesign)
+class CylindricalPart:
+    """The cylindrical cam: no PH pitch curve (its walls are B-spline surfaces of the exact
+    offsets, see ``body.wall_fit_error``); its lifts are lengths along the cam axis."""
+
+    curvature_text = "of the developed centre line, (ρ² + s′²)^{3/2}/(ρ|s″|)"
+    solid = staticmethod(cylindrical_solid)
+    pitch_wire = staticmethod(cylindrical_pitch_wire)
+    follower_shape = staticmethod(cylindrical_follower_shape)
+    design_rows = staticmethod(cylindrical_rows)
+
+    @staticmethod
+    def base_circle_wire(design: Any, scale: float) -> Any:
+        """The pitch circle R_p at the zero-lift height z₀."""
+        return circle_wire(design.layout.pitch_radius * scale, design.layout.z0 * scale)
+
+    @staticmethod
+    def wall_faces(design: Any, shape: Any, scale: float) -> dict[str, Any] | None:
+        return wall_faces(shape, _groove_radii(design, scale))
+
+    @staticmethod
+    def results(design: Any, scale: float) -> tuple[int, str, float]:
+        return 0, "length", 0.0
+
+    @staticmethod
+    def solid_rows(design: Any, shape: Any, scale: float) -> Rows:
+        pts = wall_face_points(shape, radii=_groove_radii(design, scale)) / scale
+        err = np.minimum(design.wall_distance_error(-1, pts), design.wall_distance_error(1, pts))
+        return [("FreeCAD solid", "wall faces vs exact walls",
+                 f"{float(np.max(err)):.3g} {design.spec.units} ({len(pts)} points)", "")]
+
+
+def _groove_radii(design: Any, scale: float) -> tuple[float, float]:
+    """The groove's radial range [mm] (bottom to outer radius, widened by 1e-6)."""
+    lay = design.layout
+    return (lay.bottom_radius - 1e-6) * scale, (lay.outer_radius + 1e-6) * scale
