@@ -18,6 +18,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from cam_workbench.generators.bodies import Arc, Curve, Line
+from cam_workbench.generators.bodies.levels import CapXor, LevelStack, level_stack
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.kinds.by_class import ByClass
@@ -80,32 +81,62 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
 
 
 def plane_solid(design: CamDesign, scale: float = 1.0) -> Any:
-    """A plane cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) fused and cut in order, as
-    ``cam_workbench.kernel.solids.cam_solid`` does — for a plain plate cam the profile face (with
-    the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between the
-    exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks."""
+    """A plane cam: its body's prisms (:mod:`cam_workbench.generators.bodies`) as
+    ``cam_workbench.kernel.solids.cam_solid`` makes them — for a plain plate cam the profile face
+    (with the bore) extruded by the thickness along +Z; a groove cam's disc with the groove between
+    the exact wall offsets, a conjugate pair's two plates, hubs, keyways, holes and timing marks
+    (:func:`prism_stack`)."""
     from FreeCAD import Vector  # deferred: FreeCAD (see the module docstring)
 
     body = design.body
     if body is None or body.plain_plate:
         face = profile_face(design, scale)
         return face.extrude(Vector(0, 0, design.spec.cam.thickness * scale))
-    shape = None
-    for prism in body.prisms:
-        solid = region_face(prism.outer, prism.holes, scale, prism.z0 * scale).extrude(
-            Vector(0, 0, (prism.z1 - prism.z0) * scale))
-        if shape is None:
-            shape = solid
-        elif prism.op == "add":
-            shape = shape.fuse(solid)
-        else:
-            shape = shape.cut(solid)
-    shape = shape.removeSplitter() if len(shape.Solids) == 1 else shape
-    return shape.Solids[0] if len(shape.Solids) == 1 else shape
+    return prism_stack(body.prisms, scale)
 
 
 def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
-    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
+    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) as one solid: sewn from their
+    caps and sides where no two loops of a level cross
+    (:func:`cam_workbench.generators.bodies.levels.level_stack`: no boolean but the planar ones of a
+    cap where two levels' loops cross), else extruded and fused or cut in order."""
+    stack = level_stack(prisms)
+    if stack is not None:
+        solid = sewn_levels(stack, scale)
+        if solid is not None:
+            return solid
+    return _boolean_stack(prisms, scale)
+
+
+def sewn_levels(stack: LevelStack, scale: float = 1.0) -> Any | None:
+    """The solid bounded by the caps and sides of ``stack``, sewn, or None when the faces do not
+    close into one shell of the stack's exact volume (then :func:`prism_stack` uses booleans)."""
+    import Part  # deferred: Part, FreeCAD (see the module docstring)
+    from FreeCAD import Vector
+
+    faces = []
+    for cap in stack.caps:
+        if isinstance(cap, CapXor):
+            below = Part.makeCompound([region_face(f.outer, f.holes, scale, cap.z * scale) for f in cap.below])
+            above = Part.makeCompound([region_face(f.outer, f.holes, scale, cap.z * scale) for f in cap.above])
+            faces += below.cut(above).Faces + above.cut(below).Faces
+        else:
+            faces.append(region_face(cap.outer, cap.holes, scale, cap.z * scale))
+    for side in stack.sides:
+        faces += loop_wire(side.loop, scale, side.z0 * scale).extrude(Vector(0, 0, (side.z1 - side.z0) * scale)).Faces
+    sewn = Part.Compound(faces)
+    sewn.sewShape()
+    if len(sewn.Shells) != 1 or not sewn.Shells[0].isClosed():
+        return None
+    solid = Part.Solid(sewn.Shells[0])
+    if solid.Volume < 0:
+        solid.reverse()
+    exact = stack.volume * scale**3
+    return solid if abs(solid.Volume - exact) <= 1e-7 * exact else None
+
+
+def _boolean_stack(prisms: Any, scale: float) -> Any:
+    """Body prisms extruded and fused or cut in order (same-domain faces merged)."""
     from FreeCAD import Vector  # deferred: FreeCAD (see the module docstring)
 
     shape = None
@@ -116,7 +147,8 @@ def prism_stack(prisms: Any, scale: float = 1.0) -> Any:
             shape = solid
         else:
             shape = shape.fuse(solid) if prism.op == "add" else shape.cut(solid)
-    return shape
+    shape = shape.removeSplitter() if len(shape.Solids) == 1 else shape
+    return shape.Solids[0] if len(shape.Solids) == 1 else shape
 
 
 def top_face_area(shape: Any, z: float) -> float:

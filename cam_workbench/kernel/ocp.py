@@ -74,8 +74,8 @@ SAME: tuple[str, ...] = (
     "BRepBuilderAPI_MakeEdge", "BRepBuilderAPI_MakeFace", "BRepBuilderAPI_MakeVertex", "BRepBuilderAPI_MakeWire",
     "BRepExtrema_DistShapeShape",
     "BRepCheck_Analyzer", "BRepGProp", "BRepPrimAPI_MakePrism", "Bnd_Box", "GProp_GProps",
-    "BRepAlgoAPI_Splitter", "BRepBuilderAPI_Sewing", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
-    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "BRepTools", "TopoDS_Shape",
+    "BRepAlgoAPI_Splitter", "BRepBuilderAPI_MakeSolid", "BRepBuilderAPI_Sewing", "BRepLib", "BRepClass3d_SolidClassifier", "BRepPrimAPI_MakeCylinder",
+    "Geom_BSplineSurface", "TopAbs_IN", "TopAbs_SHELL", "BRepTools", "TopoDS_Compound", "TopoDS_Shape",
     "Geom_BSplineCurve", "Geom_OffsetCurve", "Geom2d_BSplineCurve", "Geom2d_OffsetCurve",
     "GeomAbs_BSplineCurve", "GeomAbs_BSplineSurface", "GeomAbs_OffsetCurve", "GeomAbs_Plane",
     "IFSelect_RetDone", "Interface_Static", "Message", "Message_Gravity",
@@ -86,7 +86,8 @@ SAME: tuple[str, ...] = (
 
 __all__ = sorted({*RENAMED, *SAME, "INSTALL_HINT", "OCP_DISTRIBUTIONS", "available", "require",
                   "version", "distributions", "describe", "real_array", "int_array", "pnt_array", "pnt_array2",
-                  "pnt2d_array", "topods_edge", "topods_wire", "topods_face", "topods_solid",
+                  "pnt2d_array", "topods_edge", "topods_wire", "topods_face", "topods_solid", "topods_shell",
+                  "orient_closed_solid",
                   "volume_properties", "surface_properties", "read_brep", "add_to_box", "box_limits", "is_valid", "main",
                   "init_step", "static_set", "static_get", "message_printers"})
 
@@ -269,6 +270,16 @@ def topods_face(shape: Any) -> Any:
 def topods_solid(shape: Any) -> Any:
     """The shape as a ``TopoDS_Solid`` (see :func:`topods_edge`)."""
     return _static(_ns().TopoDS, "Solid")(shape)
+
+
+def topods_shell(shape: Any) -> Any:
+    """The shape as a ``TopoDS_Shell`` (see :func:`topods_edge`)."""
+    return _static(_ns().TopoDS, "Shell")(shape)
+
+
+def orient_closed_solid(solid: Any) -> bool:
+    """``BRepLib::OrientClosedSolid``: turn a closed solid's shells so that its material is inside."""
+    return bool(_static(_ns().BRepLib, "OrientClosedSolid")(solid))
 
 
 def volume_properties(shape: Any, props: Any, eps: float | None = None) -> None:

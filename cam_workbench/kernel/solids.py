@@ -12,6 +12,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from cam_workbench.generators.bodies.base import Arc, Curve, Line
+from cam_workbench.generators.bodies.levels import CapXor, LevelStack, level_stack
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.kinds.by_class import ByClass
@@ -175,7 +176,8 @@ def body_measures(design: Any, shape: Any) -> dict[str, Any]:
 
 def plane_solid(design: CamDesign, exact_offset: bool = True) -> Any:
     """A plane cam as a ``TopoDS_Solid``: its body's prisms (:mod:`cam_workbench.generators.bodies`) — for a plate
-    cam the exact profile face extruded by the thickness, with the bore — fused and cut in order.
+    cam the exact profile face extruded by the thickness, with the bore; any other body by
+    :func:`prism_stack` (the fitted B-spline's exact offset: its prisms fused and cut in order).
 
     For ``pitch.representation = "bspline"`` the plate's profile is OCCT's exact offset of the fitted
     pitch B-spline (``exact_offset``) or the fitted offset B-spline ``design.profile``
@@ -191,9 +193,11 @@ def plane_solid(design: CamDesign, exact_offset: bool = True) -> Any:
         else:
             face = profile_face(design.profile_ccw(), design.spec.cam.bore_diameter / 2)
         return extrude(face, 0.0, design.spec.cam.thickness)
+    if not kernel_offset:
+        return prism_stack(body.prisms)
     shape = None
     for prism in body.prisms:
-        if prism.role == "plate" and kernel_offset:
+        if prism.role == "plate":
             face = offset_profile_face(design, prism.z0, holes=[loop_wire(h, prism.z0) for h in prism.holes])
         else:
             face = region_face(prism.outer, prism.holes, prism.z0)
@@ -204,8 +208,14 @@ def plane_solid(design: CamDesign, exact_offset: bool = True) -> Any:
             shape = boolean(occ.BRepAlgoAPI_Fuse, shape, solid)
         else:
             shape = boolean(occ.BRepAlgoAPI_Cut, shape, solid)
+    return _one_solid(shape)
+
+
+def _one_solid(shape: Any) -> Any:
+    """``shape`` as a ``TopoDS_Solid`` when it holds one, else itself."""
     exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
     return occ.topods_solid(exp.Current()) if count_solids(shape) == 1 else shape
+
 
 @SOLIDS.register(CamDesign)
 class PlaneSolids:
@@ -367,7 +377,15 @@ def solids_of(shape: Any) -> list[Any]:
 
 
 def prism_stack(prisms: Any) -> Any:
-    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) extruded and fused or cut in order."""
+    """Body prisms (:class:`cam_workbench.generators.bodies.Prism`) as one solid: sewn from their
+    caps and sides where no two loops of a level cross
+    (:func:`cam_workbench.generators.bodies.levels.level_stack`: no boolean but the planar ones of a
+    cap where two levels' loops cross), else extruded and fused or cut in order."""
+    stack = level_stack(prisms)
+    if stack is not None:
+        solid = sewn_levels(stack)
+        if solid is not None:
+            return solid
     shape = None
     for prism in prisms:
         solid = extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)
@@ -375,4 +393,44 @@ def prism_stack(prisms: Any) -> Any:
             shape = solid
         else:
             shape = boolean(occ.BRepAlgoAPI_Fuse if prism.op == "add" else occ.BRepAlgoAPI_Cut, shape, solid)
-    return shape
+    return _one_solid(shape)
+
+
+def sewn_levels(stack: LevelStack) -> Any | None:
+    """The ``TopoDS_Solid`` bounded by the caps and sides of ``stack``, sewn, or None when the faces
+    do not close into one shell of the stack's exact volume (then :func:`prism_stack` uses booleans)."""
+    sew = occ.BRepBuilderAPI_Sewing(1e-6)
+    for cap in stack.caps:
+        if isinstance(cap, CapXor):
+            below = _compound([region_face(f.outer, f.holes, cap.z) for f in cap.below])
+            above = _compound([region_face(f.outer, f.holes, cap.z) for f in cap.above])
+            sew.Add(boolean(occ.BRepAlgoAPI_Cut, below, above))
+            sew.Add(boolean(occ.BRepAlgoAPI_Cut, above, below))
+        else:
+            sew.Add(region_face(cap.outer, cap.holes, cap.z))
+    for side in stack.sides:
+        sew.Add(occ.BRepPrimAPI_MakePrism(loop_wire(side.loop, side.z0), occ.gp_Vec(0, 0, side.z1 - side.z0),
+                                          True).Shape())
+    sew.Perform()
+    shells = []
+    exp = occ.TopExp_Explorer(sew.SewedShape(), occ.TopAbs_SHELL)
+    while exp.More():
+        shells.append(occ.topods_shell(exp.Current()))
+        exp.Next()
+    if len(shells) != 1:
+        return None
+    mk = occ.BRepBuilderAPI_MakeSolid(shells[0])
+    if not mk.IsDone():
+        return None
+    solid = mk.Solid()
+    occ.orient_closed_solid(solid)
+    return solid if abs(kernel_volume(solid) - stack.volume) <= 1e-7 * stack.volume else None
+
+
+def _compound(shapes: list[Any]) -> Any:
+    comp = occ.TopoDS_Compound()
+    builder = occ.BRep_Builder()
+    builder.MakeCompound(comp)
+    for sh in shapes:
+        builder.Add(comp, sh)
+    return comp
