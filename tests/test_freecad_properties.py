@@ -87,7 +87,12 @@ def test_describe_field(path, shown):
     assert props.describe_field(path) == shown
 
 
-def test_a_field_declared_later_becomes_a_property(monkeypatch):
+def _clear_tables() -> None:
+    props.field_properties.cache_clear()
+    props.properties_of_section.cache_clear()
+
+
+def test_a_field_declared_later_becomes_a_property(monkeypatch, request):
     """A new section declared with ``param`` (as other issues will add [checks], [machining],
     …) appears as grouped, typed properties — and an optional field that may be 0 gets a
     companion flag, an optional section with required fields an enable flag."""
@@ -103,6 +108,8 @@ def test_a_field_declared_later_becomes_a_property(monkeypatch):
         spring_rate: float = param("Return spring stiffness", unit="stiffness", gt=0, group="Checks")
 
     monkeypatch.setitem(SECTIONS, "checks", (ChecksSection, False, False))
+    _clear_tables()           # the tables are made once from the declarations: this test changes them
+    request.addfinalizer(_clear_tables)
     fps = {f.path: f for f in props.field_properties()}
     mpa = fps["checks.max_pressure_angle"]
     assert (mpa.name, mpa.type, mpa.group) == ("ChecksMaxPressureAngle", "App::PropertyAngle", "Checks")

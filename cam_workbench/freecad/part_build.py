@@ -74,10 +74,7 @@ def profile_face(design: CamDesign, scale: float = 1.0) -> Any:
     bore_r = design.spec.cam.bore_diameter / 2 * scale
     if bore_r > 0:
         wires.append(circle_wire(bore_r))
-    face = Part.Face(wires, "Part::FaceMakerBullseye")
-    if not face.isValid():
-        raise RuntimeError("FreeCAD could not make a valid face from the profile")
-    return face
+    return Part.Face(wires, "Part::FaceMakerBullseye")     # the solid's validity is checked (feature.build)
 
 
 def plane_solid(design: CamDesign, scale: float = 1.0) -> Any:
@@ -197,11 +194,8 @@ def region_face(outer: Any, holes: Any = (), scale: float = 1.0, z: float = 0.0)
     """The planar region inside ``outer`` minus ``holes`` (body loops) at height ``z`` [mm]."""
     import Part  # deferred: Part (see the module docstring)
 
-    face = Part.Face([loop_wire(outer, scale, z)] + [loop_wire(h, scale, z) for h in holes],
-                     "Part::FaceMakerBullseye")
-    if not face.isValid():
-        raise RuntimeError(f"FreeCAD could not make a valid face from the {outer.role or 'loop'}")
-    return face
+    # no check here: the solid made of it is checked (feature.build)
+    return Part.Face([loop_wire(outer, scale, z)] + [loop_wire(h, scale, z) for h in holes], "Part::FaceMakerBullseye")
 
 
 def pitch_wire(design: CamDesign, scale: float = 1.0) -> Any:

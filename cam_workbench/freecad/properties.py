@@ -33,6 +33,7 @@ boolean ``<Property>Enabled``.  An optional section with required fields gets a 
 """
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass
@@ -245,8 +246,10 @@ def _scalar_type(p: Param) -> str:
     raise TypeError(f"no FreeCAD property type for spec kind {p.kind!r}")
 
 
-def field_properties() -> list[FieldProperty]:
-    """Every spec field with its property, in declaration order (top level first)."""
+@functools.cache
+def field_properties() -> tuple[FieldProperty, ...]:
+    """Every spec field with its property, in declaration order (top level first); made once
+    (from the spec's declarations, which do not change while FreeCAD runs)."""
     out = []
     for name, p in params_of(CamSpec).items():
         out.append(FieldProperty("", name, p, False, camel(name), p.group or "Cam",
@@ -260,7 +263,7 @@ def field_properties() -> list[FieldProperty]:
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise RuntimeError(f"spec fields map to the same FreeCAD property: {sorted(dup)}")
-    return out
+    return tuple(out)
 
 
 def section_flag(section: str) -> str | None:
@@ -277,8 +280,10 @@ def list_sections() -> list[str]:
     return [s for s, (_c, is_list, _r) in SECTIONS.items() if is_list]
 
 
-def properties_of_section(section: str) -> list[FieldProperty]:
-    return [f for f in field_properties() if f.section == section]
+@functools.cache
+def properties_of_section(section: str) -> tuple[FieldProperty, ...]:
+    """The properties of one spec section (``""``: the top level), in declaration order."""
+    return tuple(f for f in field_properties() if f.section == section)
 
 
 # ---- adding properties -----------------------------------------------------------------
