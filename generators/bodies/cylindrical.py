@@ -556,7 +556,7 @@ class CylindricalDesign:
     body: CylindricalGeometry
     body_report: dict
     checks_report: dict
-    #: the cam is not a plane cam: the pipeline skips the plane-only stages (drawing, interpolator)
+    #: not a plane cam: no plane pitch curve or profile (its outputs are its own, registered per design class)
     plane = False
     #: what stands for the plane pitch curve and profile it does not have (``CamDesign.instead_of_plane_curves``)
     instead_of_plane_curves = ("its groove walls are surfaces around the cylinder: use solid() for the wall faces, "

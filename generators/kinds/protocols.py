@@ -10,8 +10,11 @@ otherwise) satisfies :class:`Design`.  The follower protocol is
 Capabilities are attributes every class defines explicitly (no defaults read with ``getattr``):
 
 * ``plane`` — the body is a stack of prisms of plane loops, its design has a pitch curve and a
-  profile in the cam's plane (the plane-cam stages: drawing, interpolator, tool path, e-cam from
-  the pitch curve); False for a body with surfaces of its own (the cylindrical cam's walls).
+  profile in the cam's plane (what the plane-cam members read: the API's ``pitch_edge()``, the
+  plane areas, the base-radius sizing, the follower kinds that need a plane cam); False for a body
+  with surfaces of its own (the cylindrical cam's walls).  Which solid, drawing, program, report
+  page and FreeCAD builder a design gets is not asked here: each layer looks its design class up
+  (:mod:`.by_class`).
 * ``closure`` — "force" (a spring holds the follower on the cam: it can separate) or "form"
   (the cam holds the follower both ways: the driving side changes where the force changes sign).
 """
