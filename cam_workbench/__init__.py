@@ -17,18 +17,23 @@ if not _os.path.isdir(_os.path.join(_here, "generators")):
     # the source tree: the subpackages are this folder's siblings
     __path__.append(_os.path.dirname(_here))  # noqa: F821 (a package's __path__)
 
-from cam_workbench.generators import CamSpec, GeometryError, SpecError, default_spec, load_spec  # noqa: E402
-
 _API = ("Cam", "PlateCam", "plate_cam", "register")
+_SPEC = ("CamSpec", "GeometryError", "SpecError", "default_spec", "load_spec")
 
 
 def __getattr__(name: str):
-    """The API (:mod:`cam_workbench.cam`) loads when first asked for, so that importing
-    :mod:`cam_workbench.generators` — inside FreeCAD's Python too — loads numpy and scipy only."""
+    """The API (:mod:`cam_workbench.cam`) and the spec's names (:mod:`cam_workbench.generators`)
+    load when first asked for: importing :mod:`cam_workbench.generators` — inside FreeCAD's Python
+    too — loads numpy and scipy only, and ``cam-workbench --help`` nothing of ours but the
+    command line's catalogue."""
     if name in _API:
         from . import cam  # deferred: the API layer (OCP adaptor, solid builders)
 
         return getattr(cam, name)
+    if name in _SPEC:
+        from . import generators  # deferred: the mathematics (numpy, scipy)
+
+        return getattr(generators, name)
     raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
 
 

@@ -130,3 +130,31 @@ def test_every_spec_rule_through_the_cli(tmp_path, capsys, rule):
     assert f"{field}:" in err and words in err
     assert "Traceback" not in err
     assert not out.exists()
+
+
+def test_the_top_level_help_is_the_full_parsers_and_loads_no_command():
+    """``--help``, ``--version`` and a missing command are answered from the commands' catalogue
+    (issue 22 item 3): the same help text as the parser of every command, and neither numpy nor
+    any command's module loaded."""
+    from cam_workbench import cli
+
+    assert cli.top_level_parser().format_help() == cli.build_parser().format_help()
+    code = ("import sys\nfrom cam_workbench.cli import main\nstatus = main(['--help'])\n"
+            "loaded = [m for m in ('numpy', 'scipy', 'rich', 'cam_workbench.generators', "
+            "'cam_workbench.commands.build') if m in sys.modules]\n"
+            "print('LOADED', status, loaded)\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip().splitlines()[-1] == "LOADED 0 []"
+    for args, status, text in ((["--version"], 0, "cam-workbench 0.1.0"), ([], 2, "required: COMMAND")):
+        res = subprocess.run(CLI + args, capture_output=True, text=True, cwd=ROOT)
+        assert res.returncode == status and text in res.stdout + res.stderr
+
+
+def test_the_package_version_is_the_generators():
+    """``cam-workbench --version`` reads ``cam_workbench.__version__`` (light); the report and the
+    drawings quote the generators' — one version."""
+    import cam_workbench
+    from cam_workbench.generators import __version__
+
+    assert cam_workbench.__version__ == __version__

@@ -35,8 +35,10 @@ The rules:
     workbench's commands); and so may the workbench's commands (:data:`LATE_LOADERS`): FreeCAD
     imports ``cam_workbench.freecad.commands`` when the workbench is activated, and each command
     loads its own module (numpy, scipy, the generators, matplotlib, the task panels) only when it
-    runs, so that activating the workbench stays cheap (``tests/test_freecad_gui.py``).  Each says
-    what it defers; their edges still count for (a).
+    runs, so that activating the workbench stays cheap (``tests/test_freecad_gui.py``); and so may
+    the command line's entry (``cam_workbench.cli``), which answers ``--help`` and ``--version``
+    from the commands' catalogue and loads the commands' modules only to run one.  Each says what
+    it defers; their edges still count for (a).
 
     Loading a module by its name (``importlib.import_module``, ``__import__``), which this reading
     cannot follow, is left to the two loaders of optional dependencies: the OCP adaptor and
@@ -83,8 +85,10 @@ DEFERRABLE = frozenset({
 HOOKS = frozenset({("cam_workbench.freecad.mod.InitGui", "CamWorkbench.Initialize")})
 
 #: module → the project packages its functions may import late (rule (b)): the workbench's commands,
-#: imported when the workbench is activated, load what a command needs when it runs
-LATE_LOADERS = {"cam_workbench.freecad.commands": ("cam_workbench.freecad", "cam_workbench.generators")}
+#: imported when the workbench is activated, load what a command needs when it runs; the command
+#: line's entry loads the commands when one is to run
+LATE_LOADERS = {"cam_workbench.freecad.commands": ("cam_workbench.freecad", "cam_workbench.generators"),
+                "cam_workbench.cli": ("cam_workbench.commands",)}
 
 #: the layers (rule (c)): a module under the key imports, of the project, only modules under these
 LAYERS = {

@@ -11,17 +11,16 @@ from rich.markup import escape
 
 from cam_workbench.generators.errors import SpecError
 
+from . import EXIT_CHECK_FAILED, add_command
 from ..studies import batch, collect_specs
 from .common import (add_output_arguments, add_parallel_arguments, check_parallel_arguments, count_progress, note,
                      parse_value, require_ocp)
 
-EXIT_CHECK_FAILED = 3
 EXIT_SOME_FAILED = 4
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "batch", help="build many specs, each into its own subfolder, with a summary table (CSV, Parquet)",
+    p = add_command(sub, "batch",
         description="Build every spec (TOML files, and the *.toml files of folders, sorted by name) with the "
                     "same pipeline as `build`: OUT/<name>/ gets cam.step, cam.dxf, cam.nc, commands.csv, "
                     "report.json, report.html and the plots (<name>: the file's name without .toml; -2, -3 "

@@ -13,13 +13,13 @@ from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
+from . import add_command
 from .common import add_output_arguments, add_spec_arguments, write_cam
 from .dxf_cmd import describe as describe_dxf
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "build", help="build the cam: cam.step, cam.dxf, cam.nc, commands.csv, report.json, report.html, plots",
+    p = add_command(sub, "build",
         description="Design the cam (PH pitch curve, exact profile, design checks) and write "
                     "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
                     "cam.nc (machining.program: xy or xc), commands.csv (the interpolator's commands), "

@@ -21,16 +21,14 @@ from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 
+from . import EXIT_CHECK_FAILED, add_command
 from ..pipeline import run_pipeline
 from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim,
                      spec_from_args)
 
-EXIT_CHECK_FAILED = 3
-
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "check", help="run the design checks: a table, and the checks section of report.json",
+    p = add_command(sub, "check",
         description="Evaluate the design checks of the spec's cam — pressure angle, separation "
                     "(driving force), oscillation, Hertz contact stress, radius of curvature with the "
                     "undercut safety factor, and the true roller-envelope undercut (thesis Ch. 3) — "

@@ -9,6 +9,7 @@ from cam_workbench.exporters.output_rule import check_output_file
 from cam_workbench.generators.spec.params import params_of
 from cam_workbench.generators.spec import DrawingSection, spec_digest
 
+from . import add_command
 from ..pipeline import run_pipeline
 from .common import add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, spec_from_args
 
@@ -16,8 +17,7 @@ _DECL = params_of(DrawingSection)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "dxf", help="write the DXF drawing: the profile as a cubic SPLINE, the exact NURBS, arcs or a polyline",
+    p = add_command(sub, "dxf",
         description="Design the cam and write its manufacturing drawing as DXF: the profile (layer PROFILE) "
                     "as a polynomial cubic SPLINE within drawing.chord_tolerance of the profile NURBS, which "
                     "every DXF reader draws (the default, --curves cubic); as that NURBS itself (--curves "

@@ -25,6 +25,7 @@ from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 from cam_workbench.generators.spec.params import unit_name
 
+from . import add_command
 from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, spec_from_args,
                      sweep_progress)
 
@@ -34,8 +35,7 @@ PLOTS = ("plot_dynamics.png", "plot_jump_speed.png")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "dynamics", help="follower dynamics at speed: contact force, separation, jump speed, camshaft torque",
+    p = add_command(sub, "dynamics",
         description="Model the follower train as a spring–mass–damper (effective mass, train stiffness, damping "
                     "ratio, return spring and preload: the spec's [dynamics] and [follower]) driven by the cam at "
                     "its speed, solve its steady state (a periodic solve on the cam; revolution after revolution "

@@ -13,14 +13,14 @@ from cam_workbench.exporters.ecam import ecam_table
 from cam_workbench.exporters.output_rule import check_output_file
 from cam_workbench.generators.spec import ECAM_TABLES, spec_digest
 
+from . import add_command
 from .common import add_spec_arguments, spec_from_args
 
 TABLES = sorted({t for ts in ECAM_TABLES.values() for t in ts})
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "ecam", help="write an electronic-cam table: CSV, CODESYS, Beckhoff or Lenze",
+    p = add_command(sub, "ecam",
         description="Sample the motion program as the cam table a servo motion controller reads and write it:\n"
                     "  csv       θ [deg], s, s', s'', s''' (per radian) at every point\n"
                     "  codesys   --table xyva: a GVL with SMC_CAMXYVA points and their MC_CAM_REF;\n"

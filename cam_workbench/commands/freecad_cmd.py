@@ -4,14 +4,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from . import EXIT_CHECK_FAILED, EXIT_OK, add_command
 from ..freecad import install as inst
-
-EXIT_OK, EXIT_CHECK_FAILED = 0, 3
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "freecad", help="install or uninstall the FreeCAD workbench",
+    p = add_command(sub, "freecad",
         description="Register the Cam Workbench with your FreeCAD (a CamWorkbench folder in "
                     "FreeCAD's per-user Mod folder, linking this installation's packages), or "
                     "remove it. The Mod folder is asked from every FreeCAD found (freecadcmd on "

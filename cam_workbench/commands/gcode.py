@@ -11,6 +11,7 @@ from cam_workbench.exporters.output_rule import check_output_file
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.spec import spec_digest
 
+from . import add_command
 from ..pipeline import run_pipeline
 from .common import add_spec_arguments, design_for, spec_from_args
 
@@ -18,8 +19,7 @@ MODES = ("xy", "xc", "csv")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "gcode", help="write one machining program: XY contour, XC rotary or the command table",
+    p = add_command(sub, "gcode",
         description="Design the cam and write one machining program for it ([machining] section of the "
                     "spec: tool, feeds, passes, sample period; `cam-workbench spec` lists the fields):\n"
                     "  xy   contour milling: the exact tool-centre path as G02/G03 biarcs or G01 chords\n"

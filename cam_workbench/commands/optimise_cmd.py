@@ -17,20 +17,18 @@ from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.optimise import Progress, optimise
 from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
 
+from . import EXIT_CHECK_FAILED, add_command
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from ..studies import executor_scope
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
                      check_parallel_arguments, note, on_terminal, output_claim, plot_progress, require_ocp,
                      spec_from_args)
 
-EXIT_CHECK_FAILED = 3
 SPEC_NAME = "optimised.toml"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "optimise", aliases=["optimize"],
-        help="optimise the cam: area, machining time or smoothness under every design check",
+    p = add_command(sub, "optimise",
         description="Minimise the spec's [optimise] objective over its design variables (base radius, "
                     "the follower's position: offset, or pivot distance and arm length of an oscillating "
                     "follower; the free B-spline control points, polynomial point lifts, the blank orientation; a groove "

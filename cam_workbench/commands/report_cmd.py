@@ -6,12 +6,12 @@ import argparse
 
 from cam_workbench.exporters.report_pages import HTML_NAME, JSON_NAME
 
+from . import add_command
 from .common import add_output_arguments, add_spec_arguments, write_cam
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "report", help="write the design report: report.html, plot PNGs, report.json",
+    p = add_command(sub, "report",
         description="Design the cam and write its report: report.html (one self-contained file: the spec, "
                     "the cam with its follower, s/v/a/j, pressure angle, radius of curvature, interpolation "
                     "error, accuracy figures), the plots as PNG files and report.json, whose numbers the "

@@ -14,6 +14,7 @@ from cam_workbench.exporters.output_rule import admit
 from cam_workbench.generators.studies.grid import Grid
 from cam_workbench.generators.studies.sizing import digits_of
 
+from . import add_command
 from ..studies import grid_columns, make_grid, sweep, sweep_claim, write_study
 from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, check_parallel_arguments,
                      count_progress, note, require_ocp, source_of, spec_from_args)
@@ -22,8 +23,7 @@ EXIT_SOME_FAILED = 4
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "sweep", help="evaluate a grid of spec fields, or size the base radius over it (a sizing chart)",
+    p = add_command(sub, "sweep",
         description="Vary spec fields over a grid and evaluate every point: design and check the cam (no "
                     "solid; --build: every file as `build` writes them, one subfolder per point), or, with "
                     "--size base_radius, find the smallest cam.base_radius that passes the design checks "
