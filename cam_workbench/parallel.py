@@ -21,7 +21,7 @@ are handed to the scheduler at a time, so that a stop leaves the rest unstarted 
 pile up in the workers' memory.  Workers of an existing cluster must import the same
 cam_workbench (and numpy, scipy, nlopt, OCP for ``batch``) as the caller.  The local cluster's
 workers block SIGINT: a terminal's Ctrl-C reaches only the caller (KeyboardInterrupt), which
-shuts them down.
+shuts them down; they import the mathematics as they start (:data:`PRELOAD`).
 """
 from __future__ import annotations
 
@@ -50,6 +50,8 @@ REPORT_INTERVAL = 0.2
 #: tasks handed to the scheduler at a time, per worker
 IN_FLIGHT = 2
 INSTALL_HINT = 'pip install "cam-workbench[dask]"'
+#: what a local cluster's workers import as they start: the mathematics every study's task runs
+PRELOAD = "cam_workbench.generators"
 
 
 def import_distributed(what: str = "running on Dask") -> Any:
@@ -300,9 +302,12 @@ def dask_executor(workers: int | None = None, scheduler: str | None = None, *,
         # no dashboard; the scheduler's own HTTP server (health, metrics) on a port the system
         # picks, not 8787: another cluster of this machine may have that
         with _sigint_held() as held:
+            # each worker imports the mathematics as it starts (``preload``), not in its first
+            # task: a Ctrl-C then never finds a worker inside that import, which outlives the
+            # scheduler's shutdown and prints its heartbeat errors
             cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                                dashboard_address=None, memory_limit=memory_limit,
-                                               silence_logs=logging.ERROR,
+                                               silence_logs=logging.ERROR, preload=[PRELOAD],
                                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
             client = distributed.Client(cluster, set_as_default=False)
         address = cluster.scheduler_address
