@@ -14,21 +14,15 @@ import argparse
 import sys
 from typing import Sequence
 
-from cam_workbench import __version__
 
-from .commands import CATALOGUE, DESCRIPTION, EPILOG, silence_stdout
+from .commands import CATALOGUE, root_parser, silence_stdout
 
 def top_level_parser() -> argparse.ArgumentParser:
     """The parser of the top-level options alone, each command a name and its help
     (:data:`cam_workbench.commands.CATALOGUE`): ``--help``, ``--version`` and a missing command
     are answered by it without loading any command (numpy, the generators).  Its help is the full
     parser's (``tests/test_cli.py``)."""
-    parser = argparse.ArgumentParser(
-        prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parser, sub = root_parser()
     for name, (aliases, help_text) in CATALOGUE.items():
         sub.add_parser(name, aliases=list(aliases), help=help_text, add_help=False)
     return parser

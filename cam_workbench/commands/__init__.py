@@ -13,6 +13,8 @@ import os
 import sys
 from typing import Any
 
+from cam_workbench import __version__
+
 EXIT_OK, EXIT_INTERNAL, EXIT_BAD_INPUT, EXIT_CHECK_FAILED = 0, 1, 2, 3
 
 DESCRIPTION = """\
@@ -57,6 +59,17 @@ CATALOGUE: dict[str, tuple[tuple[str, ...], str]] = {
 }
 
 
+def root_parser() -> tuple[argparse.ArgumentParser, Any]:
+    """(the ``cam-workbench`` parser with the top-level options, its command subparsers to add
+    the commands to): the one start of the full parser and of the top-level one."""
+    parser = argparse.ArgumentParser(
+        prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+    return parser, parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+
 def add_command(sub: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:
     """``sub.add_parser(name, …)`` with the command's aliases and help from :data:`CATALOGUE`."""
     aliases, help_text = CATALOGUE[name]
@@ -74,4 +87,4 @@ def silence_stdout() -> None:
 
 
 __all__ = ["CATALOGUE", "DESCRIPTION", "EPILOG", "EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_INTERNAL", "EXIT_OK",
-           "add_command", "silence_stdout"]
+           "add_command", "root_parser", "silence_stdout"]

@@ -9,12 +9,11 @@ from typing import Sequence
 
 from rich.console import Console
 
-from cam_workbench.generators import __version__
 from cam_workbench.generators.errors import CamError
 
 from . import (batch_cmd, build, check, dxf_cmd, dynamics_cmd, ecam_cmd, freecad_cmd, gcode, optimise_cmd,
                report_cmd, spec_cmd, sweep_cmd)
-from . import DESCRIPTION, EPILOG, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, silence_stdout
+from . import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, root_parser, silence_stdout
 
 #: every command's module, in the order of :data:`cam_workbench.commands.CATALOGUE`
 COMMANDS = [build, check, gcode, dxf_cmd, report_cmd, dynamics_cmd, ecam_cmd, optimise_cmd, batch_cmd, sweep_cmd,
@@ -23,12 +22,7 @@ COMMANDS = [build, check, gcode, dxf_cmd, report_cmd, dynamics_cmd, ecam_cmd, op
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every registered command."""
-    parser = argparse.ArgumentParser(
-        prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    parser.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parser, sub = root_parser()
     for module in COMMANDS:
         module.register(sub)
     return parser
