@@ -48,8 +48,8 @@ def bench_dxf() -> list[str]:
 
 
 def bench_report() -> list[str]:
-    rows = ["| M | design [ms] | summary [ms] | report: 5 figures as SVG + PNG [ms] | HTML [kB] |",
-            "|---:|---:|---:|---:|---:|"]
+    rows = ["| M | design [ms] | summary [ms] | report: 5 figures as SVG [ms] | … and as PNG (--plots) [ms] "
+            "| HTML [kB] |", "|---:|---:|---:|---:|---:|---:|"]
     for m in (60, 240):
         spec = default_spec().replace(**{"pitch.segments": m})
         t_design = best_of(lambda: design_cam(spec), 3)
@@ -58,7 +58,8 @@ def bench_report() -> list[str]:
         report = {**design.summary(), "spec": spec.to_dict()}
         out = []
         t_rep = best_of(lambda: out.append(render_report(design, report)), 2)
-        rows.append(f"| {m} | {1e3 * t_design:.0f} | {1e3 * t_sum:.0f} | {1e3 * t_rep:.0f} "
+        t_png = best_of(lambda: render_report(design, report, pngs=True), 2)
+        rows.append(f"| {m} | {1e3 * t_design:.0f} | {1e3 * t_sum:.0f} | {1e3 * t_rep:.0f} | {1e3 * t_png:.0f} "
                     f"| {len(out[-1][0].encode()) / 1024:.0f} |")
     return rows
 

@@ -27,7 +27,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
-from cam_workbench.exporters import plots
+from cam_workbench.exporters import chart_svg, plots
 from cam_workbench.exporters.atomic import atomic_path
 from cam_workbench.exporters.ecam import ecam_table
 from cam_workbench.exporters.output_rule import admit, file_source, script_source, spec_claim
@@ -199,20 +199,21 @@ class Cam:
         """The numbers of ``report.json`` (without ``files``), as ``cam-workbench build`` writes them."""
         return self.outputs().summary
 
-    def export(self, folder: str | os.PathLike[str], *, replace: bool = False) -> dict[str, Any]:
+    def export(self, folder: str | os.PathLike[str], *, replace: bool = False, plots: bool = False) -> dict[str, Any]:
         """Write everything ``cam-workbench build`` writes (cam.step, cam.dxf, cam.nc,
-        commands.csv, report.json, report.html, plots) into ``folder`` as one set; returns the
-        report as written.  ``folder`` may be absent or empty, or hold a set of the same spec (its
+        commands.csv, report.json, report.html; with ``plots`` the figures as PNG files, as
+        ``--plots``) into ``folder`` as one set; returns the report as written.  ``folder`` may be absent or empty, or hold a set of the same spec (its
         other files stay) or of the same :attr:`source` that this export replaces file for file;
         ``replace=True`` replaces any cam-workbench set (docs/python.md).
 
         Raises:
+            MissingDependency: ``plots`` without CairoSVG (nothing written).
             SpecError: ``folder`` refused — files that are not cam-workbench output (always),
                 another cam's set, or a set this export would only partly replace; nothing written.
         """
         claim = spec_claim(self.spec, "Cam.export", self.source, replace=replace, option="folder")
         admit(folder, claim)                    # before the pipeline runs
-        return write_outputs(self.outputs(), folder, claim)
+        return write_outputs(self.outputs(), folder, claim, plots=plots)
 
     def checks(self) -> dict[str, Any]:
         """report.json's ``checks`` section (the numbers ``cam-workbench check`` prints), without
@@ -269,19 +270,9 @@ class Cam:
     def _repr_svg_(self) -> str | None:
         """The cam's picture for Jupyter (SVG text; :func:`cam_workbench.exporters.plots.picture`:
         the cam and its follower beside the motion, or a cylindrical cam's cylinder beside its
-        developed view); None without matplotlib or a figure for the design (Jupyter then shows the
-        repr)."""
-        try:
-            import matplotlib  # noqa: F401  # deferred: matplotlib, loaded when a picture is asked for
-        except ImportError:
-            return None
-        fig = plots.picture(self.design)
-        if fig is None:                     # a design no figure draws
-            return None
-        try:
-            return plots.figure_bytes(fig, "svg").decode("utf-8")
-        finally:
-            plots.close(fig)
+        developed view); None for a design no figure draws (Jupyter then shows the repr)."""
+        chart = plots.picture(self.design)
+        return None if chart is None else chart_svg.svg(chart, "cam")
 
 
 #: the name of :class:`Cam` before it served every body (kept: scripts that use it keep working)

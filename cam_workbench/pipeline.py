@@ -129,7 +129,7 @@ def summary_stage(design: CamDesign) -> dict[str, Any]:
 def machining_stage(design: CamDesign, summary: dict[str, Any]) -> Any:
     """The machining outputs (G-code of ``machining.program``, command table), adding the
     ``interpolator`` and ``machining`` sections to ``summary``."""
-    machining = machining_outputs(design, plots=False, summary=summary)
+    machining = machining_outputs(design, summary=summary)
     summary["interpolator"] = machining.interpolator_summary
     summary["machining"] = machining.machining_summary
     return machining
@@ -192,11 +192,11 @@ def _page(outputs: CamOutputs) -> ReportPage:
 
 def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
                   extra_texts: dict[str, str] | None = None, report: bool = True,
-                  progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+                  progress: Callable[[str], None] | None = None, plots: bool = False) -> dict[str, Any]:
     """Write what ``outputs`` holds into ``folder`` as one set (all or nothing, as ``claim`` may:
     :mod:`cam_workbench.exporters.output_rule`): cam.step, cam.dxf, the machining files, ``extra_texts``
-    (name → text) and, with ``report``, report.json/report.html/plots.  Returns the report
-    dict (or the summary with ``files`` when ``report`` is False).
+    (name → text) and, with ``report``, report.json/report.html (and with ``plots`` the figures as
+    PNG files).  Returns the report dict (or the summary with ``files`` when ``report`` is False).
 
     Raises:
         SpecError: the folder is refused (naming ``claim.option``; nothing written).
@@ -220,7 +220,7 @@ def write_outputs(outputs: CamOutputs, folder: str | Path, claim: Claim, *,
             o.add_text(name, text)
             files.setdefault("spec" if name.endswith(".toml") else name, name)
         if report:
-            return add_report_files(o, _page(outputs), outputs.summary, files, progress=progress)
+            return add_report_files(o, _page(outputs), outputs.summary, files, progress=progress, plots=plots)
         files["report"] = JSON_NAME
         text = report_json_text(outputs.summary, files)
         o.add_text(JSON_NAME, text)

@@ -44,7 +44,7 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 from cam_workbench.exporters.atomic import OutputSet, write_bytes_atomic, write_text_atomic
 from cam_workbench.exporters.output_rule import (MANIFEST, Claim, admit, file_source, read_manifest, script_source, spec_claim,
                                    study_digest)
-from cam_workbench.exporters.plots import close, figure_bytes
+from cam_workbench.exporters.study_plots import close, figure_bytes
 from cam_workbench.exporters.study_plots import sizing_chart
 from cam_workbench.exporters.study_table import csv_text, have_parquet, meta_text, parquet_bytes
 from cam_workbench.generators.checks.design import run_checks

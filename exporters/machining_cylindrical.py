@@ -45,10 +45,9 @@ class CylindricalMachiningOutputs:
 
 
 @PROGRAMS.register(CylindricalDesign)
-def cylindrical_outputs(design: Any, plots: bool = True, summary: dict[str, Any] | None = None
+def cylindrical_outputs(design: Any, summary: dict[str, Any] | None = None
                         ) -> CylindricalMachiningOutputs:
-    """The groove program of a cylindrical cam (:mod:`cam_workbench.generators.machining.cylindrical`);
-    it has no interpolator, so ``plots`` draws nothing."""
+    """The groove program of a cylindrical cam (:mod:`cam_workbench.generators.machining.cylindrical`)."""
     path = cylindrical_path(design)
     gcode = cylindrical_program(design, path, summary=summary)
     return CylindricalMachiningOutputs(path, gcode, {**path.summary(), "gcode_lines": gcode.count("\n")})

@@ -1,6 +1,5 @@
 """Everything ``build`` writes about machining, computed before anything is written:
-the G-code program (``cam.nc``), the command table (``commands.csv``), the interpolator
-plots, and the ``interpolator`` and ``machining`` sections of report.json.
+the G-code program (``cam.nc``), the command table (``commands.csv``) and the ``interpolator`` and ``machining`` sections of report.json.
 
 A conjugate pair gets two programs, one per cam, both of ``machining.program``: ``cam.nc``
 cuts the first cam, ``cam2.nc`` the second — each as its own plate (Z0 on that cam's top face,
@@ -10,7 +9,7 @@ axis.  Report: ``machining.second_cam``.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Protocol
 
 from cam_workbench.generators.cam_design import CamDesign
@@ -24,7 +23,6 @@ from cam_workbench.generators.machining.toolpath import contour_path, rotary_pat
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
 from .gcode import contour_program, groove_program, rotary_program
-from .interpolator_plots import PLOT_FILES, deviation_figure, kinematics_figure, write_png
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
 #: a conjugate pair's second cam's program
@@ -33,13 +31,12 @@ SECOND_FILE = "cam2.nc"
 
 @dataclass
 class MachiningOutputs:
-    """Texts and figures ready to be committed, and their report sections."""
+    """Texts ready to be committed, and their report sections."""
 
     plan: MachiningPlan
     accuracy: InterpolatorAccuracy
     gcode: str
     commands_csv: str
-    figures: dict[str, Any] = field(repr=False)
     interpolator_summary: dict[str, Any]
     machining_summary: dict[str, Any]
     #: a conjugate pair's second cam's program (``cam2.nc``), else None
@@ -51,7 +48,6 @@ class MachiningOutputs:
         out = dict(FILES)
         if self.second_gcode is not None:
             out["gcode_second"] = SECOND_FILE
-        out.update({f"plot_{k}": PLOT_FILES[k] for k in self.figures})
         return out
 
     def write(self, out: OutputSet) -> None:
@@ -60,13 +56,11 @@ class MachiningOutputs:
         if self.second_gcode is not None:
             out.add_text(SECOND_FILE, self.second_gcode)
         out.add_text(FILES["commands"], self.commands_csv)
-        for key, fig in self.figures.items():
-            out.add(PLOT_FILES[key], lambda p, f=fig: write_png(f, p))
 
 
 class BodyMachining(Protocol):
     """What a body's machining outputs are: made by a function registered in :data:`PROGRAMS` for
-    its design class, ``fn(design, plots, summary)``; they answer these members."""
+    its design class, ``fn(design, summary)``; they answer these members."""
 
     gcode: str
     interpolator_summary: Any
@@ -82,30 +76,30 @@ class BodyMachining(Protocol):
     def write(self, out: OutputSet) -> None: ...
 
 
-#: design class → ``fn(design, plots, summary) -> BodyMachining`` (the plane cams' here; a body's
+#: design class → ``fn(design, summary) -> BodyMachining`` (the plane cams' here; a body's
 #: own in its module, imported by :mod:`cam_workbench.exporters` when it loads)
 PROGRAMS: ByClass[Callable[..., BodyMachining]] = ByClass("the machining program")
 
 
-def machining_outputs(design: Any, plots: bool = True, summary: dict[str, Any] | None = None) -> BodyMachining:
+def machining_outputs(design: Any, summary: dict[str, Any] | None = None) -> BodyMachining:
     """Compute the machining outputs of ``design`` (its spec's ``[machining]``), by its body's
     function in :data:`PROGRAMS`; ``summary`` is the report's summary so far (the G-code header
-    quotes its numbers); ``plots``: the interpolator's figures too (a plane cam's).
+    quotes its numbers).
 
     Raises:
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
         SpecError: a machining setting cannot be met (lead radius, sample period).
         NotAvailable: the design's body registers no machining program.
     """
-    return PROGRAMS.of(design)(design, plots=plots, summary=summary)
+    return PROGRAMS.of(design)(design, summary=summary)
 
 
 @PROGRAMS.register(CamDesign)
-def plane_outputs(design: CamDesign, plots: bool = True, summary: dict[str, Any] | None = None
+def plane_outputs(design: CamDesign, summary: dict[str, Any] | None = None
                   ) -> MachiningOutputs:
     """A plane cam's machining outputs: the contour (XY) or rotary (XC) program of its profile
     (a groove's passes along its own path), a conjugate pair's second program, the command table
-    and the interpolator's figures (``plots``)."""
+    and the interpolator's accuracy (its figures are the report's)."""
     spec = design.spec
     plan = machining_plan(design)
     acc = interpolator_accuracy(design.pitch, plan.rotary_speed_rpm, plan.sample_period)
@@ -140,15 +134,8 @@ def plane_outputs(design: CamDesign, plots: bool = True, summary: dict[str, Any]
     }
     if second is not None:
         mach["second_cam"] = second[1]
-    figures = {}
-    if plots:
-        figures = {
-            "deviation": deviation_figure(acc, spec.units, design.pitch.deviation(),
-                                          design.pitch.angles),
-            "kinematics": kinematics_figure(acc, design.program, spec.units),
-        }
     return MachiningOutputs(plan=plan, accuracy=acc, gcode=gcode,
-                            commands_csv=commands_csv_text(acc.commands, spec.units), figures=figures,
+                            commands_csv=commands_csv_text(acc.commands, spec.units),
                             interpolator_summary=interp, machining_summary=mach,
                             second_gcode=None if second is None else second[0])
 

@@ -1,33 +1,32 @@
-"""Matplotlib figures of a designed cam (Agg backend, written atomically as PNG or SVG).
+"""Figures of a designed cam as data: each function returns a :class:`.chart.Chart` (panels of
+curves, filled loops, lines and notes in data coordinates) that :mod:`.chart_svg` draws — no
+plotting library is loaded to build one.
 
 Figures take plain results from ``generators`` (a :class:`CamDesign`, arrays) and never
 compute geometry themselves beyond sampling it.  Angles on the axes are cam degrees
-from the program start; lengths are in the spec's units.
+from the program start; lengths are in the spec's units.  The follower dynamics' figures are
+in :mod:`.plots_dynamics`.
 
-=========================  =======================================================
-figure                     what it shows
-=========================  =======================================================
-:func:`cam_figure`         cam drawing beside s, v, a, j (the README picture)
-:func:`cam_drawing_figure` the cam with its pitch curve, circles and the follower
-:func:`conjugate_figure`   a conjugate pair: both cams, pitch curves and rollers
+==============================  =======================================================
+figure                          what it shows
+==============================  =======================================================
+:func:`cam_figure`              cam drawing beside s, v, a, j (the README picture)
+:func:`cam_drawing_figure`      the cam with its pitch curve, circles and the follower
+:func:`cam_panel`               that drawing as one panel (for a figure of several)
+:func:`conjugate_figure`        a conjugate pair: both cams, pitch curves and rollers
 :func:`roller_distance_figure`  a conjugate pair's lift errors and the distance error between the rollers
-:func:`kinematics_figure`  s, v, a, j over the cycle at the spec's speed
-:func:`pressure_angle_figure`  φ(θ) (thesis Eq. 3.4) and the built curve's φ
-:func:`curvature_figure`   radius of curvature of pitch curve and profile (Eq. 3.7)
-:func:`deviation_figure`   interpolation error s_actual − s (paper Fig. 5/7)
-:func:`series_figure`      any θ-series (contact force, Hertz stress …) with limits
-:func:`convergence_figure` an optimiser's objective and constraint violation
-:func:`dynamics_figure`    contact force, camshaft torque and displacement error at speed
-:func:`jump_speed_figure`  smallest contact force against the cam speed (the jump speed)
-:func:`picture`            the figure that shows a designed cam at a glance (the API's picture in Jupyter)
-=========================  =======================================================
+:func:`kinematics_figure`       s, v, a, j over the cycle at the spec's speed
+:func:`pressure_angle_figure`   φ(θ) (thesis Eq. 3.4) and the built curve's φ
+:func:`curvature_figure`        radius of curvature of pitch curve and profile (Eq. 3.7)
+:func:`deviation_figure`        interpolation error s_actual − s (paper Fig. 5/7)
+:func:`series_figure`           any θ-series (contact force, Hertz stress …) with limits
+:func:`convergence_figure`      an optimiser's objective and constraint violation
+:func:`picture`                 the figure that shows a designed cam at a glance (the API's picture in Jupyter)
+==============================  =======================================================
 """
 from __future__ import annotations
 
-import io
-import os
-from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -35,18 +34,41 @@ from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.kinds.by_class import ByClass
+from cam_workbench.generators.motion import MotionProgram
 
-from .atomic import atomic_path
+from .chart import Area, Chart, Curve, Mark, Note, Panel, Rule, angle_panel, css_color, segment_marks
+
+if TYPE_CHECKING:
+    from cam_workbench.generators.bodies.conjugate import RollerDistanceError
 
 SERIES_COLORS = ("#2e7d32", "#c0392b", "#6a1b9a", "#1f3b5c")
 COLORS = {"profile": "#1f3b5c", "pitch": "#c0392b", "follower": "#8a6212", "s": "#1f3b5c",
           "v": "#2e7d32", "a": "#c0392b", "j": "#6a1b9a", "built": "#e67e22", "limit": "#b03a2e",
           "fail": "#c0392b", "pass": "#1e8449"}
+#: the filled cam (material) and the cam's cuts, the follower's roller
+MATERIAL = "#b8c7d9"
+ROLLER_FILL = "#e6b85c"
+BLACK = "#000000"
 
-#: SVG ids (matplotlib ``gid``) of the drawn check limits and check points, for readers of the
-#: SVG: ``limit-<check>`` (``-upper``/``-lower`` for a ± limit) and ``point-<check>``
+#: SVG ids (a mark's ``gid``) of the drawn check limits and check points, for readers of the
+#: figure: ``limit-<check>`` (``-upper``/``-lower`` for a ± limit) and ``point-<check>``
 LIMIT_GID = "limit-{name}"
 POINT_GID = "point-{name}"
+
+#: width [pt] of a chart of stacked line panels and of a drawing; a drawing panel's height [pt]
+LINE_WIDTH = 640.0
+DRAWING_WIDTH = 480.0
+DRAWING_HEIGHT = 420.0
+#: the room [pt] a panel's tick labels and axis label take from its share of the figure's height
+_MARGIN = 30.0
+THETA_LABEL = "cam angle θ [deg]"
+#: line width [pt] of a follower's segment by its role
+SEGMENT_WIDTHS = {"stem": 3.0, "arm": 3.0, "face": 2.2, "yoke": 3.0}
+
+
+def _height(inches: float, rows: int = 1) -> float:
+    """A panel's height [pt]: its share of a figure ``inches`` tall with ``rows`` panels."""
+    return round(inches * 72.0 / rows - _MARGIN)
 
 
 def _is_ph(design: CamDesign) -> bool:
@@ -58,72 +80,54 @@ def _pitch_words(design: CamDesign) -> str:
     return "PH quintic spline" if _is_ph(design) else "fitted B-spline"
 
 
-def _plt() -> Any:
-    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # deferred: matplotlib, loaded when a figure is drawn
-
-    return plt
+def _xy(z: np.ndarray) -> np.ndarray:
+    """Complex points → N×2."""
+    z = np.asarray(z, dtype=complex)
+    return np.column_stack([z.real, z.imag])
 
 
-def save_figure(fig: Any, path: str | os.PathLike[str], dpi: int = 150) -> Path:
-    """Save a figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
-    target = Path(path)
-    with atomic_path(target) as tmp:
-        fig.savefig(tmp, dpi=dpi, format=target.suffix.lstrip(".") or "png", bbox_inches="tight")
-    _plt().close(fig)
-    return target
+_T = np.linspace(0, 2 * np.pi, 400)
 
 
-def figure_bytes(fig: Any, fmt: str, dpi: int = 150) -> bytes:
-    """The figure as PNG or SVG bytes (SVG text keeps glyphs as paths: no font files needed)."""
-    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
-
-    buf = io.BytesIO()
-    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "cam_workbench"}):
-        fig.savefig(buf, format=fmt, dpi=dpi, bbox_inches="tight", metadata=_metadata(fmt))
-    return buf.getvalue()
+def _circle(radius: float, centre: complex = 0j) -> np.ndarray:
+    """A circle as N×2 points."""
+    return _xy(centre + radius * np.exp(1j * _T))
 
 
-def close(fig: Any) -> None:
-    _plt().close(fig)
+def _line(xy: np.ndarray, **style: Any) -> Curve:
+    """A Curve through N×2 points."""
+    return Curve(xy[:, 0], xy[:, 1], **style)
 
 
-def _metadata(fmt: str) -> dict[str, Any]:
-    # no creation dates: the same design gives the same files
-    if fmt == "svg":
-        return {"Date": None, "Creator": "cam_workbench"}
-    if fmt == "png":
-        return {"Software": "cam_workbench"}
-    return {}
+def _dot(x: float, y: float, **style: Any) -> Curve:
+    """A single marker at (x, y) (``marker`` "o" unless given)."""
+    style.setdefault("marker", "o")
+    return Curve(np.array([float(x)]), np.array([float(y)]), line=False, **style)
 
 
-def _segment_marks(ax: Any, design: CamDesign, labels: bool = False) -> None:
-    """Thin vertical lines at the motion-segment boundaries (and their kinds on top)."""
-    prog = design.program
-    b = np.rad2deg(prog.boundaries)
-    for x in b[1:-1]:
-        ax.axvline(x, color="0.75", lw=0.6, zorder=0)
-    if labels:
-        for k, kind in enumerate(prog.kinds):
-            ax.text(0.5 * (b[k] + b[k + 1]), 1.02, kind, transform=ax.get_xaxis_transform(),
-                    ha="center", va="bottom", fontsize=7, color="0.35")
-
-
-def _angle_axis(ax: Any, last: bool = True) -> None:
-    ax.set_xlim(0, 360)
-    ax.set_xticks(np.arange(0, 361, 30))
-    ax.grid(alpha=0.25)
-    ax.tick_params(labelsize=7)
-    if last:
-        ax.set_xlabel("cam angle θ [deg]", fontsize=8)
+def _cycle_panel(program: MotionProgram | None, *, labels: bool = False, last: bool = True,
+                 **kw: Any) -> Panel:
+    """A panel over the cam cycle with the motion segments' boundaries (and, with ``labels``,
+    their kinds on top); the x axis labelled on the ``last`` panel of a stack only."""
+    if program is None:
+        rules: list[Rule] = []
+        tops: list[tuple[float, str]] = []
     else:
-        ax.tick_params(labelbottom=False)
+        rules, tops = segment_marks(np.rad2deg(program.boundaries), program.kinds if labels else None)
+    panel = angle_panel(xlabel=THETA_LABEL if last else "", xticklabels=last, top_labels=tops, **kw)
+    panel.add(*rules)
+    return panel
+
+
+def _side_note(x: float, y: float, text: str, size: float = 8.0, color: str = "#1c2833") -> Note:
+    """``text`` beside the point (x, y): right of it, or left of it in the cycle's last third."""
+    right = x > 240
+    return Note(x, y, text, color=color, size=size, dx=-8 if right else 8, dy=0,
+                anchor="end" if right else "start", valign="middle")
 
 
 # ---- the cam -----------------------------------------------------------------------------
-def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> None:
+def cam_panel(design: CamDesign, follower_angle_deg: float = 75.0) -> Panel:
     """The cam in its own frame: profile (filled), pitch (or contact) curve, prime and base
     circles, bore, and the follower — roller, stem, arm and pivot, or face, as the follower
     draws itself (:meth:`cam_workbench.generators.followers.base.Follower.sketch`) — where it is at
@@ -144,169 +148,136 @@ def draw_cam(ax: Any, design: CamDesign, follower_angle_deg: float = 75.0) -> No
         prof_label = "cam (fitted offset B-spline profile)" if rr > 0 else "cam (profile = fitted B-spline)"
     body = design.body
     drawn_body = body is not None and not body.plain_plate
+    marks: list[Mark] = []
     if drawn_body:
-        _draw_body_top(ax, design, prof_label)
+        marks.extend(_body_top(design, prof_label))
     else:
-        ax.fill(prof[:, 0], prof[:, 1], color="#b8c7d9", zorder=1, label=prof_label)
-        ax.plot(prof[:, 0], prof[:, 1], color=COLORS["profile"], lw=1.2, zorder=2)
-    if not flat:
-        ax.plot(pitch[:, 0], pitch[:, 1], "--", color=COLORS["pitch"], lw=0.9, zorder=7,
-                label=f"pitch curve ({_pitch_words(design)})")
-    t = np.linspace(0, 2 * np.pi, 400)
+        marks.append(Area([prof[:, :2]], fill=MATERIAL, edge=COLORS["profile"], width=1.2, label=prof_label))
     rb = spec.cam.base_radius
     if not flat:
-        ax.plot(rb * np.cos(t), rb * np.sin(t), ":", color="0.45", lw=0.8, label="prime circle")
+        marks.append(_line(_circle(rb), color=css_color("0.45"), width=0.8, dash=":", label="prime circle"))
     if rr > 0 or flat:
-        r0 = rb - rr
-        ax.plot(r0 * np.cos(t), r0 * np.sin(t), "-.", color="0.6", lw=0.6, label="base circle")
+        marks.append(_line(_circle(rb - rr), color=css_color("0.6"), width=0.6, dash="-.", label="base circle"))
     if spec.cam.bore_diameter > 0 and not drawn_body:
-        rbore = spec.cam.bore_diameter / 2
-        ax.fill(rbore * np.cos(t), rbore * np.sin(t), color="white", zorder=3)
-        ax.plot(rbore * np.cos(t), rbore * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=4)
+        marks.append(Area([_circle(spec.cam.bore_diameter / 2)], fill="white", edge=COLORS["profile"], width=1.0))
+    marks.append(_dot(0.0, 0.0, marker="+", color=BLACK, size=10))
     th = np.deg2rad(follower_angle_deg)
     k = design.program.evaluate(np.array([th]))
     lift_len = spec.max_lift * (rb * fol.lift_scale if fol.lift_unit == "angle" else 1.0)
     sk = fol.sketch(th, k, lift_len + 2 * max(rr, 0.1 * rb), spec.follower.face_width)
-    label = f"follower at θ = {follower_angle_deg:g}°"
     for c, r in sk.circles:
-        ax.fill(c.real + r * np.cos(t), c.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=5)
-        ax.plot(c.real + r * np.cos(t), c.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=6)
+        marks.append(Area([_circle(r, c)], fill=ROLLER_FILL, alpha=0.9))
+        marks.append(_line(_circle(r, c), color=COLORS["follower"], width=1.0))
+    label: str | None = f"follower at θ = {follower_angle_deg:g}°"
     for a, b, role in sk.segments:
-        lw = {"stem": 3, "arm": 3, "face": 2.2, "yoke": 3}[role]
-        ax.plot([a.real, b.real], [a.imag, b.imag], color=COLORS["follower"], lw=lw, zorder=6,
-                solid_capstyle="round", label=label)
+        marks.append(_line(_xy(np.array([a, b])), color=COLORS["follower"], width=SEGMENT_WIDTHS[role], label=label))
         label = None
+    if not flat:
+        marks.append(_line(pitch[:, :2], color=COLORS["pitch"], width=0.9, dash="--",
+                           label=f"pitch curve ({_pitch_words(design)})"))
     if sk.pivot is not None:
-        ax.plot([sk.pivot.real], [sk.pivot.imag], "o", ms=7, mfc="white", mec=COLORS["follower"], mew=1.5,
-                zorder=8, label="pivot")
-    ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=8)
-    ax.plot([0], [0], "+", color="k", ms=10)
-    ax.set_aspect("equal")
-    ax.set_title(f"{spec.cam.body} cam, {desc['label']} {u}\n"
-                 + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else
-                    f"{design.pitch.M} B-spline knot spans"), fontsize=9)
-    ax.set_xlabel(f"x [{u}]")
-    ax.set_ylabel(f"y [{u}]")
-    ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
-    ax.grid(alpha=0.2)
+        marks.append(_dot(sk.pivot.real, sk.pivot.imag, size=7, face="white", edge=COLORS["follower"], edge_width=1.5,
+                          color=COLORS["follower"], label="pivot"))
+    marks.append(_dot(sk.point.real, sk.point.imag, color=COLORS["pitch"], size=3))
+    title = (f"{spec.cam.body} cam, {desc['label']} {u}\n"
+             + (f"M = {design.pitch.M} PH segments" if _is_ph(design) else f"{design.pitch.M} B-spline knot spans"))
+    return Panel(marks, xlabel=f"x [{u}]", ylabel=f"y [{u}]", title=title, equal=True, legend="lower left",
+                 height=DRAWING_HEIGHT)
 
 
-def _draw_body_top(ax: Any, design: CamDesign, prof_label: str) -> None:
-    """The body seen from +Z: every prism region that reaches the top face, material filled and
-    cuts (a groove between its walls, the bore with its keyway, holes, the timing mark) white, in
-    the body's order; a groove's walls labelled as the exact offsets they are."""
-    from matplotlib.patches import PathPatch  # deferred: matplotlib, loaded when a figure is drawn
-    from matplotlib.path import Path as MplPath
-
+def _body_top(design: CamDesign, prof_label: str) -> list[Area]:
+    """The body seen from +Z: every prism region that reaches the top face, in the body's order —
+    material filled, cuts (a groove between its walls, the bore with its keyway, holes, the timing
+    mark) white — each prism's outer loop and holes one even-odd area; the first material region
+    labelled as the body draws itself (a groove's walls as the exact offsets they are)."""
     body = design.body
     top = body.z_range[1]
+    out: list[Area] = []
     first_add = True
     for prism in body.prisms:
         if not prism.z0 < top <= prism.z1 + 1e-12:
             continue
-        loops = [prism.outer.points()] + [h.points()[::-1] for h in prism.holes]
-        verts = np.concatenate([np.column_stack([p.real, p.imag]) for p in loops])
-        codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(p) - 1) for p in loops])
+        loops = [_xy(prism.outer.points())] + [_xy(h.points()) for h in prism.holes]
         add = prism.op == "add"
         label = None
         if add and first_add:
             label = body_of(design.spec).drawing_label or prof_label
             first_add = False
-        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="#b8c7d9" if add else "white",
-                               edgecolor=COLORS["profile"], lw=1.0, zorder=1 if add else 3, label=label))
-    ax.autoscale_view()
+        out.append(Area(loops, fill=MATERIAL if add else "white", edge=COLORS["profile"], width=1.0, label=label))
+    return out
 
 
-def conjugate_figure(design: CamDesign, second: CamDesign, follower_angle_deg: float = 75.0) -> Any:
-    """A conjugate pair seen from +Z: the first cam (filled) over the second (below it, hatched
-    outline), both pitch curves, and the follower at ``follower_angle_deg`` with both rollers —
+def cam_drawing_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Chart:
+    """The cam with the follower (see :func:`cam_panel`)."""
+    return Chart.stack([cam_panel(design, follower_angle_deg)], width=DRAWING_WIDTH)
+
+
+def conjugate_figure(design: CamDesign, second: CamDesign, follower_angle_deg: float = 75.0) -> Chart:
+    """A conjugate pair seen from +Z: the first cam (filled) over the second (below it, outlined
+    in orange), both pitch curves, and the follower at ``follower_angle_deg`` with both rollers —
     the yoke joining them, or both arms on their pivot."""
-    plt = _plt()
     spec = design.spec
     u = spec.units
-    fig, ax = plt.subplots(figsize=(6.8, 6.8))
-    t = np.linspace(0, 2 * np.pi, 400)
     _, p1 = design.profile.sample(32)
     _, p2 = second.profile.sample(32)
-    ax.fill(p2[:, 0], p2[:, 1], color="#f3d9b1", zorder=1, label="second cam (below the first)")
-    ax.plot(p2[:, 0], p2[:, 1], color="#a05a00", lw=1.1, zorder=2)
-    ax.fill(p1[:, 0], p1[:, 1], color="#b8c7d9", alpha=0.85, zorder=3, label="first cam")
-    ax.plot(p1[:, 0], p1[:, 1], color=COLORS["profile"], lw=1.2, zorder=4)
+    marks: list[Mark] = [
+        Area([p2[:, :2]], fill="#f3d9b1", edge="#a05a00", width=1.1, label="second cam (below the first)"),
+        Area([p1[:, :2]], fill=MATERIAL, alpha=0.85, label="first cam"),
+        _line(p1[:, :2], color=COLORS["profile"], width=1.2),
+    ]
     for d, style, name in ((design, "--", "first"), (second, "-.", "second")):
         _, q = d.pitch_nurbs.sample(32)
-        ax.plot(q[:, 0], q[:, 1], style, color=COLORS["pitch"], lw=0.8, zorder=5,
-                label=f"{name} pitch curve (PH)")
+        marks.append(_line(q[:, :2], color=COLORS["pitch"], width=0.8, dash=style, label=f"{name} pitch curve (PH)"))
     if spec.cam.bore_diameter > 0:
-        rb = spec.cam.bore_diameter / 2
-        ax.fill(rb * np.cos(t), rb * np.sin(t), color="white", zorder=6)
-        ax.plot(rb * np.cos(t), rb * np.sin(t), color=COLORS["profile"], lw=1.0, zorder=6)
+        marks.append(Area([_circle(spec.cam.bore_diameter / 2)], fill="white", edge=COLORS["profile"], width=1.0))
     th = np.deg2rad(follower_angle_deg)
     k = design.program.evaluate(np.array([th]))
     size = spec.max_lift * (spec.cam.base_radius * design.follower.lift_scale
                             if design.follower.lift_unit == "angle" else 1.0) + 2 * design.follower.profile_offset
-    label = f"follower at θ = {follower_angle_deg:g}°"
+    label: str | None = f"follower at θ = {follower_angle_deg:g}°"
     for fol in (design.follower, second.follower):
         sk = fol.sketch(th, k, size)
         for c, r in sk.circles:
-            ax.fill(c.real + r * np.cos(t), c.imag + r * np.sin(t), color="#e6b85c", alpha=0.9, zorder=7)
-            ax.plot(c.real + r * np.cos(t), c.imag + r * np.sin(t), color=COLORS["follower"], lw=1.0, zorder=8)
+            marks.append(Area([_circle(r, c)], fill=ROLLER_FILL, alpha=0.9))
+            marks.append(_line(_circle(r, c), color=COLORS["follower"], width=1.0))
         for a, b, _role in sk.segments:
-            ax.plot([a.real, b.real], [a.imag, b.imag], color=COLORS["follower"], lw=3, zorder=8,
-                    solid_capstyle="round", label=label)
+            marks.append(_line(_xy(np.array([a, b])), color=COLORS["follower"], width=3.0, label=label))
             label = None
         if sk.pivot is not None:
-            ax.plot([sk.pivot.real], [sk.pivot.imag], "o", ms=7, mfc="white", mec=COLORS["follower"], mew=1.5,
-                    zorder=9)
-        ax.plot([sk.point.real], [sk.point.imag], "o", color=COLORS["pitch"], ms=3, zorder=9)
-    ax.plot([0], [0], "+", color="k", ms=10)
-    ax.set_aspect("equal")
-    ax.set_title(f"conjugate cams, {design.follower.describe()['label']} {u}\nand the "
-                 f"{second.follower.label()} {u}", fontsize=8.5)
-    ax.set_xlabel(f"x [{u}]")
-    ax.set_ylabel(f"y [{u}]")
-    ax.legend(loc="lower left", fontsize=7, framealpha=0.9)
-    ax.grid(alpha=0.2)
-    return fig
+            marks.append(_dot(sk.pivot.real, sk.pivot.imag, size=7, face="white", edge=COLORS["follower"],
+                              width=1.5, color=COLORS["follower"]))
+        marks.append(_dot(sk.point.real, sk.point.imag, color=COLORS["pitch"], size=3))
+    marks.append(_dot(0.0, 0.0, marker="+", color=BLACK, size=10))
+    title = (f"conjugate cams, {design.follower.describe()['label']} {u}\nand the "
+             f"{second.follower.label()} {u}")
+    panel = Panel(marks, xlabel=f"x [{u}]", ylabel=f"y [{u}]", title=title, equal=True, legend="lower left",
+                  height=DRAWING_HEIGHT)
+    return Chart.stack([panel], width=DRAWING_WIDTH)
 
 
-def roller_distance_figure(design: CamDesign, error: Any) -> Any:
+def roller_distance_figure(design: CamDesign, error: RollerDistanceError) -> Chart:
     """A conjugate pair over the cycle: each built pitch curve's lift error s_actual − s (its PH
     deviation) and the distance error between the rollers that follows from them
     (:class:`cam_workbench.generators.bodies.conjugate.RollerDistanceError`), with the bound the two
     deviations set."""
-    plt = _plt()
     u = design.spec.units
     scale, unit = small_unit(u, design.follower.lift_unit)
     lscale, lunit = _small_length_scale(u)
     deg = np.rad2deg(error.theta)
     s = design.program.s(error.theta)
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.6), sharex=True)
-    _segment_marks(a1, design, labels=True)
-    a1.plot(deg, (error.s1 - s) * scale, color=COLORS["s"], lw=0.8, label="first cam: s₁ − s")
-    a1.plot(deg, (error.s2 - s) * scale, color=COLORS["a"], lw=0.8, label="second cam: s₂ − s")
-    a1.set_ylabel(f"lift error [{unit}]", fontsize=8)
-    a1.legend(fontsize=7, loc="lower left")
-    _angle_axis(a1, last=False)
-    _segment_marks(a2, design)
-    a2.plot(deg, error.distance * lscale, color=COLORS["j"], lw=0.9)
+    h = _height(5.6, 2)
+    top = _cycle_panel(design.program, labels=True, last=False, ylabel=f"lift error [{unit}]", legend="lower left",
+                       height=h)
+    top.add(Curve(deg, (error.s1 - s) * scale, color=COLORS["s"], width=0.8, label="first cam: s₁ − s"),
+            Curve(deg, (error.s2 - s) * scale, color=COLORS["a"], width=0.8, label="second cam: s₂ − s"))
+    bottom = _cycle_panel(design.program, ylabel=f"distance error [{lunit}]\n+ interference, − play", height=h)
     k = int(np.argmax(np.abs(error.distance)))
-    a2.plot([deg[k]], [error.distance[k] * lscale], "o", ms=4, color=COLORS["a"])
-    right = deg[k] > 240
-    a2.annotate(f"max |error| = {abs(error.distance[k]) * lscale:.4g} {lunit} at {deg[k]:.2f}°",
-                (deg[k], error.distance[k] * lscale), xytext=(-8 if right else 8, 0), textcoords="offset points",
-                fontsize=8, va="center", ha="right" if right else "left")
-    a2.axhline(0, color="0.3", lw=0.6)
-    a2.set_ylabel(f"distance error [{lunit}]\n+ interference, − play", fontsize=8)
-    _angle_axis(a2)
-    fig.tight_layout()
-    return fig
-
-
-def cam_drawing_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
-    """The cam with the follower (see :func:`draw_cam`)."""
-    fig, ax = _plt().subplots(figsize=(6.5, 6.5))
-    draw_cam(ax, design, follower_angle_deg)
-    return fig
+    x, y = float(deg[k]), float(error.distance[k] * lscale)
+    bottom.add(Curve(deg, error.distance * lscale, color=COLORS["j"], width=0.9),
+               _dot(x, y, size=4, color=COLORS["a"]),
+               _side_note(x, y, f"max |error| = {abs(error.distance[k]) * lscale:.4g} {lunit} at {x:.2f}°"),
+               Rule("y", 0.0, color=css_color("0.3"), width=0.6, dash="-"))
+    return Chart.stack([top, bottom], width=LINE_WIDTH)
 
 
 def _kinematic_series(design: CamDesign, n: int = 3601) -> tuple[np.ndarray, list[tuple[np.ndarray, str, str]]]:
@@ -319,70 +290,54 @@ def _kinematic_series(design: CamDesign, n: int = 3601) -> tuple[np.ndarray, lis
                             (k.d2s * omega**2, f"a [{u}/s²]", "a"), (k.d3s * omega**3, f"j [{u}/s³]", "j")]
 
 
-def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Any:
+def cam_figure(design: CamDesign, follower_angle_deg: float = 75.0) -> Chart:
     """Drawing of the cam (profile, pitch curve, base and prime circles, bore, the follower at
     ``follower_angle_deg`` of cam rotation) beside its s, v, a, j diagrams over one turn."""
-    plt = _plt()
-    spec = design.spec
-    fig, (ax, axk) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1, 1.25]})
-    draw_cam(ax, design, follower_angle_deg)
     deg, series = _kinematic_series(design)
-    axk.remove()
-    gs = ax.get_gridspec()
-    sub = gs[1].subgridspec(4, 1, hspace=0.08)
+    motion = []
     for i, (y, label, key) in enumerate(series):
-        a = fig.add_subplot(sub[i])
-        a.plot(deg, y, color=COLORS[key], lw=1.0)
-        a.set_ylabel(label, fontsize=8)
-        a.grid(alpha=0.25)
-        a.set_xlim(0, 360)
-        a.set_xticks(np.arange(0, 361, 60))
-        if i < 3:
-            a.tick_params(labelbottom=False)
-        else:
-            a.set_xlabel("cam angle θ [deg]")
-        a.tick_params(labelsize=7)
-        if i == 0:
-            a.set_title(f"follower motion at {spec.cam.speed_rpm:g} rpm", fontsize=9)
-    return fig
+        last = i == len(series) - 1
+        motion.append(angle_panel(
+            marks=[Curve(deg, y, color=COLORS[key], width=1.0)], ylabel=label,
+            xticks=list(np.arange(0.0, 361.0, 60.0)), xticklabels=last, xlabel=THETA_LABEL if last else "",
+            title=f"follower motion at {design.spec.cam.speed_rpm:g} rpm" if i == 0 else "", height=95.0))
+    return Chart([[cam_panel(design, follower_angle_deg)], motion], width=792.0, widths=(1.0, 1.25))
 
 
 # ---- curves over the cycle -----------------------------------------------------------------
-def kinematics_figure(design: CamDesign) -> Any:
+def kinematics_figure(design: CamDesign) -> Chart:
     """Displacement, velocity, acceleration and jerk of the follower over one turn at the
     spec's speed (design intent, closed-form laws), with the motion segments marked."""
-    plt = _plt()
     deg, series = _kinematic_series(design)
-    fig, axes = plt.subplots(4, 1, figsize=(9, 7.5), sharex=True)
-    for i, (ax, (y, label, key)) in enumerate(zip(axes, series)):
-        _segment_marks(ax, design, labels=i == 0)
-        ax.plot(deg, y, color=COLORS[key], lw=1.1)
-        ax.set_ylabel(label, fontsize=8)
+    panels = []
+    for i, (y, label, key) in enumerate(series):
+        panel = _cycle_panel(design.program, labels=i == 0, last=i == len(series) - 1, ylabel=label,
+                             height=_height(7.5, 4))
         k = int(np.argmax(np.abs(y)))
-        ax.plot([deg[k]], [y[k]], "o", ms=3, color=COLORS[key])
-        ax.annotate(f"max |{key}| = {abs(y[k]):.4g}", (deg[k], y[k]), xytext=(6, -4 if y[k] > 0 else 4),
-                    textcoords="offset points", fontsize=7, va="top" if y[k] > 0 else "bottom")
-        _angle_axis(ax, last=i == 3)
-    fig.suptitle(f"follower motion at {design.spec.cam.speed_rpm:g} rpm", fontsize=10)
-    fig.tight_layout()
-    return fig
+        up = bool(y[k] > 0)
+        panel.add(Curve(deg, y, color=COLORS[key], width=1.1),
+                  _dot(deg[k], y[k], size=3, color=COLORS[key]),
+                  Note(float(deg[k]), float(y[k]), f"max |{key}| = {abs(y[k]):.4g}", size=7, dx=6,
+                       dy=-4 if up else 4, valign="top" if up else "bottom"))
+        panels.append(panel)
+    return Chart.stack(panels, width=LINE_WIDTH, title=f"follower motion at {design.spec.cam.speed_rpm:g} rpm")
 
 
-def _check_point(ax: Any, name: str, check: Mapping[str, Any], y: float, text: str, below: bool) -> None:
-    """Mark a check's value at its cam angle (red when it fails), labelled with the angle."""
+def _check_point(name: str, check: Mapping[str, Any], y: float, text: str, below: bool) -> list[Mark]:
+    """A check's value at its cam angle (red when it fails), labelled with the angle."""
     status = str(check.get("status"))
-    color = COLORS["fail"] if status == "fail" else COLORS["pass"]
+    fails = status == "fail"
+    color = COLORS["fail"] if fails else COLORS["pass"]
     x = float(check["at_deg"])
-    ax.plot([x], [y], "o", ms=6, mfc=color, mec="k", mew=0.6, zorder=9, gid=POINT_GID.format(name=name))
     right = x > 240
-    ax.annotate(text + (" — FAILS" if status == "fail" else ""), (x, y), xytext=(-10 if right else 10, -12 if below else 10),
-                textcoords="offset points", fontsize=8, color=color, ha="right" if right else "left",
-                va="top" if below else "bottom", fontweight="bold" if status == "fail" else "normal", zorder=10,
-                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85})
+    return [_dot(x, y, size=6, color=color, face=color, edge=BLACK, width=0.6, gid=POINT_GID.format(name=name)),
+            Note(x, y, text + (" — FAILS" if fails else ""), color=color, size=8, dx=-10 if right else 10,
+                 dy=-12 if below else 10, anchor="end" if right else "start", valign="top" if below else "bottom",
+                 bold=fails, boxed=True)]
 
 
 def pressure_angle_figure(design: CamDesign, limit_deg: float | None = None,
-                          check: Mapping[str, Any] | None = None) -> Any:
+                          check: Mapping[str, Any] | None = None) -> Chart:
     """Pressure angle φ(θ) of the design (thesis Eq. 3.4) and of the built pitch curve
     (samples), with the allowed limit ±limit as dashed lines and the largest |φ| marked at
     its cam angle.
@@ -394,48 +349,43 @@ def pressure_angle_figure(design: CamDesign, limit_deg: float | None = None,
             status): its limit is drawn and its point marked (red when it fails), so the
             figure shows the numbers of the report.
     """
-    plt = _plt()
     th = np.linspace(0, 2 * np.pi, 3601)
+    deg = np.rad2deg(th)
     phi = np.rad2deg(design.geometry.pressure_angle(design.program.evaluate(th)))
     at, phi_b = design.as_built_pressure_angles()
     order = np.argsort(at)
-    fig, ax = plt.subplots(figsize=(9, 3.8))
-    _segment_marks(ax, design, labels=True)
-    ax.plot(np.rad2deg(th), phi, color=COLORS["s"], lw=1.4, label="design (thesis Eq. 3.4)", zorder=2)
-    ax.plot(at[order][::24], phi_b[order][::24], "o", ms=2.6, mfc="none", mew=0.7, color=COLORS["built"],
-            label=f"built {_pitch_words(design)} (samples)", zorder=3)
     if check is not None and check.get("limit") is not None:
         limit_deg = float(check["limit"])
+    top = max(float(np.max(np.abs(phi))), limit_deg or 0.0) * 1.18
+    panel = _cycle_panel(design.program, labels=True, ylabel="pressure angle φ [deg]", ylim=(-top, top),
+                         legend="below", legend_columns=3, height=_height(3.8))
+    panel.add(Curve(deg, phi, color=COLORS["s"], width=1.4, label="design (thesis Eq. 3.4)"),
+              Curve(at[order][::24], phi_b[order][::24], color=COLORS["built"], line=False, marker="o", size=2.6,
+                    face="none", width=0.7, label=f"built {_pitch_words(design)} (samples)"))
     if limit_deg is not None:
         for sgn, tag in ((1, "upper"), (-1, "lower")):
-            ax.axhline(sgn * limit_deg, color=COLORS["limit"], ls="--", lw=1.0,
-                       gid=LIMIT_GID.format(name="pressure_angle") + "-" + tag,
-                       label=f"limit |φ| ≤ {limit_deg:g}° (checks.max_pressure_angle)" if sgn > 0 else None)
-            ax.text(2, sgn * limit_deg, f" {'+' if sgn > 0 else '−'}{limit_deg:g}°", color=COLORS["limit"],
-                    fontsize=7, va="bottom" if sgn > 0 else "top")
+            panel.add(Rule("y", sgn * limit_deg, color=COLORS["limit"], width=1.0, dash="--",
+                           gid=LIMIT_GID.format(name="pressure_angle") + "-" + tag,
+                           label=f"limit |φ| ≤ {limit_deg:g}° (checks.max_pressure_angle)" if sgn > 0 else None),
+                      # the limit's value outside the allowed band: above the upper line, below the lower
+                      Note(2.0, sgn * limit_deg, f" {'+' if sgn > 0 else '−'}{limit_deg:g}°", color=COLORS["limit"],
+                           size=7, dx=0, dy=0, valign="bottom" if sgn > 0 else "top"))
     if check is not None and check.get("value") is not None and check.get("at_deg") is not None:
         # the check reports |φ|; the curve is signed: mark it on the side where φ is
         x = float(check["at_deg"])
-        sign = 1.0 if np.interp(x, np.rad2deg(th), phi) >= 0 else -1.0
+        sign = 1.0 if np.interp(x, deg, phi) >= 0 else -1.0
         y = sign * float(check["value"])
-        _check_point(ax, "pressure_angle", check, y, f"max |φ| = {float(check['value']):.2f}° at {x:.2f}°", y > 0)
+        panel.add(*_check_point("pressure_angle", check, y, f"max |φ| = {float(check['value']):.2f}° at {x:.2f}°",
+                                y > 0))
     else:
         k = int(np.argmax(np.abs(phi)))
-        ax.plot([np.rad2deg(th[k])], [phi[k]], "o", color=COLORS["a"], ms=4)
-        right = np.rad2deg(th[k]) > 240
-        ax.annotate(f"max |φ| = {abs(phi[k]):.2f}° at {np.rad2deg(th[k]):.1f}°", (np.rad2deg(th[k]), phi[k]),
-                    xytext=(-8 if right else 8, 0), textcoords="offset points", fontsize=8, va="center",
-                    ha="right" if right else "left")
-    top = max(float(np.max(np.abs(phi))), limit_deg or 0.0) * 1.18
-    ax.set_ylim(-top, top)
-    ax.set_ylabel("pressure angle φ [deg]", fontsize=8)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
-    _angle_axis(ax)
-    fig.tight_layout()
-    return fig
+        x, y = float(deg[k]), float(phi[k])
+        panel.add(_dot(x, y, size=4, color=COLORS["a"]),
+                  _side_note(x, y, f"max |φ| = {abs(y):.2f}° at {x:.1f}°"))
+    return Chart.stack([panel], width=LINE_WIDTH)
 
 
-def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) -> Any:
+def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) -> Chart:
     """Signed radius of curvature (+ convex) of the pitch curve (thesis Eq. 3.7) and of the
     profile (ρ − roller radius), with the built curve's samples; the axis is clipped
     where the curve straightens (|ρ| → ∞).
@@ -443,7 +393,6 @@ def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) 
     ``check`` is report.json's ``checks.results.curvature``: its limit (undercut factor ×
     roller radius, a lower bound on the convex pitch radius) is drawn dashed and its value
     marked at its cam angle (red when it fails)."""
-    plt = _plt()
     spec = design.spec
     u = spec.units
     rr = spec.roller_radius
@@ -462,48 +411,44 @@ def curvature_figure(design: CamDesign, check: Mapping[str, Any] | None = None) 
     limit = None if check is None or check.get("limit") is None else float(check["limit"])
     if limit is not None:
         top = max(top, 1.3 * limit)
-    fig, ax = plt.subplots(figsize=(9, 3.8))
-    _segment_marks(ax, design, labels=True)
     deg = np.rad2deg(th)
 
     # outside ±top the curve is nearly straight: leave gaps instead of drawing ±∞ jumps
     def cut(r: np.ndarray) -> np.ndarray:
         return np.where(np.abs(r) <= top, r, np.nan)
 
-    ax.plot(deg, cut(rho), color=COLORS["pitch"], lw=1.3,
-            label="profile (the face's envelope)" if flat else "pitch curve", zorder=2)
+    panel = _cycle_panel(design.program, labels=True, ylabel=f"radius of curvature [{u}]  (+ convex)",
+                         ylim=(-top, top), legend="below", legend_columns=3, height=_height(3.8))
+    panel.add(Curve(deg, cut(rho), color=COLORS["pitch"], width=1.3,
+                    label="profile (the face's envelope)" if flat else "pitch curve"))
     if rr > 0:
         # offsetting inward by r shrinks convex radii and grows concave ones: ρ − r either way
-        ax.plot(deg, cut(rho - rr), color=COLORS["profile"], lw=1.3, label="profile (ρ − roller radius)",
-                zorder=2)
-    ax.plot(cs.cam_angle_deg[order][::12], cut(cs.radius[order][::12]), "o", ms=2.4, mfc="none", mew=0.6,
-            color="0.35", label=f"built {_pitch_words(design)} (samples)", zorder=3)
+        panel.add(Curve(deg, cut(rho - rr), color=COLORS["profile"], width=1.3, label="profile (ρ − roller radius)"))
+    xs, ys = cs.cam_angle_deg[order][::12], cut(cs.radius[order][::12])
+    shown = np.isfinite(ys)
+    panel.add(Curve(xs[shown], ys[shown], color=css_color("0.35"), line=False, marker="o", size=2.4, face="none",
+                    width=0.6, label=f"built {_pitch_words(design)} (samples)"))
     name = "cusp" if flat else "curvature"
-    if limit is not None:
-        sign = limit_sign(name, str(check.get("kind", "min")))  # type: ignore[union-attr]
-        ax.axhline(limit, color=COLORS["limit"], ls="--", lw=1.0, gid=LIMIT_GID.format(name=name),
-                   label=(f"cusp limit: ρ {sign} {limit:g} {u}" if flat else
-                          f"curvature limit: convex pitch ρ {sign} {limit:g} {u} "
-                          f"({spec.checks.undercut_factor:g} × roller radius)"))
+    if limit is not None and check is not None:
+        sign = limit_sign(name, str(check.get("kind", "min")))
+        panel.add(Rule("y", limit, color=COLORS["limit"], width=1.0, dash="--", gid=LIMIT_GID.format(name=name),
+                       label=(f"cusp limit: ρ {sign} {limit:g} {u}" if flat else
+                              f"curvature limit: convex pitch ρ {sign} {limit:g} {u} "
+                              f"({spec.checks.undercut_factor:g} × roller radius)")))
     if rr > 0:
-        ax.axhline(rr, color="0.45", ls=":", lw=0.9, gid=LIMIT_GID.format(name="undercut"),
-                   label=f"roller radius {rr:g} {u} (undercut below)")
-    ax.axhline(0, color="0.3", lw=0.6)
+        panel.add(Rule("y", rr, color=css_color("0.45"), width=0.9, dash=":", gid=LIMIT_GID.format(name="undercut"),
+                       label=f"roller radius {rr:g} {u} (undercut below)"))
+    panel.add(Rule("y", 0.0, color=css_color("0.3"), width=0.6, dash="-"))
     if check is not None and check.get("value") is not None and check.get("at_deg") is not None:
         v = float(check["value"])
-        _check_point(ax, name, check, v,
-                     f"min {'' if flat else 'convex pitch '}ρ = {v:.4g} {u} at {float(check['at_deg']):.2f}°", False)
+        panel.add(*_check_point(name, check, v, f"min {'' if flat else 'convex pitch '}ρ = {v:.4g} {u} at "
+                                f"{float(check['at_deg']):.2f}°", False))
     elif convex.size:
         k = int(np.argmin(np.where(rho > 0, rho, np.inf)))
-        ax.plot([deg[k]], [rho[k]], "o", ms=4, color=COLORS["pitch"])
-        ax.annotate(f"min convex ρ = {rho[k]:.4g} {u} at {deg[k]:.1f}°", (deg[k], rho[k]),
-                    xytext=(8, -10), textcoords="offset points", fontsize=8)
-    ax.set_ylim(-top, top)
-    ax.set_ylabel(f"radius of curvature [{u}]  (+ convex)", fontsize=8)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
-    _angle_axis(ax)
-    fig.tight_layout()
-    return fig
+        x, y = float(deg[k]), float(rho[k])
+        panel.add(_dot(x, y, size=4, color=COLORS["pitch"]),
+                  Note(x, y, f"min convex ρ = {y:.4g} {u} at {x:.1f}°", size=8, dx=8, dy=-10, valign="bottom"))
+    return Chart.stack([panel], width=LINE_WIDTH)
 
 
 def _small_length_scale(units: str) -> tuple[float, str]:
@@ -515,180 +460,70 @@ def small_unit(units: str, lift_unit: str = "length") -> tuple[float, str]:
     return (3600.0, "arcsec") if lift_unit == "angle" else _small_length_scale(units)
 
 
-def deviation_figure(design: CamDesign) -> Any:
+def deviation_figure(design: CamDesign) -> Chart:
     """Interpolation error s_actual(θ) − s(θ) of the built pitch curve (paper Eq. 13,
     as the paper's Figs. 5 and 7), with the PH junction (or B-spline knot) angles marked."""
-    plt = _plt()
     th, dev = design.pitch.deviation()
     scale, unit = small_unit(design.spec.units, design.follower.lift_unit)
     deg = np.rad2deg(th)
-    fig, ax = plt.subplots(figsize=(9, 3.4))
-    _segment_marks(ax, design, labels=True)
-    ax.plot(deg, dev * scale, color=COLORS["s"], lw=0.8)
     k = int(np.argmax(np.abs(dev)))
-    ax.plot([deg[k]], [dev[k] * scale], "o", ms=4, color=COLORS["a"])
-    ax.annotate(f"max |s_actual − s| = {abs(dev[k]) * scale:.4g} {unit} at {deg[k]:.2f}°",
-                (deg[k], dev[k] * scale), xytext=(8, 0), textcoords="offset points", fontsize=8, va="center")
+    x, y = float(deg[k]), float(dev[k] * scale)
     j = np.rad2deg(design.pitch.angles)
-    ax.plot(j, np.zeros_like(j), "|", color="0.4", ms=5,
-            label=f"PH junctions (M = {design.pitch.M})" if _is_ph(design) else f"B-spline knots ({design.pitch.M} spans)")
-    ax.set_ylabel(f"s_actual − s [{unit}]", fontsize=8)
-    ax.legend(fontsize=7, loc="lower left")
-    _angle_axis(ax)
-    fig.tight_layout()
-    return fig
+    panel = _cycle_panel(design.program, labels=True, ylabel=f"s_actual − s [{unit}]", legend="lower left",
+                         height=_height(3.4))
+    panel.add(Curve(deg, dev * scale, color=COLORS["s"], width=0.8),
+              _dot(x, y, size=4, color=COLORS["a"]),
+              Note(x, y, f"max |s_actual − s| = {abs(y):.4g} {unit} at {x:.2f}°", size=8, dx=8, dy=0),
+              Curve(j, np.zeros_like(j), color=css_color("0.4"), line=False, marker="|", size=5,
+                    label=(f"PH junctions (M = {design.pitch.M})" if _is_ph(design)
+                           else f"B-spline knots ({design.pitch.M} spans)")))
+    return Chart.stack([panel], width=LINE_WIDTH)
 
 
 def series_figure(panels: Sequence[tuple[np.ndarray, np.ndarray, str, float | None, str | None]],
-                  design: CamDesign | None = None) -> Any:
+                  design: CamDesign | None = None) -> Chart:
     """Stacked θ-series, one panel each: (θ [deg], values, y label, limit or None, limit kind
     "max"/"min" or None) — e.g. contact force and Hertz stress with their allowed values."""
-    plt = _plt()
     n = len(panels)
-    fig, axes = plt.subplots(n, 1, figsize=(9, 2.6 * n + 0.6), sharex=True, squeeze=False)
-    for i, (ax, (deg, y, label, limit, kind)) in enumerate(zip(axes[:, 0], panels)):
-        if design is not None:
-            _segment_marks(ax, design, labels=i == 0)
-        ax.plot(deg, y, color=SERIES_COLORS[i % len(SERIES_COLORS)], lw=1.1)
+    program = None if design is None else design.program
+    out = []
+    for i, (deg, y, label, limit, kind) in enumerate(panels):
+        panel = _cycle_panel(program, labels=i == 0, last=i == n - 1, ylabel=label,
+                             height=_height(2.6 * n + 0.6, n))
+        panel.add(Curve(np.asarray(deg, dtype=float), np.asarray(y, dtype=float),
+                        color=SERIES_COLORS[i % len(SERIES_COLORS)], width=1.1))
         if limit is not None:
-            ax.axhline(limit, color=COLORS["limit"], ls="--", lw=0.9)
-            ax.text(2, limit, f" {kind or 'limit'} {limit:.4g}", color=COLORS["limit"], fontsize=7,
-                    va="bottom")
-        ax.set_ylabel(label, fontsize=8)
-        _angle_axis(ax, last=i == n - 1)
-    fig.tight_layout()
-    return fig
+            panel.add(Rule("y", float(limit), color=COLORS["limit"], width=0.9, dash="--",
+                           text=f" {kind or 'limit'} {limit:.4g}"))
+        out.append(panel)
+    return Chart.stack(out, width=LINE_WIDTH)
 
 
 def convergence_figure(iterations: np.ndarray, objective: np.ndarray, objective_label: str,
-                       violation: np.ndarray | None = None) -> Any:
+                       violation: np.ndarray | None = None) -> Chart:
     """An optimiser's history: objective per iteration and, when given, the largest
     constraint violation (log scale; ≤ 0 shown at the bottom as satisfied)."""
-    plt = _plt()
     rows = 2 if violation is not None else 1
-    fig, axes = plt.subplots(rows, 1, figsize=(9, 2.6 * rows + 0.4), sharex=True, squeeze=False)
-    ax = axes[0, 0]
-    ax.plot(iterations, objective, "-o", ms=2.5, lw=1.0, color=COLORS["s"])
-    ax.set_ylabel(objective_label, fontsize=8)
-    ax.grid(alpha=0.25)
-    ax.tick_params(labelsize=7)
+    h = _height(2.6 * rows + 0.4, rows)
+    it = np.asarray(iterations, dtype=float)
+    panels = [Panel([Curve(it, np.asarray(objective, dtype=float), color=COLORS["s"], width=1.0, marker="o",
+                           size=2.5)], ylabel=objective_label, xticklabels=rows == 1, height=h)]
     if violation is not None:
-        ax2 = axes[1, 0]
-        v = np.asarray(violation, dtype=float)
         floor = 1e-12
-        ax2.semilogy(iterations, np.maximum(v, floor), "-o", ms=2.5, lw=1.0, color=COLORS["a"])
-        ax2.set_ylabel("max constraint violation", fontsize=8)
-        ax2.grid(alpha=0.25)
-        ax2.tick_params(labelsize=7)
-    axes[-1, 0].set_xlabel("iteration", fontsize=8)
-    fig.tight_layout()
-    return fig
+        v = np.maximum(np.asarray(violation, dtype=float), floor)
+        panels.append(Panel([Curve(it, v, color=COLORS["a"], width=1.0, marker="o", size=2.5)],
+                            ylabel="max constraint violation", logy=True, height=h))
+    panels[-1].xlabel = "iteration"
+    return Chart.stack(panels, width=LINE_WIDTH)
 
 
-# ---- follower dynamics -------------------------------------------------------------------------
-#: SVG ids of the dynamics figures' marks: the operating speed, the jump speeds, the smallest force
-DYNAMICS_GIDS = {"speed": "dyn-speed", "jump": "dyn-jump-speed", "rigid_jump": "dyn-rigid-jump-speed",
-                 "min_force": "dyn-min-force"}
-
-
-def _program_marks(ax: Any, program: Any, labels: bool = False) -> None:
-    b = np.rad2deg(program.boundaries)
-    for x in b[1:-1]:
-        ax.axvline(x, color="0.75", lw=0.6, zorder=0)
-    if labels:
-        for k, kind in enumerate(program.kinds):
-            ax.text(0.5 * (b[k] + b[k + 1]), 1.02, kind, transform=ax.get_xaxis_transform(),
-                    ha="center", va="bottom", fontsize=7, color="0.35")
-
-
-def _off_cam(ax: Any, deg: np.ndarray, on_cam: np.ndarray) -> None:
-    """Shade where the follower is off the cam."""
-    off = ~np.asarray(on_cam, bool)
-    if off.any():
-        ax.fill_between(deg, 0, 1, where=off, transform=ax.get_xaxis_transform(), color=COLORS["a"],
-                        alpha=0.12, lw=0, label="off the cam")
-
-
-def dynamics_figure(result: Any, section: Mapping[str, Any]) -> Any:
-    """The follower train over one steady-state revolution (:class:`cam_workbench.generators.dynamics.DynamicsResult`):
-    the normal contact force, rigid and dynamic; the camshaft torque, rigid and dynamic; the
-    displacement error q − s and its vibration about the quasi-static deflection. ``section`` is
-    report.json's ``dynamics`` section: the marked smallest force is its value at its angle."""
-    plt = _plt()
-    deg = result.theta_deg
-    c = section["contact"]
-    scale, unit = small_unit(result.units, result.lift_unit)
-    fig, axes = plt.subplots(3, 1, figsize=(9, 8.2), sharex=True)
-    ax = axes[0]
-    _program_marks(ax, result.program, labels=True)
-    _off_cam(ax, deg, result.on_cam)
-    ax.plot(deg, result.rigid_force, color="0.45", lw=0.9, ls="--", label="rigid follower")
-    ax.plot(deg, result.force, color=COLORS["s"], lw=1.1, label=f"dynamic at {section['speed_rpm']:.4g} rpm")
-    ax.axhline(0.0, color=COLORS["limit"], lw=0.8, ls=":")
-    ax.plot([c["min_force_at_deg"]], [c["min_force"]], "o", ms=5, mfc=COLORS["fail" if not c["kept"] else "pass"],
-            mec="k", mew=0.6, gid=DYNAMICS_GIDS["min_force"], zorder=9)
-    ax.annotate(f"min {c['min_force']:.4g} {c['unit']} at {c['min_force_at_deg']:.1f}°",
-                (c["min_force_at_deg"], c["min_force"]), xytext=(8, 8), textcoords="offset points", fontsize=7)
-    ax.set_ylabel(f"contact force [{c['unit']}]", fontsize=8)
-    ax.legend(fontsize=7, loc="upper right")
-    _angle_axis(ax, last=False)
-    ax = axes[1]
-    _program_marks(ax, result.program)
-    _off_cam(ax, deg, result.on_cam)
-    tu = section["torque"]["unit"]
-    ax.plot(deg, result.rigid_torque, color="0.45", lw=0.9, ls="--", label="rigid")
-    ax.plot(deg, result.torque, color=COLORS["a"], lw=1.1, label="dynamic")
-    ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.set_ylabel(f"camshaft torque [{tu}]", fontsize=8)
-    ax.legend(fontsize=7, loc="upper right")
-    _angle_axis(ax, last=False)
-    ax = axes[2]
-    _program_marks(ax, result.program)
-    _off_cam(ax, deg, result.on_cam)
-    ax.plot(deg, result.error * scale, color=COLORS["v"], lw=1.0, label="q − s")
-    ax.plot(deg, result.vibration * scale, color=COLORS["j"], lw=0.8, label="vibration about the quasi-static deflection")
-    ax.set_ylabel(f"displacement error [{unit}]", fontsize=8)
-    ax.legend(fontsize=7, loc="lower right")
-    _angle_axis(ax)
-    fig.tight_layout()
-    return fig
-
-
-def jump_speed_figure(result: Any, section: Mapping[str, Any]) -> Any:
-    """The jump-speed curve: the smallest contact force over the cycle against the cam speed, with
-    the analysis speed and the jump speeds (dynamic and rigid) of report.json's ``dynamics``
-    section marked."""
-    plt = _plt()
-    jp = section["jump_speed"]
-    sweep = jp["sweep"]
-    fig, ax = plt.subplots(figsize=(9, 3.8))
-    ax.plot(sweep["speeds_rpm"], sweep["min_force"], "-o", ms=2, lw=1.0, color=COLORS["s"],
-            label="smallest contact force over a revolution (< 0: the cam would have to pull)")
-    ax.axhline(0.0, color=COLORS["limit"], lw=0.8, ls=":")
-    ax.axvline(section["speed_rpm"], color=COLORS["v"], lw=1.0, gid=DYNAMICS_GIDS["speed"],
-               label=f"analysis speed {section['speed_rpm']:.4g} rpm")
-    if jp["rpm"] is not None:
-        ax.axvline(jp["rpm"], color=COLORS["a"], lw=1.2, ls="--", gid=DYNAMICS_GIDS["jump"],
-                   label=f"jump speed {jp['rpm']:.5g} rpm")
-    if jp["rigid_rpm"] is not None and jp["sweep_from_rpm"] <= jp["rigid_rpm"] <= jp["sweep_to_rpm"]:
-        ax.axvline(jp["rigid_rpm"], color="0.45", lw=0.9, ls=":", gid=DYNAMICS_GIDS["rigid_jump"],
-                   label=f"rigid follower's {jp['rigid_rpm']:.5g} rpm")
-    ax.set_xlabel("cam speed [rpm]", fontsize=8)
-    ax.set_ylabel(f"min contact force [{section['contact']['unit']}]", fontsize=8)
-    ax.grid(alpha=0.25)
-    ax.tick_params(labelsize=7)
-    ax.legend(fontsize=7, loc="lower left")
-    fig.tight_layout()
-    return fig
-
-
-#: the figure that shows a design at a glance, ``fn(design, follower_angle_deg)``, by the design's
-#: class (:func:`picture`): the plane cams' here, a body's own in its module
-PICTURES: ByClass[Callable[..., Any]] = ByClass("the cam's picture")
+#: the figure that shows a design at a glance, ``fn(design, follower_angle_deg) -> Chart``, by the
+#: design's class (:func:`picture`): the plane cams' here, a body's own in its module
+PICTURES: ByClass[Callable[..., Chart]] = ByClass("the cam's picture")
 PICTURES.register(CamDesign)(cam_figure)
 
 
-def picture(design: Any, follower_angle_deg: float = 75.0) -> Any:
+def picture(design: object, follower_angle_deg: float = 75.0) -> Chart | None:
     """The figure that shows a designed cam at a glance — the Python API's picture in Jupyter:
     a cam of plane curves beside its motion (:func:`cam_figure`), a cylindrical cam's cylinder
     beside its developed view (:func:`cam_workbench.exporters.plots_cylindrical.cylindrical_figure`)

@@ -1,98 +1,151 @@
-"""Matplotlib figures of a cylindrical (barrel) cam: the cylinder with its groove beside the
-developed view (its picture, registered in :data:`cam_workbench.exporters.plots.PICTURES`), and the
-pressure angle at the pitch and the bottom radius (the report's figures)."""
-from __future__ import annotations
+"""Figures of a cylindrical (barrel) cam as :class:`~.chart.Chart` s: the cylinder with its groove
+beside the developed view (its picture, registered in :data:`cam_workbench.exporters.plots.PICTURES`),
+and the pressure angle at the pitch and the bottom radius (the report's figures).
 
-from typing import Any
+The cylinder is drawn in an orthographic projection computed here (:func:`project`, the view of
+matplotlib's ``view_init(elev=18, azim=20)``): lines on the far side of the cylinder are drawn faint."""
+from __future__ import annotations
 
 import numpy as np
 
 from cam_workbench.generators.bodies.cylindrical import CylindricalDesign, pressure_angles
 
-from .plots import PICTURES, _plt
+from .chart import Area, Chart, Curve, Panel, Rule, angle_panel, css_color
+from .plots import PICTURES
+
+#: the view of the cylinder: elevation and azimuth [deg] of the viewing direction (matplotlib's view_init)
+ELEVATION_DEG = 18.0
+AZIMUTH_DEG = 20.0
+
+_LINE = "#1f3a5f"
+_FILL = "#b4c7dc"
+_HIDDEN_ALPHA = 0.25
 
 
-@PICTURES.register(CylindricalDesign)
-def cylindrical_figure(design: Any, follower_angle_deg: float = 75.0) -> Any:
-    """A cylindrical (barrel) cam: a 3D view of the cylinder with its groove (the walls at the outer
-    radius and at the groove's bottom, the exact wall points of
-    :func:`cam_workbench.generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
-    beside the developed view (x = ρ·ψ [length], z): the walls at R_o, the pitch line at R_p."""
-    plt = _plt()
+def project(points: np.ndarray, elev_deg: float = ELEVATION_DEG, azim_deg: float = AZIMUTH_DEG) -> np.ndarray:
+    """Orthographic projection of 3D points (..., 3) seen from the direction at elevation ``elev_deg``
+    and azimuth ``azim_deg`` (the z axis up on the screen): their screen points (..., 2)."""
+    e, a = np.deg2rad(elev_deg), np.deg2rad(azim_deg)
+    view = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    right = np.array([-np.sin(a), np.cos(a), 0.0])
+    up = np.cross(view, right)
+    p = np.asarray(points, dtype=float)
+    return np.stack([p @ right, p @ up], axis=-1)
+
+
+def _on_front(points: np.ndarray, azim_deg: float = AZIMUTH_DEG) -> np.ndarray:
+    """Points on (or in a groove of) the cylinder's mantle that face the viewer."""
+    a = np.deg2rad(azim_deg)
+    return points[..., 0] * np.cos(a) + points[..., 1] * np.sin(a) >= 0.0
+
+
+def _seen_and_hidden(points: np.ndarray, seen: np.ndarray, color: str, width: float, alpha: float = 1.0
+                     ) -> list[Curve]:
+    """A projected 3D polyline as two curves: the part where ``seen`` (solid) and the rest (faint);
+    each part runs one point into the other so that they meet."""
+    xy = project(points)
+    near = seen | np.r_[seen[1:], False] | np.r_[False, seen[:-1]]
+    far = ~seen | np.r_[~seen[1:], False] | np.r_[False, ~seen[:-1]]
+    out = []
+    for mask, a in ((far, alpha * _HIDDEN_ALPHA), (near, alpha)):
+        if mask.any():
+            out.append(Curve(np.where(mask, xy[:, 0], np.nan), np.where(mask, xy[:, 1], np.nan), color=color,
+                             width=width, alpha=a))
+    return out
+
+
+def _circle(radius: float, z: float, psi: np.ndarray) -> np.ndarray:
+    return np.column_stack([radius * np.cos(psi), radius * np.sin(psi), np.full_like(psi, z)])
+
+
+def _cylinder_panel(design: CylindricalDesign, follower_angle_deg: float) -> Panel:
+    """The cylinder (outline, end circles, bore, silhouette lines), its groove's walls at R_o and R_b
+    and the roller with its stem, projected (:func:`project`)."""
     lay = design.layout
     u = design.spec.units
-    fig = plt.figure(figsize=(11, 5))
-    ax = fig.add_subplot(1, 2, 1, projection="3d")
     ro, rb, length = lay.outer_radius, lay.bottom_radius, lay.length
-    psi = np.linspace(0, 2 * np.pi, 121)
-    zz = np.linspace(0, length, 2)
-    P, Z = np.meshgrid(psi, zz)
-    ax.plot_surface(ro * np.cos(P), ro * np.sin(P), Z, color="#b4c7dc", alpha=0.35, linewidth=0)
-    for z in (0.0, length):
-        ax.plot(ro * np.cos(psi), ro * np.sin(psi), z, color="#1f3a5f", lw=0.8)
-        ax.plot(lay.bore_radius * np.cos(psi), lay.bore_radius * np.sin(psi), z, color="#1f3a5f", lw=0.6)
+    ax = Panel(equal=True, axes=False, xlabel="", ylabel="", height=300.0,
+               title=f"cylindrical cam: R_p = {lay.pitch_radius:g}, R_o = {ro:g}, L = {length:g} {u}\n"
+                     f"groove {2 * lay.half_width:g} wide, {ro - rb:g} deep; roller at θ = {follower_angle_deg:g}°")
+    a = np.deg2rad(AZIMUTH_DEG)
+    # the outline: the near half of the bottom circle, the far half of the top one; the bore a hole
+    front = np.linspace(a - np.pi / 2, a + np.pi / 2, 91)
+    outline = np.vstack([_circle(ro, 0.0, front), _circle(ro, length, front + np.pi)])
+    psi = np.linspace(0, 2 * np.pi, 181)
+    ax.add(Area([project(outline), project(_circle(lay.bore_radius, length, psi))], fill=_FILL, alpha=0.35))
+    # the end circles and the bore (the bottom's far half and its bore are behind the cylinder)
+    top = np.ones_like(psi, dtype=bool)
+    for z, rim_seen, bore_seen in ((0.0, _on_front(_circle(ro, 0.0, psi)), ~top), (length, top, top)):
+        ax.add(*_seen_and_hidden(_circle(ro, z, psi), rim_seen, _LINE, 0.8))
+        ax.add(*_seen_and_hidden(_circle(lay.bore_radius, z, psi), bore_seen, _LINE, 0.6))
+    # the silhouette: the two generators whose surface normals are square to the view
+    for g in (a - np.pi / 2, a + np.pi / 2):
+        xy = project(np.array([[ro * np.cos(g), ro * np.sin(g), 0.0], [ro * np.cos(g), ro * np.sin(g), length]]))
+        ax.add(Curve(xy[:, 0], xy[:, 1], color=_LINE, width=0.8))
+    # the groove's walls: exact points at the outer radius and at the bottom
     th = np.linspace(0, 2 * np.pi, 1441)
     for side in (-1, 1):
         for rho, lw, alpha in ((ro, 1.4, 1.0), (rb, 0.8, 0.6)):
             p = design.wall_points(side, th, rho)
-            ax.plot(p[:, 0], p[:, 1], p[:, 2], color="#1f3a5f", lw=lw, alpha=alpha)
-    t0 = np.deg2rad(follower_angle_deg)
-    cx, cy, zc = lay.centre_point(design.program, float(t0))      # the roller centre on the pitch cylinder
+            ax.add(*_seen_and_hidden(p, _on_front(p), _LINE, lw, alpha))
+    # the roller (its axis radial through the pitch point) in the cylinder's tangent plane at R_o, and its stem
+    cx, cy, zc = lay.centre_point(design.program, float(np.deg2rad(follower_angle_deg)))
     phi0 = float(np.arctan2(cy, cx))
-    a = np.linspace(0, 2 * np.pi, 61)
+    t = np.linspace(0, 2 * np.pi, 61)
     r = design.spec.roller_radius
-    # the roller (its axis radial through the pitch point) in the cylinder's tangent plane, at R_o
-    tx, ty = -np.sin(phi0), np.cos(phi0)
-    ax.plot(ro * np.cos(phi0) + r * np.cos(a) * tx, ro * np.sin(phi0) + r * np.cos(a) * ty, zc + r * np.sin(a),
-            color="#c8871e", lw=2.0)
-    ax.plot([ro * np.cos(phi0), (ro + 2.5 * r) * np.cos(phi0)], [ro * np.sin(phi0), (ro + 2.5 * r) * np.sin(phi0)],
-            [zc, zc], color="#8b5e14", lw=3)
-    ax.set_box_aspect((1, 1, length / (2 * ro)))
-    ax.set_xlabel(f"x [{u}]", fontsize=8)
-    ax.set_ylabel(f"y [{u}]", fontsize=8)
-    ax.set_zlabel(f"z [{u}]", fontsize=8)
-    ax.tick_params(labelsize=7)
-    ax.view_init(elev=18, azim=20)
-    ax.set_title(f"cylindrical cam: R_p = {lay.pitch_radius:g}, R_o = {ro:g}, L = {length:g} {u}\n"
-                 f"groove {2 * lay.half_width:g} wide, {ro - rb:g} deep; roller at θ = {follower_angle_deg:g}°",
-                 fontsize=9)
-    ad = fig.add_subplot(1, 2, 2)
+    radial, tangent = np.array([np.cos(phi0), np.sin(phi0), 0.0]), np.array([-np.sin(phi0), np.cos(phi0), 0.0])
+    roller = ro * radial + np.outer(r * np.cos(t), tangent) + np.outer(zc + r * np.sin(t), [0.0, 0.0, 1.0])
+    stem = np.array([ro * radial + [0.0, 0.0, zc], (ro + 2.5 * r) * radial + [0.0, 0.0, zc]])
+    for pts, color, lw in ((roller, "#c8871e", 2.0), (stem, "#8b5e14", 3.0)):
+        xy = project(pts)
+        ax.add(Curve(xy[:, 0], xy[:, 1], color=color, width=lw))
+    return ax
+
+
+def _developed_panel(design: CylindricalDesign) -> Panel:
+    """The developed view (x = ρ·ψ, z): the walls at R_o, the pitch line at R_p, the cylinder's
+    developed outline."""
+    lay = design.layout
+    u = design.spec.units
+    ro, length = lay.outer_radius, lay.length
+    ax = Panel(equal=True, xlabel=f"x = ρ·ψ [{u}] along the circumference", ylabel=f"z [{u}] along the cam axis",
+               title="developed view (the DXF's view)", legend="below", legend_columns=3, height=110.0)
+    th = np.linspace(0, 2 * np.pi, 1441)
     for side in (-1, 1):
         p = design.developed_points(ro, side, th)
-        ad.plot(p[:, 0], p[:, 1], color="#1f3a5f", lw=1.2, label="walls at R_o (±w/2)" if side == -1 else None)
+        ax.add(Curve(p[:, 0], p[:, 1], color=_LINE, width=1.2, label="walls at R_o (±w/2)" if side == -1 else None))
     p = design.developed_points(lay.pitch_radius, 0, th)
-    ad.plot(p[:, 0], p[:, 1], "--", color="#c0392b", lw=1.0, label="pitch line at R_p")
+    ax.add(Curve(p[:, 0], p[:, 1], color="#c0392b", width=1.0, dash="--", label="pitch line at R_p"))
     x0, x1 = sorted((ro * float(lay.phi(0.0)), ro * float(lay.phi(2 * np.pi))))
-    ad.plot([x0, x1, x1, x0, x0], [0, 0, length, length, 0], color="0.3", lw=0.8, label="cylinder, developed at R_o")
-    ad.set_aspect("equal")
-    ad.set_xlabel(f"x = ρ·ψ [{u}] along the circumference", fontsize=8)
-    ad.set_ylabel(f"z [{u}] along the cam axis", fontsize=8)
-    ad.tick_params(labelsize=7)
-    ad.grid(alpha=0.25)
-    ad.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=3)
-    ad.set_title("developed view (the DXF's view)", fontsize=9)
-    fig.tight_layout()
-    return fig
+    ax.add(Curve(np.array([x0, x1, x1, x0, x0]), np.array([0.0, 0.0, length, length, 0.0]), color=css_color("0.3"),
+                 width=0.8, label="cylinder, developed at R_o"))
+    return ax
 
 
-def cylindrical_pressure_angle_figure(design: Any, limit_deg: float | None) -> Any:
+@PICTURES.register(CylindricalDesign)
+def cylindrical_figure(design: CylindricalDesign, follower_angle_deg: float = 75.0) -> Chart:
+    """A cylindrical (barrel) cam: a view of the cylinder with its groove (the walls at the outer
+    radius and at the groove's bottom, the exact wall points of
+    :func:`cam_workbench.generators.bodies.cylindrical.wall_points`) and the roller at ``follower_angle_deg``,
+    beside the developed view (x = ρ·ψ [length], z): the walls at R_o, the pitch line at R_p."""
+    return Chart([[_cylinder_panel(design, follower_angle_deg)], [_developed_panel(design)]], width=800.0,
+                 widths=(1.0, 1.0))
+
+
+def cylindrical_pressure_angle_figure(design: CylindricalDesign, limit_deg: float | None) -> Chart:
     """A cylindrical cam's pressure angle [deg] at R_p and R_b against the cam angle, with the
     check's limit (±``limit_deg``, report.json's)."""
     lay = design.layout
     th = design.program.dense_angles(721)
     deg = np.rad2deg(th)
-    fig, ax = _plt().subplots(figsize=(7.0, 3.2))
-    ax.plot(deg, pressure_angles(lay, design.program, lay.pitch_radius, th), color="#1f3a5f",
-            label=f"at the pitch radius R_p = {lay.pitch_radius:g}")
-    ax.plot(deg, pressure_angles(lay, design.program, lay.bottom_radius, th), "--", color="#c8871e",
-            label=f"at the groove's bottom R_b = {lay.bottom_radius:.4g}")
+    ax = angle_panel(xlabel="cam angle θ [deg]", ylabel="pressure angle φ [deg]", legend="below",
+                     legend_columns=2, height=200.0)
+    ax.add(Curve(deg, pressure_angles(lay, design.program, lay.pitch_radius, th), color=_LINE,
+                 width=1.5, label=f"at the pitch radius R_p = {lay.pitch_radius:g}"))
+    ax.add(Curve(deg, pressure_angles(lay, design.program, lay.bottom_radius, th), color="#c8871e", width=1.5,
+                 dash="--", label=f"at the groove's bottom R_b = {lay.bottom_radius:.4g}"))
     if limit_deg is not None:
         for sgn in (1, -1):
-            ax.axhline(sgn * limit_deg, color="#c0392b", lw=0.8, ls=":", label="limit" if sgn == 1 else None)
-    ax.set_xlabel("cam angle θ [deg]")
-    ax.set_ylabel("pressure angle φ [deg]")
-    ax.set_xlim(0, 360)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return fig
+            ax.add(Rule("y", sgn * limit_deg, color="#c0392b", width=0.8, dash=":",
+                        label="limit" if sgn == 1 else None))
+    return Chart.stack([ax], width=560.0)

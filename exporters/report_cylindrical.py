@@ -10,9 +10,9 @@ from typing import Any, Callable, Mapping
 
 from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 
-from . import plots, plots_cylindrical
+from . import chart_png, chart_svg, plots_cylindrical
 from .report_cells import quantity_table
-from .report_html import CSS, inline_svg
+from .report_html import CSS
 from .report_pages import REPORT_PAGES
 from .report_sections import checks_section
 
@@ -22,22 +22,20 @@ FIGURES = (("plot_cylinder.png", "The cylinder and the developed view"),
 
 
 def render_cylindrical_report(design: Any, report: Mapping[str, Any],
-                              progress: Callable[[str], None] | None = None) -> tuple[str, dict[str, bytes]]:
-    """The HTML text and the PNG files ({name: bytes}) of a cylindrical cam's report."""
+                              progress: Callable[[str], None] | None = None,
+                              pngs: bool = False) -> tuple[str, dict[str, bytes]]:
+    """The HTML text and, with ``pngs``, the PNG files ({name: bytes}) of a cylindrical cam's report."""
     makers = {"plot_cylinder.png": lambda: plots_cylindrical.cylindrical_figure(design),
               "plot_pressure_angle.png": lambda: plots_cylindrical.cylindrical_pressure_angle_figure(
                   design, report["checks"]["results"]["pressure_angle"].get("limit"))}
-    svgs, pngs = {}, {}
+    svgs, files = {}, {}
     for name, title in FIGURES:
         if progress is not None:
             progress(title)
-        fig = makers[name]()
-        try:
-            svgs[name] = inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), name.split(".")[0])
-            pngs[name] = plots.figure_bytes(fig, "png", dpi=130)
-        finally:
-            plots.close(fig)
-    return _page(report, svgs), pngs
+        svgs[name] = chart_svg.svg(makers[name](), name[5:-4])
+        if pngs:
+            files[name] = chart_png.png_bytes(svgs[name])
+    return _page(report, svgs), files
 
 
 @REPORT_PAGES.register(CylindricalDesign)
@@ -49,9 +47,9 @@ class CylindricalPage:
     def __init__(self, design: Any, summary: Mapping[str, Any], dynamics: Any = None) -> None:
         self.design = design
 
-    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None
+    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None, pngs: bool = False
                ) -> tuple[str, dict[str, bytes]]:
-        return render_cylindrical_report(self.design, report, progress=progress)
+        return render_cylindrical_report(self.design, report, progress=progress, pngs=pngs)
 
 
 def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:

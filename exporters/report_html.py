@@ -1,5 +1,9 @@
-"""``report.html``: the design report as one self-contained file (inline SVG plots, inline
-CSS, no scripts, nothing loaded from elsewhere), plus the same plots as PNG files.
+"""``report.html``: the design report as one self-contained file (inline SVG figures, inline
+CSS, no scripts, nothing loaded from elsewhere), and on request the same figures as PNG files.
+
+Each figure is a :class:`~cam_workbench.exporters.chart.Chart` built from the design's numbers,
+drawn once as SVG (:mod:`cam_workbench.exporters.chart_svg`, no matplotlib); a PNG is that SVG
+rasterised (:mod:`cam_workbench.exporters.chart_png`).
 
 Every number in a table is the value of ``report.json`` at the path in the cell's
 ``data-key`` (``data-value`` holds it exactly, the text shows it to 6 digits), so the
@@ -40,7 +44,6 @@ always                          the cam drawing with the follower, key numbers, 
 from __future__ import annotations
 
 import html
-import re
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
@@ -55,7 +58,8 @@ from cam_workbench.generators.checks.claims import pitch_text, profile_claim
 from cam_workbench.generators.machining.interpolator import interpolator_accuracy
 from cam_workbench.generators.spec.params import unit_name
 
-from . import interpolator_plots, plots
+from . import chart_png, chart_svg, interpolator_plots, plots, plots_dynamics
+from .chart import Chart
 from .report_cells import check_result
 from .report_pages import REPORT_PAGES
 from .report_sections import PageData, page_sections
@@ -84,12 +88,13 @@ class Series:
 
 @dataclass(frozen=True)
 class Plot:
-    """One figure of the report: its key (file ``plot_<key>.png``, element ``fig-<key>``)."""
+    """One figure of the report: its key (file ``plot_<key>.png``, element ``fig-<key>``) and the
+    function making its chart."""
 
     key: str
     title: str
     caption: str
-    make: Callable[[], Any]
+    make: Callable[[], Chart]
 
     @property
     def png_name(self) -> str:
@@ -231,7 +236,7 @@ def _dynamics_plots(design: CamDesign, report: Mapping[str, Any], dynamics: Any)
             f"(dashed) and of the elastic train, and the displacement error q − s [{u_small}] with its vibration "
             "about the quasi-static deflection. Shaded: off the cam. The marked point is report.json's "
             "dynamics.contact.min_force at its cam angle.",
-            lambda: plots.dynamics_figure(dynamics, dyn)))
+            lambda: plots_dynamics.dynamics_figure(dynamics, dyn)))
         if isinstance(dyn.get("jump_speed"), Mapping):
             out.append(Plot(
                 "jump_speed", "Jump speed",
@@ -239,7 +244,7 @@ def _dynamics_plots(design: CamDesign, report: Mapping[str, Any], dynamics: Any)
                 "speed (the sweep of dynamics.sweep_points speeds); the jump speed is where it first reaches 0 "
                 "(refined by Brent's method between two speeds of the sweep). Lines: the analysis speed, the jump "
                 "speed and the rigid follower's.",
-                lambda: plots.jump_speed_figure(dynamics, dyn)))
+                lambda: plots_dynamics.jump_speed_figure(dynamics, dyn)))
     return out
 
 
@@ -323,37 +328,39 @@ class PlanePage:
         self.series = optional_series(design)
         self.figures = [p.png_name for p in report_plots(design, summary, self.series, dynamics)]
 
-    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None
+    def render(self, report: dict[str, Any], progress: Callable[[str], None] | None, pngs: bool = False
                ) -> tuple[str, dict[str, bytes]]:
-        return render_report(self.design, report, self.series, progress=progress, dynamics=self.dynamics)
+        return render_report(self.design, report, self.series, progress=progress, dynamics=self.dynamics,
+                             pngs=pngs)
 
 
 def render_report(design: CamDesign, report: Mapping[str, Any], series: Mapping[str, Series] | None = None,
                   *, progress: Callable[[str], None] | None = None,
-                  dynamics: Any = None) -> tuple[str, dict[str, bytes]]:
-    """The HTML text and the PNG files ({name: bytes}) of the report.
+                  dynamics: Any = None, pngs: bool = False) -> tuple[str, dict[str, bytes]]:
+    """The HTML text and, with ``pngs``, the figures as PNG files ({name: bytes}).
 
     Args:
-        design: the designed cam (for the plots).
+        design: the designed cam (for the figures).
         report: the report.json content (as written: parse the JSON text, so the HTML
             shows exactly what the file holds).
         series: optional θ-series (see the module docstring).
         progress: called with each figure's title before it is drawn.
         dynamics: the DynamicsResult behind ``report["dynamics"]`` (its figures).
+        pngs: rasterise each figure's SVG to PNG too.
+
+    Raises:
+        MissingDependency: ``pngs`` without CairoSVG.
     """
     figures: dict[str, str] = {}
-    pngs: dict[str, bytes] = {}
+    files: dict[str, bytes] = {}
     plot_list = report_plots(design, report, series, dynamics)
     for p in plot_list:
         if progress is not None:
             progress(p.title)
-        fig = p.make()
-        try:
-            figures[p.key] = inline_svg(plots.figure_bytes(fig, "svg").decode("utf-8"), p.key)
-            pngs[p.png_name] = plots.figure_bytes(fig, "png", dpi=130)
-        finally:
-            plots.close(fig)
-    return _page(design, report, plot_list, figures), pngs
+        figures[p.key] = chart_svg.svg(p.make(), p.key)
+        if pngs:
+            files[p.png_name] = chart_png.png_bytes(figures[p.key])
+    return _page(design, report, plot_list, figures), files
 
 
 # ---- page ----------------------------------------------------------------------------------
@@ -431,23 +438,3 @@ def _history(report: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray, np.ndar
     if all(isinstance(x.get("max_violation"), (int, float)) for x in h):
         viol = np.array([x["max_violation"] for x in h], dtype=float)
     return it, obj, viol
-
-
-# ---- SVG -----------------------------------------------------------------------------------
-_ID = re.compile(r'id="([^"]+)"')
-_REF = re.compile(r'(id="|url\(#|href="#)([^"\)]+)')
-
-
-def inline_svg(svg: str, prefix: str) -> str:
-    """Matplotlib's SVG made fit for inlining: no XML prolog, scalable, and its ids made
-    unique per figure (several figures define the same glyph and clip ids)."""
-    svg = svg[svg.index("<svg"):]
-    ids = set(_ID.findall(svg))
-
-    def scoped(m: re.Match) -> str:
-        return m.group(1) + (f"{prefix}-{m.group(2)}" if m.group(2) in ids else m.group(2))
-
-    svg = _REF.sub(scoped, svg)
-    head_end = svg.index(">")
-    head = re.sub(r'\s(width|height)="[^"]*"', "", svg[:head_end])
-    return head + ' class="plot" role="img"' + svg[head_end:]

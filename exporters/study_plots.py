@@ -8,10 +8,16 @@ panels sharing their y axis so that the laws compare at a glance.
 columns unless told: x = the first numeric axis, lines = the next numeric axis (or the
 categorical one), panels = whatever categorical axis is left (several left: one panel per
 combination).  A point without a radius (none passes) leaves a gap and is counted in the panel.
+
+The chart is a matplotlib figure (Agg backend): :func:`figure_bytes` gives it as PNG or SVG bytes,
+:func:`save_figure` writes it atomically and :func:`close` frees it.
 """
 from __future__ import annotations
 
+import io
 import itertools
+import os
+from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
@@ -19,13 +25,56 @@ import numpy as np
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.studies.table import StudyTable
 
-from .plots import SERIES_COLORS, _plt
+from .atomic import atomic_path
+from .plots import SERIES_COLORS
 
 LINE_COLORS = SERIES_COLORS + ("#e67e22", "#00838f", "#8a6212", "#ad1457", "#546e7a")
 MAX_PANELS = 12
 #: the checks whose value must stay at or below their limit (the others: at or above)
 MAX_CHECKS = ("pressure_angle", "contact_stress", "face_width")
 CHECK_UNITS = {"pressure_angle": "°"}
+
+
+# ---- matplotlib (the sweep charts draw with it; the report's figures are charts of .chart) -------
+def _plt() -> Any:
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # deferred: matplotlib, loaded when a figure is drawn
+
+    return plt
+
+
+def save_figure(fig: Any, path: str | os.PathLike[str], dpi: int = 150) -> Path:
+    """Save a figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
+    target = Path(path)
+    with atomic_path(target) as tmp:
+        fig.savefig(tmp, dpi=dpi, format=target.suffix.lstrip(".") or "png", bbox_inches="tight")
+    _plt().close(fig)
+    return target
+
+
+def figure_bytes(fig: Any, fmt: str, dpi: int = 150) -> bytes:
+    """The figure as PNG or SVG bytes (SVG text keeps glyphs as paths: no font files needed)."""
+    import matplotlib  # deferred: matplotlib, loaded when a figure is drawn
+
+    buf = io.BytesIO()
+    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "cam_workbench"}):
+        fig.savefig(buf, format=fmt, dpi=dpi, bbox_inches="tight", metadata=_metadata(fmt))
+    return buf.getvalue()
+
+
+def close(fig: Any) -> None:
+    _plt().close(fig)
+
+
+def _metadata(fmt: str) -> dict[str, Any]:
+    # no creation dates: the same design gives the same files
+    if fmt == "svg":
+        return {"Date": None, "Creator": "cam_workbench"}
+    if fmt == "png":
+        return {"Software": "cam_workbench"}
+    return {}
 
 
 def _numeric(values: Sequence[Any]) -> bool:

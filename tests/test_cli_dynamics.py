@@ -111,23 +111,22 @@ def test_dynamics_figures_mark_report_json_numbers(above):
     from cam_workbench.generators.dynamics import analyse_dynamics
     from cam_workbench.generators.spec import default_spec
 
-    from cam_workbench.exporters import plots
+    from cam_workbench.exporters import plots_dynamics
 
     out, _res = above
     d = json.loads((out / "report.json").read_text())["dynamics"]
     spec = default_spec().replace(**{"dynamics.stiffness": 2000.0, "follower.spring_rate": 3.0,
                                      "dynamics.speed_rpm": 700.0})
     result = analyse_dynamics(spec)
-    fig = plots.jump_speed_figure(result, d)
-    lines = {ln.get_gid(): ln for ax in fig.axes for ln in ax.lines if ln.get_gid()}
-    assert lines[plots.DYNAMICS_GIDS["jump"]].get_xdata()[0] == d["jump_speed"]["rpm"]
-    assert lines[plots.DYNAMICS_GIDS["speed"]].get_xdata()[0] == d["speed_rpm"]
-    assert lines[plots.DYNAMICS_GIDS["rigid_jump"]].get_xdata()[0] == d["jump_speed"]["rigid_rpm"]
-    plots.close(fig)
-    fig = plots.dynamics_figure(result, d)
-    mark = [ln for ax in fig.axes for ln in ax.lines if ln.get_gid() == plots.DYNAMICS_GIDS["min_force"]][0]
-    assert (mark.get_xdata()[0], mark.get_ydata()[0]) == (d["contact"]["min_force_at_deg"], d["contact"]["min_force"])
-    plots.close(fig)
+    gids = plots_dynamics.DYNAMICS_GIDS
+    chart = plots_dynamics.jump_speed_figure(result, d)
+    for key, value in (("jump", d["jump_speed"]["rpm"]), ("speed", d["speed_rpm"]),
+                       ("rigid_jump", d["jump_speed"]["rigid_rpm"])):
+        [rule] = chart.marks(gids[key])
+        assert rule.axis == "x" and rule.at == value
+    chart = plots_dynamics.dynamics_figure(result, d)
+    [mark] = chart.marks(gids["min_force"])
+    assert (mark.x[0], mark.y[0]) == (d["contact"]["min_force_at_deg"], d["contact"]["min_force"])
 
 
 @pytest.mark.parametrize("args, field", [
@@ -174,7 +173,8 @@ class Cells(HTMLParser):
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
     out = tmp_path_factory.mktemp("built") / "out"
-    res = run("build", "--set", "dynamics.enabled=true", *STIFF, "--set", "dynamics.speed_rpm=700", "-o", str(out))
+    res = run("build", "--plots", "--set", "dynamics.enabled=true", *STIFF, "--set", "dynamics.speed_rpm=700",
+              "-o", str(out))
     assert res.returncode == 0, res.stderr
     return out, res
 

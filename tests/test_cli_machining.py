@@ -24,7 +24,7 @@ def run(*args):
 @requires_ocp
 def test_build_writes_machining_files_and_report(tmp_path):
     out = tmp_path / "out"
-    res = run("build", "-o", str(out), "--set", "machining.program=xc")
+    res = run("build", "--plots", "-o", str(out), "--set", "machining.program=xc")
     assert res.returncode == 0, res.stderr
     names = sorted(p.name for p in out.iterdir())
     assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv",

@@ -53,7 +53,7 @@ class _Ids(HTMLParser):
 @requires_ocp
 def test_optimise_example5_writes_spec_report_and_plots(tmp_path):
     out = tmp_path / "opt"
-    res = run("optimise", EX5, "--set", "checks.convex=true", "-o", str(out))
+    res = run("optimise", EX5, "--plots", "--set", "checks.convex=true", "-o", str(out))
     assert res.returncode == 0, res.stderr
     names = {p.name for p in out.iterdir()}
     assert {"optimised.toml", "report.json", "report.html", "plot_convergence.png", "plot_cam.png"} <= names

@@ -442,7 +442,7 @@ def test_both_programs_through_rs274(tmp_path, case, program):
     spec = base.spec.replace(**{"machining.program": program, "machining.tool_radius": 5.0})
     design = design_cam(spec)
     second = design.body.extra["second_cam"]
-    out = machining_outputs(design, plots=False, summary=design.summary())
+    out = machining_outputs(design, summary=design.summary())
     assert out.files["gcode_second"] == "cam2.nc" and out.machining_summary["second_cam"]["file"] == "cam2.nc"
     plan = out.plan
     allowance = plan.chord_tolerance + 2 * PRINT_QUANTUM
@@ -497,9 +497,10 @@ def test_cli_build_gcode_check(tmp_path):
     b = cli("build", str(spec_file), "-o", str(tmp_path / "out"))
     assert b.returncode == 0, b.stderr
     out = tmp_path / "out"
-    for name in ("cam.step", "cam.dxf", "cam.nc", "cam2.nc", "report.json", "report.html", "plot_conjugate.png",
-                 "plot_roller_distance.png"):
+    for name in ("cam.step", "cam.dxf", "cam.nc", "cam2.nc", "report.json", "report.html"):
         assert (out / name).stat().st_size > 0, name
+    html_text = (out / "report.html").read_text(encoding="utf-8")
+    assert 'id="fig-conjugate"' in html_text and 'id="fig-roller_distance"' in html_text
     rep = json.loads((out / "report.json").read_text())
     body = rep["body"]
     assert body["kind"] == "conjugate" and rep["files"]["gcode_second"] == "cam2.nc"

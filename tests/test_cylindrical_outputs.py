@@ -331,23 +331,22 @@ def test_batch_builds_a_cylindrical_cam(tmp_path):
 
 
 # ---- the README picture -------------------------------------------------------------------------------
-def test_cylindrical_figure_draws_the_walls(tmp_path):
-    from cam_workbench.exporters import plots, plots_cylindrical
+def test_cylindrical_figure_draws_the_walls():
+    import xml.etree.ElementTree as ET
+
+    from cam_workbench.exporters import chart_svg, plots_cylindrical
+    from cam_workbench.exporters.chart import Curve
     from cam_workbench.generators import design_cam
 
-    fig = plots_cylindrical.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
-    try:
-        developed = fig.axes[1]
-        walls = [ln for ln in developed.get_lines() if ln.get_color() == "#1f3a5f"]
-        assert len(walls) == 2
-        for ln, side in zip(walls, (-1, 1)):
-            pts = np.column_stack(ln.get_data())[::97]
-            d, s = _distance_to_centre_line(RO, pts)
-            assert np.max(np.abs(d - W2)) < 1e-9 and np.all(s == side)
-        png = plots.figure_bytes(fig, "png", dpi=60)
-        assert png[:8] == b"\x89PNG\r\n\x1a\n"
-    finally:
-        plots.close(fig)
+    chart = plots_cylindrical.cylindrical_figure(design_cam(CamSpec.from_dict(EXAMPLES["cylindrical"])))
+    developed = chart.columns[1][0]
+    walls = [m for m in developed.marks if isinstance(m, Curve) and m.color == "#1f3a5f"]
+    assert len(walls) == 2
+    for ln, side in zip(walls, (-1, 1)):
+        pts = np.column_stack([ln.x, ln.y])[::97]
+        d, s = _distance_to_centre_line(RO, pts)
+        assert np.max(np.abs(d - W2)) < 1e-9 and np.all(s == side)
+    ET.fromstring(chart_svg.svg(chart, "cyl"))
 
 
 # ---- report.html ------------------------------------------------------------------------------------
@@ -355,7 +354,7 @@ def test_cylindrical_figure_draws_the_walls(tmp_path):
 @pytest.mark.parametrize("example", ["cylindrical", "cylindrical_oscillating"])
 def test_report_page_shows_report_json(tmp_path, example):
     """report.html of a cylindrical cam: the checks' verdict is report.json's, every number cell holds
-    exactly report.json's value (data-key), both figures are in the page and written as PNGs, and
+    exactly report.json's value (data-key), both figures are in the page and written as PNGs (--plots), and
     headless Chromium builds the page with both SVGs."""
     import shutil
 
@@ -363,7 +362,7 @@ def test_report_page_shows_report_json(tmp_path, example):
 
     from .test_report import Page, lookup
 
-    res = run("report", "--example", example, "-o", str(tmp_path / "r"))
+    res = run("report", "--plots", "--example", example, "-o", str(tmp_path / "r"))
     assert res.returncode == 0, res.stderr
     report = json.loads((tmp_path / "r" / "report.json").read_text())
     text = (tmp_path / "r" / "report.html").read_text(encoding="utf-8")

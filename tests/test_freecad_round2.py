@@ -228,7 +228,7 @@ def attempt(key, obj, kind, target):
 attempt("dxf", cam, "dxf", "ex5.dxf")
 attempt("xy", cam, "gcode_xy", "ex5_xy.nc")
 attempt("csv", cam, "csv", "ex5.csv")
-attempt("report", cam, "report", "ex5_report")
+attempt("report", cam, "report_plots", "ex5_report")
 attempt("xc_refused", cam, "gcode_xc", "ex5_xc.nc")
 attempt("xc_default", default, "gcode_xc", "default_xc.nc")
 attempt("dxf_noext", default, "dxf", "default_drawing")
@@ -254,7 +254,7 @@ def exported(tmp_path_factory, fc_home):
     run = run_freecadcmd(body, tmp_path_factory.mktemp("fc_export_run"), fc_home).check()
     cli = tmp_path_factory.mktemp("cli_exports")
     for args in (("dxf", str(EX5), "-o", "ex5.dxf"), ("gcode", str(EX5), "--mode", "xy", "-o", "ex5_xy.nc"),
-                 ("gcode", str(EX5), "--mode", "csv", "-o", "ex5.csv"), ("report", str(EX5), "-o", "ex5_report"),
+                 ("gcode", str(EX5), "--mode", "csv", "-o", "ex5.csv"), ("report", str(EX5), "--plots", "-o", "ex5_report"),
                  ("gcode", "--mode", "xc", "-o", "default_xc.nc"), ("dxf", "-o", "default_drawing.dxf")):
         res = _cli(*args, cwd=cli)
         assert res.returncode == 0, res.stderr
@@ -305,7 +305,8 @@ def test_dxf_equals_the_clis(exported):
 
 
 def test_design_report_equals_the_clis(exported):
-    """report.html, report.json and every plot PNG byte-identical to ``cam-workbench report``."""
+    """report.html, report.json and every figure's PNG (the "with PNG figures" kind) byte-identical to
+    ``cam-workbench report --plots``."""
     r, out, cli = exported
     files = r["report"]["files"]
     assert files[:2] == ["report.html", "report.json"] and "plot_force_stress.png" in files

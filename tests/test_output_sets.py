@@ -111,7 +111,7 @@ def test_cli_refusals_exit_2_and_change_nothing(tmp_path):
 @requires_ocp
 def test_second_build_and_check_of_another_cam_leave_no_mix(tmp_path):
     out = tmp_path / "out"
-    assert cli("build", "-o", str(out)).returncode == 0           # default: loaded follower
+    assert cli("build", "--plots", "-o", str(out)).returncode == 0  # default: loaded follower
     first = _listing(out)
     assert "plot_force_stress.png" in first
     # another cam: --replace (no load: no force plot)

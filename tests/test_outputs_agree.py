@@ -396,29 +396,29 @@ def _figure_svg(html_text, key):
 
 
 def _axis_map(svg, key, axis):
-    """Linear map from SVG coordinate to data value, fitted to the tick marks and their labels."""
+    """Linear map from SVG coordinate to data value, fitted to the tick marks and their values."""
     pos, val = [], []
-    for m in re.finditer(rf'<g id="{key}-{axis}tick_\d+">(.*?)<!-- (.*?) -->', svg, re.S):
-        use = re.search(r'<use [^>]*x="([-\d.]+)" y="([-\d.]+)"', m.group(1))
-        pos.append(float(use.group(1 if axis == "x" else 2)))
-        val.append(float(m.group(2).replace("−", "-")))
+    for m in re.finditer(rf'<g id="{key}-p0-{axis}tick-\d+" data-value="([^"]+)"><line x1="([-\d.]+)" '
+                         r'y1="([-\d.]+)"', svg):
+        pos.append(float(m.group(2 if axis == "x" else 3)))
+        val.append(float(m.group(1)))
     assert len(pos) >= 3
     a, b = np.polyfit(pos, val, 1)
     resid = np.max(np.abs(np.polyval([a, b], pos) - val))
-    assert resid < 1e-6 * max(abs(v) for v in val)  # the ticks are evenly spaced: the map is exact
+    assert resid < 1e-4 * (max(val) - min(val))  # the ticks are evenly spaced: the map is linear
     return lambda p: a * p + b
 
 
 def _hline_y(svg, gid):
-    m = re.search(rf'<g id="{gid}">\s*<path d="M ([-\d.]+) ([-\d.]+)\s*L ([-\d.]+) ([-\d.]+)', svg)
+    m = re.search(rf'<line id="{gid}" x1="([-\d.]+)" y1="([-\d.]+)" x2="([-\d.]+)" y2="([-\d.]+)"', svg)
     assert m, gid
     assert float(m.group(2)) == float(m.group(4))
     return float(m.group(2))
 
 
 def _point(svg, gid):
-    i = svg.index(f'<g id="{gid}">')
-    m = re.search(r'<use [^>]*x="([-\d.]+)" y="([-\d.]+)"', svg[i:])
+    i = svg.index(f'<g id="{gid}"')
+    m = re.search(r'<circle cx="([-\d.]+)" cy="([-\d.]+)"', svg[i:])
     return float(m.group(1)), float(m.group(2))
 
 
@@ -433,7 +433,7 @@ def test_plot_limits_and_points_are_the_checks(cam, request):
     svg = _figure_svg(html_text, "pressure_angle")
     ymap, xmap = _axis_map(svg, "pressure_angle", "y"), _axis_map(svg, "pressure_angle", "x")
     lim = res["pressure_angle"]["limit"]
-    tol = 1e-4 * lim  # SVG coordinates have 6 decimals
+    tol = 2e-3 * lim  # SVG coordinates have 3 decimals of a point
     assert ymap(_hline_y(svg, "pressure_angle-limit-pressure_angle-upper")) == pytest.approx(lim, abs=tol)
     assert ymap(_hline_y(svg, "pressure_angle-limit-pressure_angle-lower")) == pytest.approx(-lim, abs=tol)
     x, y = _point(svg, "pressure_angle-point-pressure_angle")

@@ -350,7 +350,7 @@ def test_relative_links_exist():
 def _check_build_folder(folder: Path) -> None:
     names = {p.name for p in folder.iterdir()}
     assert set(BUILD_FILES) <= names, sorted(set(BUILD_FILES) - names)
-    assert any(n.startswith("plot_") and n.endswith(".png") for n in names)
+    assert 'id="fig-cam"' in (folder / "report.html").read_text(encoding="utf-8")
     report = json.loads((folder / "report.json").read_text())
     assert report["checks"]["passed"] in (True, False)
 

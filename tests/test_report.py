@@ -3,6 +3,7 @@ beside it), shows exactly report.json's numbers in its tables, grows the optiona
 only when their data is there, and renders in a real browser (headless Chromium) — the
 screenshot is left in test-artifacts/ to be looked at."""
 import json
+import re
 import os
 import shutil
 import subprocess
@@ -113,15 +114,10 @@ def test_build_writes_every_file(built):
     assert files["dxf"] == "cam.dxf" and files["html"] == "report.html" and files["report"] == "report.json"
     listed = {v for v in files.values() if isinstance(v, str)}
     listed |= {x for v in files.values() if isinstance(v, list) for x in v}
-    assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv",
-            *files["plots"]} <= listed
-    # report.json lists exactly what was written, beside the folder's manifest
+    assert {"cam.step", "cam.dxf", "report.json", "report.html", "cam.nc", "commands.csv"} <= listed
+    # report.json lists exactly what was written, beside the folder's manifest: no PNG without --plots
     assert {p.name for p in built.iterdir()} == listed | {".cam-workbench.json"}
-    assert {"plot_cam.png", "plot_kinematics.png", "plot_pressure_angle.png", "plot_curvature.png",
-            "plot_deviation.png"} <= set(files["plots"])
-    for name in files["plots"]:
-        data = (built / name).read_bytes()
-        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    assert files["plots"] == [] and not list(built.glob("*.png"))
     # drawn as cubic splines within the tolerance (the default), so not the exact curve itself
     assert report["drawing"]["curves"] == "cubic" and report["drawing"]["exact"] is False
     assert 0 < report["drawing"]["profile_max_error"] <= report["drawing"]["chord_tolerance"]
@@ -140,11 +136,14 @@ def test_html_parses_and_is_self_contained(built):
     assert len(page.ids) == len(set(page.ids)), "ids must be unique across the inlined SVGs"
 
 
+FIGURES = ("cam", "kinematics", "pressure_angle", "curvature", "deviation",
+           "interpolator_kinematics", "interpolator_deviation")
+
+
 def test_every_plot_is_in_the_page(built):
-    report = json.loads((built / "report.json").read_text())
     page = parse((built / "report.html").read_text(encoding="utf-8"))
-    for name in report["files"]["plots"]:
-        key = name[len("plot_"):-len(".png")]
+    assert set(page.figures) == {f"fig-{key}" for key in FIGURES}
+    for key in FIGURES:
         assert page.figures.get(f"fig-{key}") == 1, (key, page.figures)
     for section in ("cam", "spec", "motion", "pressure", "curvature", "accuracy", "drawing", "files"):
         assert section in page.ids
@@ -211,19 +210,20 @@ def test_optional_sections_only_with_their_data(tmp_path):
     page = parse(text)
     for absent in ("checks", "optimise", "force", "drawing"):
         assert absent not in page.ids
-    assert sorted(pngs) == sorted(f"plot_{k}.png" for k in base_keys)
+    assert pngs == {} and set(page.figures) == {f"fig-{k}" for k in base_keys}
 
     checks, optimise = _fake_extras()
     report2 = dict(report, checks=checks, optimise=optimise)
     th = np.linspace(0, 360, 721)
     series = {"contact_force": Series(th, 100 + 20 * np.sin(np.deg2rad(th)), "contact force", "N", 150.0, "max"),
               "contact_stress": Series(th, 700 + 100 * np.cos(np.deg2rad(th)), "Hertz stress", "MPa", 1100.0, "max")}
-    text2, pngs2 = render_report(design, report2, series)
+    text2, pngs2 = render_report(design, report2, series, pngs=True)
     page2 = parse(text2)
     assert not page2.errors
     for present in ("checks", "optimise", "force", "fig-force_stress", "fig-convergence"):
         assert present in page2.ids
-    assert "plot_force_stress.png" in pngs2 and "plot_convergence.png" in pngs2
+    assert sorted(pngs2) == sorted(f"plot_{k}.png" for k in (*base_keys, "force_stress", "convergence"))
+    assert all(png[:8] == b"\x89PNG\r\n\x1a\n" for png in pngs2.values())
     assert text2.count('class="fail" data-key="checks.results.') == 1
     assert text2.count('class="pass" data-key="checks.results.') == 2
     assert "design checks FAILED: pressure_angle" in text2
@@ -236,10 +236,18 @@ def test_optional_sections_only_with_their_data(tmp_path):
 
 def test_report_command_and_bad_input(tmp_path):
     out = tmp_path / "rep"
-    res = run("report", "--set", "drawing.title=Indexing cam", "-o", str(out))
+    res = run("report", "--plots", "--set", "drawing.title=Indexing cam", "-o", str(out))
     assert res.returncode == 0, res.stderr
     names = {p.name for p in out.iterdir()}
-    assert {"report.html", "report.json", "plot_deviation.png"} <= names and "cam.step" not in names
+    report = json.loads((out / "report.json").read_text())
+    assert {f"plot_{k}.png" for k in FIGURES} == set(report["files"]["plots"])
+    assert {"report.html", "report.json", *report["files"]["plots"]} <= names and "cam.step" not in names
+    for name in report["files"]["plots"]:          # each the page's figure rasterised: as wide as its SVG
+        data = (out / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+        svg = re.search(rf'<figure id="fig-{name[5:-4]}"[^>]*><svg [^>]*viewBox="0 0 ([\d.]+) ',
+                        (out / "report.html").read_text())
+        assert int.from_bytes(data[16:20], "big") == round(float(svg.group(1)) * 1.6)
     assert "<h1>Indexing cam</h1>" in (out / "report.html").read_text()
     bad = run("report", "--set", "cam.thickness=0", "-o", str(tmp_path / "bad"))
     assert bad.returncode == 2 and "cam.thickness: must be > 0" in bad.stderr
@@ -285,9 +293,9 @@ def test_renders_in_headless_chromium(built, artifacts, tmp_path):
                          capture_output=True, text=True, timeout=SAFETY_S)
     assert dom.returncode == 0
     report = json.loads((built / "report.json").read_text())
-    for name in report["files"]["plots"]:
-        assert f'id="fig-{name[5:-4]}"' in dom.stdout
-    assert dom.stdout.count("<svg") >= len(report["files"]["plots"])
+    for key in FIGURES:
+        assert f'id="fig-{key}"' in dom.stdout
+    assert dom.stdout.count("<svg") >= len(FIGURES) and report["files"]["plots"] == []
 
 
 def test_interpolator_section_matches_report_json(built):
@@ -305,4 +313,4 @@ def test_interpolator_section_matches_report_json(built):
         for part in value[1:]:
             expect = expect[part]
         assert float(cells[key]) == expect
-    assert "plot_interpolator_kinematics.png" in report["files"]["plots"]
+    assert report["files"]["plots"] == []

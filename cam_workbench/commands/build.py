@@ -1,5 +1,5 @@
 """``cam-workbench build``: the solid as STEP, the drawing as DXF, the design numbers as
-report.json and the report as report.html with its plots (one OutputSet: all or nothing)."""
+report.json and the report as report.html with its figures (one OutputSet: all or nothing)."""
 from __future__ import annotations
 
 import argparse
@@ -14,7 +14,7 @@ from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
 from . import add_command
-from .common import add_output_arguments, add_spec_arguments, write_cam
+from .common import add_output_arguments, add_plots_argument, add_spec_arguments, write_cam
 from .dxf_cmd import describe as describe_dxf
 
 
@@ -23,11 +23,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Design the cam (PH pitch curve, exact profile, design checks) and write "
                     "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
                     "cam.nc (machining.program: xy or xc), commands.csv (the interpolator's commands), "
-                    "report.json, report.html and the report's plots (plot_*.png) into the output folder. "
+                    "report.json and report.html (its figures inline; as PNG files too with --plots) into the output folder. "
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
     add_output_arguments(p, "out")
+    add_plots_argument(p)
     p.set_defaults(run=run)
 
 

@@ -11,6 +11,7 @@ from typing import Any, Callable
 from rich.console import Console
 from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+from cam_workbench.exporters.chart_png import require_png
 from cam_workbench.exporters.output_rule import Claim, admit, file_source, spec_claim
 from cam_workbench.generators.cam_design import CamDesign, design_cam
 from cam_workbench.generators.errors import GeometryError, SpecError
@@ -56,6 +57,13 @@ def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: 
         p.add_argument("--source", metavar="NAME", default=None,
                        help="the cam's name recorded in the folder's manifest (default: SPEC's resolved path, "
                             "or example:NAME); a later run for the same name may replace the set")
+
+
+def add_plots_argument(p: argparse.ArgumentParser) -> None:
+    """``--plots``: the report's figures also as PNG files (they are always in report.html)."""
+    p.add_argument("--plots", action="store_true",
+                   help="also write each of the report's figures as a PNG file (plot_*.png, the SVG of "
+                        "report.html rasterised; needs CairoSVG: pip install 'cam-workbench[png]')")
 
 
 def source_of(args: argparse.Namespace) -> str:
@@ -136,10 +144,12 @@ def write_cam(args: argparse.Namespace, command: str, *, report_only: bool = Fal
     """The run ``build`` and ``report`` share: the spec, OCP and the ``-o`` folder checked before
     any work, the design (with its progress), every stage of the pipeline (the dynamics with a
     progress bar when the spec asks), then the files written as one set with a progress bar over
-    the figures.  ``report_only``: of the files, only the report's (report.json, report.html, the
-    plots) — its numbers are still ``build``'s.  Returns (the report as written, the folder)."""
+    the figures.  ``report_only``: of the files, only the report's (report.json, report.html, with
+    ``--plots`` the PNG figures) — its numbers are still ``build``'s.  Returns (the report as written, the folder)."""
     spec = spec_from_args(args)
     require_ocp(command)
+    if args.plots:
+        require_png()
     admit_output(args, spec, command)
     design = design_for(spec)
     bar, dcb = dynamics_progress(spec)
@@ -150,7 +160,7 @@ def write_cam(args: argparse.Namespace, command: str, *, report_only: bool = Fal
     out = Path(args.output)
     prog, cb = plot_progress(plot_count(outputs))
     with prog:
-        report = write_outputs(outputs, out, output_claim(args, spec, command), progress=cb)
+        report = write_outputs(outputs, out, output_claim(args, spec, command), progress=cb, plots=args.plots)
     return report, out
 
 

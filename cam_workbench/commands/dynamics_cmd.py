@@ -15,7 +15,8 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from cam_workbench.exporters import plots
+from cam_workbench.exporters import plots_dynamics
+from cam_workbench.exporters.chart_png import png_bytes
 from cam_workbench.exporters.atomic import OutputSet
 from cam_workbench.exporters.report_cells import format_number as fmt
 from cam_workbench.exporters.report_json import report_json_text
@@ -26,7 +27,8 @@ from cam_workbench.generators.spec import CamSpec, spec_digest
 from cam_workbench.generators.spec.params import unit_name
 
 from . import add_command
-from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, spec_from_args,
+from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, require_png,
+                     spec_from_args,
                      sweep_progress)
 
 EXIT_CONTACT_LOST = 3
@@ -66,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
         spec = spec.replace(**changes)
     validate_dynamics(spec, required=True)          # bad input: exit 2 naming the field, nothing written
     if args.output is not None:
+        require_png()
         admit_output(args, spec, "dynamics")
     program = MotionProgram.from_spec(spec)
     bar, cb = sweep_progress()
@@ -129,16 +132,9 @@ def series_csv(result: Any) -> str:
 
 
 def _figures(result: Any, section: dict[str, Any]) -> dict[str, bytes]:
-    out = {}
-    makers = [(PLOTS[0], lambda: plots.dynamics_figure(result, section))]
+    out = {PLOTS[0]: png_bytes(plots_dynamics.dynamics_figure(result, section), "dynamics")}
     if "jump_speed" in section:
-        makers.append((PLOTS[1], lambda: plots.jump_speed_figure(result, section)))
-    for name, make in makers:
-        fig = make()
-        try:
-            out[name] = plots.figure_bytes(fig, "png", dpi=130)
-        finally:
-            plots.close(fig)
+        out[PLOTS[1]] = png_bytes(plots_dynamics.jump_speed_figure(result, section), "jump_speed")
     return out
 
 

@@ -20,9 +20,9 @@ from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_to
 from . import EXIT_CHECK_FAILED, add_command
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from ..studies import executor_scope
-from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, admit_output,
-                     check_parallel_arguments, note, on_terminal, output_claim, plot_progress, require_ocp,
-                     spec_from_args)
+from .common import (add_output_arguments, add_parallel_arguments, add_plots_argument, add_spec_arguments,
+                     admit_output, check_parallel_arguments, note, on_terminal, output_claim, plot_progress,
+                     require_ocp, require_png, spec_from_args)
 
 SPEC_NAME = "optimised.toml"
 
@@ -35,8 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "cam's disc and groove; a cylindrical cam's cylinder, by COBYLA on its own checks) subject to "
                     "every design check of the follower kind, evaluated densely (thesis Ch. 5-7, with nlopt). Writes the optimised "
                     f"spec ({SPEC_NAME}), report.json (with an `optimise` section: objective, history, "
-                    "evaluations, time, the final dense checks), report.html with the convergence figure, the "
-                    "plots and the optimised cam's own cam.step, cam.dxf, cam.nc and commands.csv (as `build` "
+                    "evaluations, time, the final dense checks), report.html with the convergence figure (its "
+                    "figures as PNG files too with --plots) and the optimised cam's own cam.step, cam.dxf, cam.nc and commands.csv (as `build` "
                     "writes them) into the output folder. Settings: the [optimise] section (`cam-workbench spec`).",
         epilog="exit status: 0 optimised and every check passes, 3 the result fails a dense check (files are "
                "still written, report.json says which), 2 bad input (nothing written).",
@@ -52,6 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, metavar="N", help="override optimise.seed")
     add_parallel_arguments(p, "the multistart's starts")
     add_output_arguments(p, "out")
+    add_plots_argument(p)
     p.set_defaults(run=run)
 
 
@@ -73,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
     check_parallel_arguments(args)
     spec = spec_from_args(args)
     require_ocp("optimise")
+    if args.plots:
+        require_png()
     changes: dict[str, Any] = {}
     for name in ("max_evaluations", "multistart", "seed"):
         if getattr(args, name) is not None:
@@ -97,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
     prog, pcb = plot_progress(plot_count(outputs))
     with prog:
         report = write_outputs(outputs, out, output_claim(args, result.spec, "optimise"),
-                               extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb)
+                               extra_texts={SPEC_NAME: to_toml(result.spec)}, progress=pcb, plots=args.plots)
     _print(result, out, report)
     return 0 if result.feasible else EXIT_CHECK_FAILED
 

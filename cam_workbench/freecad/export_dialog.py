@@ -24,7 +24,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "dxf": ("dxf",),
     "gcode": ("gcode_xy", "gcode_xc"),
     "csv": ("csv",),
-    "report": ("report",),
+    "report": ("report", "report_plots"),
     "ecam": ("ecam_csv", "ecam_codesys_xyva", "ecam_codesys_poly5", "ecam_beckhoff_motion_function",
              "ecam_beckhoff_position_table", "ecam_lenze"),
 }
@@ -32,6 +32,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
 GROUP_TITLES: dict[str, tuple[str, str]] = {
     "gcode": ("Export G-code", "Program"),
     "ecam": ("Export e-cam table", "Table"),
+    "report": ("Design report", "Files"),
 }
 _GREEN, _RED = "#1a7f37", "#c62828"
 _DIALOGS: list[Any] = []  # keep non-modal dialogs alive until closed

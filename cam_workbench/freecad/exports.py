@@ -109,8 +109,11 @@ KINDS: dict[str, ExportKind] = {k.key: k for k in (
                ".txt", "Lenze Cam Loader points (*.txt)", "{label}_lenze.txt",
                "Lenze Global Drive Cam Loader: one x y point per line (linear interpolation)"),
     ExportKind("report", "Design report (HTML)", ("report",), "", "", "{label}_report",
-               "the design report: report.html (self-contained), report.json and the plots as PNG, "
+               "the design report: report.html (self-contained, its figures inline) and report.json, "
                "into a folder"),
+    ExportKind("report_plots", "Design report (HTML and PNG figures)", ("report", "--plots"), "", "",
+               "{label}_report", "the design report: report.html, report.json and each figure as a PNG file "
+               "(needs CairoSVG in the command line's Python), into a folder"),
 )}
 
 
@@ -293,7 +296,7 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
     if res.returncode != 0:
         tail = " | ".join(said.splitlines()[-4:])
         raise ExportError(f"the command line failed (exit {res.returncode}, {cli.source}): {tail}")
-    if kind == "report":
+    if is_report(kind):
         try:
             listed = json.loads((out / "report.json").read_text(encoding="utf-8"))["files"]
         except (OSError, ValueError, KeyError):
@@ -312,6 +315,11 @@ def export(obj: Any, kind: str, target: str | os.PathLike[str], cli: Cli | None 
             raise ExportError(f"the command line wrote {out} but its summary is unreadable: "
                               f"{' | '.join(said.splitlines()[-4:])}") from None
     return ExportResult(out, files, said, tuple(argv), details)
+
+
+def is_report(kind: str) -> bool:
+    """A design-report kind (``cam-workbench report``): a folder, its files listed in report.json."""
+    return KINDS[kind].args[0] == "report"
 
 
 def is_ecam(kind: str) -> bool:
@@ -344,7 +352,8 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     """(property, value) pairs the export dialog shows: the values the command line gets, in
     the spec's units ("default" where the property leaves the field to the spec's default)."""
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
-                "csv": ("machining",), "report": ("checks", "material")}.get(kind, ("ecam",))
+                "csv": ("machining",), "report": ("checks", "material"),
+                "report_plots": ("checks", "material")}.get(kind, ("ecam",))
     only = {"csv": ("rotary_speed_rpm", "sample_period")}.get(kind)
     if is_ecam(kind):   # the format and table are the kind's own
         only = ("step", "boundaries", "name")

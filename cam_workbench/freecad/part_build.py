@@ -210,7 +210,7 @@ def base_circle_wire(design: CamDesign, scale: float = 1.0) -> Any:
 
 def follower_size(design: CamDesign) -> float:
     """The drawn length of a stem (``Follower.sketch``'s ``size``), as the report's drawing of
-    the cam takes it (``cam_workbench.exporters.plots.draw_cam``): the largest lift — as an arc on the base
+    the cam takes it (``cam_workbench.exporters.plots.cam_panel``): the largest lift — as an arc on the base
     circle for an arm's degrees — plus the roller's diameter (at least a fifth of R_b)."""
     spec = design.spec
     fol = design.follower
