@@ -165,12 +165,18 @@ def _checks(c: Case) -> None:
 
 
 def _export(c: Case) -> None:
-    written = c.cam.export(c.tmp / "set")
+    written = c.cam.export(c.tmp / "set", plots=True)
     on_disk = json.loads((c.tmp / "set" / "report.json").read_text(encoding="utf-8"))
     assert on_disk == written
     assert written["volume"] == c.cam.volume
     for name in ("step", "dxf", "html"):
         assert (c.tmp / "set" / written["files"][name]).stat().st_size > 0
+    # with plots=True every figure of the page is a PNG file, and only those
+    page = (c.tmp / "set" / written["files"]["html"]).read_text(encoding="utf-8")
+    figures = set(re.findall(r'<figure id="fig-([a-z_]+)"', page))
+    assert figures and {f"plot_{k}.png" for k in figures} == set(written["files"]["plots"])
+    for name in written["files"]["plots"]:
+        assert (c.tmp / "set" / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def _dynamics(c: Case) -> None:
@@ -413,16 +419,18 @@ def test_refusal_is_a_cam_error_not_an_attribute_error():
     assert isinstance(err.value, CamError) and not isinstance(err.value, AttributeError)
 
 
-def test_picture_without_matplotlib_is_the_repr(tmp_path):
-    """Without matplotlib, ``_repr_svg_`` returns None (Jupyter then shows the repr): run where
-    importing matplotlib fails (a ``matplotlib`` that raises ImportError first on the path)."""
+def test_picture_needs_no_matplotlib(tmp_path):
+    """``_repr_svg_`` is the report's own SVG chart: it works where importing matplotlib fails (a
+    ``matplotlib`` that raises ImportError first on the path), for a plane and a cylindrical cam."""
     fake = tmp_path / "matplotlib"
     fake.mkdir()
     (fake / "__init__.py").write_text("raise ImportError('no matplotlib here')\n", encoding="utf-8")
-    code = ("from cam_workbench import Cam\n"
-            "cam = Cam.example('default')\n"
-            "print(cam._repr_svg_() is None, repr(cam).startswith('Cam(plate cam'))\n")
+    code = ("import xml.etree.ElementTree as ET\n"
+            "from cam_workbench import Cam\n"
+            "for name in ('default', 'cylindrical'):\n"
+            "    svg = Cam.example(name)._repr_svg_()\n"
+            "    print(ET.fromstring(svg).tag.endswith('svg'), svg.count('<path') > 5)\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                          env={**__import__("os").environ, "PYTHONPATH": f"{tmp_path}:{ROOT}"})
     assert res.returncode == 0, res.stderr
-    assert res.stdout.split() == ["True", "True"]
+    assert res.stdout.split() == ["True"] * 4

@@ -314,3 +314,38 @@ def test_interpolator_section_matches_report_json(built):
             expect = expect[part]
         assert float(cells[key]) == expect
     assert report["files"]["plots"] == []
+
+
+BUILD_WITHOUT_MATPLOTLIB = """
+import runpy, sys
+sys.argv = ["cam-workbench", "build", "--example", "{example}", "-o", {out!r}]
+try:
+    runpy.run_module("cam_workbench.cli", run_name="__main__")
+except SystemExit as exc:
+    assert exc.code in (0, None), exc.code
+print(sorted(m for m in sys.modules if m.split(".")[0] in ("matplotlib", "cairosvg")))
+"""
+
+
+@pytest.mark.parametrize("example", ["default", "cylindrical"])
+def test_build_draws_its_figures_without_matplotlib(tmp_path, example):
+    """The report's figures are our own SVG: a build imports neither matplotlib nor CairoSVG."""
+    out = tmp_path / "out"
+    res = subprocess.run([sys.executable, "-c", BUILD_WITHOUT_MATPLOTLIB.format(example=example, out=str(out))],
+                         capture_output=True, text=True, timeout=SAFETY_S, cwd=ROOT)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert res.stdout.strip().splitlines()[-1] == "[]"
+    assert (out / "report.html").read_text(encoding="utf-8").count("<svg") >= 2
+
+
+def test_plots_without_cairosvg_is_refused_before_anything_is_written(tmp_path):
+    """--plots without CairoSVG: exit 2 naming the extra, nothing created (a blocker on import)."""
+    block = tmp_path / "block"
+    block.mkdir()
+    (block / "cairosvg.py").write_text("raise ImportError('no cairosvg here')\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(block), str(ROOT)])}
+    out = tmp_path / "out"
+    res = subprocess.run([sys.executable, "-m", "cam_workbench.cli", "report", "--plots", "-o", str(out)],
+                         capture_output=True, text=True, timeout=SAFETY_S, env=env)
+    assert res.returncode == 2 and "Traceback" not in res.stderr, res.stderr
+    assert "cam-workbench[png]" in res.stderr and not out.exists()
