@@ -11,55 +11,45 @@ table says why; the others are written), 1 an internal error.
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
 from typing import Sequence
 
-
-from .commands import CATALOGUE, root_parser, silence_stdout
-
-def top_level_parser() -> argparse.ArgumentParser:
-    """The parser of the top-level options alone, each command a name and its help
-    (:data:`cam_workbench.commands.CATALOGUE`): ``--help``, ``--version`` and a missing command
-    are answered by it without loading any command (numpy, the generators).  Its help is the full
-    parser's (``tests/test_cli.py``)."""
-    parser, sub = root_parser()
-    for name, (aliases, help_text) in CATALOGUE.items():
-        sub.add_parser(name, aliases=list(aliases), help=help_text, add_help=False)
-    return parser
+from .commands import parsers, silence_stdout
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every registered command (loads every command's module)."""
-    from .commands import dispatch  # deferred: every command's module (numpy, scipy, the generators)
-
-    return dispatch.build_parser()
+    """The argument parser with every command's arguments (:func:`cam_workbench.commands.parsers.parser`:
+    loads no command, no numpy)."""
+    return parsers.parser()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``cam-workbench`` console script; returns the exit status.  The
-    top-level options (``--help``, ``--version``, no command) are answered before any command
-    loads; a command runs through :func:`cam_workbench.commands.dispatch.main`."""
-    args = list(sys.argv[1:] if argv is None else argv)
-    if not args or args[0] in ("-h", "--help", "--version"):
-        try:
-            top_level_parser().parse_args(args)
-        except SystemExit as exc:           # argparse printed the help, the version or the error
-            return int(exc.code or 0)
-    from .commands import dispatch  # deferred: every command's module (numpy, scipy, the generators)
+    arguments are parsed before any command loads — ``--help``, ``--version``, a command's
+    ``--help`` and an argument error are answered by the parser alone; a command then runs
+    through :func:`cam_workbench.commands.dispatch.run`, which loads its module."""
+    try:
+        args = build_parser().parse_args(sys.argv[1:] if argv is None else list(argv))
+    except SystemExit as exc:           # argparse printed the help, the version or the error
+        return int(exc.code or 0)
+    from .commands import dispatch  # deferred: the command's module (numpy, scipy, the generators)
 
-    return dispatch.main(args)
+    return dispatch.run(args)
 
 
 def run() -> None:
-    """Console-script wrapper."""
+    """Console-script wrapper: :func:`main`'s status as the process's.  The objects left are
+    frozen (:func:`gc.freeze`) before the interpreter ends, so that its last collections do not
+    walk them all once more (the process's memory goes back whole): OCP's 200 000 objects alone
+    cost 0.2 s of CPU there, a ``build`` 0.5 s.  Exit handlers and flushes run as always."""
     code = main()
     try:
         sys.stdout.flush()
     except BrokenPipeError:
         silence_stdout()
+    gc.freeze()
     sys.exit(code)
-
-
 
 
 if __name__ == "__main__":

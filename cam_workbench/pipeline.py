@@ -33,7 +33,7 @@ from cam_workbench.exporters.report_pages import JSON_NAME, ReportPage, add_repo
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.exporters.step import product_name
 from cam_workbench.generators.cam_design import CamDesign, design_cam
-from cam_workbench.generators.checks.solid import check_kernel_solid, surface_body
+from cam_workbench.generators.checks.solid import check_kernel_solid, integration_rule, surface_body
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec
@@ -93,20 +93,23 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
         if not solids.is_valid(s) or solids.count_solids(s) != 1:
             raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     t = design.spec.cam.thickness
-    surfaces = surface_body(design)
     solid: dict[str, Any] = {
         "valid": solids.is_valid(shape),
         "solids": solids.count_solids(shape),
-        # prisms: OCCT's Gauss rule is exact; wall surfaces (a cylindrical cam) need its adaptive rule
-        "kernel_volume": solids.kernel_volume(shape, solids.SURFACE_VOLUME_EPS if surfaces else None),
+        # OCCT's fixed Gauss rule: exact on prisms of plane curves; on a surface body's B-spline
+        # walls good to what cam_workbench.generators.checks.solid allows (``volume_rule`` below)
+        "kernel_volume": solids.kernel_volume(shape),
         "cross_section_area": solids.top_face_area(shape, t),
     }
     # how far the kernel's integrals are from the exact (Green's theorem) numbers
     solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
     solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
     solid.update(solids.body_measures(design, shape))
-    check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
-                       adaptive=surfaces, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
+    allowed = check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
+                                 adaptive=False, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
+    if surface_body(design):
+        # the volume of B-spline walls is not exact: by what rule, and the relative difference it allows
+        solid["volume_rule"] = {"what": integration_rule(design, adaptive=False).text, "allowed": allowed["volume"]}
     if design.bspline is not None:
         solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
         solid["step_profile"] = "fitted offset B-spline (profile.max_error)"

@@ -324,7 +324,8 @@ def _polyline(px: np.ndarray, py: np.ndarray) -> str:
     start = ok & ~np.concatenate([[False], ok[:-1]])
     cmd = np.where(start, "M", "L")[ok]
     xs, ys = np.round(px[ok], 2), np.round(py[ok], 2)
-    return "".join(map("{}{:.2f} {:.2f}".format, cmd, xs, ys))
+    # Python's floats and strings: formatting numpy's scalars one by one costs five times as much
+    return "".join(map("{}{:.2f} {:.2f}".format, cmd.tolist(), xs.tolist(), ys.tolist()))
 
 
 def _markers(m: Curve, px: np.ndarray, py: np.ndarray, ident: str) -> str:
@@ -342,14 +343,15 @@ def _markers(m: Curve, px: np.ndarray, py: np.ndarray, ident: str) -> str:
             return (f"<g{ident} {paint}>" + "".join(
                 f'<circle cx="{a:.3f}" cy="{b:.3f}" r="{_fmt(r)}"/>' for a, b in zip(px, py)) + "</g>")
         d = "".join(map(("M{:.2f} {:.2f}" + f"a{_fmt(r)} {_fmt(r)} 0 1 0 {_fmt(2 * r)} 0"
-                         + f"a{_fmt(r)} {_fmt(r)} 0 1 0 {_fmt(-2 * r)} 0").format, np.round(px - r, 2),
-                        np.round(py, 2)))
+                         + f"a{_fmt(r)} {_fmt(r)} 0 1 0 {_fmt(-2 * r)} 0").format, np.round(px - r, 2).tolist(),
+                        np.round(py, 2).tolist()))
         return f'<path{ident} d="{d}" {paint}/>'
     if m.marker == "|":
-        d = "".join(map(f"M{{:.2f}} {{:.2f}}v{_fmt(s)}".format, np.round(px, 2), np.round(py - s / 2, 2)))
+        d = "".join(map(f"M{{:.2f}} {{:.2f}}v{_fmt(s)}".format, np.round(px, 2).tolist(),
+                        np.round(py - s / 2, 2).tolist()))
     else:   # "+"
         d = "".join(map(f"M{{:.2f}} {{:.2f}}h{_fmt(s)}m{_fmt(-s / 2)} {_fmt(-s / 2)}v{_fmt(s)}".format,
-                        np.round(px - s / 2, 2), np.round(py, 2)))
+                        np.round(px - s / 2, 2).tolist(), np.round(py, 2).tolist()))
     return f'<path{ident} d="{d}" stroke="{color}" stroke-width="{_fmt(max(m.width, 0.8))}"{alpha}/>'
 
 

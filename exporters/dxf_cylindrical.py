@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
@@ -100,6 +99,8 @@ def _segment_spline(design: Any, layer: str, rho: float, side: int, seg: int, a:
                     ) -> DevelopedCurve:
     """The not-a-knot cubic through ``n`` exact points of one motion segment, its error measured off
     the nodes: at the span midpoints and 8 points inside every span."""
+    from scipy.interpolate import make_interp_spline  # deferred: scipy.interpolate, a cylindrical cam's drawing alone
+
     th = np.linspace(a, b, n)
     sp = make_interp_spline(th, design.developed_points(rho, side, th, np.full(n, seg)), k=DEGREE)
     fr = np.linspace(0, 1, 10)[1:-1]

@@ -57,6 +57,7 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
     body = report.get("body") or {}
     fol = report.get("follower") or {}
     lu = (report.get("motion") or {}).get("lift_unit", u)
+    rule = ((report.get("solid") or {}).get("volume_rule") or {}).get("what", "OCCT's integration")
     rows = [
         ("follower", "follower.label", "", None),
         ("pitch radius R_p", "body.pitch_radius", u, None),
@@ -67,7 +68,9 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
         ("groove depth", "body.groove_depth", u, None),
         ("largest lift", "motion.max_lift", lu, None),
         ("volume (exact: closed form)", "volume", f"{u}³", None),
-        ("OCCT solid vs the exact volume (relative)", "solid.volume_rel_diff", "", None),
+        (f"OCCT solid vs the exact volume (relative; measured by {rule}: not exact)", "solid.volume_rel_diff", "",
+         None),
+        ("… what the check allows that measure (relative)", "solid.volume_rule.allowed", "", None),
         ("wall data vs the exact walls", "body.wall_fit_error.value", u, None),
         ("built wall faces vs the exact walls", "body.wall_error.value", u, None),
         ("DXF developed walls vs the exact curves", "drawing.developed_fit_error.value", u, None),

@@ -132,23 +132,100 @@ def test_every_spec_rule_through_the_cli(tmp_path, capsys, rule):
     assert not out.exists()
 
 
-def test_the_top_level_help_is_the_full_parsers_and_loads_no_command():
-    """``--help``, ``--version`` and a missing command are answered from the commands' catalogue
-    (issue 22 item 3): the same help text as the parser of every command, and neither numpy nor
-    any command's module loaded."""
-    from cam_workbench import cli
+#: what a parse loads before a command runs: nothing of these (issue 22 item 3)
+HEAVY = ("numpy", "scipy", "rich", "cam_workbench.generators", "cam_workbench.exporters",
+         "cam_workbench.commands.dispatch", "cam_workbench.commands.common", "cam_workbench.commands.build")
 
-    assert cli.top_level_parser().format_help() == cli.build_parser().format_help()
-    code = ("import sys\nfrom cam_workbench.cli import main\nstatus = main(['--help'])\n"
-            "loaded = [m for m in ('numpy', 'scipy', 'rich', 'cam_workbench.generators', "
-            "'cam_workbench.commands.build') if m in sys.modules]\n"
-            "print('LOADED', status, loaded)\n")
+
+def _parse_only(arg_lists: list[list[str]]) -> list[tuple[int, list[str], str]]:
+    """(exit status, the HEAVY modules loaded, what was printed) of ``main(args)`` for each
+    argument list, each in a fresh interpreter."""
+    code = ("import contextlib, io, json, sys\nfrom cam_workbench.cli import main\nout = io.StringIO()\n"
+            "with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):\n"
+            "    status = main(json.loads(sys.argv[1]))\n"
+            f"loaded = [m for m in {HEAVY!r} if m in sys.modules]\n"
+            "print(json.dumps([status, loaded, out.getvalue()]))\n")
+    found = []
+    for args in arg_lists:
+        res = subprocess.run([sys.executable, "-c", code, json.dumps(args)], capture_output=True, text=True,
+                             cwd=ROOT)
+        assert res.returncode == 0, res.stderr
+        status, loaded, text = json.loads(res.stdout.strip().splitlines()[-1])
+        found.append((status, loaded, text))
+    return found
+
+
+def test_help_and_argument_errors_load_no_command():
+    """``--help``, ``--version``, a missing command, every command's ``--help`` and an argument
+    error (an unknown option, a missing value, a choice not offered, a missing sub-action) are
+    answered by the parser alone (issue 22 item 3): neither numpy, scipy, rich nor any module of
+    the generators or of a command is loaded; the statuses are argparse's (0 help, 2 error)."""
+    from cam_workbench.commands import CATALOGUE
+
+    cases = [(["--help"], 0, "usage: cam-workbench"), (["--version"], 0, "cam-workbench 0.1.0"),
+             ([], 2, "required: COMMAND"), (["nosuch"], 2, "invalid choice: 'nosuch'")]
+    cases += [([name, "--help"], 0, f"usage: cam-workbench {name}") for name in CATALOGUE]
+    cases += [(["optimize", "--help"], 0, "usage: cam-workbench optimise"),
+              (["freecad", "install", "--help"], 0, "--mod-dir"),
+              (["check", "--bogus"], 2, "unrecognized arguments: --bogus"),
+              (["build", "-o"], 2, "argument -o/--output: expected one argument"),
+              (["build", "--set"], 2, "argument --set: expected one argument"),
+              (["ecam", "--format", "nope"], 2, "argument --format: invalid choice: 'nope'"),
+              (["dxf", "--curves", "bezier"], 2, "argument --curves: invalid choice: 'bezier'"),
+              (["gcode", "--mode", "xz"], 2, "argument --mode: invalid choice: 'xz'"),
+              (["dynamics", "--speed", "fast"], 2, "argument --speed: invalid float value: 'fast'"),
+              (["optimise", "--objective", "beauty"], 2, "argument --objective: invalid choice: 'beauty'"),
+              (["sweep", "--size", "thickness"], 2, "argument --size: invalid choice: 'thickness'"),
+              (["freecad"], 2, "required: {install,uninstall}")]
+    for (args, status, text), (got, loaded, printed) in zip(cases, _parse_only([c[0] for c in cases])):
+        assert (got, loaded) == (status, []), (args, printed)
+        assert text in printed, (args, printed)
+
+
+def test_the_parsers_choices_are_the_specs():
+    """The choices and texts the parser holds without loading the generators
+    (:mod:`cam_workbench.commands.parsers`) are the spec's declarations: the examples and their
+    descriptions, the e-cam formats and tables, the optimiser's objectives and algorithms, the
+    drawing's fields that ``dxf`` overrides."""
+    from cam_workbench.cli import build_parser
+    from cam_workbench.generators.spec import (DrawingSection, ECAM_TABLES, OBJECTIVES, OPTIMISE_ALGORITHMS,
+                                               params_of)
+    from cam_workbench.generators.spec.examples import DESCRIPTIONS, EXAMPLES
+
+    commands = next(a for a in build_parser()._actions if a.dest == "command").choices
+
+    def option(command: str, flag: str):
+        return next(a for a in commands[command]._actions if flag in a.option_strings)
+
+    for name in ("build", "check", "gcode", "dxf", "report", "dynamics", "ecam", "optimise", "sweep"):
+        help_text = option(name, "--example").help
+        assert all(f"'{n}' ({d})" in help_text for n, d in DESCRIPTIONS.items()), name
+    assert f"one of {', '.join(EXAMPLES)} (" in option("spec", "--example").help
+    assert option("ecam", "--format").choices == tuple(ECAM_TABLES)
+    assert option("ecam", "--table").choices == ("auto", *sorted({t for ts in ECAM_TABLES.values() for t in ts}))
+    assert option("optimise", "--objective").choices == OBJECTIVES
+    assert option("optimise", "--algorithm").choices == OPTIMISE_ALGORITHMS
+    drawing = params_of(DrawingSection)
+    for flag, field in (("--curves", "curves"), ("--tolerance", "chord_tolerance"), ("--dxf-version", "dxf_version")):
+        assert option("dxf", flag).choices == drawing[field].choices, flag
+        assert option("dxf", flag).help.startswith(drawing[field].doc), flag
+        assert f"the spec's drawing.{field})" in option("dxf", flag).help, flag
+
+
+def test_a_command_loads_its_own_module_alone():
+    """Every command of the catalogue has its parser and its runner, in the catalogue's order;
+    a command runs with its own module loaded, not every command's: ``spec --default`` loads
+    neither ``build``'s nor the studies' modules."""
+    from cam_workbench.commands import CATALOGUE, dispatch, parsers
+
+    assert list(parsers.PARSERS) == list(dispatch.RUNNERS) == list(CATALOGUE)
+    code = ("import contextlib, io, sys\nfrom cam_workbench.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n    status = main(['spec', '--default'])\n"
+            "print(status, sorted(m for m in sys.modules if m.startswith('cam_workbench.commands.')))\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr
-    assert res.stdout.strip().splitlines()[-1] == "LOADED 0 []"
-    for args, status, text in ((["--version"], 0, "cam-workbench 0.1.0"), ([], 2, "required: COMMAND")):
-        res = subprocess.run(CLI + args, capture_output=True, text=True, cwd=ROOT)
-        assert res.returncode == status and text in res.stdout + res.stderr
+    assert res.stdout.strip().splitlines()[-1] == (
+        "0 ['cam_workbench.commands.dispatch', 'cam_workbench.commands.parsers', 'cam_workbench.commands.spec_cmd']")
 
 
 def test_the_package_version_is_the_generators():

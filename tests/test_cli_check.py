@@ -103,3 +103,20 @@ def test_set_accepts_lists(tmp_path):
     assert res.returncode in (0, 3), res.stderr
     res = run("check", EX5, "--set", "motion[0].control_y=[0.1, 0.6", "-o", str(out / "x"))
     assert res.returncode == 2 and "motion[0].control_y: '[0.1, 0.6' is not a valid list" in res.stderr
+
+
+def test_check_loads_no_solid_drawing_or_plot_library(tmp_path):
+    """`check` designs and checks the cam with numpy and scipy: it loads neither OCP, ezdxf,
+    matplotlib nor CairoSVG (issue 22 item 3), with and without -o, nor another command's module."""
+    import subprocess
+    import sys
+
+    code = ("import contextlib, io, json, sys\nfrom cam_workbench.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n    status = main(json.loads(sys.argv[1]))\n"
+            "print(json.dumps([status, sorted(m for m in ('OCP', 'ezdxf', 'matplotlib', 'cairosvg', "
+            "'cam_workbench.commands.build', 'cam_workbench.commands.dxf_cmd') if m in sys.modules)]))\n")
+    for args in (["check"], ["check", "--example", "groove", "-o", str(tmp_path / "out")]):
+        res = subprocess.run([sys.executable, "-c", code, json.dumps(args)], capture_output=True, text=True, cwd=ROOT)
+        assert res.returncode == 0, res.stderr
+        assert json.loads(res.stdout.strip().splitlines()[-1]) == [0, []], args
+    assert json.loads((tmp_path / "out" / "report.json").read_text())["checks"]["passed"] is True

@@ -247,8 +247,13 @@ def test_blended_solid_has_the_exact_volume(fixed_volume, tmp_path):
     rep = json.loads((tmp_path / "out" / "report.json").read_text())
     solid = rep["solid"]
     assert solid["valid"] and solid["solids"] == 1
-    assert solid["kernel_volume"] == pytest.approx(fixed_volume, rel=1e-9)
-    assert abs(solid["volume_rel_diff"]) <= 1e-9 and abs(solid["area_rel_diff"]) <= 1e-12
+    # report.json's volume is OCCT's fixed Gauss rule, not exact on B-spline walls (measured -1.2e-6 here,
+    # ≤ 1.4e-5 on fuzzed cams): within what the report says it allows; the solid itself is held to the exact
+    # volume below, by OCCT's adaptive rule on the STEP file
+    assert "fixed Gauss rule" in solid["volume_rule"]["what"]
+    assert solid["kernel_volume"] == pytest.approx(fixed_volume, rel=1e-5)
+    assert abs(solid["volume_rel_diff"]) <= min(1e-5, solid["volume_rule"]["allowed"])
+    assert abs(solid["area_rel_diff"]) <= 1e-12
     assert solid["wall_error"]["faces"] == 10 and solid["wall_error"]["points"] > 1000
     assert rep["checks"]["passed"]
     from cam_workbench.kernel.solids import SURFACE_VOLUME_EPS, kernel_volume

@@ -87,6 +87,19 @@ for k, cam in cams.items():
     RESULT[k] = dict(status=cam.Status, null=s.isNull(), valid=(not s.isNull()) and s.isValid(),
                      solids=0 if s.isNull() else len(s.Solids), volume=0.0 if s.isNull() else s.Volume,
                      z=[bb.ZMin, bb.ZMax] if bb else None, wall=wall)
+# what the recompute measured (part_build.PartSolid) beside the solid measured whole
+from cam_workbench.freecad import props
+from cam_workbench.freecad.part_build import plane_solid, top_face_area
+from cam_workbench.generators import default_spec, design_cam
+measured = {k: (cam.Proxy.design, props.units_scale(cam)) for k, cam in cams.items()}
+measured["plain"] = (design_cam(default_spec()), 1.0)
+for k, (design, scale) in measured.items():
+    built = plane_solid(design, scale)
+    s = built.shape
+    RESULT["measured_" + k] = dict(valid=built.valid, volume=built.volume, top=built.top_area, how=built.measured,
+                                   full_valid=s.isValid() and len(s.Solids) == 1, full_volume=s.Volume,
+                                   full_top=top_face_area(s, max(p.z1 for p in design.body.prisms) * scale
+                                                          if design.body is not None else design.spec.cam.thickness * scale))
 g = cams["groove"]
 g.GrooveClearance = 0.5
 doc.recompute()
@@ -153,3 +166,22 @@ def test_property_change_recomputes(run):
     design = design_cam(CamSpec.from_dict(d))
     r = run["changed"]
     assert r["valid"] and r["volume"] == pytest.approx(design.volume, rel=5e-5)
+
+
+@pytest.mark.parametrize("name", ["plain", *sorted(SPECS)])
+def test_what_the_recompute_measures_is_the_solid(run, name):
+    """The recompute's cheap measures (a plain plate's face, a sewn body's planar faces) agree with
+    FreeCAD measuring the solid whole: ``isValid()``, OCCT's Gauss volume (to its ~1e-5 on B-spline
+    sides) and the top faces; and a sewn body's volume is the exact one (to 1e-7, as the recompute
+    demands)."""
+    r = run["measured_" + name]
+    assert r["valid"] and r["full_valid"], r
+    assert r["volume"] == pytest.approx(r["full_volume"], rel=5e-5)
+    assert r["top"] == pytest.approx(r["full_top"], rel=1e-9)
+    if name != "plain":
+        spec = CamSpec.from_dict(SPECS[name])
+        k = MM_PER_IN if spec.units == "in" else 1.0
+        assert r["volume"] == pytest.approx(_exact_volume(design_cam(spec)) * k**3, rel=2e-6)
+        assert "sewn" in r["how"] or "the solid" in r["how"]
+    else:
+        assert "face" in r["how"]

@@ -2,8 +2,10 @@
 
 Two cams — the example, and the example with a DIN 6885-1 keyway, a hub, four mounting holes and the
 timing mark — are created with ``feature.create`` (what the GUI command calls) and recomputed.  Each
-holds one valid solid whose volume equals ``cam-workbench report``'s report.json volume (run here
-through the CLI) and the closed form of tests/test_cylindrical_features.py; points of FreeCAD's own
+holds one valid solid, sewn from the groove's faces (``part_cylindrical.sewn_groove_solid``: no
+boolean; one B-spline face per wall surface), whose volume equals ``cam-workbench report``'s
+report.json volume (run here through the CLI) and the closed form of
+tests/test_cylindrical_features.py; points of FreeCAD's own
 B-spline wall faces are within 1e-6 mm of the exact walls (the developed offsets at each point's
 radius, measured by the library's ``wall_distance_error`` and, for a subset, by this file's
 independent scipy minimisation in tests/test_cylindrical.py); the Check design rows are report.json's
@@ -57,6 +59,8 @@ import FreeCAD
 import numpy as np
 from cam_workbench.freecad.feature import create, reference_of
 from cam_workbench.freecad import check_design, part_cylindrical
+from cam_workbench.generators import design_cam
+from cam_workbench.generators.spec import CamSpec
 specs = json.loads(SPECS)
 doc = FreeCAD.newDocument("cyl")
 cams = {k: create(doc, d, name=k) for k, d in specs.items()}
@@ -67,11 +71,15 @@ for k, cam in cams.items():
     bb = s.BoundBox
     rep = check_design.design_report(cam)
     fol = reference_of(cam, "follower").Shape
+    design = design_cam(CamSpec.from_dict(specs[k]))
+    sewn = part_cylindrical.sewn_groove_solid(design, 25.4 if design.spec.units == "in" else 1.0)
     RESULT[k] = dict(status=cam.Status, valid=s.isValid(), solids=len(s.Solids), volume=s.Volume,
                      z=[bb.ZMin, bb.ZMax], wall=part_cylindrical.wall_face_points(s).tolist(),
                      checks=rep.checks_dict, cells=[c.cells() for c in rep.checks], ok=rep.ok,
                      rows=[list(r) for r in rep.rows], verdict=rep.verdict(),
                      body_choices=cam.getEnumerationsOfProperty("CamBody"),
+                     sewn_volume=None if sewn is None else sewn.Volume,
+                     bspline_faces=sum(f.Surface.TypeId == "Part::GeomBSplineSurface" for f in s.Faces),
                      follower_vertices=[[v.X, v.Y, v.Z] for v in fol.Vertexes],
                      follower_circles=[[e.Curve.Center.x, e.Curve.Center.y, e.Curve.Center.z, e.Curve.Radius]
                                        for e in fol.Edges if e.Curve.TypeId == "Part::GeomCircle"])
@@ -116,6 +124,9 @@ def test_solid_volume(run, reports, name):
     rel = r["volume"] / (reports[name]["volume"] * k ** 3) - 1
     print(f"FreeCAD {'.'.join(run['version'])} {name}: volume vs report.json {rel:.3e} relative")
     assert abs(rel) <= 1e-6
+    # the feature's solid is the one sewn from the groove's faces (no boolean), one face per wall surface
+    assert r["sewn_volume"] == pytest.approx(r["volume"], rel=1e-12)
+    assert r["bspline_faces"] == len(design_cam(CamSpec.from_dict(SPECS[name])).body.walls)
     if name == "featured":
         assert r["volume"] == pytest.approx(closed_form_volume(), rel=1e-6)
         assert r["z"] == pytest.approx([-15.0, 60.0], abs=1e-6)

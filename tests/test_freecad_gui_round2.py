@@ -177,6 +177,8 @@ def open_report():
 def report_dialog():
     d = export_dialog()
     R["report_label"] = d.path_label.text()
+    R["report_radios"] = {{"radios": list(d.radios), "kind": d.kind}}
+    d.radios["report_plots"].setChecked(True)          # the figures as PNG files too
     d.path.setText(os.path.join(OUT, "ex5_report"))
     d.start()
     state["t0"] = QtCore.QTime.currentTime()
@@ -252,6 +254,7 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["csv"]["exists"] and r["csv"]["status"].startswith("Written:")
     assert r["report_label"] == "Folder:"
     assert r["report"]["status"].startswith(f"Written: {out / 'ex5_report'} (report.html, report.json"), r["report"]
+    assert r["report_radios"] == {"radios": ["report", "report_plots"], "kind": "report"}
     assert "report.html" in r["report"]["files"] and "plot_force_stress.png" in r["report"]["files"]
     report = r["report_view"]
     assert "Traceback" not in report and "Traceback" not in run.console

@@ -75,10 +75,12 @@ def test_only_the_adaptor_imports_ocp():
 
 
 def test_importing_the_package_loads_no_ocp():
-    """``import cam_workbench`` (and the command line's parser) loads no OCP, cadquery or
-    build123d: they are loaded when a solid is asked for."""
+    """``import cam_workbench`` (and the command line's parser and commands' modules) loads no
+    OCP, cadquery or build123d: they are loaded when a solid is asked for."""
     code = ("import sys, cam_workbench, cam_workbench.cli, cam_workbench.kernel.ocp\n"
+            "from cam_workbench.commands.dispatch import RUNNERS\n"
             "cam_workbench.cli.build_parser()\n"
+            "runners = [load() for load in RUNNERS.values()]   # every command's module\n"
             "print(','.join(m for m in ('OCP', 'cadquery', 'build123d') if m in sys.modules))\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr
@@ -122,7 +124,9 @@ def test_only_the_parallel_module_imports_dask():
                 offenders.append(rel)
     assert not offenders, offenders
     code = ("import sys, cam_workbench.cli, cam_workbench.studies, cam_workbench.parallel\n"
+            "from cam_workbench.commands.dispatch import RUNNERS\n"
             "cam_workbench.cli.build_parser()\n"
+            "runners = [load() for load in RUNNERS.values()]   # every command's module\n"
             "print(','.join(m for m in ('dask', 'distributed', 'pyarrow') if m in sys.modules))\n")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr

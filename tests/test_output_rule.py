@@ -250,12 +250,13 @@ def test_check_of_the_identical_spec_keeps_the_builds_other_files(made, tmp_path
 
 def test_the_same_cam_of_another_spec_is_refused_when_files_would_be_left(made, tmp_path, capsys, monkeypatch):
     """(b)/(c) the same cam (the same spec file), another spec: `check` writes report.json only and
-    would leave the build's 12 other files contradicting it — refused, naming what differs."""
+    would leave the build's 5 other files contradicting it (no PNG figures without --plots) —
+    refused, naming what differs."""
     their_set(made, tmp_path / "out")
     before = snapshot(tmp_path)
     code, _o, err = run(tmp_path, ["check", str(made / "mine.toml"), "--set", "cam.thickness=13", "-o", "out"],
                         made, capsys, monkeypatch)
-    assert_refused(code, err, "made from another spec (cam.thickness 10 → 13)", "would leave 12",
+    assert_refused(code, err, "made from another spec (cam.thickness 10 → 13)", "would leave 5",
                    "choose another folder, or --replace")
     assert_unchanged(tmp_path, before)
     # docs/cli.md quotes this message: the same words, for its file and time

@@ -715,7 +715,7 @@ def test_a_check_without_a_limit_is_skipped_everywhere(no_limit, tmp_path):
 
 @requires_ocp
 def test_a_check_without_a_limit_in_report_html(no_limit, tmp_path):
-    res = cli("report", str(no_limit), "-o", str(tmp_path))
+    res = cli("report", "--plots", str(no_limit), "-o", str(tmp_path))
     assert res.returncode == 0, res.stderr
     page = Page.read(tmp_path / "report.html")
     cell = page.cells["checks.results.contact_stress.status"]

@@ -1,10 +1,10 @@
-"""CLI commands: each module has ``register(subparsers)`` that adds its parser (through
-:func:`add_command`) and sets ``run``; :mod:`.dispatch` lists the modules and runs a command.
+"""CLI commands: each command's arguments in :mod:`.parsers` (argparse alone: ``--help`` and an
+argument error load no command, no numpy), its run in a module of its own (``run(args)``), which
+:mod:`.dispatch` loads when the command is to run.
 
-:data:`CATALOGUE` — each command's name, aliases and one-line help, in the order ``--help`` lists
-them — is all the command line's top-level help needs (``cam_workbench.cli``: ``cam-workbench
---help`` loads no command, no numpy); each command's own parser takes its help from it.  A new
-command is a module here, an entry in :data:`.dispatch.COMMANDS` and one in :data:`CATALOGUE`.
+:data:`CATALOGUE` holds each command's name, aliases and one-line help, in the order ``--help``
+lists them; each command's parser takes its help from it.  A new command is a module here, an
+entry in :data:`CATALOGUE`, one in :data:`.parsers.PARSERS` and one in :data:`.dispatch.RUNNERS`.
 """
 from __future__ import annotations
 
@@ -61,7 +61,7 @@ CATALOGUE: dict[str, tuple[tuple[str, ...], str]] = {
 
 def root_parser() -> tuple[argparse.ArgumentParser, Any]:
     """(the ``cam-workbench`` parser with the top-level options, its command subparsers to add
-    the commands to): the one start of the full parser and of the top-level one."""
+    the commands to): the start of :func:`.parsers.parser`."""
     parser = argparse.ArgumentParser(
         prog="cam-workbench", description=DESCRIPTION, epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter)

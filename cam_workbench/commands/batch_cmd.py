@@ -11,38 +11,11 @@ from rich.markup import escape
 
 from cam_workbench.generators.errors import SpecError
 
-from . import EXIT_CHECK_FAILED, add_command
+from . import EXIT_CHECK_FAILED
 from ..studies import batch, collect_specs
-from .common import (add_output_arguments, add_parallel_arguments, check_parallel_arguments, count_progress, note,
-                     parse_value, require_ocp)
+from .common import check_parallel_arguments, count_progress, note, parse_value, require_ocp
 
 EXIT_SOME_FAILED = 4
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "batch",
-        description="Build every spec (TOML files, and the *.toml files of folders, sorted by name) with the "
-                    "same pipeline as `build`: OUT/<name>/ gets cam.step, cam.dxf, cam.nc, commands.csv, "
-                    "report.json, report.html and the plots (<name>: the file's name without .toml; -2, -3 "
-                    "for repeats). OUT/summary.csv and OUT/summary.parquet hold one row per spec: its status "
-                    "(ok, bad input, cannot be made, error, cancelled) and message, and its key numbers and "
-                    "checks (base radius, pressure angle, radii of curvature, area, volume, every check's "
-                    "value, limit and status); OUT/study.json says how it ran. A bad spec is a row saying "
-                    "why and does not stop the others. The cams are built in parallel on Dask (--workers, "
-                    "--scheduler), each folder written as its cam is done.",
-        epilog="exit status: 0 every cam built and passing every design check; 3 every cam built, some "
-               "failing a design check (the table says which); 4 some specs could not be built (bad input, "
-               "cannot be made, internal error: their rows say why; the others are written); 2 bad command "
-               "line or OUT refused (files of yours, another study's or cam's set: nothing written); 130 "
-               "interrupted (Ctrl-C: the cams done "
-               "stay, the summary marks the rest cancelled).",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("specs", nargs="+", metavar="SPEC", help="spec files (TOML) and folders of them")
-    add_output_arguments(p, "batch", source=False)
-    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
-                   help="override a field of every spec, e.g. --set cam.thickness=12 (repeatable)")
-    add_parallel_arguments(p, "the builds")
-    p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

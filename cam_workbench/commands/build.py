@@ -13,23 +13,8 @@ from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
-from . import add_command
-from .common import add_output_arguments, add_plots_argument, add_spec_arguments, write_cam
+from .common import write_cam
 from .dxf_cmd import describe as describe_dxf
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "build",
-        description="Design the cam (PH pitch curve, exact profile, design checks) and write "
-                    "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
-                    "cam.nc (machining.program: xy or xc), commands.csv (the interpolator's commands), "
-                    "report.json and report.html (its figures inline; as PNG files too with --plots) into the output folder. "
-                    "Nothing is written if the spec is bad or the cam cannot be made.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    add_output_arguments(p, "out")
-    add_plots_argument(p)
-    p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,8 +34,9 @@ def _print_summary(s: dict, out: Path) -> None:
 
 def _files_line(s: dict, out: Path) -> None:
     f = s["files"]
-    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}, "
-          f"{len(f.get('plots', []))} plots")
+    plots = f.get("plots", [])
+    print(f"cam written to {out}/: {', '.join(v for v in f.values() if isinstance(v, str))}"
+          + (f", {len(plots)} plots" if plots else ""))
 
 
 def _print_any_summary(s: dict, out: Path) -> None:

@@ -21,28 +21,9 @@ from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 
-from . import EXIT_CHECK_FAILED, add_command
+from . import EXIT_CHECK_FAILED
 from ..pipeline import run_pipeline
-from .common import (add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim,
-                     spec_from_args)
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "check",
-        description="Evaluate the design checks of the spec's cam — pressure angle, separation "
-                    "(driving force), oscillation, Hertz contact stress, radius of curvature with the "
-                    "undercut safety factor, and the true roller-envelope undercut (thesis Ch. 3) — "
-                    "print them as a table; with -o, write them as the `checks` section of report.json in "
-                    "that folder (merged into a report.json that `build` wrote for the same spec). "
-                    "Writes nothing without -o. "
-                    "Limits and sampling come from the spec's [checks], [material] and [follower].",
-        epilog="exit status: 0 every check passes, 3 a check failed, 2 bad input (nothing written).",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    add_output_arguments(p, None, "output folder for report.json")
-    p.add_argument("--sampling", choices=("dense", "thesis71"),
-                   help="override checks.sampling: dense sampling, or the thesis' 71 nodes per rise/return")
-    p.set_defaults(run=run)
+from .common import admit_output, design_for, output_claim, spec_from_args
 
 
 def run(args: argparse.Namespace) -> int:

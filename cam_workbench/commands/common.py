@@ -1,5 +1,5 @@
-"""Helpers shared by the CLI commands: reading the spec, ``--set`` overrides, the output folder's
-claim, progress, the run that ``build`` and ``report`` share."""
+"""Helpers shared by the CLI commands when they run: reading the spec, ``--set`` overrides, the output
+folder's claim, progress, the run that ``build`` and ``report`` share (their arguments: :mod:`.parsers`)."""
 from __future__ import annotations
 
 import argparse
@@ -15,7 +15,7 @@ from cam_workbench.exporters.chart_png import require_png
 from cam_workbench.exporters.output_rule import Claim, admit, file_source, spec_claim
 from cam_workbench.generators.cam_design import CamDesign, design_cam
 from cam_workbench.generators.errors import GeometryError, SpecError
-from cam_workbench.generators.spec.examples import DESCRIPTIONS, example_spec
+from cam_workbench.generators.spec.examples import example_spec
 from cam_workbench.generators.spec import CamSpec, load_spec
 from cam_workbench.generators.studies.remedies import with_remedy
 
@@ -27,43 +27,6 @@ try:
     import tomllib
 except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib  # type: ignore[no-redef]
-
-
-def add_spec_arguments(p: argparse.ArgumentParser) -> None:
-    """SPEC positional (optional: the built-in default) and repeatable ``--set FIELD=VALUE``."""
-    p.add_argument("spec", nargs="?", metavar="SPEC",
-                   help="cam spec (TOML); omitted: the built-in example named by --example")
-    p.add_argument("--example", metavar="NAME", default=None,
-                   help="a built-in cam instead of SPEC (default: 'default'): "
-                        + "; ".join(f"'{n}' ({d})" for n, d in DESCRIPTIONS.items()))
-    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="FIELD=VALUE",
-                   help="override a spec field, e.g. --set cam.base_radius=30 or "
-                        "--set motion[1].law=poly345 (repeatable; `cam-workbench spec` lists fields)")
-
-
-def add_output_arguments(p: argparse.ArgumentParser, default: str | None, what: str = "output folder",
-                         source: bool = True) -> None:
-    """``-o OUT`` (a folder: ``default``, or None: no folder, nothing written), ``--replace`` and,
-    with ``source``, ``--source NAME`` (the rule: docs/cli.md, "Output folders and your files")."""
-    where = f"default: {default}" if default else "omitted: nothing is written"
-    p.add_argument("-o", "--output", default=default, metavar="OUT",
-                   help=f"{what} (created if needed; {where}); it may hold the set of the same spec, or "
-                        "of the same cam when this run writes every file of it; another cam's set only with "
-                        "--replace; never files of yours (docs/cli.md)")
-    p.add_argument("--replace", action="store_true",
-                   help="replace the cam-workbench set the folder holds, whatever cam it is of (a folder "
-                        "holding files of yours is still refused)")
-    if source:
-        p.add_argument("--source", metavar="NAME", default=None,
-                       help="the cam's name recorded in the folder's manifest (default: SPEC's resolved path, "
-                            "or example:NAME); a later run for the same name may replace the set")
-
-
-def add_plots_argument(p: argparse.ArgumentParser) -> None:
-    """``--plots``: the report's figures also as PNG files (they are always in report.html)."""
-    p.add_argument("--plots", action="store_true",
-                   help="also write each of the report's figures as a PNG file (plot_*.png, the SVG of "
-                        "report.html rasterised; needs CairoSVG: pip install 'cam-workbench[png]')")
 
 
 def source_of(args: argparse.Namespace) -> str:
@@ -216,17 +179,6 @@ def dynamics_progress(spec: CamSpec) -> tuple[Any, Callable[[int, int, str], Non
     if not (spec.dynamics.enabled and spec.dynamics.sweep_points > 0):
         return contextlib.nullcontext(), None
     return sweep_progress()
-
-
-def add_parallel_arguments(p: argparse.ArgumentParser, what: str) -> None:
-    """``--workers N`` and ``--scheduler ADDRESS``: where ``what`` runs (Dask, docs/studies.md)."""
-    p.add_argument("--workers", type=int, metavar="N", default=None,
-                   help=f"run {what} on a local Dask cluster of N worker processes (default: one per CPU, "
-                        "no more than there are tasks; in this process when that is one or Dask is not "
-                        "installed); 0: in this process, without Dask")
-    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                   help=f"run {what} on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers "
-                        "must have the same cam-workbench installed)")
 
 
 def check_parallel_arguments(args: argparse.Namespace) -> None:

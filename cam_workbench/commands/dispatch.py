@@ -1,41 +1,109 @@
-"""Running a command: the full parser (every command's module, :data:`COMMANDS`) and the run,
-with the exit statuses and one-line messages of :mod:`cam_workbench.cli` (which loads this module
-only when a command is to run)."""
+"""Running a command: its module loaded — that command's alone, by :data:`RUNNERS` — and run,
+with the exit statuses and one-line messages of :mod:`cam_workbench.cli`, which parses the
+arguments with :mod:`.parsers` (loading no command) and loads this module only when a command is
+to run."""
 from __future__ import annotations
 
 import argparse
 import sys
-from typing import Sequence
+from typing import Callable
 
 from rich.console import Console
 
 from cam_workbench.generators.errors import CamError
 
-from . import (batch_cmd, build, check, dxf_cmd, dynamics_cmd, ecam_cmd, freecad_cmd, gcode, optimise_cmd,
-               report_cmd, spec_cmd, sweep_cmd)
-from . import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, root_parser, silence_stdout
+from . import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, silence_stdout
 
-#: every command's module, in the order of :data:`cam_workbench.commands.CATALOGUE`
-COMMANDS = [build, check, gcode, dxf_cmd, report_cmd, dynamics_cmd, ecam_cmd, optimise_cmd, batch_cmd, sweep_cmd,
-            spec_cmd, freecad_cmd]
+#: a command's ``run(args)``: its exit status
+Runner = Callable[[argparse.Namespace], int]
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every registered command."""
-    parser, sub = root_parser()
-    for module in COMMANDS:
-        module.register(sub)
-    return parser
+def _build() -> Runner:
+    from . import build  # deferred: the command's module (numpy, scipy, the generators, the exporters)
+
+    return build.run
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Parse ``argv`` and run the command; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+def _check() -> Runner:
+    from . import check  # deferred: the command's module (numpy, scipy, the generators)
+
+    return check.run
+
+
+def _gcode() -> Runner:
+    from . import gcode  # deferred: the command's module (numpy, scipy, the generators)
+
+    return gcode.run
+
+
+def _dxf() -> Runner:
+    from . import dxf_cmd  # deferred: the command's module (numpy, scipy, the generators)
+
+    return dxf_cmd.run
+
+
+def _report() -> Runner:
+    from . import report_cmd  # deferred: the command's module (numpy, scipy, the generators, the exporters)
+
+    return report_cmd.run
+
+
+def _dynamics() -> Runner:
+    from . import dynamics_cmd  # deferred: the command's module (numpy, scipy, the generators)
+
+    return dynamics_cmd.run
+
+
+def _ecam() -> Runner:
+    from . import ecam_cmd  # deferred: the command's module (numpy, scipy, the generators)
+
+    return ecam_cmd.run
+
+
+def _optimise() -> Runner:
+    from . import optimise_cmd  # deferred: the command's module (numpy, scipy, the generators, the optimiser)
+
+    return optimise_cmd.run
+
+
+def _batch() -> Runner:
+    from . import batch_cmd  # deferred: the command's module (the studies)
+
+    return batch_cmd.run
+
+
+def _sweep() -> Runner:
+    from . import sweep_cmd  # deferred: the command's module (the studies)
+
+    return sweep_cmd.run
+
+
+def _spec() -> Runner:
+    from . import spec_cmd  # deferred: the command's module (the spec's declarations)
+
+    return spec_cmd.run
+
+
+def _freecad() -> Runner:
+    from . import freecad_cmd  # deferred: the command's module (the workbench's installer)
+
+    return freecad_cmd.run
+
+
+#: command (``command_id``, :mod:`.parsers`) → its runner, loading the command's module when called
+RUNNERS: dict[str, Callable[[], Runner]] = {
+    "build": _build, "check": _check, "gcode": _gcode, "dxf": _dxf, "report": _report, "dynamics": _dynamics,
+    "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "spec": _spec, "freecad": _freecad,
+}
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the command ``args`` names (``args.command_id``, parsed by :func:`.parsers.parser`);
+    returns the exit status."""
     args.status = EXIT_OK          # a command sets it before it prints its last tables
     _broken_pipe_raises()
     try:
-        return int(args.run(args) or 0)
+        return int(RUNNERS[args.command_id]()(args) or 0)
     except BrokenPipeError:
         # the reader of stdout went away (`… | head`): not an error of ours — the files are
         # written; stop printing and keep the command's status
@@ -70,7 +138,7 @@ def _one_line(text: str) -> str:
 
 def _broken_pipe_raises() -> None:
     """rich ends the process with exit 1 when stdout's reader goes away; let it raise
-    BrokenPipeError instead, which :func:`main` turns into the command's own status."""
+    BrokenPipeError instead, which :func:`run` turns into the command's own status."""
 
     def on_broken_pipe(self: Console) -> None:
         raise BrokenPipeError(32, "Broken pipe")

@@ -6,39 +6,10 @@ from pathlib import Path
 
 from cam_workbench.exporters.atomic import OutputSet, atomic_path
 from cam_workbench.exporters.output_rule import check_output_file
-from cam_workbench.generators.spec.params import params_of
-from cam_workbench.generators.spec import DrawingSection, spec_digest
+from cam_workbench.generators.spec import spec_digest
 
-from . import add_command
 from ..pipeline import run_pipeline
-from .common import add_output_arguments, add_spec_arguments, admit_output, design_for, output_claim, spec_from_args
-
-_DECL = params_of(DrawingSection)
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "dxf",
-        description="Design the cam and write its manufacturing drawing as DXF: the profile (layer PROFILE) "
-                    "as a polynomial cubic SPLINE within drawing.chord_tolerance of the profile NURBS, which "
-                    "every DXF reader draws (the default, --curves cubic); as that NURBS itself (--curves "
-                    "spline: the exact rational offset, degree 9, for a PH pitch curve, which LibreCAD and "
-                    "many CAM programs drop; for pitch.representation = \"bspline\" a fitted B-spline, its "
-                    "measured error printed); or as arcs or a polyline within the tolerance for machines "
-                    "that read no splines. The measured distance is printed and stated in the title block. "
-                    "Also the pitch curve, base and prime circles, bore, centre lines, dimensions and a "
-                    "title block with the motion table. The spec's [drawing] section sets the defaults.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    p.add_argument("--curves", choices=_DECL["curves"].choices, default=None,
-                   help=f"{_DECL['curves'].doc} (default: the spec's drawing.curves)")
-    p.add_argument("--tolerance", type=float, default=None, metavar="TOL",
-                   help=f"{_DECL['chord_tolerance'].doc}, in the spec's units "
-                        "(default: the spec's drawing.chord_tolerance)")
-    p.add_argument("--dxf-version", choices=_DECL["dxf_version"].choices, default=None,
-                   help=f"{_DECL['dxf_version'].doc} (default: the spec's drawing.dxf_version)")
-    add_output_arguments(p, "out", "a .dxf file name (written, replacing a file of that name), or a folder "
-                                   "to write cam.dxf into")
-    p.set_defaults(run=run)
+from .common import admit_output, design_for, output_claim, spec_from_args
 
 
 def output_file(arg: str) -> Path:

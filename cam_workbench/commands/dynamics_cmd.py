@@ -26,35 +26,10 @@ from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import CamSpec, spec_digest
 from cam_workbench.generators.spec.params import unit_name
 
-from . import add_command
-from .common import (add_output_arguments, add_spec_arguments, admit_output, output_claim, require_png,
-                     spec_from_args,
-                     sweep_progress)
+from .common import admit_output, output_claim, require_png, spec_from_args, sweep_progress
+from .parsers import DYNAMICS_CSV as CSV_NAME, DYNAMICS_PLOTS as PLOTS
 
 EXIT_CONTACT_LOST = 3
-CSV_NAME = "dynamics.csv"
-PLOTS = ("plot_dynamics.png", "plot_jump_speed.png")
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "dynamics",
-        description="Model the follower train as a spring–mass–damper (effective mass, train stiffness, damping "
-                    "ratio, return spring and preload: the spec's [dynamics] and [follower]) driven by the cam at "
-                    "its speed, solve its steady state (a periodic solve on the cam; revolution after revolution "
-                    "when the follower leaves it) and print the dynamic contact force, where the follower leaves the "
-                    "cam, the displacement error, the residual vibration after each rise and return, the camshaft "
-                    "torque (rigid and dynamic) and the jump speed (a sweep of cam speeds with a progress bar, then "
-                    "a bisection). With -o, writes report.json's dynamics section (merged into a report.json of the "
-                    f"same cam), {CSV_NAME} and the figures {', '.join(PLOTS)} into that folder; writes nothing "
-                    "without -o. docs/dynamics.md",
-        epilog="exit status: 0 the follower stays on the cam, 3 it leaves the cam at the analysis speed (the files "
-               "are written), 2 bad input (nothing written).",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    p.add_argument("--speed", type=float, metavar="RPM", help="cam speed of the analysis (dynamics.speed_rpm)")
-    p.add_argument("--no-sweep", action="store_true", help="skip the jump-speed sweep (dynamics.sweep_points = 0)")
-    add_output_arguments(p, None)
-    p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

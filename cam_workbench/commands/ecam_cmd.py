@@ -11,40 +11,9 @@ from pathlib import Path
 
 from cam_workbench.exporters.ecam import ecam_table
 from cam_workbench.exporters.output_rule import check_output_file
-from cam_workbench.generators.spec import ECAM_TABLES, spec_digest
+from cam_workbench.generators.spec import spec_digest
 
-from . import add_command
-from .common import add_spec_arguments, spec_from_args
-
-TABLES = sorted({t for ts in ECAM_TABLES.values() for t in ts})
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "ecam",
-        description="Sample the motion program as the cam table a servo motion controller reads and write it:\n"
-                    "  csv       θ [deg], s, s', s'', s''' (per radian) at every point\n"
-                    "  codesys   --table xyva: a GVL with SMC_CAMXYVA points and their MC_CAM_REF;\n"
-                    "            --table poly5: a PROGRAM building the cam with the CamBuilder's Poly5 segments\n"
-                    "  beckhoff  --table motion_function: MC_MotionFunctionPoint, 5th-order polynomials;\n"
-                    "            --table position_table: master/slave rows for linear interpolation\n"
-                    "  lenze     the Global Drive Cam Loader's x y point file\n"
-                    "Master = cam angle [deg] 0 ... 360, slave = follower lift (mm, in, or arm degrees). The "
-                    "deviation of the table's own interpolation from the exact motion is measured on the numbers "
-                    "as written, printed and stated in the file. Defaults come from the spec's [ecam]. "
-                    "Nothing is written on bad input. docs/ecam.md",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    p.add_argument("--format", choices=tuple(ECAM_TABLES), help="table format (ecam.format)")
-    p.add_argument("--table", choices=("auto", *TABLES), help="which table of the format (ecam.table)")
-    p.add_argument("--step", type=float, metavar="DEG", help="master step between points in cam degrees (ecam.step)")
-    p.add_argument("--no-boundaries", action="store_true",
-                   help="no extra points at the motion segments' boundaries (ecam.boundaries = false)")
-    p.add_argument("--name", metavar="NAME", help="the cam's name in the PLC code (ecam.name)")
-    p.add_argument("--json", action="store_true", help="print the deviation summary as JSON")
-    p.add_argument("-o", "--output", metavar="FILE",
-                   help="output file (written atomically, replacing a file of that name); omitted: standard output, "
-                        "the summary on standard error")
-    p.set_defaults(run=run)
+from .common import spec_from_args
 
 
 def run(args: argparse.Namespace) -> int:

@@ -4,33 +4,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from . import EXIT_CHECK_FAILED, EXIT_OK, add_command
+from . import EXIT_CHECK_FAILED, EXIT_OK
 from ..freecad import install as inst
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "freecad",
-        description="Register the Cam Workbench with your FreeCAD (a CamWorkbench folder in "
-                    "FreeCAD's per-user Mod folder, linking this installation's packages), or "
-                    "remove it. The Mod folder is asked from every FreeCAD found (freecadcmd on "
-                    "PATH, or --freecad), so FreeCAD 0.20, 1.0 and 1.1's versioned folders are "
-                    "all right; restart FreeCAD afterwards.")
-    actions = p.add_subparsers(dest="action", metavar="{install,uninstall}", required=True)
-    for name, help_text in (("install", "add the workbench to FreeCAD (again: replaces our own copy)"),
-                            ("uninstall", "remove the workbench from FreeCAD")):
-        a = actions.add_parser(name, help=help_text, description=help_text)
-        a.add_argument("--mod-dir", type=Path, metavar="DIR",
-                       help="use this Mod folder instead of asking FreeCAD (e.g. for tests or a "
-                            "portable FreeCAD)")
-        a.add_argument("--freecad", metavar="EXE",
-                       help="the headless FreeCAD to ask for its Mod folder (default: freecadcmd / "
-                            "FreeCADCmd on PATH)")
-        if name == "install":
-            a.add_argument("--copy", action="store_true",
-                           help="copy the packages instead of linking them (re-run after upgrades)")
-            a.add_argument("--no-verify", action="store_true",
-                           help="do not start FreeCAD to check that the workbench loads")
-        a.set_defaults(run=run_install if name == "install" else run_uninstall)
 
 
 def _targets(args: argparse.Namespace) -> tuple[list[Path], list[inst.FreeCADInfo]]:
@@ -93,3 +68,12 @@ def run_uninstall(args: argparse.Namespace) -> int:
     if not removed:
         print("the workbench was not installed in: " + ", ".join(str(d) for d in dirs))
     return EXIT_OK
+
+
+#: ``freecad ACTION`` → what runs it
+ACTIONS = {"install": run_install, "uninstall": run_uninstall}
+
+
+def run(args: argparse.Namespace) -> int:
+    """``freecad install`` or ``freecad uninstall``, as the command line names it."""
+    return ACTIONS[args.action](args)

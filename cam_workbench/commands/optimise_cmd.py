@@ -15,45 +15,15 @@ from rich.progress import BarColumn, Progress as Bar, TextColumn, TimeElapsedCol
 
 from cam_workbench.generators.checks.areas import area_label
 from cam_workbench.generators.optimise import Progress, optimise
-from cam_workbench.generators.spec import OBJECTIVES, OPTIMISE_ALGORITHMS, to_toml
+from cam_workbench.generators.spec import to_toml
 
-from . import EXIT_CHECK_FAILED, add_command
+from . import EXIT_CHECK_FAILED
 from ..pipeline import plot_count, run_pipeline, write_outputs
 from ..studies import executor_scope
-from .common import (add_output_arguments, add_parallel_arguments, add_plots_argument, add_spec_arguments,
-                     admit_output, check_parallel_arguments, note, on_terminal, output_claim, plot_progress,
+from .common import (admit_output, check_parallel_arguments, note, on_terminal, output_claim, plot_progress,
                      require_ocp, require_png, spec_from_args)
+from .parsers import OPTIMISED_SPEC as SPEC_NAME
 
-SPEC_NAME = "optimised.toml"
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "optimise",
-        description="Minimise the spec's [optimise] objective over its design variables (base radius, "
-                    "the follower's position: offset, or pivot distance and arm length of an oscillating "
-                    "follower; the free B-spline control points, polynomial point lifts, the blank orientation; a groove "
-                    "cam's disc and groove; a cylindrical cam's cylinder, by COBYLA on its own checks) subject to "
-                    "every design check of the follower kind, evaluated densely (thesis Ch. 5-7, with nlopt). Writes the optimised "
-                    f"spec ({SPEC_NAME}), report.json (with an `optimise` section: objective, history, "
-                    "evaluations, time, the final dense checks), report.html with the convergence figure (its "
-                    "figures as PNG files too with --plots) and the optimised cam's own cam.step, cam.dxf, cam.nc and commands.csv (as `build` "
-                    "writes them) into the output folder. Settings: the [optimise] section (`cam-workbench spec`).",
-        epilog="exit status: 0 optimised and every check passes, 3 the result fails a dense check (files are "
-               "still written, report.json says which), 2 bad input (nothing written).",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    p.add_argument("--objective", choices=OBJECTIVES, help="override optimise.objective")
-    p.add_argument("--variables", metavar="LIST",
-                   help="override optimise.variables, e.g. 'base_radius,offset', "
-                        "'base_radius,pivot_distance,arm_length', 'control_points' or 'motion[1].points'")
-    p.add_argument("--algorithm", choices=OPTIMISE_ALGORITHMS, help="override optimise.algorithm")
-    p.add_argument("--max-evaluations", type=int, metavar="N", help="override optimise.max_evaluations")
-    p.add_argument("--multistart", type=int, metavar="N", help="override optimise.multistart (extra random starts)")
-    p.add_argument("--seed", type=int, metavar="N", help="override optimise.seed")
-    add_parallel_arguments(p, "the multistart's starts")
-    add_output_arguments(p, "out")
-    add_plots_argument(p)
-    p.set_defaults(run=run)
 
 
 def _progress_bar(budget: int) -> tuple[Any, Any]:

@@ -6,21 +6,7 @@ import argparse
 
 from cam_workbench.exporters.report_pages import HTML_NAME, JSON_NAME
 
-from . import add_command
-from .common import add_output_arguments, add_plots_argument, add_spec_arguments, write_cam
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "report",
-        description="Design the cam and write its report: report.html (one self-contained file: the spec, "
-                    "the cam with its follower, s/v/a/j, pressure angle, radius of curvature, interpolation "
-                    "error, accuracy figures) and report.json, whose numbers the HTML tables show; with --plots "
-                    "the figures as PNG files too. Nothing is written if the spec is bad or the cam cannot be made.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    add_output_arguments(p, "out")
-    add_plots_argument(p)
-    p.set_defaults(run=run)
+from .common import write_cam
 
 
 def run(args: argparse.Namespace) -> int:

@@ -14,56 +14,10 @@ from cam_workbench.exporters.output_rule import admit
 from cam_workbench.generators.studies.grid import Grid
 from cam_workbench.generators.studies.sizing import digits_of
 
-from . import add_command
 from ..studies import grid_columns, make_grid, sweep, sweep_claim, write_study
-from .common import (add_output_arguments, add_parallel_arguments, add_spec_arguments, check_parallel_arguments,
-                     count_progress, note, require_ocp, source_of, spec_from_args)
+from .common import check_parallel_arguments, count_progress, note, require_ocp, source_of, spec_from_args
 
 EXIT_SOME_FAILED = 4
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "sweep",
-        description="Vary spec fields over a grid and evaluate every point: design and check the cam (no "
-                    "solid; --build: every file as `build` writes them, one subfolder per point), or, with "
-                    "--size base_radius, find the smallest cam.base_radius that passes the design checks "
-                    "(bisection with the dense checks, to --tol) and draw the sizing chart: that radius over "
-                    "the first numeric axis, one line per value of the next, one panel per value of a "
-                    "categorical axis (the handbook nomogram). Writes sweep.csv/sweep.parquet (or "
-                    "sizing.csv/sizing.parquet and sizing_chart.png) and study.json into OUT. A point whose "
-                    "spec breaks a rule is a row saying why.",
-        epilog="examples:\n"
-               "  cam-workbench sweep --vary motion[1].lift,motion[3].lift=10:30:5 "
-               "--vary motion[1].law,motion[3].law=cycloidal,harmonic -o lifts\n"
-               "  cam-workbench sweep --vary motion[1].angle,motion[3].angle=60:150:10 --balance "
-               "motion[2].angle \\\n      --vary motion[1].law,motion[3].law=cycloidal,harmonic,poly345 "
-               "--size base_radius --size-checks pressure_angle,curvature -o chart\n\n"
-               "exit status: 0 the table is written (rows of points that fail a check are results); 4 some "
-               "points could not be evaluated (bad input, cannot be made: their rows say why; the table is "
-               "written); 2 bad command line (nothing written); 130 interrupted (nothing written; with "
-               "--build the points done stay).",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_spec_arguments(p)
-    p.add_argument("--vary", action="append", default=[], metavar="FIELD=START:STOP:COUNT",
-                   help="an axis of the grid: FIELD=START:STOP:COUNT (COUNT values, ends included) or "
-                        "FIELD=V1,V2,… (numbers or words, e.g. motion[1].law=cycloidal,harmonic); "
-                        "FIELD1,FIELD2=… sets several fields to the same value (a rise and its return). "
-                        "Repeatable: the grid is every combination")
-    p.add_argument("--balance", metavar="FIELD",
-                   help="a dwell's motion[k].angle that takes up the rest of 360° at every point "
-                        "(so a rise's angle can vary)")
-    p.add_argument("--size", metavar="FIELD", choices=("base_radius", "cam.base_radius"),
-                   help="size FIELD (base_radius): its smallest value that passes the checks, per point")
-    p.add_argument("--size-checks", metavar="LIST", default=None,
-                   help="the checks --size must pass, e.g. pressure_angle,curvature (default: every check)")
-    p.add_argument("--tol", type=float, metavar="T", default=None,
-                   help="--size: bisection tolerance on the radius, in the spec's unit (default 0.01 mm, "
-                        "0.0005 in)")
-    p.add_argument("--build", action="store_true",
-                   help="build every point's cam with all of `build`'s files (OUT/point-NNN/)")
-    add_parallel_arguments(p, "the points")
-    add_output_arguments(p, "sweep")
-    p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:

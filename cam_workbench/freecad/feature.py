@@ -37,7 +37,6 @@ from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 from cam_workbench.generators.followers import follower_of
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
 
-from . import part_build
 from .bodies import builder_for
 from . import properties as props
 from . import view_hook
@@ -218,14 +217,14 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     if not solid:
         return design, scale, None
     builder = builder_for(design)
-    shape = builder.solid(design, scale)
-    if not shape.isValid() or len(shape.Solids) != 1:
-        raise GeometryError("kernel", "FreeCAD's kernel reports the cam solid as invalid")
-    walls = builder.wall_faces(design, shape, scale)
-    # FreeCAD's Shape.Volume: OCCT's fixed Gauss rule (no adaptive rule in FreeCAD's Python)
-    check_kernel_solid(design, shape.Volume / scale**3, part_build.top_face_area(shape, spec.cam.thickness * scale)
-                       / scale**2, kernel="FreeCAD", adaptive=False, walls=walls)
-    return design, scale, shape
+    built = builder.solid(design, scale)
+    if not built.valid:
+        raise GeometryError("kernel", f"FreeCAD's kernel reports the cam solid as invalid ({built.measured})")
+    walls = builder.wall_faces(design, built.shape, scale)
+    # FreeCAD's volumes: OCCT's fixed Gauss rule (no adaptive rule in FreeCAD's Python)
+    check_kernel_solid(design, built.volume / scale**3, built.top_area / scale**2, kernel="FreeCAD",
+                       adaptive=False, walls=walls)
+    return design, scale, built.shape
 
 
 def _restoring(obj: Any) -> bool:

@@ -11,9 +11,10 @@ from typing import Any
 
 import numpy as np
 
-from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
+from cam_workbench.generators.bodies.cylindrical import (FIX_MAX_TOLERANCE, FIX_PRECISION, SEW_TOLERANCE,
+                                                          CylindricalDesign)
 
-from .part_build import FREECAD_BODIES, Rows, circle_wire, prism_stack
+from .part_build import FREECAD_BODIES, PartSolid, Rows, circle_wire, measured_solid, prism_stack
 
 
 def wall_surface(wall: Any, scale: float = 1.0) -> Any:
@@ -41,14 +42,103 @@ def _cylinder(radius: float, z0: float, z1: float) -> Any:
     return Part.makeCylinder(radius, z1 - z0, Vector(0, 0, z0), Vector(0, 0, 1))
 
 
+def _turned(geometry: Any, angle: float) -> Any:
+    """``geometry`` (a ``Part`` curve or surface about the Z axis) turned by ``angle`` [rad] about it."""
+    from FreeCAD import Placement, Rotation, Vector  # deferred: FreeCAD (see cam_workbench.freecad.part_build)
+
+    geometry.rotate(Placement(Vector(0, 0, 0), Rotation(Vector(0, 0, 1), float(np.rad2deg(angle)))))
+    return geometry
 
 
-def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
-    """The cylindrical cam, as ``occ_build.cylindrical_solid`` builds it with OCP: the body's stack
-    of prisms (the keyed, bored cylinder, its hub, mounting holes and timing mark) minus the groove
-    — the piece of an annulus slightly wider than the groove's depth between the two walls (each
-    one shell sewn from its per-segment B-spline faces), split by FreeCAD's general fuse and told
-    by the pitch point at θ = 0 that it holds.  Lengths × ``scale`` (mm)."""
+def _circle_wire(radius: float, z: float, angle: float) -> Any:
+    """A full circle [mm] about the Z axis at height ``z`` as a wire, its vertex at the polar ``angle`` [rad]."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+    from FreeCAD import Vector
+
+    return Part.Wire(_turned(Part.Circle(Vector(0, 0, z), Vector(0, 0, 1), radius), angle).toShape())
+
+
+def cylinder_face(radius: float, first: Any, second: Any, angle: float) -> Any:
+    """The face on the cylinder of ``radius`` [mm] about the Z axis between two wires that go round
+    it, the cylinder's seam at the polar ``angle`` [rad], without their plane curves and the seam:
+    OCCT's ``ShapeFix`` adds them (``Shape.fix``, as ``cam_workbench.kernel.cylindrical.cylinder_face``
+    with OCP; :func:`sewn_groove_solid` fixes the three at once)."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+
+    surface = Part.Cylinder()
+    surface.Radius = radius
+    face = Part.Face(_turned(surface, angle), first)
+    face.addWire(second)
+    return face
+
+
+def _outer_side(stack: Any, radius: float, z_lo: float, z_hi: float) -> tuple[list[Any], float, float] | None:
+    """(the faces of ``stack`` but its outer cylindrical face — the one of ``radius`` [mm] whose
+    circles lie below ``z_lo`` and above ``z_hi`` —, the heights of that face's two circles), or None
+    when there is not one such face."""
+    kept, found = [], []
+    for face in stack.Faces:
+        circles = []
+        if face.Surface.TypeId == "Part::GeomCylinder" and abs(face.Surface.Radius - radius) <= 1e-9 * radius:
+            circles = sorted(e.Curve.Center.z for e in face.Edges if e.Curve.TypeId == "Part::GeomCircle")
+        if len(circles) == 2 and circles[0] < z_lo and circles[1] > z_hi:
+            found.append((circles[0], circles[1]))
+        else:
+            kept.append(face)
+    return (kept, *found[0]) if len(found) == 1 else None
+
+
+def sewn_groove_solid(design: Any, scale: float = 1.0) -> Any | None:
+    """The cylindrical cam as ``cam_workbench.kernel.cylindrical.sewn_groove_solid`` makes it with
+    OCP — the body's stack of prisms with its outer cylindrical face replaced by the groove's faces
+    (each wall surface's patch R_b ≤ ρ ≤ R_o, the groove's bottom on the cylinder R_b and the outer
+    cylinder below and above the groove, bounded by the walls' traces ρ = R_b and ρ = R_o), sewn
+    into one shell —, or None when they do not close (then :func:`cylindrical_solid` uses
+    :func:`boolean_groove_solid`).  Lengths × ``scale`` (mm)."""
+    import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
+
+    geo = design.body
+    lay = geo.layout
+    k = scale
+    z_lo, z_hi = lay.path.z_range()
+    outer = _outer_side(prism_stack(geo.stack, k), lay.outer_radius * k, (z_lo - lay.half_width) * k,
+                        (z_hi + lay.half_width) * k)
+    if outer is None:
+        return None
+    kept, z_bottom, z_top = outer
+    rb, ro = lay.bottom_radius, lay.outer_radius
+    walls, traces, at = [], {}, {}
+    for wall in geo.walls:
+        surface = wall_surface(wall, k)            # its parameters stay θ and ρ (spec units)
+        u0, u1 = wall.u_range
+        walls.append(surface.toShape(u0, u1, rb, ro))
+        for rho in (rb, ro):
+            traces.setdefault((wall.side, rho), []).append(surface.vIso(rho).toShape(u0, u1))
+            if wall.segment == 0:                  # the polar angle of the trace's first vertex
+                start = surface.value(u0, rho)
+                at[(wall.side, rho)] = float(np.arctan2(start.y, start.x))
+    wires = {key: Part.Wire(edges) for key, edges in traces.items()}
+    # each seam through the first vertex of a trace (as with OCP: kernel.cylindrical.sewn_groove_solid)
+    bands = Part.Compound([cylinder_face(rb * k, wires[(-1, rb)], wires[(1, rb)], at[(-1, rb)]),
+                           cylinder_face(ro * k, _circle_wire(ro * k, z_bottom, at[(-1, ro)]), wires[(-1, ro)],
+                                         at[(-1, ro)]),
+                           cylinder_face(ro * k, wires[(1, ro)], _circle_wire(ro * k, z_top, at[(1, ro)]),
+                                         at[(1, ro)])])
+    if not bands.fix(FIX_PRECISION * k, FIX_PRECISION * k, FIX_MAX_TOLERANCE * k):     # ShapeFix; valid?
+        return None
+    sewn = Part.Compound(kept + walls + bands.Faces)
+    sewn.sewShape(SEW_TOLERANCE * k)
+    if len(sewn.Shells) != 1 or not sewn.Shells[0].isClosed():
+        return None
+    return Part.Solid(sewn.Shells[0])              # oriented outward (BRepLib::OrientClosedSolid)
+
+
+def boolean_groove_solid(design: Any, scale: float = 1.0) -> Any:
+    """The cylindrical cam by booleans, as ``cam_workbench.kernel.cylindrical.boolean_groove_solid``
+    makes it with OCP: the body's stack of prisms minus the groove — the piece of an annulus slightly
+    wider than the groove's depth between the two walls (each one shell sewn from its per-segment
+    B-spline faces), split by FreeCAD's general fuse and told by the pitch point at θ = 0 that it
+    holds.  Lengths × ``scale`` (mm)."""
     import Part  # deferred: Part, FreeCAD (see cam_workbench.freecad.part_build)
     from FreeCAD import Vector
 
@@ -63,7 +153,7 @@ def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
     for side in (-1, 1):
         faces = [Part.Face(wall_surface(w, k)) for w in geo.walls if w.side == side]
         sewn = Part.Compound(faces)
-        sewn.sewShape(1e-6 * k)
+        sewn.sewShape(SEW_TOLERANCE * k)
         shells.append(sewn.Shells[0] if sewn.Shells else sewn)
     pieces = annulus.generalFuse(shells, 0.0)[0].Solids
     cx, cy, cz = lay.centre_point(design.program, 0.0)          # the roller centre at θ = 0 (its own path)
@@ -75,6 +165,13 @@ def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
     return shape.Solids[0] if len(shape.Solids) == 1 else shape
 
 
+def cylindrical_solid(design: Any, scale: float = 1.0) -> Any:
+    """The cylindrical cam, as ``cam_workbench.kernel.cylindrical.cylindrical_solid`` builds it with
+    OCP: the body's stack of prisms (the keyed, bored cylinder, its hub, mounting holes and timing
+    mark) less the groove — sewn from its faces (:func:`sewn_groove_solid`), else by booleans
+    (:func:`boolean_groove_solid`).  Lengths × ``scale`` (mm)."""
+    solid = sewn_groove_solid(design, scale)
+    return solid if solid is not None else boolean_groove_solid(design, scale)
 
 
 def wall_face_points(shape: Any, per_direction: int = 15, radii: tuple[float, float] | None = None) -> Any:
@@ -196,10 +293,14 @@ class CylindricalPart:
     offsets, see ``body.wall_fit_error``); its lifts are lengths along the cam axis."""
 
     curvature_text = "of the developed centre line, (ρ² + s′²)^{3/2}/(ρ|s″|)"
-    solid = staticmethod(cylindrical_solid)
     pitch_wire = staticmethod(cylindrical_pitch_wire)
     follower_shape = staticmethod(cylindrical_follower_shape)
     design_rows = staticmethod(cylindrical_rows)
+
+    @staticmethod
+    def solid(design: Any, scale: float) -> PartSolid:
+        """The cylinder with its groove, measured whole (:func:`.part_build.measured_solid`)."""
+        return measured_solid(cylindrical_solid(design, scale), design.spec.cam.thickness * scale)
 
     @staticmethod
     def base_circle_wire(design: Any, scale: float) -> Any:

@@ -302,14 +302,14 @@ def count_solids(shape: Any) -> int:
 
 def kernel_volume(shape: Any, eps: float | None = None) -> float:
     """Volume by OCCT's ``BRepGProp``: its fixed Gauss rule (exact on prisms of plane curves, good to
-    ~1e-5 relative on steep B-spline faces), or with ``eps`` its adaptive integration to that
-    relative error (a cylindrical cam's walls: ~1 s, 1e-10 from the closed form)."""
+    ~1e-5 relative on a cylindrical cam's B-spline walls: ``cam_workbench.generators.checks.solid``),
+    or with ``eps`` its adaptive integration to that relative error per face."""
     props = occ.GProp_GProps()
     occ.volume_properties(shape, props, eps)
     return float(props.Mass())
 
 
-#: the relative error asked of OCCT's adaptive volume integration on bodies that are not prisms
+#: the relative error per face asked of OCCT's adaptive volume integration on bodies that are not prisms
 SURFACE_VOLUME_EPS = 1e-6
 
 

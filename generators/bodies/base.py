@@ -16,6 +16,7 @@ the plate occupies 0 ≤ z ≤ cam.thickness, a hub sits below it (−hub_length
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Union
 
 import numpy as np
@@ -113,9 +114,9 @@ class Loop:
         """The closed NURBS ``curve`` as a counter-clockwise loop."""
         return Loop((Curve(curve if curve.area() > 0 else curve.reversed()),), role)
 
-    @property
+    @cached_property
     def area(self) -> float:
-        """Enclosed area (positive for a counter-clockwise loop)."""
+        """Enclosed area (positive for a counter-clockwise loop); computed once (a loop is immutable)."""
         return float(sum(p.area_term() for p in self.pieces))
 
     @property
@@ -143,7 +144,7 @@ class Prism:
     op: str = "add"
     role: str = ""
 
-    @property
+    @cached_property
     def area(self) -> float:
         return abs(self.outer.area) - sum(abs(h.area) for h in self.holes)
 
@@ -168,7 +169,7 @@ class BodyGeometry:
     #: a stack of prisms alone (the cylindrical body's geometry, with wall surfaces, is not)
     prismatic = True
 
-    @property
+    @cached_property
     def volume(self) -> float:
         """Exact volume: Σ ± prism volumes (see the module docstring for when this is the solid's)."""
         return float(sum(p.volume if p.op == "add" else -p.volume for p in self.prisms))

@@ -293,9 +293,8 @@ def roller_distance_error(first, second, n: int | None = None) -> RollerDistance
     """Both rollers' lifts from their built PH pitch curves (the contact solve, every 0.02° and at
     least 8 samples per segment of either curve) and the distance error between the rollers."""
     n = n or max(first.deviation_count(), second.deviation_count())
-    th = 2 * np.pi * np.arange(n) / n
-    s1 = first.actual_displacement(th)
-    s2 = second.actual_displacement(th)
+    th, s1 = first.sampled_displacement(n)
+    s2 = second.sampled_displacement(n)[1]
     fol2 = second.follower
     z = np.zeros_like(th)
     at1 = fol2.fixed(Kinematics(th, s1, z, z, z))[0]

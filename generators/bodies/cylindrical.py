@@ -62,7 +62,6 @@ from typing import Any
 
 import numpy as np
 
-from scipy.interpolate import BSpline, make_interp_spline
 
 from ..checks.design import continuity_check, junction_text, unit_labels
 from ..checks.status import limited_status
@@ -80,10 +79,17 @@ from .cylinder_path import (CentreLine, OscillatingPath, PathKinematics, RollerP
 from .features import bore_extent, bore_loop, hole_ligaments, hub_prism, mounting_holes, resolved, timing_mark
 
 #: grid of the wall surfaces: θ-nodes per radian of a rise/return (at least 12 per segment), ρ-nodes
+#: (the design's walls span R_b − depth/4 … R_o + depth/4: R_b and R_o are nodes)
 NODES_PER_RAD = 45.0
 RHO_NODES = 7
 DEGREE_THETA = 5
 DEGREE_RHO = 5
+#: [spec length] the tolerances both kernels build the solid's groove faces with
+#: (``cam_workbench.kernel.cylindrical``, ``cam_workbench.freecad.part_cylindrical``): the sewing's, and
+#: OCCT's ``ShapeFix_Face`` precision and largest edge tolerance on the cylinder faces
+SEW_TOLERANCE = 1e-6
+FIX_PRECISION = 1e-7
+FIX_MAX_TOLERANCE = 1e-5
 
 
 def half_width(spec) -> float:
@@ -214,12 +220,17 @@ class WallSurface:
 
     def evaluate(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Points at parameters (u, v) (1-D arrays of equal length), (n, 3)."""
+        from scipy.interpolate import BSpline  # deferred: scipy.interpolate (a cylindrical cam's walls)
+
         nu, nv, _ = self.poles.shape
         su = BSpline(self.knots_u, self.poles.reshape(nu, nv * 3), self.degree_u, extrapolate=False)
         rows = su(np.asarray(u, dtype=float)).reshape(-1, nv, 3)
+        v = np.asarray(v, dtype=float)
         out = np.empty((rows.shape[0], 3))
-        for i in range(rows.shape[0]):        # one ρ-spline per point (test/report sampling only)
-            out[i] = BSpline(self.knots_v, rows[i], self.degree_v, extrapolate=False)(float(v[i]))
+        for value in np.unique(v):            # one ρ-spline per distinct v, the points at it its columns
+            at = np.flatnonzero(v == value)
+            coef = np.transpose(rows[at], (1, 0, 2)).reshape(nv, -1)
+            out[at] = BSpline(self.knots_v, coef, self.degree_v, extrapolate=False)(value).reshape(-1, 3)
         return out
 
     @property
@@ -229,6 +240,8 @@ class WallSurface:
 
 def wall_surfaces(layout: CylinderLayout, program, rho0: float, rho1: float) -> tuple[WallSurface, ...]:
     """Both walls, one surface per motion segment each, over ρ ∈ [rho0, rho1]."""
+    from scipy.interpolate import make_interp_spline  # deferred: scipy.interpolate (a cylindrical cam's walls)
+
     rho = np.linspace(rho0, rho1, RHO_NODES)
     bounds = program.boundaries
     out = []

@@ -18,8 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
-from scipy.spatial import cKDTree
 
 from .nurbs import NurbsCurve
 
@@ -235,6 +233,8 @@ def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0
     with equal derivatives on both sides (C¹; the exact curve's own continuity at a knot may be
     lower than C² — an offset's — which a global C² cubic could only follow at O(h²)).  A closed
     curve gives a closed cubic (first pole = last pole)."""
+    from scipy.interpolate import make_interp_spline  # deferred: scipy.interpolate, the drawings' cubics alone
+
     if tol <= 0:
         raise ValueError("tol must be > 0")
     breaks = _initial_breaks(curve)
@@ -306,6 +306,8 @@ def _distance_to_polyline(x: np.ndarray, poly: np.ndarray) -> np.ndarray:
     if closed:
         poly = poly[:-1]
     n = len(poly)
+    from scipy.spatial import cKDTree  # deferred: scipy.spatial, the drawings' error measure alone
+
     tree = cKDTree(np.column_stack([poly.real, poly.imag]))
     _, k = tree.query(np.column_stack([x.real, x.imag]))
     if closed:

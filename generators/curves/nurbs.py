@@ -80,10 +80,10 @@ class NurbsCurve:
             hom = np.hstack([self.poles * self.weights[:, None], self.weights[:, None]])
             if derivative:
                 return _bspline_eval_and_derivative(p, self.knots, hom, u)
-            span = np.clip(np.searchsorted(self.knots, u, side="right") - 1, p, self.n_poles - 1)
+            span = np.minimum(np.maximum(np.searchsorted(self.knots, u, side="right") - 1, p), self.n_poles - 1)
             return _de_boor(p, self.knots, hom, u, span), None
         knots, ctrl = bz
-        k = np.clip(np.searchsorted(knots, u, side="right") - 1, 0, len(knots) - 2)
+        k = np.minimum(np.maximum(np.searchsorted(knots, u, side="right") - 1, 0), len(knots) - 2)
         h = knots[k + 1] - knots[k]
         t = (u - knots[k]) / h
         c = ctrl[k]                                            # (N, p+1, 3)
@@ -112,7 +112,15 @@ class NurbsCurve:
     def area(self, gauss_points: int = 24) -> float:
         """Signed enclosed area ½∮(x dy − y dx) by Gauss–Legendre on every knot span
         (positive for counter-clockwise).  Rational spans are not polynomials, but 24
-        points per span integrate them to ~1e-15 relative for smooth cams."""
+        points per span integrate them to ~1e-15 relative for smooth cams.  The default rule's
+        value is computed once per curve (the curve is immutable)."""
+        return self._area24 if gauss_points == 24 else self._gauss_area(gauss_points)
+
+    @cached_property
+    def _area24(self) -> float:
+        return self._gauss_area(24)
+
+    def _gauss_area(self, gauss_points: int) -> float:
         xg, wg = np.polynomial.legendre.leggauss(gauss_points)
         u_knots = np.unique(self.knots[self.degree:-self.degree])
         a, b = u_knots[:-1], u_knots[1:]

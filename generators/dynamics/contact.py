@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..motion.program import MotionProgram
 from .model import TrainModel
@@ -130,6 +129,8 @@ def separated_response(model: TrainModel, inp: CamInput, periodic: PeriodicRespo
                        omega: float, revolutions: int) -> SeparatedResponse:
     """Run the train over up to ``revolutions`` revolutions at ``omega`` [rad/s] from the
     periodic solution's state at θ = 0, letting it leave the cam; return the last revolution."""
+    from scipy.optimize import brentq  # deferred: scipy.optimize, a follower leaving the cam alone
+
     ph = _Phases(model, inp, periodic, program, omega)
     n, dt = ph.n, ph.dt
     u_grid, du_grid = inp.u, inp.du * omega

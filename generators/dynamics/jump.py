@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..motion.program import MotionProgram
 from .model import TrainModel
@@ -90,6 +89,8 @@ def sweep_range(model: TrainModel, omega: float, rigid: float | None, lo_rpm: fl
 def find_jump_speed(model: TrainModel, inp: CamInput, speeds: np.ndarray, rigid: float | None,
                     progress: Callable[[int, int, str], None] | None = None) -> JumpSpeed:
     """Sweep ``speeds`` [rad/s] (ascending) and bisect the first loss of contact."""
+    from scipy.optimize import brentq  # deferred: scipy.optimize, the jump speed's bisection alone
+
     total = speeds.size + 1
 
     def swept(done: int, _all: int) -> None:

@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..bodies.cylindrical import CylinderLayout
 from ..errors import SpecError, fmt_apart
@@ -111,6 +110,8 @@ def _entry_angle(program) -> float:
 def finish_deviation(lay: CylinderLayout, program, rt: float, radius: float, n: int = 4000) -> float:
     """Largest |distance of the exact wall at ``radius`` from the finishing tool's centre path there|
     − R_t, over both walls (0 at the pitch radius)."""
+    from scipy.spatial import cKDTree  # deferred: scipy.spatial, this measure alone
+
     span = lay.half_width - rt
     th = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
     worst = 0.0

@@ -160,4 +160,6 @@ def evaluate_law(name: str, x: Array) -> tuple[Array, Array, Array, Array]:
     """f, f', f'', f''' of law ``name`` at normalised positions ``x`` ∈ [0, 1]."""
     fn = LAW_FUNCTIONS[name]
     x = np.asarray(x, dtype=float)
-    return tuple(np.broadcast_to(v, x.shape).astype(float) for v in fn(x))  # type: ignore[return-value]
+    # a law's terms are arrays of x's shape, or constants (a polynomial's last derivative) to spread
+    return tuple(v if isinstance(v, np.ndarray) and v.shape == x.shape and v.dtype == float
+                 else np.broadcast_to(v, x.shape).astype(float) for v in fn(x))  # type: ignore[return-value]

@@ -21,8 +21,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.linalg import spsolve
 
 from .bspline_law import BSplineLift, basis_derivatives, basis_matrix, clamped_uniform_knots
 
@@ -186,6 +184,8 @@ def fit_table(theta: np.ndarray, s: np.ndarray, span: float, low: float, height:
 
 def _design(theta: np.ndarray, order: int, spans: int, span: float):
     """The sparse (points × control values) collocation matrix."""
+    import scipy.sparse as sparse  # deferred: scipy.sparse, a tabulated law's fit alone
+
     n_ctrl = spans + order - 1
     knots = clamped_uniform_knots(n_ctrl, order)
     u = np.clip(theta / span * spans, 0.0, float(spans))
@@ -198,6 +198,9 @@ def _design(theta: np.ndarray, order: int, spans: int, span: float):
 def _solve(theta: np.ndarray, s: np.ndarray, span: float, order: int, spans: int,
            constraints: list[tuple[float, int, float]]) -> tuple[np.ndarray, float, int]:
     """(control values, max |error|, index of that point) of the constrained least-squares fit."""
+    import scipy.sparse as sparse  # deferred: scipy.sparse, a tabulated law's fit alone
+    from scipy.sparse.linalg import spsolve  # deferred: scipy.sparse
+
     n_ctrl = spans + order - 1
     knots = clamped_uniform_knots(n_ctrl, order)
     a = _design(theta, order, spans, span)

@@ -25,8 +25,6 @@ from math import factorial
 from typing import Callable
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
 
 from ..motion.bspline_law import basis_derivatives
 from ..errors import SolveError, SpecError
@@ -155,6 +153,9 @@ def least_squares_periodic(breaks: np.ndarray, degree: int, u: np.ndarray, data:
                            ) -> PeriodicBSpline:
     """The periodic B-spline on ``breaks`` minimising Σ|C(u_s) − data_s|² (sparse normal
     equations: the matrix is cyclic banded)."""
+    import scipy.sparse as sp  # deferred: scipy.sparse, a B-spline pitch curve's fit alone
+    from scipy.sparse.linalg import spsolve  # deferred: scipy.sparse
+
     shell = PeriodicBSpline(degree, breaks, np.zeros(len(breaks) - 1, dtype=complex))
     idx, ders = shell.basis(u, 0)
     n = shell.n_spans

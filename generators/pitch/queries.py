@@ -9,6 +9,7 @@ Bézier segments the contact solve runs on, and the cam angles bounding them) an
 """
 from __future__ import annotations
 
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -47,6 +48,22 @@ class PitchQueries:
         """s_actual(θ): the lift the built curve gives the follower [spec lift units]."""
         return self.contact(theta).lift
 
+    def sampled_displacement(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(θ = 2π k/n [rad], s_actual(θ)) at ``n`` equally spaced angles; at the default count
+        (:meth:`deviation_count`) solved once per curve, which the design's deviation, its checks
+        and a conjugate pair's roller distance error all read."""
+        if n == self.deviation_count():
+            return self._default_displacement
+        th = TWO_PI * np.arange(n) / n
+        return th, self.actual_displacement(th)
+
+    @cached_property
+    def _default_displacement(self) -> tuple[np.ndarray, np.ndarray]:
+        th = TWO_PI * np.arange(self.deviation_count()) / self.deviation_count()
+        lift = self.actual_displacement(th)
+        th.flags.writeable = lift.flags.writeable = False      # shared: read only
+        return th, lift
+
     def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
         """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per
         segment (PH segment or knot span)."""
@@ -56,9 +73,8 @@ class PitchQueries:
                   ) -> tuple[np.ndarray, np.ndarray]:
         """(θ samples [rad], s_actual − s) over the cycle, at ``n`` equally spaced angles
         (default from ``step_deg``)."""
-        n = n or self.deviation_count(step_deg)
-        th = TWO_PI * np.arange(n) / n
-        return th, self.actual_displacement(th) - self.program.s(th)
+        th, lift = self.sampled_displacement(n or self.deviation_count(step_deg))
+        return th, lift - self.program.s(th)
 
     def max_deviation(self, step_deg: float = DEFAULT_STEP_DEG, n: int | None = None
                       ) -> tuple[float, float]:

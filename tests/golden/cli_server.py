@@ -17,7 +17,7 @@ import signal
 import sys
 from typing import Any
 
-from .names import WHERE
+from .names import WHERE, where
 from .observe import SAFETY_S
 
 
@@ -70,7 +70,9 @@ def main() -> int:
     import importlib
 
     cli = importlib.import_module(WHERE["cli"])
-    cli.build_parser()                      # every command's module, as each run imports them
+    cli.build_parser()
+    for load in where("commands").values():  # every command's module, as each run imports its own
+        load()
     # as before ``python -m``: the package and what the command line imports are loaded, the
     # command line itself is not (runpy runs it as __main__)
     del sys.modules[WHERE["cli"]]

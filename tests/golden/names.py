@@ -38,11 +38,13 @@ VOLATILE: tuple[tuple[str, str], ...] = (
 #: replaced by this before anything is stored or compared (:func:`without_tmp`).
 TMP = "<tmp>"
 
-#: Where the recorder finds the project: the command line (run as ``python -m``), the public
-#: class, the OCP adaptor (the one module that imports OCP, tests/test_layering.py) and the spec
-#: module's lists of the built-in examples and of the e-cam formats' tables.
+#: Where the recorder finds the project: the command line (run as ``python -m``), the loaders of
+#: its commands' modules (the server preloads them, cli_server.py), the public class, the OCP
+#: adaptor (the one module that imports OCP, tests/test_layering.py) and the spec module's lists
+#: of the built-in examples and of the e-cam formats' tables.
 WHERE: dict[str, str] = {
     "cli": "cam_workbench.cli",
+    "commands": "cam_workbench.commands.dispatch:RUNNERS",
     "api": "cam_workbench:Cam",
     "ocp": "cam_workbench.kernel.ocp",
     "examples": "cam_workbench.generators.spec.examples:EXAMPLES",

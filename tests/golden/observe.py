@@ -4,7 +4,7 @@ JSON data: what ``tests/golden/record.py`` stores and ``tests/test_golden.py`` c
 An *observation* of one example is ``{"example": NAME, "outputs": {KEY: VALUE}}``; each KEY
 names one output the way a user gets it:
 
-* ``cli build`` — ``build --example NAME``: exit status, stdout, stderr; ``cli build: report.json``
+* ``cli build`` — ``build --plots --example NAME`` (every file build writes): exit status, stdout, stderr; ``cli build: report.json``
   (all of it, ``files`` included), ``cli build: cam.dxf`` (:func:`dxf_record`), ``cli build: cam.nc``,
   ``cam2.nc`` (a conjugate pair), ``commands.csv`` (text), ``cli build: cam.step`` (:func:`step_record`);
 * ``cli ecam --format F --table T`` — every table of every format: the table (stdout), the
@@ -339,7 +339,8 @@ def _run(args: list[str], cwd: Path) -> dict[str, Any]:
 
 
 def _build(name: str, cwd: Path) -> dict[str, Any]:
-    run = _run(["build", "--example", name, "-o", "build"], cwd)
+    # --plots: the figures as PNG files, which build wrote by default when the outputs were recorded
+    run = _run(["build", "--plots", "--example", name, "-o", "build"], cwd)
     out = cwd / "build"
     got: dict[str, Any] = {"cli build": run}
     if (out / "report.json").exists():
