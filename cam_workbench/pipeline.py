@@ -89,13 +89,13 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     # pitch.representation = "bspline": the kernel solid's profile is OCCT's exact offset curve,
     # which STEP cannot hold; the file gets the fitted offset B-spline (design.profile)
     step_shape = shape if design.bspline is None else solids.cam_solid(design, exact_offset=False)
-    for s in {id(shape): shape, id(step_shape): step_shape}.values():
-        if not solids.is_valid(s) or solids.count_solids(s) != 1:
-            raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
+    checked = {id(s): (solids.is_valid(s), solids.count_solids(s)) for s in (shape, step_shape)}  # once each
+    if any(not valid or count != 1 for valid, count in checked.values()):
+        raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
     t = design.spec.cam.thickness
     solid: dict[str, Any] = {
-        "valid": solids.is_valid(shape),
-        "solids": solids.count_solids(shape),
+        "valid": checked[id(shape)][0],
+        "solids": checked[id(shape)][1],
         # OCCT's fixed Gauss rule: exact on prisms of plane curves; on a surface body's B-spline
         # walls good to what cam_workbench.generators.checks.solid allows (``volume_rule`` below)
         "kernel_volume": solids.kernel_volume(shape),

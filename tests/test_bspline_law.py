@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.interpolate import BSpline
 
-from cam_workbench.generators.motion.bspline_law import (BSplineLift, basis_matrix, clamped_uniform_knots,
-                                    fixed_end_points)
+from cam_workbench.generators.curves.basis import basis_matrix
+from cam_workbench.generators.motion.bspline_law import BSplineLift, clamped_uniform_knots, fixed_end_points
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.spec import CamSpec
 

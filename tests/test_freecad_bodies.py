@@ -88,7 +88,7 @@ for k, cam in cams.items():
                      solids=0 if s.isNull() else len(s.Solids), volume=0.0 if s.isNull() else s.Volume,
                      z=[bb.ZMin, bb.ZMax] if bb else None, wall=wall)
 # what the recompute measured (part_build.PartSolid) beside the solid measured whole
-from cam_workbench.freecad import props
+from cam_workbench.freecad import properties as props
 from cam_workbench.freecad.part_build import plane_solid, top_face_area
 from cam_workbench.generators import default_spec, design_cam
 measured = {k: (cam.Proxy.design, props.units_scale(cam)) for k, cam in cams.items()}

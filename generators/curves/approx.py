@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .basis import basis_matrix, interpolating_cubic
 from .nurbs import NurbsCurve
 
 
@@ -233,8 +234,6 @@ def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0
     with equal derivatives on both sides (C¹; the exact curve's own continuity at a knot may be
     lower than C² — an offset's — which a global C² cubic could only follow at O(h²)).  A closed
     curve gives a closed cubic (first pole = last pole)."""
-    from scipy.interpolate import make_interp_spline  # deferred: scipy.interpolate, the drawings' cubics alone
-
     if tol <= 0:
         raise ValueError("tol must be > 0")
     breaks = _initial_breaks(curve)
@@ -253,11 +252,11 @@ def fit_cubic(curve: NurbsCurve, tol: float, checks: int = 16, safety: float = 0
             p, d = curve.evaluate_with_derivative(u.ravel())
             p = p.reshape(n + 1, g.size, 2)
             d = d.reshape(n + 1, g.size, 2) * (b[g] - a[g])[None, :, None]   # d/dt on [0, 1]
-            sp = make_interp_spline(t[:, 0], p, k=3, bc_type=([(1, d[0])], [(1, d[-1])]))
-            c = np.array(sp.c)
+            knots, c = interpolating_cubic(t[:, 0], p, d[0], d[-1])
             c[0], c[-1] = p[0], p[-1]                             # the end points, to the last bit
             fr = np.linspace(0.0, 1.0, checks * n + 1)[:, None]
-            err = np.hypot(*np.moveaxis(sp(fr[:, 0]) - curve.evaluate((a[g] * (1 - fr) + b[g] * fr).ravel())
+            fit = np.einsum("ij,j...->i...", basis_matrix(knots, 3, n + 3, fr[:, 0]), c)
+            err = np.hypot(*np.moveaxis(fit - curve.evaluate((a[g] * (1 - fr) + b[g] * fr).ravel())
                                         .reshape(fr.size, g.size, 2), -1, 0)).max(axis=0)
             ok = err <= safety * tol
             chunks.append((int(n), g[ok], c[:, ok]))

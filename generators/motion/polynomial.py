@@ -27,7 +27,8 @@ from math import comb
 
 import numpy as np
 
-from .bspline_law import BSplineLift, basis_matrix
+from ..curves.basis import basis_matrix
+from .bspline_law import BSplineLift
 
 #: Largest degree of a polynomial segment (its conditions: both ends and the interior points).
 MAX_DEGREE = 24

@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .bspline_law import BSplineLift, basis_derivatives, basis_matrix, clamped_uniform_knots
+from ..curves.basis import basis_derivatives, basis_matrix
+from .bspline_law import BSplineLift, clamped_uniform_knots
 
 #: Most rows of a table (inline or CSV).
 MAX_ROWS = 20000

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from ..bodies.features import bore_extent, resolved
-from ..motion.bspline_law import basis_derivatives, basis_matrix
+from ..curves.basis import basis_derivatives, basis_matrix
 from ..motion.laws import evaluate_law
 from .kinds import KindModel
 from .space import DesignSpace

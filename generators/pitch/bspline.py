@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..motion.bspline_law import basis_derivatives
+from ..curves.basis import basis_derivatives
 from ..errors import SolveError, SpecError
 from ..followers.base import Follower
 from ..kinds import follower_of, register_pitch
