@@ -7,6 +7,7 @@ and the numbers of ``report.json`` (units of the spec; angles in degrees).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any, Callable
 
 import numpy as np
@@ -61,8 +62,9 @@ class CamDesign:
     #: the design checks of the spec (``report.json`` ``checks``; the ones ``check`` prints)
     checks: DesignChecks | None = field(default=None, repr=False)
     #: the body (plate, groove, …) as prisms of exact loops, and what its checks measured
+    #: (``check``: they refuse what cannot be made, so they run with the design)
     body: BodyGeometry | None = field(default=None, repr=False)
-    body_report: dict = field(default_factory=dict, repr=False)
+    body_checked: dict = field(default_factory=dict, repr=False)
     #: a plane cam (:class:`cam_workbench.generators.kinds.protocols.Design`): pitch curve, profile, prisms
     plane = True
     #: what stands for a pitch curve and a profile in the cam's plane where a design has none (words
@@ -91,6 +93,15 @@ class CamDesign:
                  else f"B-spline {curve}, {self.pitch.M} knot spans")
         return (f"{spec.cam.body} cam, lengths in {spec.units}: {self.follower.label()}; {body_of(spec).label(spec)}; "
                 f"{pitch}")
+
+    @cached_property
+    def body_report(self) -> dict:
+        """report.json's ``body`` numbers: what the body's checks measured, then what the body
+        reports without refusing anything (``report``: a conjugate pair's second cam, computed when
+        first asked — a FreeCAD recompute never asks)."""
+        if self.body is None:
+            return dict(self.body_checked)
+        return {**self.body_checked, **body_of(self.spec).report(self, self.body)}
 
     def profile_ccw(self) -> NurbsCurve:
         """The profile oriented counter-clockwise (positive area), as solid builders want it."""
@@ -386,8 +397,8 @@ def with_body(design: CamDesign) -> CamDesign:
     SpecError naming a feature's field)."""
     body = body_of(design.spec)
     geometry = body.geometry(design)
-    report = body.check(design, geometry)
-    return replace(design, body=geometry, body_report={"kind": body.kind, **report})
+    checked = body.check(design, geometry)
+    return replace(design, body=geometry, body_checked={"kind": body.kind, **checked})
 
 
 def profile_inset(spec: CamSpec) -> float:

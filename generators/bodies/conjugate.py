@@ -142,7 +142,10 @@ class ConjugateBody(PlaneCamBody):
             "drawing_curves": {"PITCH_2": second.pitch_nurbs}})
 
     @staticmethod
-    def check(design, geometry: BodyGeometry) -> dict[str, Any]:
+    def report(design, geometry: BodyGeometry) -> dict[str, Any]:
+        """The pair's numbers: each cam's place, radii and sections, the spacer, the distance error
+        between the rollers and which cam drives where (nothing to refuse: the second cam's
+        refusals are its design's, in :meth:`geometry`)."""
         spec = design.spec
         t, gap = spec.cam.thickness, spec.conjugate.gap
         second = geometry.extra["second_cam"]

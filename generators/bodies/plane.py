@@ -30,6 +30,18 @@ class PlaneCamBody:
         return design_plane(spec, progress=progress)
 
     @staticmethod
+    def check(design: Any, geometry: Any) -> dict[str, Any]:
+        """The body's checks, run with the design (refusing, GeometryError or SpecError, what
+        cannot be made): what they measured, for report.json's ``body``; none by default."""
+        return {}
+
+    @staticmethod
+    def report(design: Any, geometry: Any) -> dict[str, Any]:
+        """Further numbers of report.json's ``body`` that refuse nothing, computed when the
+        summary first asks (``CamDesign.body_report``); none by default."""
+        return {}
+
+    @staticmethod
     def dynamics_follower(spec: Any) -> Follower:
         """The follower the dynamics drive: the spec's own."""
         return follower_of(spec)
