@@ -204,7 +204,7 @@ def builds(tmp_path_factory) -> Callable[[str], Built]:
     def get(name: str) -> Built:
         if name not in done:
             out = root / name
-            res = cli("build", "--example", name, "-o", str(out))
+            res = cli("build", "--plots", "--example", name, "-o", str(out))     # every file, PNGs too
             assert res.returncode == 0, res.stderr
             done[name] = Built(out, res.stdout, json.loads((out / "report.json").read_text(encoding="utf-8")))
         return done[name]
@@ -917,7 +917,7 @@ OPTIMISE_LINES = [
 @requires_ocp
 @pytest.mark.parametrize("name", ["paper", "oscillating"])
 def test_optimise(name, tmp_path):
-    res = cli("optimise", "--example", name, "--max-evaluations", "40", "-o", str(tmp_path))
+    res = cli("optimise", "--plots", "--example", name, "--max-evaluations", "40", "-o", str(tmp_path))
     assert res.returncode in (0, 3), res.stderr
     report = json.loads((tmp_path / "report.json").read_text(encoding="utf-8"))
     opt = report["optimise"]

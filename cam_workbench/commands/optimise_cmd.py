@@ -2,7 +2,7 @@
 the follower's position (offset; pivot distance and arm length of an oscillating follower),
 B-spline control points (and the blank orientation) with every design check of the follower kind
 as a constraint (thesis Ch. 5–7, nlopt); writes the optimised spec, report.json with an ``optimise``
-section, report.html with the convergence figure, and the plots."""
+section, report.html with the convergence figure, and with ``--plots`` the figures as PNG files."""
 from __future__ import annotations
 
 import argparse
@@ -109,4 +109,5 @@ def _print(result: Any, out: Path, report: dict[str, Any]) -> None:
     else:
         con.print(f"[bold red]the result FAILS the dense check: {escape(opt['failed_checks'])}[/]")
     names = [v for k, v in report["files"].items() if isinstance(v, str)]
-    con.print(escape(f"written to {out}/: {', '.join(names)}, {len(report['files']['plots'])} plots"))
+    plots = report["files"]["plots"]
+    con.print(escape(f"written to {out}/: {', '.join(names)}" + (f", {len(plots)} plots" if plots else "")))
