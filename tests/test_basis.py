@@ -36,3 +36,18 @@ def test_basis_matrix_is_scipys_design_matrix(degree):
     u = np.linspace(0.0, 1.0, 101)[:-1]
     ref = interpolate.BSpline.design_matrix(u, knots, degree).toarray()
     np.testing.assert_allclose(basis_matrix(knots, degree, n, u), ref, atol=1e-14)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(3, 400), st.integers(1, 300), st.floats(0.0, 3.0), st.integers(0, 2**32 - 1))
+def test_nearest_vertex_is_the_brute_force_one(n, m, spread, seed):
+    """The grid search (with its k-d tree fallback) finds a vertex as near as the nearest of all."""
+    from cam_workbench.generators.curves.approx import nearest_vertex
+
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    poly = (10 + rng.uniform(-1, 1)) * np.exp(1j * t) * (1 + 0.2 * np.cos(3 * t))
+    x = poly[rng.integers(0, n, m)] + spread * (rng.normal(size=m) + 1j * rng.normal(size=m))
+    k = nearest_vertex(x, poly)
+    brute = np.min(np.abs(x[:, None] - poly[None, :]), axis=1)
+    np.testing.assert_array_equal(np.abs(x - poly[k]), brute)

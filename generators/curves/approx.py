@@ -297,18 +297,66 @@ def polyline_path(params: np.ndarray, pts: np.ndarray) -> Path2D:
     return Path2D(pts[:-1], pts[1:], np.full(n, np.nan + 0j), np.zeros(n, bool), params[:-1], params[1:])
 
 
+#: the most vertices a grid cell of :func:`nearest_vertex` may hold before the k-d tree is used
+_CELL_CAP = 48
+
+
+def nearest_vertex(x: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Index of the vertex of ``poly`` nearest to each point of ``x`` (complex arrays).
+
+    A uniform grid of cells as wide as the longest edge: the nearest vertex of a point within
+    that width of the polyline lies in its cell or the eight around it, so each point compares
+    only those cells' vertices (vectorised over the points, one pass per neighbour cell and slot).
+    Points with no vertex that near, and polylines whose cells crowd (very uneven spacing), are
+    answered by a k-d tree instead (SciPy's, loaded only then)."""
+    xy = np.column_stack([poly.real, poly.imag])
+    edge = float(np.max(np.abs(np.diff(poly)))) if len(poly) > 1 else 1.0
+    h = edge if edge > 0 else 1.0
+    lo = xy.min(axis=0)
+    cells = np.floor((xy - lo) / h).astype(np.int64)
+    width = int(cells[:, 1].max()) + 3
+    key = (cells[:, 0] + 1) * width + (cells[:, 1] + 1)
+    order = np.argsort(key, kind="stable")
+    keys, first, count = np.unique(key[order], return_index=True, return_counts=True)
+    if count.max() > _CELL_CAP:
+        return _kd_nearest(x, xy)
+    qx = np.floor((np.column_stack([x.real, x.imag]) - lo) / h).astype(np.int64)
+    best = np.full(len(x), np.inf)
+    idx = np.full(len(x), -1)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            k = (qx[:, 0] + 1 + dx) * width + (qx[:, 1] + 1 + dy)
+            at = np.searchsorted(keys, k)
+            hit = (at < len(keys)) & (keys[np.minimum(at, len(keys) - 1)] == k)
+            at = np.minimum(at, len(keys) - 1)
+            for slot in range(int(count.max())):
+                ok = hit & (slot < count[at])
+                v = order[np.where(ok, first[at] + slot, 0)]
+                d = np.where(ok, np.abs(x - poly[v]), np.inf)
+                better = d < best
+                best = np.where(better, d, best)
+                idx = np.where(better, v, idx)
+    far = ~(best <= h)                 # nothing in the 3 × 3 cells this near: not certainly the nearest
+    if far.any():
+        idx[far] = _kd_nearest(x[far], xy)
+    return idx
+
+
+def _kd_nearest(x: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    from scipy.spatial import cKDTree  # deferred: scipy.spatial, far points and crowded grids alone
+
+    return cKDTree(xy).query(np.column_stack([x.real, x.imag]))[1]
+
+
 def _distance_to_polyline(x: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Distance of points x to a dense polyline: nearest vertex by k-d tree, then the two
-    adjacent segments (error ~h²κ/8 for vertex spacing h).  A closed polyline (last vertex
-    = first) wraps round, so points near the seam see the segments on both sides of it."""
+    """Distance of points x to a dense polyline: the nearest vertex (:func:`nearest_vertex`),
+    then the two adjacent segments (error ~h²κ/8 for vertex spacing h).  A closed polyline (last
+    vertex = first) wraps round, so points near the seam see the segments on both sides of it."""
     closed = len(poly) > 2 and abs(poly[-1] - poly[0]) <= 1e-12 * np.max(np.abs(poly))
     if closed:
         poly = poly[:-1]
     n = len(poly)
-    from scipy.spatial import cKDTree  # deferred: scipy.spatial, the drawings' error measure alone
-
-    tree = cKDTree(np.column_stack([poly.real, poly.imag]))
-    _, k = tree.query(np.column_stack([x.real, x.imag]))
+    k = nearest_vertex(x, poly)
     if closed:
         lo, hi = (k - 1) % n, (k + 1) % n
     else:
