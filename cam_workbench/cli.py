@@ -38,11 +38,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     return dispatch.run(args)
 
 
+#: the cyclic collector's thresholds for a command's run (Python's own: 700, 10, 10)
+GC_THRESHOLDS = (50_000, 20, 100)
+
+
 def run() -> None:
-    """Console-script wrapper: :func:`main`'s status as the process's.  The objects left are
-    frozen (:func:`gc.freeze`) before the interpreter ends, so that its last collections do not
-    walk them all once more (the process's memory goes back whole): OCP's 200 000 objects alone
-    cost 0.2 s of CPU there, a ``build`` 0.5 s.  Exit handlers and flushes run as always."""
+    """Console-script wrapper: :func:`main`'s status as the process's.
+
+    A command allocates millions of short-lived objects that hold no cycles (numpy arrays, OCP's
+    wrappers): the cyclic collector runs less often (:data:`GC_THRESHOLDS`: a ``build`` spends
+    0.2 s less CPU, 1.82 → 1.60 s measured, its memory unchanged to the megabyte), and the objects
+    left are frozen (:func:`gc.freeze`) before the interpreter ends, so that its last collections
+    do not walk them all once more (the process's memory goes back whole): OCP's 200 000 objects
+    alone cost 0.2 s of CPU there, a ``build`` 0.5 s.  Exit handlers and flushes run as always."""
+    gc.set_threshold(*GC_THRESHOLDS)
     code = main()
     try:
         sys.stdout.flush()
