@@ -48,14 +48,9 @@ def built(request):
 
 
 def _faces(shape):
-    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.solids import faces_of
 
-    out = []
-    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
-    while fx.More():
-        out.append(occ.topods_face(fx.Current()))
-        fx.Next()
-    return out
+    return faces_of(shape)
 
 
 def test_sewn_is_the_solid_valid_and_one(built):

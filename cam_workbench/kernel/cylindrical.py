@@ -29,7 +29,7 @@ from cam_workbench.generators.bodies.cylindrical import (FIX_MAX_TOLERANCE, FIX_
                                                           CylindricalDesign, CylindricalGeometry)
 
 from . import ocp as occ
-from .solids import SOLIDS, boolean, prism_stack, solids_of
+from .solids import SOLIDS, boolean, faces_of, prism_stack, sewn_solid, solids_of
 
 
 def wall_surface_geom(wall: Any) -> Any:
@@ -124,9 +124,7 @@ def _outer_side(stack: Any, radius: float, z_lo: float, z_hi: float) -> tuple[li
     lie below ``z_lo`` and above ``z_hi`` —, the heights of that face's two circles; spec lengths),
     or None when there is not one such face."""
     kept, found = [], []
-    fx = occ.TopExp_Explorer(stack, occ.TopAbs_FACE)
-    while fx.More():
-        face = occ.topods_face(fx.Current())
+    for face in faces_of(stack):
         surf = occ.BRepAdaptor_Surface(face)
         circles = []
         if surf.GetType() == occ.GeomAbs_Cylinder and abs(surf.Cylinder().Radius() - radius) <= 1e-9 * radius:
@@ -141,7 +139,6 @@ def _outer_side(stack: Any, radius: float, z_lo: float, z_hi: float) -> tuple[li
             found.append((circles[0], circles[1]))
         else:
             kept.append(face)
-        fx.Next()
     if len(found) != 1:
         return None
     return kept, *found[0]
@@ -167,23 +164,7 @@ def sewn_groove_solid(design: CylindricalDesign) -> Any | None:
     bands = [cylinder_face(rb, lower_b, upper_b, at_b),
              cylinder_face(ro, _circle_wire(ro, z_bottom, at_lo), lower_o, at_lo),
              cylinder_face(ro, upper_o, _circle_wire(ro, z_top, at_up), at_up)]
-    sew = occ.BRepBuilderAPI_Sewing(SEW_TOLERANCE)
-    for f in kept + walls + bands:
-        sew.Add(f)
-    sew.Perform()
-    shells = []
-    exp = occ.TopExp_Explorer(sew.SewedShape(), occ.TopAbs_SHELL)
-    while exp.More():
-        shells.append(occ.topods_shell(exp.Current()))
-        exp.Next()
-    if len(shells) != 1 or sew.NbFreeEdges() or sew.NbMultipleEdges():
-        return None
-    mk = occ.BRepBuilderAPI_MakeSolid(shells[0])
-    if not mk.IsDone():
-        return None
-    solid = mk.Solid()
-    occ.orient_closed_solid(solid)
-    return solid
+    return sewn_solid(kept + walls + bands, SEW_TOLERANCE, closed=True)
 
 
 def boolean_groove_solid(design: CylindricalDesign) -> Any:
@@ -240,14 +221,12 @@ def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 15) -> 
     groove's width away)."""
     lay = design.body.layout
     grids = []
-    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
-    while fx.More():
-        surf = occ.BRepAdaptor_Surface(occ.topods_face(fx.Current()))
+    for face in faces_of(shape):
+        surf = occ.BRepAdaptor_Surface(face)
         if surf.GetType() == occ.GeomAbs_BSplineSurface:
             u = np.linspace(surf.FirstUParameter(), surf.LastUParameter(), per_direction)
             v = np.linspace(surf.FirstVParameter(), surf.LastVParameter(), per_direction)
             grids.append(np.array([(p.X(), p.Y(), p.Z()) for p in (surf.Value(a, b) for a in u for b in v)]))
-        fx.Next()
     worst, n = 0.0, 0
     if grids:
         first = np.array([g[0] for g in grids])

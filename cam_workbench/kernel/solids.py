@@ -315,13 +315,10 @@ SURFACE_VOLUME_EPS = 1e-6
 
 def planar_face_at(shape: Any, z: float) -> Any:
     """The planar face of ``shape`` lying at height ``z``."""
-    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
-    while fx.More():
-        face = occ.topods_face(fx.Current())
+    for face in faces_of(shape):
         surf = occ.BRepAdaptor_Surface(face)
         if surf.GetType() == occ.GeomAbs_Plane and abs(surf.Plane().Location().Z() - z) < 1e-9:
             return face
-        fx.Next()
     raise ValueError(f"no planar face at z = {z}")
 
 
@@ -330,15 +327,12 @@ def top_face_area(shape: Any, z: float) -> float:
     seen from above: a groove cam's is two faces, the island inside the groove and the ring outside),
     by OCCT's ``BRepGProp.SurfaceProperties``."""
     total = 0.0
-    fx = occ.TopExp_Explorer(shape, occ.TopAbs_FACE)
-    while fx.More():
-        face = occ.topods_face(fx.Current())
+    for face in faces_of(shape):
         surf = occ.BRepAdaptor_Surface(face)
         if surf.GetType() == occ.GeomAbs_Plane and abs(surf.Plane().Location().Z() - z) < 1e-9:
             up = surf.Plane().Axis().Direction().Z() * (-1.0 if face.Orientation() == occ.TopAbs_REVERSED else 1.0)
             if up > 0:
                 total += face_area(face)
-        fx.Next()
     return total
 
 
@@ -366,14 +360,41 @@ def face_area_shoelace(face: Any, samples_per_edge: int = 400) -> float:
     return abs(total)
 
 
-def solids_of(shape: Any) -> list[Any]:
-    """Every ``TopoDS_Solid`` of ``shape``."""
+def _explored(shape: Any, kind: Any, cast: Any) -> list[Any]:
     out = []
-    exp = occ.TopExp_Explorer(shape, occ.TopAbs_SOLID)
+    exp = occ.TopExp_Explorer(shape, kind)
     while exp.More():
-        out.append(occ.topods_solid(exp.Current()))
+        out.append(cast(exp.Current()))
         exp.Next()
     return out
+
+
+def solids_of(shape: Any) -> list[Any]:
+    """Every ``TopoDS_Solid`` of ``shape``."""
+    return _explored(shape, occ.TopAbs_SOLID, occ.topods_solid)
+
+
+def faces_of(shape: Any) -> list[Any]:
+    """Every ``TopoDS_Face`` of ``shape``."""
+    return _explored(shape, occ.TopAbs_FACE, occ.topods_face)
+
+
+def sewn_solid(faces: list[Any], tolerance: float = 1e-6, *, closed: bool = False) -> Any | None:
+    """The solid bounded by ``faces`` sewn into one shell, oriented outward, or None when they sew
+    into several shells — or, with ``closed``, leave a free or a multiple edge."""
+    sew = occ.BRepBuilderAPI_Sewing(tolerance)
+    for f in faces:
+        sew.Add(f)
+    sew.Perform()
+    shells = _explored(sew.SewedShape(), occ.TopAbs_SHELL, occ.topods_shell)
+    if len(shells) != 1 or (closed and (sew.NbFreeEdges() or sew.NbMultipleEdges())):
+        return None
+    mk = occ.BRepBuilderAPI_MakeSolid(shells[0])
+    if not mk.IsDone():
+        return None
+    solid = mk.Solid()
+    occ.orient_closed_solid(solid)
+    return solid
 
 
 def prism_stack(prisms: Any) -> Any:
@@ -399,32 +420,19 @@ def prism_stack(prisms: Any) -> Any:
 def sewn_levels(stack: LevelStack) -> Any | None:
     """The ``TopoDS_Solid`` bounded by the caps and sides of ``stack``, sewn, or None when the faces
     do not close into one shell of the stack's exact volume (then :func:`prism_stack` uses booleans)."""
-    sew = occ.BRepBuilderAPI_Sewing(1e-6)
+    faces = []
     for cap in stack.caps:
         if isinstance(cap, CapXor):
             below = _compound([region_face(f.outer, f.holes, cap.z) for f in cap.below])
             above = _compound([region_face(f.outer, f.holes, cap.z) for f in cap.above])
-            sew.Add(boolean(occ.BRepAlgoAPI_Cut, below, above))
-            sew.Add(boolean(occ.BRepAlgoAPI_Cut, above, below))
+            faces += [boolean(occ.BRepAlgoAPI_Cut, below, above), boolean(occ.BRepAlgoAPI_Cut, above, below)]
         else:
-            sew.Add(region_face(cap.outer, cap.holes, cap.z))
+            faces.append(region_face(cap.outer, cap.holes, cap.z))
     for side in stack.sides:
-        sew.Add(occ.BRepPrimAPI_MakePrism(loop_wire(side.loop, side.z0), occ.gp_Vec(0, 0, side.z1 - side.z0),
-                                          True).Shape())
-    sew.Perform()
-    shells = []
-    exp = occ.TopExp_Explorer(sew.SewedShape(), occ.TopAbs_SHELL)
-    while exp.More():
-        shells.append(occ.topods_shell(exp.Current()))
-        exp.Next()
-    if len(shells) != 1:
-        return None
-    mk = occ.BRepBuilderAPI_MakeSolid(shells[0])
-    if not mk.IsDone():
-        return None
-    solid = mk.Solid()
-    occ.orient_closed_solid(solid)
-    return solid if abs(kernel_volume(solid) - stack.volume) <= 1e-7 * stack.volume else None
+        faces.append(occ.BRepPrimAPI_MakePrism(loop_wire(side.loop, side.z0), occ.gp_Vec(0, 0, side.z1 - side.z0),
+                                               True).Shape())
+    solid = sewn_solid(faces)
+    return None if solid is None else solid if abs(kernel_volume(solid) - stack.volume) <= 1e-7 * stack.volume else None
 
 
 def _compound(shapes: list[Any]) -> Any:

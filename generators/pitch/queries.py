@@ -49,20 +49,19 @@ class PitchQueries:
         return self.contact(theta).lift
 
     def sampled_displacement(self, n: int) -> tuple[np.ndarray, np.ndarray]:
-        """(θ = 2π k/n [rad], s_actual(θ)) at ``n`` equally spaced angles; at the default count
-        (:meth:`deviation_count`) solved once per curve, which the design's deviation, its checks
-        and a conjugate pair's roller distance error all read."""
-        if n == self.deviation_count():
-            return self._default_displacement
-        th = TWO_PI * np.arange(n) / n
-        return th, self.actual_displacement(th)
+        """(θ = 2π k/n [rad], s_actual(θ)) at ``n`` equally spaced angles, solved once per curve and
+        count (read only): the design's deviation, its checks and a conjugate pair's roller distance
+        error read the same solve."""
+        if n not in self._displacements:
+            th = TWO_PI * np.arange(n) / n
+            lift = self.actual_displacement(th)
+            th.flags.writeable = lift.flags.writeable = False      # shared: read only
+            self._displacements[n] = (th, lift)
+        return self._displacements[n]
 
     @cached_property
-    def _default_displacement(self) -> tuple[np.ndarray, np.ndarray]:
-        th = TWO_PI * np.arange(self.deviation_count()) / self.deviation_count()
-        lift = self.actual_displacement(th)
-        th.flags.writeable = lift.flags.writeable = False      # shared: read only
-        return th, lift
+    def _displacements(self) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+        return {}
 
     def deviation_count(self, step_deg: float = DEFAULT_STEP_DEG) -> int:
         """Number of equally spaced deviation samples over 360°: every ``step_deg``, ≥ 8 per
