@@ -26,8 +26,8 @@ The rules:
     workbench at numpy and scipy, and the command line's start free of them.  Of scipy, the
     subpackages :data:`DEFERRED_SCIPY` lists (each with its reason) may be deferred to the
     function that needs one, the comment naming it (``# deferred: scipy.spatial``).  Not in the
-    lists: rich (a requirement, 0.05 s the same way, the command line's own), numpy, scipy.linalg
-    and scipy.special (every design's own), the standard library, and
+    lists: rich (a requirement, 0.05 s the same way, the command line's own), numpy (every
+    design's own), the standard library, and
     every module of the project — a project module imported late hides a cycle or an upward
     import.  One exception, by its construction: a package ``__init__``'s module ``__getattr__``
     (PEP 562) may import that package's own submodule — the lazy API of ``cam_workbench`` (``from
@@ -87,13 +87,14 @@ DEFERRABLE = frozenset({
     "cairosvg",                                           # PNG figures on request (the [png] extra)
 })
 
-#: scipy's subpackages beyond scipy.linalg that only some computations use (rule (b)): an import
-#: inside the function that needs one may defer it, so that ``import cam_workbench.generators`` and
-#: ``cam-workbench check`` stay near numpy and scipy.linalg (issue 22 item 3).  Each with its
+#: scipy's subpackages that only some computations use (rule (b)): an import inside the function
+#: that needs one may defer it, so that ``import cam_workbench.generators``, the FreeCAD workbench
+#: and ``cam-workbench check`` of a plate cam load numpy alone (issue 22 item 3).  Each with its
 #: reason and the CPU time its import adds beside numpy and scipy.linalg (measured on a quiet
-#: machine, the fastest of three).  Not in the list: scipy.linalg (the PH spline's banded solve,
-#: every design) and scipy.special (0.03 s).
+#: machine, the fastest of three; scipy.linalg's beside numpy).
 DEFERRED_SCIPY = {
+    "scipy.linalg": "LAPACK's pivoting banded solve of a tridiagonal system that is not diagonally dominant "
+                    "(the PH spline's own are solved by cyclic reduction in numpy): 0.25 s",
     "scipy.interpolate": "the drawings' cubic fits and a cylindrical cam's walls: 0.14 s (it loads scipy.optimize)",
     "scipy.optimize": "the follower dynamics' root finding: 0.12 s",
     "scipy.spatial": "nearest-point distances of the drawings and a cylindrical cam's tool path: 0.06 s",
@@ -391,6 +392,26 @@ def test_the_command_line_starts_without_the_deferred_dependencies():
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == "", f"loaded at start: {res.stdout.strip()}"
+
+
+def test_a_plate_cams_check_loads_no_scipy():
+    """``cam-workbench check`` of the built-in plate cams (and their design through the API) runs
+    on numpy alone: scipy's import (0.25 s with scipy.linalg, the floor issue 22 measures
+    ``check`` against) is left to the computations :data:`DEFERRED_SCIPY` names."""
+    import subprocess
+
+    code = ("import sys, io, contextlib\n"
+            "from cam_workbench.cli import main\n"
+            "from cam_workbench.generators import design_cam\n"
+            "from cam_workbench.generators.spec.examples import example_spec\n"
+            "for ex in ('default', 'paper', 'groove', 'conjugate'):\n"
+            "    with contextlib.redirect_stdout(io.StringIO()):\n"
+            "        assert main(['check', '--example', ex]) in (0, 3)\n"
+            "    design_cam(example_spec(ex)).summary()\n"
+            "print(','.join(sorted(m for m in sys.modules if m.split('.')[0] == 'scipy')))\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == "", f"loaded: {res.stdout.strip()}"
 
 
 def test_the_graph_sees_every_import():

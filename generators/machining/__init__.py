@@ -5,3 +5,4 @@ exact tool paths (:mod:`.toolpath`) and the thesis' cutting time (:mod:`.cutting
 from .plan import (  # noqa: F401
     MachiningPlan, smallest_concave_profile_radius, check_tool_fits, machining_plan,
 )
+from . import groove as _groove_path  # noqa: F401,E402  (registers the groove's tool path)
