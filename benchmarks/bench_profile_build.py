@@ -22,7 +22,7 @@ ENV = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHO
 #: (row, the profiled function: file suffix and function name) — the imports first, then the stages
 ROWS = (
     ("import OCP (the kernel)", "cam_workbench/kernel/ocp.py", "require"),
-    ("import the design code (cam_workbench.generators, numpy, scipy.linalg)", "generators/__init__.py", "<module>"),
+    ("import the design code (cam_workbench.generators, numpy)", "generators/__init__.py", "<module>"),
     ("import ezdxf (within the drawing)", "ezdxf/__init__.py", "<module>"),
     ("the design (PH pitch curve, exact offset, checks, body)", "cam_workbench/commands/common.py", "design_for"),
     ("report.json's numbers (summary stage)", "cam_workbench/pipeline.py", "summary_stage"),
