@@ -1,0 +1,12 @@
+"""Indexing cams (rotary indexers): a cam on a continuously turning input shaft turns an output
+turret by 360°/N during the input's index angle β and holds it still for the rest of the turn.
+
+* :mod:`.parallel` — the parallel (plate-cam) indexer's geometry: roller loci, the cams' pitch
+  curves and profiles, engagement, pressure angles, locking and clearance, the turret angle
+  recovered from the built profiles;
+* :mod:`.sizing` — the drive's sizing from the load: times, output motion, torques and power,
+  the driving roller's normal load, Hertz stress and bearing life.
+"""
+from .sizing import DriveSizing, IndexLoad, drive_sizing, equivalent_load, rating_life
+
+__all__ = ["DriveSizing", "IndexLoad", "drive_sizing", "equivalent_load", "rating_life"]

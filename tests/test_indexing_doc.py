@@ -1,0 +1,78 @@
+"""docs/indexing.md runs as written, and the figures its prose quotes are the ones its code
+computes (the design's summary, the sizing's summary, the laws' characteristic values)."""
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from cam_workbench.generators.motion.characteristics import law_characteristics
+
+DOC = Path(__file__).resolve().parents[1] / "docs" / "indexing.md"
+
+
+@pytest.fixture(scope="module")
+def ran() -> tuple[str, dict]:
+    text = DOC.read_text(encoding="utf-8")
+    scope: dict = {}
+    for block in re.findall(r"```python\n(.*?)```", text, flags=re.S):
+        exec(compile(block, str(DOC), "exec"), scope)  # noqa: S102 — the page's own examples
+    return text, scope
+
+
+def near(quoted: str, value: float) -> bool:
+    """``quoted`` (as printed, e.g. "0.333" or "1.20") is ``value`` rounded to its digits."""
+    digits = len(quoted.split(".")[1]) if "." in quoted else 0
+    return abs(float(quoted) - value) <= 0.5 * 10 ** -digits * (1 + 1e-9)
+
+
+def test_the_sizing_figures_are_the_examples(ran):
+    text, scope = ran
+    s = scope["s"].summary()
+    para = " ".join(text.split("For the example above:")[1].split())
+    want = {
+        r"index time ([\d.]+) s": s["index_time_s"],
+        r"peak output acceleration ([\d.]+) rad/s²": s["output_acceleration_peak_rad_s2"],
+        r"peak output torque ([\d.]+) N·m": s["output_torque_peak_Nm"],
+        r"peak input torque ([\d.]+) N·m": s["input_torque_peak_Nm"],
+        r"peak input power ([\d.]+) W": s["input_power_peak_W"],
+        r"peak normal load ([\d.]+) kN": s["normal_force_peak_N"] / 1e3,
+        r"peak Hertz stress ([\d.]+) GPa": s["contact_stress_peak_Pa"] / 1e9,
+        r"L10 ([\d.]+)·10⁸ roller revolutions": s["l10_million_rev"] * 1e6 / 1e8,
+        r"\(([\d.]+)·10⁵ h\)": s["l10_hours"] / 1e5,
+    }
+    for pattern, value in want.items():
+        m = re.search(pattern, para)
+        assert m, pattern
+        assert near(m.group(1), value), (pattern, m.group(1), value)
+
+
+def test_the_design_figures_are_the_examples(ran):
+    text, scope = ran
+    d = scope["d"].summary()
+    table = " ".join(text.split("Default design")[1].split("## The drive")[0].split())
+    m = re.search(r"clearance of the rollers a cam does not hold \| ([\d.]+) mm", table)
+    assert m and near(m.group(1), d["clearance_mm"])
+    m = re.search(r"over the index \| ([\d.]+)° at θ = ([\d.]+)°", table)
+    assert m and near(m.group(1), d["max_driving_pressure_angle_deg"])
+    assert near(m.group(2), d["max_driving_pressure_angle_at_deg"])
+    m = re.search(r"\| ([\d.]+) mm · ([\d.]+) mm \|", table)
+    cam0 = d["per_cam"][0]
+    assert m and near(m.group(1), cam0["dwell_radius_mm"]) and near(m.group(2), cam0["crossover_radius_mm"])
+
+
+@pytest.mark.parametrize("law, row", [("cycloidal", "cycloidal"), ("harmonic", "simple harmonic"),
+                                      ("modified_sine", "modified sine"), ("modified_trapezoid", "modified trapezoid"),
+                                      ("poly345", "3-4-5 polynomial"), ("poly4567", "4-5-6-7 polynomial")])
+def test_the_characteristics_table(ran, law, row):
+    text, _ = ran
+    line = next(ln for ln in text.splitlines() if ln.startswith(f"| {row} |"))
+    cells = [c.strip().split(" ")[0] for c in line.strip("|").split("|")[1:]]
+    c = law_characteristics(law)
+    for quoted, value in zip(cells, (c.C_v, c.C_a, c.C_j, c.torque_index, c.Q)):
+        if quoted == "∞":
+            assert math.isinf(value)
+        else:
+            assert near(quoted, value), (row, quoted, value)
