@@ -76,3 +76,13 @@ def test_the_characteristics_table(ran, law, row):
             assert math.isinf(value)
         else:
             assert near(quoted, value), (row, quoted, value)
+
+
+def test_the_body_figures_are_the_examples(ran):
+    text, scope = ran
+    body = scope["body"]
+    para = " ".join(text.split("### The cams as a body")[1].split("## The drive")[0].split())
+    assert re.search(r"For the default design: (\d+) nodes per flank", para).group(1) == str(
+        body.geometry.extra["flank_nodes"][0][0])
+    assert near(re.search(r"fit error ([\d.e-]+) mm", para).group(1).replace("e-5", ""), body.fit_error * 1e5)
+    assert near(re.search(r"volume ([\d ]+\.\d+) mm³", para).group(1).replace(" ", ""), body.volume)

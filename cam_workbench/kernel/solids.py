@@ -56,17 +56,23 @@ def profile_wire(curve: NurbsCurve, z: float = 0.0) -> Any:
     use those integrals.  A curve with simple interior knots (a fitted B-spline) is first
     brought to Bézier form by exact knot insertion, for the same reason."""
     mk = occ.BRepBuilderAPI_MakeWire()
-    pieces = curve.bezier_pieces()
-    if len(pieces) == 1 and len(np.unique(curve.knots)) > 2:
-        pieces = bezier_form(curve).bezier_pieces()     # exact knot insertion, no refit
-    for piece in pieces:
-        mk.Add(nurbs_to_edge(piece, z))
+    for edge in bezier_edges(curve, z):
+        mk.Add(edge)
     if not mk.IsDone():
         raise RuntimeError("OCCT could not join the profile edges into a wire")
     wire = mk.Wire()
     if not wire.Closed():
         raise RuntimeError("the profile wire is not closed")
     return wire
+
+
+def bezier_edges(curve: NurbsCurve, z: float = 0.0) -> list[Any]:
+    """The edges of ``curve`` (open or closed), one exact rational Bézier edge per knot span (see
+    :func:`profile_wire`)."""
+    pieces = curve.bezier_pieces()
+    if len(pieces) == 1 and len(np.unique(curve.knots)) > 2:
+        pieces = bezier_form(curve).bezier_pieces()     # exact knot insertion, no refit
+    return [nurbs_to_edge(piece, z) for piece in pieces]
 
 
 def circle_wire(radius: float, z: float = 0.0) -> Any:
@@ -250,13 +256,7 @@ def loop_wire(loop: Any, z: float = 0.0) -> Any:
     mk = occ.BRepBuilderAPI_MakeWire()
     for piece in loop.pieces:
         if isinstance(piece, Curve):
-            sub = profile_wire(piece.nurbs, z)
-            ex = occ.TopExp_Explorer(sub, occ.TopAbs_EDGE)
-            edges = []
-            while ex.More():
-                edges.append(occ.topods_edge(ex.Current()))
-                ex.Next()
-            for e in edges:
+            for e in bezier_edges(piece.nurbs, z):
                 mk.Add(e)
         elif isinstance(piece, Arc):
             c = piece.centre

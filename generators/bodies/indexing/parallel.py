@@ -207,7 +207,7 @@ def roller_state(ix: ParallelIndexer, cam: int, roller: Array, theta: Array) -> 
     return p, dp, ddp
 
 
-def _locus(ix: ParallelIndexer, cam: int, tau: Array) -> dict[str, Array]:
+def locus(ix: ParallelIndexer, cam: int, tau: Array) -> dict[str, Array]:
     """Cam ``cam``'s roller-centre locus L(τ) in the cam frame, with L', the outward normal and the
     pitch radius of curvature (convex +), all analytic in the law's F', F''."""
     tau = np.asarray(tau, dtype=float)
@@ -442,7 +442,7 @@ def _grid(ix: ParallelIndexer, cam: int, lo: float, hi: float, offset: bool) -> 
     """τ samples of [lo, hi] dense enough for a chord sag ≤ CHORD_TOL on the pitch curve and on
     its offset (sag ≈ (|Q'|·Δτ)²/(8|ρ_Q|), |Q'| = |L'|·|1 − r_r/ρ|, ρ_Q = ρ − r_r)."""
     trial = np.linspace(lo, hi, 2001)
-    loc = _locus(ix, cam, trial)
+    loc = locus(ix, cam, trial)
     rr = float(ix.roller_radius)
     rho = np.abs(loc["rho"])
     need = loc["speed"] ** 2 / (8.0 * rho)                           # pitch: Δτ² · need ≤ tol
@@ -468,7 +468,7 @@ def _build_cam(ix: ParallelIndexer, k: int, theta: Array) -> IndexCam:
     # -- the crossover X: L(τ_in) = L(τ_out), the crossing of least parameter span (innermost loop)
     t_in = np.linspace(in_lo, in_hi, 801)
     t_out = np.linspace(out_lo, out_hi, 801)
-    pin, pout = _locus(ix, k, t_in)["point"], _locus(ix, k, t_out)["point"]
+    pin, pout = locus(ix, k, t_in)["point"], locus(ix, k, t_out)["point"]
     i, j, sa, sb = _segment_crossings(pin, pout)
     # the pieces share their dwell-side end points only when β ≈ 2π; drop touching at those ends
     ta = t_in[i] + sa * (t_in[1] - t_in[0])
@@ -483,7 +483,7 @@ def _build_cam(ix: ParallelIndexer, k: int, theta: Array) -> IndexCam:
     m = int(np.argmin(tb - ta))
 
     def pitch_eq(x: float, y: float):
-        loc = _locus(ix, k, np.array([x, y]))
+        loc = locus(ix, k, np.array([x, y]))
         return loc["point"][0] - loc["point"][1], loc["d1"][0], -loc["d1"][1]
 
     tau1, tau2, res = _newton_pair(pitch_eq, ta[m], tb[m], (in_lo, out_lo), (in_hi, out_hi))
@@ -491,11 +491,11 @@ def _build_cam(ix: ParallelIndexer, k: int, theta: Array) -> IndexCam:
         raise SpecError("indexer.centre_distance",
                         f"cam {k}: the crossover of the rollers' loci near input angle {_deg(tb[m])} does not "
                         f"converge (|ΔX| = {res:.3g} mm) — increase indexer.centre_distance")
-    x_pt = _locus(ix, k, np.array([tau2]))["point"][0]
+    x_pt = locus(ix, k, np.array([tau2]))["point"][0]
 
     # -- the profile tip X': Q(τ'_in) = Q(τ'_out), Q = L − r_r·n, Q' = L'·(1 − r_r/ρ)
     def prof(tau: Array) -> tuple[Array, Array]:
-        loc = _locus(ix, k, tau)
+        loc = locus(ix, k, tau)
         return loc["point"] - rr * loc["normal"], loc["d1"] * (1.0 - rr / loc["rho"])[..., None]
 
     c_in = np.linspace(tau1, in_hi, 801)
@@ -529,12 +529,12 @@ def _build_cam(ix: ParallelIndexer, k: int, theta: Array) -> IndexCam:
     pieces = []
     for role, tau in (("incoming", _grid(ix, k, tau1, in_hi, False)), ("dwell", t_dw),
                       ("outgoing", _grid(ix, k, out_lo, tau2, False))):
-        loc = _locus(ix, k, tau)
+        loc = locus(ix, k, tau)
         pieces.append(PitchPiece(role, tau, loc["point"], loc["normal"], loc["rho"]))
     g_in = _grid(ix, k, tau_a, in_hi, True)
     g_out = _grid(ix, k, out_lo, tau_b, True)
     tau_p = np.concatenate([g_in, t_dw[1:-1], g_out])
-    loc = _locus(ix, k, tau_p)
+    loc = locus(ix, k, tau_p)
     rho = loc["rho"]
     if not (np.all(np.isfinite(loc["speed"])) and loc["speed"].min() > 0):
         i0 = int(np.argmin(loc["speed"]))
@@ -574,7 +574,7 @@ def _build_cam(ix: ParallelIndexer, k: int, theta: Array) -> IndexCam:
     pa = np.full(engaged.shape, np.nan)
     arm_p, arm_o, c_rad = pa.copy(), pa.copy(), pa.copy()
     for jr in (0, 1):
-        loc_j = _locus(ix, k, theta - TWO_PI * jr)
+        loc_j = locus(ix, k, theta - TWO_PI * jr)
         ap, ao = _arms(ix, k, jr, theta, loc_j)
         e = engaged[:, jr]
         arm_p[e, jr], arm_o[e, jr] = ap[e], ao[e]
