@@ -9,7 +9,10 @@ runs; prints Markdown tables.
   design's own polylines of the profiles (1e-5 mm chord sag; their vertex count: what a drawing
   or a kernel would carry without the fit);
 * solid: the kernel's prism stack sewn from the prisms' faces, beside extruding each prism and
-  fusing them (booleans).
+  fusing them (booleans);
+* the barrel and globoidal indexers' designs (721 input angles × 9 points along each roller × N
+  rollers × 2 sides), and their contact lines in closed form over the whole grid at once, beside
+  the same closed form called point by point.
 
     .venv/bin/python benchmarks/bench_indexing.py
 """
@@ -22,6 +25,8 @@ from _timing import cpu_best_of  # noqa: E402  (puts the project root on sys.pat
 from cam_workbench.generators.bodies.indexing import parallel
 from cam_workbench.generators.bodies.indexing.parallel import ParallelIndexer, design_parallel
 from cam_workbench.generators.bodies.indexing.parallel_body import indexer_body
+from cam_workbench.generators.bodies.indexing.spatial import (BarrelIndexer, GloboidalIndexer, contact_lines,
+                                                             design_barrel, design_globoidal)
 
 
 def all_segments(points: np.ndarray, poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -90,6 +95,27 @@ def solid_rows() -> list[str]:
             f"| each prism extruded and fused | {fused:.3f} | {fused / sewn:.1f}× |"]
 
 
+def spatial_rows() -> list[str]:
+    rows = ["| indexer (default) | design CPU [s] | contact lines, whole grid [s] | point by point [s] | ratio |",
+            "|---|---:|---:|---:|---:|"]
+    for name, ix, design in (("barrel (N = 6)", BarrelIndexer(), design_barrel),
+                             ("globoidal (N = 12)", GloboidalIndexer(), design_globoidal)):
+        design(ix)
+        t_design = cpu_best_of(lambda: design(ix), 3)
+        theta = np.linspace(0.0, 2 * np.pi, 721)
+        t = np.linspace(ix.roller_start, ix.roller_end, 9)
+        whole = cpu_best_of(lambda: contact_lines(ix, np.zeros(1), theta[:, None], t, 1), 5)
+        sub = theta[::12]                                  # 61 angles by hand, scaled to the 721
+
+        def by_point():
+            for th in sub:
+                for tk in t:
+                    contact_lines(ix, np.zeros(1), np.array([th]), np.array([tk]), 1)
+        per_point = cpu_best_of(by_point, 2) * theta.size / sub.size
+        rows.append(f"| {name} | {t_design:.3f} | {whole:.4f} | {per_point:.3f} | {per_point / whole:.0f}× |")
+    return rows
+
+
 def main() -> None:
     print("### Parallel indexer: design\n")
     print("\n".join(design_rows()))
@@ -97,6 +123,8 @@ def main() -> None:
     print("\n".join(body_rows()))
     print("\n### Parallel indexer: solid\n")
     print("\n".join(solid_rows()))
+    print("\n### Barrel and globoidal indexers: design and contact lines (one roller side, 721 × 9 points)\n")
+    print("\n".join(spatial_rows()))
 
 
 if __name__ == "__main__":

@@ -86,3 +86,21 @@ def test_the_body_figures_are_the_examples(ran):
         body.geometry.extra["flank_nodes"][0][0])
     assert near(re.search(r"fit error ([\d.e-]+) mm", para).group(1).replace("e-5", ""), body.fit_error * 1e5)
     assert near(re.search(r"volume ([\d ]+\.\d+) mm³", para).group(1).replace(" ", ""), body.volume)
+
+
+def test_the_spatial_figures_are_the_examples(ran):
+    text, scope = ran
+    table = text.split("## The barrel and globoidal indexers")[1].split("## The drive")[0]
+    rows = {ln.split("|")[1].strip(): [c.strip() for c in ln.strip().strip("|").split("|")[1:]]
+            for ln in table.splitlines() if ln.startswith("| ")}
+    for col, design in enumerate((scope["barrel"], scope["globoid"])):
+        s = design.summary()
+        drive = re.match(r"([\d.]+)° at θ = ([\d.]+)°", rows["largest pressure angle of the driving contact line"][col])
+        assert near(drive.group(1), s["max_driving_pressure_angle"]["value_deg"])
+        assert near(drive.group(2), s["max_driving_pressure_angle"]["at_deg"])
+        margin = re.match(r"([\d.]+) at θ = ([\d.]+)°", rows["smallest regularity margin"][col])
+        assert near(margin.group(1), s["min_regularity_margin"]["value_1"])
+        assert near(margin.group(2), s["min_regularity_margin"]["at_deg"])
+        rib = re.match(r"([\d.]+) mm at θ = ([\d.]+)°", rows["thinnest rib"][col])
+        assert near(rib.group(1), s["min_rib_thickness"]["value_mm"])
+        assert near(rib.group(2), s["min_rib_thickness"]["at_deg"])

@@ -4,6 +4,10 @@ turret by 360°/N during the input's index angle β and holds it still for the r
 * :mod:`.parallel` — the parallel (plate-cam) indexer's geometry: roller loci, the cams' pitch
   curves and profiles, engagement, pressure angles, locking and clearance, the turret angle
   recovered from the built profiles;
+* :mod:`.parallel_body` — the parallel indexer's cams as prisms of loops (exact dwell arcs, fitted flanks);
+* :mod:`.spatial` — the barrel and globoidal indexers: the rib flanks as envelopes of the rollers
+  (contact lines in closed form from the meshing equation), pressure angles, the envelope's
+  regularity, rib thickness, the turret angle recovered from the flank points;
 * :mod:`.sizing` — the drive's sizing from the load: times, output motion, torques and power,
   the driving roller's normal load, Hertz stress and bearing life.
 """

@@ -62,14 +62,17 @@ Grid: the input angles θ_s + [0, 2π] (``samples``) hold the index's ends θ_s 
 locus is sampled on τ = θ + 2πj for the N rollers j = j_lo … j_lo + N − 1, j_lo = −⌊(N − 1)/2⌋
 (row (j − j_lo)·(S − 1) + i is roller j at θ_i), and t on ``lengths`` points of [t0, t1].
 
-Catalogue-like geometry.  Barrel: N = 4–8 with β = 120°–270°; the axes' offset C ≈ R_p·cos(π/N)
+Catalogue-like geometry.  Barrel: N = 4–8 with β = 180°–300°; the axes' offset C ≈ R_p·cos(π/N)
 puts the dwell's rollers square to the cam; rollers ≈ 0.2·R_p; the idle rollers (α ≈ π ± 3T/2)
-must clear the rib (outer radius < C − R_p·cos(3π/N) − r_r or outside the cam width).  The default,
-N = 6, β = 180°, R_p = 60, C = 52, r_r = 12, rib radii 25–40, width 80 mm, is valid with a largest
-pressure angle ≈ 43°.  Globoidal: N = 6–16, β = 90°–300°, C ≈ 1.5× the rollers' outer end, a
-width that holds the dwell's two rollers and leaves the next ones out
-(t1·sin(T/2) + r_r·cos(T/2) < W/2 < t0·sin(3T/2) − r_r·cos(3T/2)); the default, N = 12,
-β = 120°, C = 150, rollers r_r = 12 over t = 74–96, rib globoids 76–100, width 80 mm, is valid.
+must clear the rib (outer radius < C − R_p·cos(3π/N) − r_r, or outside the cam width).  The default,
+N = 6, β = 240°, R_p = 60, C = 52, r_r = 12, rollers over t = 27–45, rib radii 25–40, width 80 mm,
+is valid: 2–3 roller sides engaged, the driving contact's pressure angle ≤ 49° (the leaving roller's
+last contact reaches ≈ 74°), regularity margin ≥ 0.55.  Globoidal: N = 6–16, β = 90°–300°, C ≈ 1.5×
+the rollers' outer end, and a width that holds the dwell's two rollers' inner sides and leaves their
+outer sides out (t1·sin(T/2) − r_r·cos(T/2) < W/2 < t0·sin(T/2) + r_r·cos(T/2)); the default,
+N = 12, β = 120°, C = 150, rollers r_r = 12 over t = 74–96, rib globoids 76–100, width 56 mm, is
+valid: 2–3 sides engaged, pressure angles ≤ 38°, margin ≥ 0.72.  A wider cam leaves lands beyond
+the outer rollers (each dwell roller then runs in a groove: 4–5 sides engaged).
 """
 from __future__ import annotations
 
@@ -160,7 +163,7 @@ class BarrelIndexer:
     """
 
     stations: int = 6
-    index_angle: float = math.pi
+    index_angle: float = 4.0 * math.pi / 3.0
     law: str = "modified_sine"
     centre_distance: float = 52.0
     pitch_radius: float = 60.0
@@ -243,7 +246,7 @@ class GloboidalIndexer:
     roller_end: float = 96.0
     tip_radius: float = 76.0
     root_radius: float = 100.0
-    cam_width: float = 80.0
+    cam_width: float = 56.0
     index_start: float = 0.0
 
     def __post_init__(self) -> None:
@@ -457,7 +460,10 @@ class SpatialDesign:
     roller numbers j (J = N of them, from j_lo).  sheets: the side +1 and side −1
     :class:`FlankSheet`.  engaged: (J, 2, S) — roller j's side (+1, −1) touches the rib at θ_i.
     windows: (j, side, θ_from, θ_to) [rad] runs of engagement over the turn.  max_pressure_angle
-    (over every engaged contact), max_index_pressure_angle (while the turret moves), min_margin
+    (over every engaged contact), max_index_pressure_angle (while the turret moves): Extremum.
+    driving_angle (S,) [rad]: of the engaged side −1 (driving) contact lines at θ, the one whose
+    largest pressure angle along its in-band length is least — that angle (NaN where none drives);
+    max_driving_angle: its largest over the index (t NaN: a whole line).  min_margin
     (regularity), min_rib_thickness [mm]: :class:`Extremum`.  locked: at every θ some engaged
     contact drives the turret forward (side −1) and some holds it back (side +1)."""
 
@@ -473,6 +479,8 @@ class SpatialDesign:
     windows: tuple[tuple[int, int, float, float], ...]
     max_pressure_angle: Extremum
     max_index_pressure_angle: Extremum
+    driving_angle: Array
+    max_driving_angle: Extremum
     min_margin: Extremum
     min_rib_thickness: Extremum
     locked: bool
@@ -492,7 +500,7 @@ class SpatialDesign:
 
         def ext(e: Extremum, scale, unit: str) -> dict[str, Any]:
             return {f"value_{unit}": _plain(scale(e.value)), "at_deg": _plain(math.degrees(e.theta)),
-                    "roller": e.roller, "side": e.side, "t_mm": _plain(e.t)}
+                    "roller_index": e.roller, "side": e.side, "t_mm": _plain(e.t)}
 
         fields = {k: (v if isinstance(v, (int, str)) else float(v)) for k, v in vars(ix).items()}
         for k in ("index_angle", "index_start"):
@@ -503,12 +511,13 @@ class SpatialDesign:
             **fields,
             "samples": int(self.theta.size),
             "lengths": int(self.t.size),
-            "windows": [{"roller": j, "side": s, "from_deg": math.degrees(a), "to_deg": math.degrees(b)}
+            "windows": [{"roller_index": j, "side": s, "from_deg": math.degrees(a), "to_deg": math.degrees(b)}
                         for j, s, a, b in self.windows],
             "engaged_per_angle": {"min": int(self.engaged.sum(axis=(0, 1)).min()),
                                   "max": int(self.engaged.sum(axis=(0, 1)).max())},
             "max_pressure_angle": ext(self.max_pressure_angle, math.degrees, "deg"),
             "max_index_pressure_angle": ext(self.max_index_pressure_angle, math.degrees, "deg"),
+            "max_driving_pressure_angle": ext(self.max_driving_angle, math.degrees, "deg"),
             "min_regularity_margin": ext(self.min_margin, float, "1"),
             "min_rib_thickness": ext(self.min_rib_thickness, float, "mm"),
             "locked": bool(self.locked),
@@ -664,6 +673,20 @@ def _design(ix: SpatialIndexer, samples: int, lengths: int, strict: bool) -> Spa
     moving[rows_ji[:, 1:n1]] = True                                          # rows inside the index
     max_ipa = _extremum(pa, band2 & moving[None, :, None], True, theta, j_lo, t, side_of)
 
+    # the driving contact at each θ: of the engaged side −1 lines, the one whose worst point (over
+    # its in-band t) has the smallest pressure angle
+    line_pa = np.where(sheets[1].in_band, pa[1], -np.inf).max(axis=1)[rows_ji]          # (J, S)
+    line_pa = np.where(engaged[:, 1, :], line_pa, np.inf)
+    drive_j = np.argmin(line_pa, axis=0)
+    driving = line_pa[drive_j, np.arange(s)]
+    driving = np.where(np.isfinite(driving), driving, np.nan)
+    idx_i = np.arange(1, n1)
+    if np.isfinite(driving[idx_i]).any():
+        w = int(idx_i[np.nanargmax(driving[idx_i])])
+        max_drive = Extremum(float(driving[w]), float(theta[w]), int(rollers[drive_j[w]]), -1, math.nan)
+    else:
+        max_drive = Extremum(math.nan, math.nan, 0, 0, math.nan)
+
     thick, _ = _rib_thickness(sheets[0].points, sheets[0].normals, sheets[0].in_band, sheets[1].points,
                               sheets[1].in_band, m_turn)
     have = np.isfinite(thick)
@@ -694,7 +717,7 @@ def _design(ix: SpatialIndexer, samples: int, lengths: int, strict: bool) -> Spa
             for a, b in _runs(engaged[ji, si], theta):
                 windows.append((int(j), side, a, b))
     return SpatialDesign(ix, theta, psi, d1, d2, t, rollers, (sheets[0], sheets[1]), engaged, tuple(windows),
-                         max_pa, max_ipa, min_margin, rib, locked, n1)
+                         max_pa, max_ipa, driving, max_drive, min_margin, rib, locked, n1)
 
 
 def design_barrel(ix: BarrelIndexer, samples: int = 721, lengths: int = 9, strict: bool = True) -> SpatialDesign:
@@ -764,8 +787,6 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
     m_turn = design.theta.size - 1
     n1 = design.index_rows
     rollers = design.rollers
-    tau_rows = design.sheets[0].tau
-    n_rows = tau_rows.size
     q_n, j_n, k_n = theta.size, rollers.size, design.t.size
     # the rows' parameter within a turn, by piece: [0, n1] the index, [n1, m_turn] the dwell
     base = design.theta
@@ -778,38 +799,39 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
     h = (base[p_hi] - base[p_lo]) / (p_hi - p_lo)
     u0 = (th - base[start]) / h                                                 # target in stencil coordinates
     ests = []
-    for si, sheet in enumerate(design.sheets):
+    for sheet in design.sheets:
         rows0 = (rollers[None, :] - rollers[0]) * m_turn + start[:, None]       # (Q, J)
-        rows = rows0[..., None] + np.arange(_STENCIL)                            # (Q, J, 7)
-        valid_rows = rows[..., -1] < n_rows
-        rows = np.minimum(rows, n_rows - 1)
-        pts = sheet.points[rows]                                                 # (Q, J, 7, K, 3)
+        ok_all = sheet.in_band[rows0[..., None] + np.arange(_STENCIL)].all(axis=2)   # (Q, J, K)
+        qi, ji = np.nonzero(ok_all.any(axis=2))                                  # the engaged pairs only
+        ok = ok_all[qi, ji]                                                      # (P, K)
+        rows = rows0[qi, ji][:, None] + np.arange(_STENCIL)                      # (P, 7)
+        pts = sheet.points[rows]                                                 # (P, 7, K, 3)
         nrm = sheet.normals[rows]
-        ok = sheet.in_band[rows].all(axis=2) & valid_rows[..., None]             # (Q, J, K)
-        thq = np.broadcast_to(th[:, None, None], ok.shape)
-        jq = np.broadcast_to(rollers[None, :, None].astype(float), ok.shape)
+        thq = np.broadcast_to(th[qi][:, None], ok.shape)
+        jq = np.broadcast_to(rollers[ji][:, None].astype(float), ok.shape)
+        uq = np.broadcast_to(u0[qi][:, None], ok.shape)
         # -- first ψ: the axis through the sampled point pushed back by r_r along the normal
-        lag, _, _ = _lagrange(np.broadcast_to(u0[:, None, None], ok.shape))
-        p_at = np.einsum("qjkm,qjmkc->qjkc", lag, pts)
-        n_at = np.einsum("qjkm,qjmkc->qjkc", lag, nrm)
+        lag, _, _ = _lagrange(uq)
+        p_at = np.einsum("pkm,pmkc->pkc", lag, pts)
+        n_at = np.einsum("pkm,pmkc->pkc", lag, nrm)
         axis_pt = p_at - rr * n_at / np.linalg.norm(n_at, axis=-1, keepdims=True)
         c, s = np.cos(thq), np.sin(thq)
         fx = c * axis_pt[..., 0] - s * axis_pt[..., 1]                           # back to the fixed frame
         alpha = np.arctan2(axis_pt[..., 2], fx - float(ix.centre_distance))
-        guess = t_st * np.clip((th - ts) / float(ix.index_angle), 0.0, 1.0)
+        guess = t_st * np.clip((th[qi] - ts) / float(ix.index_angle), 0.0, 1.0)
         psi = alpha - roller_alpha(ix, jq, 0.0)
-        psi = psi + TWO_PI * np.round((guess[:, None, None] - psi) / TWO_PI)
+        psi = psi + TWO_PI * np.round((guess[:, None] - psi) / TWO_PI)
         # -- tangency: Newton on D(ψ) = min_u |Γ(u) − axis| − r_r
-        u = np.broadcast_to(u0[:, None, None], ok.shape).copy()
+        u = uq.copy()
         for _ in range(4):
             al = roller_alpha(ix, jq, psi)
             a, a_al, _, d, d_al, _ = ix.roller_pose(al)
             a, a_al, d, d_al = (to_cam(thq, v) for v in (a, a_al, d, d_al))
             for _ in range(6):
                 lag, lag1, lag2 = _lagrange(u)
-                g = np.einsum("qjkm,qjmkc->qjkc", lag, pts)
-                g1 = np.einsum("qjkm,qjmkc->qjkc", lag1, pts)
-                g2 = np.einsum("qjkm,qjmkc->qjkc", lag2, pts)
+                g = np.einsum("pkm,pmkc->pkc", lag, pts)
+                g1 = np.einsum("pkm,pmkc->pkc", lag1, pts)
+                g2 = np.einsum("pkm,pmkc->pkc", lag2, pts)
                 q = g - a
                 qd, g1d = _dot(q, d), _dot(g1, d)
                 e1 = _dot(q, g1) - qd * g1d
@@ -818,8 +840,7 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
                     step = np.where(e2 > 0, e1 / e2, 0.0)
                 u = np.clip(u - np.nan_to_num(step), 0.0, _STENCIL - 1.0)
             lag, _, _ = _lagrange(u)
-            g = np.einsum("qjkm,qjmkc->qjkc", lag, pts)
-            q = g - a
+            q = np.einsum("pkm,pmkc->pkc", lag, pts) - a
             sa = _dot(q, d)
             perp = q - sa[..., None] * d
             dist = np.linalg.norm(perp, axis=-1)
@@ -828,7 +849,9 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
                 slope = -_dot(nh, a_al + sa[..., None] * d_al)
                 step = np.where(np.abs(slope) > 0, (dist - rr) / slope, 0.0)
             psi = psi - np.nan_to_num(step)
-        ests.append(np.where(ok, psi, np.nan).reshape(q_n, j_n * k_n))
+        full = np.full((q_n, j_n, k_n), np.nan)
+        full[qi, ji] = np.where(ok, psi, np.nan)
+        ests.append(full.reshape(q_n, j_n * k_n))
     est = np.concatenate(ests, axis=1)
     count = np.isfinite(est).sum(axis=1)
     with np.errstate(all="ignore"), warnings.catch_warnings():
