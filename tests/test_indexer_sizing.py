@@ -330,3 +330,27 @@ def test_bad_arrays_are_refused_by_field(kw, field):
     with pytest.raises(SpecError) as err:
         drive_sizing(make_load(), **kw)
     assert err.value.field == field
+
+
+def test_a_parallel_indexers_drive_balances_the_contact_force_about_the_input_axis():
+    """parallel_drive: the input torque by virtual work equals the carrying contact's normal force
+    times its own moment arm about the INPUT axis (the design's arm_O, which the sizing does not
+    read), at every input angle of the index."""
+    from cam_workbench.generators.bodies.indexing.parallel import ParallelIndexer, design_parallel
+    from cam_workbench.generators.bodies.indexing.parallel_drive import parallel_drive
+
+    d = design_parallel(ParallelIndexer())
+    s = parallel_drive(d, input_speed=60, inertia=2.0, friction_torque=5.0, roller_width=12.0,
+                       roller_rating=12_000.0)
+    ix = d.indexer
+    over = d.theta - ix.index_start <= ix.index_angle * (1 + 1e-12)
+    arm_p = np.concatenate([c.arm_p for c in d.cams], axis=1)[over]
+    arm_o = np.concatenate([c.arm_o for c in d.cams], axis=1)[over]
+    fwd = np.where(np.isfinite(arm_p) & (arm_p > 0), arm_p, -np.inf)
+    bwd = np.where(np.isfinite(arm_p) & (arm_p < 0), -arm_p, -np.inf)
+    rows = np.arange(arm_p.shape[0])
+    pick = np.where(s.torque_out >= 0, np.argmax(fwd, axis=1), np.argmax(bwd, axis=1))
+    expect = s.normal_force * np.abs(arm_o[rows, pick]) * 1e-3
+    moving = s.normal_force > 1e-9 * s.normal_force.max()
+    np.testing.assert_allclose(np.abs(s.torque_in[moving]), expect[moving], rtol=1e-9,
+                               atol=1e-9 * np.abs(s.torque_in).max())

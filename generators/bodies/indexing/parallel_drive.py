@@ -1,0 +1,31 @@
+"""A parallel indexer's drive sized from its built geometry: :func:`.sizing.drive_sizing` over the
+index with the moment arms and cam radii of the contacts that carry the load (the driving one while
+the output accelerates, the holding-back one while it decelerates: :class:`.parallel.ParallelDesign`),
+the geometry's millimetres turned into the sizing's metres."""
+from __future__ import annotations
+
+import numpy as np
+
+from .parallel import ParallelDesign
+from .sizing import DriveSizing, IndexLoad, drive_sizing
+
+MM = 1e-3
+
+
+def parallel_drive(design: ParallelDesign, *, input_speed: float, inertia: float, roller_width: float,
+                   roller_rating: float, friction_torque: float = 0.0, **more: float) -> DriveSizing:
+    """The drive of ``design`` at ``input_speed`` [rev/min] turning an output of ``inertia``
+    [kg·m²] against ``friction_torque`` [N·m], the rollers ``roller_width`` [mm] wide on bearings
+    of dynamic rating ``roller_rating`` [N]; ``more``: the other fields of :class:`.sizing.IndexLoad`
+    (moduli, Poisson ratios, ``life_exponent``, ``efficiency``).  Over the design's input angles in
+    the index."""
+    ix = design.indexer
+    load = IndexLoad(stations=int(ix.stations), index_angle=float(ix.index_angle), input_speed=input_speed,
+                     inertia=inertia, friction_torque=friction_torque, law=ix.law,
+                     pitch_radius=float(ix.pitch_radius) * MM, roller_radius=float(ix.roller_radius) * MM,
+                     roller_width=roller_width * MM, roller_rating=roller_rating, **more)
+    theta = design.theta - float(ix.index_start)
+    over = theta <= float(ix.index_angle) * (1 + 1e-12)
+    return drive_sizing(load, theta=np.minimum(theta[over], float(ix.index_angle)),
+                        arm=design.driving_arm[over] * MM, cam_radius=design.driving_radius[over] * MM,
+                        arm_back=design.holding_arm[over] * MM, cam_radius_back=design.holding_radius[over] * MM)
