@@ -104,3 +104,21 @@ def test_the_spatial_figures_are_the_examples(ran):
         rib = re.match(r"([\d.]+) mm at θ = ([\d.]+)°", rows["thinnest rib"][col])
         assert near(rib.group(1), s["min_rib_thickness"]["value_mm"])
         assert near(rib.group(2), s["min_rib_thickness"]["at_deg"])
+
+
+def test_the_surface_figures_are_the_examples(ran):
+    from cam_workbench.generators.bodies.indexing.spatial import GloboidalIndexer, design_globoidal
+    from cam_workbench.generators.bodies.indexing.spatial_surfaces import flank_surfaces
+
+    text, scope = ran
+    table = text.split("### The flanks as B-spline surfaces")[1].split("Not yet:")[0]
+    rows = {ln.split("|")[1].strip(): [c.strip() for c in ln.strip().strip("|").split("|")[1:]]
+            for ln in table.splitlines() if ln.startswith("| ") and "µm" in ln}
+    barrel = scope["surfaces"].summary()["flanks"]
+    globoid = flank_surfaces(design_globoidal(GloboidalIndexer())).summary()["flanks"]
+    for name, flank in (("barrel, side +1 (holds)", barrel[0]), ("barrel, side −1 (drives)", barrel[1]),
+                        ("globoidal, each side", globoid[0]), ("globoidal, each side", globoid[1])):
+        nodes, dist, normal = rows[name]
+        assert nodes == f"{flank['nodes_tau']} × {flank['nodes_t']}"
+        assert near(dist.split()[0], flank["max_error_mm"] * 1e3)
+        assert near(normal.split()[0], flank["max_normal_error_mm"] * 1e3)

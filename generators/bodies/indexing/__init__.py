@@ -8,6 +8,8 @@ turret by 360°/N during the input's index angle β and holds it still for the r
 * :mod:`.spatial` — the barrel and globoidal indexers: the rib flanks as envelopes of the rollers
   (contact lines in closed form from the meshing equation), pressure angles, the envelope's
   regularity, rib thickness, the turret angle recovered from the flank points;
+* :mod:`.spatial_surfaces` — the spatial flanks as bicubic B-spline surfaces within a tolerance of
+  the exact envelope (measured);
 * :mod:`.parallel_drive` — the parallel indexer's drive sized from its built geometry;
 * :mod:`.sizing` — the drive's sizing from the load: times, output motion, torques and power,
   the driving roller's normal load, Hertz stress and bearing life.
