@@ -11,6 +11,8 @@ turret by 360°/N during the input's index angle β and holds it still for the r
 * :mod:`.spatial_surfaces` — the spatial flanks as bicubic B-spline surfaces within a tolerance of
   the exact envelope (measured);
 * :mod:`.parallel_drive` — the parallel indexer's drive sized from its built geometry;
+* :mod:`.spatial_drive` — the barrel and globoidal indexers' drive sized from their contact lines
+  (a uniform line load, the cam radius from the envelope's regularity margin);
 * :mod:`.sizing` — the drive's sizing from the load: times, output motion, torques and power,
   the driving roller's normal load, Hertz stress and bearing life.
 """
