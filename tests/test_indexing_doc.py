@@ -122,3 +122,24 @@ def test_the_surface_figures_are_the_examples(ran):
         assert nodes == f"{flank['nodes_tau']} × {flank['nodes_t']}"
         assert near(dist.split()[0], flank["max_error_mm"] * 1e3)
         assert near(normal.split()[0], flank["max_normal_error_mm"] * 1e3)
+
+
+def test_the_spatial_drive_figures_are_the_examples(ran):
+    """The barrel's hand-over spike the page quotes: the peak Hertz stress, and the peak where the
+    loaded line is at least 5 mm long, at the page's load (60 rpm, 2 kg·m², 5 N·m, 18 mm, 20 kN)."""
+    import numpy as np
+
+    from cam_workbench.generators.bodies.indexing.spatial_drive import spatial_contacts, spatial_drive
+
+    text, scope = ran
+    para = " ".join(text.split("`spatial_drive(design, …)`")[1].split("`parallel_drive` sizes")[0].split())
+    barrel = scope["barrel"]
+    s = spatial_drive(barrel, input_speed=60, inertia=2.0, friction_torque=5.0, roller_width=18.0,
+                      roller_rating=20_000.0)
+    c = spatial_contacts(barrel)
+    length = np.where(s.torque_out >= 0, c.forward.length, c.holding.length)
+    m = re.search(r"puts it on ([\d.]+) mm of roller for one sample \(Hertz (\d+) MPa there, (\d+) MPa elsewhere\)", para)
+    assert m
+    i = int(np.argmax(s.contact_stress))
+    assert near(m.group(1), length[i]) and near(m.group(2), s.contact_stress[i] / 1e6)
+    assert near(m.group(3), np.max(np.where(length >= 5.0, s.contact_stress, 0.0)) / 1e6)
