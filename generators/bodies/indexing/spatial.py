@@ -391,7 +391,8 @@ class ContactLines:
 
 def contact_lines(ix: SpatialIndexer, roller: Array, theta: Array, t: Array, side: int) -> ContactLines:
     """Side ``side`` (±1)'s contact lines of roller(s) ``roller`` at input angles ``theta`` (shape
-    B after broadcasting) at axis parameters ``t`` (K,) [mm]: arrays (B…, K)."""
+    B after broadcasting) at axis parameters ``t`` [mm], (K,) — the same K for every θ — or
+    (B…, K), its own per θ (it broadcasts over θ's axes): arrays (B…, K)."""
     if side not in (1, -1):
         raise SpecError("indexer.side", f"must be +1 or −1, got {side!r}")
     theta = np.asarray(theta, dtype=float)
