@@ -143,3 +143,18 @@ def test_the_spatial_drive_figures_are_the_examples(ran):
     i = int(np.argmax(s.contact_stress))
     assert near(m.group(1), length[i]) and near(m.group(2), s.contact_stress[i] / 1e6)
     assert near(m.group(3), np.max(np.where(length >= 5.0, s.contact_stress, 0.0)) / 1e6)
+
+
+def test_the_optimiser_figures_are_the_examples(ran):
+    text, scope = ran
+    para = " ".join(text.split("### Optimising it")[1].split("## The barrel")[0].split())
+    s = scope["best"].summary()
+    m = re.search(r"outer radius ([\d.]+) → ([\d.]+) mm \(C ([\d.]+) mm at its lower bound, R_p ([\d.]+) mm, "
+                  r"r_r ([\d.]+) mm\), pressure angle ([\d.]+)° → ([\d.]+)°, (\d+) designs", para)
+    assert m, para
+    v = s["variables_mm"]
+    for quoted, value in zip(m.groups(), (s["start_value"], s["value"], v["centre_distance"], v["pitch_radius"],
+                                          v["roller_radius"], s["start"]["constraints"]["pressure_angle_deg"],
+                                          s["constraints"]["pressure_angle_deg"], s["evaluations"])):
+        assert near(quoted, value), (quoted, value)
+    assert s["verdict"] == "converged" and v["centre_distance"] == pytest.approx(s["bounds_mm"]["centre_distance"][0])
