@@ -158,3 +158,16 @@ def test_the_optimiser_figures_are_the_examples(ran):
                                           s["constraints"]["pressure_angle_deg"], s["evaluations"])):
         assert near(quoted, value), (quoted, value)
     assert s["verdict"] == "converged" and v["centre_distance"] == pytest.approx(s["bounds_mm"]["centre_distance"][0])
+
+
+def test_the_gcode_figures_are_the_examples(ran):
+    from cam_workbench.exporters.gcode_indexer import indexer_programs
+
+    text, scope = ran
+    para = " ".join(text.split("### Its G-code")[1].split("### Optimising it")[0].split())
+    m = re.search(r"Default design, 6 mm tool: biarc error ([\d.e-]+) mm, the written path \(4-decimal "
+                  r"coordinates\) ([\d.e-]+) mm", para)
+    assert m
+    programs = indexer_programs(scope["d"], scope["body"], 6.0)
+    assert near(m.group(1).replace("e-5", ""), max(p.biarc_error for p in programs) * 1e5)
+    assert near(m.group(2).replace("e-5", ""), max(p.path_error for p in programs) * 1e5)
