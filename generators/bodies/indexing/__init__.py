@@ -14,6 +14,7 @@ turret by 360°/N during the input's index angle β and holds it still for the r
 * :mod:`.parallel_drive` — the parallel indexer's drive sized from its built geometry;
 * :mod:`.spatial_drive` — the barrel and globoidal indexers' drive sized from their contact lines
   (a uniform line load, the cam radius from the envelope's regularity margin);
+* :mod:`.fields` — the field rules the indexers' parameter classes share;
 * :mod:`.sizing` — the drive's sizing from the load: times, output motion, torques and power,
   the driving roller's normal load, Hertz stress and bearing life.
 """

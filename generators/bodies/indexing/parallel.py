@@ -53,7 +53,6 @@ R_p = 50 mm, r_r = 10 mm, two cams, is valid.
 from __future__ import annotations
 
 import math
-import operator
 from dataclasses import dataclass
 from typing import Any
 
@@ -61,6 +60,7 @@ import numpy as np
 
 from ...errors import SpecError
 from ...motion.laws import LAW_FUNCTIONS, evaluate_law
+from .fields import integer, number
 
 Array = np.ndarray
 TWO_PI = 2.0 * math.pi
@@ -116,40 +116,22 @@ class ParallelIndexer:
         return math.hypot(self.centre_distance + self.pitch_radius * math.cos(a), self.pitch_radius * math.sin(a))
 
 
-def _number(field_: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise SpecError(f"indexer.{field_}", f"must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise SpecError(f"indexer.{field_}", f"must be finite, got {value!r}")
-    return float(value)
-
-
-def _integer(field_: str, value: Any, allowed: str, ok) -> int:
-    try:
-        n = operator.index(value)
-    except TypeError:
-        n = None
-    if n is None or isinstance(value, bool) or not ok(n):
-        raise SpecError(f"indexer.{field_}", f"must be {allowed}, got {value!r}")
-    return n
-
-
 def _validate(ix: ParallelIndexer) -> None:
     """The rules of :class:`ParallelIndexer` (SpecError naming the first field that breaks one)."""
-    n = _integer("stations", ix.stations, "an integer ≥ 2", lambda v: v >= 2)
-    beta = _number("index_angle", ix.index_angle)
+    n = integer("stations", ix.stations, "an integer ≥ 2", lambda v: v >= 2)
+    beta = number("index_angle", ix.index_angle)
     if not 0 < beta < TWO_PI:
         raise SpecError("indexer.index_angle", f"must be in (0, 2π) rad (a dwell must remain), got {beta!r}")
     if not isinstance(ix.law, str) or ix.law not in LAW_FUNCTIONS:
         raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
-    c = _number("centre_distance", ix.centre_distance)
-    rp = _number("pitch_radius", ix.pitch_radius)
-    rr = _number("roller_radius", ix.roller_radius)
+    c = number("centre_distance", ix.centre_distance)
+    rp = number("pitch_radius", ix.pitch_radius)
+    rr = number("roller_radius", ix.roller_radius)
     for name, v in (("centre_distance", c), ("pitch_radius", rp), ("roller_radius", rr)):
         if v <= 0:
             raise SpecError(f"indexer.{name}", f"must be > 0 mm, got {v!r}")
-    _integer("cams", ix.cams, "2 or 3", lambda v: v in (2, 3))
-    _number("index_start", ix.index_start)
+    integer("cams", ix.cams, "2 or 3", lambda v: v in (2, 3))
+    number("index_start", ix.index_start)
     if not rp < c:
         raise SpecError("indexer.pitch_radius", f"must be < indexer.centre_distance ({c!r} mm), got {rp!r}")
     gap = rp * math.sin(math.pi / n)
@@ -703,7 +685,7 @@ def design_parallel(ix: ParallelIndexer, samples: int = 721, strict: bool = True
     built: no crossover, a cusp, an undercut, a pitch curve or profile that is not simple; with
     ``strict`` also when the turret is not positively driven or a roller touches a cam it is not
     engaged with (otherwise those verdicts are returned in ``clearance`` and ``locked``)."""
-    s = _integer("samples", samples, "an integer ≥ 8", lambda v: v >= 8)
+    s = integer("samples", samples, "an integer ≥ 8", lambda v: v >= 8)
     theta = float(ix.index_start) + np.linspace(0.0, TWO_PI, s)
     psi, d1, d2 = turret_angle(ix, theta)
     with np.errstate(all="ignore"):

@@ -77,7 +77,6 @@ the outer rollers (each dwell roller then runs in a groove: 4–5 sides engaged)
 from __future__ import annotations
 
 import math
-import operator
 import warnings
 from dataclasses import dataclass
 from typing import Any
@@ -86,6 +85,7 @@ import numpy as np
 
 from ...errors import SpecError
 from ...motion.laws import LAW_FUNCTIONS, evaluate_law
+from .fields import integer, number
 
 Array = np.ndarray
 TWO_PI = 2.0 * math.pi
@@ -100,28 +100,10 @@ _STENCIL = 7
 # ---------------------------------------------------------------------------------------------
 # parameters
 
-def _number(field_: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise SpecError(f"indexer.{field_}", f"must be a number, got {value!r}")
-    if not math.isfinite(value):
-        raise SpecError(f"indexer.{field_}", f"must be finite, got {value!r}")
-    return float(value)
-
-
-def _integer(field_: str, value: Any, allowed: str, ok) -> int:
-    try:
-        n = operator.index(value)
-    except TypeError:
-        n = None
-    if n is None or isinstance(value, bool) or not ok(n):
-        raise SpecError(f"indexer.{field_}", f"must be {allowed}, got {value!r}")
-    return n
-
-
 def _positive(ix: Any, names: tuple[str, ...]) -> dict[str, float]:
     out = {}
     for name in names:
-        v = _number(name, getattr(ix, name))
+        v = number(name, getattr(ix, name))
         if v <= 0:
             raise SpecError(f"indexer.{name}", f"must be > 0 mm, got {v!r}")
         out[name] = v
@@ -129,13 +111,13 @@ def _positive(ix: Any, names: tuple[str, ...]) -> dict[str, float]:
 
 
 def _common(ix: Any) -> None:
-    _integer("stations", ix.stations, "an integer in [2, 64]", lambda v: 2 <= v <= 64)
-    beta = _number("index_angle", ix.index_angle)
+    integer("stations", ix.stations, "an integer in [2, 64]", lambda v: 2 <= v <= 64)
+    beta = number("index_angle", ix.index_angle)
     if not 0 < beta < TWO_PI:
         raise SpecError("indexer.index_angle", f"must be in (0, 2π) rad (a dwell must remain), got {beta!r}")
     if not isinstance(ix.law, str) or ix.law not in LAW_FUNCTIONS:
         raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
-    _number("index_start", ix.index_start)
+    number("index_start", ix.index_start)
 
 
 def _unit(alpha: Array) -> tuple[Array, Array]:
@@ -610,8 +592,8 @@ def _rib_thickness(pts_p: Array, nrm_p: Array, ok_p: Array, pts_m: Array, ok_m: 
 
 
 def _design(ix: SpatialIndexer, samples: int, lengths: int, strict: bool) -> SpatialDesign:
-    s = _integer("samples", samples, "an integer ≥ 16", lambda v: v >= 16)
-    kt = _integer("lengths", lengths, "an integer ≥ 2", lambda v: v >= 2)
+    s = integer("samples", samples, "an integer ≥ 16", lambda v: v >= 16)
+    kt = integer("lengths", lengths, "an integer ≥ 2", lambda v: v >= 2)
     n = int(ix.stations)
     theta, n1 = _theta_grid(ix, s)
     psi, d1, d2 = turret_angle(ix, theta)
