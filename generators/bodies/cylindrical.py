@@ -669,6 +669,11 @@ class CylindricalBody:
     def refuse_foreign(spec) -> None:
         """Rules this body puts on the specs of other bodies: none beyond its own fields."""
 
+    @staticmethod
+    def motion_advance(spec) -> float:
+        """The follower's program closes: 0."""
+        return 0.0
+
     #: the field that sizes the cam (its pitch radius)
     size_field = "cam.cylinder_radius"
     #: no plane drawing of the body (its own figures)

@@ -71,3 +71,8 @@ class PlaneCamBody:
     def further_followers(spec: Any) -> tuple:
         """(suffix, follower) of every further cam's roller the design checks cover: none."""
         return ()
+
+    @staticmethod
+    def motion_advance(spec: Any) -> float:
+        """The follower's program closes: 0."""
+        return 0.0

@@ -93,6 +93,11 @@ class Body(Protocol):
     def study_row(summary: Any, base_radius: float) -> dict[str, Any] | None:
         """A study table's row of its own (None: the plane cam's row)."""
 
+    @staticmethod
+    def motion_advance(spec: Any) -> float:
+        """s(360°) − s(0°) of the motion program, lift units: 0 (the program closes) for a cam's
+        follower; an indexer's turret advances by 360°/N per input turn."""
+
 
 @runtime_checkable
 class Design(Protocol):

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..kinds import body_of
 from .bspline_law import BSplineLift
 from .laws import evaluate_law
 from .segments import build_segments, law_promise
@@ -37,7 +38,9 @@ class Kinematics:
 
 @dataclass(frozen=True)
 class MotionProgram:
-    """A closed motion program: segment start angles (rad), spans (rad), start levels, kinds.
+    """A motion program over one cam turn: segment start angles (rad), spans (rad), start levels,
+    kinds.  It closes (s(2π) = s(0)) or, for an indexer's turret, advances: s(2π) = s(0) +
+    ``advance`` (the turret's turn per index), the next turn starting where this one ends.
 
     Build it with :meth:`from_spec` (or :meth:`from_segments`).
     """
@@ -58,22 +61,27 @@ class MotionProgram:
     #: per segment: what a solved law came out as (polynomial degree and coefficients, cruise
     #: velocity, table fit error), else None
     infos: tuple[dict[str, Any] | None, ...] = ()
+    #: s(2π) − s(0) in lift units: 0 for a cam's follower, 360/N for an indexer's turret
+    advance: float = 0.0
 
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "MotionProgram":
-        """The program of a validated spec."""
-        return cls.from_segments(spec.motion)
+        """The program of a validated spec (advancing by what its body declares:
+        ``Body.motion_advance``)."""
+        return cls.from_segments(spec.motion, body_of(spec).motion_advance(spec))
 
     @classmethod
-    def from_segments(cls, segments: tuple[MotionSegment, ...] | list[MotionSegment]) -> "MotionProgram":
-        """The program of the motion segments (solved once per distinct program: cached).
+    def from_segments(cls, segments: tuple[MotionSegment, ...] | list[MotionSegment],
+                      advance: float = 0.0) -> "MotionProgram":
+        """The program of the motion segments advancing by ``advance`` per turn (solved once per
+        distinct program: cached).
 
         Raises:
             SpecError: a segment that cannot be solved (see :func:`build_segments`)."""
-        return _program(tuple(segments))
+        return _program(tuple(segments), float(advance))
 
     @classmethod
-    def _build(cls, segments: tuple[MotionSegment, ...]) -> "MotionProgram":
+    def _build(cls, segments: tuple[MotionSegment, ...], advance: float = 0.0) -> "MotionProgram":
         spans_deg = np.array([s.angle for s in segments], dtype=float)
         # Close exactly: spans are validated to sum to 360 within 1e-9°.
         spans = np.deg2rad(spans_deg) * (TWO_PI / np.deg2rad(spans_deg.sum()))
@@ -85,7 +93,7 @@ class MotionProgram:
         levels = np.concatenate([[0.0], np.cumsum(signed)[:-1]])
         built = build_segments(segments, starts, spans, levels, signed)
         return cls(starts, spans, levels, signed, tuple(s.law for s in segments),
-                   tuple(s.kind for s in segments), built.curves, built.promises, built.infos)
+                   tuple(s.kind for s in segments), built.curves, built.promises, built.infos, advance)
 
     def promise(self, k: int) -> tuple[int, int]:
         """(start, end) order of continuity segment ``k``'s law promises."""
@@ -95,15 +103,15 @@ class MotionProgram:
         return (p, p)
 
     def junctions(self) -> list["Junction"]:
-        """Every segment boundary (the last segment's end meets the first's start at 0°): the
-        one-sided s, s′, s″, s‴ on both sides, their jumps, the order of continuity reached and
-        the order the two laws promise."""
+        """Every segment boundary (the last segment's end meets the first's start at 0°, less the
+        ``advance``): the one-sided s, s′, s″, s‴ on both sides, their jumps, the order of
+        continuity reached and the order the two laws promise."""
         n = len(self.starts)
         right_seg = np.arange(n)
         left_seg = (right_seg - 1) % n
         kl = self.evaluate(np.where(right_seg == 0, TWO_PI, self.starts), left_seg)
         kr = self.evaluate(self.starts, right_seg)
-        left = np.stack([kl.s, kl.ds, kl.d2s, kl.d3s], axis=1)
+        left = np.stack([kl.s - np.where(right_seg == 0, self.advance, 0.0), kl.ds, kl.d2s, kl.d3s], axis=1)
         right = np.stack([kr.s, kr.ds, kr.d2s, kr.d3s], axis=1)
         jump = right - left
         # a jump counts when above 1e-6 of the larger side or of the adjacent segments' scale |h|/β^n
@@ -238,8 +246,8 @@ def _plain(v: Any) -> Any:
 
 
 @lru_cache(maxsize=64)
-def _program(segments: tuple[MotionSegment, ...]) -> MotionProgram:
-    return MotionProgram._build(segments)
+def _program(segments: tuple[MotionSegment, ...], advance: float) -> MotionProgram:
+    return MotionProgram._build(segments, advance)
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ from .dynamics import DynamicsSection
 from .ecam import EcamSection, validate_ecam
 from .follower import FollowerSection, validate_face, validate_follower_motion
 from .groove import GrooveSection
+from .indexer import INDEXER_FIELDS, IndexerSection, indexer_size
 from .machining import MachiningSection, validate_machining
 from .material import MaterialSection
 from .motion import MotionSegment, inline_table_files, validate_motion
@@ -64,6 +65,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "optimise": (OptimiseSection, False, False),
     "dynamics": (DynamicsSection, False, False),
     "ecam": (EcamSection, False, False),
+    "indexer": (IndexerSection, False, False),
 }
 
 
@@ -87,6 +89,7 @@ class CamSpec:
     optimise: OptimiseSection = field(default_factory=OptimiseSection)
     dynamics: DynamicsSection = field(default_factory=DynamicsSection)
     ecam: EcamSection = field(default_factory=EcamSection)
+    indexer: IndexerSection = field(default_factory=IndexerSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -99,7 +102,7 @@ class CamSpec:
             raise SpecError("spec", f"must be a table of sections, got {type(data).__name__}")
         _reject_unknown("", data, {"units", *SECTIONS})
         data = inline_table_files(data, base_dir)
-        data = _cylindrical_defaults(data)
+        data = _indexer_defaults(_cylindrical_defaults(data))
         values: dict[str, Any] = {"units": params_of(CamSpec)["units"].check("units", data.get("units", "mm"))}
         for name, (section_cls, is_list, required) in SECTIONS.items():
             if name not in data:
@@ -142,6 +145,7 @@ class CamSpec:
         for path, value in changes.items():
             _set_path(data, path, value)
         follow_cylinder_fields(data, changes)
+        follow_indexer_size(data)
         return CamSpec.from_dict(data)
 
     # ---- derived quantities ---------------------------------------------------------
@@ -257,6 +261,29 @@ def _cylindrical_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
     out = dict(data)
     out["cam"] = {**cam, **fill}
     return out
+
+
+def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
+    """An indexer's ``cam.base_radius`` is derived from ``[indexer]`` (:func:`.indexer.indexer_size`):
+    filled in when absent (a copy); when given it must agree (the bodies' rules)."""
+    cam = data.get("cam")
+    if not isinstance(cam, Mapping) or cam.get("body") not in INDEXER_FIELDS or "base_radius" in cam:
+        return data
+    table = data.get("indexer")
+    size = indexer_size(cam["body"], table) if isinstance(table, Mapping) else None
+    if size is None or not size > 0:
+        return data                 # the [indexer] rules name what is missing or wrong
+    out = dict(data)
+    out["cam"] = {**cam, "base_radius": size}
+    return out
+
+
+def follow_indexer_size(data: dict[str, Any]) -> None:
+    """In a spec dict of an indexer, drop ``cam.base_radius`` (in place): it is derived again from the
+    ``[indexer]`` table as changed."""
+    cam = data.get("cam")
+    if isinstance(cam, dict) and cam.get("body") in INDEXER_FIELDS:
+        cam.pop("base_radius", None)
 
 
 def _reject_unknown(prefix: str, data: Mapping[str, Any], known: set[str]) -> None:

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from ..errors import SpecError, fmt_apart
+from ..kinds import body_of
 from ..motion.bspline_law import lift_from_segment
 from ..motion.program import MotionProgram
 from ..motion.table import TableError, read_csv
@@ -258,14 +259,18 @@ def validate_motion(spec: CamSpec) -> None:
                             f"{fmt_apart(seg.lift, before)}")
     if abs(total - 360.0) > SPAN_TOL_DEG:
         raise _span_sum_error(spec.motion, total)
+    advance = body_of(spec).motion_advance(spec)       # 0: the program closes; an indexer's turret advances
     if not lifts:
-        raise SpecError("motion", "needs at least one rise and one return")
-    if abs(level) > 1e-9 * max(lifts):
-        raise SpecError("motion",
-                        f"program does not close: total rise − total fall = {level:g}, must be 0")
+        raise SpecError("motion", "needs at least one rise" + (" and one return" if advance == 0 else ""))
+    if abs(level - advance) > 1e-9 * max(lifts):
+        if advance == 0:
+            raise SpecError("motion",
+                            f"program does not close: total rise − total fall = {level:g}, must be 0")
+        raise SpecError("motion", f"the turret must advance by {advance:g}° per input turn (360°/indexer.stations): "
+                        f"total rise − total fall = {fmt_apart(level, advance)}")
     # the laws solved from boundary conditions or fitted, s ≥ 0 inside every segment, the program's
     # junction values (cam_workbench.generators.motion.segments): errors name the field
-    MotionProgram.from_segments(spec.motion)
+    MotionProgram.from_segments(spec.motion, advance)
     has_j = [seg.junctions is not None for seg in spec.motion]
     if any(has_j) and not all(has_j):
         missing = has_j.index(False)

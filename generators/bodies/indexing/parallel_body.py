@@ -15,8 +15,8 @@ Each profile (:mod:`.parallel`, cam frame, mm) is three pieces, counter-clockwis
   cams' B-spline pitch option, not offset exactly;
 * the flanks meet at the lobe tip X' (a corner), which both interpolate.
 
-Plates: cam k spans z_k ≤ z ≤ z_k + t with z_k = k·(t + g) (t ``thickness``, g ``gap``), less the
-bore; with a gap the plates are joined by a spacer disc of radius ``spacer_radius`` (default:
+Plates: cam k spans z_k ≤ z ≤ z_k + t with z_k = −(n_c − 1 − k)·(t + g) (t ``thickness``, g ``gap``:
+the last plate's top face at z = t, as a plate cam's), less the bore; with a gap the plates are joined by a spacer disc of radius ``spacer_radius`` (default:
 90 % of the smallest profile radius) through the bore, so the cams are one solid.
 """
 from __future__ import annotations
@@ -120,8 +120,8 @@ def cam_loop(design: ParallelDesign, cam: int, tolerance: float = DEFAULT_TOLERA
 
 def indexer_body(design: ParallelDesign, thickness: float, gap: float = 0.0, bore_diameter: float = 0.0,
                  spacer_radius: float | None = None, tolerance: float = DEFAULT_TOLERANCE) -> IndexerBody:
-    """The cams of ``design`` as one body [mm]: plate k at z ∈ [k·(t + g), k·(t + g) + t], less the
-    bore, joined by a spacer across each gap (see the module docstring).
+    """The cams of ``design`` as one body [mm]: plate k at z ∈ [z_k, z_k + t], z_k = −(n_c − 1 − k)·(t + g),
+    less the bore, joined by a spacer across each gap (see the module docstring).
 
     Raises:
         SpecError: a size that leaves no material (naming ``cam.thickness``, ``indexer.gap``,
@@ -149,7 +149,7 @@ def indexer_body(design: ParallelDesign, thickness: float, gap: float = 0.0, bor
     holes = (Loop.circle(r_bore, role="bore"),) if r_bore > 0 else ()
     prisms = []
     for k, loop in enumerate(loops):
-        z0 = k * (thickness + gap)
+        z0 = (k - (len(loops) - 1)) * (thickness + gap)
         prisms.append(Prism(loop, holes, z0, z0 + thickness, "add", f"cam{k}"))
         if spacer is not None and k + 1 < len(loops):
             prisms.append(Prism(Loop.circle(spacer, role="spacer"), holes, z0 + thickness, z0 + thickness + gap,

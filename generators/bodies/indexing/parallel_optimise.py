@@ -76,13 +76,12 @@ from typing import Any, Callable
 import numpy as np
 
 from ...errors import SpecError
-from ...motion.laws import evaluate_law
 from ...optimise.driver import load_nlopt
 from ...optimise.problem import Cancelled
 from ...optimise.result import Progress
 from ...optimise.settings import NLOPT_CONVERGED, NLOPT_RESULTS
 from .parallel import ParallelDesign, ParallelIndexer, design_parallel
-from .parallel_drive import MM, parallel_drive
+from .parallel_drive import MM, output_torque, parallel_drive
 from .sizing import IndexLoad
 
 Array = np.ndarray
@@ -297,21 +296,6 @@ def _load(ix: ParallelIndexer, objective: str, load: dict[str, Any] | None) -> d
 
 # ---------------------------------------------------------------------------------------------
 # the evaluation
-
-def output_torque(ix: ParallelIndexer, theta: Array, load: dict[str, float] | None) -> Array:
-    """T_out [N·m] the cam applies to the output at input angles ``theta`` [rad]:
-    J·ψ''·ω_in² + T_f·sign ψ' (:mod:`.sizing`'s), 0 in the dwell; without a load ψ'' alone."""
-    beta = float(ix.index_angle)
-    rel = np.asarray(theta, dtype=float) - float(ix.index_start)
-    inside = (rel >= 0) & (rel <= beta)
-    _, f1, f2, _ = evaluate_law(ix.law, np.clip(rel / beta, 0.0, 1.0))
-    h = ix.station_angle
-    if load is None:
-        return np.where(inside, h * f2 / beta**2, 0.0)
-    w = 2.0 * math.pi * float(load["input_speed"]) / 60.0
-    t = float(load["inertia"]) * h * f2 / beta**2 * w**2 + float(load.get("friction_torque", 0.0)) * np.sign(f1)
-    return np.where(inside, t, 0.0)
-
 
 def pressure_angle(design: ParallelDesign, where: str = "index", load: dict[str, float] | None = None,
                    load_fraction: float = 0.05) -> float:

@@ -1,0 +1,165 @@
+"""An indexer's spec (``cam.body = "parallel_indexer"``; the barrel and globoidal indexers next) read
+into the geometry's parameter classes, and the rules the three bodies share (docs/indexing.md,
+"The spec"; :mod:`cam_workbench.generators.spec.indexer` declares the ``[indexer]`` fields).
+
+* ``[[motion]]`` is the turret's motion over one input turn in degrees of turret rotation: exactly
+  one ``rise`` of ``lift`` = 360/N (the index: its ``angle`` is β, its start θ_s, its ``law`` one of
+  the closed-form laws of the geometry) between dwells; the program advances by 360°/N per turn.
+* ``follower.kind = "roller"``: the rollers (``roller_radius``; ``roller_width`` their contact length,
+  default ``cam.thickness``); the turret's own geometry is in ``[indexer]`` (the follower's other
+  fields do not apply).
+* lengths in mm (``units = "mm"``), ``cam.speed_rpm`` the input speed, ``cam.base_radius`` derived
+  (:func:`cam_workbench.generators.spec.indexer.indexer_size`).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Callable
+
+from ...errors import SpecError, fmt_apart
+from ...kinds import follower_class_of
+from ...motion.laws import LAW_FUNCTIONS
+from ...spec.indexer import INDEXER_FIELDS, LOAD_FIELDS, IndexerSection, indexer_size
+
+INDEXER_BODIES = tuple(INDEXER_FIELDS)
+#: every body-specific [indexer] field, once
+_ALL_FIELDS = tuple(dict.fromkeys(f for names in INDEXER_FIELDS.values() for f in names))
+#: the follower fields an indexer reads (the turret's own geometry is [indexer]'s)
+_FOLLOWER_FIELDS = ("kind", "motion", "roller_radius", "roller_width")
+#: [cam] features the indexers do not build (yet)
+_FEATURES = ("hub_diameter", "keyway", "keyway_width", "mounting_holes", "timing_mark")
+#: the geometry's own rule names → the spec field that holds the value
+_RENAMED = {"indexer.index_angle": "motion[{i}].angle", "indexer.law": "motion[{i}].law",
+            "indexer.index_start": "motion[{i}].angle", "indexer.roller_radius": "follower.roller_radius"}
+_DEFAULTS = IndexerSection()
+#: [indexer] fields a body reads that may be left out (a default derived from the others)
+_OPTIONAL = ("spacer_diameter",)
+
+
+def index_segment(spec: Any) -> tuple[int, float, float]:
+    """(i, θ_s, β): the index (the one ``rise``) — its segment number, start angle and span [rad]."""
+    start = 0.0
+    for i, seg in enumerate(spec.motion):
+        if seg.kind == "rise":
+            return i, math.radians(start), math.radians(seg.angle)
+        start += seg.angle
+    raise SpecError("motion", "an indexer's program needs one rise (the index)")
+
+
+def motion_advance(spec: Any) -> float:
+    """360/N degrees: the turret's turn per input turn (SpecError naming ``indexer.stations`` when absent)."""
+    n = spec.indexer.stations
+    if n is None:
+        raise SpecError("indexer.stations", f'is required for an indexer (cam.body = "{spec.cam.body}")')
+    return 360.0 / n
+
+
+def refuse_foreign(spec: Any) -> None:
+    """``[indexer]`` fields on a body that is no indexer are an error."""
+    if spec.cam.body in INDEXER_BODIES:
+        return
+    for name in _ALL_FIELDS + LOAD_FIELDS:
+        if getattr(spec.indexer, name) != getattr(_DEFAULTS, name):
+            raise SpecError(f"indexer.{name}", "applies to indexers only (cam.body = "
+                            + " or ".join(f'"{b}"' for b in INDEXER_BODIES) + ")")
+
+
+def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
+    """The rules every indexer shares, then its parameter class built by ``make(spec)`` (its own
+    rules, SpecError naming the spec field); returns it."""
+    body = spec.cam.body
+    if spec.units != "mm":
+        raise SpecError("units", f'an indexer is designed in millimetres: units = "mm", got "{spec.units}"')
+    fol = spec.follower
+    if not spec.is_roller:
+        raise SpecError("follower.kind", f'an indexer\'s turret carries rollers: kind = "roller", got "{fol.kind}"')
+    if follower_class_of(spec).pivoted:
+        raise SpecError("follower.motion", "does not apply to an indexer: the turret's geometry is [indexer]'s "
+                        "(leave follower.motion out)")
+    if fol.offset != 0:
+        raise SpecError("follower.offset", "does not apply to an indexer (the turret's geometry is [indexer]'s)")
+    for name in ("pivot_distance", "arm_length", "face_offset", "face_width"):
+        if getattr(fol, name) is not None:
+            raise SpecError(f"follower.{name}", "does not apply to an indexer (the turret's geometry is "
+                            "[indexer]'s)")
+    for name in _FEATURES:
+        if getattr(spec.cam, name) not in (None, 0, False):
+            raise SpecError(f"cam.{name}", "an indexer is built with its bore only (hubs, keyways, holes and "
+                            "marks are not built on indexers yet)")
+    own = INDEXER_FIELDS[body]
+    for name in _ALL_FIELDS:
+        given = getattr(spec.indexer, name) != getattr(_DEFAULTS, name)
+        if name in own and getattr(spec.indexer, name) is None and name not in _OPTIONAL:
+            raise SpecError(f"indexer.{name}", f'is required for cam.body = "{body}"')
+        if name not in own and given:
+            owners = [b for b in INDEXER_BODIES if name in INDEXER_FIELDS[b]]
+            raise SpecError(f"indexer.{name}", "applies to " + " and ".join(f'"{b}"' for b in owners) + " only")
+    _validate_motion(spec)
+    size = indexer_size(body, {k: getattr(spec.indexer, k) for k in own})
+    if size is not None and not math.isclose(spec.cam.base_radius, size, rel_tol=1e-9, abs_tol=1e-12):
+        raise SpecError("cam.base_radius", f"is derived for an indexer ({_size_words(body)} = {size:.10g} mm): "
+                        f"leave it out, got {fmt_apart(spec.cam.base_radius, size)}")
+    if spec.dynamics.enabled:
+        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet (its drive "
+                        "is sized from [indexer]'s load: report.json's indexer.drive)")
+    i, _, _ = index_segment(spec)
+    try:
+        return make(spec)
+    except SpecError as exc:
+        renamed = _RENAMED.get(exc.field)
+        if renamed is None:
+            raise
+        raise SpecError(renamed.format(i=i), exc.rule) from None
+
+
+def _size_words(body: str) -> str:
+    return {"parallel_indexer": "the plates' smallest dwell radius"}[body]
+
+
+def _validate_motion(spec: Any) -> None:
+    """One rise (the index) with a closed-form law and lift 360/N, no return."""
+    rises = [i for i, seg in enumerate(spec.motion) if seg.kind == "rise"]
+    for i, seg in enumerate(spec.motion):
+        if seg.kind == "return":
+            raise SpecError(f"motion[{i}].kind", "an indexer's turret only advances: one rise (the index) between "
+                            "dwells, no return")
+    if len(rises) != 1:
+        raise SpecError(f"motion[{rises[1]}].kind" if rises else "motion",
+                        f"an indexer indexes once per input turn: exactly one rise, got {len(rises)}")
+    i = rises[0]
+    seg = spec.motion[i]
+    if seg.law not in LAW_FUNCTIONS:
+        raise SpecError(f"motion[{i}].law", f"an indexer's geometry takes the closed-form laws "
+                        f"({', '.join(sorted(LAW_FUNCTIONS))}), got {seg.law!r}")
+    step = 360.0 / spec.indexer.stations
+    if not math.isclose(seg.lift, step, rel_tol=1e-9):
+        raise SpecError(f"motion[{i}].lift", f"the index turns the turret by 360°/indexer.stations = {step:.10g}°, "
+                        f"got {fmt_apart(seg.lift, step)}")
+
+
+def geometry_fields(spec: Any) -> dict[str, Any]:
+    """The fields every indexer's parameter class takes from the spec (mm, rad)."""
+    _, start, span = index_segment(spec)
+    i = index_segment(spec)[0]
+    return {"stations": int(spec.indexer.stations), "index_angle": span, "law": spec.motion[i].law,
+            "centre_distance": float(spec.indexer.centre_distance), "roller_radius": float(spec.follower.roller_radius),
+            "index_start": start}
+
+
+def roller_width(spec: Any) -> float:
+    """The rollers' contact length [mm]: ``follower.roller_width``, default ``cam.thickness``."""
+    w = spec.follower.roller_width
+    return float(spec.cam.thickness if w is None else w)
+
+
+def load_arguments(spec: Any) -> dict[str, float] | None:
+    """The drive sizing's load (:func:`.parallel_drive.parallel_drive`, :func:`.spatial_drive.spatial_drive`:
+    rev/min, kg·m², N·m, mm, N) from the spec (kg·mm², N·mm); None without ``indexer.output_inertia``."""
+    ix = spec.indexer
+    if not ix.output_inertia:
+        return None
+    return {"input_speed": float(spec.cam.speed_rpm), "inertia": float(ix.output_inertia) * 1e-6,
+            "friction_torque": float(ix.friction_torque) * 1e-3, "roller_width": roller_width(spec),
+            # no rating given: a unit rating, the life left out of the report (lives scale as C^p)
+            "roller_rating": float(ix.roller_rating) if ix.roller_rating is not None else 1.0,
+            "life_exponent": float(ix.life_exponent), "efficiency": float(ix.efficiency)}

@@ -1,0 +1,363 @@
+"""The parallel indexer as a body kind (``cam.body = "parallel_indexer"``): its spec rules, its design
+(:class:`ParallelIndexerDesign`: the geometry of :mod:`.parallel`, the plates of :mod:`.parallel_body`,
+the drive of :mod:`.parallel_drive`) and its checks, the numbers report.json holds.
+
+The checks (report.json ``checks.results``):
+
+* ``pressure_angle`` — the pressure angle of the contact that carries the output's torque (the
+  driving one where T_out ≥ 0, the holding-back one where it decelerates), over the index where
+  |T_out| exceeds 5 % of its peak (T_out = J·ψ''·ω² + T_f·sign ψ', or ψ'' without a load), against
+  ``indexer.max_pressure_angle``; the largest driving pressure angle over the whole index (pure
+  geometry at its ends) is reported beside it (``pressure_angle_index``, no limit);
+* ``undercut`` — the cams' smallest convex pitch radius of curvature against
+  ``checks.undercut_factor`` × the roller radius;
+* ``clearance`` — the idle rollers' smallest gap to any cam (> 0: none touches a cam it is not
+  engaged with);
+* ``locking`` — the worst pressure angle of the best forward- and backward-holding contact over the
+  turn (< 90°: positive drive, the turret held both ways at every input angle);
+* ``contact_stress`` — the carrying contact's peak Hertz stress against ``material.allowable_stress``
+  (with a load: ``indexer.output_inertia``);
+* ``continuity`` — the program's junctions (:func:`cam_workbench.generators.checks.design.continuity_check`).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from ...checks.design import continuity_check, unit_labels
+from ...checks.status import NO_LIMIT, limited_status
+from ...errors import SpecError
+from ...kinds import register_body
+from ...motion.program import MotionProgram
+from ...spec.toml_io import spec_digest
+from ...studies.table import checks_row
+from ..base import BodyGeometry
+from . import from_spec
+from .parallel import ParallelDesign, ParallelIndexer, design_parallel, output_angle_from_profile, turret_angle
+from .parallel_body import IndexerBody, indexer_body
+from .parallel_drive import output_torque, parallel_drive
+from .sizing import DriveSizing
+
+#: input angles the design samples over the turn, and the output angle's check from the profiles
+SAMPLES, RECOVERY_SAMPLES = 721, 721
+#: the share of the peak output torque above which the carrying contact's pressure angle counts
+LOAD_FRACTION = 0.05
+
+
+def indexer_of(spec: Any) -> ParallelIndexer:
+    """The :class:`.parallel.ParallelIndexer` of a spec (SpecError naming the spec's field)."""
+    return ParallelIndexer(**from_spec.geometry_fields(spec), pitch_radius=float(spec.indexer.pitch_radius),
+                           cams=int(spec.indexer.cams))
+
+
+def _result(description: str, kind: str, value: float, at: float | None, limit: float | None, unit: str,
+            no_limit: str = "", note: str = "") -> dict[str, Any]:
+    status = limited_status(None if limit is None else (value <= limit if kind == "max" else value >= limit))
+    return {"description": description, "kind": kind, "value": value, "at_deg": at, "limit": limit, "unit": unit,
+            "status": status, "passed": status != "fail", "note": no_limit if limit is None else note}
+
+
+def _in_spec_words(spec: Any, exc: SpecError) -> SpecError:
+    """A geometry refusal in the spec's words: β is ``motion[i].angle`` there."""
+    i = from_spec.index_segment(spec)[0]
+    field = f"motion[{i}].angle" if exc.field == "indexer.index_angle" else exc.field
+    return SpecError(field, exc.rule.replace("indexer.index_angle", f"motion[{i}].angle"))
+
+
+def _design_geometry(spec: Any, strict: bool) -> ParallelDesign:
+    try:
+        return design_parallel(indexer_of(spec), SAMPLES, strict=strict)
+    except SpecError as exc:
+        raise _in_spec_words(spec, exc) from None
+
+
+@dataclass(frozen=True)
+class ParallelIndexerDesign:
+    """A designed parallel indexer (plain values; no CAD kernel): the spec, the turret's motion
+    program, the geometry (:class:`.parallel.ParallelDesign`), the plates (``cams_body``, whose
+    ``geometry`` is ``body``), the drive (None without a load) and the checks."""
+
+    spec: Any
+    program: MotionProgram
+    geometry: ParallelDesign
+    cams_body: IndexerBody
+    drive: DriveSizing | None
+    checks_report: dict
+    #: not a plane cam of one pitch curve: two or three plates, each its own profile
+    plane = False
+    instead_of_plane_curves = ("it has one profile per plate: use design.cams_body.loops (exact arcs and fitted "
+                               "flanks), design.geometry.cams[k].profile (points), solid(), or export_dxf()")
+    bspline = None
+
+    @property
+    def body(self) -> BodyGeometry:
+        """The plates and spacers as prisms (the kernel's and the drawing's plain data)."""
+        return self.cams_body.geometry
+
+    @property
+    def follower(self) -> Any:
+        """The follower the dynamics drive: none (SpecError naming ``dynamics.enabled``)."""
+        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+
+    @property
+    def volume(self) -> float:
+        return self.body.volume
+
+    @property
+    def area(self) -> float:
+        """The top face's area (the last plate at z = cam.thickness) [mm²]."""
+        return self.body.face_area_at(self.spec.cam.thickness)
+
+    @cached_property
+    def recovered(self) -> Any:
+        """The turret angle recovered from the built profiles at RECOVERY_SAMPLES input angles."""
+        ix = self.geometry.indexer
+        theta = float(ix.index_start) + np.linspace(0.0, 2 * math.pi, RECOVERY_SAMPLES)
+        return output_angle_from_profile(self.geometry, theta)
+
+    def label(self) -> str:
+        return f"parallel indexer, lengths in mm: {ParallelIndexerBody.label(self.spec)}"
+
+    def summary(self) -> dict[str, Any]:
+        spec, g = self.spec, self.geometry
+        ix = g.indexer
+        res = self.checks_report["results"]
+        rec = self.recovered
+        maxima = self.program.maxima(spec.cam.speed_rpm * 2 * np.pi / 60)
+        pa = res["pressure_angle"]
+        geometry = g.summary()
+        body = {"kind": "parallel_indexer", "closure": "form", "cams": int(ix.cams),
+                "plate_thickness": spec.cam.thickness, "gap": spec.indexer.gap,
+                "spacer_radius": self.cams_body.spacer_radius, "bore_diameter": spec.cam.bore_diameter,
+                "z_range": list(self.body.z_range),
+                "outer_radius": max(float(np.max(np.hypot(*c.profile.T))) for c in g.cams),
+                "flank_fit_error": {"value": self.cams_body.fit_error, "unit": "mm",
+                                    "what": "fitted flank B-splines vs the exact offset of the roller loci, "
+                                            "31 points per knot span"},
+                "approximation": "dwell parts exact arcs; flanks clamped cubic B-splines fitted to the exact "
+                                 "offset (not rational curves for these laws), error measured",
+                "flank_nodes": self.cams_body.geometry.extra["flank_nodes"]}
+        out = {
+            "units": spec.units,
+            "spec_digest": spec_digest(spec),
+            "pressure_angle": {"max_deg": pa["value"], "at_deg": pa["at_deg"],
+                               "index_max_deg": res["pressure_angle_index"]["value"],
+                               "index_max_at_deg": res["pressure_angle_index"]["at_deg"]},
+            "follower": {"kind": "roller", "motion": "turret", "roller_radius": float(ix.roller_radius),
+                         "label": f"turret of {int(ix.stations)} stations × {int(ix.cams)} planes, rollers r = "
+                                  f"{float(ix.roller_radius):g} on R_p = {float(ix.pitch_radius):g}, "
+                                  f"C = {float(ix.centre_distance):g}"},
+            "motion": {"lift_unit": "deg", "advance_deg": self.program.advance,
+                       "max_lift": self.program.advance, "max_velocity": maxima["velocity"],
+                       "max_acceleration": maxima["acceleration"], "max_jerk": maxima["jerk"],
+                       **self.program.report()},
+            "area": self.area,
+            "volume": self.volume,
+            "checks": self.checks_report,
+            "body": {**body, "volume": self.volume, "top_face_area": self.area},
+            "indexer": {
+                "type": "parallel",
+                "geometry": geometry,
+                "motion_from_geometry": {
+                    "max_error_rad": _turn_error(rec.psi - turret_angle(ix, rec.theta)[0], ix.station_angle),
+                    "max_slack_rad": float(np.max(rec.slack)), "samples": RECOVERY_SAMPLES,
+                    "what": "the turret angle recovered from the built profiles (a contact solve on the "
+                            "profiles alone) against the law"},
+                "drive": None if self.drive is None else _drive_summary(spec, self.drive),
+            },
+        }
+        return out
+
+
+def _turn_error(diff: np.ndarray, step: float) -> float:
+    """Largest |difference| of turret angles modulo the station angle ``step`` [rad] (the recovered
+    angle is placed in one turn's [0, T]; the law's counts turns)."""
+    return float(np.max(np.abs(np.mod(diff + step / 2, step) - step / 2)))
+
+
+def _drive_summary(spec: Any, drive: DriveSizing) -> dict[str, Any]:
+    """The drive's summary; the roller's rating life only where ``indexer.roller_rating`` is given."""
+    out = drive.summary()
+    if spec.indexer.roller_rating is None:
+        for key in ("l10_million_rev", "l10_hours", "l10_million_rev_note", "l10_hours_note"):
+            out.pop(key, None)
+        out["l10_note"] = "no indexer.roller_rating given: the roller's rating life is not computed"
+    return out
+
+
+def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> dict[str, Any]:
+    """report.json's ``checks`` of a parallel indexer (see the module docstring)."""
+    ix = g.indexer
+    deg = math.degrees
+    rel = g.theta - float(ix.index_start)
+    idx = (rel >= 0) & (rel <= float(ix.index_angle))
+    load = from_spec.load_arguments(spec)
+    t_out = output_torque(ix, g.theta, load)
+    peak = float(np.max(np.abs(t_out[idx]))) if idx.any() else 0.0
+    mask = idx & (np.abs(t_out) > LOAD_FRACTION * peak)
+    carried = np.where(t_out >= 0, g.driving_angle, g.holding_angle)
+    carried = np.where(mask, np.where(np.isfinite(carried), carried, math.pi / 2), -np.inf)
+    i_c = int(np.argmax(carried))
+    index_pa = np.where(idx, np.where(np.isfinite(g.driving_angle), g.driving_angle, math.pi / 2), -np.inf)
+    i_i = int(np.argmax(index_pa))
+    limit = spec.indexer.max_pressure_angle
+    results: dict[str, Any] = {
+        "pressure_angle": _result(
+            f"Pressure angle of the contact carrying the output torque, where |T_out| > {LOAD_FRACTION:.0%} of "
+            "its peak over the index", "max", deg(float(carried[i_c])), deg(float(g.theta[i_c])) % 360.0, limit,
+            "deg", note="indexer.max_pressure_angle is the limit"),
+        "pressure_angle_index": _result(
+            "Largest driving pressure angle over the whole index (at its ends the dwell contact's geometry, "
+            "whatever the law)", "max", deg(float(index_pa[i_i])), deg(float(g.theta[i_i])) % 360.0, None, "deg",
+            no_limit="reported, not checked: at the index's ends no torque is carried"),
+    }
+    best = (math.inf, 0.0)
+    for c in g.cams:
+        r = c.profile_radius + float(ix.roller_radius)
+        ok = np.isfinite(c.profile_radius) & (c.profile_radius > -float(ix.roller_radius)) & (r > 0)
+        if ok.any():
+            k = int(np.argmin(np.where(ok, r, np.inf)))
+            if r[k] < best[0]:
+                best = (float(r[k]), deg(float(c.profile_tau[k])) % 360.0)
+    factor = spec.checks.undercut_factor
+    results["undercut"] = _result(
+        "Smallest convex radius of curvature of the cams' pitch curves, against undercut_factor × roller radius",
+        "min", best[0], best[1], factor * float(ix.roller_radius), "mm")
+    clear = g.clearance
+    results["clearance"] = _result(
+        "Smallest gap between a roller that is not engaged and any cam of its plane", "min", float(clear.gap),
+        deg(clear.theta) % 360.0, 0.0, "mm", note=f"cam {clear.cam}, roller {clear.roller}")
+    lock = g.locked
+    worst = max(lock.forward_angle, lock.backward_angle)
+    at = lock.forward_theta if lock.forward_angle >= lock.backward_angle else lock.backward_theta
+    results["locking"] = _result(
+        "Worst pressure angle of the best contact holding the turret each way (positive drive below 90°)",
+        "max", deg(worst), deg(at) % 360.0, 90.0 - 1e-9, "deg")
+    if drive is not None:
+        allow = spec.material.allowable_stress
+        stress = drive.contact_stress_peak / 1e6
+        results["contact_stress"] = _result(
+            "Peak Hertz contact stress of the contact carrying the output torque", "max", stress,
+            deg(drive.contact_stress_peak_at) % 360.0 if math.isfinite(stress) else None, allow, "MPa",
+            no_limit=NO_LIMIT.format(field="material.allowable_stress"))
+    cont = continuity_check(g_program(spec), spec.checks.min_continuity, unit_labels(spec.units, "angle"))
+    if cont is not None:
+        results["continuity"] = cont.to_dict()
+    failed = [k for k, r in results.items() if r["status"] == "fail"]
+    return {"passed": not failed, "failed": failed, "sampling": "dense", "samples_per_turn": SAMPLES,
+            "points": SAMPLES, "results": results, "extremes": {}}
+
+
+def g_program(spec: Any) -> MotionProgram:
+    """The turret's motion program (advancing by 360°/N)."""
+    return MotionProgram.from_spec(spec)
+
+
+def _drive(spec: Any, g: ParallelDesign) -> DriveSizing | None:
+    load = from_spec.load_arguments(spec)
+    return None if load is None else parallel_drive(g, **load)
+
+
+@register_body
+class ParallelIndexerBody:
+    """A parallel indexer: two or three plate cams on the input shaft driving a turret."""
+
+    kind = "parallel_indexer"
+    title = "Parallel indexer"
+    plane = False
+    closure = "form"
+    drive_note = ("the plates hold the turret both ways: one roller drives it on while another holds it back "
+                  "(the contact that carries the torque changes where the output starts to decelerate)")
+    own_fields = ()
+    size_field = "indexer.centre_distance"
+    optimise_objectives = ("size", "normal_force")
+    optimise_variables = ()
+    drawing_label = None
+    modules = ("cam_workbench.generators.bodies.indexing.parallel", "cam_workbench.generators.bodies.indexing.from_spec",
+               "cam_workbench.generators.bodies.indexing.parallel_body")
+
+    @staticmethod
+    def validate(spec: Any) -> None:
+        from_spec.validate_common(spec, indexer_of)
+
+    @staticmethod
+    def design(spec: Any, progress: Any = None) -> ParallelIndexerDesign:
+        """The parallel indexer of ``spec`` (SpecError naming the field when it cannot be built)."""
+        g = _design_geometry(spec, strict=True)
+        try:
+            cams = indexer_body(g, spec.cam.thickness, spec.indexer.gap, spec.cam.bore_diameter,
+                                None if spec.indexer.spacer_diameter is None else spec.indexer.spacer_diameter / 2)
+        except SpecError as exc:
+            raise _in_spec_words(spec, exc) from None
+        drive = _drive(spec, g)
+        return ParallelIndexerDesign(spec, g_program(spec), g, cams, drive, parallel_checks(spec, g, drive))
+
+    @staticmethod
+    def label(spec: Any) -> str:
+        ix = spec.indexer
+        step = from_spec.index_segment(spec)
+        return (f"{ix.stations} stations, index {math.degrees(step[2]):g}°, C {ix.centre_distance:g}, R_p "
+                f"{ix.pitch_radius:g}, {ix.cams} plates {spec.cam.thickness:g} thick")
+
+    @staticmethod
+    def profile_inset(spec: Any) -> float:
+        return 0.0
+
+    @staticmethod
+    def further_followers(spec: Any) -> tuple:
+        return ()
+
+    @staticmethod
+    def dynamics_follower(spec: Any) -> Any:
+        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+
+    @staticmethod
+    def refuse_foreign(spec: Any) -> None:
+        from_spec.refuse_foreign(spec)
+
+    @staticmethod
+    def motion_advance(spec: Any) -> float:
+        return from_spec.motion_advance(spec)
+
+    @staticmethod
+    def own_checks(spec: Any) -> dict[str, Any]:
+        """The checks without refusing a turret that is not held or a roller that hits a cam (they fail)."""
+        g = _design_geometry(spec, strict=False)
+        return parallel_checks(spec, g, _drive(spec, g))
+
+    @staticmethod
+    def remedy_plans(spec: Any, check: str) -> list:
+        return []
+
+    @staticmethod
+    def remedy_words(spec: Any, check: str) -> str | None:
+        return REMEDY_WORDS.get(check)
+
+    @staticmethod
+    def study_row(summary: Any, base_radius: float) -> dict[str, Any]:
+        geo = summary["indexer"]["geometry"]
+        row = {"units": summary["units"], "follower": summary["follower"]["label"], "base_radius": float(base_radius),
+               "stations": geo["stations"], "centre_distance": geo["centre_distance_mm"],
+               "pressure_angle_deg": summary["pressure_angle"]["max_deg"],
+               "pressure_angle_at_deg": summary["pressure_angle"]["at_deg"],
+               "clearance": geo["clearance_mm"], "outer_radius": summary["body"]["outer_radius"],
+               "area": summary["area"], "volume": summary["volume"]}
+        row.update(checks_row(summary["checks"]))
+        return row
+
+
+#: what moves each failing check of an indexer, in words (no single field is searched yet)
+REMEDY_WORDS = {
+    "pressure_angle": "a larger indexer.centre_distance relative to indexer.pitch_radius, a longer index "
+                      "(the rise's angle), fewer stations or a third plate (indexer.cams = 3); "
+                      "`cam-workbench optimise` searches C, R_p and r_r",
+    "undercut": "a smaller follower.roller_radius or a larger indexer.pitch_radius and indexer.centre_distance",
+    "clearance": "a smaller follower.roller_radius or a larger indexer.centre_distance",
+    "locking": "a larger indexer.centre_distance or a longer index (the rise's angle)",
+    "contact_stress": "a wider roller (follower.roller_width), a larger roller or turret, a stronger material "
+                      "(material.allowable_stress), or a lighter output (indexer.output_inertia)",
+}

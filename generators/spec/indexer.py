@@ -1,0 +1,87 @@
+"""The spec's `[indexer]` table: :class:`IndexerSection` (the turret of an indexing cam: a parallel,
+``cam.body = "parallel_indexer"``),
+and :func:`indexer_size`, the cam size ``cam.base_radius`` stands for on an indexer.
+
+How an indexer's spec reads the other tables (docs/indexing.md, "The spec"):
+
+* ``[[motion]]`` is the turret's motion over one input turn, in degrees of turret rotation: one
+  ``rise`` of ``lift = 360/stations`` over the index angle β (its law), dwells before and after;
+  the program advances by 360°/N instead of closing.
+* ``follower.kind = "roller"`` and ``follower.roller_radius`` are the turret's rollers,
+  ``follower.roller_width`` their contact length.
+* ``cam.thickness`` is each plate's thickness (parallel) or the cam's length along its axis
+  (the barrel and globoidal indexers', when they become bodies); ``cam.speed_rpm`` the input shaft's speed; ``cam.base_radius`` is derived
+  (:func:`indexer_size`) and, when given, must agree.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from .params import param
+
+
+@dataclass(frozen=True, kw_only=True)
+class IndexerSection:
+    """`[indexer]`: the turret and its load (the indexing bodies only; the barrel and globoidal indexers'
+    geometry exists as library calls, :mod:`cam_workbench.generators.bodies.indexing.spatial`, not yet as bodies)."""
+
+    stations: int | None = param(
+        "Stations N: the turret's stops per turn; it turns 360/N degrees per index (the rise's lift)",
+        kind="int", ge=2, le=64, optional=True, group="Indexer")
+    centre_distance: float | None = param(
+        "Distance C between the input (cam) axis and the turret axis (parallel to it)", unit="length", gt=0,
+        optional=True,
+        group="Indexer")
+    pitch_radius: float | None = param(
+        "The radius R_p of the circle of roller centres about the turret axis", unit="length", gt=0,
+        optional=True, group="Indexer")
+    cams: int = param("Parallel: the cam plates on the input shaft (2 or 3), each driving its own plane of N "
+                      "rollers", kind="int", ge=2, le=3, default=2, group="Indexer")
+    gap: float = param("Parallel: the axial gap between neighbouring plates, filled by a spacer that joins them",
+                       unit="length", ge=0, default=0.0, group="Indexer")
+    spacer_diameter: float | None = param(
+        "Parallel: the spacer's diameter (default: 90 % of the plates' smallest profile diameter)",
+        unit="length", gt=0, optional=True, group="Indexer")
+    max_pressure_angle: float = param(
+        "Largest allowed pressure angle of the contact that carries the output's torque, over the index where "
+        "that torque exceeds 5 % of its peak (an indexer's checks.max_pressure_angle; 60°: the normal force "
+        "twice the torque's tangential force)", unit="angle", gt=0, lt=90, default=60.0, group="Indexer")
+    output_inertia: float = param(
+        "The output's (turret and load) moment of inertia about the turret axis (0: the drive is not sized)",
+        unit="inertia", ge=0, default=0.0, group="Indexer load")
+    friction_torque: float = param("Friction torque on the output while it moves", unit="torque", ge=0,
+                                   default=0.0, group="Indexer load")
+    roller_rating: float | None = param(
+        "The cam roller bearing's basic dynamic load rating C (ISO 281) for its rating life L10 (absent: no "
+        "life reported)", unit="force", gt=0, optional=True, group="Indexer load")
+    life_exponent: float = param("ISO 281 life exponent p: 10/3 for roller and needle track rollers, 3 for ball",
+                                 kind="float", gt=0, le=10, default=10.0 / 3.0, group="Indexer load")
+    efficiency: float = param("Efficiency η of the cam–roller contact (input torque = output power / η)",
+                              kind="float", gt=0, le=1, default=1.0, group="Indexer load")
+
+
+#: the bodies this table serves, and the fields each reads (any other given field is an error)
+INDEXER_FIELDS: dict[str, tuple[str, ...]] = {
+    "parallel_indexer": ("stations", "centre_distance", "pitch_radius", "cams", "gap", "spacer_diameter"),
+}
+LOAD_FIELDS = ("max_pressure_angle", "output_inertia", "friction_torque", "roller_rating", "life_exponent", "efficiency")
+
+
+def indexer_size(body: str, indexer: Mapping[str, Any]) -> float | None:
+    """What ``cam.base_radius`` stands for on an indexer (spec lengths), from the ``[indexer]``
+    table as given (None when a field it needs is missing: the body's rules name it):
+
+    * parallel: the smallest dwell radius min_k |P + R_p·e(a_k)| = min_k √(C² + R_p² + 2·C·R_p·cos a_k),
+      a_k = π + (n_c − 1 − 2k)·π/(N·n_c) the held rollers' angles (docs/indexing.md);
+    """
+    try:
+        if body == "parallel_indexer":
+            c, rp, n = float(indexer["centre_distance"]), float(indexer["pitch_radius"]), int(indexer["stations"])
+            nc = int(indexer.get("cams", 2))
+            return min(math.sqrt(c * c + rp * rp + 2 * c * rp * math.cos(math.pi + (nc - 1 - 2 * k) * math.pi / (n * nc)))
+                       for k in range(nc))
+    except (KeyError, TypeError, ValueError):
+        return None
+    return None
