@@ -136,6 +136,25 @@ CYLINDRICAL_OSCILLATING_SPEC_DICT: dict[str, Any] = {
     "machining": {"passes": 2},
 }
 
+#: an 8-station parallel indexer: two plates on the input shaft, the turret's rollers alternating
+#: between their planes; modified sine over a 120° index (docs/indexing.md).  The carrying contact's
+#: pressure angle reaches ~71° at the index's ends, where friction alone is carried: the limit is
+#: this application's 75° (the default 60° no N = 8, β = 120° drive reaches, docs/indexing.md)
+PARALLEL_INDEXER_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"body": "parallel_indexer", "thickness": 16.0, "bore_diameter": 30.0, "speed_rpm": 100.0},
+    "follower": {"kind": "roller", "roller_radius": 10.0, "roller_width": 12.0},
+    "motion": [
+        {"kind": "dwell", "angle": 120.0},
+        {"kind": "rise", "angle": 120.0, "lift": 45.0, "law": "modified_sine"},
+        {"kind": "dwell", "angle": 120.0},
+    ],
+    "indexer": {"stations": 8, "centre_distance": 120.0, "pitch_radius": 50.0, "gap": 4.0,
+                "max_pressure_angle": 75.0, "output_inertia": 150000.0, "friction_torque": 2000.0,
+                "roller_rating": 12000.0},
+    "material": {"allowable_stress": 1500.0},
+}
+
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,

@@ -242,7 +242,8 @@ def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> 
         stress = drive.contact_stress_peak / 1e6
         results["contact_stress"] = _result(
             "Peak Hertz contact stress of the contact carrying the output torque", "max", stress,
-            deg(drive.contact_stress_peak_at) % 360.0 if math.isfinite(stress) else None, allow, "MPa",
+            deg(drive.contact_stress_peak_at + float(ix.index_start)) % 360.0 if math.isfinite(stress) else None,
+            allow, "MPa",
             no_limit=NO_LIMIT.format(field="material.allowable_stress"))
     cont = continuity_check(g_program(spec), spec.checks.min_continuity, unit_labels(spec.units, "angle"))
     if cont is not None:
