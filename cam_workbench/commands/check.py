@@ -60,8 +60,9 @@ def run(args: argparse.Namespace) -> int:
             o.add_text("report.json", report_json_text(report))
     checks = report["checks"]
     args.status = 0 if checks["passed"] else EXIT_CHECK_FAILED      # kept if stdout's reader goes away
-    print_table(checks, spec, out, report.get("areas"), report.get("motion", {}).get("junctions"),
-                (report.get("follower") or {}).get("curve", "pitch curve"))
+    motion = report.get("motion") or {}
+    print_table(checks, spec, out, report.get("areas"), motion.get("junctions"),
+                (report.get("follower") or {}).get("curve", "pitch curve"), motion.get("lift_unit"))
     if error is not None:
         print(f"the cam cannot be made: {error}")
     return 0 if checks["passed"] else EXIT_CHECK_FAILED
@@ -87,11 +88,14 @@ def merged_report(path: Path, spec: CamSpec, summary: dict[str, Any]) -> dict[st
 
 
 def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: dict[str, float] | None,
-                junctions: list[dict[str, Any]] | None = None, follower_curve: str = "pitch curve") -> None:
+                junctions: list[dict[str, Any]] | None = None, follower_curve: str = "pitch curve",
+                lift_unit: str | None = None) -> None:
     """report.json's ``checks`` section as a rich table, then the extremes (the thesis' "Maximum
-    Values") and the segment junctions (``motion.junctions``) — the values printed are report.json's own."""
+    Values") and the segment junctions (``motion.junctions``, in report.json's ``motion.lift_unit``;
+    None: the follower's) — the values printed are report.json's own."""
     console = Console()
     mode = ("the thesis' 71 nodes per rise/return" if checks["sampling"] == "thesis71"
+            else f"{checks['samples_per_turn']} input angles over the turn" if checks["sampling"] == "per_turn"
             else f"{checks['samples_per_segment']} samples per rise/return, refined extrema")
     table = Table(title=f"design checks ({mode})")
     for col in ("check", "value", "at", "limit", "status"):
@@ -116,7 +120,9 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
     if checks["extremes"]:
         console.print(ext)
     if junctions:
-        console.print(junction_table(junctions, spec.units if follower_class_of(spec).lift_unit == "length" else "deg"))
+        if lift_unit is None:
+            lift_unit = spec.units if follower_class_of(spec).lift_unit == "length" else "deg"
+        console.print(junction_table(junctions, lift_unit))
     if areas is not None:       # a cylindrical cam has no plane cross-section
         console.print(escape(area_line(areas, spec.units, follower_curve)))
     verdict = ("[green]all checks pass[/]" if checks["passed"]

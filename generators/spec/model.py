@@ -145,7 +145,7 @@ class CamSpec:
         for path, value in changes.items():
             _set_path(data, path, value)
         follow_cylinder_fields(data, changes)
-        follow_indexer_size(data)
+        follow_indexer_size(data, changes)
         return CamSpec.from_dict(data)
 
     # ---- derived quantities ---------------------------------------------------------
@@ -278,11 +278,11 @@ def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
     return out
 
 
-def follow_indexer_size(data: dict[str, Any]) -> None:
-    """In a spec dict of an indexer, drop ``cam.base_radius`` (in place): it is derived again from the
-    ``[indexer]`` table as changed."""
+def follow_indexer_size(data: dict[str, Any], changes: Mapping[str, Any]) -> None:
+    """In a spec dict of an indexer whose ``changes`` do not set ``cam.base_radius``, drop it (in
+    place): it is derived again from the ``[indexer]`` table as changed."""
     cam = data.get("cam")
-    if isinstance(cam, dict) and cam.get("body") in INDEXER_FIELDS:
+    if isinstance(cam, dict) and cam.get("body") in INDEXER_FIELDS and "cam.base_radius" not in changes:
         cam.pop("base_radius", None)
 
 

@@ -249,7 +249,7 @@ def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> 
     if cont is not None:
         results["continuity"] = cont.to_dict()
     failed = [k for k, r in results.items() if r["status"] == "fail"]
-    return {"passed": not failed, "failed": failed, "sampling": "dense", "samples_per_turn": SAMPLES,
+    return {"passed": not failed, "failed": failed, "sampling": "per_turn", "samples_per_turn": SAMPLES,
             "points": SAMPLES, "results": results, "extremes": {}}
 
 
