@@ -66,6 +66,8 @@ class IndexerSection:
 INDEXER_FIELDS: dict[str, tuple[str, ...]] = {
     "parallel_indexer": ("stations", "centre_distance", "pitch_radius", "cams", "gap", "spacer_diameter"),
 }
+#: the fields :func:`indexer_size` reads, per body
+INDEXER_SIZE_FIELDS: dict[str, tuple[str, ...]] = {"parallel_indexer": ("stations", "centre_distance", "pitch_radius")}
 LOAD_FIELDS = ("max_pressure_angle", "output_inertia", "friction_torque", "roller_rating", "life_exponent", "efficiency")
 
 

@@ -30,7 +30,7 @@ from .dynamics import DynamicsSection
 from .ecam import EcamSection, validate_ecam
 from .follower import FollowerSection, validate_face, validate_follower_motion
 from .groove import GrooveSection
-from .indexer import INDEXER_FIELDS, IndexerSection, indexer_size
+from .indexer import INDEXER_FIELDS, INDEXER_SIZE_FIELDS, IndexerSection, indexer_size
 from .machining import MachiningSection, validate_machining
 from .material import MaterialSection
 from .motion import MotionSegment, inline_table_files, validate_motion
@@ -270,9 +270,13 @@ def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
     if not isinstance(cam, Mapping) or cam.get("body") not in INDEXER_FIELDS or "base_radius" in cam:
         return data
     table = data.get("indexer")
-    size = indexer_size(cam["body"], table) if isinstance(table, Mapping) else None
+    table = table if isinstance(table, Mapping) else {}
+    for name in INDEXER_SIZE_FIELDS[cam["body"]]:
+        if name not in table:
+            raise SpecError(f"indexer.{name}", f'is required for cam.body = "{cam["body"]}"')
+    size = indexer_size(cam["body"], table)
     if size is None or not size > 0:
-        return data                 # the [indexer] rules name what is missing or wrong
+        return data                 # the [indexer] rules name what is wrong
     out = dict(data)
     out["cam"] = {**cam, "base_radius": size}
     return out
