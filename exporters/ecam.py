@@ -66,7 +66,7 @@ from typing import Any
 import numpy as np
 
 from cam_workbench.generators import __version__
-from cam_workbench.generators.kinds import follower_class_of
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.ecam import Deviation, TablePoints, interpolation_deviation, table_points
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.motion.program import MotionProgram
@@ -161,7 +161,7 @@ def ecam_table(spec: CamSpec, format: str | None = None, *, table: str | None = 
     if ec.format == "codesys" and exact.count > CODESYS_MAX_ELEMENTS:
         raise SpecError("ecam.step", f"gives {exact.count} points; CODESYS counts a cam's elements in an INT: at "
                         f"most {CODESYS_MAX_ELEMENTS}")
-    lift_unit = "deg" if follower_class_of(spec).lift_unit == "angle" else spec.units
+    lift_unit = "deg" if body_of(spec).lift_unit(spec) == "angle" else spec.units
     writer = _WRITERS[(ec.format, tab)]
     text, written = writer(exact, ec.name, lift_unit)
     kinds = ("linear", "quintic") if ec.format == "csv" else (TABLE_KINDS[tab][0] if ec.format != "lenze" else "linear",)

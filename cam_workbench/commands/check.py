@@ -15,7 +15,7 @@ from cam_workbench.exporters.atomic import OutputSet
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.generators.checks.areas import area_label, area_summary
 from cam_workbench.generators.checks.design import format_value, limit_sign
-from cam_workbench.generators.kinds import body_of, follower_class_of
+from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines, with_remedy
 from cam_workbench.generators.motion import MotionProgram
@@ -121,7 +121,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
         console.print(ext)
     if junctions:
         if lift_unit is None:
-            lift_unit = spec.units if follower_class_of(spec).lift_unit == "length" else "deg"
+            lift_unit = spec.units if body_of(spec).lift_unit(spec) == "length" else "deg"
         console.print(junction_table(junctions, lift_unit))
     if areas is not None:       # a cylindrical cam has no plane cross-section
         console.print(escape(area_line(areas, spec.units, follower_curve)))

@@ -670,6 +670,11 @@ class CylindricalBody:
         """Rules this body puts on the specs of other bodies: none beyond its own fields."""
 
     @staticmethod
+    def lift_unit(spec) -> str:
+        """The follower's (``Follower.lift_unit``)."""
+        return follower_class_of(spec).lift_unit
+
+    @staticmethod
     def motion_advance(spec) -> float:
         """The follower's program closes: 0."""
         return 0.0

@@ -9,7 +9,7 @@ from typing import Any, Callable
 from ..cam_design import design_plane
 from ..checks.design import run_checks
 from ..followers.base import Follower
-from ..kinds import follower_of
+from ..kinds import follower_class_of, follower_of
 from ..studies.plan import Plan
 
 
@@ -71,6 +71,11 @@ class PlaneCamBody:
     def further_followers(spec: Any) -> tuple:
         """(suffix, follower) of every further cam's roller the design checks cover: none."""
         return ()
+
+    @staticmethod
+    def lift_unit(spec) -> str:
+        """The follower's (``Follower.lift_unit``)."""
+        return follower_class_of(spec).lift_unit
 
     @staticmethod
     def motion_advance(spec: Any) -> float:

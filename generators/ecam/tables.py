@@ -64,7 +64,8 @@ def table_points(program: MotionProgram, step_deg: float, boundaries: bool = Tru
     """Points every ``step_deg`` cam degrees from 0 to 360 (the last interval shorter when the
     step does not divide 360) and, with ``boundaries``, at every motion-segment boundary; the
     derivatives are the motion program's exact ones at each point (at a boundary those of the
-    segment that starts there; at 360° the program's start)."""
+    segment that starts there; at 360° the program's start, the slave advanced by the program's
+    ``advance``)."""
     n = int(math.floor(360.0 / step_deg + 1e-9))
     grid = step_deg * np.arange(n + 1)
     if boundaries:
@@ -73,9 +74,11 @@ def table_points(program: MotionProgram, step_deg: float, boundaries: bool = Tru
     grid = np.unique(np.round(np.append(grid, 360.0), 9))
     grid = grid[grid <= 360.0]
     k = program.evaluate(np.deg2rad(grid))
+    # an indexer's turret advances: at 360° it stands one step on from the start
+    slave = np.asarray(k.s, float) + np.where(grid >= 360.0, program.advance, 0.0)
     steps = np.diff(grid)
     # + 0.0: no "-0.0" in a file
-    return TablePoints(grid, np.asarray(k.s, float) + 0.0, k.ds * DEG + 0.0, k.d2s * DEG**2 + 0.0, k.d3s * DEG**3 + 0.0,
+    return TablePoints(grid, slave + 0.0, k.ds * DEG + 0.0, k.d2s * DEG**2 + 0.0, k.d3s * DEG**3 + 0.0,
                        bool(np.allclose(steps, steps[0], rtol=0, atol=1e-9)))
 
 

@@ -94,6 +94,11 @@ class Body(Protocol):
         """A study table's row of its own (None: the plane cam's row)."""
 
     @staticmethod
+    def lift_unit(spec: Any) -> str:
+        """The motion program's unit kind: "length" or "angle" (an oscillating follower's arm, an
+        indexer's turret)."""
+
+    @staticmethod
     def motion_advance(spec: Any) -> float:
         """s(360°) − s(0°) of the motion program, lift units: 0 (the program closes) for a cam's
         follower; an indexer's turret advances by 360°/N per input turn."""

@@ -144,8 +144,7 @@ class CamSpec:
         data = self.to_dict()
         for path, value in changes.items():
             _set_path(data, path, value)
-        follow_cylinder_fields(data, changes)
-        follow_indexer_size(data, changes)
+        follow_derived_fields(data, changes)
         return CamSpec.from_dict(data)
 
     # ---- derived quantities ---------------------------------------------------------
@@ -231,6 +230,14 @@ def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
                 raise SpecError(path, f"{here} is a list of tables: write {here}[i].{parts[i + 1]}")
             node = nxt
         where = here
+
+
+def follow_derived_fields(data: dict[str, Any], changes: Mapping[str, Any]) -> None:
+    """In a spec dict whose ``changes`` (dotted paths) were just set, make the fields a body derives
+    follow (in place): a cylindrical cam's :func:`follow_cylinder_fields`, an indexer's
+    :func:`follow_indexer_size`."""
+    follow_cylinder_fields(data, changes)
+    follow_indexer_size(data, changes)
 
 
 def follow_cylinder_fields(data: dict[str, Any], changes: Mapping[str, Any]) -> None:

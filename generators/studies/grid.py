@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import SpecError, fmt_apart
 from ..spec.model import SECTIONS, CamSpec, _set_path
 from ..spec.params import params_of
-from ..spec.model import follow_cylinder_fields
+from ..spec.model import follow_derived_fields
 
 #: most points a grid may have (a typo such as 5:30:6000 is refused before any work)
 MAX_POINTS = 100_000
@@ -206,7 +206,7 @@ def apply_changes(spec: CamSpec, changes: Mapping[str, Any], balance: str | None
     data = spec.to_dict()
     for path, value in changes.items():
         _set_path(data, path, value)
-    follow_cylinder_fields(data, changes)
+    follow_derived_fields(data, changes)
     if balance is not None:
         k = int(re.fullmatch(r"motion\[(\d+)\]\.angle", balance).group(1))  # type: ignore[union-attr]
         rest = 0.0

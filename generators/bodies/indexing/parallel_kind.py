@@ -321,6 +321,11 @@ class ParallelIndexerBody:
         from_spec.refuse_foreign(spec)
 
     @staticmethod
+    def lift_unit(spec: Any) -> str:
+        """The turret's angle."""
+        return "angle"
+
+    @staticmethod
     def motion_advance(spec: Any) -> float:
         return from_spec.motion_advance(spec)
 
