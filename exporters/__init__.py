@@ -17,3 +17,6 @@ __all__ = ["OutputSet", "atomic_path", "write_text_atomic"]
 
 # the bodies' own outputs register themselves (the plane cams' come with the tables' modules)
 from . import dxf_cylindrical, machining_cylindrical, plots_cylindrical, report_cylindrical  # noqa: F401,E402
+from . import drawing_indexer  # noqa: F401,E402
+from . import machining_indexer  # noqa: F401,E402
+from . import report_indexer  # noqa: F401,E402

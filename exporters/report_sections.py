@@ -45,6 +45,7 @@ def checks_section(report: Mapping[str, Any]) -> str:
     checks = report["checks"]
     results = checks.get("results") if isinstance(checks.get("results"), Mapping) else {}
     mode = ("the thesis' 71 nodes per rise/return" if checks.get("sampling") == "thesis71"
+            else f"{checks.get('samples_per_turn')} input angles over the turn" if checks.get("sampling") == "per_turn"
             else f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema")
     out = [_verdict(report),
            f'<p class="note">Sampling: {html.escape(mode)} ({html.escape(str(checks.get("points")))} points). '
