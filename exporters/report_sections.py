@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from cam_workbench.generators.checks.areas import area_label
+from cam_workbench.generators.checks.status import sampling_words
 from cam_workbench.generators.checks.claims import checks_verdict, profile_claim
 from cam_workbench.generators.checks.design import limit_sign
 from cam_workbench.generators.kinds import pitch_of
@@ -44,9 +45,7 @@ def checks_section(report: Mapping[str, Any]) -> str:
     """The verdict, one row per check of ``checks.results`` and the extremes table."""
     checks = report["checks"]
     results = checks.get("results") if isinstance(checks.get("results"), Mapping) else {}
-    mode = ("the thesis' 71 nodes per rise/return" if checks.get("sampling") == "thesis71"
-            else f"{checks.get('samples_per_turn')} input angles over the turn" if checks.get("sampling") == "per_turn"
-            else f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema")
+    mode = sampling_words(checks)
     out = [_verdict(report),
            f'<p class="note">Sampling: {html.escape(mode)} ({html.escape(str(checks.get("points")))} points). '
            "Limits from the spec's [checks], [material] and follower load.</p>",

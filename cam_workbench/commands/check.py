@@ -15,6 +15,7 @@ from cam_workbench.exporters.atomic import OutputSet
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.generators.checks.areas import area_label, area_summary
 from cam_workbench.generators.checks.design import format_value, limit_sign
+from cam_workbench.generators.checks.status import sampling_words
 from cam_workbench.generators.kinds import body_of
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.studies.remedies import add_remedies, remedy_lines, with_remedy
@@ -94,9 +95,7 @@ def print_table(checks: dict[str, Any], spec: CamSpec, out: Path | None, areas: 
     Values") and the segment junctions (``motion.junctions``, in report.json's ``motion.lift_unit``;
     None: the follower's) — the values printed are report.json's own."""
     console = Console()
-    mode = ("the thesis' 71 nodes per rise/return" if checks["sampling"] == "thesis71"
-            else f"{checks['samples_per_turn']} input angles over the turn" if checks["sampling"] == "per_turn"
-            else f"{checks['samples_per_segment']} samples per rise/return, refined extrema")
+    mode = sampling_words(checks)
     table = Table(title=f"design checks ({mode})")
     for col in ("check", "value", "at", "limit", "status"):
         # the check's name is never cut: a second cam's "pressure_angle_cam2" must not read as the first's

@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from . import part_cylindrical  # noqa: F401  (registers the cylindrical cam's builder)
+from . import part_indexer  # noqa: F401  (registers the parallel indexer's builder)
 from .part_build import FREECAD_BODIES, FreeCADBody
 
 

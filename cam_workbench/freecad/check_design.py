@@ -40,6 +40,7 @@ from cam_workbench.generators.cam_design import design_cam
 from cam_workbench.generators.checks.claims import profile_claim
 from cam_workbench.generators.checks.design import format_value as fmt_value
 from cam_workbench.generators.checks.design import limit_sign, run_checks
+from cam_workbench.generators.checks.status import sampling_words
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 from cam_workbench.generators.kinds import body_of, follower_of, pitch_named
@@ -207,12 +208,6 @@ class DesignReport:
         return "\n".join(lines)
 
 
-def _sampling_text(checks: dict[str, Any]) -> str:
-    if checks.get("sampling") == "thesis71":
-        return "the thesis' 71 nodes per rise/return"
-    return f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema"
-
-
 def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
     """Run the design checks, design the feature's cam (no shape is changed) and, when the
     feature's ``DynamicsEnabled`` is on, analyse the follower dynamics (``dynamics_progress(done,
@@ -272,7 +267,7 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
     checks = add_remedies(s["checks"], spec)  # report.json's checks section
     report.checks_dict = checks
     report.remedies = remedy_texts(checks["results"])
-    report.sampling = _sampling_text(checks)
+    report.sampling = sampling_words(checks)
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
                        for name, e in checks.get("extremes", {}).items()]
@@ -421,7 +416,7 @@ def _add_checks(report: DesignReport, spec: Any) -> None:
         return
     report.checks_dict = checks
     report.remedies = remedy_texts(checks["results"])
-    report.sampling = _sampling_text(checks)
+    report.sampling = sampling_words(checks)
     report.checks = check_rows(checks)
     report.extremes = [(name, float(e["value"]), float(e["at_deg"]), e["unit"])
                        for name, e in checks["extremes"].items()]

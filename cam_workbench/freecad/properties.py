@@ -43,6 +43,7 @@ from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.followers import follower_class
 from cam_workbench.generators.spec.params import REQUIRED, Param, params_of, unit_name
 from cam_workbench.generators.spec import LIFT_FIELDS, SECTIONS, CamSpec, default_spec
+from cam_workbench.generators.spec.model import follow_indexer_size
 
 MM_PER_INCH = 25.4
 #: 1 lbf in N (exact by definition: 0.45359237 kg × 9.80665 m/s²).
@@ -655,7 +656,11 @@ def units_scale(obj: Any) -> float:
 
 
 def spec_dict(obj: Any) -> dict[str, Any]:
-    """The spec held by the feature's properties, as the TOML structure (not yet validated)."""
+    """The spec held by the feature's properties, as the TOML structure (not yet validated).
+
+    An indexer's ``cam.base_radius`` is left out: it is derived from ``[indexer]``
+    (:func:`cam_workbench.generators.spec.model.follow_indexer_size`), and the stored
+    ``CamBaseRadius`` is the one of the ``[indexer]`` values the feature was made with."""
     units = units_of(obj)
     lift = lift_unit_of(obj)
     data: dict[str, Any] = {}
@@ -677,6 +682,7 @@ def spec_dict(obj: Any) -> dict[str, Any]:
             if v is not None:
                 table[fp.field] = v
         data[section] = table
+    follow_indexer_size(data, {})
     return data
 
 

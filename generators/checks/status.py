@@ -12,3 +12,14 @@ def limited_status(within: bool | None) -> str:
     """The status from whether the value is within its limit: "pass", "fail", or "skipped" when
     there is no limit (``within`` None)."""
     return "skipped" if within is None else "pass" if within else "fail"
+
+
+def sampling_words(checks: dict) -> str:
+    """How report.json's ``checks`` section sampled, in words (the CLI table, the HTML report and
+    the FreeCAD dialog print this): the thesis' nodes, samples per rise/return, or an indexer's
+    input angles over the turn."""
+    if checks.get("sampling") == "thesis71":
+        return "the thesis' 71 nodes per rise/return"
+    if checks.get("sampling") == "per_turn":
+        return f"{checks.get('samples_per_turn')} input angles over the turn"
+    return f"{checks.get('samples_per_segment')} samples per rise/return, refined extrema"

@@ -8,5 +8,6 @@ from .problem import Cancelled
 from .result import OptimiseResult, Progress, final_value, worst_constraint
 from .run import optimise
 from . import cylindrical as _cylinder_optimiser  # noqa: F401,E402  (registers the cylindrical cam's optimiser)
+from . import indexer as _indexer_optimiser  # noqa: F401,E402  (registers the parallel indexer's optimiser)
 
 __all__ = ["Cancelled", "OptimiseResult", "Progress", "final_value", "optimise", "worst_constraint"]

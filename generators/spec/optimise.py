@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import SpecError, fmt_apart
+from ..kinds import body_of
 from .params import param
 
 if TYPE_CHECKING:  # types only: the spec's root imports this module
@@ -21,6 +22,10 @@ if TYPE_CHECKING:  # types only: the spec's root imports this module
 #: project's own XY G-code contour, and the largest |s″| or |φ| (smoothest cam).
 OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acceleration",
               "peak_pressure_angle", "outer_diameter")
+#: Objectives of a body's own optimiser beyond :data:`OBJECTIVES`, taken only by a body that declares
+#: them (``Body.optimise_objectives``): a parallel indexer's cams' outer radius and peak roller load
+#: (:mod:`cam_workbench.generators.optimise.indexer`).
+BODY_OBJECTIVES = ("size", "normal_force")
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
 OPTIMISE_VARIABLES = ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "control_x",
@@ -47,8 +52,9 @@ class OptimiseSection:
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
         "machining_time needs a translating follower; \"outer_diameter\" = a groove cam's disc diameter "
         "(cam.body = \"groove\", with outer_diameter among the variables) or a cylindrical cam's cylinder (its "
-        "only objective)",
-        kind="str", choices=OBJECTIVES, default="area", group="Optimise")
+        "only objective); \"size\" / \"normal_force\" = a parallel indexer's cams' outer radius / peak roller "
+        "load (its only objectives, \"area\" taken as \"size\"; normal_force needs indexer.output_inertia)",
+        kind="str", choices=OBJECTIVES + BODY_OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
         "arm_length (oscillating followers; a flat face's arm_length, its centre, when given), face_offset "
@@ -273,6 +279,9 @@ def body_variable_rule(spec: CamSpec, name: str) -> str | None:
 
 def validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
+    if opt.objective in BODY_OBJECTIVES and opt.objective not in body_of(spec).optimise_objectives:
+        raise SpecError("optimise.objective", f'{opt.objective} is an objective of a body that declares it (a parallel '
+                        f'indexer\'s); this cam\'s body is "{spec.cam.body}"')
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")

@@ -145,6 +145,8 @@ class ParallelIndexerDesign:
             "units": spec.units,
             "spec_digest": spec_digest(spec),
             "pressure_angle": {"max_deg": pa["value"], "at_deg": pa["at_deg"],
+                               "formula": "cos φ = |arm_P|/R_p, the contact carrying the output torque (arm_P its "
+                                          "moment arm about the turret axis)",
                                "index_max_deg": res["pressure_angle_index"]["value"],
                                "index_max_at_deg": res["pressure_angle_index"]["at_deg"]},
             "follower": {"kind": "roller", "motion": "turret", "roller_radius": float(ix.roller_radius),
