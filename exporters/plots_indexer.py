@@ -19,8 +19,10 @@ import math
 import numpy as np
 
 from cam_workbench.generators.bodies.indexing.parallel import TWO_PI, ParallelDesign, roller_state, turret_angle
+from cam_workbench.generators.bodies.indexing.parallel_kind import ParallelIndexerDesign
 
 from .chart import Area, Chart, Curve, Mark, Note, Panel, Rule, Shade, angle_panel, css_color
+from .plots import PICTURES
 
 #: fill and edge of cam k (k modulo 3)
 CAM_FILLS = ("#b8c7d9", "#f3d9b1", "#c8e6c9")
@@ -107,6 +109,13 @@ def indexer_picture(design: ParallelDesign, theta: float = 0.0) -> Chart:
     (filled, one colour per cam), the turret's pitch circle, every roller of every plane (the ones
     their cam holds filled and drawn thick), the input and turret axes, and a note with ψ(θ) [deg]."""
     return Chart.stack([indexer_panel(design, theta)], width=640.0)
+
+
+@PICTURES.register(ParallelIndexerDesign)
+def indexer_design_picture(design: ParallelIndexerDesign, follower_angle_deg: float = 75.0) -> Chart:
+    """The Python API's picture of a designed parallel indexer: :func:`indexer_picture` at the input
+    angle ``follower_angle_deg`` [deg] (:data:`cam_workbench.exporters.plots.PICTURES`)."""
+    return indexer_picture(design.geometry, math.radians(follower_angle_deg))
 
 
 def indexer_motion_chart(design: ParallelDesign) -> Chart:

@@ -245,7 +245,7 @@ def optimise_indexer(spec: CamSpec, progress: Callable[[Any], Any] | None = None
                 trial = _Candidate(spec, objective, start.x * (x_opt / start.x) ** t)
                 designs += 1
                 history.append({"iteration": len(history) + 1, "objective": trial.value if trial.passed else None,
-                                "max_violation": 0.0 if trial.passed else 1.0})
+                                "max_violation": 0.0 if trial.passed else 1.0, "phase": "pull back"})
                 if trial.passed:
                     lo = t
                     if trial.value < chosen.value:
@@ -283,11 +283,11 @@ def optimise_indexer(spec: CamSpec, progress: Callable[[Any], Any] | None = None
         "solver_optimum": {"verdict": best.verdict, "evaluations": best.evaluations,
                            "variables": {PATHS[k]: float(v) for k, v in best.variables.items()},
                            "value": float(best.value) if math.isfinite(best.value) else None},
-        "pulled_back": pulled, "body_designs": designs,
+        "pulled_back": pulled, "body_designs": designs,   # the start, the optimum and the pull-back's
     }
     return IndexerOptimiseResult(
         spec=final_spec, initial_spec=spec, objective=objective, algorithm=spec.optimise.algorithm,
         initial_value=initial_value, value=value, variables=tuple(PATHS.values()), initial_design=start.x,
-        design=chosen.x, history=history, evaluations=best.evaluations + designs,
+        design=chosen.x, history=history, evaluations=best.evaluations,
         time_s=time.perf_counter() - t0, status=status, message="; ".join(messages), checks=checks,
         initial_checks=initial_checks, details=details, solver_status=best.solver_status)
