@@ -38,6 +38,8 @@ EXAMPLES: tuple[tuple[str, str], ...] = (
                     "roller along the cam axis"),
     ("cylindrical_oscillating", "a cylindrical cam driving an oscillating 5 mm roller on a 50 mm arm pivoted 50 mm "
                                 "away (30° arm rise over 150°)"),
+    ("parallel_indexer", "an 8-station parallel indexer: two plates 16 mm thick, modified sine over a 120° index, "
+                         "C = 120 mm, R_p = 50 mm, 10 mm rollers, sized for a 0.15 kg·m² output at 100 rpm"),
 )
 #: the e-cam formats, each with its tables (the first its default):
 #: :data:`cam_workbench.generators.spec.ECAM_TABLES`
@@ -178,7 +180,8 @@ def _gcode(sub: Any) -> None:
     p.add_argument("--cam", choices=("first", "second"), default="first",
                    help="a conjugate pair (cam.body = \"conjugate\"): the program of the first cam (default) or "
                         "of the second (build writes both: cam.nc and cam2.nc); the command table is the "
-                        "follower's, one for both")
+                        "follower's, one for both. A parallel indexer: its first or second plate's program "
+                        "(build writes every plate's: cam0.nc, cam1.nc, cam2.nc)")
     p.add_argument("-o", "--output", metavar="OUT",
                    help="output file (written atomically, replacing a file of that name); omitted: standard output")
     p.set_defaults(command_id="gcode")

@@ -27,6 +27,9 @@
   pitch-radius cylinder 60 mm long, a 5 mm roller moving along the cam axis.
 * ``cylindrical_oscillating`` — a cylindrical cam driving an oscillating 5 mm roller on a 50 mm arm
   pivoted 50 mm away: 30° arm rise and return over 150°.
+* ``parallel_indexer`` — an 8-station parallel indexer (docs/indexing.md): two plates 16 mm thick
+  4 mm apart, the turret's 10 mm rollers on R_p = 50 mm at C = 120 mm, modified sine over a 120°
+  index, sized for a 0.15 kg·m² output with 2 N·m friction at 100 rpm.
 
 :data:`DESCRIPTIONS` says the same in one line each: the CLI's ``--example`` help, ``cam-workbench
 spec --example`` and the examples table of docs/spec.md read it.
@@ -159,7 +162,8 @@ EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PA
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
                                        "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT,
-                                       "cylindrical_oscillating": CYLINDRICAL_OSCILLATING_SPEC_DICT}
+                                       "cylindrical_oscillating": CYLINDRICAL_OSCILLATING_SPEC_DICT,
+                                       "parallel_indexer": PARALLEL_INDEXER_SPEC_DICT}
 
 
 #: every example in one line (the ``--example`` help and docs/spec.md's table read this)
@@ -181,6 +185,8 @@ DESCRIPTIONS: dict[str, str] = {
                    "roller along the cam axis",
     "cylindrical_oscillating": "a cylindrical cam driving an oscillating 5 mm roller on a 50 mm arm pivoted 50 mm "
                                "away (30° arm rise over 150°)",
+    "parallel_indexer": "an 8-station parallel indexer: two plates 16 mm thick, modified sine over a 120° index, "
+                        "C = 120 mm, R_p = 50 mm, 10 mm rollers, sized for a 0.15 kg·m² output at 100 rpm",
 }
 assert set(DESCRIPTIONS) == set(EXAMPLES)
 

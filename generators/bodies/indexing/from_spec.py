@@ -1,4 +1,4 @@
-"""An indexer's spec (``cam.body = "parallel_indexer"``; the barrel and globoidal indexers next) read
+"""An indexer's spec (``cam.body`` = "parallel_indexer", "barrel_indexer", "globoidal_indexer") read
 into the geometry's parameter classes, and the rules the three bodies share (docs/indexing.md,
 "The spec"; :mod:`cam_workbench.generators.spec.indexer` declares the ``[indexer]`` fields).
 
@@ -113,7 +113,8 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
 
 
 def _size_words(body: str) -> str:
-    return {"parallel_indexer": "the plates' smallest dwell radius"}[body]
+    return {"parallel_indexer": "the plates' smallest dwell radius", "barrel_indexer": "indexer.root_radius",
+            "globoidal_indexer": "the waist radius indexer.centre_distance − indexer.root_radius"}[body]
 
 
 def _validate_motion(spec: Any) -> None:
@@ -146,20 +147,26 @@ def geometry_fields(spec: Any) -> dict[str, Any]:
             "index_start": start}
 
 
-def roller_width(spec: Any) -> float:
-    """The rollers' contact length [mm]: ``follower.roller_width``, default ``cam.thickness``."""
+def roller_width(spec: Any, default: float | None = None) -> float:
+    """The rollers' contact length [mm]: ``follower.roller_width``, default ``default`` (the spatial
+    rollers' working length) or ``cam.thickness`` (a parallel indexer's plate)."""
     w = spec.follower.roller_width
-    return float(spec.cam.thickness if w is None else w)
+    if w is not None:
+        return float(w)
+    return float(spec.cam.thickness if default is None else default)
 
 
-def load_arguments(spec: Any) -> dict[str, float] | None:
+def load_arguments(spec: Any, default_width: float | None = None) -> dict[str, float] | None:
     """The drive sizing's load (:func:`.parallel_drive.parallel_drive`, :func:`.spatial_drive.spatial_drive`:
-    rev/min, kg·m², N·m, mm, N) from the spec (kg·mm², N·mm); None without ``indexer.output_inertia``."""
+    rev/min, kg·m², N·m, mm, N) from the spec (kg·mm², N·mm); None without ``indexer.output_inertia``;
+    ``default_width``: the rollers' contact length when ``follower.roller_width`` is absent (see
+    :func:`roller_width`)."""
     ix = spec.indexer
     if not ix.output_inertia:
         return None
     return {"input_speed": float(spec.cam.speed_rpm), "inertia": float(ix.output_inertia) * 1e-6,
-            "friction_torque": float(ix.friction_torque) * 1e-3, "roller_width": roller_width(spec),
+            "friction_torque": float(ix.friction_torque) * 1e-3,
+            "roller_width": roller_width(spec, default_width),
             # no rating given: a unit rating, the life left out of the report (lives scale as C^p)
             "roller_rating": float(ix.roller_rating) if ix.roller_rating is not None else 1.0,
             "life_exponent": float(ix.life_exponent), "efficiency": float(ix.efficiency)}

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ...checks.design import continuity_check, unit_labels
-from ...checks.status import NO_LIMIT, limited_status
+from ...checks.status import NO_LIMIT
 from ...errors import SpecError
 from ...kinds import register_body
 from ...motion.program import MotionProgram
@@ -40,6 +40,7 @@ from . import from_spec
 from .parallel import ParallelDesign, ParallelIndexer, design_parallel, output_angle_from_profile, turret_angle
 from .parallel_body import IndexerBody, indexer_body
 from .parallel_drive import output_torque, parallel_drive
+from .kind_common import drive_summary, in_spec_words, result, turn_error
 from .sizing import DriveSizing
 
 #: input angles the design samples over the turn, and the output angle's check from the profiles
@@ -54,25 +55,11 @@ def indexer_of(spec: Any) -> ParallelIndexer:
                            cams=int(spec.indexer.cams))
 
 
-def _result(description: str, kind: str, value: float, at: float | None, limit: float | None, unit: str,
-            no_limit: str = "", note: str = "") -> dict[str, Any]:
-    status = limited_status(None if limit is None else (value <= limit if kind == "max" else value >= limit))
-    return {"description": description, "kind": kind, "value": value, "at_deg": at, "limit": limit, "unit": unit,
-            "status": status, "passed": status != "fail", "note": no_limit if limit is None else note}
-
-
-def _in_spec_words(spec: Any, exc: SpecError) -> SpecError:
-    """A geometry refusal in the spec's words: β is ``motion[i].angle`` there."""
-    i = from_spec.index_segment(spec)[0]
-    field = f"motion[{i}].angle" if exc.field == "indexer.index_angle" else exc.field
-    return SpecError(field, exc.rule.replace("indexer.index_angle", f"motion[{i}].angle"))
-
-
 def _design_geometry(spec: Any, strict: bool) -> ParallelDesign:
     try:
         return design_parallel(indexer_of(spec), SAMPLES, strict=strict)
     except SpecError as exc:
-        raise _in_spec_words(spec, exc) from None
+        raise in_spec_words(spec, exc) from None
 
 
 @dataclass(frozen=True)
@@ -89,8 +76,9 @@ class ParallelIndexerDesign:
     checks_report: dict
     #: not a plane cam of one pitch curve: two or three plates, each its own profile
     plane = False
-    instead_of_plane_curves = ("it has one profile per plate: use design.cams_body.loops (exact arcs and fitted "
-                               "flanks), design.geometry.cams[k].profile (points), solid(), or export_dxf()")
+    instead_of_plane_curves = ("it has one profile per plate: use design.cams_body.loops for each plate's exact "
+                               "dwell arc and fitted flanks, design.geometry.cams[k].profile for exact profile "
+                               "points, solid() for the plates, or export_dxf() for the drawing instead")
     bspline = None
 
     @property
@@ -120,7 +108,14 @@ class ParallelIndexerDesign:
         return output_angle_from_profile(self.geometry, theta)
 
     def label(self) -> str:
-        return f"parallel indexer, lengths in mm: {ParallelIndexerBody.label(self.spec)}"
+        """One line that identifies the indexer: its body, its turret and its numbers (mm)."""
+        return (f"parallel_indexer cam, lengths in mm: {self._turret_label()}; "
+                f"{ParallelIndexerBody.label(self.spec)}")
+
+    def _turret_label(self) -> str:
+        ix = self.geometry.indexer
+        return (f"turret of {int(ix.stations)} stations × {int(ix.cams)} planes, rollers r = "
+                f"{float(ix.roller_radius):g} on R_p = {float(ix.pitch_radius):g}, C = {float(ix.centre_distance):g}")
 
     def summary(self) -> dict[str, Any]:
         spec, g = self.spec, self.geometry
@@ -150,9 +145,7 @@ class ParallelIndexerDesign:
                                "index_max_deg": res["pressure_angle_index"]["value"],
                                "index_max_at_deg": res["pressure_angle_index"]["at_deg"]},
             "follower": {"kind": "roller", "motion": "turret", "roller_radius": float(ix.roller_radius),
-                         "label": f"turret of {int(ix.stations)} stations × {int(ix.cams)} planes, rollers r = "
-                                  f"{float(ix.roller_radius):g} on R_p = {float(ix.pitch_radius):g}, "
-                                  f"C = {float(ix.centre_distance):g}"},
+                         "label": self._turret_label()},
             "motion": {"lift_unit": "deg", "advance_deg": self.program.advance,
                        "max_lift": self.program.advance, "max_velocity": maxima["velocity"],
                        "max_acceleration": maxima["acceleration"], "max_jerk": maxima["jerk"],
@@ -165,30 +158,14 @@ class ParallelIndexerDesign:
                 "type": "parallel",
                 "geometry": geometry,
                 "motion_from_geometry": {
-                    "max_error_rad": _turn_error(rec.psi - turret_angle(ix, rec.theta)[0], ix.station_angle),
+                    "max_error_rad": turn_error(rec.psi - turret_angle(ix, rec.theta)[0], ix.station_angle),
                     "max_slack_rad": float(np.max(rec.slack)), "samples": RECOVERY_SAMPLES,
                     "what": "the turret angle recovered from the built profiles (a contact solve on the "
                             "profiles alone) against the law"},
-                "drive": None if self.drive is None else _drive_summary(spec, self.drive),
+                "drive": None if self.drive is None else drive_summary(spec, self.drive),
             },
         }
         return out
-
-
-def _turn_error(diff: np.ndarray, step: float) -> float:
-    """Largest |difference| of turret angles modulo the station angle ``step`` [rad] (the recovered
-    angle is placed in one turn's [0, T]; the law's counts turns)."""
-    return float(np.max(np.abs(np.mod(diff + step / 2, step) - step / 2)))
-
-
-def _drive_summary(spec: Any, drive: DriveSizing) -> dict[str, Any]:
-    """The drive's summary; the roller's rating life only where ``indexer.roller_rating`` is given."""
-    out = drive.summary()
-    if spec.indexer.roller_rating is None:
-        for key in ("l10_million_rev", "l10_hours", "l10_million_rev_note", "l10_hours_note"):
-            out.pop(key, None)
-        out["l10_note"] = "no indexer.roller_rating given: the roller's rating life is not computed"
-    return out
 
 
 def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> dict[str, Any]:
@@ -208,11 +185,11 @@ def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> 
     i_i = int(np.argmax(index_pa))
     limit = spec.indexer.max_pressure_angle
     results: dict[str, Any] = {
-        "pressure_angle": _result(
+        "pressure_angle": result(
             f"Pressure angle of the contact carrying the output torque, where |T_out| > {LOAD_FRACTION:.0%} of "
             "its peak over the index", "max", deg(float(carried[i_c])), deg(float(g.theta[i_c])) % 360.0, limit,
             "deg", note="indexer.max_pressure_angle is the limit"),
-        "pressure_angle_index": _result(
+        "pressure_angle_index": result(
             "Largest driving pressure angle over the whole index (at its ends the dwell contact's geometry, "
             "whatever the law)", "max", deg(float(index_pa[i_i])), deg(float(g.theta[i_i])) % 360.0, None, "deg",
             no_limit="reported, not checked: at the index's ends no torque is carried"),
@@ -226,23 +203,23 @@ def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> 
             if r[k] < best[0]:
                 best = (float(r[k]), deg(float(c.profile_tau[k])) % 360.0)
     factor = spec.checks.undercut_factor
-    results["undercut"] = _result(
+    results["undercut"] = result(
         "Smallest convex radius of curvature of the cams' pitch curves, against undercut_factor × roller radius",
         "min", best[0], best[1], factor * float(ix.roller_radius), "mm")
     clear = g.clearance
-    results["clearance"] = _result(
+    results["clearance"] = result(
         "Smallest gap between a roller that is not engaged and any cam of its plane", "min", float(clear.gap),
         deg(clear.theta) % 360.0, 0.0, "mm", note=f"cam {clear.cam}, roller {clear.roller}")
     lock = g.locked
     worst = max(lock.forward_angle, lock.backward_angle)
     at = lock.forward_theta if lock.forward_angle >= lock.backward_angle else lock.backward_theta
-    results["locking"] = _result(
+    results["locking"] = result(
         "Worst pressure angle of the best contact holding the turret each way (positive drive below 90°)",
         "max", deg(worst), deg(at) % 360.0, 90.0 - 1e-9, "deg")
     if drive is not None:
         allow = spec.material.allowable_stress
         stress = drive.contact_stress_peak / 1e6
-        results["contact_stress"] = _result(
+        results["contact_stress"] = result(
             "Peak Hertz contact stress of the contact carrying the output torque", "max", stress,
             deg(drive.contact_stress_peak_at + float(ix.index_start)) % 360.0 if math.isfinite(stress) else None,
             allow, "MPa",
@@ -295,7 +272,7 @@ class ParallelIndexerBody:
             cams = indexer_body(g, spec.cam.thickness, spec.indexer.gap, spec.cam.bore_diameter,
                                 None if spec.indexer.spacer_diameter is None else spec.indexer.spacer_diameter / 2)
         except SpecError as exc:
-            raise _in_spec_words(spec, exc) from None
+            raise in_spec_words(spec, exc) from None
         drive = _drive(spec, g)
         return ParallelIndexerDesign(spec, g_program(spec), g, cams, drive, parallel_checks(spec, g, drive))
 
