@@ -3,14 +3,18 @@
 Everything here is headless (the Qt panel is :mod:`.optimiser_panel`) and is what the panel
 calls, so scripts and tests drive the same code:
 
+- :func:`objective_choices` / :func:`algorithm_choices` — the objectives and algorithms the
+  cam's optimiser serves (a parallel indexer: size and normal_force, derivative-free algorithms);
 - :func:`variable_choices` — the design variables that mean something for a cam (base
   radius and offset always; the control angles and free lifts of each ``law = "bspline"``
   rise/return; the interior points' lifts of each ``law = "polynomial"`` rise/return that has
-  points; the blank orientation only for ``machining_time``), and
+  points; the blank orientation only for ``machining_time``; a parallel indexer's C, R_p and r_r,
+  *fixed*: its optimiser varies all three together, ``optimise.variables = "auto"``), and
   :func:`variables_text` / :func:`selected_tokens` to and from ``optimise.variables``;
 - :func:`settings_of` / :func:`default_bounds` — the panel's starting values: the feature's
   ``Optimise`` properties (the spec's ``[optimise]`` section), the bounds the library takes when
-  none are given;
+  none are given (a parallel indexer has no R_b/e bounds: its variables' bounds are its
+  optimiser's own, :func:`own_bounds_note` says them);
 - :func:`run_spec` — the spec with the panel's choices as its ``[optimise]`` section
   (validated: a bad choice raises ``SpecError`` naming the field);
 - :class:`OptimiseJob` — :func:`cam_workbench.generators.optimise.optimise` in a worker thread, its progress
@@ -18,7 +22,8 @@ calls, so scripts and tests drive the same code:
   :meth:`OptimiseJob.cancel` (the library's ``threading.Event``: the run stops at the next
   evaluation with status ``"cancelled"``);
 - :func:`figures` / :func:`check_comparison` — the before/after numbers and every design check
-  before and after (the Check design table's rows);
+  before and after (the Check design table's rows; a parallel indexer's figures are its objective,
+  C, R_p, r_r and its other objective);
 - :func:`apply_result` — writes ``OptimiseResult.spec`` (the optimised design AND the
   ``[optimise]`` settings it was run with) into the feature's properties and recomputes, as ONE
   undo step.  A result that fails the dense re-check is refused unless ``allow_failing``
@@ -44,6 +49,7 @@ from cam_workbench.generators.errors import CamError, SpecError
 from cam_workbench.generators.kinds import body_of, follower_class_of, follower_of, own_optimiser
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.motion.bspline_law import fixed_end_points
+from cam_workbench.generators.optimise import indexer as indexer_optimiser
 from cam_workbench.generators.optimise import optimise, worst_constraint
 from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
@@ -51,7 +57,7 @@ from cam_workbench.generators.optimise.space import DesignSpace
 from cam_workbench.generators.spec import (OBJECTIVES, OPTIMISE_ALGORITHMS, CamSpec, OptimiseSection,
                                            optimise_control_rows, optimise_variables)
 from cam_workbench.generators.spec.optimise import (
-    FOLLOWER_VARIABLES, body_variable_rule, follower_variable_rule,
+    BODY_OBJECTIVES, FOLLOWER_VARIABLES, body_variable_rule, follower_variable_rule,
 )
 
 from . import properties as props
@@ -67,6 +73,8 @@ OBJECTIVE_LABELS = {
     "peak_acceleration": "Peak acceleration (largest |s″|)",
     "peak_pressure_angle": "Peak pressure angle (largest |φ|)",
     "outer_diameter": "Outer diameter (a groove cam's disc, rim wall ≥ groove.min_wall)",
+    "size": "Size (a parallel indexer: the cams' outer radius)",
+    "normal_force": "Peak roller load (a parallel indexer, at indexer.output_inertia)",
 }
 ALGORITHM_LABELS = {
     "auto": "auto: SLSQP with exact gradients (times: SLSQP on a stand-in, then BOBYQA)",
@@ -77,16 +85,76 @@ ALGORITHM_LABELS = {
     "bobyqa": "BOBYQA — derivative-free, thesis' exterior penalty",
     "isres": "ISRES — global (seeded), then a local polish",
 }
+#: a parallel indexer's algorithms (:data:`cam_workbench.generators.optimise.indexer.ALGORITHMS`: its trials
+#: are full designs whose checks are maxima over samples, so derivative-free ones only)
+INDEXER_ALGORITHM_LABELS = {
+    "auto": "auto: COBYLA — derivative-free, every trial a full design",
+    "cobyla": "COBYLA — derivative-free, constraints as they are",
+    "bobyqa": "BOBYQA — derivative-free, in nlopt's augmented Lagrangian",
+}
+#: a parallel indexer's design variables (spec paths: :data:`cam_workbench.generators.optimise.indexer.PATHS`)
+INDEXER_VARIABLE_LABELS = {"indexer.centre_distance": "Centre distance C",
+                           "indexer.pitch_radius": "Turret pitch radius R_p",
+                           "follower.roller_radius": "Roller radius r_r"}
 GRADIENT_ALGORITHMS = ("slsqp", "mma", "ccsaq")
 NON_SMOOTH = ("machining_time", "gcode_time")
-assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) and set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
+assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) | set(BODY_OBJECTIVES)
+assert set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
+assert set(INDEXER_ALGORITHM_LABELS) == set(indexer_optimiser.ALGORITHMS)
+assert set(INDEXER_VARIABLE_LABELS) == set(indexer_optimiser.PATHS.values())
 
 
 def objective_choices(spec: CamSpec) -> tuple[str, ...]:
     """The objectives the panel offers for ``spec``: those its body's optimiser serves
     (``Body.optimise_objectives``: every one, outer_diameter only for a groove cam's disc; a
-    cylindrical cam: outer_diameter alone)."""
+    cylindrical cam: outer_diameter alone; a parallel indexer: size and normal_force)."""
     return body_of(spec).optimise_objectives
+
+
+def indexer_optimised(spec: CamSpec) -> bool:
+    """True when ``spec``'s optimiser is the parallel indexer's
+    (:func:`cam_workbench.generators.optimise.indexer.optimise_indexer`): it varies C, R_p and r_r
+    together within bounds of its own, derivative-free, without restarts."""
+    return own_optimiser(spec) is indexer_optimiser.optimise_indexer
+
+
+def algorithm_choices(spec: CamSpec) -> tuple[str, ...]:
+    """The algorithms the panel offers for ``spec`` (a parallel indexer: auto, cobyla, bobyqa; every
+    other cam every one, the gradient ones disabled for a machining time)."""
+    if indexer_optimised(spec):
+        return tuple(INDEXER_ALGORITHM_LABELS)
+    return OPTIMISE_ALGORITHMS
+
+
+def algorithm_label(spec: CamSpec, name: str) -> str:
+    """The algorithm ``name`` as the panel lists it for ``spec``."""
+    return (INDEXER_ALGORITHM_LABELS if indexer_optimised(spec) else ALGORITHM_LABELS)[name]
+
+
+def multistart_offered(spec: CamSpec) -> bool:
+    """Random restarts apply (a parallel indexer's optimiser runs from the spec's design alone)."""
+    return not indexer_optimised(spec)
+
+
+def fixed_variables_note(spec: CamSpec) -> str:
+    """What the panel says of design variables it cannot choose ("" when every one is a choice): a
+    parallel indexer's optimiser varies C, R_p and r_r together."""
+    if not indexer_optimised(spec):
+        return ""
+    return ("A parallel indexer's optimiser varies all three together (optimise.variables = \"auto\"); "
+            "the stations, the index, the law and the plates stay as they are.")
+
+
+def own_bounds_note(spec: CamSpec) -> str:
+    """The bounds of the design variables in words, where the cam's optimiser sets them itself and
+    the panel has no bound to enter ("" otherwise): a parallel indexer's C, R_p and r_r."""
+    if not indexer_optimised(spec):
+        return ""
+    u = spec.units
+    bounds = ", ".join(f"{INDEXER_VARIABLE_LABELS[path].split()[-1]} ∈ [{lo:.6g}, {hi:.6g}] {u}"
+                       for path, (lo, hi) in indexer_optimiser.indexer_bounds(spec).items())
+    return (f"The optimiser's own bounds: {bounds} (0.5–2 × the start's C and R_p, 0.5–1.5 × its r_r). "
+            "The design checks (pressure angle, undercut, clearance, locking, contact stress) hold the result.")
 
 
 class ApplyError(CamError):
@@ -102,7 +170,8 @@ class VariableChoice:
     label: str
     count: int             # scalar design variables it adds
     enabled: bool
-    reason: str = ""       # why it is disabled
+    reason: str = ""       # why it is disabled (or, fixed, why it is always varied)
+    fixed: bool = False    # always varied: the box is checked and cannot be unchecked
 
 
 def _bspline_rows(spec: CamSpec) -> list[int]:
@@ -113,6 +182,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
     objective = objective or spec.optimise.objective
     u = spec.units
+    if indexer_optimised(spec):                  # C, R_p and r_r, all three always
+        why = "a parallel indexer's optimiser varies C, R_p and r_r together (optimise.variables = \"auto\")"
+        return [VariableChoice(path, f"{name} [{u}] ({path})", 1, True, why, fixed=True)
+                for path, name in INDEXER_VARIABLE_LABELS.items()]
     if own_optimiser(spec) is not None:          # its own optimiser: the body's own variables only
         own = {"cylinder_radius": f"Pitch radius R_p [{u}]", "outer_diameter": f"Cylinder outer diameter [{u}]",
                "clearance": f"Groove clearance [{u}]"}
@@ -159,7 +232,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
 
 def selected_tokens(spec: CamSpec) -> set[str]:
-    """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects."""
+    """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects (a parallel
+    indexer's: its three, always)."""
+    if indexer_optimised(spec):
+        return set(INDEXER_VARIABLE_LABELS)
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
     out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
@@ -171,9 +247,13 @@ def selected_tokens(spec: CamSpec) -> set[str]:
 
 def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str | None = None) -> str:
     """``optimise.variables`` for the chosen tokens (only enabled ones): the plain names, and
-    ``control_points`` when every B-spline row's angles and lifts are chosen."""
+    ``control_points`` when every B-spline row's angles and lifts are chosen; a parallel indexer's
+    three (its fixed choices): "auto"."""
     choices = {c.token: c for c in variable_choices(spec, objective) if c.enabled}
     chosen = [c for c in choices if c in set(tokens)]
+    fixed = [t for t, c in choices.items() if c.fixed]
+    if fixed and all(t in chosen for t in fixed):
+        chosen = ["auto"] + [t for t in chosen if t not in fixed]
     ctrl = [t for t in choices if t.startswith("motion[") and ".control_" in t]
     if ctrl and all(t in chosen for t in ctrl):
         rest = [t for t in chosen if t.startswith("motion[") and t not in ctrl]
@@ -195,23 +275,29 @@ class Settings:
     max_evaluations: int
     multistart: int
     seed: int
-    base_radius_min: float
-    base_radius_max: float
-    #: None where the follower has no offset (an oscillating arm): no bound shown or written
+    #: None where the cam's optimiser takes no R_b bounds (a parallel indexer): none shown or written
+    base_radius_min: float | None
+    base_radius_max: float | None
+    #: None where the follower has no offset (an oscillating arm, a parallel indexer's turret): no
+    #: bound shown or written
     offset_max: float | None
 
     def changes(self) -> dict[str, Any]:
+        bounds = ("base_radius_min", "base_radius_max", "offset_max")
         return {f"optimise.{f.name}": getattr(self, f.name) for f in dataclasses.fields(self)
-                if not (f.name == "offset_max" and self.offset_max is None)}
+                if not (f.name in bounds and getattr(self, f.name) is None)}
 
 
-def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
+def default_bounds(spec: CamSpec) -> tuple[float | None, float | None, float | None]:
     """(R_b lower, R_b upper, |e| upper): the ones ``[optimise]`` gives, and for those it leaves
     out the library's defaults (``cam_workbench.generators.optimise.space.DesignSpace``: ½ × and 2 × the
     initial R_b, the lower at least 1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower
     bound or |e₀|; default bounds always contain the starting design, which is never moved).
     A given bound is shown as given even when it excludes the start: the run then refuses it
-    with the library's message naming the field."""
+    with the library's message naming the field.  A parallel indexer: (None, None, None) — its
+    optimiser's variables are C, R_p and r_r, their bounds its own (:func:`own_bounds_note`)."""
+    if indexer_optimised(spec):
+        return None, None, None
     translating = not follower_class_of(spec).pivoted       # only a translating follower has an offset
     probe = spec.replace(**{"optimise.variables": "base_radius, offset" if translating else "base_radius",
                             "optimise.objective": "area", "optimise.algorithm": "auto"})
@@ -225,11 +311,18 @@ def default_bounds(spec: CamSpec) -> tuple[float, float, float | None]:
 
 def settings_of(spec: CamSpec) -> Settings:
     """The panel's starting values: the spec's ``[optimise]`` section, the bounds it leaves out
-    filled with the library's defaults (:func:`default_bounds`)."""
+    filled with the library's defaults (:func:`default_bounds`).  An objective the cam's optimiser
+    does not offer (the spec's default "area" on a parallel indexer, which takes it as "size") is
+    shown as the first it offers; an algorithm it does not offer as "auto"; no restarts where
+    none apply (:func:`multistart_offered`)."""
     opt = spec.optimise
     r_lo, r_hi, e_max = default_bounds(spec)
-    return Settings(objective=opt.objective, variables=opt.variables, algorithm=opt.algorithm,
-                    max_evaluations=opt.max_evaluations, multistart=opt.multistart, seed=opt.seed,
+    objectives = objective_choices(spec)
+    objective = opt.objective if opt.objective in objectives else objectives[0]
+    algorithm = opt.algorithm if opt.algorithm in algorithm_choices(spec) else "auto"
+    return Settings(objective=objective, variables=opt.variables, algorithm=algorithm,
+                    max_evaluations=opt.max_evaluations,
+                    multistart=opt.multistart if multistart_offered(spec) else 0, seed=opt.seed,
                     base_radius_min=r_lo, base_radius_max=r_hi, offset_max=e_max)
 
 
@@ -243,9 +336,13 @@ def run_spec(spec: CamSpec, settings: Settings) -> CamSpec:
     """``spec`` with the panel's settings as its ``[optimise]`` section.
 
     Raises:
-        SpecError: a setting breaks a rule (the field is named, e.g. optimise.offset_max).
+        SpecError: a setting breaks a rule (the field is named, e.g. optimise.offset_max; a parallel
+            indexer's own rules too: objective normal_force without indexer.output_inertia …).
     """
-    return spec.replace(**settings.changes())
+    out = spec.replace(**settings.changes())
+    if indexer_optimised(out):
+        indexer_optimiser.indexer_arguments(out)      # its optimiser's own rules, before the run
+    return out
 
 
 # ---- the threaded run ---------------------------------------------------------------------------
@@ -354,7 +451,9 @@ def _worst_text(w: dict[str, Any]) -> str:
 def figures(result: Any) -> list[Figure]:
     """The before/after figures of a result: objective (computed independently of the solver's
     model: :func:`cam_workbench.generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
-    check closest to or furthest past its limit), the design checks' verdict."""
+    check closest to or furthest past its limit), the design checks' verdict.  A parallel indexer's:
+    its objective (the body's own design of the start and the result), C, R_p and r_r, its other
+    objective (report.json ``optimise.measures``), the worst constraint and the verdict."""
     a, b = result.initial_spec, result.spec
     u = a.units
     unit = UNITS[result.objective].replace("length", u)
@@ -362,6 +461,18 @@ def figures(result: Any) -> list[Figure]:
     ia, fa = areas.get("initial", {}), areas.get("final", {})
     rows = [Figure(f"objective: {result.objective} ({objective_label(result.objective, a)})", result.initial_value,
                    result.value, unit)]
+    if indexer_optimised(a):
+        for path, x0, x1 in zip(result.variables, result.initial_design, result.design):
+            name = INDEXER_VARIABLE_LABELS[path]
+            rows.append(Figure(f"{name[:1].lower()}{name[1:]} ({path})", float(x0), float(x1), u))
+        for name, m in result.details.get("measures", {}).items():
+            if name != result.objective:
+                rows.append(Figure(f"{name} ({objective_label(name, a)})", m["initial"], m["final"],
+                                   UNITS[name].replace("length", u)))
+        rows.append(Figure("worst constraint", _worst_text(worst_constraint(result.initial_checks, a)),
+                           _worst_text(worst_constraint(result.checks, b))))
+        rows.append(Figure("design checks", _verdict(result.initial_checks), _verdict(result.checks)))
+        return rows
     for key, name in area_keys(a, b, ia, fa):
         rows.append(Figure(name, ia[key], fa.get(key), f"{u}²"))
     ct = result.details.get("cutting_time")
@@ -420,10 +531,16 @@ class CheckChange:
 CHECK_HEADERS = ["check", "limit", "before", "at", "status", "after", "at", "status"]
 
 
+def _results(checks: Any) -> dict[str, Any]:
+    """report.json's ``checks.results`` of a ``DesignChecks`` (a body's own optimiser re-checks with
+    its own design, so its checks have no plane-cam state to sample: ``to_dict()`` needs one)."""
+    return {"results": {r.name: r.to_dict() for r in checks.results}}
+
+
 def check_comparison(result: Any) -> list[CheckChange]:
     """Every design check of the starting and the optimised design (dense, refined re-check)."""
-    before = {r.name: r for r in check_rows(result.initial_checks)}
-    after = check_rows(result.checks)
+    before = {r.name: r for r in check_rows(_results(result.initial_checks))}
+    after = check_rows(_results(result.checks))
     return [CheckChange(before[r.name], r) for r in after if r.name in before]
 
 
@@ -486,7 +603,9 @@ def apply_result(obj: Any, result: Any, allow_failing: bool = False) -> None:
     doc.commitTransaction()
 
 
-__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "OBJECTIVE_LABELS", "objective_choices",
-           "OptimiseJob", "Settings", "VariableChoice", "apply_result", "bound_is_default", "changed_since",
-           "check_comparison", "default_bounds", "figures", "history_arrays", "run", "run_spec",
+__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "INDEXER_ALGORITHM_LABELS",
+           "INDEXER_VARIABLE_LABELS", "OBJECTIVE_LABELS", "OptimiseJob", "Settings", "VariableChoice",
+           "algorithm_choices", "algorithm_label", "apply_result", "bound_is_default", "changed_since",
+           "check_comparison", "default_bounds", "figures", "fixed_variables_note", "history_arrays",
+           "indexer_optimised", "multistart_offered", "objective_choices", "own_bounds_note", "run", "run_spec",
            "selected_tokens", "settings_of", "variable_choices", "variables_text"]

@@ -2,13 +2,17 @@
 
 Five boxes in FreeCAD's task view:
 
-1. **Problem** — the objective and the design variables (check boxes from
-   :func:`.optimiser.variable_choices`: only those that mean something for this cam);
+1. **Problem** — the objective (those the cam's optimiser serves:
+   :func:`.optimiser.objective_choices`) and the design variables (check boxes from
+   :func:`.optimiser.variable_choices`: only those that mean something for this cam; a parallel
+   indexer's C, R_p and r_r checked and fixed — its optimiser varies all three —, with a note);
 2. **Bounds** — the base radius' lower bound first and in bold: the design checks do not bound
    the cam from below (with R_b free the optimiser runs to this bound), so the user must give
-   the real limit (shaft, hub, bore); then R_b's upper bound and |e|'s;
+   the real limit (shaft, hub, bore); then R_b's upper bound and |e|'s (a parallel indexer: the
+   bounds of C, R_p and r_r, its optimiser's own, in words);
 3. **Algorithm** — gradient (SLSQP, MMA, CCSAQ), derivative-free (COBYLA, BOBYQA), global
-   (ISRES; random multistarts) with the seed, and the evaluation budget;
+   (ISRES; random multistarts) with the seed, and the evaluation budget (a parallel indexer:
+   :func:`.optimiser.algorithm_choices`, derivative-free, no restarts);
 4. **Run** — Run / Cancel, a progress bar, the live objective and largest constraint
    violation, and the convergence plot (matplotlib, when FreeCAD's Python has it);
 5. **Result** — the figures before and after, every design check before and after, and Apply.
@@ -34,7 +38,6 @@ from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySi
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
-from cam_workbench.generators.spec import OPTIMISE_ALGORITHMS
 
 from . import optimiser as opt
 from . import properties as props
@@ -82,7 +85,8 @@ class OptimiserPanel:
             if spin is None:
                 continue
             spin.valueChanged.connect(lambda *_: self.refresh())
-        self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
+        if self.rb_min is not None:
+            self.rb_min.valueChanged.connect(lambda *_: self._rb_min_edited())
         self.refresh()
 
     # -- the five boxes
@@ -105,15 +109,25 @@ class OptimiserPanel:
         vbox = QtGui.QGroupBox("Design variables")
         vl = QtGui.QVBoxLayout(vbox)
         self.var_boxes: dict[str, Any] = {}
+        #: the variables the cam's optimiser always varies (a parallel indexer's): checked, not to uncheck
+        self.fixed_tokens: set[str] = set()
         chosen = opt.selected_tokens(self.spec)
         for c in opt.variable_choices(self.spec):
             cb = QtGui.QCheckBox(f"{c.label}" + (f"  ({c.count})" if c.count > 1 else ""))
-            cb.setChecked(c.token in chosen)
+            cb.setChecked(c.token in chosen or c.fixed)
             cb.setToolTip(c.reason or f"optimise.variables token: {c.token}")
+            if c.fixed:
+                self.fixed_tokens.add(c.token)
             vl.addWidget(cb)
             self.var_boxes[c.token] = cb
         self.var_count = QtGui.QLabel()
         vl.addWidget(self.var_count)
+        note = opt.fixed_variables_note(self.spec)
+        self.var_note = QtGui.QLabel(note)    # why the fixed ones cannot be unchecked
+        self.var_note.setObjectName("FixedVariables")
+        self.var_note.setWordWrap(True)
+        self.var_note.setVisible(bool(note))
+        vl.addWidget(self.var_note)
         pl.addWidget(vbox)
         self.status = QtGui.QLabel()      # what the choices amount to, or the rule they break
         self.status.setWordWrap(True)
@@ -122,11 +136,21 @@ class OptimiserPanel:
         return problem
 
     def _bounds_box(self) -> Any:
-        """2. Bounds: the base radius' lower bound first and in bold, then R_b's upper bound and |e|'s."""
+        """2. Bounds: the base radius' lower bound first and in bold, then R_b's upper bound and |e|'s
+        (a cam whose optimiser takes no R_b bound, a parallel indexer: its variables' own bounds, in words)."""
         bounds = QtGui.QWidget()
         bounds.setObjectName("OptimiseBounds")
         bounds.setWindowTitle("Bounds")
         bl = QtGui.QVBoxLayout(bounds)
+        self._rb_min_default = opt.bound_is_default(self.spec)
+        if self.defaults.base_radius_min is None:
+            self.rb_min = self.rb_max = self.e_max = self.rb_min_box = self.rb_note = None
+            self.bounds_note = QtGui.QLabel(opt.own_bounds_note(self.spec)
+                                            or "The cam's optimiser sets its variables' bounds itself.")
+            self.bounds_note.setObjectName("OwnBounds")
+            self.bounds_note.setWordWrap(True)
+            bl.addWidget(self.bounds_note)
+            return bounds
         self.rb_min = self._length_spin(self.defaults.base_radius_min)
         self.rb_max = self._length_spin(self.defaults.base_radius_max)
         # an oscillating arm has no offset: no |e| bound (its position bounds are the Optimise properties)
@@ -155,7 +179,6 @@ class OptimiserPanel:
             if spin is None:
                 continue
             spin.setToolTip(props.field_tooltip(f"optimise.{field}"))
-        self._rb_min_default = opt.bound_is_default(self.spec)
         return bounds
 
     def _algorithm_box(self) -> Any:
@@ -165,9 +188,9 @@ class OptimiserPanel:
         algo.setWindowTitle("Algorithm")
         af = QtGui.QFormLayout(algo)
         self.algorithm = QtGui.QComboBox()
-        for name in OPTIMISE_ALGORITHMS:
-            self.algorithm.addItem(opt.ALGORITHM_LABELS[name], name)
-        self.algorithm.setCurrentIndex(OPTIMISE_ALGORITHMS.index(self.defaults.algorithm))
+        for name in opt.algorithm_choices(self.spec):
+            self.algorithm.addItem(opt.algorithm_label(self.spec, name), name)
+        self.algorithm.setCurrentIndex(max(self.algorithm.findData(self.defaults.algorithm), 0))
         self.algorithm.setToolTip(props.field_tooltip("optimise.algorithm"))
         af.addRow("Algorithm:", self.algorithm)
         self.max_evals = QtGui.QSpinBox()
@@ -176,14 +199,19 @@ class OptimiserPanel:
         self.max_evals.setToolTip(props.field_tooltip("optimise.max_evaluations"))
         af.addRow("Max evaluations:", self.max_evals)
         self.multistart = QtGui.QSpinBox()
-        self.multistart.setRange(0, 1000)
+        offered = opt.multistart_offered(self.spec)
+        self.multistart.setRange(0, 1000 if offered else 0)
         self.multistart.setValue(self.defaults.multistart)
-        self.multistart.setToolTip(props.field_tooltip("optimise.multistart"))
+        self.multistart.setEnabled(offered)
+        self.multistart.setToolTip(props.field_tooltip("optimise.multistart") if offered else
+                                   "no random restarts: this cam's optimiser runs from its design alone")
         af.addRow("Random restarts:", self.multistart)
         self.seed = QtGui.QSpinBox()
         self.seed.setRange(0, 2**31 - 1)
         self.seed.setValue(self.defaults.seed)
-        self.seed.setToolTip(props.field_tooltip("optimise.seed"))
+        self.seed.setToolTip(props.field_tooltip("optimise.seed") if offered else
+                             "no random starts: this cam's optimiser is deterministic")
+        self.seed.setEnabled(offered)
         af.addRow("Seed:", self.seed)
         return algo
 
@@ -290,7 +318,9 @@ class OptimiserPanel:
 
     # -- settings
     def tokens(self) -> set[str]:
-        return {t for t, cb in self.var_boxes.items() if cb.isChecked() and cb.isEnabled()}
+        """The chosen variables: the enabled, checked boxes and the fixed ones."""
+        return {t for t, cb in self.var_boxes.items()
+                if cb.isChecked() and (cb.isEnabled() or t in self.fixed_tokens)}
 
     def settings(self) -> opt.Settings:
         """The panel's choices (variables from the enabled, checked boxes)."""
@@ -299,7 +329,8 @@ class OptimiserPanel:
                             variables=opt.variables_text(self.spec, self.tokens(), objective),
                             algorithm=self.algorithm.currentData(), max_evaluations=self.max_evals.value(),
                             multistart=self.multistart.value(), seed=self.seed.value(),
-                            base_radius_min=self.rb_min.value(), base_radius_max=self.rb_max.value(),
+                            base_radius_min=self.rb_min.value() if self.rb_min is not None else None,
+                            base_radius_max=self.rb_max.value() if self.rb_max is not None else None,
                             offset_max=self.e_max.value() if self.e_max is not None else None)
 
     def _vars_clicked(self) -> None:
@@ -328,21 +359,23 @@ class OptimiserPanel:
         objective = self.objective.currentData()
         choices = {c.token: c for c in opt.variable_choices(self.spec, objective)}
         for token, cb in self.var_boxes.items():
-            cb.setEnabled(choices[token].enabled)
+            cb.setEnabled(choices[token].enabled and not choices[token].fixed)
         smooth = objective not in opt.NON_SMOOTH
         model = self.algorithm.model()
-        for i, name in enumerate(OPTIMISE_ALGORITHMS):
+        for i in range(self.algorithm.count()):
             item = model.item(i) if isinstance(model, QtGui.QStandardItemModel) else None
             if item is not None:
-                item.setEnabled(smooth or name not in opt.GRADIENT_ALGORITHMS)
+                item.setEnabled(smooth or self.algorithm.itemData(i) not in opt.GRADIENT_ALGORITHMS)
         tokens = self.tokens()
         n = sum(choices[t].count for t in tokens)
-        self.var_count.setText(f"{n} design variable{'s' if n != 1 else ''}")
-        self.rb_min.setEnabled("base_radius" in tokens)
-        self.rb_max.setEnabled("base_radius" in tokens)
-        if self.e_max is not None:
-            self.e_max.setEnabled("offset" in tokens)
-        if self._rb_min_default:
+        self.var_count.setText(f"{n} design variable{'s' if n != 1 else ''}"
+                               + (" (all fixed: varied together)" if tokens and tokens <= self.fixed_tokens else ""))
+        for spin, token in ((self.rb_min, "base_radius"), (self.rb_max, "base_radius"), (self.e_max, "offset")):
+            if spin is not None:
+                spin.setEnabled(token in tokens)
+        if self.rb_note is None:      # no R_b bound to describe (a parallel indexer)
+            pass
+        elif self._rb_min_default:
             self.rb_note.setText(
                 f"Shown: the library's default (½ × the initial R_b = {self.spec.cam.base_radius:g} {self.units}, "
                 f"at least 1.05 × (roller + bore radius)) — not a real limit. The design checks do not bound "

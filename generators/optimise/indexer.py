@@ -1,6 +1,8 @@
 """The optimiser of a parallel indexer (``cam.body = "parallel_indexer"``): the spec's ``[optimise]``
 settings mapped onto :func:`~cam_workbench.generators.bodies.indexing.parallel_optimise.optimise_parallel`,
-its optimum re-checked by the body's own design, an :class:`OptimiseResult` as the CLI expects.
+its optimum re-checked by the body's own design, an :class:`OptimiseResult` as the CLI expects (its
+``report()`` the shared one: the objectives' words, units and report.json keys are
+:mod:`~cam_workbench.generators.optimise.objectives`' tables, as the plane cam's are).
 
 Variables x = (C, R_p, r_r): ``indexer.centre_distance``, ``indexer.pitch_radius`` and
 ``follower.roller_radius`` (all three: ``optimise.variables = "auto"``; the stations, the index, the law and
@@ -31,12 +33,16 @@ design fails a check (and the start passes them all), the result is pulled back 
 line from the start to the optimum in log units, x(t) = x₀·(x*/x₀)^t, bisecting t to 1/2⁸ for the
 design furthest along it that passes every check — the result is always a design the body built and
 checked, never larger (for ``"normal_force"``: never a larger load) than the start.
+
+report.json's ``optimise`` section names the objective as :mod:`~cam_workbench.generators.optimise.objectives`
+names every objective, and beside the solver's details (``bounds``, ``solver_optimum``, ``pulled_back`` …)
+holds ``measures``: both objectives (the outer radius, the peak roller load or None without a load) of the
+start and of the result, whichever was minimised.
 """
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import fields
 from typing import Any, Callable
 
 import numpy as np
@@ -44,12 +50,12 @@ import numpy as np
 from ..bodies.indexing import from_spec
 from ..bodies.indexing.parallel_kind import ParallelIndexerBody, ParallelIndexerDesign, indexer_of
 from ..bodies.indexing.parallel_kind import LOAD_FRACTION
-from ..bodies.indexing.parallel_optimise import VARIABLES, optimise_parallel, outer_radius
+from ..bodies.indexing.parallel_optimise import DEFAULT_BOUNDS, VARIABLES, optimise_parallel, outer_radius
 from ..checks.design import CheckResult, DesignChecks
 from ..errors import SpecError
 from ..kinds import register_optimiser
 from ..spec.model import CamSpec
-from .result import HISTORY_MAX, OptimiseResult, Progress
+from .result import OptimiseResult, Progress
 
 #: spec path of each design variable, in the solver's order (C, R_p, r_r)
 PATHS = {"centre_distance": "indexer.centre_distance", "pitch_radius": "indexer.pitch_radius",
@@ -66,14 +72,6 @@ ALGORITHMS = {"auto": "COBYLA", "cobyla": "COBYLA", "bobyqa": "BOBYQA"}
 _PLANE_BOUNDS = ("base_radius_min", "base_radius_max", "offset_max", "pivot_distance_min", "pivot_distance_max",
                  "arm_length_min", "arm_length_max", "face_offset_max", "outer_diameter_min", "outer_diameter_max",
                  "clearance_min", "clearance_max", "point_shift_max")
-#: objective → (description, label, report.json key, unit)
-OBJECTIVE_WORDS = {
-    "size": ("the cams' outer radius: the largest profile radius over the plates", "outer radius of the cams",
-             "body.outer_radius", "length"),
-    "normal_force": ("the peak roller load |T_out|/arm of the contact that carries the output's torque "
-                     "(parallel_drive at indexer.output_inertia, indexer.friction_torque)", "peak roller load",
-                     "indexer.drive.normal_force_peak_N", "N"),
-}
 
 
 def indexer_objective(spec: CamSpec) -> str:
@@ -120,6 +118,13 @@ def indexer_arguments(spec: CamSpec) -> dict[str, Any]:
             "samples": SAMPLES, "max_evaluations": int(cfg.max_evaluations)}
 
 
+def indexer_bounds(spec: CamSpec) -> dict[str, tuple[float, float]]:
+    """The bounds the optimiser gives each design variable of ``spec`` (spec path → (lo, hi) [mm]):
+    ``optimise_parallel``'s defaults from the start (report.json ``optimise.bounds`` after a run)."""
+    return {PATHS[v]: (DEFAULT_BOUNDS[v][0] * float(x), DEFAULT_BOUNDS[v][1] * float(x))
+            for v, x in zip(VARIABLES, _variables(spec))}
+
+
 def _spec_at(spec: CamSpec, x: np.ndarray) -> CamSpec:
     return spec.replace(**{PATHS[v]: float(a) for v, a in zip(VARIABLES, x)})
 
@@ -144,16 +149,19 @@ class _Candidate:
         self.design: ParallelIndexerDesign | None = None
         self.failure = ""
         self.value = math.nan
+        #: both objectives of the design (None where it has none: no design, normal_force without a load)
+        self.measures: dict[str, float | None] = dict.fromkeys(ParallelIndexerBody.optimise_objectives)
         try:
             self.spec = spec if x is None else _spec_at(spec, self.x)
             self.design = ParallelIndexerBody.design(self.spec)
         except SpecError as exc:
             self.failure = str(exc)
             return
-        if objective == "size":
-            self.value = outer_radius(self.design.geometry)
-        elif self.design.drive is not None:
-            self.value = float(self.design.drive.normal_force_peak)
+        self.measures = {"size": outer_radius(self.design.geometry),
+                         "normal_force": None if self.design.drive is None
+                         else float(self.design.drive.normal_force_peak)}
+        if self.measures[objective] is not None:
+            self.value = self.measures[objective]
 
     @property
     def passed(self) -> bool:
@@ -172,22 +180,6 @@ class _Candidate:
             return _checks(report, units)
         row = CheckResult("geometry", f"the design builds ({self.failure})", "max", None, None, None, "", "fail")
         return DesignChecks((row,), {}, "per_turn", 0, units, None)
-
-
-class IndexerOptimiseResult(OptimiseResult):
-    """An :class:`OptimiseResult` whose objective is the indexer's ("size", "normal_force"): its
-    ``report()`` names the objective, its unit and report.json key in the indexer's words."""
-
-    def report(self, max_history: int = HISTORY_MAX) -> dict[str, Any]:
-        # the shared section (status, variables, history …) of the plain result; the objective's words
-        # are the indexer's (the plane objectives' tables do not hold them)
-        plain = OptimiseResult(**{f.name: getattr(self, f.name) for f in fields(OptimiseResult)
-                                  if f.name != "objective"}, objective="outer_diameter")
-        out = plain.report(max_history)
-        desc, label, key, unit = OBJECTIVE_WORDS[self.objective]
-        out.update({"objective": self.objective, "objective_description": desc, "objective_label": label,
-                    "objective_key": key, "objective_unit": unit.replace("length", self.spec.units)})
-        return out
 
 
 @register_optimiser(ParallelIndexerBody.kind)
@@ -284,8 +276,12 @@ def optimise_indexer(spec: CamSpec, progress: Callable[[Any], Any] | None = None
                            "variables": {PATHS[k]: float(v) for k, v in best.variables.items()},
                            "value": float(best.value) if math.isfinite(best.value) else None},
         "pulled_back": pulled, "body_designs": designs,   # the start, the optimum and the pull-back's
+        # both objectives of the start and the result, whichever was minimised (report.json's
+        # body.outer_radius and indexer.drive.normal_force_peak_N of each)
+        "measures": {name: {"initial": start.measures[name], "final": chosen.measures[name]}
+                     for name in ParallelIndexerBody.optimise_objectives},
     }
-    return IndexerOptimiseResult(
+    return OptimiseResult(
         spec=final_spec, initial_spec=spec, objective=objective, algorithm=spec.optimise.algorithm,
         initial_value=initial_value, value=value, variables=tuple(PATHS.values()), initial_design=start.x,
         design=chosen.x, history=history, evaluations=best.evaluations,

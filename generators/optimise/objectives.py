@@ -17,7 +17,19 @@ peak_acceleration   max |s″| over the nodes (epigraph: min t, ±s″/ref ≤ t
 peak_pressure_angle max |φ| (epigraph)                                        exact
 machining_time      thesis Eq. 4.20 on its staircase path                     none
 gcode_time          the XY contour program's time (:func:`contour_time`)      none
+size                a parallel indexer's cams' outer radius (the largest      none
+                    profile radius over the plates; report.json
+                    ``body.outer_radius``)
+normal_force        a parallel indexer's peak roller load [N] (the contact    none
+                    that carries the output's torque; report.json
+                    ``indexer.drive.normal_force_peak_N``)
 ==================  ========================================================  ==========
+
+``size`` and ``normal_force`` are a parallel indexer's (``cam.body = "parallel_indexer"``), minimised by
+its own optimiser (:mod:`cam_workbench.generators.optimise.indexer`): every trial is a full design, so
+:func:`make_objective` has no model of them; this module names them (:func:`describe`, :func:`label`,
+:func:`report_key`, :data:`UNITS`) for :meth:`~cam_workbench.generators.optimise.result.OptimiseResult.report`
+and the printouts as it names the plane cam's.
 
 Smooth stand-ins used to reach a small feasible design before a machining time is polished
 (``algorithm = "auto"``): the length of the thesis' curve r = R_b + s (machining_time) and the
@@ -52,6 +64,9 @@ DESCRIPTIONS = {
     "thesis_length": "length of the thesis' machining curve r = R_b + s (smooth stand-in for machining_time)",
     "pitch_length": "pitch-curve length (smooth stand-in for gcode_time)",
     "outer_diameter": "groove cam's disc diameter cam.outer_diameter (rim wall >= groove.min_wall a constraint)",
+    "size": "the cams' outer radius: the largest profile radius over the plates",
+    "normal_force": "the peak roller load |T_out|/arm of the contact that carries the output's torque "
+                    "(parallel_drive at indexer.output_inertia, indexer.friction_torque)",
 }
 #: "area" for every follower but the translating knife/roller (whose "area" is the thesis' Eq. 4.21)
 AREA_DESIGN_CURVE = ("cam area: the exact area inside the design curve, 1/2 |int F x V dtheta| (an oscillating "
@@ -76,10 +91,13 @@ LABELS = {
     "thesis_length": "length of the thesis' curve r = R_b + s",
     "pitch_length": "pitch-curve length",
     "outer_diameter": "outer diameter (cam.outer_diameter)",
+    "size": "outer radius of the cams",
+    "normal_force": "peak roller load",
 }
 #: the report.json path (of the cam the objective is evaluated on) that holds each objective's value,
 #: None where report.json holds no such number (a peak over the optimiser's nodes, a machining time)
-REPORT_KEYS = {"profile_area": "areas.profile", "outer_diameter": "spec.cam.outer_diameter"}
+REPORT_KEYS = {"profile_area": "areas.profile", "outer_diameter": "spec.cam.outer_diameter",
+               "size": "body.outer_radius", "normal_force": "indexer.drive.normal_force_peak_N"}
 
 
 def label(name: str, spec: Any) -> str:
@@ -101,9 +119,12 @@ def report_key(name: str, spec: Any) -> str | None:
     return REPORT_KEYS.get(name)
 
 
+#: each objective's unit ("length" is the spec's units)
 UNITS = {"area": "length²", "profile_area": "length²", "machining_time": "s", "gcode_time": "s",
          "peak_acceleration": "length/rad²", "peak_pressure_angle": "deg", "thesis_length": "length",
-         "pitch_length": "length", "outer_diameter": "length"}
+         "pitch_length": "length", "outer_diameter": "length",
+         # a parallel indexer's (designed in mm; its loads in N whatever the units)
+         "size": "length", "normal_force": "N"}
 
 
 @dataclass
@@ -167,6 +188,9 @@ def make_objective(name: str, model: SmoothModel) -> Objective:
                 return float("nan"), None
 
         return Objective(name, model, gtime, False)
+    if name in ("size", "normal_force"):
+        raise ValueError(f"objective {name!r} is a parallel indexer's: its own optimiser minimises it "
+                         "(cam_workbench.generators.optimise.indexer), not the plane cam's model")
     raise ValueError(f"unknown objective {name!r}")
 
 
