@@ -91,9 +91,9 @@ class Cam:
     @classmethod
     def example(cls, name: str = "default", **changes: Any) -> "Cam":
         """A built-in example cam by name (the CLI's ``--example``): "default", "paper",
-        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical" or
-        "cylindrical_oscillating" (``cam_workbench.generators.spec.examples.DESCRIPTIONS`` says what
-        each is; docs/spec.md lists them)."""
+        "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical",
+        "cylindrical_oscillating" or "parallel_indexer" (``cam_workbench.generators.spec.examples.DESCRIPTIONS``
+        says what each is; docs/spec.md lists them)."""
         cam = cls(example_spec(name), **changes)
         cam.source = f"example:{name}"
         return cam

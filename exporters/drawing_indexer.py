@@ -9,7 +9,8 @@ distance).  Its title block is replaced by one quoting the ``summary`` the pipel
 dict report.json holds — so that the drawing and the report say the same numbers: the indexer's
 parameters (``indexer.geometry``), the plates (``body``), the flanks' measured fit error
 (``body.flank_fit_error``: fitted, NOT exact — only the dwell arcs are exact), the pressure
-angles (``pressure_angle``), the volume, the checks' verdict and the spec digest.
+angles (``pressure_angle``), the volume, the checks' verdict, the spec digest and where the turret
+is drawn (``drawing.drawn_at``: the input angle and the turret's angle there).
 
 ``[drawing]``: ``title``, ``part_number``, ``author``, ``material``, ``title_block`` and
 ``dimensions`` are honoured; ``curves`` "cubic" and "spline" both get the body's B-splines
@@ -64,6 +65,8 @@ class IndexerDrawingInfo:
         chord_tolerance: ``drawing.chord_tolerance`` (the SPLINEs are the body's curves
             themselves: no approximation of them is drawn).
         dimensions: whether the centre distance is dimensioned.
+        turret_angle_deg: the turret's angle ψ [deg] at input angle 0, where the drawing shows it
+            (report.json ``drawing.drawn_at``; the title block's DRAWN AT row).
     """
 
     drawn: IndexerDxfInfo
@@ -71,6 +74,7 @@ class IndexerDrawingInfo:
     title: str
     chord_tolerance: float
     dimensions: bool
+    turret_angle_deg: float = 0.0
 
     def summary(self) -> dict[str, Any]:
         d = self.drawn
@@ -86,8 +90,11 @@ class IndexerDrawingInfo:
                                 "what": "the body's flank B-splines vs the exact offset of the roller loci "
                                         "(report.json body.flank_fit_error)"},
             "drawn_flank_error": {"value": d.drawn_error, "unit": d.units,
+                                  "points_per_span": _SPAN_SAMPLES,
                                   "what": f"the drawn flank SPLINEs vs the exact offset, {_SPAN_SAMPLES} points "
                                           "per knot span"},
+            "drawn_at": {"input_angle_deg": 0.0, "turret_angle_deg": self.turret_angle_deg,
+                         "what": "the input angle the cams and the turret are drawn at, and the turret's angle there"},
             "text_height": d.text_height,
             "title_block": bool(self.rows), "dimensions": self.dimensions,
             "views": ["top view of the cams in the cam frame at input angle 0 (= the fixed frame), the turret and "
@@ -107,11 +114,18 @@ def _refuse_unsupported(dr: Any) -> None:
                         "(1/60 of the drawing's width): leave it out")
 
 
-def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_error: float
-               ) -> list[tuple[str, str]]:
-    """(label, value) rows of the title block: the numbers of ``summary`` (report.json's dict)
-    and ``drawn_error`` (report.json ``drawing.drawn_flank_error``); lengths in mm, angles in
-    degrees."""
+def drawn_turret_angle(design: ParallelIndexerDesign) -> float:
+    """The turret's angle ψ [deg] at input angle 0, where the drawing shows the turret (report.json
+    ``drawing.drawn_at.turret_angle_deg``)."""
+    return math.degrees(float(turret_angle(design.geometry.indexer, np.array([0.0]))[0][0]))
+
+
+def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_error: float,
+               turret_angle_deg: float | None = None) -> list[tuple[str, str]]:
+    """(label, value) rows of the title block: the numbers of ``summary`` (report.json's dict),
+    ``drawn_error`` (report.json ``drawing.drawn_flank_error``) and ``turret_angle_deg``
+    (``drawing.drawn_at.turret_angle_deg``; :func:`drawn_turret_angle` when None); lengths in mm,
+    angles in degrees."""
     dr = design.spec.drawing
     geo = summary["indexer"]["geometry"]
     body = summary["body"]
@@ -119,8 +133,7 @@ def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_err
     checks = summary.get("checks")
     rr = float(geo["roller_radius_mm"])
     beta = float(geo["index_angle_deg"])
-    ix = design.geometry.indexer
-    psi0 = math.degrees(float(turret_angle(ix, np.array([0.0]))[0][0]))
+    psi0 = drawn_turret_angle(design) if turret_angle_deg is None else float(turret_angle_deg)
     limit = ""
     if isinstance(checks, dict) and "pressure_angle" in (checks.get("results") or {}):
         lim = checks["results"]["pressure_angle"].get("limit")
@@ -192,9 +205,10 @@ def build_indexer_dxf(design: ParallelIndexerDesign, summary: dict[str, Any] | N
             msp.delete_entity(dim)
             if block and block in doc.blocks:
                 doc.blocks.delete_block(block, safe=False)
+    psi0 = drawn_turret_angle(design)
     rows: list[tuple[str, str]] = []
     if dr.title_block:
-        rows = title_rows(design, s, drawn.drawn_error)
+        rows = title_rows(design, s, drawn.drawn_error, psi0)
         r_max = float(s["body"]["outer_radius"])
         box = _extents(msp, r_max, h)
         _title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
@@ -204,4 +218,4 @@ def build_indexer_dxf(design: ParallelIndexerDesign, summary: dict[str, Any] | N
         zoom.extents(msp, factor=1.05)
     except Exception:  # noqa: BLE001 - the initial view is a convenience only
         pass
-    return doc, IndexerDrawingInfo(drawn, tuple(rows), title, float(dr.chord_tolerance), bool(dr.dimensions))
+    return doc, IndexerDrawingInfo(drawn, tuple(rows), title, float(dr.chord_tolerance), bool(dr.dimensions), psi0)

@@ -42,7 +42,10 @@ from .conftest import ROOT, requires_ocp
 
 CLI = [sys.executable, "-m", "cam_workbench.cli"]
 NAMES = list(EXAMPLES)
-PLANE = [n for n in NAMES if not n.startswith("cylindrical")]
+#: the parallel indexers: report.json has no pitch, profile, curvature, areas or interpolator (its
+#: indexer, body, pressure_angle, drive and one program per plate instead)
+INDEXER = [n for n in NAMES if EXAMPLES[n]["cam"].get("body") == "parallel_indexer"]
+PLANE = [n for n in NAMES if not n.startswith("cylindrical") and n not in INDEXER]
 #: a number as the outputs print it (the G-code's and rich's minus signs included)
 NUMBER = r"[-−+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 PLACEHOLDER = re.compile(r"\{([^{}]+)\}")
@@ -181,6 +184,15 @@ def derived(report: dict) -> dict:
     if "finish_wall_deviation" in (r.get("machining") or {}):
         f = r["machining"]["finish_wall_deviation"]
         r["_finish"] = max(f["bottom_radius"], f["outer_radius"])
+    geo = (r.get("indexer") or {}).get("geometry")
+    if geo:
+        # a parallel indexer: each plate's dwell arc (the roller centres' dwell radius less the roller),
+        # the dwell's span, the drive's Hertz stress in MPa
+        r["_dwell_arc"] = [c["dwell_radius_mm"] - geo["roller_radius_mm"] for c in geo["per_cam"]]
+        r["_dwell_span"] = 360.0 - geo["index_angle_deg"]
+        drive = r["indexer"].get("drive") or {}
+        if "contact_stress_peak_Pa" in drive:
+            r["_hertz_mpa"] = drive["contact_stress_peak_Pa"] / 1e6
     return r
 
 
@@ -265,6 +277,57 @@ BUILD_CYLINDRICAL = [
 ]
 
 
+BUILD_INDEXER = [
+    Template("cam written to {any}: {str:_files}, {len:files.plots} plots", True),
+    Template("  {str:body.kind} (lengths in {u}): {str:follower.label}", True),
+    Template("  turret: {indexer.geometry.stations} stations, C = {indexer.geometry.centre_distance_mm} {u}, R_p = "
+             "{indexer.geometry.pitch_radius_mm} {u}, r_r = {indexer.geometry.roller_radius_mm} {u}; {body.cams} "
+             "plates {body.plate_thickness} {u} thick, gap {body.gap} {u}; {str:indexer.geometry.law} index over "
+             "{indexer.geometry.index_angle_deg}° of input from {indexer.geometry.index_start_deg}°", True),
+    Template("  clearance: smallest gap of an idle roller to a cam {indexer.geometry.clearance_mm} {u} (cam "
+             "{indexer.geometry.clearance_cam}, roller {indexer.geometry.clearance_roller})", True),
+    # the flanks are fitted, never called exact
+    Template("  flanks: cubic B-splines fitted within {body.flank_fit_error.value} {str:body.flank_fit_error.unit} of "
+             "the offset of the roller loci (measured, not exact; the dwell arcs are exact arcs); largest cam radius "
+             "{body.outer_radius} {u}", True),
+    Template("  turret angle recovered from the built profiles: max error {indexer.motion_from_geometry.max_error_rad} "
+             "rad from the law ({indexer.motion_from_geometry.samples} input angles)", True),
+    Template("  volume {volume} {u}³ (kernel {solid.volume_rel_diff} relative)", True),
+]
+#: the drive's line (``indexer.drive``: when report.json has it), and its roller life when it has that
+INDEXER_DRIVE = ("  drive at {indexer.drive.input_speed_rpm} rpm: index {indexer.drive.index_time_s} s, peak output "
+                 "acceleration {indexer.drive.output_acceleration_peak_rad_s2} rad/s², peak input torque "
+                 "{indexer.drive.input_torque_peak_Nm} N·m, peak normal force {indexer.drive.normal_force_peak_N} N, "
+                 "peak Hertz stress {_hertz_mpa} MPa")
+INDEXER_L10 = ", roller life L10 {indexer.drive.l10_hours} h"
+#: the carrying contact's pressure angle (with the check's limit when it has one) and the whole index's
+INDEXER_PRESSURE_ANGLE = ("  pressure angle: max {pressure_angle.max_deg}° at {pressure_angle.at_deg}° (the contact "
+                          "carrying the output torque{limit}); over the whole index {pressure_angle.index_max_deg}° "
+                          "at {pressure_angle.index_max_at_deg}°")
+#: each plate's program (``machining.plates.<k>``)
+INDEXER_PROGRAM = ("  {{str:machining.plates.{k}.file}}: XY contour of cam {{machining.plates.{k}.cam}}, tool radius "
+                   "{{machining.plates.{k}.tool_radius_mm}} {{u}}, {{machining.plates.{k}.gcode_lines}} lines, within "
+                   "{{machining.plates.{k}.path_error_mm}} {{u}} of the exact tool-centre path")
+
+
+def build_templates(name: str, report: dict) -> list[Template]:
+    """The build's lines of ``name``'s body: a parallel indexer's drive line when its report.json
+    has a drive (with the roller life when it has one), a line per plate's program."""
+    if name in PLANE:
+        return list(BUILD_PLANE)
+    if name not in INDEXER:
+        return list(BUILD_CYLINDRICAL)
+    t = list(BUILD_INDEXER)
+    limit = report["checks"]["results"].get("pressure_angle", {}).get("limit")
+    t.append(Template(INDEXER_PRESSURE_ANGLE.replace(
+        "{limit}", "" if limit is None else ", limit {checks.results.pressure_angle.limit}°"), True))
+    drive = report["indexer"].get("drive")
+    if drive:
+        t.append(Template(INDEXER_DRIVE + (INDEXER_L10 if drive.get("l10_hours") is not None else ""), True))
+    t += [Template(INDEXER_PROGRAM.format(k=k), True) for k in range(len(report["machining"]["plates"]))]
+    return t
+
+
 def remedy_templates(report: dict, prefix: str) -> list[Template]:
     """The line of each failing check's remedy (report.json ``checks.results[name].remedy``): the
     field, its value and the command, as report.json holds them."""
@@ -283,8 +346,14 @@ def remedy_templates(report: dict, prefix: str) -> list[Template]:
 def test_build_summary(builds, name):
     b = builds(name)
     r = derived(b.report)
-    templates = (BUILD_PLANE if name in PLANE else BUILD_CYLINDRICAL) + remedy_templates(r, "    remedy ")
+    templates = build_templates(name, r) + remedy_templates(r, "    remedy ")
     assert_held(held_to(b.stdout, templates, r, f"build {name}"))
+    if name in INDEXER:
+        # the verdict as the other bodies print it; the flanks' line never says they are exact
+        verdict = "all pass" if r["checks"]["passed"] else f"FAILED {', '.join(r['checks']['failed'])}"
+        assert f"  design checks: {verdict}" in b.stdout.splitlines()
+        flanks = next(line for line in b.stdout.splitlines() if line.startswith("  flanks: "))
+        assert "fitted within" in flanks and "not exact" in flanks
     # every file the summary line names is in the folder (a cylindrical cam's plots too)
     for f in [*(v for v in r["files"].values() if isinstance(v, str)), *r["files"]["plots"]]:
         assert (b.folder / f).is_file(), f
@@ -400,12 +469,62 @@ CYLINDRICAL_HEADER = [
 ]
 
 
+#: a parallel indexer's program header, plate ``#`` (report.json ``machining.plates.#``: gcode_indexer.py)
+INDEXER_HEADER = [
+    Template("(cam_workbench {str:_version}: parallel indexer cam {machining.plates.#.cam} of {body.cams}, XY "
+             "finishing contour)", True),
+    Template("(indexer: N = {indexer.geometry.stations} stations, beta = {indexer.geometry.index_angle_deg} deg index "
+             "angle, law {str:indexer.geometry.law}, C = {indexer.geometry.centre_distance_mm} {u}, R_p = "
+             "{indexer.geometry.pitch_radius_mm} {u}, r_r = {indexer.geometry.roller_radius_mm} {u}, {body.cams} cams, "
+             "index start {indexer.geometry.index_start_deg} deg)", True),
+    Template("(cam {machining.plates.#.cam}: plate {body.plate_thickness} {u} thick, cut alone from its own blank in "
+             "the cam frame at input angle 0: origin on the input axis, +X towards the turret axis, Z0 on the top "
+             "face)", True),
+    Template("(tool T{machining.tool_number}: radius {machining.plates.#.tool_radius_mm} {u}; tool centre = the "
+             "profile offset outward by {machining.tool_centre_offset} {u}; no cutter compensation; smallest concave "
+             "profile radius {machining.plates.#.min_concave_radius_mm} {u})"),
+    Template("(tool T{machining.tool_number}: radius {machining.plates.#.tool_radius_mm} {u}; tool centre = the "
+             "profile offset outward by {machining.tool_centre_offset} {u}; no cutter compensation; smallest concave "
+             "profile radius none [convex])"),
+    Template("(dwell: exact arc of radius {machining.plates.#.dwell_arc_radius_mm} {u} = r_d - r_r + tool radius "
+             "about the origin, {_dwell_span} deg)", True),
+    Template("(lobe tip X' = [{machining.plates.#.tip_mm.0}, {machining.plates.#.tip_mm.1}]: the tool rolls round "
+             "the corner on an arc of the tool radius {machining.plates.#.tool_radius_mm} {u} about it)", True),
+    Template("(flanks: G02/G03 biarcs, measured biarc error {machining.plates.#.biarc_error_mm} {u} against the "
+             "analytic tool-centre offset L + [tool radius - r_r]*n of the flank from the law, not against the "
+             "body's B-spline flank)", True),
+    Template("(flank fit error {machining.plates.#.flank_fit_error_mm} {u}: the body's B-spline flanks [DXF, STEP] "
+             "from the profile L - r_r*n)", True),
+    Template("(path: {machining.plates.#.moves} moves [{machining.plates.#.arcs} arcs, {machining.plates.#.lines} "
+             "lines], as written [4 decimals] max distance {machining.plates.#.path_error_mm} {u} from the analytic "
+             "tool-centre path, tolerance {machining.plates.#.tolerance_mm} {u} [G64 P{machining.plates.#.g64_p_mm} "
+             "blending on top])", True),
+    Template("({str:machining.milling} milling, {any}, entry at the middle of the dwell on lead arcs of radius "
+             "{machining.lead_radius} {u}; {machining.passes} pass to depth {machining.plates.#.depth_mm} {u})", True),
+]
+
+
+def indexer_header(k: int) -> list[Template]:
+    """The header of plate ``k``'s program, its numbers at ``machining.plates.<k>``."""
+    return [Template(t.text.replace("machining.plates.#.", f"machining.plates.{k}."), t.required)
+            for t in INDEXER_HEADER]
+
+
 @requires_ocp
 @pytest.mark.parametrize("name", NAMES)
 def test_gcode_headers_of_the_build(builds, name):
-    """cam.nc (and a conjugate pair's cam2.nc: its own base circle, roller and pressure angle)."""
+    """cam.nc (and a conjugate pair's cam2.nc: its own base circle, roller and pressure angle; a
+    parallel indexer's cam0.nc, cam1.nc, …: each plate's own numbers)."""
     b = builds(name)
     r = derived(b.report)
+    if name in INDEXER:
+        plates = r["machining"]["plates"]
+        assert [p["file"] for p in plates] == r["machining"]["files"] == [f"cam{k}.nc" for k in range(len(plates))]
+        assert [p["cam"] for p in plates] == list(range(r["body"]["cams"]))
+        for k, p in enumerate(plates):
+            text = header((b.folder / p["file"]).read_text())
+            assert_held(held_to(text, indexer_header(k), r, f"{name} {p['file']}"))
+        return
     if name not in PLANE:
         assert_held(held_to(header((b.folder / "cam.nc").read_text()), CYLINDRICAL_HEADER, r, f"{name} cam.nc"))
         return
@@ -423,9 +542,18 @@ def _xc_report(name: str) -> dict:
     return json.loads(json.dumps(run_pipeline(spec, solid=False, drawing=False).summary))
 
 
-@pytest.mark.parametrize("name", [n for n in PLANE if n != "groove"])
+@pytest.mark.parametrize("name", [n for n in NAMES if (n in PLANE and n != "groove") or n in INDEXER])
 def test_gcode_xc_headers(name):
-    """``gcode --mode xc`` (and ``--cam second`` of a conjugate pair) against the XC pipeline's numbers."""
+    """``gcode --mode xc`` (and ``--cam second`` of a conjugate pair) against the XC pipeline's numbers;
+    a parallel indexer's plates have XY contour programs only: ``--mode xc`` is refused (exit 2, the
+    field named, nothing on standard output)."""
+    if name in INDEXER:
+        res = cli("gcode", "--example", name, "--mode", "xc")
+        assert res.returncode == 2, (res.returncode, res.stderr)
+        assert res.stdout == ""
+        assert res.stderr.startswith('error: machining.program: "xc": ') and 'XY contour programs only ("xy")' in \
+            res.stderr, res.stderr
+        return
     r = derived(_xc_report(name))
     res = cli("gcode", "--example", name, "--mode", "xc")
     assert res.returncode == 0, res.stderr
@@ -524,6 +652,39 @@ TITLE_CYLINDRICAL = {
 }
 
 
+#: a parallel indexer's rows (drawing_indexer.py): report.json's indexer.geometry, body, pressure_angle,
+#: the checks, the drawn SPLINEs' error and where the turret is drawn
+TITLE_INDEXER = {
+    "STATIONS N": ["{indexer.geometry.stations}"],
+    "INDEX ANGLE BETA": ["{indexer.geometry.index_angle_deg}°"],
+    "INDEX START": ["{indexer.geometry.index_start_deg}° OF INPUT"],
+    "CENTRE DISTANCE C": ["{indexer.geometry.centre_distance_mm} {u}"],
+    "TURRET PITCH RADIUS R_p": ["{indexer.geometry.pitch_radius_mm} {u}"],
+    "ROLLER RADIUS r_r": ["{indexer.geometry.roller_radius_mm} {u}"],
+    "CAMS": ["{body.cams} PLATES {body.plate_thickness} {u} THICK, GAP {body.gap} {u}"],
+    "BORE": ["Ø{body.bore_diameter} {u}"],
+    "LARGEST CAM RADIUS": ["{body.outer_radius} {u}"],
+    "DWELL ARCS": [],             # one arc radius per plate: made in the test
+    # fitted, NOT exact: the measured error
+    "FLANKS": ["FITTED CUBIC B-SPLINES, NOT EXACT: FIT ERROR {body.flank_fit_error.value} "
+               "{str:body.flank_fit_error.unit} FROM THE EXACT OFFSET (MEASURED)"],
+    "DRAWN FLANK SPLINES": ["THE BODY'S OWN (NO REFIT): {drawing.drawn_flank_error.value} {u} FROM THE EXACT OFFSET "
+                            "({drawing.drawn_flank_error.points_per_span} POINTS PER SPAN)"],
+    "PRESSURE ANGLE (LOAD-CARRYING)": ["{pressure_angle.max_deg}° AT {pressure_angle.at_deg}° OF INPUT (LIMIT "
+                                       "{checks.results.pressure_angle.limit}°)",
+                                       "{pressure_angle.max_deg}° AT {pressure_angle.at_deg}° OF INPUT"],
+    "MAX DRIVING PRESSURE ANGLE": ["{pressure_angle.index_max_deg}° AT {pressure_angle.index_max_at_deg}° OF INPUT"],
+    "VOLUME": ["{volume} {u}3"],
+    "DESIGN CHECKS": ["ALL PASS ({_checked} CHECKED)", "ALL PASS ({_checked} CHECKED, {_skipped} SKIPPED)",
+                      "FAILED: {any}"],
+    "DRAWN AT": ["INPUT ANGLE {drawing.drawn_at.input_angle_deg}°, TURRET ANGLE "
+                 "{drawing.drawn_at.turret_angle_deg}°; INPUT TURNS CCW, TURRET CW"],
+    "UNITS / SCALE": ["{u} / 1:1"],
+    "SPEC DIGEST (SHA-256)": ["{str:spec_digest}"],
+    "SOFTWARE": ["cam_workbench {str:_version}"],
+}
+
+
 @requires_ocp
 @pytest.mark.parametrize("name", NAMES)
 def test_dxf_title_block(builds, name):
@@ -534,7 +695,12 @@ def test_dxf_title_block(builds, name):
     if "second_cam" in (r.get("body") or {}):
         r["_FOLLOWER2"] = str(r["body"]["second_cam"]["follower"]["label"]).upper()
     pairs, motion, other = title_block(b.folder / "cam.dxf")
-    rules = TITLE_PLANE if name in PLANE else TITLE_CYLINDRICAL
+    rules = TITLE_PLANE if name in PLANE else TITLE_INDEXER if name in INDEXER else TITLE_CYLINDRICAL
+    if name in INDEXER:
+        # each plate's dwell arc in turn; the flanks say they are fitted, not exact
+        arcs = " / ".join(f"{{_dwell_arc.{k}}}" for k in range(len(r["_dwell_arc"])))
+        rules = {**rules, "DWELL ARCS": [f"EXACT ARCS R {arcs} {{u}}, {{_dwell_span}}° EACH"]}
+        assert pairs["FLANKS"].startswith("FITTED") and "NOT EXACT" in pairs["FLANKS"]
     problems = []
     for label, value in pairs.items():
         if not re.search(r"\d", value):
@@ -616,8 +782,14 @@ def check_cell(cell: str, value: Any, unit: str) -> bool:
     return agrees(m.group(1), value) and shown_unit == unit
 
 
+#: the check table's title by report.json ``checks.sampling``: a parallel indexer's checks sample the
+#: input's turn ("per_turn"), the other bodies' each rise and return
+CHECK_TITLES = {
+    "per_turn": Template("design checks ({checks.samples_per_turn} input angles over the turn)", True),
+}
+CHECK_TITLE = Template("design checks ({checks.samples_per_segment} samples per rise/return, refined extrema)", True)
+
 CHECK_LINES = [
-    Template("design checks ({checks.samples_per_segment} samples per rise/return, refined extrema)", True),
     Template("thesis Eq. 4.21 area ½∮(R_b + s)² dθ: {areas.thesis_eq_4_21} {u}² (report.json areas.thesis_eq_4_21); "
              "cross-section (profile − bore): {areas.built_cross_section} {u}² (areas.built_cross_section)"),
     Template("area inside the {str:follower.curve}: {areas.pitch_curve} {u}² (report.json areas.pitch_curve); "
@@ -630,7 +802,8 @@ CHECK_LINES = [
 def held_check_tables(stdout: str, report: dict, what: str) -> list[str]:
     tables, rest = rich_tables(stdout)
     checks = report["checks"]
-    problems = held_to(rest, CHECK_LINES + remedy_templates(report, "remedy "), derived(report), what,
+    title = CHECK_TITLES.get(checks.get("sampling"), CHECK_TITLE)
+    problems = held_to(rest, [title] + CHECK_LINES + remedy_templates(report, "remedy "), derived(report), what,
                        skip=lambda line: line.endswith("/report.json"))
     rows = next(v for k, v in tables.items() if k.startswith("design checks"))
     assert [row[0] for row in rows] == [f"{n} ({r['kind']})" for n, r in checks["results"].items()], rows
@@ -806,6 +979,23 @@ def test_report_html(builds, name):
         if thesis is not None:
             assert page.labels["areas.thesis_eq_4_21"] == ["thesis Eq. 4.21 area ½∮(R_b + s)² dθ"]
         assert page.labels["areas.pitch_curve"] == [f"area inside the {b.report['follower']['curve']}"]
+    if name in INDEXER:
+        # the numbers the build prints are on the page too (held above to report.json), under their names;
+        # the flanks fitted within their measured error, never "exact"
+        for key in ("indexer.geometry.stations", "indexer.geometry.centre_distance_mm",
+                    "indexer.geometry.pitch_radius_mm", "indexer.geometry.roller_radius_mm",
+                    "checks.results.pressure_angle.value", "checks.results.pressure_angle.at_deg",
+                    "indexer.geometry.max_driving_pressure_angle_deg", "indexer.geometry.clearance_mm",
+                    "body.flank_fit_error.value", "body.outer_radius", "indexer.motion_from_geometry.max_error_rad",
+                    "volume", "machining.tool_radius", "machining.gcode_lines"):
+            assert page.cells[key]["value"] is not None, key
+        drive = b.report["indexer"].get("drive") or {}
+        for key in ("index_time_s", "output_acceleration_peak_rad_s2", "input_torque_peak_Nm", "normal_force_peak_N",
+                    "contact_stress_peak_Pa", "l10_hours"):
+            if drive.get(key) is not None:
+                assert page.cells[f"indexer.drive.{key}"]["value"] is not None, key
+        fit = page.labels["body.flank_fit_error.value"]
+        assert len(fit) == 1 and fit[0].startswith("flanks: fitted within") and "not exact" in fit[0], fit
 
 
 # ---- dynamics -----------------------------------------------------------------------------------------
@@ -966,6 +1156,8 @@ REPR_NUMBERS = {
     "cylindrical": ["cylindrical cam", "translating roller r = 5", "pitch radius 40", "length 60", "groove 10.05 wide"],
     "cylindrical_oscillating": ["cylindrical cam", "oscillating roller r = 5", "pivot d = 50", "arm L = 50",
                                 "length 50"],
+    "parallel_indexer": ["parallel_indexer cam", "turret of 8 stations × 2 planes", "rollers r = 10 on R_p = 50, C = 120",
+                         "index 120°", "2 plates 16 thick"],
 }
 
 
@@ -979,7 +1171,7 @@ def test_repr_names_body_follower_and_numbers(name):
         assert part in text, (part, text)
     if name == "oscillating":
         assert "e =" not in text and "e=" not in text
-    if name in ("conjugate", "cylindrical"):     # docs/python.md quotes them
+    if name in ("conjugate", "cylindrical", "parallel_indexer"):     # docs/python.md quotes them
         doc = " ".join((ROOT / "docs" / "python.md").read_text(encoding="utf-8").split())
         assert f"`{text}`" in doc
 

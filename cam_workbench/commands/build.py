@@ -13,6 +13,7 @@ from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
+from . import build_indexer
 from .common import write_cam
 from .dxf_cmd import describe as describe_dxf
 
@@ -149,3 +150,17 @@ def _print_cylinder_summary(s: dict, out: Path) -> None:
     if fit:
         print(f"  cam.dxf: developed walls as cubic splines within {fit['value']:.3g} {u} of the exact walls "
               f"(pitch line {fit['pitch_line']:.3g} {u}), side and end views")
+
+
+@SUMMARIES.register(build_indexer.BODY)
+def _print_indexer_summary(s: dict, out: Path) -> None:
+    """A parallel indexer's (:mod:`.build_indexer`'s lines): its turret, pressure angles, clearance,
+    fitted flanks, recovered turret angle, volume and drive, the checks' verdict, each plate's program."""
+    _files_line(s, out)
+    for line in build_indexer.body_lines(s):
+        print(line)
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    _print_remedies(ck)
+    for line in build_indexer.program_lines(s):
+        print(line)
