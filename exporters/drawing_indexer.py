@@ -31,8 +31,8 @@ from cam_workbench.generators.bodies.indexing.parallel import turret_angle
 from cam_workbench.generators.bodies.indexing.parallel_kind import ParallelIndexerDesign
 from cam_workbench.generators.errors import SpecError
 
-from .dxf import DRAWINGS, _checks_cell, _extents, title_line
-from .dxf_indexer import _SPAN_SAMPLES, IndexerDxfInfo, _title_block, indexer_drawing
+from .dxf import DRAWINGS, checks_cell, extents, title_line
+from .dxf_indexer import SPAN_SAMPLES, IndexerDxfInfo, title_block, indexer_drawing
 
 #: the DXF version :func:`~cam_workbench.exporters.dxf_indexer.indexer_drawing` writes
 DXF_VERSION = "R2010"
@@ -59,7 +59,7 @@ class IndexerDrawingInfo:
     Attributes:
         drawn: what :func:`~cam_workbench.exporters.dxf_indexer.indexer_drawing` drew (its
             measured errors: ``fit_error`` the body's, ``drawn_error`` the SPLINEs' at
-            :data:`~cam_workbench.exporters.dxf_indexer._SPAN_SAMPLES` points per knot span).
+            :data:`~cam_workbench.exporters.dxf_indexer.SPAN_SAMPLES` points per knot span).
         rows: the title block's (label, value) rows (empty without a title block).
         title: the title block's title.
         chord_tolerance: ``drawing.chord_tolerance`` (the SPLINEs are the body's curves
@@ -90,8 +90,8 @@ class IndexerDrawingInfo:
                                 "what": "the body's flank B-splines vs the exact offset of the roller loci "
                                         "(report.json body.flank_fit_error)"},
             "drawn_flank_error": {"value": d.drawn_error, "unit": d.units,
-                                  "points_per_span": _SPAN_SAMPLES,
-                                  "what": f"the drawn flank SPLINEs vs the exact offset, {_SPAN_SAMPLES} points "
+                                  "points_per_span": SPAN_SAMPLES,
+                                  "what": f"the drawn flank SPLINEs vs the exact offset, {SPAN_SAMPLES} points "
                                           "per knot span"},
             "drawn_at": {"input_angle_deg": 0.0, "turret_angle_deg": self.turret_angle_deg,
                          "what": "the input angle the cams and the turret are drawn at, and the turret's angle there"},
@@ -159,13 +159,13 @@ def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_err
         ("FLANKS", f"FITTED CUBIC B-SPLINES, NOT EXACT: FIT ERROR {_e(fit['value'])} {fit['unit']} "
                    "FROM THE EXACT OFFSET (MEASURED)"),
         ("DRAWN FLANK SPLINES", f"THE BODY'S OWN (NO REFIT): {_e(drawn_error)} mm FROM THE EXACT OFFSET "
-                                f"({_SPAN_SAMPLES} POINTS PER SPAN)"),
+                                f"({SPAN_SAMPLES} POINTS PER SPAN)"),
         ("PRESSURE ANGLE (LOAD-CARRYING)", f"{_deg(pa['max_deg'])} AT {_deg(pa['at_deg'])} OF INPUT{limit}"),
         ("MAX DRIVING PRESSURE ANGLE", f"{_deg(pa['index_max_deg'])} AT {_deg(pa['index_max_at_deg'])} OF INPUT"),
         ("VOLUME", f"{summary['volume']:.6g} mm3"),
     ]
     if isinstance(checks, dict) and "passed" in checks:
-        rows.append(("DESIGN CHECKS", _checks_cell(checks)))
+        rows.append(("DESIGN CHECKS", checks_cell(checks)))
     rows += [
         ("DRAWN AT", f"INPUT ANGLE 0°, TURRET ANGLE {psi0:.4f}°; INPUT TURNS CCW, TURRET CW"),
         ("UNITS / SCALE", "mm / 1:1"),
@@ -210,8 +210,8 @@ def build_indexer_dxf(design: ParallelIndexerDesign, summary: dict[str, Any] | N
     if dr.title_block:
         rows = title_rows(design, s, drawn.drawn_error, psi0)
         r_max = float(s["body"]["outer_radius"])
-        box = _extents(msp, r_max, h)
-        _title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
+        box = extents(msp, r_max, h)
+        title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
     try:
         from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
 

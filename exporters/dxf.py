@@ -317,7 +317,7 @@ def build_dxf(design: CamDesign, summary: dict[str, Any] | None = None) -> tuple
     if dr.dimensions:
         _dimensions(msp, design, r_max, p_max, r_base, h, units)
     if dr.title_block:
-        _title_block(msp, design, s, info, _extents(msp, r_max, h), h)
+        _title_block(msp, design, s, info, extents(msp, r_max, h), h)
     try:
         from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
 
@@ -596,7 +596,7 @@ def title_rows(design: CamDesign, summary: dict[str, Any], info: DxfInfo) -> lis
     ]
     rows += second
     if isinstance(checks, dict) and "passed" in checks:
-        rows.append(("DESIGN CHECKS", _checks_cell(checks)))
+        rows.append(("DESIGN CHECKS", checks_cell(checks)))
     rows += [
         ("SPEC DIGEST (SHA-256)", str(summary.get("spec_digest", "-"))),
         ("SOFTWARE", f"cam_workbench {__version__}"),
@@ -626,7 +626,7 @@ def _second_cam_rows(summary: dict[str, Any], u: str, f: Any) -> list[tuple[str,
     ]
 
 
-def _checks_cell(checks: dict[str, Any]) -> str:
+def checks_cell(checks: dict[str, Any]) -> str:
     """checks.passed / checks.failed of the summary (failed names verbatim)."""
     if checks["passed"]:
         return checks_verdict(checks).removeprefix("design checks: ").upper()
@@ -646,7 +646,7 @@ class Box:
     y1: float
 
 
-def _extents(msp: Any, r_max: float, h: float) -> Box:
+def extents(msp: Any, r_max: float, h: float) -> Box:
     """Extents of everything drawn so far, dimension blocks (their texts) included
     (``ezdxf.bbox`` renders DIMENSION and TEXT/MTEXT entities to measure them), each TEXT
     widened to :func:`text_width` (another reader's font may draw it wider); the circle of

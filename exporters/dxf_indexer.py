@@ -40,7 +40,7 @@ from .dxf import DIMSTYLE, LAYERS, add_closed_outline, add_nurbs_spline, text_wi
 #: ACI colours of the cams' (and their rollers') layers, cam k → _CAM_COLORS[k]
 _CAM_COLORS = (7, 2, 6)
 #: samples per knot span where the drawn flanks' distance from the exact offset is measured
-_SPAN_SAMPLES = 64
+SPAN_SAMPLES = 64
 #: text heights of the title block [× the drawing's text height]: title, cells, row pitch, margin
 _TITLE_H, _CELL_H, _ROW_H, _PAD = 1.4, 0.8, 1.8, 0.5
 DEFAULT_TITLE = "PARALLEL INDEXER CAMS"
@@ -68,7 +68,7 @@ class IndexerDxfInfo:
         layers: the layer names; cams: n_c; splines, arcs: the profile entities (2 and 1 per cam);
         rollers: the roller circles (N per plane); fit_error: the body's flank fit error [mm]
         (measured at its check points); drawn_error: the drawn SPLINEs' largest distance from the
-        exact offset [mm], measured at :data:`_SPAN_SAMPLES` points per knot span; quoted_error:
+        exact offset [mm], measured at :data:`SPAN_SAMPLES` points per knot span; quoted_error:
         the number the title block quotes [mm], the larger of the two rounded up to 2 significant
         digits; text_height [mm]; rows: the title block's (label, value) rows.
     """
@@ -105,19 +105,19 @@ def round_up(x: float, digits: int = 2) -> float:
 
 def drawn_flank_error(design: ParallelDesign, body: IndexerBody) -> float:
     """Largest distance [mm] of the body's flank B-splines from the exact offset Q(τ), at
-    :data:`_SPAN_SAMPLES` points per knot span (the spline's parameter is τ)."""
+    :data:`SPAN_SAMPLES` points per knot span (the spline's parameter is τ)."""
     worst = 0.0
     for k, fits in enumerate(body.fits):
         for fit in fits:
             lo, hi = fit.curve.domain
             spans = max(len(np.unique(fit.curve.knots)) - 1, 1)
-            tau = np.linspace(lo, hi, spans * _SPAN_SAMPLES + 1)
+            tau = np.linspace(lo, hi, spans * SPAN_SAMPLES + 1)
             exact, _ = offset_point(design.indexer, k, tau)
             worst = max(worst, float(np.max(np.hypot(*(fit.curve.evaluate(tau) - exact).T))))
     return worst
 
 
-def _new_document(h: float) -> Any:
+def new_document(h: float) -> Any:
     """A new R2010 ezdxf document in mm with the standard linetypes and a dimension style."""
     import ezdxf  # deferred: ezdxf, loaded when a drawing is made
 
@@ -125,24 +125,24 @@ def _new_document(h: float) -> Any:
     doc.header["$LTSCALE"] = h
     doc.header["$LUPREC"] = 3
     ds = doc.dimstyles.new(DIMSTYLE)
-    for key, value in _dim_values(h).items():
+    for key, value in dim_values(h).items():
         ds.dxf.set(key, value)
     doc.header["$DIMSTYLE"] = DIMSTYLE
     return doc
 
 
-def _dim_values(h: float) -> dict[str, Any]:
+def dim_values(h: float) -> dict[str, Any]:
     return {"dimtxt": h, "dimasz": h, "dimgap": 0.3 * h, "dimexe": 0.5 * h, "dimexo": 0.5 * h, "dimdec": 3,
             "dimzin": 8, "dimclrd": 3, "dimclre": 3, "dimclrt": 3, "dimlfac": 1.0, "dimtih": 1, "dimtoh": 1}
 
 
-def _text(msp: Any, text: str, at: tuple[float, float], height: float, layer: str) -> Any:
+def add_text(msp: Any, text: str, at: tuple[float, float], height: float, layer: str) -> Any:
     t = msp.add_text(text, height=height, dxfattribs={"layer": layer, "style": "Standard", "linetype": "Continuous"})
     t.set_placement(at)
     return t
 
 
-def _cross(msp: Any, x: float, y: float, size: float, layer: str) -> None:
+def add_cross(msp: Any, x: float, y: float, size: float, layer: str) -> None:
     att = {"layer": layer}
     msp.add_line((x - size, y), (x + size, y), dxfattribs=att)
     msp.add_line((x, y - size), (x, y + size), dxfattribs=att)
@@ -213,7 +213,7 @@ def indexer_drawing(design: ParallelDesign, body: IndexerBody, title: str | None
     x_lo, x_hi = min(-r_cam, c_dist - rp - rr), max(r_cam, c_dist + rp + rr)
     y_hi = max(r_cam, rp + rr)
     h = float(f"{(x_hi - x_lo) / 60:.2g}")
-    doc = _new_document(h)
+    doc = new_document(h)
     layers = indexer_layers(n_c)
     for name, (color, linetype, lw) in layers.items():
         doc.layers.add(name, color=color, linetype=linetype).dxf.lineweight = lw
@@ -240,30 +240,30 @@ def indexer_drawing(design: ParallelDesign, body: IndexerBody, title: str | None
         msp.add_circle((0.0, 0.0), r_bore, dxfattribs={"layer": "BORE"})
 
     # the turret and the rollers at θ = 0 (fixed frame = cam frame there)
-    _cross(msp, c_dist, 0.0, rr, "TURRET")
+    add_cross(msp, c_dist, 0.0, rr, "TURRET")
     msp.add_circle((c_dist, 0.0), rp, dxfattribs={"layer": "TURRET"})
     for k in range(n_c):
         p, _, _ = roller_state(ix, k, np.arange(n), np.zeros(n))
         for x, y in p.tolist():
             msp.add_circle((x, y), rr, dxfattribs={"layer": f"ROLLERS_{k}"})
-    _cross(msp, 0.0, 0.0, rr, "CENTERLINES")
+    add_cross(msp, 0.0, 0.0, rr, "CENTERLINES")
     ext = 1.5 * h
     msp.add_line((x_lo - ext, 0.0), (x_hi + ext, 0.0), dxfattribs={"layer": "CENTERLINES"})
     msp.add_line((0.0, -r_cam - ext), (0.0, r_cam + ext), dxfattribs={"layer": "CENTERLINES"})
     msp.add_line((c_dist, -rp - rr - ext), (c_dist, rp + rr + ext), dxfattribs={"layer": "CENTERLINES"})
-    _text(msp, "O: INPUT AXIS", (0.4 * h, r_cam + 0.6 * h), 0.7 * h, "CENTERLINES")
-    _text(msp, "P: TURRET AXIS", (c_dist + 0.4 * h, rp + rr + 0.6 * h), 0.7 * h, "CENTERLINES")
+    add_text(msp, "O: INPUT AXIS", (0.4 * h, r_cam + 0.6 * h), 0.7 * h, "CENTERLINES")
+    add_text(msp, "P: TURRET AXIS", (c_dist + 0.4 * h, rp + rr + 0.6 * h), 0.7 * h, "CENTERLINES")
 
     # the centre distance, below everything
     y_dim = -y_hi - 4 * h
     msp.add_linear_dim(base=(0.5 * c_dist, y_dim), p1=(0.0, 0.0), p2=(c_dist, 0.0), angle=0.0, text="C = <>",
-                       dimstyle=DIMSTYLE, override=_dim_values(h),
+                       dimstyle=DIMSTYLE, override=dim_values(h),
                        dxfattribs={"layer": "DIMENSIONS", "dimstyle": DIMSTYLE}).render()
 
     drawn = drawn_flank_error(design, body)
     quoted = round_up(max(body.fit_error, drawn))
     rows = title_rows(design, body, quoted)
-    _title_block(msp, title or DEFAULT_TITLE, rows, x_hi + 3 * h, y_hi + 2 * h, h, (x_lo - 2 * h, y_dim - 3 * h))
+    title_block(msp, title or DEFAULT_TITLE, rows, x_hi + 3 * h, y_hi + 2 * h, h, (x_lo - 2 * h, y_dim - 3 * h))
     try:
         from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
 
@@ -275,7 +275,7 @@ def indexer_drawing(design: ParallelDesign, body: IndexerBody, title: str | None
     return doc, info
 
 
-def _title_block(msp: Any, title: str, rows: list[tuple[str, str]], x0: float, top: float, h: float,
+def title_block(msp: Any, title: str, rows: list[tuple[str, str]], x0: float, top: float, h: float,
                  sheet_corner: tuple[float, float]) -> None:
     """The ``rows`` in a ruled two-column box under ``title``, its top-left corner at (x0, top), each
     column as wide as :func:`~cam_workbench.exporters.dxf.text_width` bounds its texts; then a sheet
@@ -285,12 +285,12 @@ def _title_block(msp: Any, title: str, rows: list[tuple[str, str]], x0: float, t
     x1 = x0 + max(text_width(label, th) for label, _ in rows) + 2 * _PAD * h
     x2 = max(x1 + max(text_width(value, th) for _, value in rows) + 2 * _PAD * h,
              x0 + text_width(title, _TITLE_H * h) + 2 * _PAD * h)
-    _text(msp, title, (x0 + _PAD * h, top - 1.9 * h), _TITLE_H * h, "TITLE")
+    add_text(msp, title, (x0 + _PAD * h, top - 1.9 * h), _TITLE_H * h, "TITLE")
     y = top - 2.6 * h
     msp.add_line((x0, y), (x2, y), dxfattribs=att)
     for label, value in rows:
-        _text(msp, label, (x0 + _PAD * h, y - 1.35 * h), th, "TITLE")
-        _text(msp, value, (x1 + _PAD * h, y - 1.35 * h), th, "TITLE")
+        add_text(msp, label, (x0 + _PAD * h, y - 1.35 * h), th, "TITLE")
+        add_text(msp, value, (x1 + _PAD * h, y - 1.35 * h), th, "TITLE")
         y -= _ROW_H * h
         msp.add_line((x0, y), (x2, y), dxfattribs=att)
     msp.add_line((x1, top - 2.6 * h), (x1, y), dxfattribs=att)

@@ -100,7 +100,7 @@ from cam_workbench.generators.curves.nurbs import NurbsCurve
 
 from .atomic import atomic_path
 from .dxf import DIMSTYLE, LAYERS, add_closed_outline, add_nurbs_spline, text_width
-from .dxf_indexer import _cross, _dim_values, _new_document, _text, _title_block, round_up
+from .dxf_indexer import add_cross, dim_values, new_document, add_text, title_block, round_up
 
 Array = np.ndarray
 
@@ -462,7 +462,7 @@ def _line(msp: Any, a: tuple[float, float], b: tuple[float, float], layer: str) 
 def _dimension(msp: Any, p1: tuple[float, float], p2: tuple[float, float], base: tuple[float, float], angle: float,
                h: float) -> None:
     msp.add_linear_dim(base=base, p1=p1, p2=p2, angle=angle, text="C = <>", dimstyle=DIMSTYLE,
-                       override=_dim_values(h), dxfattribs={"layer": "DIMENSIONS", "dimstyle": DIMSTYLE}).render()
+                       override=dim_values(h), dxfattribs={"layer": "DIMENSIONS", "dimstyle": DIMSTYLE}).render()
 
 
 def near_rollers(ix: BarrelIndexer) -> Array:
@@ -496,7 +496,7 @@ def _barrel(msp: Any, design: SpatialDesign, surfaces: FlankSurfaces, h: float
     ext = 2 * h
     _line(msp, (-half - ext, 0.0), (half + ext, 0.0), "CENTERLINES")
     _line(msp, (0.0, -r1 - ext), (0.0, t1 + ext), "CENTERLINES")
-    _text(msp, "SIDE VIEW (CAM AXIS HORIZONTAL, TURRET ABOVE)", (-half, t1 + 2.5 * h), 0.7 * h, "NOTES")
+    add_text(msp, "SIDE VIEW (CAM AXIS HORIZONTAL, TURRET ABOVE)", (-half, t1 + 2.5 * h), 0.7 * h, "NOTES")
     # end view: X = x, Y = y about the cam axis
     x_lo = min(-r1, float(np.min(rollers[:, 0], initial=0.0)) - rr)
     xe = half + 6 * h - x_lo
@@ -505,11 +505,11 @@ def _barrel(msp: Any, design: SpatialDesign, surfaces: FlankSurfaces, h: float
     ends = np.unique(np.round(rollers[:, 0], 9))          # rollers at z and −z coincide seen along z
     for x in ends.tolist():
         _rect(msp, xe + x - rr, t0, xe + x + rr, t1, "ROLLERS")
-    _cross(msp, xe, 0.0, rr, "CENTERLINES")
+    add_cross(msp, xe, 0.0, rr, "CENTERLINES")
     _line(msp, (xe - r1 - ext, 0.0), (xe + c + ext, 0.0), "CENTERLINES")
     _line(msp, (xe + c, -r1 - ext), (xe + c, t1 + ext), "CENTERLINES")
-    _text(msp, "END VIEW (ALONG THE CAM AXIS)", (xe - r1, t1 + 2.5 * h), 0.7 * h, "NOTES")
-    _text(msp, "TURRET AXIS", (xe + c + 0.4 * h, t1 + 0.6 * h), 0.7 * h, "CENTERLINES")
+    add_text(msp, "END VIEW (ALONG THE CAM AXIS)", (xe - r1, t1 + 2.5 * h), 0.7 * h, "NOTES")
+    add_text(msp, "TURRET AXIS", (xe + c + 0.4 * h, t1 + 0.6 * h), 0.7 * h, "CENTERLINES")
     y_dim = -r1 - 3 * h
     _dimension(msp, (xe, 0.0), (xe + c, 0.0), (xe + 0.5 * c, y_dim), 0.0, h)
     # the developed views below: the top radius, then the root radius
@@ -522,7 +522,7 @@ def _barrel(msp: Any, design: SpatialDesign, surfaces: FlankSurfaces, h: float
         _rect(msp, x0 - math.pi * rho, y0 - half, x0 + math.pi * rho, y0 + half, "OUTLINE")
         _line(msp, (x0 - math.pi * rho - ext, y0), (x0 + math.pi * rho + ext, y0), "CENTERLINES")
         what = "RIB TOP" if rho == r1 else "RIB ROOT"
-        _text(msp, f"DEVELOPED AT R {_g(rho)} mm ({what}): X = R*PHI, Y = Z; SEEN FROM OUTSIDE",
+        add_text(msp, f"DEVELOPED AT R {_g(rho)} mm ({what}): X = R*PHI, Y = Z; SEEN FROM OUTSIDE",
               (x0 - math.pi * rho, y0 + half + 0.8 * h), 0.7 * h, "NOTES")
         for tr in traces:
             if tr.radius == rho:
@@ -559,11 +559,11 @@ def _globoid(msp: Any, design: SpatialDesign, h: float
         pts = [p + t0 * u - rr * v, p + t1 * u - rr * v, p + t1 * u + rr * v, p + t0 * u + rr * v]
         add_closed_outline(msp, [tuple(map(float, q)) for q in pts], {"layer": "ROLLERS"})
     _line(msp, (-half - ext, 0.0), (half + ext, 0.0), "CENTERLINES")
-    _cross(msp, 0.0, c, rr, "CENTERLINES")
-    _cross(msp, 0.0, 0.0, rr, "CENTERLINES")
-    _text(msp, "CONTOUR VIEW: SECTION IN THE TURRET'S PLANE (X = Z, Y = X)", (-c, c + t1 + rr + 2 * h), 0.7 * h,
+    add_cross(msp, 0.0, c, rr, "CENTERLINES")
+    add_cross(msp, 0.0, 0.0, rr, "CENTERLINES")
+    add_text(msp, "CONTOUR VIEW: SECTION IN THE TURRET'S PLANE (X = Z, Y = X)", (-c, c + t1 + rr + 2 * h), 0.7 * h,
           "NOTES")
-    _text(msp, "P: TURRET AXIS", (0.4 * h, c + 0.6 * h), 0.7 * h, "CENTERLINES")
+    add_text(msp, "P: TURRET AXIS", (0.4 * h, c + 0.6 * h), 0.7 * h, "CENTERLINES")
     reach = t1 + rr
     x_dim = -max(half, reach) - 3 * h
     _dimension(msp, (0.0, 0.0), (0.0, c), (x_dim, 0.5 * c), 90.0, h)
@@ -574,11 +574,11 @@ def _globoid(msp: Any, design: SpatialDesign, h: float
     msp.add_circle((xe, 0.0), rho_tip_end, dxfattribs={"layer": "TIP"})
     msp.add_circle((xe, 0.0), c - r_root, dxfattribs={"layer": "HIDDEN"})
     msp.add_circle((xe, 0.0), c - r_tip, dxfattribs={"layer": "HIDDEN"})
-    _cross(msp, xe, 0.0, rr, "CENTERLINES")
+    add_cross(msp, xe, 0.0, rr, "CENTERLINES")
     _line(msp, (xe - rho_tip_end - ext, 0.0), (xe + c + ext, 0.0), "CENTERLINES")
     _line(msp, (xe + c, -rho_tip_end - ext), (xe + c, rho_tip_end + ext), "CENTERLINES")
-    _text(msp, "END VIEW (ALONG THE CAM AXIS)", (xe - rho_tip_end, rho_tip_end + 2.5 * h), 0.7 * h, "NOTES")
-    _text(msp, "TURRET AXIS", (xe + c + 0.4 * h, rho_tip_end + 0.6 * h), 0.7 * h, "CENTERLINES")
+    add_text(msp, "END VIEW (ALONG THE CAM AXIS)", (xe - rho_tip_end, rho_tip_end + 2.5 * h), 0.7 * h, "NOTES")
+    add_text(msp, "TURRET AXIS", (xe + c + 0.4 * h, rho_tip_end + 0.6 * h), 0.7 * h, "CENTERLINES")
     y_dim = -rho_tip_end - 3 * h
     _dimension(msp, (xe, 0.0), (xe + c, 0.0), (xe + 0.5 * c, y_dim), 0.0, h)
     box = (x_dim - 3 * h, xe + c + 1.4 * h + text_width("TURRET AXIS", 0.7 * h), min(-c - ext, y_dim - 3 * h),
@@ -604,7 +604,7 @@ def spatial_drawing(design: SpatialDesign, surfaces: FlankSurfaces, title: str |
     else:
         span = 2 * float(ix.roller_end) + 2 * float(ix.centre_distance)
     h = float(f"{span / 60:.2g}")
-    doc = _new_document(h)
+    doc = new_document(h)
     layers = spatial_layers()
     for name, (color, linetype, lw) in layers.items():
         doc.layers.add(name, color=color, linetype=linetype).dxf.lineweight = lw
@@ -619,7 +619,7 @@ def spatial_drawing(design: SpatialDesign, surfaces: FlankSurfaces, title: str |
     q_trace = round_up(trace_err) if traces else math.nan
     rows = title_rows(design, q_fit, q_trace if traces else None)
     x_lo, x_hi, y_lo, y_hi = box
-    _title_block(msp, title or DEFAULT_TITLE[type(ix).__name__], rows, x_hi + 3 * h, y_hi, h,
+    title_block(msp, title or DEFAULT_TITLE[type(ix).__name__], rows, x_hi + 3 * h, y_hi, h,
                  (x_lo - 2 * h, y_lo - 2 * h))
     try:
         from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
