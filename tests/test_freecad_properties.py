@@ -72,7 +72,9 @@ def test_absent_values():
         # arm pair's angle (0 is an angle)
         "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled",
         # the optimiser's lower bound of a groove's clearance (0: a groove as wide as the roller)
-        "OptimiseClearanceMinEnabled"]
+        "OptimiseClearanceMinEnabled",
+        # an indexer's plate gap (0: face to face), output inertia and friction (0: none; absent: the defaults)
+        "IndexerGapEnabled", "IndexerOutputInertiaEnabled", "IndexerFrictionTorqueEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [

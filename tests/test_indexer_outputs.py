@@ -27,6 +27,7 @@ from cam_workbench.exporters.output_rule import spec_claim  # noqa: E402
 from cam_workbench.generators.errors import SpecError  # noqa: E402
 from cam_workbench.generators.kinds import body_of  # noqa: E402
 from cam_workbench.generators.spec.examples import PARALLEL_INDEXER_SPEC_DICT  # noqa: E402
+from cam_workbench.generators.spec.indexer import indexer_value
 from cam_workbench.generators.spec.model import CamSpec  # noqa: E402
 from cam_workbench.generators.spec.toml_io import load_spec, spec_digest, to_toml  # noqa: E402
 from cam_workbench.pipeline import DXF_NAME, run_pipeline, write_outputs  # noqa: E402
@@ -64,7 +65,7 @@ def built(tmp_path_factory):
 # ---- the pipeline's sections and files -----------------------------------------------------------
 def test_the_pipeline_writes_the_drawing_and_one_program_per_plate(built):
     spec, _, out, folder, report = built
-    n_c = spec.indexer.cams
+    n_c = indexer_value(spec, "cams")
     names = [f"cam{k}.nc" for k in range(n_c)]
     assert report["files"] == {"dxf": DXF_NAME, "gcode": "cam0.nc",
                                **{f"gcode_cam{k}": f"cam{k}.nc" for k in range(1, n_c)}, "report": "report.json"}
@@ -273,7 +274,7 @@ def test_each_plate_program_runs_in_rs274_within_its_tolerance_of_the_exact_prof
     worst = []
     for k, cam in enumerate(out.design.geometry.cams):
         text = (folder / f"cam{k}.nc").read_text()
-        assert f"cam {k} of {spec.indexer.cams}" in text
+        assert f"cam {k} of {indexer_value(spec, 'cams')}" in text
         folder_k = tmp_path / f"cam{k}"
         folder_k.mkdir()
         tol, err = check_program(text, cam, rt, m["depth"], folder_k)
@@ -339,6 +340,6 @@ def test_the_command_line_writes_the_same_drawing_and_programs(built, tmp_path):
     assert "drawing written to" in res.stdout
     a, b = ezdxf.readfile(str(tmp_path / "dxf" / DXF_NAME)), ezdxf.readfile(str(folder / DXF_NAME))
     assert title_rows(a) == title_rows(b)
-    for k in range(spec.indexer.cams):
+    for k in range(indexer_value(spec, "cams")):
         pa, pb = drawn_pieces(a, f"CAM_{k}"), drawn_pieces(b, f"CAM_{k}")
         assert len(pa) == len(pb) and all(np.array_equal(x, y) for x, y in zip(pa, pb))

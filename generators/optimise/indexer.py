@@ -50,6 +50,7 @@ import numpy as np
 from ..bodies.indexing import from_spec
 from ..bodies.indexing.parallel_kind import ParallelIndexerBody, ParallelIndexerDesign, indexer_of
 from ..bodies.indexing.parallel_kind import LOAD_FRACTION
+from ..spec.indexer import indexer_value
 from ..bodies.indexing.parallel_optimise import DEFAULT_BOUNDS, VARIABLES, optimise_parallel, outer_radius
 from ..checks.design import CheckResult, DesignChecks
 from ..errors import SpecError
@@ -113,7 +114,7 @@ def indexer_arguments(spec: CamSpec) -> dict[str, Any]:
         raise SpecError("indexer.output_inertia", "objective normal_force (the peak roller load) needs the output's "
                         "load: give indexer.output_inertia [kg·mm²] (and indexer.friction_torque [N·mm])")
     return {"objective": objective, "load": load, "algorithm": ALGORITHMS[cfg.algorithm],
-            "max_pressure_angle": math.radians(spec.indexer.max_pressure_angle) * (1.0 - cfg.constraint_margin),
+            "max_pressure_angle": math.radians(indexer_value(spec, "max_pressure_angle")) * (1.0 - cfg.constraint_margin),
             "min_clearance": MIN_CLEARANCE, "pressure_where": "loaded", "load_fraction": LOAD_FRACTION,
             "samples": SAMPLES, "max_evaluations": int(cfg.max_evaluations)}
 

@@ -152,7 +152,7 @@ PARALLEL_INDEXER_SPEC_DICT: dict[str, Any] = {
         {"kind": "rise", "angle": 120.0, "lift": 45.0, "law": "modified_sine"},
         {"kind": "dwell", "angle": 120.0},
     ],
-    "indexer": {"stations": 8, "centre_distance": 120.0, "pitch_radius": 50.0, "gap": 4.0,
+    "indexer": {"stations": 8, "centre_distance": 120.0, "pitch_radius": 50.0, "cams": 2, "gap": 4.0,
                 "max_pressure_angle": 75.0, "output_inertia": 150000.0, "friction_torque": 2000.0,
                 "roller_rating": 12000.0},
     "material": {"allowable_stress": 1500.0},

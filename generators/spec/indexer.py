@@ -36,10 +36,10 @@ class IndexerSection:
     pitch_radius: float | None = param(
         "The radius R_p of the circle of roller centres about the turret axis", unit="length", gt=0,
         optional=True, group="Indexer")
-    cams: int = param("Parallel: the cam plates on the input shaft (2 or 3), each driving its own plane of N "
-                      "rollers", kind="int", ge=2, le=3, default=2, group="Indexer")
-    gap: float = param("Parallel: the axial gap between neighbouring plates, filled by a spacer that joins them",
-                       unit="length", ge=0, default=0.0, group="Indexer")
+    cams: int | None = param("Parallel: the cam plates on the input shaft (2 or 3), each driving its own plane of N "
+                             "rollers (default 2)", kind="int", ge=2, le=3, optional=True, group="Indexer")
+    gap: float | None = param("Parallel: the axial gap between neighbouring plates, filled by a spacer that joins "
+                              "them (default 0)", unit="length", ge=0, optional=True, group="Indexer")
     spacer_diameter: float | None = param(
         "Parallel: the spacer's diameter (default: 90 % of the plates' smallest profile diameter)",
         unit="length", gt=0, optional=True, group="Indexer")
@@ -58,22 +58,34 @@ class IndexerSection:
                                        gt=0, optional=True, group="Indexer")
     tip_radius: float | None = param("Globoidal: the rib's tip globoid (< root_radius)", unit="length", gt=0,
                                      optional=True, group="Indexer")
-    max_pressure_angle: float = param(
-        "Largest allowed pressure angle of the contact that carries the output's torque, over the index where "
-        "that torque exceeds 5 % of its peak (an indexer's checks.max_pressure_angle; 60°: the normal force "
-        "twice the torque's tangential force)", unit="angle", gt=0, lt=90, default=60.0, group="Indexer")
-    output_inertia: float = param(
-        "The output's (turret and load) moment of inertia about the turret axis (0: the drive is not sized)",
-        unit="inertia", ge=0, default=0.0, group="Indexer load")
-    friction_torque: float = param("Friction torque on the output while it moves", unit="torque", ge=0,
-                                   default=0.0, group="Indexer load")
+    max_pressure_angle: float | None = param(
+        "Largest allowed pressure angle of the contact that carries the output's torque (an indexer's "
+        "checks.max_pressure_angle; default 60°: the normal force twice the torque's tangential force)",
+        unit="angle", gt=0, lt=90, optional=True, group="Indexer")
+    output_inertia: float | None = param(
+        "The output's (turret and load) moment of inertia about the turret axis (absent or 0: the drive is not "
+        "sized)", unit="inertia", ge=0, optional=True, group="Indexer load")
+    friction_torque: float | None = param("Friction torque on the output while it moves (default 0)",
+                                          unit="torque", ge=0, optional=True, group="Indexer load")
     roller_rating: float | None = param(
         "The cam roller bearing's basic dynamic load rating C (ISO 281) for its rating life L10 (absent: no "
         "life reported)", unit="force", gt=0, optional=True, group="Indexer load")
-    life_exponent: float = param("ISO 281 life exponent p: 10/3 for roller and needle track rollers, 3 for ball",
-                                 kind="float", gt=0, le=10, default=10.0 / 3.0, group="Indexer load")
-    efficiency: float = param("Efficiency η of the cam–roller contact (input torque = output power / η)",
-                              kind="float", gt=0, le=1, default=1.0, group="Indexer load")
+    life_exponent: float | None = param(
+        "ISO 281 life exponent p: 10/3 for roller and needle track rollers (the default), 3 for ball",
+        kind="float", gt=0, le=10, optional=True, group="Indexer load")
+    efficiency: float | None = param("Efficiency η of the cam–roller contact (input torque = output power / η; "
+                                     "default 1)", kind="float", gt=0, le=1, optional=True, group="Indexer load")
+
+
+#: the value an absent [indexer] field takes (spec units: mm, degrees, N·mm)
+DEFAULTS: dict[str, float] = {"cams": 2, "gap": 0.0, "max_pressure_angle": 60.0, "friction_torque": 0.0,
+                              "life_exponent": 10.0 / 3.0, "efficiency": 1.0}
+
+
+def indexer_value(spec: Any, name: str) -> Any:
+    """``spec.indexer.<name>``, or its default (:data:`DEFAULTS`) when absent."""
+    v = getattr(spec.indexer, name)
+    return DEFAULTS[name] if v is None else v
 
 
 #: the bodies this table serves, and the fields each reads (any other given field is an error)

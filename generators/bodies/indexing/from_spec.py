@@ -19,7 +19,7 @@ from typing import Any, Callable
 from ...errors import SpecError, fmt_apart
 from ...kinds import follower_class_of
 from ...motion.laws import LAW_FUNCTIONS
-from ...spec.indexer import INDEXER_FIELDS, LOAD_FIELDS, IndexerSection, indexer_size
+from ...spec.indexer import DEFAULTS, INDEXER_FIELDS, LOAD_FIELDS, IndexerSection, indexer_size, indexer_value
 
 INDEXER_BODIES = tuple(INDEXER_FIELDS)
 #: every body-specific [indexer] field, once
@@ -89,7 +89,7 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
     own = INDEXER_FIELDS[body]
     for name in _ALL_FIELDS:
         given = getattr(spec.indexer, name) != getattr(_DEFAULTS, name)
-        if name in own and getattr(spec.indexer, name) is None and name not in _OPTIONAL:
+        if name in own and getattr(spec.indexer, name) is None and name not in _OPTIONAL and name not in DEFAULTS:
             raise SpecError(f"indexer.{name}", f'is required for cam.body = "{body}"')
         if name not in own and given:
             owners = [b for b in INDEXER_BODIES if name in INDEXER_FIELDS[b]]
@@ -165,8 +165,9 @@ def load_arguments(spec: Any, default_width: float | None = None) -> dict[str, f
     if not ix.output_inertia:
         return None
     return {"input_speed": float(spec.cam.speed_rpm), "inertia": float(ix.output_inertia) * 1e-6,
-            "friction_torque": float(ix.friction_torque) * 1e-3,
+            "friction_torque": float(indexer_value(spec, "friction_torque")) * 1e-3,
             "roller_width": roller_width(spec, default_width),
             # no rating given: a unit rating, the life left out of the report (lives scale as C^p)
             "roller_rating": float(ix.roller_rating) if ix.roller_rating is not None else 1.0,
-            "life_exponent": float(ix.life_exponent), "efficiency": float(ix.efficiency)}
+            "life_exponent": float(indexer_value(spec, "life_exponent")),
+            "efficiency": float(indexer_value(spec, "efficiency"))}

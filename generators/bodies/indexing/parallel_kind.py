@@ -33,6 +33,7 @@ from ...checks.status import NO_LIMIT
 from ...errors import SpecError
 from ...kinds import register_body
 from ...motion.program import MotionProgram
+from ...spec.indexer import indexer_value
 from ...spec.toml_io import spec_digest
 from ...studies.table import checks_row
 from ..base import BodyGeometry
@@ -52,7 +53,7 @@ LOAD_FRACTION = 0.05
 def indexer_of(spec: Any) -> ParallelIndexer:
     """The :class:`.parallel.ParallelIndexer` of a spec (SpecError naming the spec's field)."""
     return ParallelIndexer(**from_spec.geometry_fields(spec), pitch_radius=float(spec.indexer.pitch_radius),
-                           cams=int(spec.indexer.cams))
+                           cams=int(indexer_value(spec, "cams")))
 
 
 def _design_geometry(spec: Any, strict: bool) -> ParallelDesign:
@@ -126,7 +127,7 @@ class ParallelIndexerDesign:
         pa = res["pressure_angle"]
         geometry = g.summary()
         body = {"kind": "parallel_indexer", "closure": "form", "cams": int(ix.cams),
-                "plate_thickness": spec.cam.thickness, "gap": spec.indexer.gap,
+                "plate_thickness": spec.cam.thickness, "gap": indexer_value(spec, "gap"),
                 "spacer_radius": self.cams_body.spacer_radius, "bore_diameter": spec.cam.bore_diameter,
                 "z_range": list(self.body.z_range),
                 "outer_radius": max(float(np.max(np.hypot(*c.profile.T))) for c in g.cams),
@@ -183,7 +184,7 @@ def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> 
     i_c = int(np.argmax(carried))
     index_pa = np.where(idx, np.where(np.isfinite(g.driving_angle), g.driving_angle, math.pi / 2), -np.inf)
     i_i = int(np.argmax(index_pa))
-    limit = spec.indexer.max_pressure_angle
+    limit = indexer_value(spec, "max_pressure_angle")
     results: dict[str, Any] = {
         "pressure_angle": result(
             f"Pressure angle of the contact carrying the output torque, where |T_out| > {LOAD_FRACTION:.0%} of "
@@ -269,7 +270,7 @@ class ParallelIndexerBody:
         """The parallel indexer of ``spec`` (SpecError naming the field when it cannot be built)."""
         g = _design_geometry(spec, strict=True)
         try:
-            cams = indexer_body(g, spec.cam.thickness, spec.indexer.gap, spec.cam.bore_diameter,
+            cams = indexer_body(g, spec.cam.thickness, indexer_value(spec, "gap"), spec.cam.bore_diameter,
                                 None if spec.indexer.spacer_diameter is None else spec.indexer.spacer_diameter / 2)
         except SpecError as exc:
             raise in_spec_words(spec, exc) from None

@@ -40,6 +40,7 @@ from ...checks.status import NO_LIMIT
 from ...errors import SpecError
 from ...kinds import register_body
 from ...motion.program import MotionProgram
+from ...spec.indexer import indexer_value
 from ...spec.toml_io import spec_digest
 from ...studies.table import checks_row
 from . import from_spec
@@ -178,7 +179,7 @@ def spatial_checks(spec: Any, g: SpatialDesign, drive: DriveSizing | None) -> di
     results: dict[str, Any] = {
         "pressure_angle": result(
             "Pressure angle of the driving contact over the index (the engaged driving line whose largest angle "
-            "along it is least)", "max", deg(drv.value), at(drv), spec.indexer.max_pressure_angle, "deg",
+            "along it is least)", "max", deg(drv.value), at(drv), indexer_value(spec, "max_pressure_angle"), "deg",
             note="indexer.max_pressure_angle is the limit"),
         "pressure_angle_contacts": result(
             "Largest pressure angle over every engaged contact (a leaving roller's last contact)", "max",
