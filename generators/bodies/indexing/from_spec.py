@@ -1,4 +1,4 @@
-"""An indexer's spec (``cam.body`` = "parallel_indexer", "barrel_indexer", "globoidal_indexer") read
+"""An indexer's spec (``cam.body = "parallel_indexer"``; the barrel and globoidal indexers next) read
 into the geometry's parameter classes, and the rules the three bodies share (docs/indexing.md,
 "The spec"; :mod:`cam_workbench.generators.spec.indexer` declares the ``[indexer]`` fields).
 
@@ -113,8 +113,7 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
 
 
 def _size_words(body: str) -> str:
-    return {"parallel_indexer": "the plates' smallest dwell radius", "barrel_indexer": "indexer.root_radius",
-            "globoidal_indexer": "the waist radius indexer.centre_distance − indexer.root_radius"}[body]
+    return {"parallel_indexer": "the plates' smallest dwell radius"}[body]
 
 
 def _validate_motion(spec: Any) -> None:
