@@ -12,7 +12,7 @@ import pytest
 
 from cam_workbench.generators.bodies.indexing.parallel import ParallelIndexer, design_parallel
 from cam_workbench.generators.bodies.indexing.parallel_drive import parallel_drive
-from cam_workbench.generators.bodies.indexing.parallel_optimise import optimise_parallel
+from cam_workbench.generators.optimise.parallel_indexer import optimise_parallel
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.motion.laws import evaluate_law
 

@@ -1,5 +1,5 @@
 """The optimiser of a parallel indexer (``cam.body = "parallel_indexer"``): the spec's ``[optimise]``
-settings mapped onto :func:`~cam_workbench.generators.bodies.indexing.parallel_optimise.optimise_parallel`,
+settings mapped onto :func:`~cam_workbench.generators.optimise.parallel_indexer.optimise_parallel`,
 its optimum re-checked by the body's own design, an :class:`OptimiseResult` as the CLI expects (its
 ``report()`` the shared one: the objectives' words, units and report.json keys are
 :mod:`~cam_workbench.generators.optimise.objectives`' tables, as the plane cam's are).
@@ -51,7 +51,7 @@ from ..bodies.indexing import from_spec
 from ..bodies.indexing.parallel_kind import ParallelIndexerBody, ParallelIndexerDesign, indexer_of
 from ..bodies.indexing.parallel_kind import LOAD_FRACTION
 from ..spec.indexer import indexer_value
-from ..bodies.indexing.parallel_optimise import DEFAULT_BOUNDS, VARIABLES, optimise_parallel, outer_radius
+from .parallel_indexer import DEFAULT_BOUNDS, VARIABLES, optimise_parallel, outer_radius
 from ..checks.design import CheckResult, DesignChecks
 from ..errors import SpecError
 from ..kinds import register_optimiser

@@ -5,7 +5,8 @@ turret by 360°/N during the input's index angle β and holds it still for the r
   curves and profiles, engagement, pressure angles, locking and clearance, the turret angle
   recovered from the built profiles;
 * :mod:`.parallel_body` — the parallel indexer's cams as prisms of loops (exact dwell arcs, fitted flanks);
-* :mod:`.parallel_optimise` — its centre distance, pitch radius and roller radius optimised (nlopt);
+* :mod:`cam_workbench.generators.optimise.parallel_indexer` (the optimise stage) — its centre distance,
+  pitch radius and roller radius optimised (nlopt);
 * :mod:`.spatial` — the barrel and globoidal indexers: the rib flanks as envelopes of the rollers
   (contact lines in closed form from the meshing equation), pressure angles, the envelope's
   regularity, rib thickness, the turret angle recovered from the flank points;

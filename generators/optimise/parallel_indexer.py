@@ -4,9 +4,9 @@ fixed) for the smallest cam or the lightest load, subject to a pressure-angle li
 positive locking and a cam that can be built (no undercut, cusp or missing crossover).
 
 Units: lengths in mm, angles in radians (degrees only in :meth:`ParallelOptimum.summary`), the
-load in the units of :func:`.parallel_drive.parallel_drive` (rev/min, kg·m², N·m, mm, N).
+load in the units of :func:`cam_workbench.generators.bodies.indexing.parallel_drive.parallel_drive` (rev/min, kg·m², N·m, mm, N).
 
-The problem (every trial is a full :func:`.parallel.design_parallel` on ``samples`` input angles):
+The problem (every trial is a full :func:`cam_workbench.generators.bodies.indexing.parallel.design_parallel` on ``samples`` input angles):
 
 * variables x = (C, R_p, r_r) (x₀ the start, clipped into the bounds; a variable whose bounds are
   equal is fixed), seen by the solver in log units relative to the start, w = log(x/x₀) (a step of
@@ -38,7 +38,7 @@ The problem (every trial is a full :func:`.parallel.design_parallel` on ``sample
     contact's force line passes through the input axis, cos φ = C·sin(π/(N·n_c))/|p| ≈ 71° for the
     default design, whatever the law.  With ``pressure_where="loaded"`` φ_max is the pressure angle
     of the contact that carries the load (the driving one where T_out ≥ 0, the holding-back one
-    where T_out < 0, as :func:`.parallel_drive.parallel_drive` loads them) where
+    where T_out < 0, as :func:`cam_workbench.generators.bodies.indexing.parallel_drive.parallel_drive` loads them) where
     |T_out| > ``load_fraction`` × its peak, T_out = J·ψ''·ω² + T_f·sign ψ' (the load's, else ψ''):
     the ends, where a law that starts at rest carries no torque, drop out;
   - ``clearance``: the idle rollers' gap ≥ ``min_clearance`` [mm];
@@ -57,7 +57,7 @@ N ≥ 6 reaches; pass the limit of the application.
 The pressure angle and the locking are invariant under a uniform scaling of (C, R_p, r_r): the
 "size" optimum shrinks the drive until a lower bound or the clearance (in mm) stops it — set the
 lower bounds of R_p and r_r from the rollers the load needs (their bearing rating, the Hertz
-stress of :func:`.parallel_drive.parallel_drive`).
+stress of :func:`cam_workbench.generators.bodies.indexing.parallel_drive.parallel_drive`).
 
 Default bounds (from the start x₀): C ∈ [0.5, 2]·C₀, R_p ∈ [0.5, 2]·R_p₀, r_r ∈ [0.5, 1.5]·r_r₀.
 
@@ -75,14 +75,14 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ...errors import SpecError
-from ...optimise.driver import load_nlopt
-from ...optimise.problem import Cancelled
-from ...optimise.result import Progress
-from ...optimise.settings import NLOPT_CONVERGED, NLOPT_RESULTS
-from .parallel import ParallelDesign, ParallelIndexer, design_parallel
-from .parallel_drive import MM, output_torque, parallel_drive
-from .sizing import IndexLoad
+from ..bodies.indexing.parallel import ParallelDesign, ParallelIndexer, design_parallel
+from ..bodies.indexing.parallel_drive import MM, output_torque, parallel_drive
+from ..bodies.indexing.sizing import IndexLoad
+from ..errors import SpecError
+from .driver import load_nlopt
+from .problem import Cancelled
+from .result import Progress
+from .settings import NLOPT_CONVERGED, NLOPT_RESULTS
 
 Array = np.ndarray
 
@@ -411,7 +411,7 @@ def optimise_parallel(ix: ParallelIndexer, *, objective: str = "size",
 
     Args:
         objective: "size" (outer radius [mm]) or "normal_force" [N] (peak roller load, from
-            :func:`.parallel_drive.parallel_drive` at ``load``).
+            :func:`cam_workbench.generators.bodies.indexing.parallel_drive.parallel_drive` at ``load``).
         max_pressure_angle: [rad] in (0, π/2), default 60°; ``pressure_where`` "index" or
             "loaded" (with ``load_fraction`` of the peak output torque) says where it is taken.
         min_clearance: [mm] ≥ 0, the idle rollers' least gap to the cams.
