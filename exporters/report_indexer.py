@@ -228,7 +228,9 @@ def _accuracy_rows() -> list[tuple[str, str, str, str | None]]:
         ("turret angle recovered from the built profiles vs the law: largest error", f"{mg}.max_error_rad", "rad",
          None),
         ("… largest slack of the recovered contact", f"{mg}.max_slack_rad", "rad", None),
-        ("… input angles compared", f"{mg}.samples", "", None),
+        ("… input angles", f"{mg}.samples", "", None),
+        ("… of them where the profiles alone do not fix the turret angle (not compared)",
+         f"{mg}.undetermined_samples", "", None),
     ]
 
 

@@ -291,7 +291,8 @@ BUILD_INDEXER = [
              "the offset of the roller loci (measured, not exact; the dwell arcs are exact arcs); largest cam radius "
              "{body.outer_radius} {u}", True),
     Template("  turret angle recovered from the built profiles: max error {indexer.motion_from_geometry.max_error_rad} "
-             "rad from the law ({indexer.motion_from_geometry.samples} input angles)", True),
+             "rad from the law ({indexer.motion_from_geometry.samples} input angles, "
+             "{indexer.motion_from_geometry.undetermined_samples} where the profiles alone do not fix it)", True),
     Template("  volume {volume} {u}³ (kernel {solid.volume_rel_diff} relative)", True),
 ]
 #: the drive's line (``indexer.drive``: when report.json has it), and its roller life when it has that

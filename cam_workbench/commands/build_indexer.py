@@ -42,7 +42,8 @@ def body_lines(s: dict) -> list[str]:
     mg = ix.get("motion_from_geometry")
     if mg:
         lines.append(f"  turret angle recovered from the built profiles: max error {mg['max_error_rad']:.3g} rad from "
-                     f"the law ({mg['samples']} input angles)")
+                     f"the law ({mg['samples']} input angles, {mg['undetermined_samples']} where the profiles alone "
+                     "do not fix it)")
     sol = s.get("solid") or {}
     kernel = (f" (kernel {sol['volume_rel_diff']:+.2e} relative)"
               if isinstance(sol.get("volume_rel_diff"), (int, float)) else "")

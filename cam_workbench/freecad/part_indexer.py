@@ -175,7 +175,8 @@ def indexer_rows(s: dict[str, Any]) -> Rows:
          f"{b['outer_radius']:.6g} {u}, z {b['z_range'][0]:.6g} … {b['z_range'][1]:.6g} {u}", ""),
         ("Plates", "flanks' B-splines vs exact offset", f"{b['flank_fit_error']['value']:.3g} {u}", ""),
         ("Motion", "turret angle from the built profiles vs the law",
-         f"{math.degrees(mg['max_error_rad']):.3g}° ({mg['samples']} input angles)", ""),
+         f"{math.degrees(mg['max_error_rad'] if mg['max_error_rad'] is not None else math.nan):.3g}° "
+         f"({mg['samples']} input angles, {mg['undetermined_samples']} where the profiles do not fix it)", ""),
         ("Motion", "max turret velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
         ("Motion", "max turret acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
         ("Motion", "max turret jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
@@ -217,7 +218,7 @@ class ParallelIndexerPart:
         """(0: no PH segments, "angle": the turret's rotation, the turret angle recovered from the
         built profiles against the law [deg], report.json's ``indexer.motion_from_geometry``)."""
         err = design.summary()["indexer"]["motion_from_geometry"]["max_error_rad"]
-        return 0, "angle", math.degrees(float(err))
+        return 0, "angle", math.nan if err is None else math.degrees(float(err))
 
     @staticmethod
     def solid_rows(design: Any, shape: Any, scale: float) -> Rows:

@@ -2,7 +2,9 @@
 fitted B-spline flanks), the spacer discs between them and the bore, all prisms of the body
 (:attr:`~cam_workbench.generators.bodies.indexing.parallel_kind.ParallelIndexerDesign.body`), as one
 solid by :func:`~.solids.prism_stack` — sewn from the stack's caps and sides, booleans only where
-that does not close.  Registered in :data:`cam_workbench.kernel.solids.SOLIDS` for
+that does not close — or, where the sewn solid is not valid (plates face to face, ``indexer.gap``
+0, whose outlines cross in their common plane at grazing angles), by booleans alone
+(:func:`~.solids.fused_prisms`).  Registered in :data:`cam_workbench.kernel.solids.SOLIDS` for
 :class:`~cam_workbench.generators.bodies.indexing.parallel_kind.ParallelIndexerDesign`.
 """
 from __future__ import annotations
@@ -11,7 +13,7 @@ from typing import Any
 
 from cam_workbench.generators.bodies.indexing.parallel_kind import ParallelIndexerDesign
 
-from .solids import SOLIDS, prism_stack
+from .solids import SOLIDS, count_solids, fused_prisms, is_valid, prism_stack
 
 
 @SOLIDS.register(ParallelIndexerDesign)
@@ -22,7 +24,11 @@ class IndexerSolids:
     def solid(design: Any, exact_offset: bool) -> Any:
         """The plates and spacers as one ``TopoDS_Solid``; ``exact_offset`` is ignored (the flanks are
         fitted B-splines already, no kernel offset is taken, so the STEP solid is this one)."""
-        return prism_stack(design.body.prisms)
+        prisms = design.body.prisms
+        solid = prism_stack(prisms)
+        if is_valid(solid) and count_solids(solid) == 1:
+            return solid
+        return fused_prisms(prisms)
 
     @staticmethod
     def measures(design: Any, shape: Any) -> dict[str, Any]:

@@ -407,6 +407,11 @@ def prism_stack(prisms: Any) -> Any:
         solid = sewn_levels(stack)
         if solid is not None:
             return solid
+    return fused_prisms(prisms)
+
+
+def fused_prisms(prisms: Any) -> Any:
+    """Body prisms as one solid by booleans alone: each extruded and fused or cut in order."""
     shape = None
     for prism in prisms:
         solid = extrude(region_face(prism.outer, prism.holes, prism.z0), prism.z0, prism.z1)

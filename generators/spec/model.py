@@ -284,6 +284,13 @@ def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
     size = indexer_size(cam["body"], table)
     if size is None or not size > 0:
         return data                 # the [indexer] rules name what is wrong
+    fol = data.get("follower")
+    rr = fol.get("roller_radius") if isinstance(fol, Mapping) else None
+    if isinstance(rr, (int, float)) and not isinstance(rr, bool) and rr >= size:
+        # the rule cam.base_radius > follower.roller_radius, in the indexer's words (it derives R_b)
+        raise SpecError("follower.roller_radius", f"must be < the plates' smallest dwell radius {size:.6g} (the held "
+                        f"roller's centre from the input axis, from [indexer]), got {fmt_apart(rr, size)}: a smaller "
+                        "roller or a larger indexer.centre_distance")
     out = dict(data)
     out["cam"] = {**cam, "base_radius": size}
     return out

@@ -26,12 +26,16 @@ INDEXER_BODIES = tuple(INDEXER_FIELDS)
 _ALL_FIELDS = tuple(dict.fromkeys(f for names in INDEXER_FIELDS.values() for f in names))
 #: the follower fields an indexer reads (the turret's own geometry is [indexer]'s)
 _FOLLOWER_FIELDS = ("kind", "motion", "roller_radius", "roller_width")
+#: the thinnest gap between plates [mm] (as conjugate.gap's)
+MIN_GAP = 0.01
 #: [cam] features the indexers do not build (yet)
 _FEATURES = ("hub_diameter", "keyway", "keyway_width", "mounting_holes", "timing_mark")
 #: the geometry's own rule names → the spec field that holds the value
 _RENAMED = {"indexer.index_angle": "motion[{i}].angle", "indexer.law": "motion[{i}].law",
             "indexer.index_start": "motion[{i}].angle", "indexer.roller_radius": "follower.roller_radius"}
 _DEFAULTS = IndexerSection()
+#: the geometry's names that are other fields in the spec (:func:`spec_field`)
+GEOMETRY_NAMES = tuple(_RENAMED)
 #: [indexer] fields a body reads that may be left out (a default derived from the others)
 _OPTIONAL = ("spacer_diameter",)
 
@@ -94,6 +98,10 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
         if name not in own and given:
             owners = [b for b in INDEXER_BODIES if name in INDEXER_FIELDS[b]]
             raise SpecError(f"indexer.{name}", "applies to " + " and ".join(f'"{b}"' for b in owners) + " only")
+    gap = spec.indexer.gap
+    if gap is not None and 0 < gap < MIN_GAP:
+        raise SpecError("indexer.gap", f"must be 0 (the plates face to face) or at least {MIN_GAP:g} mm (a thinner "
+                        f"spacer is no part), got {gap!r}")
     _validate_motion(spec)
     size = indexer_size(body, {k: getattr(spec.indexer, k) for k in own})
     if size is not None and not math.isclose(spec.cam.base_radius, size, rel_tol=1e-9, abs_tol=1e-12):
@@ -102,14 +110,19 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
     if spec.dynamics.enabled:
         raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet (its drive "
                         "is sized from [indexer]'s load: report.json's indexer.drive)")
-    i, _, _ = index_segment(spec)
     try:
         return make(spec)
     except SpecError as exc:
-        renamed = _RENAMED.get(exc.field)
-        if renamed is None:
+        if exc.field not in _RENAMED:
             raise
-        raise SpecError(renamed.format(i=i), exc.rule) from None
+        raise SpecError(spec_field(spec, exc.field), exc.rule) from None
+
+
+def spec_field(spec: Any, name: str) -> str:
+    """The spec's field for a name the geometry's classes use (``indexer.index_angle`` is the rise's
+    ``motion[i].angle``, ``indexer.roller_radius`` the ``follower.roller_radius``); others unchanged."""
+    renamed = _RENAMED.get(name)
+    return name if renamed is None else renamed.format(i=index_segment(spec)[0])
 
 
 def _size_words(body: str) -> str:

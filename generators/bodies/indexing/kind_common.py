@@ -23,10 +23,13 @@ def result(description: str, kind: str, value: float, at: float | None, limit: f
 
 
 def in_spec_words(spec: Any, exc: SpecError) -> SpecError:
-    """A geometry refusal in the spec's words: β is ``motion[i].angle`` there."""
-    i = from_spec.index_segment(spec)[0]
-    field = f"motion[{i}].angle" if exc.field == "indexer.index_angle" else exc.field
-    return SpecError(field, exc.rule.replace("indexer.index_angle", f"motion[{i}].angle"))
+    """A geometry refusal in the spec's words (:func:`.from_spec.spec_field`): β is ``motion[i].angle``
+    there, the roller's radius ``follower.roller_radius``."""
+    field = from_spec.spec_field(spec, exc.field)
+    rule = exc.rule
+    for name in from_spec.GEOMETRY_NAMES:
+        rule = rule.replace(name, from_spec.spec_field(spec, name))
+    return SpecError(field, rule)
 
 
 def turn_error(diff: np.ndarray, step: float) -> float:

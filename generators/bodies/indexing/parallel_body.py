@@ -36,6 +36,8 @@ Array = np.ndarray
 #: the flanks' fit: the first node count, the most, and the default tolerance [mm]
 _FIRST_NODES, _MOST_NODES = 16, 4096
 DEFAULT_TOLERANCE = 1e-4
+#: how far inside a flank its end tangents are taken [rad per rad of the flank's τ range]
+_END_NUDGE = 1e-9
 #: where in each knot span the fit is measured (an interpolating cubic's error is a smooth bump
 #: between its nodes: 31 points find its top to well under 1 % of its height)
 _CHECK = np.linspace(0.0, 1.0, 33)[1:-1]
@@ -67,10 +69,14 @@ def fit_flank(ix: ParallelIndexer, cam: int, tau0: float, tau1: float,
     nodes doubled until within ``tolerance`` [mm] (SpecError naming ``indexer.fit_tolerance`` when
     even the most nodes do not reach it)."""
     n = _FIRST_NODES
+    # the end tangents one-sided, from inside the flank: at a flank's end the law's acceleration may
+    # jump (a harmonic law at the index's ends), and the end's τ may round to the dwell's side
+    inside = _END_NUDGE * max(1.0, abs(tau1 - tau0))
+    _, dq_ends = offset_point(ix, cam, np.array([tau0 + inside, tau1 - inside]))
     while True:
         x = np.linspace(tau0, tau1, n + 1)
-        q, dq = offset_point(ix, cam, x)
-        knots, coef = interpolating_cubic(x, q, dq[0], dq[-1])
+        q, _ = offset_point(ix, cam, x)
+        knots, coef = interpolating_cubic(x, q, dq_ends[0], dq_ends[1])
         curve = NurbsCurve(3, knots, coef, np.ones(coef.shape[0]))
         check = (x[:-1, None] + np.diff(x)[:, None] * _CHECK[None, :]).ravel()
         exact, _ = offset_point(ix, cam, check)

@@ -46,6 +46,8 @@ from .sizing import DriveSizing
 
 #: input angles the design samples over the turn, and the output angle's check from the profiles
 SAMPLES, RECOVERY_SAMPLES = 721, 721
+#: the overlap of blocked turret angles [rad] beyond which the profiles do not fix ψ (see _recovery_summary)
+UNDETERMINED_SLACK = 1e-6
 #: the share of the peak output torque above which the carrying contact's pressure angle counts
 LOAD_FRACTION = 0.05
 
@@ -158,15 +160,27 @@ class ParallelIndexerDesign:
             "indexer": {
                 "type": "parallel",
                 "geometry": geometry,
-                "motion_from_geometry": {
-                    "max_error_rad": turn_error(rec.psi - turret_angle(ix, rec.theta)[0], ix.station_angle),
-                    "max_slack_rad": float(np.max(rec.slack)), "samples": RECOVERY_SAMPLES,
-                    "what": "the turret angle recovered from the built profiles (a contact solve on the "
-                            "profiles alone) against the law"},
+                "motion_from_geometry": _recovery_summary(rec, ix),
                 "drive": None if self.drive is None else drive_summary(spec, self.drive),
             },
         }
         return out
+
+
+def _recovery_summary(rec: Any, ix: ParallelIndexer) -> dict[str, Any]:
+    """report.json's ``indexer.motion_from_geometry``: the turret angle recovered from the built
+    profiles against the law, where the profiles determine it.  Where an engaged roller runs almost
+    along its profile (a pressure angle near 90°) the profile polylines' chord sag (1e-5 mm) blocks
+    a band of turret angles wider than the feasible one (the slack < 0): there the profiles alone
+    do not fix ψ, and those input angles are counted, not compared."""
+    determined = rec.slack >= -UNDETERMINED_SLACK
+    err = rec.psi - turret_angle(ix, rec.theta)[0]
+    return {"max_error_rad": turn_error(err[determined], ix.station_angle) if determined.any() else None,
+            "samples": RECOVERY_SAMPLES, "undetermined_samples": int(np.count_nonzero(~determined)),
+            "least_slack_rad": float(np.min(rec.slack)), "max_slack_rad": float(np.max(rec.slack)),
+            "what": "the turret angle recovered from the built profiles (a contact solve on the profiles alone) "
+                    "against the law, at the input angles where the profiles fix it (slack ≥ "
+                    f"−{UNDETERMINED_SLACK:g} rad)"}
 
 
 def parallel_checks(spec: Any, g: ParallelDesign, drive: DriveSizing | None) -> dict[str, Any]:
