@@ -39,7 +39,8 @@ class IndexerSection:
     cams: int | None = param("Parallel: the cam plates on the input shaft (2 or 3), each driving its own plane of N "
                              "rollers (default 2)", kind="int", ge=2, le=3, optional=True, group="Indexer")
     gap: float | None = param("Parallel: the axial gap between neighbouring plates, filled by a spacer that joins "
-                              "them (default 0)", unit="length", ge=0, optional=True, group="Indexer")
+                              "them: 0 (face to face, the default) or at least 0.01 mm", unit="length", ge=0, optional=True,
+                              group="Indexer")
     spacer_diameter: float | None = param(
         "Parallel: the spacer's diameter (default: 90 % of the plates' smallest profile diameter)",
         unit="length", gt=0, optional=True, group="Indexer")
