@@ -33,7 +33,7 @@ out = RESULT["props"] = {}
 for n in cam.PropertiesList:
     g = cam.getGroupOfProperty(n)
     if g in ("Cam", "Follower", "Follower arm", "Follower load", "Motion", "Pitch", "Machining", "Checks",
-             "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate"):
+             "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate", "Indexer", "Indexer load"):
         v = getattr(cam, n)
         unit = v.Unit.Type if hasattr(v, "Unit") else None
         out[n] = [g, cam.getTypeIdOfProperty(n), unit, cam.getDocumentationOfProperty(n)]
@@ -65,7 +65,8 @@ def test_every_section_is_a_property_group_with_units(props_run):
         assert tip.startswith(fp.param.doc), fp.name
     groups = {g for g, *_ in got.values()}
     assert groups == {"Cam", "Follower", "Follower arm", "Follower load", "Motion", "Pitch", "Machining", "Checks",
-                      "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate"}
+                      "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate", "Indexer",
+                      "Indexer load"}
     units = {n: u for n, (_g, _t, u, _tip) in got.items() if u}
     assert units["FollowerPreload"] == "Force" and units["ChecksMinForce"] == "Force"
     assert units["MaterialAllowableStress"] == "Pressure" and units["MaterialCamModulus"] == "Pressure"
