@@ -11,7 +11,9 @@ not ezdxf: LibreCAD 2.2 (Debian's ``librecad``, ``librecad dxf2pdf``), read back
     they are drawn, taking seconds);
   - the texts: each title-block TEXT gets a colour of its own, on the file's own sheet.
 * The page is registered to the drawing by its concentric circles (base, prime, bore, rim; the end
-  view's outer, groove-bottom and bore circles), whose centres and radii the DXF states.
+  view's outer, groove-bottom and bore circles), whose centres and radii the DXF states; a
+  parallel indexer's by the circles it draws at input angle 0, computed here from the design: the
+  bore, the turret's pitch circle and every roller (equal radii: matched by where they are).
 * Each curve layer (profile, pitch curve, groove wall, second cam, developed walls): every point
   LibreCAD drew lies within the layer's stated error (report.json ``drawing.max_error_by_layer``,
   the cylindrical walls' ``developed_fit_error``) plus the page's resolution of the exact curve,
@@ -19,6 +21,11 @@ not ezdxf: LibreCAD 2.2 (Debian's ``librecad``, ``librecad dxf2pdf``), read back
   own chords of the drawn curve — so a dropped or partly dropped curve fails; the stated error is
   within ``drawing.chord_tolerance``.  ``curves = "spline"`` writes the exact NURBS (degree 9
   rational, or 5): LibreCAD 2.2 draws nothing of it — the reason it is not the default.
+* A parallel indexer's plates (CAM_0, CAM_1, …: an exact dwell ARC and the body's own cubic flank
+  SPLINEs, for ``curves`` "cubic" and "spline" alike, which LibreCAD draws): held against the exact
+  offset Q(τ) of the roller locus over the whole profile, the stated error the larger of
+  report.json ``drawing.drawn_flank_error`` and ``drawing.flank_fit_error`` (the arcs are exact).
+  ``curves`` "arcs" and "polyline" its drawing refuses: SpecError naming ``drawing.curves``.
 * Every title-block text LibreCAD drew lies inside its cell (the rectangle of the title block's
   lines round its insertion point).
 """
@@ -30,10 +37,11 @@ import numpy as np
 import pytest
 
 from cam_workbench.generators import design_cam
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.spec.examples import EXAMPLES, example_spec
 
-from .librecad import (distance_to_segments, dxf2pdf, enlarge_paper, read_pdf_paths, register,
-                       requires_librecad, title_cells)
+from .librecad import (Registration, _drawn_circle, distance_to_segments, dxf2pdf, enlarge_paper, read_pdf_paths,
+                       register, requires_librecad, title_cells)
 
 ezdxf = pytest.importorskip("ezdxf")
 pytestmark = requires_librecad
@@ -42,7 +50,15 @@ CURVES = ("cubic", "spline", "arcs", "polyline")
 #: layers whose CIRCLEs are concentric registration marks (plate: about the cam axis; cylindrical:
 #: the end view's)
 MARK_LAYERS = ("BASE_CIRCLE", "PRIME_CIRCLE", "BORE", "OUTLINE", "GROOVE_BOTTOM")
-CURVE_LAYERS = ("PROFILE", "PITCH", "PROFILE_OUTER", "PROFILE_2", "PITCH_2", "WALL_LOWER", "WALL_UPPER")
+CURVE_LAYERS = ("PROFILE", "PITCH", "PROFILE_OUTER", "PROFILE_2", "PITCH_2", "WALL_LOWER", "WALL_UPPER",
+                "CAM_0", "CAM_1", "CAM_2")
+#: the ``drawing.curves`` values a parallel indexer's drawing draws (its flanks are the body's own
+#: cubic B-splines); the others it refuses, naming the field
+INDEXER_CURVES = ("cubic", "spline")
+
+
+def _is_indexer(spec) -> bool:
+    return spec.cam.body == "parallel_indexer"
 
 
 def _librecad_version() -> str:
@@ -67,8 +83,10 @@ def _drawing(name: str, curves: str, folder):
     return design, summary["drawing"], info, path
 
 
-def _render_tagged(path, folder, what: str, paper: float = 1.0):
-    """LibreCAD's drawing of a colour-tagged copy of ``path``: (page, registration, {key: tag}).
+def _render_tagged(path, folder, what: str, paper: float = 1.0, circles=None):
+    """LibreCAD's drawing of a colour-tagged copy of ``path``: (page, registration, {key: tag}),
+    registered by ``circles`` [(centre, radius)] (:func:`_register_by_position`), or when None by the
+    concentric CIRCLEs of the MARK_LAYERS the DXF states.
 
     ``what`` = "curves": each curve layer's entities get a colour, the texts and dimensions are left
     out (LibreCAD strokes a text's glyphs finer the larger the sheet: on a sheet ``paper`` times the
@@ -101,7 +119,60 @@ def _render_tagged(path, folder, what: str, paper: float = 1.0):
     pdf = tagged.with_suffix(".pdf")
     dxf2pdf(tagged, pdf)
     page = read_pdf_paths(pdf)
+    if circles is not None:
+        return page, _register_by_position(page, circles), tags
     return page, register(page, [(c, r) for r, c in marks.items()]), tags
+
+
+def _register_by_position(page, circles: list[tuple[complex, float]]) -> Registration:
+    """The page ← drawing map from known circles some of which share a radius (an indexer's
+    rollers): :func:`register` by the circles whose radius no other known circle has, then
+    every known circle matched to the drawn circle of its radius nearest where that map puts it and
+    the map fitted again to all of them as :func:`register` fits it (scale: least-squares ratio of
+    the radii; offset: mean of the centres'), its residual the largest misfit of any."""
+    radii = [round(r, 9) for _, r in circles]
+    unique = [(c, r) for c, r in circles if radii.count(round(r, 9)) == 1]
+    first = register(page, unique)
+    drawn = [c for c in map(_drawn_circle, page.strokes) if c is not None]
+    pairs, used = [], set()
+    for kc, kr in circles:
+        at, size = first.scale * kc + first.offset, first.scale * kr
+        near = [(abs(dc - at), i) for i, (dc, dr) in enumerate(drawn)
+                if abs(dr - size) <= 1e-5 * size + 2 * page.unit]
+        assert near, f"the known circle ({kc}, {kr}) is not drawn"
+        miss, i = min(near)
+        assert miss <= 1e-5 * size + 2 * page.unit + 2 * first.residual * first.scale and i not in used, \
+            ((kc, kr), miss / first.scale)
+        used.add(i)
+        pairs.append(((kc, kr), drawn[i]))
+    known_r = np.array([k[1] for k, _ in pairs])
+    drawn_r = np.array([d[1] for _, d in pairs])
+    scale = float(np.dot(known_r, drawn_r) / np.dot(known_r, known_r))
+    offset = complex(np.mean([d[0] - scale * k[0] for k, d in pairs]))
+    residual = max(max(abs(d[0] - (scale * k[0] + offset)), abs(d[1] - scale * k[1])) for k, d in pairs) / scale
+    return Registration(scale, offset, residual, page.unit / scale)
+
+
+def _known_circles(design) -> list[tuple[complex, float]] | None:
+    """The circles a parallel indexer's drawing draws at input angle 0, from the design: the bore
+    about O, the turret's pitch circle R_p about P = (C, 0) and each plane's N rollers of radius
+    ``follower.roller_radius`` where the turret holds them at θ = 0; None for the other bodies
+    (registered by the concentric circles their DXF states)."""
+    if not _is_indexer(design.spec):
+        return None
+    from cam_workbench.generators.bodies.indexing.parallel import roller_state
+
+    ix = design.geometry.indexer
+    rr = float(design.spec.follower.roller_radius)
+    assert rr == float(ix.roller_radius)
+    circles = [(complex(float(ix.centre_distance), 0.0), float(ix.pitch_radius))]
+    if design.spec.cam.bore_diameter > 0:
+        circles.append((0j, 0.5 * float(design.spec.cam.bore_diameter)))
+    n = int(ix.stations)
+    for k in range(int(ix.cams)):
+        p, _, _ = roller_state(ix, k, np.arange(n), np.zeros(n))
+        circles += [(complex(x, y), rr) for x, y in p.tolist()]
+    return circles
 
 
 def _paper(design, resolution: float) -> float:
@@ -121,6 +192,8 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
     forms), the developed walls' exact points of a cylindrical one."""
     from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 
+    if _is_indexer(design.spec):
+        return _indexer_exact_curves(design)
     if isinstance(design, CylindricalDesign):
         lay, prog = design.layout, design.program
         out = {}
@@ -150,7 +223,33 @@ def _exact_curves(design) -> dict[str, list[np.ndarray]]:
     return out
 
 
+def _indexer_exact_curves(design) -> dict[str, list[np.ndarray]]:
+    """Each plate's exact profile (layer CAM_k): the offset Q(τ) of the roller locus, dense over
+    the incoming flank, the dwell (where Q is the circle r_d − r_r about O) and the outgoing
+    flank, from tip X' round to X' (:func:`~cam_workbench.generators.bodies.indexing.parallel_body.offset_point`)."""
+    from cam_workbench.generators.bodies.indexing.parallel import TWO_PI
+    from cam_workbench.generators.bodies.indexing.parallel_body import offset_point
+
+    ix = design.geometry.indexer
+    ts, beta = float(ix.index_start), float(ix.index_angle)
+    out = {}
+    for k, cam in enumerate(design.geometry.cams):
+        ends = (float(cam.tip_tau[0]), ts - TWO_PI + beta, ts, float(cam.tip_tau[1]))
+        pieces = []
+        for lo, hi in zip(ends[:-1], ends[1:]):
+            q, _ = offset_point(ix, k, np.linspace(lo, hi, 40001))
+            pieces.append(q[:, 0] + 1j * q[:, 1])
+        dwell = np.abs(pieces[1])
+        assert np.ptp(dwell) < 1e-9 and abs(dwell[0] - (cam.dwell_radius - ix.roller_radius)) < 1e-9
+        out[f"CAM_{k}"] = pieces
+    return out
+
+
 def _stated_errors(section, info) -> dict[str, float]:
+    if "drawn_flank_error" in section:
+        # an indexer's plates: exact dwell arcs, the flanks the body's B-splines as they are
+        err = max(section["drawn_flank_error"]["value"], section["flank_fit_error"]["value"])
+        return {layer: err for layer in section["layers"] if layer.startswith("CAM_")}
     if "developed_fit_error" in section:
         errs: dict[str, float] = {}
         for d in info.drawn:
@@ -176,18 +275,29 @@ CASES = [(n, c) for n in EXAMPLES for c in CURVES]
 
 @pytest.mark.parametrize("name,curves", CASES, ids=[f"{n}-{c}" for n, c in CASES])
 def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_path, artifacts):
+    if _is_indexer(example_spec(name)) and curves not in INDEXER_CURVES:
+        # refused, naming the field, before anything is drawn
+        with pytest.raises(SpecError) as refusal:
+            _drawing(name, curves, tmp_path)
+        assert refusal.value.field == "drawing.curves", refusal.value
+        assert f'"{curves}" is not available for a parallel indexer' in refusal.value.rule, refusal.value
+        assert all(f'"{c}"' in refusal.value.rule for c in INDEXER_CURVES), refusal.value
+        assert not list(tmp_path.glob("*.dxf"))
+        return
     design, section, info, path = _drawing(name, curves, tmp_path)
+    circles = _known_circles(design)
     tol = design.spec.drawing.chord_tolerance
     # LibreCAD strokes an ARC finer the larger it is drawn: arcs on a sheet resolving tol/6, the
     # rest tol/20 (a few seconds each)
     goal = tol / 6 if curves == "arcs" else tol / 20
-    page, reg, layer_tags = _render_tagged(path, tmp_path, "curves", _paper(design, goal))
+    page, reg, layer_tags = _render_tagged(path, tmp_path, "curves", _paper(design, goal), circles)
     res = reg.resolution
     assert res < 1.5 * goal, (res, goal)           # the page resolves the tolerance
     exact = _exact_curves(design)
     stated = _stated_errors(section, info)
     assert set(exact) <= set(layer_tags)
-    dropped_by_librecad = curves == "spline" and not hasattr(design, "layout")
+    # (an indexer's "spline" is the body's cubic B-splines, as its "cubic": LibreCAD draws them)
+    dropped_by_librecad = curves == "spline" and not hasattr(design, "layout") and not _is_indexer(design.spec)
     for layer, pieces in exact.items():
         drawn = _strokes(page, reg, layer_tags[layer])
         if dropped_by_librecad:
@@ -210,7 +320,7 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
         to_drawn = float(np.max(distance_to_segments(samples, drawn)))
         assert to_drawn <= err + res + sag + dense, (layer, to_drawn, err, res, sag)
     # the title block's texts inside their cells, as LibreCAD draws them
-    page, reg, text_tags = _render_tagged(path, tmp_path, "texts")
+    page, reg, text_tags = _render_tagged(path, tmp_path, "texts", circles=circles)
     res = reg.resolution
     for handle, (text, box) in title_cells(ezdxf.readfile(path)).items():
         drawn = _strokes(page, reg, text_tags[handle])
@@ -222,7 +332,7 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
         assert (x0 - res <= pts.real.min() and pts.real.max() <= x1 + res
                 and y0 - res <= pts.imag.min() and pts.imag.max() <= y1 + res), (text, box, pts.real.min(),
                                                                                 pts.real.max())
-    if name in ("default", "cylindrical"):
+    if name in ("default", "cylindrical", "parallel_indexer"):
         _save_png(page, artifacts / f"librecad_{name}_{curves}.png")
 
 
