@@ -29,7 +29,7 @@ from cam_workbench.generators.bodies.cylindrical import (FIX_MAX_TOLERANCE, FIX_
                                                           CylindricalDesign, CylindricalGeometry)
 
 from . import ocp as occ
-from .solids import SOLIDS, boolean, faces_of, prism_stack, sewn_solid, solids_of
+from .solids import SOLIDS, boolean, faces_of, general_op, prism_stack, sewn_solid, solids_of
 
 
 def wall_surface_geom(wall: Any) -> Any:
@@ -179,21 +179,12 @@ def boolean_groove_solid(design: CylindricalDesign) -> Any:
                                                       -margin, lay.length + margin),
                        _cylinder(lay.bottom_radius, -2 * margin, lay.length + 2 * margin))
     faces = wall_faces(geo)
-    tools = occ.ListOfShape()
-    for side in (-1, 1):
-        tools.Append(_sewn_shell([f for w, f in faces if w.side == side]))
-    args = occ.ListOfShape()
-    args.Append(annulus)
-    split = occ.BRepAlgoAPI_Splitter()
-    split.SetArguments(args)
-    split.SetTools(tools)
-    split.Build()
-    if not split.IsDone():
-        raise RuntimeError("OCCT could not split the annulus by the groove walls")
+    shells = [_sewn_shell([f for w, f in faces if w.side == side]) for side in (-1, 1)]
+    split_shape = general_op(occ.BRepAlgoAPI_Splitter, [annulus], shells, "split the annulus by the groove walls")
     # the pitch point at θ = 0: midway between the walls
     centre = occ.gp_Pnt(*lay.centre_point(design.program, 0.0))
     groove = None
-    for piece in solids_of(split.Shape()):
+    for piece in solids_of(split_shape):
         cls = occ.BRepClass3d_SolidClassifier(piece, centre, 1e-7)
         if cls.State() == occ.TopAbs_IN:
             groove = piece

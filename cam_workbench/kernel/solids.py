@@ -410,6 +410,26 @@ def prism_stack(prisms: Any) -> Any:
     return fused_prisms(prisms)
 
 
+def general_op(op: Any, arguments: Any, tools: Any, what: str) -> Any:
+    """The shape of OCCT's general boolean ``op`` (``BRepAlgoAPI_Splitter``, ``BRepAlgoAPI_Fuse``, …)
+    of the shapes ``arguments`` by the shapes ``tools``.
+
+    Raises:
+        RuntimeError: OCCT does not finish (the message says ``what`` was done)."""
+    args, tls = occ.ListOfShape(), occ.ListOfShape()
+    for a in arguments:
+        args.Append(a)
+    for t in tools:
+        tls.Append(t)
+    builder = op()
+    builder.SetArguments(args)
+    builder.SetTools(tls)
+    builder.Build()
+    if not builder.IsDone():
+        raise RuntimeError(f"OCCT could not {what} ({op.__name__})")
+    return builder.Shape()
+
+
 def fused_prisms(prisms: Any) -> Any:
     """Body prisms as one solid by booleans alone: each extruded and fused or cut in order."""
     shape = None

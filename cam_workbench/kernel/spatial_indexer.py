@@ -66,7 +66,7 @@ from cam_workbench.generators.bodies.indexing.spatial_surfaces import (DEFAULT_T
 from cam_workbench.generators.curves.basis import basis_matrix
 
 from . import ocp as occ
-from .solids import faces_of, is_valid, solids_of
+from .solids import faces_of, general_op, is_valid, solids_of
 
 Array = np.ndarray
 
@@ -575,17 +575,8 @@ def build_spatial_solid(design: SpatialDesign, surfaces: FlankSurfaces, bore_rad
         shells = [sheet_shell(sh) for sh in sheets]
     lap("sheets")
     with _occt("splitting the rib's band by the flank sheets"):
-        args, tools = occ.ListOfShape(), occ.ListOfShape()
-        args.Append(band_solid(ix))
-        for s in shells:
-            tools.Append(s)
-        split = occ.BRepAlgoAPI_Splitter()
-        split.SetArguments(args)
-        split.SetTools(tools)
-        split.Build()
-        if not split.IsDone():
-            raise RuntimeError("OCCT could not split the rib's band by the flank sheets (BRepAlgoAPI_Splitter)")
-        pieces = solids_of(split.Shape())
+        pieces = solids_of(general_op(occ.BRepAlgoAPI_Splitter, [band_solid(ix)], shells,
+                                      "split the rib's band by the flank sheets"))
     lap("split")
     ribs, grooves = [], 0
     with _occt("classifying the band's pieces"):
@@ -602,17 +593,7 @@ def build_spatial_solid(design: SpatialDesign, surfaces: FlankSurfaces, bore_rad
         raise RuntimeError(f"the flank sheets split the band into {len(pieces)} pieces and none is rib")
     lap("classify")
     with _occt("fusing the rib with the core"):
-        fuse_args, fuse_tools = occ.ListOfShape(), occ.ListOfShape()
-        fuse_args.Append(core_solid(ix, rb))
-        for r in ribs:
-            fuse_tools.Append(r)
-        fuse = occ.BRepAlgoAPI_Fuse()
-        fuse.SetArguments(fuse_args)
-        fuse.SetTools(fuse_tools)
-        fuse.Build()
-        if not fuse.IsDone():
-            raise RuntimeError("OCCT could not fuse the rib with the core (BRepAlgoAPI_Fuse)")
-        shape = _unify(fuse.Shape())
+        shape = _unify(general_op(occ.BRepAlgoAPI_Fuse, [core_solid(ix, rb)], ribs, "fuse the rib with the core"))
     lap("fuse")
     solids = solids_of(shape)
     if len(solids) != 1:
