@@ -92,7 +92,7 @@ class Cam:
     def example(cls, name: str = "default", **changes: Any) -> "Cam":
         """A built-in example cam by name (the CLI's ``--example``): "default", "paper",
         "oscillating", "flat", "packaging", "groove", "conjugate", "cylindrical",
-        "cylindrical_oscillating" or "parallel_indexer" (``cam_workbench.generators.spec.examples.DESCRIPTIONS``
+        "cylindrical_oscillating", "parallel_indexer", "barrel_indexer" or "globoidal_indexer" (``cam_workbench.generators.spec.examples.DESCRIPTIONS``
         says what each is; docs/spec.md lists them)."""
         cam = cls(example_spec(name), **changes)
         cam.source = f"example:{name}"
@@ -248,13 +248,16 @@ class Cam:
     def area(self) -> float:
         """Area of the top face [length²], exact: Green's theorem on the body's loops (a plate cam's
         profile minus bore, keyway and holes; a groove cam's disc minus the groove; a cylindrical
-        cam's end face at z = its length)."""
+        cam's end face at z = its length).  A barrel or globoidal indexer refuses it (NotAvailable:
+        its end faces cut fitted flank surfaces)."""
         return self.design.area
 
     @property
     def volume(self) -> float:
         """The body's exact volume [length³] (its loops × heights; a cylindrical cam's groove in
-        closed form)."""
+        closed form); a barrel or globoidal indexer's is not exact: its core in closed form and its
+        rib integrated on a grid of the exact envelope (the error estimate in report.json
+        ``body.volume``)."""
         return self.design.volume
 
     def is_valid(self) -> bool:

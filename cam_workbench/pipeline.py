@@ -33,7 +33,6 @@ from cam_workbench.exporters.report_pages import JSON_NAME, ReportPage, add_repo
 from cam_workbench.exporters.report_json import report_json_text
 from cam_workbench.exporters.step import product_name
 from cam_workbench.generators.cam_design import CamDesign, design_cam
-from cam_workbench.generators.checks.solid import check_kernel_solid, integration_rule, surface_body
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec
@@ -76,12 +75,12 @@ def design_stage(spec: CamSpec, progress: Callable[[int, float], None] | None = 
 
 
 def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
-    """(kernel solid, STEP solid, the ``solid`` section): OCCT's check of the built solid
-    against the exact numbers.
+    """(kernel solid, STEP solid, the ``solid`` section): OCCT's check of the built solid, and its
+    body's check of the solid against the design's numbers (:meth:`~.kernel.solids.KernelBody.verify`).
 
     Raises:
         GeometryError: OCCT finds the solid invalid or not one solid, or its volume or top face
-            disagrees with the exact numbers beyond what its integration allows, or a surface
+            disagrees with the design's numbers beyond what its integration allows, or a surface
             body's solid lacks its wall faces (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
     """
     ocp.require("the cam's solid")
@@ -92,31 +91,8 @@ def solid_stage(design: CamDesign) -> tuple[Any, Any, dict[str, Any]]:
     checked = {id(s): (solids.is_valid(s), solids.count_solids(s)) for s in (shape, step_shape)}  # once each
     if any(not valid or count != 1 for valid, count in checked.values()):
         raise GeometryError("kernel", "OCCT reports the cam solid as invalid")
-    t = design.spec.cam.thickness
-    solid: dict[str, Any] = {
-        "valid": checked[id(shape)][0],
-        "solids": checked[id(shape)][1],
-        # OCCT's fixed Gauss rule: exact on prisms of plane curves; on a surface body's B-spline
-        # walls good to what cam_workbench.generators.checks.solid allows (``volume_rule`` below)
-        "kernel_volume": solids.kernel_volume(shape),
-        "cross_section_area": solids.top_face_area(shape, t),
-    }
-    # how far the kernel's integrals are from the exact (Green's theorem) numbers
-    solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
-    solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
-    solid.update(solids.body_measures(design, shape))
-    allowed = check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
-                                 adaptive=False, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
-    if surface_body(design):
-        # the volume of B-spline walls is not exact: by what rule, and the relative difference it allows
-        solid["volume_rule"] = {"what": integration_rule(design, adaptive=False).text, "allowed": allowed["volume"]}
-    if design.bspline is not None:
-        solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
-        solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
-        solid["step_cross_section_area"] = solids.top_face_area(step_shape, t)
-        # the solid STEP writes: the fitted offset itself, the exact numbers' own profile
-        check_kernel_solid(design, solids.kernel_volume(step_shape), solid["step_cross_section_area"],
-                           kernel="OCCT (the STEP solid)", adaptive=False)
+    solid: dict[str, Any] = {"valid": checked[id(shape)][0], "solids": checked[id(shape)][1]}
+    solid.update(solids.SOLIDS.of(design).verify(design, shape, step_shape))
     return shape, step_shape, solid
 
 

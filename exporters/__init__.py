@@ -20,3 +20,6 @@ from . import dxf_cylindrical, machining_cylindrical, plots_cylindrical, report_
 from . import drawing_indexer  # noqa: F401,E402
 from . import machining_indexer  # noqa: F401,E402
 from . import report_indexer  # noqa: F401,E402
+from . import machining_spatial_indexer  # noqa: F401,E402
+from . import drawing_spatial_indexer  # noqa: F401,E402
+from . import report_spatial_indexer  # noqa: F401,E402

@@ -42,8 +42,10 @@ import numpy as np
 
 from cam_workbench.generators.bodies.indexing.spatial import (TWO_PI, BarrelIndexer, SpatialDesign, contact_lines,
                                                              roller_axis, turret_angle)
+from cam_workbench.generators.bodies.indexing.spatial_kind import SpatialIndexerDesign
 
 from .chart import Area, Chart, Curve, Mark, Note, Panel, Shade, angle_panel, css_color
+from .plots import PICTURES
 from .plots_indexer import CAM_EDGES
 
 #: default views (azimuth, elevation) [deg]: the barrel from the front and above (rollers coming down
@@ -532,6 +534,14 @@ def spatial_picture(design: SpatialDesign, theta: float = 0.0, view: tuple[float
     return Chart.stack([spatial_panel(design, theta, view)], width=640.0)
 
 
+@PICTURES.register(SpatialIndexerDesign)
+def spatial_design_picture(design: SpatialIndexerDesign, follower_angle_deg: float = 75.0) -> Chart:
+    """The Python API's picture of a designed barrel or globoidal indexer (``Cam(...).picture()``,
+    Jupyter): :func:`spatial_picture` of its geometry at the input angle ``follower_angle_deg``
+    [deg], the type's default view (:data:`cam_workbench.exporters.plots.PICTURES`)."""
+    return spatial_picture(design.geometry, math.radians(follower_angle_deg))
+
+
 def spatial_motion_chart(design: SpatialDesign) -> Chart:
     """The turret's angle ψ [deg], ψ' = dψ/dθ [–] and ψ'' [1/rad] over the input turn, and the driving
     pressure angle [deg] (``design.driving_angle``) over the index; x: the input angle from the index
@@ -563,5 +573,5 @@ def spatial_motion_chart(design: SpatialDesign) -> Chart:
     return Chart.stack(panels, width=640.0)
 
 
-__all__ = ["BARREL_VIEW", "GLOBOIDAL_VIEW", "default_view", "engaged_sides", "project", "spatial_motion_chart",
-           "spatial_panel", "spatial_picture", "turned", "view_basis"]
+__all__ = ["BARREL_VIEW", "GLOBOIDAL_VIEW", "default_view", "engaged_sides", "project", "spatial_design_picture",
+           "spatial_motion_chart", "spatial_panel", "spatial_picture", "turned", "view_basis"]

@@ -161,14 +161,20 @@ class ParallelIndexerPage:
 
 
 # ---- the page -------------------------------------------------------------------------------------
-def _figure(name: str, svgs: Mapping[str, str]) -> str:
+def figure_html(name: str, svgs: Mapping[str, str], titles: Mapping[str, str]) -> str:
+    """The ``<figure>`` of the PNG name ``name`` (id ``fig-<name without plot_ and .png>``) holding
+    its SVG from ``svgs`` and its caption from ``titles``; "" when ``svgs`` has none."""
     if name not in svgs:
         return ""
     return (f'<figure id="fig-{name[5:-4]}" data-png="{name}">{svgs[name]}<figcaption>'
-            f"{html.escape(_TITLES[name])} ({name})</figcaption></figure>")
+            f"{html.escape(titles[name])} ({name})</figcaption></figure>")
 
 
-def _notes(report: Mapping[str, Any], section: str) -> str:
+def _figure(name: str, svgs: Mapping[str, str]) -> str:
+    return figure_html(name, svgs, _TITLES)
+
+
+def section_notes(report: Mapping[str, Any], section: str) -> str:
     """The ``*_note`` strings of a report.json section, each as a note naming its key."""
     node = lookup(report, section) if has(report, section) else None
     if not isinstance(node, Mapping):
@@ -234,7 +240,7 @@ def _accuracy_rows() -> list[tuple[str, str, str, str | None]]:
     ]
 
 
-def _drive_rows() -> list[tuple[str, str, str, str | None]]:
+def drive_rows() -> list[tuple[str, str, str, str | None]]:
     d = _DRIVE
     return [
         ("input speed", f"{d}.input_speed_rpm", "rpm", None),
@@ -259,7 +265,7 @@ def _drive_rows() -> list[tuple[str, str, str, str | None]]:
     ]
 
 
-def _law_rows() -> list[tuple[str, str, str, str | None]]:
+def law_rows() -> list[tuple[str, str, str, str | None]]:
     c = f"{_DRIVE}.characteristics"
     return [
         ("law", f"{c}.law", "", None),
@@ -279,10 +285,27 @@ def _law_rows() -> list[tuple[str, str, str, str | None]]:
 _OUTPUTS = (("solid", "The solid (OCCT)"), ("drawing", "The drawing (DXF)"), ("machining", "The machining program"))
 
 
-def _outputs(report: Mapping[str, Any]) -> str:
+def outputs_sections(report: Mapping[str, Any]) -> str:
     """Every scalar of the solid's, the drawing's and the machining's sections that report.json has."""
     return "".join(f'<h2 id="{key}">{html.escape(title)}</h2>' + scalars_table(report, key)
                    for key, title in _OUTPUTS if isinstance(report.get(key), Mapping) and report[key])
+
+
+def drive_section(report: Mapping[str, Any], torque_figure: str) -> str:
+    """The body of an indexer's drive section from report.json's ``indexer.drive`` (the drive's
+    table, the roller's rolling, the drive's notes, the law's characteristic values, then
+    ``torque_figure``), or the note that no load is given."""
+    if not has(report, f"{_DRIVE}.index_time_s"):
+        return ('<p class="note" id="no-drive">No load is given (indexer.output_inertia): the drive is not '
+                "sized.</p>")
+    return (quantity_table(report, drive_rows())
+            + '<p class="note">The drive\'s angles (last column) are input angles from the start of the '
+              "index, θ − θ_s (the check's: the cam angle). The roller's rolling: "
+              f'<span data-key="{_DRIVE}.roller_rolling">'
+              f"{html.escape(str(lookup(report, _DRIVE).get('roller_rolling', '')))}</span>.</p>"
+            + section_notes(report, _DRIVE)
+            + "<h3>The law's characteristic values</h3>" + quantity_table(report, law_rows())
+            + torque_figure)
 
 
 def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
@@ -302,18 +325,7 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
                      f"(measured: {html.escape(str(fit.get('what', '')))}); "
                      f"{html.escape(str(body.get('approximation', '')))}. The recovered turret angle: "
                      f"{html.escape(str(mg.get('what', '')))}.</p>")
-    if has(report, f"{_DRIVE}.index_time_s"):
-        drive = (quantity_table(report, _drive_rows())
-                 + '<p class="note">The drive\'s angles (last column) are input angles from the start of the '
-                   "index, θ − θ_s (the check's: the cam angle). The roller's rolling: "
-                   f'<span data-key="{_DRIVE}.roller_rolling">'
-                   f"{html.escape(str(lookup(report, _DRIVE).get('roller_rolling', '')))}</span>.</p>"
-                 + _notes(report, _DRIVE)
-                 + "<h3>The law's characteristic values</h3>" + quantity_table(report, _law_rows())
-                 + _figure("plot_torque.png", svgs))
-    else:
-        drive = ('<p class="note" id="no-drive">No load is given (indexer.output_inertia): the drive is not '
-                 "sized.</p>")
+    drive = drive_section(report, _figure("plot_torque.png", svgs))
     return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
             + f"</title><style>{CSS}</style></head><body><main>"
             f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
@@ -324,5 +336,5 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
             + quantity_table(report, _accuracy_rows()) + accuracy_note
             + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows)
             + _figure("plot_motion.png", svgs)
-            + '<h2 id="drive">The drive</h2>' + drive + _outputs(report)
+            + '<h2 id="drive">The drive</h2>' + drive + outputs_sections(report)
             + "</main></body></html>\n")

@@ -29,7 +29,7 @@ from .conftest import ROOT, requires_ocp
 pytestmark = requires_ocp
 
 DOC = ROOT / "docs" / "python.md"
-BODIES = ("plate", "groove", "conjugate", "cylindrical", "parallel_indexer")
+BODIES = ("plate", "groove", "conjugate", "cylindrical", "parallel_indexer", "barrel_indexer", "globoidal_indexer")
 
 
 @dataclass
@@ -156,7 +156,12 @@ def _outputs(c: Case) -> None:
 def _report(c: Case) -> None:
     r = c.cam.report()
     assert r["units"] == c.cam.spec.units
-    assert r["volume"] == c.cam.volume and r["area"] == c.cam.area
+    assert r["volume"] == c.cam.volume
+    if "area" in r:                      # a barrel or globoidal indexer has no exact top face (Cam.area refuses)
+        assert r["area"] == c.cam.area
+    else:
+        with pytest.raises(NotAvailable):
+            c.cam.area
     assert abs(r["solid"]["volume_rel_diff"]) < 1e-4          # OCCT's volume of the solid vs the exact one
 
 

@@ -13,7 +13,7 @@ from cam_workbench.generators.kinds import body_named, pitch_named
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.studies.remedies import remedy_lines
 
-from . import build_indexer
+from . import build_indexer, build_spatial_indexer
 from .common import write_cam
 from .dxf_cmd import describe as describe_dxf
 
@@ -163,4 +163,19 @@ def _print_indexer_summary(s: dict, out: Path) -> None:
     print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
     _print_remedies(ck)
     for line in build_indexer.program_lines(s):
+        print(line)
+
+
+@SUMMARIES.register(build_spatial_indexer.BODY)
+def _print_spatial_indexer_summary(s: dict, out: Path) -> None:
+    """A barrel or globoidal indexer's (:mod:`.build_spatial_indexer`'s lines): its turret and rib,
+    pressure angles, fitted flanks, recovered turret angle, volume and drive, the checks' verdict,
+    its 4-axis program."""
+    _files_line(s, out)
+    for line in build_spatial_indexer.body_lines(s):
+        print(line)
+    ck = s["checks"]
+    print("  design checks: " + ("all pass" if ck["passed"] else f"FAILED {', '.join(ck['failed'])}"))
+    _print_remedies(ck)
+    for line in build_spatial_indexer.program_lines(s):
         print(line)

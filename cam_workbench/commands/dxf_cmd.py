@@ -61,6 +61,14 @@ def describe(d: dict, units: str) -> str:
         return (f"WALL_LOWER, WALL_UPPER: {kind} with the PITCH line, fitted to the developed walls at the outer "
                 f"radius: max fit error {fit['value']:.3g} {units} (pitch line {fit['pitch_line']:.3g} {units}), "
                 f"not exact (tolerance {d['chord_tolerance']:g} {units}, {d['file_version']})")
+    trace = d.get("drawn_trace_error")
+    if trace is not None:          # a barrel or globoidal indexer: views, the flanks' traces (barrel) fitted
+        fit = d["flank_fit_error"]
+        drawn = ("no flank traces (the flanks are surfaces)" if trace["value"] is None else
+                 f"{d['splines']} flank traces as cubic SPLINEs within {trace['value']:.3g} {units} of the exact "
+                 "envelope (measured, not exact)")
+        return (f"{d['kind']} indexer's views: circles, arcs and lines exact; {drawn}; the flank surfaces' fit "
+                f"error {fit['value']:.3g} {units} quoted in the title block ({d['file_version']})")
     curve = d.get("profile_curve")
     if d["curves"] == "spline":
         what = curve if curve else ("exact profile NURBS" if d.get("exact") else "profile NURBS")

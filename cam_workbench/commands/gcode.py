@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         text = outputs.machining.gcode
     if args.output:
         write_text_atomic(Path(args.output), text)
-        print(f"{args.mode} program written to {args.output}", file=sys.stderr)
+        print(f"{outputs.summary['machining']['program']} program written to {args.output}", file=sys.stderr)
     else:
         sys.stdout.write(text)
     return 0

@@ -40,6 +40,11 @@ EXAMPLES: tuple[tuple[str, str], ...] = (
                                 "away (30° arm rise over 150°)"),
     ("parallel_indexer", "an 8-station parallel indexer: two plates 16 mm thick, modified sine over a 120° index, "
                          "C = 120 mm, R_p = 50 mm, 10 mm rollers, sized for a 0.15 kg·m² output at 100 rpm"),
+    ("barrel_indexer", "a 6-station barrel indexer: a rib on an 80 mm cylinder, 12 mm rollers on the turret's face "
+                       "60 mm out, modified sine over a 240° index, sized for a 0.2 kg·m² output at 60 rpm"),
+    ("globoidal_indexer", "a 12-station globoidal indexer: a rib on a 56 mm globoid, C = 150 mm, 12 mm radial "
+                          "rollers 74–96 mm out, modified sine over a 120° index, sized for a 0.5 kg·m² output at "
+                          "60 rpm"),
 )
 #: the e-cam formats, each with its tables (the first its default):
 #: :data:`cam_workbench.generators.spec.ECAM_TABLES`

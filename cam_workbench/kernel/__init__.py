@@ -10,3 +10,4 @@ of the project, only :mod:`cam_workbench.generators`.  Importing it loads no OCP
 
 from . import cylindrical  # noqa: F401,E402  (registers the cylindrical cam's solid)
 from . import indexer  # noqa: F401,E402  (registers the parallel indexer's solid)
+from . import spatial_indexer  # noqa: F401,E402  (registers the barrel and globoidal indexers' solid)

@@ -29,7 +29,7 @@ from cam_workbench.generators.bodies.cylindrical import (FIX_MAX_TOLERANCE, FIX_
                                                           CylindricalDesign, CylindricalGeometry)
 
 from . import ocp as occ
-from .solids import SOLIDS, boolean, faces_of, general_op, prism_stack, sewn_solid, solids_of
+from .solids import SOLIDS, boolean, faces_of, general_op, prism_stack, sewn_solid, solids_of, verify_exact
 
 
 def wall_surface_geom(wall: Any) -> Any:
@@ -241,6 +241,8 @@ def cylindrical_wall_error(design: Any, shape: Any, per_direction: int = 15) -> 
 class CylindricalSolids:
     """The cylindrical cam's solid (:func:`cylindrical_solid`; it has no offset profile, so
     ``exact_offset`` changes nothing) and its walls' distance from the exact ones."""
+
+    verify = staticmethod(verify_exact)
 
     @staticmethod
     def solid(design: Any, exact_offset: bool) -> Any:

@@ -13,12 +13,14 @@ from typing import Any
 
 from cam_workbench.generators.bodies.indexing.parallel_kind import ParallelIndexerDesign
 
-from .solids import SOLIDS, count_solids, fused_prisms, is_valid, prism_stack
+from .solids import SOLIDS, count_solids, fused_prisms, is_valid, prism_stack, verify_exact
 
 
 @SOLIDS.register(ParallelIndexerDesign)
 class IndexerSolids:
     """The parallel indexer's solid (its body's prisms stacked) and the number of plates it stacks."""
+
+    verify = staticmethod(verify_exact)
 
     @staticmethod
     def solid(design: Any, exact_offset: bool) -> Any:

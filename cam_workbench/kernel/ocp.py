@@ -83,7 +83,7 @@ SAME: tuple[str, ...] = (
     "StepBasic_Product", "TCollection_HAsciiString", "TopAbs_EDGE", "TopAbs_FACE", "TopAbs_REVERSED", "TopAbs_SOLID", "TopExp_Explorer", "TopoDS",
     "gp_Ax2", "gp_Ax3", "gp_Circ", "gp_Dir", "gp_Pln", "gp_Pnt", "gp_Pnt2d", "gp_Vec",
     "Geom_CylindricalSurface", "GeomAbs_Circle", "GeomAbs_Cylinder", "ShapeFix_Face",
-    "BRepPrimAPI_MakeRevol", "ShapeUpgrade_UnifySameDomain", "gp_Ax1",
+    "BRepPrimAPI_MakeRevol", "ShapeUpgrade_UnifySameDomain", "gp_Ax1", "gp_Trsf", "BRepBuilderAPI_Transform",
 )
 
 __all__ = sorted({*RENAMED, *SAME, "INSTALL_HINT", "OCP_DISTRIBUTIONS", "available", "require",

@@ -14,6 +14,7 @@ import numpy as np
 from cam_workbench.generators.bodies.base import Arc, Curve, Line
 from cam_workbench.generators.bodies.levels import CapXor, LevelStack, level_stack
 from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.solid import check_kernel_solid, integration_rule, surface_body
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -155,6 +156,15 @@ class KernelBody(Protocol):
     def measures(design: Any, shape: Any) -> dict[str, Any]:
         """What the solid stage measures of the built ``shape`` beyond volume and face area."""
 
+    @staticmethod
+    def verify(design: Any, shape: Any, step_shape: Any) -> dict[str, Any]:
+        """report.json's ``solid`` section beyond validity: the built ``shape`` (and the STEP solid
+        ``step_shape``) measured and held to the design's own numbers (:func:`verify_exact` for a
+        body with exact volume and top face).
+
+        Raises:
+            GeometryError: a measure disagrees beyond what the kernel's integration allows."""
+
 
 #: design class → its :class:`KernelBody` (the plane cams' here; a body's own in its kernel module,
 #: imported by :mod:`cam_workbench.kernel` when it loads)
@@ -223,11 +233,46 @@ def _one_solid(shape: Any) -> Any:
     return occ.topods_solid(exp.Current()) if count_solids(shape) == 1 else shape
 
 
+def verify_exact(design: Any, shape: Any, step_shape: Any) -> dict[str, Any]:
+    """The ``solid`` section of a body with exact numbers (``design.volume``, ``design.area``: closed
+    forms and Green's theorem): OCCT's volume and top-face area, their relative differences, the
+    body's :meth:`KernelBody.measures`, all held to
+    :func:`cam_workbench.generators.checks.solid.check_kernel_solid`.
+
+    Raises:
+        GeometryError: see :func:`~cam_workbench.generators.checks.solid.check_kernel_solid`."""
+    t = design.spec.cam.thickness
+    solid: dict[str, Any] = {
+        # OCCT's fixed Gauss rule: exact on prisms of plane curves; on a surface body's B-spline
+        # walls good to what cam_workbench.generators.checks.solid allows (``volume_rule`` below)
+        "kernel_volume": kernel_volume(shape),
+        "cross_section_area": top_face_area(shape, t),
+    }
+    # how far the kernel's integrals are from the exact (Green's theorem) numbers
+    solid["volume_rel_diff"] = solid["kernel_volume"] / design.volume - 1.0
+    solid["area_rel_diff"] = solid["cross_section_area"] / design.area - 1.0
+    solid.update(body_measures(design, shape))
+    allowed = check_kernel_solid(design, solid["kernel_volume"], solid["cross_section_area"], kernel="OCCT",
+                                 adaptive=False, walls=solid.get("wall_error"), exact_offset=design.bspline is not None)
+    if surface_body(design):
+        # the volume of B-spline walls is not exact: by what rule, and the relative difference it allows
+        solid["volume_rule"] = {"what": integration_rule(design, adaptive=False).text, "allowed": allowed["volume"]}
+    if design.bspline is not None:
+        solid["profile"] = "exact offset of the fitted pitch B-spline (Geom_OffsetCurve)"
+        solid["step_profile"] = "fitted offset B-spline (profile.max_error)"
+        solid["step_cross_section_area"] = top_face_area(step_shape, t)
+        # the solid STEP writes: the fitted offset itself, the exact numbers' own profile
+        check_kernel_solid(design, kernel_volume(step_shape), solid["step_cross_section_area"],
+                           kernel="OCCT (the STEP solid)", adaptive=False)
+    return solid
+
+
 @SOLIDS.register(CamDesign)
 class PlaneSolids:
     """The plane cams' solids: their bodies' prisms (:func:`plane_solid`); nothing further measured."""
 
     solid = staticmethod(plane_solid)
+    verify = staticmethod(verify_exact)
 
     @staticmethod
     def measures(design: Any, shape: Any) -> dict[str, Any]:

@@ -63,10 +63,12 @@ from cam_workbench.generators.bodies.indexing.spatial import (TWO_PI, BarrelInde
                                                               SpatialDesign, contact_lines)
 from cam_workbench.generators.bodies.indexing.spatial_surfaces import (DEFAULT_TOLERANCE, BSplineSurface, FlankSurface,
                                                                        FlankSurfaces)
+from cam_workbench.generators.bodies.indexing.spatial_kind import SpatialIndexerDesign
 from cam_workbench.generators.curves.basis import basis_matrix
+from cam_workbench.generators.errors import GeometryError
 
 from . import ocp as occ
-from .solids import faces_of, general_op, is_valid, solids_of
+from .solids import SOLIDS, SURFACE_VOLUME_EPS, faces_of, general_op, is_valid, kernel_volume, solids_of
 
 Array = np.ndarray
 
@@ -618,6 +620,70 @@ def spatial_solid(design: SpatialDesign, surfaces: FlankSurfaces, bore_radius: f
     return build_spatial_solid(design, surfaces, bore_radius).solid
 
 
+def _shifted(shape: Any, dz: float) -> Any:
+    """``shape`` moved by ``dz`` along z."""
+    trsf = occ.gp_Trsf()
+    trsf.SetTranslation(occ.gp_Vec(0.0, 0.0, dz))
+    return occ.BRepBuilderAPI_Transform(shape, trsf, True).Shape()
+
+
+@SOLIDS.register(SpatialIndexerDesign)
+class SpatialSolids:
+    """The barrel or globoidal indexer's cam in the output frame: :func:`spatial_solid` (the design's
+    frame, centred on z = 0) moved up by W/2 so that the cam spans 0 ≤ z ≤ W (``cam.thickness``) as
+    every body's solid does; its volume held to the grid integral of the exact envelope."""
+
+    @staticmethod
+    def solid(design: Any, exact_offset: bool) -> Any:
+        """The cam as one ``TopoDS_Solid`` (``exact_offset`` changes nothing: the flanks are the fitted
+        surfaces, which STEP holds as they are).
+
+        Raises:
+            GeometryError: OCCT could not build it (kind "kernel", which step)."""
+        spec = design.spec
+        try:
+            solid = spatial_solid(design.geometry, design.surfaces, 0.5 * float(spec.cam.bore_diameter))
+        except RuntimeError as exc:
+            raise GeometryError("kernel", f"OCCT could not build the {spec.cam.body.replace('_', ' ')}'s cam: "
+                                f"{exc}") from None
+        return _shifted(solid, 0.5 * float(spec.cam.thickness))
+
+    @staticmethod
+    def measures(design: Any, shape: Any) -> dict[str, Any]:
+        """Nothing beyond what :meth:`verify` measures."""
+        return {}
+
+    @staticmethod
+    def verify(design: Any, shape: Any, step_shape: Any) -> dict[str, Any]:
+        """OCCT's adaptive volume (ε = :data:`~.solids.SURFACE_VOLUME_EPS` per face) against the core's
+        closed form plus the rib integrated on a grid of the exact envelope
+        (``design.volume_estimate``: :func:`~cam_workbench.generators.bodies.indexing.spatial_volume.cam_volume`), allowed their
+        two errors and the flank surfaces' fit error over the flanks' area (2·A·e, A ≈ 2·W·depth
+        per flank, bounded above by the band's area).
+
+        Raises:
+            GeometryError: kind "kernel", the volumes beyond the allowance."""
+        spec = design.spec
+        est = design.volume_estimate
+        got = kernel_volume(shape, SURFACE_VOLUME_EPS)
+        ix = design.geometry.indexer
+        depth = (float(ix.outer_radius) - float(ix.root_radius) if _is_barrel(ix)
+                 else float(ix.root_radius) - float(ix.tip_radius))
+        # each flank's area is at most the band's depth times its length along the rib (< 2π·R·(turns + 1))
+        reach = float(ix.outer_radius) if _is_barrel(ix) else float(ix.centre_distance) - float(ix.tip_radius)
+        flank_area = 2.0 * depth * TWO_PI * reach * 2.0
+        allowed = (est.error + flank_area * design.fit_error) / est.value + 2 * SURFACE_VOLUME_EPS
+        rel = got / est.value - 1.0
+        if not abs(rel) <= allowed:
+            raise GeometryError("kernel", f"OCCT's solid of the cam has the volume {got:.10g} mm³, the grid integral of "
+                                f"the exact envelope gives {est.value:.10g} mm³: {rel:+.3e} relative, beyond the "
+                                f"{allowed:.2g} their errors allow — the solid is not the cam's")
+        return {"kernel_volume": got, "design_volume": est.value, "volume_rel_diff": rel,
+                "volume_rule": {"what": "OCCT's adaptive integration (ε = 1e-6 per face) against " + est.what,
+                                "allowed": allowed},
+                "frame": "the design's frame moved up by W/2: the cam spans 0 ≤ z ≤ cam.thickness"}
+
+
 __all__ = ["END_CLEARANCE", "ROOT_OVERLAP", "ExtendedFlank", "SpatialBuild", "band_margin", "band_solid",
-           "build_spatial_solid", "core_solid", "extended_flank", "project_radially", "radial_coordinate",
+           "SpatialSolids", "build_spatial_solid", "core_solid", "extended_flank", "project_radially", "radial_coordinate",
            "sheet_shell", "spatial_solid", "surface_geom"]

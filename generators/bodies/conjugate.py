@@ -56,6 +56,7 @@ class ConjugateBody(PlaneCamBody):
 
     kind = "conjugate"
     plane = True
+    roller_within_base = True
     #: the field that sizes the cam
     size_field = "cam.base_radius"
     #: the legend of the body's first added region in the cam drawing (None: the profile's)

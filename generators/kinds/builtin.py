@@ -7,4 +7,5 @@ from __future__ import annotations
 
 from ..bodies import plate, groove, conjugate, cylindrical  # noqa: F401  (each registers its body)
 from ..bodies.indexing import parallel_kind  # noqa: F401  (registers the parallel indexer)
+from ..bodies.indexing import spatial_kind  # noqa: F401  (registers the barrel and globoidal indexers)
 from ..followers import translating, oscillating, flat  # noqa: F401  (each registers its follower kinds)

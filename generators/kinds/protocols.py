@@ -37,6 +37,10 @@ class Body(Protocol):
     drive_note: ClassVar[str]
     #: a plane cam: prisms of plane loops, a pitch curve and a profile (see the module docstring)
     plane: ClassVar[bool]
+    #: the rules cam.base_radius > follower.roller_radius and the bore inside base radius − roller
+    #: radius hold (the roller's centre keeps cam.base_radius from the cam axis); a spatial
+    #: indexer's rollers do not stand on its core, its bore rule is its own
+    roller_within_base: ClassVar[bool]
     #: the [cam] fields only this body reads (an error on any other body)
     own_fields: ClassVar[tuple[str, ...]]
     #: the field that sizes the cam (cam.base_radius; a cylindrical cam's pitch radius)

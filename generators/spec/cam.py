@@ -9,7 +9,7 @@ from .params import param
 
 
 #: cam bodies (CAM_SPEC.md "Cam bodies") and keyway standards
-BODIES = ("plate", "groove", "conjugate", "cylindrical", "parallel_indexer")
+BODIES = ("plate", "groove", "conjugate", "cylindrical", "parallel_indexer", "barrel_indexer", "globoidal_indexer")
 KEYWAYS = ("DIN6885", "ANSI")
 
 
@@ -36,8 +36,9 @@ class CamSection:
         "plate cams on one shaft driving one follower through two rollers: positive drive, see [conjugate]) or "
         "\"cylindrical\" (a barrel cam: a groove around a cylinder, the follower moving along the cam axis or "
         "swinging on an arm about a radial pivot; "
-        "see cam.cylinder_radius, cam.length and [groove]), or \"parallel_indexer\" (two or three plate "
-        "cams turning a turret 360°/N per input turn; see [indexer])",
+        "see cam.cylinder_radius, cam.length and [groove]), or an indexer turning a turret 360°/N per input "
+        "turn: \"parallel_indexer\" (two or three plate cams), \"barrel_indexer\" (a rib on a cylinder) or "
+        "\"globoidal_indexer\" (a rib on a globoid); see [indexer]",
         kind="str",
         choices=BODIES, default="plate", group="Cam")
     outer_diameter: float | None = param(

@@ -158,12 +158,48 @@ PARALLEL_INDEXER_SPEC_DICT: dict[str, Any] = {
     "material": {"allowable_stress": 1500.0},
 }
 
+#: a 6-station barrel indexer: a rib on an 80 mm long cylinder, the turret's rollers on its face 60 mm from
+#: its axis, which crosses the cam axis at right angles 52 mm away; modified sine over a 240° index
+BARREL_INDEXER_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"body": "barrel_indexer", "thickness": 80.0, "bore_diameter": 20.0, "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "roller_radius": 12.0},
+    "motion": [
+        {"kind": "dwell", "angle": 60.0},
+        {"kind": "rise", "angle": 240.0, "lift": 60.0, "law": "modified_sine"},
+        {"kind": "dwell", "angle": 60.0},
+    ],
+    "indexer": {"stations": 6, "centre_distance": 52.0, "pitch_radius": 60.0, "roller_start": 27.0,
+                "roller_end": 45.0, "root_radius": 25.0, "outer_radius": 40.0, "output_inertia": 200000.0,
+                "friction_torque": 3000.0, "roller_rating": 30000.0},
+    "material": {"allowable_stress": 1500.0},
+}
+
+#: a 12-station globoidal (roller-gear) indexer: a rib on a globoid 56 mm wide, the turret's radial
+#: rollers 74–96 mm from its axis, 150 mm from the cam axis; modified sine over a 120° index
+GLOBOIDAL_INDEXER_SPEC_DICT: dict[str, Any] = {
+    "units": "mm",
+    "cam": {"body": "globoidal_indexer", "thickness": 56.0, "bore_diameter": 30.0, "speed_rpm": 60.0},
+    "follower": {"kind": "roller", "roller_radius": 12.0},
+    "motion": [
+        {"kind": "dwell", "angle": 120.0},
+        {"kind": "rise", "angle": 120.0, "lift": 30.0, "law": "modified_sine"},
+        {"kind": "dwell", "angle": 120.0},
+    ],
+    "indexer": {"stations": 12, "centre_distance": 150.0, "roller_start": 74.0, "roller_end": 96.0,
+                "tip_radius": 76.0, "root_radius": 100.0, "output_inertia": 500000.0, "friction_torque": 5000.0,
+                "roller_rating": 30000.0},
+    "material": {"allowable_stress": 1500.0},
+}
+
 EXAMPLES: dict[str, dict[str, Any]] = {"default": DEFAULT_SPEC_DICT, "paper": PAPER_SPEC_DICT,
                                        "oscillating": OSCILLATING_SPEC_DICT, "flat": FLAT_SPEC_DICT,
                                        "packaging": PACKAGING_SPEC_DICT, "groove": GROOVE_SPEC_DICT,
                                        "conjugate": CONJUGATE_SPEC_DICT, "cylindrical": CYLINDRICAL_SPEC_DICT,
                                        "cylindrical_oscillating": CYLINDRICAL_OSCILLATING_SPEC_DICT,
-                                       "parallel_indexer": PARALLEL_INDEXER_SPEC_DICT}
+                                       "parallel_indexer": PARALLEL_INDEXER_SPEC_DICT,
+                                       "barrel_indexer": BARREL_INDEXER_SPEC_DICT,
+                                       "globoidal_indexer": GLOBOIDAL_INDEXER_SPEC_DICT}
 
 
 #: every example in one line (the ``--example`` help and docs/spec.md's table read this)
@@ -187,6 +223,10 @@ DESCRIPTIONS: dict[str, str] = {
                                "away (30° arm rise over 150°)",
     "parallel_indexer": "an 8-station parallel indexer: two plates 16 mm thick, modified sine over a 120° index, "
                         "C = 120 mm, R_p = 50 mm, 10 mm rollers, sized for a 0.15 kg·m² output at 100 rpm",
+    "barrel_indexer": "a 6-station barrel indexer: a rib on an 80 mm cylinder, 12 mm rollers on the turret's face "
+                      "60 mm out, modified sine over a 240° index, sized for a 0.2 kg·m² output at 60 rpm",
+    "globoidal_indexer": "a 12-station globoidal indexer: a rib on a 56 mm globoid, C = 150 mm, 12 mm radial rollers "
+                         "74–96 mm out, modified sine over a 120° index, sized for a 0.5 kg·m² output at 60 rpm",
 }
 assert set(DESCRIPTIONS) == set(EXAMPLES)
 

@@ -1,5 +1,5 @@
 """The spec's `[indexer]` table: :class:`IndexerSection` (the turret of an indexing cam: a parallel,
-``cam.body = "parallel_indexer"``; the barrel and globoidal indexers' fields come with their bodies),
+``cam.body`` = "parallel_indexer", "barrel_indexer" or "globoidal_indexer"),
 and :func:`indexer_size`, the cam size ``cam.base_radius`` stands for on an indexer.
 
 How an indexer's spec reads the other tables (docs/indexing.md, "The spec"):
@@ -10,7 +10,7 @@ How an indexer's spec reads the other tables (docs/indexing.md, "The spec"):
 * ``follower.kind = "roller"`` and ``follower.roller_radius`` are the turret's rollers,
   ``follower.roller_width`` their contact length.
 * ``cam.thickness`` is each plate's thickness (parallel) or the cam's length along its axis
-  (the barrel and globoidal indexers', when they are bodies); ``cam.speed_rpm`` the input shaft's speed; ``cam.base_radius`` is derived
+  (barrel, globoidal); ``cam.speed_rpm`` the input shaft's speed; ``cam.base_radius`` is derived
   (:func:`indexer_size`) and, when given, must agree.
 """
 from __future__ import annotations
@@ -44,6 +44,21 @@ class IndexerSection:
     spacer_diameter: float | None = param(
         "Parallel: the spacer's diameter (default: 90 % of the plates' smallest profile diameter)",
         unit="length", gt=0, optional=True, group="Indexer")
+    roller_start: float | None = param(
+        "Barrel and globoidal: where the roller's working length starts — its height above the plane through "
+        "the cam axis (barrel) or its distance from the turret axis (globoidal)", unit="length", gt=0,
+        optional=True, group="Indexer")
+    roller_end: float | None = param(
+        "Barrel and globoidal: where the roller's working length ends (> roller_start)", unit="length", gt=0,
+        optional=True, group="Indexer")
+    root_radius: float | None = param(
+        "Barrel: the rib's root cylinder radius; globoidal: the rib's root globoid, its distance from the "
+        "circle the turret axis's foot traces about the cam axis", unit="length", gt=0, optional=True,
+        group="Indexer")
+    outer_radius: float | None = param("Barrel: the rib's top cylinder radius (> root_radius)", unit="length",
+                                       gt=0, optional=True, group="Indexer")
+    tip_radius: float | None = param("Globoidal: the rib's tip globoid (< root_radius)", unit="length", gt=0,
+                                     optional=True, group="Indexer")
     max_pressure_angle: float | None = param(
         "Largest allowed pressure angle of the contact that carries the output's torque (an indexer's "
         "checks.max_pressure_angle; default 60°: the normal force twice the torque's tangential force)",
@@ -77,9 +92,19 @@ def indexer_value(spec: Any, name: str) -> Any:
 #: the bodies this table serves, and the fields each reads (any other given field is an error)
 INDEXER_FIELDS: dict[str, tuple[str, ...]] = {
     "parallel_indexer": ("stations", "centre_distance", "pitch_radius", "cams", "gap", "spacer_diameter"),
+    "barrel_indexer": ("stations", "centre_distance", "pitch_radius", "roller_start", "roller_end",
+                       "root_radius", "outer_radius"),
+    "globoidal_indexer": ("stations", "centre_distance", "roller_start", "roller_end", "root_radius",
+                          "tip_radius"),
 }
 #: the fields :func:`indexer_size` reads, per body
-INDEXER_SIZE_FIELDS: dict[str, tuple[str, ...]] = {"parallel_indexer": ("stations", "centre_distance", "pitch_radius")}
+INDEXER_SIZE_FIELDS: dict[str, tuple[str, ...]] = {"parallel_indexer": ("stations", "centre_distance", "pitch_radius"),
+                                                   "barrel_indexer": ("root_radius",),
+                                                   "globoidal_indexer": ("centre_distance", "root_radius")}
+#: the bodies whose roller must be smaller than the derived size (a plate's dwell radius holds the roller's
+#: centre), in words; a spatial indexer's rollers do not stand on its core: no such rule
+INDEXER_ROLLER_BOUND: dict[str, str] = {
+    "parallel_indexer": "the plates' smallest dwell radius (the held roller's centre from the input axis)"}
 LOAD_FIELDS = ("max_pressure_angle", "output_inertia", "friction_torque", "roller_rating", "life_exponent", "efficiency")
 
 
@@ -89,6 +114,8 @@ def indexer_size(body: str, indexer: Mapping[str, Any]) -> float | None:
 
     * parallel: the smallest dwell radius min_k |P + R_p·e(a_k)| = min_k √(C² + R_p² + 2·C·R_p·cos a_k),
       a_k = π + (n_c − 1 − 2k)·π/(N·n_c) the held rollers' angles (docs/indexing.md);
+    * barrel: the rib's root radius;
+    * globoidal: the cam's waist radius C − root_radius.
     """
     try:
         if body == "parallel_indexer":
@@ -96,6 +123,10 @@ def indexer_size(body: str, indexer: Mapping[str, Any]) -> float | None:
             nc = int(indexer.get("cams", 2))
             return min(math.sqrt(c * c + rp * rp + 2 * c * rp * math.cos(math.pi + (nc - 1 - 2 * k) * math.pi / (n * nc)))
                        for k in range(nc))
+        if body == "barrel_indexer":
+            return float(indexer["root_radius"])
+        if body == "globoidal_indexer":
+            return float(indexer["centre_distance"]) - float(indexer["root_radius"])
     except (KeyError, TypeError, ValueError):
         return None
     return None

@@ -30,7 +30,7 @@ from .dynamics import DynamicsSection
 from .ecam import EcamSection, validate_ecam
 from .follower import FollowerSection, validate_face, validate_follower_motion
 from .groove import GrooveSection
-from .indexer import INDEXER_FIELDS, INDEXER_SIZE_FIELDS, IndexerSection, indexer_size
+from .indexer import INDEXER_FIELDS, INDEXER_ROLLER_BOUND, INDEXER_SIZE_FIELDS, IndexerSection, indexer_size
 from .machining import MachiningSection, validate_machining
 from .material import MaterialSection
 from .motion import MotionSegment, inline_table_files, validate_motion
@@ -286,11 +286,11 @@ def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
         return data                 # the [indexer] rules name what is wrong
     fol = data.get("follower")
     rr = fol.get("roller_radius") if isinstance(fol, Mapping) else None
-    if isinstance(rr, (int, float)) and not isinstance(rr, bool) and rr >= size:
+    words = INDEXER_ROLLER_BOUND.get(cam["body"])
+    if words is not None and isinstance(rr, (int, float)) and not isinstance(rr, bool) and rr >= size:
         # the rule cam.base_radius > follower.roller_radius, in the indexer's words (it derives R_b)
-        raise SpecError("follower.roller_radius", f"must be < the plates' smallest dwell radius {size:.6g} (the held "
-                        f"roller's centre from the input axis, from [indexer]), got {fmt_apart(rr, size)}: a smaller "
-                        "roller or a larger indexer.centre_distance")
+        raise SpecError("follower.roller_radius", f"must be < {words} {size:.6g} (from [indexer]), got "
+                        f"{fmt_apart(rr, size)}: a smaller roller or a larger indexer.centre_distance")
     out = dict(data)
     out["cam"] = {**cam, "base_radius": size}
     return out
@@ -348,17 +348,18 @@ def validate(spec: CamSpec) -> None:
         raise SpecError("follower.offset",
                         f"|offset| must be < cam.base_radius ({fmt_apart(cam.base_radius, abs(fol.offset))}), got "
                         f"{fmt_apart(fol.offset, math.copysign(cam.base_radius, fol.offset))}")
-    if spec.is_roller and not cam.base_radius > fol.roller_radius:
-        raise SpecError("cam.base_radius",
-                        f"must be > follower.roller_radius ({fmt_apart(fol.roller_radius, cam.base_radius)}), got "
-                        f"{fmt_apart(cam.base_radius, fol.roller_radius)}")
-    r_surface = cam.base_radius - spec.roller_radius
-    if not cam.bore_diameter < 2 * r_surface:
-        raise SpecError("cam.bore_diameter",
-                        f"must be < 2 × smallest cam-surface radius = 2 × (cam.base_radius {cam.base_radius:g} − "
-                        f"follower.roller_radius {spec.roller_radius:g}) = {fmt_apart(2 * r_surface, cam.bore_diameter)}, "
-                        f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
-                        "radius")
+    if body_of(spec).roller_within_base:
+        if spec.is_roller and not cam.base_radius > fol.roller_radius:
+            raise SpecError("cam.base_radius",
+                            f"must be > follower.roller_radius ({fmt_apart(fol.roller_radius, cam.base_radius)}), got "
+                            f"{fmt_apart(cam.base_radius, fol.roller_radius)}")
+        r_surface = cam.base_radius - spec.roller_radius
+        if not cam.bore_diameter < 2 * r_surface:
+            raise SpecError("cam.bore_diameter",
+                            f"must be < 2 × smallest cam-surface radius = 2 × (cam.base_radius {cam.base_radius:g} − "
+                            f"follower.roller_radius {spec.roller_radius:g}) = {fmt_apart(2 * r_surface, cam.bore_diameter)}, "
+                            f"got {fmt_apart(cam.bore_diameter, 2 * r_surface)}: a smaller bore or roller, or a larger base "
+                            "radius")
     validate_motion(spec)
     follower_class_of(spec).validate(spec)     # the kinds' own rules, then the features every body shares
     body_of(spec).validate(spec)

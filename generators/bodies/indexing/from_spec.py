@@ -1,4 +1,4 @@
-"""An indexer's spec (``cam.body = "parallel_indexer"``; the barrel and globoidal indexers next) read
+"""An indexer's spec (``cam.body`` = "parallel_indexer", "barrel_indexer", "globoidal_indexer") read
 into the geometry's parameter classes, and the rules the three bodies share (docs/indexing.md,
 "The spec"; :mod:`cam_workbench.generators.spec.indexer` declares the ``[indexer]`` fields).
 
@@ -105,7 +105,7 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
     _validate_motion(spec)
     size = indexer_size(body, {k: getattr(spec.indexer, k) for k in own})
     if size is not None and not math.isclose(spec.cam.base_radius, size, rel_tol=1e-9, abs_tol=1e-12):
-        raise SpecError("cam.base_radius", f"is derived for an indexer ({_size_words(body)} = {size:.10g} mm): "
+        raise SpecError("cam.base_radius", f"is derived for an indexer ({size_words(body)} = {size:.10g} mm): "
                         f"leave it out, got {fmt_apart(spec.cam.base_radius, size)}")
     if spec.dynamics.enabled:
         raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet (its drive "
@@ -125,8 +125,10 @@ def spec_field(spec: Any, name: str) -> str:
     return name if renamed is None else renamed.format(i=index_segment(spec)[0])
 
 
-def _size_words(body: str) -> str:
-    return {"parallel_indexer": "the plates' smallest dwell radius"}[body]
+def size_words(body: str) -> str:
+    """What ``cam.base_radius`` stands for on the indexer body ``body``, in words."""
+    return {"parallel_indexer": "the plates' smallest dwell radius", "barrel_indexer": "indexer.root_radius",
+            "globoidal_indexer": "the waist radius indexer.centre_distance − indexer.root_radius"}[body]
 
 
 def _validate_motion(spec: Any) -> None:

@@ -1,4 +1,4 @@
-"""What the indexer bodies' kinds share (:mod:`.parallel_kind`; the barrel and globoidal kinds next): a check's
+"""What the indexer bodies' kinds share (:mod:`.parallel_kind`, :mod:`.spatial_kind`): a check's
 entry of report.json, a geometry refusal in the spec's words, the turret-angle error modulo a
 station, the drive's summary as report.json holds it."""
 from __future__ import annotations

@@ -264,6 +264,7 @@ class ParallelIndexerBody:
     kind = "parallel_indexer"
     title = "Parallel indexer"
     plane = False
+    roller_within_base = True
     closure = "form"
     drive_note = ("the plates hold the turret both ways: one roller drives it on while another holds it back "
                   "(the contact that carries the torque changes where the output starts to decelerate)")
