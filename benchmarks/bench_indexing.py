@@ -12,7 +12,11 @@ runs; prints Markdown tables.
   fusing them (booleans);
 * the barrel and globoidal indexers' designs (721 input angles × 9 points along each roller × N
   rollers × 2 sides), and their contact lines in closed form over the whole grid at once, beside
-  the same closed form called point by point.
+  the same closed form called point by point;
+* the built-in barrel and globoidal examples as bodies: the design with its flank surfaces, the
+  poles those surfaces carry beside the dense grid of exact envelope points they replace, the
+  OCCT solid, and the volume check — the grid integral of the exact envelope (two grids, for its
+  error estimate) beside OCCT's adaptive integration of the built solid.
 
     .venv/bin/python benchmarks/bench_indexing.py
 """
@@ -116,6 +120,32 @@ def spatial_rows() -> list[str]:
     return rows
 
 
+def spatial_body_rows() -> list[str]:
+    from cam_workbench.generators.bodies.indexing import spatial_volume
+    from cam_workbench.generators.cam_design import design_cam
+    from cam_workbench.generators.spec.examples import example_spec
+    from cam_workbench.kernel import solids
+    from cam_workbench.kernel.spatial_indexer import SpatialSolids
+
+    rows = ["| example | design + flank surfaces [s] | surface poles / dense envelope points | solid [s] | "
+            "volume grid [s] | OCCT adaptive volume [s] | ratio |",
+            "|---|---:|---:|---:|---:|---:|---:|"]
+    for name in ("barrel_indexer", "globoidal_indexer"):
+        spec = example_spec(name)
+        design = design_cam(spec)
+        t_design = cpu_best_of(lambda: design_cam(spec), 2)
+        poles = sum(f.surface.shape[0] * f.surface.shape[1] for f in design.surfaces.flanks)
+        g = design.geometry
+        dense = 2 * int(g.theta.size) * int(g.indexer.stations) * int(g.t.size)
+        shape = SpatialSolids.solid(design, True)
+        t_solid = cpu_best_of(lambda: SpatialSolids.solid(design, True), 1)
+        grid = cpu_best_of(lambda: spatial_volume.cam_volume(g), 2)
+        occt = cpu_best_of(lambda: solids.kernel_volume(shape, solids.SURFACE_VOLUME_EPS), 2)
+        rows.append(f"| {name} | {t_design:.2f} | {poles} / {dense} | {t_solid:.2f} | {grid:.2f} | {occt:.2f} | "
+                    f"{occt / grid:.1f}× |")
+    return rows
+
+
 def main() -> None:
     print("### Parallel indexer: design\n")
     print("\n".join(design_rows()))
@@ -125,6 +155,8 @@ def main() -> None:
     print("\n".join(solid_rows()))
     print("\n### Barrel and globoidal indexers: design and contact lines (one roller side, 721 × 9 points)\n")
     print("\n".join(spatial_rows()))
+    print("\n### Barrel and globoidal indexers: the examples as bodies\n")
+    print("\n".join(spatial_body_rows()))
 
 
 if __name__ == "__main__":

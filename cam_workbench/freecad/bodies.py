@@ -8,6 +8,7 @@ from typing import Any
 
 from . import part_cylindrical  # noqa: F401  (registers the cylindrical cam's builder)
 from . import part_indexer  # noqa: F401  (registers the parallel indexer's builder)
+from . import part_spatial_indexer  # noqa: F401  (registers the barrel and globoidal indexers' builder)
 from .part_build import FREECAD_BODIES, FreeCADBody
 
 

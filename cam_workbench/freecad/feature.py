@@ -32,7 +32,6 @@ from typing import Any, Callable, Mapping
 import FreeCAD
 
 from cam_workbench.generators.cam_design import design_cam
-from cam_workbench.generators.checks.solid import check_kernel_solid
 from cam_workbench.generators.errors import CamError, GeometryError, SpecError
 from cam_workbench.generators.followers import follower_of
 from cam_workbench.generators.spec import CamSpec, default_spec, load_spec
@@ -177,7 +176,8 @@ class CamFeature(Stateless):
         for ref in references_of(obj):
             update_reference(ref, design, scale, obj.Placement)
         obj.Status = "ok"
-        obj.CrossSectionArea = float(design.area) * scale * scale
+        area = builder_for(design).cross_section_area(design)
+        obj.CrossSectionArea = 0.0 if area is None else area * scale * scale
         junctions, lift, deviation = builder_for(design).results(design, scale)
         obj.JunctionCount = junctions
         set_lift_results(obj, lift)
@@ -207,9 +207,9 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
 
     Raises:
         SpecError, GeometryError, SolveError: bad input or a cam that cannot be made — or a solid
-            FreeCAD calls invalid, or whose volume or top face disagrees with the exact numbers
-            beyond its integration's allowance, or that lacks its groove wall faces
-            (:func:`cam_workbench.generators.checks.solid.check_kernel_solid`).
+            FreeCAD calls invalid, or whose volume or top face disagrees with the design's numbers
+            beyond its integration's allowance, or that lacks its groove wall faces (its builder's
+            ``verify``).
     """
     spec = props.spec_of(obj)
     design = design_cam(spec)
@@ -220,10 +220,7 @@ def build(obj: Any, solid: bool = True) -> tuple[Any, float, Any]:
     built = builder.solid(design, scale)
     if not built.valid:
         raise GeometryError("kernel", f"FreeCAD's kernel reports the cam solid as invalid ({built.measured})")
-    walls = builder.wall_faces(design, built.shape, scale)
-    # FreeCAD's volumes: OCCT's fixed Gauss rule (no adaptive rule in FreeCAD's Python)
-    check_kernel_solid(design, built.volume / scale**3, built.top_area / scale**2, kernel="FreeCAD",
-                       adaptive=False, walls=walls)
+    builder.verify(design, built, scale)
     return design, scale, built.shape
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from cam_workbench.generators.bodies import Arc, Curve, Line
 from cam_workbench.generators.bodies.levels import CapXor, LevelStack, level_stack
 from cam_workbench.generators.cam_design import CamDesign
+from cam_workbench.generators.checks.solid import check_kernel_solid
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.pitch.bspline import bezier_form
@@ -352,6 +353,19 @@ class FreeCADBody(Protocol):
         """``check_kernel_solid``'s ``walls``: the built solid's surface faces (None: prisms only)."""
 
     @staticmethod
+    def verify(design: Any, built: PartSolid, scale: float) -> None:
+        """Hold the ``built`` solid to the design's own numbers (:func:`verify_exact` for a body with
+        an exact volume and top face).
+
+        Raises:
+            GeometryError: the solid disagrees beyond what FreeCAD's integration allows."""
+
+    @staticmethod
+    def cross_section_area(design: Any) -> float | None:
+        """The exact top-face area the feature shows [spec units²] (:func:`exact_area`), or None
+        where the body has none."""
+
+    @staticmethod
     def pitch_wire(design: Any, scale: float) -> Any:
         """The path of the follower point, a reference curve."""
 
@@ -382,12 +396,28 @@ class FreeCADBody(Protocol):
 FREECAD_BODIES: ByClass[type[FreeCADBody]] = ByClass("the FreeCAD feature's shapes")
 
 
+def verify_exact(design: Any, built: PartSolid, scale: float) -> None:
+    """The built solid's volume and top face (FreeCAD's fixed Gauss rule: no adaptive rule in its
+    Python) and, for a surface body, its wall faces held to the design's exact numbers by
+    :func:`cam_workbench.generators.checks.solid.check_kernel_solid`."""
+    walls = FREECAD_BODIES.of(design).wall_faces(design, built.shape, scale)
+    check_kernel_solid(design, built.volume / scale**3, built.top_area / scale**2, kernel="FreeCAD",
+                       adaptive=False, walls=walls)
+
+
+def exact_area(design: Any) -> float:
+    """``design.area``: the exact top-face area (Green's theorem on the body's loops)."""
+    return float(design.area)
+
+
 @FREECAD_BODIES.register(CamDesign)
 class PlanePart:
     """The plane cams: prisms of exact NURBS loops, the PH (or B-spline) pitch curve, the base circle."""
 
     curvature_text = "of the pitch curve and the profile"
     solid = staticmethod(plane_solid)
+    verify = staticmethod(verify_exact)
+    cross_section_area = staticmethod(exact_area)
     pitch_wire = staticmethod(pitch_wire)
     base_circle_wire = staticmethod(base_circle_wire)
     follower_shape = staticmethod(follower_shape)

@@ -14,7 +14,7 @@ import numpy as np
 from cam_workbench.generators.bodies.cylindrical import (FIX_MAX_TOLERANCE, FIX_PRECISION, SEW_TOLERANCE,
                                                           CylindricalDesign)
 
-from .part_build import FREECAD_BODIES, PartSolid, Rows, circle_wire, measured_solid, prism_stack
+from .part_build import FREECAD_BODIES, PartSolid, Rows, exact_area, verify_exact, circle_wire, measured_solid, prism_stack
 
 
 def wall_surface(wall: Any, scale: float = 1.0) -> Any:
@@ -296,6 +296,8 @@ class CylindricalPart:
     pitch_wire = staticmethod(cylindrical_pitch_wire)
     follower_shape = staticmethod(cylindrical_follower_shape)
     design_rows = staticmethod(cylindrical_rows)
+    verify = staticmethod(verify_exact)
+    cross_section_area = staticmethod(exact_area)
 
     @staticmethod
     def solid(design: Any, scale: float) -> PartSolid:

@@ -25,7 +25,7 @@ from cam_workbench.generators.bodies.indexing.parallel_kind import ParallelIndex
 from cam_workbench.generators.curves.basis import interpolating_cubic
 from cam_workbench.generators.curves.nurbs import NurbsCurve
 
-from .part_build import FREECAD_BODIES, PartSolid, Rows, nurbs_wire, plane_solid, top_face_area, top_z
+from .part_build import FREECAD_BODIES, PartSolid, Rows, exact_area, verify_exact, nurbs_wire, plane_solid, top_face_area, top_z
 
 #: the pitch flanks' interpolation: first and most knot spans, and the distance [mm] from the exact
 #: locus within which the drawn curve must lie (a reference curve: the solid is built from the body)
@@ -208,6 +208,8 @@ class ParallelIndexerPart:
     follower_shape = staticmethod(indexer_follower_shape)
     design_rows = staticmethod(indexer_rows)
     solid = staticmethod(indexer_solid)
+    verify = staticmethod(verify_exact)
+    cross_section_area = staticmethod(exact_area)
 
     @staticmethod
     def wall_faces(design: Any, shape: Any, scale: float) -> dict[str, Any] | None:
