@@ -9,5 +9,6 @@ from .result import OptimiseResult, Progress, final_value, worst_constraint
 from .run import optimise
 from . import cylindrical as _cylinder_optimiser  # noqa: F401,E402  (registers the cylindrical cam's optimiser)
 from . import indexer as _indexer_optimiser  # noqa: F401,E402  (registers the parallel indexer's optimiser)
+from . import spatial_indexer as _spatial_optimiser  # noqa: F401,E402  (registers the barrel and globoidal indexers')
 
 __all__ = ["Cancelled", "OptimiseResult", "Progress", "final_value", "optimise", "worst_constraint"]

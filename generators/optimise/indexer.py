@@ -70,7 +70,7 @@ PULL_BACK_STEPS = 8
 #: spec algorithm → optimise_parallel's
 ALGORITHMS = {"auto": "COBYLA", "cobyla": "COBYLA", "bobyqa": "BOBYQA"}
 #: the plane cam's bounds in [optimise], which an indexer does not have
-_PLANE_BOUNDS = ("base_radius_min", "base_radius_max", "offset_max", "pivot_distance_min", "pivot_distance_max",
+PLANE_BOUNDS = ("base_radius_min", "base_radius_max", "offset_max", "pivot_distance_min", "pivot_distance_max",
                  "arm_length_min", "arm_length_max", "face_offset_max", "outer_diameter_min", "outer_diameter_max",
                  "clearance_min", "clearance_max", "point_shift_max")
 
@@ -105,7 +105,7 @@ def indexer_arguments(spec: CamSpec) -> dict[str, Any]:
     if cfg.multistart:
         raise SpecError("optimise.multistart", f"a parallel indexer's optimiser runs from the spec's design alone "
                         f"(restarted from its best trial while it gains): 0, got {cfg.multistart}")
-    for name in _PLANE_BOUNDS:
+    for name in PLANE_BOUNDS:
         if getattr(cfg, name) is not None:
             raise SpecError(f"optimise.{name}", "does not apply to a parallel indexer (its variables' bounds are "
                             "0.5–2 × the start's C and R_p, 0.5–1.5 × its r_r)")
@@ -135,10 +135,13 @@ def _variables(spec: CamSpec) -> np.ndarray:
                      float(spec.follower.roller_radius)])
 
 
-def _checks(report: dict[str, Any], units: str) -> DesignChecks:
+def design_checks(report: dict[str, Any], units: str) -> DesignChecks:
+    """report.json's ``checks`` of an indexer's design as the :class:`DesignChecks` an
+    :class:`OptimiseResult` holds."""
     rows = [CheckResult(k, r["description"], r["kind"], r["value"], r["at_deg"], r["limit"], r["unit"], r["status"],
                         str(r.get("note") or "")) for k, r in report["results"].items()]
     return DesignChecks(tuple(rows), {}, "per_turn", int(report.get("samples_per_turn") or 0), units, None)
+
 
 
 class _Candidate:
@@ -170,7 +173,7 @@ class _Candidate:
 
     def checks(self, units: str) -> DesignChecks:
         if self.design is not None:
-            return _checks(self.design.checks_report, units)
+            return design_checks(self.design.checks_report, units)
         report = None
         if self.spec is not None:
             try:                       # the checks without refusing (a turret not held, a roller that hits)
@@ -178,7 +181,7 @@ class _Candidate:
             except SpecError:
                 report = None
         if report is not None:
-            return _checks(report, units)
+            return design_checks(report, units)
         row = CheckResult("geometry", f"the design builds ({self.failure})", "max", None, None, None, "", "fail")
         return DesignChecks((row,), {}, "per_turn", 0, units, None)
 

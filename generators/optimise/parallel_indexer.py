@@ -472,7 +472,7 @@ def optimise_parallel(ix: ParallelIndexer, *, objective: str = "size",
     cancelled = not report(start)
     status, code = "", 0
     if not cancelled and free.any() and budget > 1:
-        status, code, cancelled = _run(prob, algo, x0, lo, hi, free, f_ref, budget, count, report)
+        status, code, cancelled = run_restarts(prob, algo, x0, lo, hi, free, f_ref, budget, count, report)
     elif not free.any():
         status = "every variable fixed by its bounds: the start evaluated alone"
         code = 1
@@ -497,11 +497,18 @@ def optimise_parallel(ix: ParallelIndexer, *, objective: str = "size",
         blocking=blocking, evaluations=len(prob.cache), time_s=time.perf_counter() - t0, solver_status=status)
 
 
-def _run(prob: _Problem, algo: str, x0: Array, lo: Array, hi: Array, free: Array, f_ref: float, budget: int,
-         count: list[int], report: Callable[[Trial], bool]) -> tuple[str, int, bool]:
+def run_restarts(prob: Any, algo: str, x0: Array, lo: Array, hi: Array, free: Array, f_ref: float, budget: int,
+                 count: list[int], report: Callable[[Any], bool],
+                 n_constraints: int = len(CONSTRAINTS)) -> tuple[str, int, bool]:
     """nlopt runs over the free variables scaled to the start, each restarted from the best trial
     so far (the best feasible, else the least violated) with a fresh initial step while a run gains
-    (module docs); returns (the runs' status text, the last nlopt code, cancelled)."""
+    (module docs); returns (the runs' status text, the last nlopt code, cancelled).
+
+    ``prob`` is the trials' cache (this module's ``_Problem`` or one like it:
+    :mod:`cam_workbench.generators.optimise.spatial_indexer`'s): ``trial(x)`` returns a trial with
+    ``variables``, ``value``, ``g`` (``n_constraints`` normalised constraints, ≤ 0 satisfied) and
+    ``design`` (None when it failed); ``cache`` (by ``x.tobytes()``), ``best``, ``least``.  The
+    variable at index 1 is the scale (the others run as log ratios to it when it is free)."""
     nlopt = load_nlopt()
     fi = np.flatnonzero(free)
     n = fi.size
@@ -572,7 +579,7 @@ def _run(prob: _Problem, algo: str, x0: Array, lo: Array, hi: Array, free: Array
         o.set_lower_bounds(y_lo)
         o.set_upper_bounds(y_hi)
         o.set_min_objective(f)
-        o.add_inequality_mconstraint(c, np.full(len(CONSTRAINTS) + 2 * len(ratio), 1e-9))
+        o.add_inequality_mconstraint(c, np.full(n_constraints + 2 * len(ratio), 1e-9))
         o.set_xtol_rel(_XTOL_REL)
         o.set_ftol_rel(_FTOL_REL)
         o.set_initial_step(step)
@@ -600,6 +607,7 @@ def _run(prob: _Problem, algo: str, x0: Array, lo: Array, hi: Array, free: Array
         z = np.clip(y_of(best.variables), y_lo, y_hi)
     runs = f" ({len(texts)} runs: {'; '.join(texts)})" if len(texts) > 1 else ""
     return f"{algo}: {texts[-1]}{runs}", code, False
+
 
 
 class _Budget(Exception):

@@ -23,8 +23,9 @@ if TYPE_CHECKING:  # types only: the spec's root imports this module
 OBJECTIVES = ("area", "profile_area", "machining_time", "gcode_time", "peak_acceleration",
               "peak_pressure_angle", "outer_diameter")
 #: Objectives of a body's own optimiser beyond :data:`OBJECTIVES`, taken only by a body that declares
-#: them (``Body.optimise_objectives``): a parallel indexer's cams' outer radius and peak roller load
-#: (:mod:`cam_workbench.generators.optimise.indexer`).
+#: them (``Body.optimise_objectives``): an indexer's cam's outer radius and peak roller load (the parallel
+#: indexer's :mod:`cam_workbench.generators.optimise.indexer`, the barrel and globoidal indexers'
+#: :mod:`cam_workbench.generators.optimise.spatial_indexer`).
 BODY_OBJECTIVES = ("size", "normal_force")
 OPTIMISE_ALGORITHMS = ("auto", "slsqp", "mma", "ccsaq", "cobyla", "bobyqa", "isres")
 #: Names that ``optimise.variables`` may list.
@@ -52,8 +53,9 @@ class OptimiseSection:
         "project's XY G-code contour; \"peak_acceleration\" / \"peak_pressure_angle\" = the largest |s″| / |φ|; "
         "machining_time needs a translating follower; \"outer_diameter\" = a groove cam's disc diameter "
         "(cam.body = \"groove\", with outer_diameter among the variables) or a cylindrical cam's cylinder (its "
-        "only objective); \"size\" / \"normal_force\" = a parallel indexer's cams' outer radius / peak roller "
-        "load (its only objectives, \"area\" taken as \"size\"; normal_force needs indexer.output_inertia)",
+        "only objective); \"size\" / \"normal_force\" = an indexer's cam's outer radius / peak roller "
+        "load (a parallel, barrel or globoidal indexer's only objectives, \"area\" taken as \"size\"; "
+        "normal_force needs indexer.output_inertia)",
         kind="str", choices=OBJECTIVES + BODY_OBJECTIVES, default="area", group="Optimise")
     variables: str = param(
         "Design variables, comma-separated: base_radius, offset (translating followers), pivot_distance and "
@@ -280,8 +282,8 @@ def body_variable_rule(spec: CamSpec, name: str) -> str | None:
 def validate_optimise(spec: CamSpec) -> None:
     opt = spec.optimise
     if opt.objective in BODY_OBJECTIVES and opt.objective not in body_of(spec).optimise_objectives:
-        raise SpecError("optimise.objective", f'{opt.objective} is an objective of a body that declares it (a parallel '
-                        f'indexer\'s); this cam\'s body is "{spec.cam.body}"')
+        raise SpecError("optimise.objective", f'{opt.objective} is an objective of a body that declares it (an '
+                        f'indexer\'s: parallel, barrel or globoidal); this cam\'s body is "{spec.cam.body}"')
     names = optimise_variables(spec)
     if not names:
         raise SpecError("optimise.variables", "names no design variable")
