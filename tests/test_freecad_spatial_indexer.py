@@ -135,13 +135,9 @@ def designs():
 
 
 def _read_brep(path: str):
-    from OCP.BRep import BRep_Builder
-    from OCP.BRepTools import BRepTools
-    from OCP.TopoDS import TopoDS_Shape
+    from cam_workbench.kernel import ocp as occ
 
-    shape = TopoDS_Shape()
-    assert BRepTools.Read_s(shape, path, BRep_Builder()), path
-    return shape
+    return occ.read_brep(path)
 
 
 def _adaptive_volume(shape) -> float:
