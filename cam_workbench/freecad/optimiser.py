@@ -4,16 +4,16 @@ Everything here is headless (the Qt panel is :mod:`.optimiser_panel`) and is wha
 calls, so scripts and tests drive the same code:
 
 - :func:`objective_choices` / :func:`algorithm_choices` — the objectives and algorithms the
-  cam's optimiser serves (a parallel indexer: size and normal_force, derivative-free algorithms);
+  cam's optimiser serves (an indexer: size and normal_force, derivative-free algorithms);
 - :func:`variable_choices` — the design variables that mean something for a cam (base
   radius and offset always; the control angles and free lifts of each ``law = "bspline"``
   rise/return; the interior points' lifts of each ``law = "polynomial"`` rise/return that has
-  points; the blank orientation only for ``machining_time``; a parallel indexer's C, R_p and r_r,
+  points; the blank orientation only for ``machining_time``; an indexer's C, turret size and r_r,
   *fixed*: its optimiser varies all three together, ``optimise.variables = "auto"``), and
   :func:`variables_text` / :func:`selected_tokens` to and from ``optimise.variables``;
 - :func:`settings_of` / :func:`default_bounds` — the panel's starting values: the feature's
   ``Optimise`` properties (the spec's ``[optimise]`` section), the bounds the library takes when
-  none are given (a parallel indexer has no R_b/e bounds: its variables' bounds are its
+  none are given (an indexer has no R_b/e bounds: its variables' bounds are its
   optimiser's own, :func:`own_bounds_note` says them);
 - :func:`run_spec` — the spec with the panel's choices as its ``[optimise]`` section
   (validated: a bad choice raises ``SpecError`` naming the field);
@@ -22,8 +22,8 @@ calls, so scripts and tests drive the same code:
   :meth:`OptimiseJob.cancel` (the library's ``threading.Event``: the run stops at the next
   evaluation with status ``"cancelled"``);
 - :func:`figures` / :func:`check_comparison` — the before/after numbers and every design check
-  before and after (the Check design table's rows; a parallel indexer's figures are its objective,
-  C, R_p, r_r and its other objective);
+  before and after (the Check design table's rows; an indexer's figures are its objective,
+  C, its turret's size, r_r, a spatial indexer's lengths scaled with its turret and its other objective);
 - :func:`apply_result` — writes ``OptimiseResult.spec`` (the optimised design AND the
   ``[optimise]`` settings it was run with) into the feature's properties and recomputes, as ONE
   undo step.  A result that fails the dense re-check is refused unless ``allow_failing``
@@ -40,7 +40,7 @@ import threading
 import time
 import traceback
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -50,6 +50,7 @@ from cam_workbench.generators.kinds import body_of, follower_class_of, follower_
 from cam_workbench.generators.motion import MotionProgram
 from cam_workbench.generators.motion.bspline_law import fixed_end_points
 from cam_workbench.generators.optimise import indexer as indexer_optimiser
+from cam_workbench.generators.optimise import spatial_indexer
 from cam_workbench.generators.optimise import optimise, worst_constraint
 from cam_workbench.generators.optimise.objectives import UNITS
 from cam_workbench.generators.optimise.objectives import label as objective_label
@@ -73,8 +74,8 @@ OBJECTIVE_LABELS = {
     "peak_acceleration": "Peak acceleration (largest |s″|)",
     "peak_pressure_angle": "Peak pressure angle (largest |φ|)",
     "outer_diameter": "Outer diameter (a groove cam's disc, rim wall ≥ groove.min_wall)",
-    "size": "Size (a parallel indexer: the cams' outer radius)",
-    "normal_force": "Peak roller load (a parallel indexer, at indexer.output_inertia)",
+    "size": "Size (an indexer: its cam's or cams' outer radius)",
+    "normal_force": "Peak roller load (an indexer, at indexer.output_inertia)",
 }
 ALGORITHM_LABELS = {
     "auto": "auto: SLSQP with exact gradients (times: SLSQP on a stand-in, then BOBYQA)",
@@ -85,41 +86,114 @@ ALGORITHM_LABELS = {
     "bobyqa": "BOBYQA — derivative-free, thesis' exterior penalty",
     "isres": "ISRES — global (seeded), then a local polish",
 }
-#: a parallel indexer's algorithms (:data:`cam_workbench.generators.optimise.indexer.ALGORITHMS`: its trials
-#: are full designs whose checks are maxima over samples, so derivative-free ones only)
+#: an indexer's algorithms (:data:`cam_workbench.generators.optimise.indexer.ALGORITHMS`, the spatial indexers'
+#: too: the trials are full designs whose checks are maxima over samples, so derivative-free ones only)
 INDEXER_ALGORITHM_LABELS = {
     "auto": "auto: COBYLA — derivative-free, every trial a full design",
     "cobyla": "COBYLA — derivative-free, constraints as they are",
     "bobyqa": "BOBYQA — derivative-free, in nlopt's augmented Lagrangian",
 }
-#: a parallel indexer's design variables (spec paths: :data:`cam_workbench.generators.optimise.indexer.PATHS`)
+#: an indexer's design variables (spec paths: the parallel indexer's
+#: :data:`cam_workbench.generators.optimise.indexer.PATHS`, a spatial indexer's
+#: :func:`cam_workbench.generators.optimise.spatial_indexer.spatial_paths`); the labels of one spec:
+#: :func:`indexer_variable_labels`
 INDEXER_VARIABLE_LABELS = {"indexer.centre_distance": "Centre distance C",
                            "indexer.pitch_radius": "Turret pitch radius R_p",
+                           "indexer.roller_end": "Rollers' outer end t1 (turret size)",
                            "follower.roller_radius": "Roller radius r_r"}
+#: a body's own label of a variable, where it differs (the barrel's turret size is its pitch radius)
+BODY_VARIABLE_LABELS = {("barrel_indexer", "indexer.pitch_radius"): "Turret pitch radius R_p (turret size)"}
+#: each variable's symbol, as the bounds note names it
+INDEXER_VARIABLE_SYMBOLS = {"indexer.centre_distance": "C", "indexer.pitch_radius": "R_p",
+                            "indexer.roller_end": "t1", "follower.roller_radius": "r_r"}
+
+
+@dataclass(frozen=True)
+class IndexerOptimiser:
+    """What the panel needs of an indexer's own optimiser (registered with
+    ``cam_workbench.generators.kinds.register_optimiser``): its design variables' spec paths, its
+    rules before a run (raises ``SpecError``), its bounds, the checks that hold its result and
+    the lengths that follow its variables."""
+
+    paths: Callable[[CamSpec], dict[str, str]]        # solver's name → spec path, in the solver's order
+    arguments: Callable[[CamSpec], dict[str, Any]]    # the optimiser's own rules (SpecError naming the field)
+    bounds: Callable[[CamSpec], dict[str, tuple[float, float]]]
+    factors: str                                      # the bounds as factors of the start, in words
+    checks: str                                       # the design checks that hold the result
+    keeps: str                                        # what stays as it is
+    scaled: Callable[[CamSpec], tuple[str, ...]] = lambda spec: ()   # spec paths that scale with a variable
+
+
+def _turret_scaled(spec: CamSpec) -> tuple[str, ...]:
+    """The spec paths of a spatial indexer's lengths that scale with its turret's size (its
+    optimiser's ``FOLLOWERS``; ``follower.roller_width`` when given)."""
+    paths = tuple("cam.thickness" if n == "cam_width" else f"indexer.{n}"
+                  for n in spatial_indexer.FOLLOWERS[spec.cam.body])
+    return paths + (("follower.roller_width",) if spec.follower.roller_width is not None else ())
+
+
+#: the indexers' optimisers (the function ``own_optimiser`` returns → its helpers)
+INDEXER_OPTIMISERS: dict[Callable[..., Any], IndexerOptimiser] = {
+    indexer_optimiser.optimise_indexer: IndexerOptimiser(
+        paths=lambda spec: dict(indexer_optimiser.PATHS), arguments=indexer_optimiser.indexer_arguments,
+        bounds=indexer_optimiser.indexer_bounds, factors="0.5–2 × the start's C and R_p, 0.5–1.5 × its r_r",
+        checks="pressure angle, undercut, clearance, locking, contact stress",
+        keeps="the stations, the index, the law and the plates"),
+    spatial_indexer.optimise_spatial_indexer: IndexerOptimiser(
+        paths=spatial_indexer.spatial_paths, arguments=spatial_indexer.spatial_arguments,
+        bounds=spatial_indexer.spatial_bounds, factors="0.5–2 × the start's C and turret size, 0.5–1.5 × its r_r",
+        checks="pressure angle, undercut, rib thickness, locking, contact stress, bore",
+        keeps="the stations, the index and the law", scaled=_turret_scaled),
+}
 GRADIENT_ALGORITHMS = ("slsqp", "mma", "ccsaq")
 NON_SMOOTH = ("machining_time", "gcode_time")
 assert set(OBJECTIVE_LABELS) == set(OBJECTIVES) | set(BODY_OBJECTIVES)
 assert set(ALGORITHM_LABELS) == set(OPTIMISE_ALGORITHMS)
 assert set(INDEXER_ALGORITHM_LABELS) == set(indexer_optimiser.ALGORITHMS)
-assert set(INDEXER_VARIABLE_LABELS) == set(indexer_optimiser.PATHS.values())
+assert set(INDEXER_VARIABLE_LABELS) == set(INDEXER_VARIABLE_SYMBOLS)
+assert set(indexer_optimiser.PATHS.values()) <= set(INDEXER_VARIABLE_LABELS)
+assert {f"indexer.{t}" for t in spatial_indexer.TURRET.values()} <= set(INDEXER_VARIABLE_LABELS)
+assert {path for _, path in BODY_VARIABLE_LABELS} <= set(INDEXER_VARIABLE_LABELS)
 
 
 def objective_choices(spec: CamSpec) -> tuple[str, ...]:
     """The objectives the panel offers for ``spec``: those its body's optimiser serves
     (``Body.optimise_objectives``: every one, outer_diameter only for a groove cam's disc; a
-    cylindrical cam: outer_diameter alone; a parallel indexer: size and normal_force)."""
+    cylindrical cam: outer_diameter alone; an indexer: size and normal_force)."""
     return body_of(spec).optimise_objectives
 
 
+def indexer_optimiser_of(spec: CamSpec) -> IndexerOptimiser | None:
+    """The helpers of ``spec``'s indexer optimiser (:data:`INDEXER_OPTIMISERS`), None when its body's
+    optimiser is no indexer's (a plane cam's, a cylindrical cam's)."""
+    fn = own_optimiser(spec)
+    return None if fn is None else INDEXER_OPTIMISERS.get(fn)
+
+
 def indexer_optimised(spec: CamSpec) -> bool:
-    """True when ``spec``'s optimiser is the parallel indexer's
-    (:func:`cam_workbench.generators.optimise.indexer.optimise_indexer`): it varies C, R_p and r_r
-    together within bounds of its own, derivative-free, without restarts."""
-    return own_optimiser(spec) is indexer_optimiser.optimise_indexer
+    """True when ``spec``'s optimiser is an indexer's (:data:`INDEXER_OPTIMISERS`: the parallel
+    indexer's :func:`~cam_workbench.generators.optimise.indexer.optimise_indexer`, the barrel and globoidal
+    indexers' :func:`~cam_workbench.generators.optimise.spatial_indexer.optimise_spatial_indexer`): it varies
+    C, the turret's size and r_r together within bounds of its own, derivative-free, without restarts."""
+    return indexer_optimiser_of(spec) is not None
+
+
+def indexer_variable_labels(spec: CamSpec) -> dict[str, str]:
+    """{spec path: label} of the design variables of ``spec``'s indexer optimiser, in its order ({}
+    for any other cam): C, the turret's size (a parallel or barrel indexer's R_p, a globoid's t1), r_r."""
+    own = indexer_optimiser_of(spec)
+    if own is None:
+        return {}
+    return {path: BODY_VARIABLE_LABELS.get((spec.cam.body, path), INDEXER_VARIABLE_LABELS[path])
+            for path in own.paths(spec).values()}
+
+
+def _an(title: str) -> str:
+    return f"{'an' if title[:1].lower() in 'aeiou' else 'a'} {title.lower()}"
 
 
 def algorithm_choices(spec: CamSpec) -> tuple[str, ...]:
-    """The algorithms the panel offers for ``spec`` (a parallel indexer: auto, cobyla, bobyqa; every
+    """The algorithms the panel offers for ``spec`` (an indexer: auto, cobyla, bobyqa; every
     other cam every one, the gradient ones disabled for a machining time)."""
     if indexer_optimised(spec):
         return tuple(INDEXER_ALGORITHM_LABELS)
@@ -132,29 +206,39 @@ def algorithm_label(spec: CamSpec, name: str) -> str:
 
 
 def multistart_offered(spec: CamSpec) -> bool:
-    """Random restarts apply (a parallel indexer's optimiser runs from the spec's design alone)."""
+    """Random restarts apply (an indexer's optimiser runs from the spec's design alone)."""
     return not indexer_optimised(spec)
 
 
 def fixed_variables_note(spec: CamSpec) -> str:
-    """What the panel says of design variables it cannot choose ("" when every one is a choice): a
-    parallel indexer's optimiser varies C, R_p and r_r together."""
-    if not indexer_optimised(spec):
+    """What the panel says of design variables it cannot choose ("" when every one is a choice): an
+    indexer's optimiser varies C, the turret's size and r_r together."""
+    own = indexer_optimiser_of(spec)
+    if own is None:
         return ""
-    return ("A parallel indexer's optimiser varies all three together (optimise.variables = \"auto\"); "
-            "the stations, the index, the law and the plates stay as they are.")
+    text = (f"{_an(body_of(spec).title).capitalize()}'s optimiser varies all three together "
+            f"(optimise.variables = \"auto\"); {own.keeps} stay as they are")
+    scaled = own.scaled(spec)
+    if scaled:
+        text += f"; the turret's other lengths ({', '.join(scaled)}) scale with its size"
+    return text + "."
 
 
 def own_bounds_note(spec: CamSpec) -> str:
     """The bounds of the design variables in words, where the cam's optimiser sets them itself and
-    the panel has no bound to enter ("" otherwise): a parallel indexer's C, R_p and r_r."""
-    if not indexer_optimised(spec):
+    the panel has no bound to enter ("" otherwise): an indexer's C, turret size and r_r (a spatial
+    indexer's turret lengths scaling with its size)."""
+    own = indexer_optimiser_of(spec)
+    if own is None:
         return ""
     u = spec.units
-    bounds = ", ".join(f"{INDEXER_VARIABLE_LABELS[path].split()[-1]} ∈ [{lo:.6g}, {hi:.6g}] {u}"
-                       for path, (lo, hi) in indexer_optimiser.indexer_bounds(spec).items())
-    return (f"The optimiser's own bounds: {bounds} (0.5–2 × the start's C and R_p, 0.5–1.5 × its r_r). "
-            "The design checks (pressure angle, undercut, clearance, locking, contact stress) hold the result.")
+    bounds = ", ".join(f"{INDEXER_VARIABLE_SYMBOLS[path]} ∈ [{lo:.6g}, {hi:.6g}] {u}"
+                       for path, (lo, hi) in own.bounds(spec).items())
+    text = f"The optimiser's own bounds: {bounds} ({own.factors}). "
+    scaled = own.scaled(spec)
+    if scaled:
+        text += f"The turret's other lengths ({', '.join(scaled)}) scale with its size. "
+    return text + f"The design checks ({own.checks}) hold the result."
 
 
 class ApplyError(CamError):
@@ -182,10 +266,14 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
     """The design variables the panel offers for ``spec`` (and ``objective``, default the spec's)."""
     objective = objective or spec.optimise.objective
     u = spec.units
-    if indexer_optimised(spec):                  # C, R_p and r_r, all three always
-        why = "a parallel indexer's optimiser varies C, R_p and r_r together (optimise.variables = \"auto\")"
+    labels = indexer_variable_labels(spec)
+    if labels:                                   # C, the turret's size and r_r, all three always
+        names = [INDEXER_VARIABLE_SYMBOLS[path] for path in labels]
+        symbols = f"{', '.join(names[:-1])} and {names[-1]}" if len(names) > 1 else names[0]
+        why = (f"{_an(body_of(spec).title)}'s optimiser varies {symbols} together "
+               "(optimise.variables = \"auto\")")
         return [VariableChoice(path, f"{name} [{u}] ({path})", 1, True, why, fixed=True)
-                for path, name in INDEXER_VARIABLE_LABELS.items()]
+                for path, name in labels.items()]
     if own_optimiser(spec) is not None:          # its own optimiser: the body's own variables only
         own = {"cylinder_radius": f"Pitch radius R_p [{u}]", "outer_diameter": f"Cylinder outer diameter [{u}]",
                "clearance": f"Groove clearance [{u}]"}
@@ -232,10 +320,10 @@ def variable_choices(spec: CamSpec, objective: str | None = None) -> list[Variab
 
 
 def selected_tokens(spec: CamSpec) -> set[str]:
-    """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects (a parallel
+    """The tokens of :func:`variable_choices` that ``spec.optimise.variables`` selects (an
     indexer's: its three, always)."""
     if indexer_optimised(spec):
-        return set(INDEXER_VARIABLE_LABELS)
+        return set(indexer_variable_labels(spec))
     kinds = optimise_variables(spec)
     rows = optimise_control_rows(spec)
     out = {k for k in ("base_radius", "offset", "pivot_distance", "arm_length", "face_offset", "outer_diameter",
@@ -247,7 +335,7 @@ def selected_tokens(spec: CamSpec) -> set[str]:
 
 def variables_text(spec: CamSpec, tokens: set[str] | list[str], objective: str | None = None) -> str:
     """``optimise.variables`` for the chosen tokens (only enabled ones): the plain names, and
-    ``control_points`` when every B-spline row's angles and lifts are chosen; a parallel indexer's
+    ``control_points`` when every B-spline row's angles and lifts are chosen; an indexer's
     three (its fixed choices): "auto"."""
     choices = {c.token: c for c in variable_choices(spec, objective) if c.enabled}
     chosen = [c for c in choices if c in set(tokens)]
@@ -275,10 +363,10 @@ class Settings:
     max_evaluations: int
     multistart: int
     seed: int
-    #: None where the cam's optimiser takes no R_b bounds (a parallel indexer): none shown or written
+    #: None where the cam's optimiser takes no R_b bounds (an indexer): none shown or written
     base_radius_min: float | None
     base_radius_max: float | None
-    #: None where the follower has no offset (an oscillating arm, a parallel indexer's turret): no
+    #: None where the follower has no offset (an oscillating arm, an indexer's turret): no
     #: bound shown or written
     offset_max: float | None
 
@@ -294,8 +382,8 @@ def default_bounds(spec: CamSpec) -> tuple[float | None, float | None, float | N
     initial R_b, the lower at least 1.05 × (roller radius + bore radius); |e| ≤ ½ × the R_b lower
     bound or |e₀|; default bounds always contain the starting design, which is never moved).
     A given bound is shown as given even when it excludes the start: the run then refuses it
-    with the library's message naming the field.  A parallel indexer: (None, None, None) — its
-    optimiser's variables are C, R_p and r_r, their bounds its own (:func:`own_bounds_note`)."""
+    with the library's message naming the field.  An indexer: (None, None, None) — its
+    optimiser's variables are C, the turret's size and r_r, their bounds its own (:func:`own_bounds_note`)."""
     if indexer_optimised(spec):
         return None, None, None
     translating = not follower_class_of(spec).pivoted       # only a translating follower has an offset
@@ -312,7 +400,7 @@ def default_bounds(spec: CamSpec) -> tuple[float | None, float | None, float | N
 def settings_of(spec: CamSpec) -> Settings:
     """The panel's starting values: the spec's ``[optimise]`` section, the bounds it leaves out
     filled with the library's defaults (:func:`default_bounds`).  An objective the cam's optimiser
-    does not offer (the spec's default "area" on a parallel indexer, which takes it as "size") is
+    does not offer (the spec's default "area" on an indexer, which takes it as "size") is
     shown as the first it offers; an algorithm it does not offer as "auto"; no restarts where
     none apply (:func:`multistart_offered`)."""
     opt = spec.optimise
@@ -336,12 +424,13 @@ def run_spec(spec: CamSpec, settings: Settings) -> CamSpec:
     """``spec`` with the panel's settings as its ``[optimise]`` section.
 
     Raises:
-        SpecError: a setting breaks a rule (the field is named, e.g. optimise.offset_max; a parallel
+        SpecError: a setting breaks a rule (the field is named, e.g. optimise.offset_max; an
             indexer's own rules too: objective normal_force without indexer.output_inertia …).
     """
     out = spec.replace(**settings.changes())
-    if indexer_optimised(out):
-        indexer_optimiser.indexer_arguments(out)      # its optimiser's own rules, before the run
+    own = indexer_optimiser_of(out)
+    if own is not None:
+        own.arguments(out)      # its optimiser's own rules, before the run
     return out
 
 
@@ -448,23 +537,36 @@ def _worst_text(w: dict[str, Any]) -> str:
     return f"{w['name'].replace('_', ' ')} {fmt_value(w['value'], w['unit'])}{where}{fail}"
 
 
+def result_objective_label(result: Any) -> str:
+    """The result's objective in a few words, as its report names it: the words its optimiser gave
+    (``details["objective_label"]``: a spatial indexer's "size" is its own cam's outer radius), else
+    :func:`cam_workbench.generators.optimise.objectives.label`'s."""
+    return result.details.get("objective_label") or objective_label(result.objective, result.initial_spec)
+
+
 def figures(result: Any) -> list[Figure]:
     """The before/after figures of a result: objective (computed independently of the solver's
     model: :func:`cam_workbench.generators.optimise.final_value`), areas, R_b, e, the worst constraint (the
-    check closest to or furthest past its limit), the design checks' verdict.  A parallel indexer's:
-    its objective (the body's own design of the start and the result), C, R_p and r_r, its other
-    objective (report.json ``optimise.measures``), the worst constraint and the verdict."""
+    check closest to or furthest past its limit), the design checks' verdict.  An indexer's: its
+    objective (the body's own design of the start and the result; named as the result's report
+    names it: a spatial indexer's "size" is its own outer radius), C, the turret's size and r_r, a
+    spatial indexer's turret lengths that scale with its size, its other objective (report.json
+    ``optimise.measures``), the worst constraint and the verdict."""
     a, b = result.initial_spec, result.spec
     u = a.units
     unit = UNITS[result.objective].replace("length", u)
     areas = result.details.get("areas", {})
     ia, fa = areas.get("initial", {}), areas.get("final", {})
-    rows = [Figure(f"objective: {result.objective} ({objective_label(result.objective, a)})", result.initial_value,
-                   result.value, unit)]
+    what = result_objective_label(result)
+    rows = [Figure(f"objective: {result.objective} ({what})", result.initial_value, result.value, unit)]
     if indexer_optimised(a):
+        labels = indexer_variable_labels(a)
         for path, x0, x1 in zip(result.variables, result.initial_design, result.design):
-            name = INDEXER_VARIABLE_LABELS[path]
+            name = labels.get(path, path)
             rows.append(Figure(f"{name[:1].lower()}{name[1:]} ({path})", float(x0), float(x1), u))
+        own = indexer_optimiser_of(a)
+        for path in own.scaled(a) if own is not None else ():
+            rows.append(Figure(f"scales with the turret ({path})", _spec_value(a, path), _spec_value(b, path), u))
         for name, m in result.details.get("measures", {}).items():
             if name != result.objective:
                 rows.append(Figure(f"{name} ({objective_label(name, a)})", m["initial"], m["final"],
@@ -487,6 +589,13 @@ def figures(result: Any) -> list[Figure]:
                        _worst_text(worst_constraint(result.checks, b))))
     rows.append(Figure("design checks", _verdict(result.initial_checks), _verdict(result.checks)))
     return rows
+
+
+def _spec_value(spec: CamSpec, path: str) -> float | None:
+    """The value of ``spec``'s field ``path`` ("section.field"), None where the spec leaves it out."""
+    section, field = path.split(".", 1)
+    v = getattr(getattr(spec, section), field)
+    return None if v is None else float(v)
 
 
 def area_keys(spec: CamSpec, final_spec: CamSpec, initial: dict[str, Any], final: dict[str, Any]
@@ -603,9 +712,11 @@ def apply_result(obj: Any, result: Any, allow_failing: bool = False) -> None:
     doc.commitTransaction()
 
 
-__all__ = ["ALGORITHM_LABELS", "ApplyError", "CHECK_HEADERS", "CheckChange", "Figure", "INDEXER_ALGORITHM_LABELS",
-           "INDEXER_VARIABLE_LABELS", "OBJECTIVE_LABELS", "OptimiseJob", "Settings", "VariableChoice",
+__all__ = ["ALGORITHM_LABELS", "ApplyError", "BODY_VARIABLE_LABELS", "CHECK_HEADERS", "CheckChange", "Figure",
+           "INDEXER_ALGORITHM_LABELS", "INDEXER_OPTIMISERS", "INDEXER_VARIABLE_LABELS", "INDEXER_VARIABLE_SYMBOLS",
+           "IndexerOptimiser", "OBJECTIVE_LABELS", "OptimiseJob", "Settings", "VariableChoice",
            "algorithm_choices", "algorithm_label", "apply_result", "bound_is_default", "changed_since",
            "check_comparison", "default_bounds", "figures", "fixed_variables_note", "history_arrays",
-           "indexer_optimised", "multistart_offered", "objective_choices", "own_bounds_note", "run", "run_spec",
+           "indexer_optimised", "indexer_optimiser_of", "indexer_variable_labels", "multistart_offered",
+           "objective_choices", "own_bounds_note", "result_objective_label", "run", "run_spec",
            "selected_tokens", "settings_of", "variable_choices", "variables_text"]

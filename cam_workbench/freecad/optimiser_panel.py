@@ -37,7 +37,6 @@ from PySide import QtCore, QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySi
 
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.optimise.objectives import UNITS
-from cam_workbench.generators.optimise.objectives import label as objective_label
 
 from . import optimiser as opt
 from . import properties as props
@@ -511,7 +510,7 @@ class OptimiserPanel:
         self.progress.setRange(0, max(res.evaluations, 1))
         self.progress.setValue(res.evaluations)
         unit = self._unit(res.objective)
-        what = f"{res.objective} ({objective_label(res.objective, res.initial_spec)})"
+        what = f"{res.objective} ({opt.result_objective_label(res)})"
         self.live.setText(f"{res.status_text}: {what} {res.initial_value:.6g} → {res.value:.6g} {unit} in "
                           f"{res.evaluations} evaluations, {res.time_s:.1f} s\n{res.message}")
         self.live.setStyleSheet("")
