@@ -56,7 +56,7 @@ from cam_workbench.generators.spec.params import params_of
 
 from .atomic import OutputSet
 from .gcode import _Writer
-from .gcode_spatial_indexer import SpatialProgram, spatial_program
+from .gcode_spatial_indexer import LAMBDAS, SpatialProgram, spatial_program
 from .machining_outputs import FILES, PROGRAMS
 
 #: defaults of the [machining] fields left out (mm/min, mm, mm), as spatial_program has them
@@ -224,10 +224,10 @@ def spatial_indexer_outputs(design: SpatialIndexerDesign, summary: dict[str, Any
         "step_deg": opts["step_deg"],
         "gcode_lines": text.count("\n"),
         "path_error": {"value": prog.chord_error, "unit": "mm", "tolerance": prog.tolerance,
-                       "limit": prog.budget,
-                       "what": "the cutter's axis as written [4 decimals, interpolated linearly as LinuxCNC does] "
-                               "vs roller 0's exact axis at the input angle A, over the axis' reach, 17 points per "
-                               "move; G64 P blending on top, within the tolerance"},
+                       "limit": prog.budget, "points_per_move": LAMBDAS + 1,
+                       "what": f"the cutter's axis as written [4 decimals, interpolated linearly as LinuxCNC does] "
+                               f"vs roller 0's exact axis at the input angle A, over the axis' reach, {LAMBDAS + 1} "
+                               "points per move; G64 P blending on top, within the tolerance"},
         "exact": "nothing: linear moves within path_error of the roller's exact motion",
         "generating": generating,
     }

@@ -7,7 +7,8 @@ the printout, with each number replaced by the report.json path it shows (``{pit
 A printed number agrees when it is the report's value rounded to the digits printed; a line with a
 digit that no template accounts for fails the test, so a number printed from anywhere else cannot go
 unnoticed.  The same for the G-code headers (``cam.nc``, ``cam2.nc``: XY, the XC program of
-``gcode --mode xc`` and the cylindrical X-Z-A program) and the DXF title block read with ezdxf.
+``gcode --mode xc``, the cylindrical X-Z-A program, a parallel indexer's plate programs and a barrel
+or globoidal indexer's generating program) and the DXF title block read with ezdxf.
 
 Placeholders: ``{path}`` a number at the path (list items by index: ``body.second_cam.z.0``),
 ``{abs:path}`` its magnitude, ``{len:path}`` the length of a list, ``{str:path}`` the text itself,
@@ -45,7 +46,10 @@ NAMES = list(EXAMPLES)
 #: the parallel indexers: report.json has no pitch, profile, curvature, areas or interpolator (its
 #: indexer, body, pressure_angle, drive and one program per plate instead)
 INDEXER = [n for n in NAMES if EXAMPLES[n]["cam"].get("body") == "parallel_indexer"]
-PLANE = [n for n in NAMES if not n.startswith("cylindrical") and n not in INDEXER]
+#: the spatial indexers (barrel, globoidal): report.json's indexer.geometry (the rib's radii, the
+#: roller's span t), pressure_angle over the driving line and every contact, one generating program
+SPATIAL = [n for n in NAMES if EXAMPLES[n]["cam"].get("body") in ("barrel_indexer", "globoidal_indexer")]
+PLANE = [n for n in NAMES if not n.startswith("cylindrical") and n not in INDEXER and n not in SPATIAL]
 #: a number as the outputs print it (the G-code's and rich's minus signs included)
 NUMBER = r"[-−+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 PLACEHOLDER = re.compile(r"\{([^{}]+)\}")
@@ -185,11 +189,20 @@ def derived(report: dict) -> dict:
         f = r["machining"]["finish_wall_deviation"]
         r["_finish"] = max(f["bottom_radius"], f["outer_radius"])
     geo = (r.get("indexer") or {}).get("geometry")
-    if geo:
+    if geo and "per_cam" in geo:
         # a parallel indexer: each plate's dwell arc (the roller centres' dwell radius less the roller),
-        # the dwell's span, the drive's Hertz stress in MPa
+        # the dwell's span
         r["_dwell_arc"] = [c["dwell_radius_mm"] - geo["roller_radius_mm"] for c in geo["per_cam"]]
         r["_dwell_span"] = 360.0 - geo["index_angle_deg"]
+    elif geo:
+        # a barrel or globoidal indexer: the rollers' length, the cutter's swing alpha at C = 0 (roller
+        # 0 half a station short of 180°), each finishing sweep's climb share in per cent
+        r["_roller_length"] = geo["roller_end"] - geo["roller_start"]
+        r["_alpha0"] = 180.0 - 0.5 * 360.0 / geo["stations"]
+        sweeps = ((r.get("machining") or {}).get("generating") or {}).get("sweeps") or []
+        r["_climb_percent"] = [None if s["climb_share"] is None else 100.0 * s["climb_share"] for s in sweeps]
+    if geo:
+        # the drive's Hertz stress in MPa
         drive = r["indexer"].get("drive") or {}
         if "contact_stress_peak_Pa" in drive:
             r["_hertz_mpa"] = drive["contact_stress_peak_Pa"] / 1e6
@@ -311,11 +324,63 @@ INDEXER_PROGRAM = ("  {{str:machining.plates.{k}.file}}: XY contour of cam {{mac
                    "{{machining.plates.{k}.path_error_mm}} {{u}} of the exact tool-centre path")
 
 
+#: a barrel or globoidal indexer's lines (commands/build_spatial_indexer.py): report.json's
+#: indexer.geometry, pressure_angle, body.flank_fit_error, indexer.motion_from_geometry, volume, solid,
+#: indexer.drive (INDEXER_DRIVE, the same words) and machining
+BUILD_SPATIAL = [
+    Template("cam written to {any}: {str:_files}, {len:files.plots} plots", True),
+    Template("  {str:body.kind} (lengths in {u}): {str:follower.label}", True),
+    Template("  turret: {indexer.geometry.stations} stations, C = {indexer.geometry.centre_distance} {u}, r_r = "
+             "{indexer.geometry.roller_radius} {u} over t = {indexer.geometry.roller_start}–"
+             "{indexer.geometry.roller_end} {u}; {rib}, cam {indexer.geometry.cam_width} {u} long; "
+             "{str:indexer.geometry.law} index over {indexer.geometry.index_angle_deg}° of input from "
+             "{indexer.geometry.index_start_deg}°", True),
+    Template("  pressure angle: max {pressure_angle.max_deg}° at {pressure_angle.at_deg}° (the driving contact "
+             "line{limit}); over every engaged contact {pressure_angle.contacts_max_deg}° at "
+             "{pressure_angle.contacts_max_at_deg}°", True),
+    Template("  rib: thinnest {indexer.geometry.min_rib_thickness.value_mm} {u} at "
+             "{indexer.geometry.min_rib_thickness.at_deg}°; flank regularity margin at least "
+             "{indexer.geometry.min_regularity_margin.value_1} (at {indexer.geometry.min_regularity_margin.at_deg}°)",
+             True),
+    # the flanks are fitted surfaces, never called exact
+    Template("  flanks: bicubic B-spline surfaces fitted within {body.flank_fit_error.value} "
+             "{str:body.flank_fit_error.unit} of the rollers' exact envelope (measured, not exact)", True),
+    Template("  turret angle recovered from the flank surfaces: max error {indexer.motion_from_geometry.max_error_rad} "
+             "rad from the law ({indexer.motion_from_geometry.samples} input angles)", True),
+    Template("  volume {volume} {u}³ by a grid of the exact envelope (OCCT {solid.volume_rel_diff} relative)", True),
+    Template("  {str:machining.file}: {str:machining.program} program (LinuxCNC XYZAC), tool radius "
+             "{machining.tool_radius} {u}, {machining.passes} depth levels, {machining.gcode_lines} lines, the "
+             "cutter's axis within {machining.path_error.value} {u} of the roller's exact axis", True),
+]
+#: the rib's words of each spatial indexer's turret line (report.json ``indexer.geometry.type``)
+SPATIAL_RIB = {
+    "BarrelIndexer": "R_p = {indexer.geometry.pitch_radius} {u}; rib between the cylinders "
+                     "{indexer.geometry.root_radius}–{indexer.geometry.outer_radius} {u}",
+    "GloboidalIndexer": "rib between the globoids {indexer.geometry.tip_radius}–{indexer.geometry.root_radius} {u}",
+}
+
+
+def spatial_build_templates(report: dict) -> list[Template]:
+    """A spatial indexer's build lines: its rib's words, the pressure angle's limit when the check
+    has one, the drive's line (with the roller life) when report.json has a drive."""
+    rib = SPATIAL_RIB[report["indexer"]["geometry"]["type"]]
+    limit = report["checks"]["results"].get("pressure_angle", {}).get("limit")
+    t = [Template(x.text.replace("{rib}", rib).replace(
+        "{limit}", "" if limit is None else ", limit {checks.results.pressure_angle.limit}°"), x.required)
+        for x in BUILD_SPATIAL]
+    drive = report["indexer"].get("drive")
+    if drive:
+        t.append(Template(INDEXER_DRIVE + (INDEXER_L10 if drive.get("l10_hours") is not None else ""), True))
+    return t
+
+
 def build_templates(name: str, report: dict) -> list[Template]:
     """The build's lines of ``name``'s body: a parallel indexer's drive line when its report.json
     has a drive (with the roller life when it has one), a line per plate's program."""
     if name in PLANE:
         return list(BUILD_PLANE)
+    if name in SPATIAL:
+        return spatial_build_templates(report)
     if name not in INDEXER:
         return list(BUILD_CYLINDRICAL)
     t = list(BUILD_INDEXER)
@@ -349,7 +414,7 @@ def test_build_summary(builds, name):
     r = derived(b.report)
     templates = build_templates(name, r) + remedy_templates(r, "    remedy ")
     assert_held(held_to(b.stdout, templates, r, f"build {name}"))
-    if name in INDEXER:
+    if name in INDEXER or name in SPATIAL:
         # the verdict as the other bodies print it; the flanks' line never says they are exact
         verdict = "all pass" if r["checks"]["passed"] else f"FAILED {', '.join(r['checks']['failed'])}"
         assert f"  design checks: {verdict}" in b.stdout.splitlines()
@@ -511,11 +576,94 @@ def indexer_header(k: int) -> list[Template]:
             for t in INDEXER_HEADER]
 
 
+#: a spatial indexer's generating program's header (gcode_spatial_indexer.py, machining_spatial_indexer.py):
+#: report.json's indexer.geometry and machining (``G``: machining.generating); a comment wrapped onto
+#: "(  …)" lines is read joined (:func:`joined`)
+G = "machining.generating."
+SPATIAL_HEADER = [
+    Template("(cam_workbench {str:_version}: {str:indexer.type} indexer cam, X-Y-Z-A-C generating program: the "
+             "cutter follows roller 0's motion relative to the cam)", True),
+    Template("(indexer: N = {indexer.geometry.stations} stations, beta = {indexer.geometry.index_angle_deg} deg index "
+             "angle, law {str:indexer.geometry.law}, C = {indexer.geometry.centre_distance} {u}, r_r = "
+             "{machining.roller_radius} {u}, rollers t = {indexer.geometry.roller_start}-{indexer.geometry.roller_end} "
+             "{u}, width {indexer.geometry.cam_width} {u}, index start {indexer.geometry.index_start_deg} deg, {rib})",
+             True),
+    Template("(machine: X along the cam axis [X = z], Y = x towards the turret axis, Z = y up along the turret axis "
+             "[the vertical X0 Y{indexer.geometry.centre_distance}]; origin on the cam axis in the cam's middle "
+             "plane; trivkins XYZAC, A and C unwrapped)", True),
+    Template("(A = input angle theta in deg, the cam turned about +X right-handed; C = turret angle psi in deg, the "
+             f"cutter swung clockwise seen from +Z, alpha = {{_alpha0}} + C deg; A runs over {{{G}a_range_deg.0}} to "
+             f"{{{G}a_range_deg.1}}, C over {{{G}c_range_deg.0}} to {{{G}c_range_deg.1}})", True),
+    # the globoid's horizontal tool (Z = 0); the barrel's line holds no number
+    Template("(X Y Z = tool tip; tool horizontal along the roller's axis, spindle towards the turret axis, tip at t "
+             "from it: X = t sin alpha, Y = C + t cos alpha, Z = 0; C swivels the head about the vertical through "
+             "the tip; no G43: the tool length lies in XY)"),
+    Template("(tool T{machining.tool_number}: flat end mill radius {machining.tool_radius} {u} = the roller's "
+             "radius)"),
+    Template("(tool T{machining.tool_number}: flat end mill radius {machining.tool_radius} {u}, stock "
+             "{machining.stock} {u} left on every flank [roller radius {machining.roller_radius} {u}])"),
+    Template(f"(depth levels: tip at t = {{levels}} {{u}} on the roller's axis [{{len:{G}levels_t_mm}} roughing "
+             f"sweeps over A {{{G}a_range_deg.0}} to {{{G}a_range_deg.1}}, entered and left clear of the blank]; "
+             f"safe: tip at t = {{{G}safe_t_mm}} {{u}})", True),
+    Template(f"(path: {{{G}moves}} G1 moves in {{len:{G}sweeps}} sweeps, A steps {{{G}step_deg.0}} to "
+             f"{{{G}step_deg.1}} deg; measured chord error {{machining.path_error.value}} {{u}} [the cutter's axis "
+             f"vs roller 0's axis at theta = A, over t = {{{G}reach_t_mm.0}}-{{{G}reach_t_mm.1}} {{u}}, "
+             "{machining.path_error.points_per_move} points per move, written words], limit "
+             "{machining.path_error.limit} {u}, tolerance "
+             "{machining.path_error.tolerance} {u} with G64 P{machining.g64_p}; linear interpolation, not exact)",
+             True),
+    Template("(feed: G93 inverse time, F = {machining.feed_rate} {u}/min / the move's cam-frame travel of the "
+             "cutter's axis ends; plunges {machining.plunge_rate} {u}/min along the tool's axis)", True),
+    Template("(pressure angle: max {pressure_angle.max_deg} deg at {pressure_angle.at_deg} deg [limit "
+             "{checks.results.pressure_angle.limit} deg])"),
+    Template("(pressure angle: max {pressure_angle.max_deg} deg at {pressure_angle.at_deg} deg)"),
+    Template("(design checks: all pass [{_checked} checked])"),
+    Template("(design checks: all pass [{_checked} checked, {_skipped} skipped])"),
+    Template("(spec digest: {str:spec_digest})", True),
+]
+#: the rib's words of each spatial indexer's ``indexer:`` line (report.json ``indexer.geometry.type``)
+SPATIAL_HEADER_RIB = {
+    "BarrelIndexer": "R_p = {indexer.geometry.pitch_radius} {u}, rib radii {indexer.geometry.root_radius}-"
+                     "{indexer.geometry.outer_radius} {u}",
+    "GloboidalIndexer": "tip/root globoids {indexer.geometry.tip_radius}/{indexer.geometry.root_radius} {u}",
+}
+#: a finishing sweep's line (``machining.generating.sweeps.#k``, ``engaged_deg.#side``; #way: forward
+#: or backward as the sweep's ``forward`` says), its climb share in per cent
+SPATIAL_FINISHING = (f"(finishing side {{{G}sweeps.#k.side}}: engaged over A {{{G}engaged_deg.#side.0}} to "
+                     f"{{{G}engaged_deg.#side.1}} deg of roller 0's locus, swept #way: climb on {{_climb_percent.#k}} "
+                     "% of its contact)")
+
+
+def joined(text: str) -> str:
+    """A program header with each comment wrapped onto "(  …)" lines joined to the one it continues."""
+    out: list[str] = []
+    for line in text.splitlines():
+        if line.startswith("(  ") and out:
+            out[-1] = out[-1][:-1] + " " + line[3:]
+        else:
+            out.append(line)
+    return "\n".join(out)
+
+
+def spatial_header(report: dict) -> list[Template]:
+    """The header of a spatial indexer's cam.nc: its rib's words, its depth levels, a line per
+    finishing sweep (its side, which way it sweeps, its climb share in per cent)."""
+    g = report["machining"]["generating"]
+    rib = SPATIAL_HEADER_RIB[report["indexer"]["geometry"]["type"]]
+    levels = ", ".join(f"{{{G}levels_t_mm.{k}}}" for k in range(len(g["levels_t_mm"])))
+    t = [Template(x.text.replace("{rib}", rib).replace("{levels}", levels), x.required) for x in SPATIAL_HEADER]
+    t += [Template(SPATIAL_FINISHING.replace("#k", str(k)).replace("#side", str(sw["side"]))
+                   .replace("#way", "forward" if sw["forward"] else "backward"), True)
+          for k, sw in enumerate(g["sweeps"]) if sw["role"] == "finishing"]
+    return t
+
+
 @requires_ocp
 @pytest.mark.parametrize("name", NAMES)
 def test_gcode_headers_of_the_build(builds, name):
     """cam.nc (and a conjugate pair's cam2.nc: its own base circle, roller and pressure angle; a
-    parallel indexer's cam0.nc, cam1.nc, …: each plate's own numbers)."""
+    parallel indexer's cam0.nc, cam1.nc, …: each plate's own numbers; a spatial indexer's generating
+    program: report.json's machining and machining.generating)."""
     b = builds(name)
     r = derived(b.report)
     if name in INDEXER:
@@ -525,6 +673,12 @@ def test_gcode_headers_of_the_build(builds, name):
         for k, p in enumerate(plates):
             text = header((b.folder / p["file"]).read_text())
             assert_held(held_to(text, indexer_header(k), r, f"{name} {p['file']}"))
+        return
+    if name in SPATIAL:
+        # one generating program, its finishing sweeps climb-milled
+        assert r["files"]["gcode"] == r["machining"]["file"] == "cam.nc"
+        text = joined(header((b.folder / "cam.nc").read_text()))
+        assert_held(held_to(text, spatial_header(r), r, f"{name} cam.nc"))
         return
     if name not in PLANE:
         assert_held(held_to(header((b.folder / "cam.nc").read_text()), CYLINDRICAL_HEADER, r, f"{name} cam.nc"))
@@ -543,11 +697,19 @@ def _xc_report(name: str) -> dict:
     return json.loads(json.dumps(run_pipeline(spec, solid=False, drawing=False).summary))
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if (n in PLANE and n != "groove") or n in INDEXER])
+@pytest.mark.parametrize("name", [n for n in NAMES
+                                  if (n in PLANE and n != "groove") or n in INDEXER or n in SPATIAL])
 def test_gcode_xc_headers(name):
     """``gcode --mode xc`` (and ``--cam second`` of a conjugate pair) against the XC pipeline's numbers;
-    a parallel indexer's plates have XY contour programs only: ``--mode xc`` is refused (exit 2, the
-    field named, nothing on standard output)."""
+    a parallel indexer's plates have XY contour programs only, a spatial indexer its generating program
+    only: ``--mode xc`` is refused (exit 2, the field named, nothing on standard output)."""
+    if name in SPATIAL:
+        res = cli("gcode", "--example", name, "--mode", "xc")
+        assert res.returncode == 2, (res.returncode, res.stderr)
+        assert res.stdout == ""
+        assert res.stderr.startswith('error: machining.program: "xc": ') and "generating program" in res.stderr, \
+            res.stderr
+        return
     if name in INDEXER:
         res = cli("gcode", "--example", name, "--mode", "xc")
         assert res.returncode == 2, (res.returncode, res.stderr)
@@ -686,6 +848,49 @@ TITLE_INDEXER = {
 }
 
 
+#: a spatial indexer's rows (drawing_spatial_indexer.py title_rows): report.json's indexer.geometry,
+#: body, pressure_angle, the checks, the flank surfaces' and the drawn traces' errors as quoted
+#: (rounded up: drawing.*.quoted), where the turret is drawn
+TITLE_SPATIAL = {
+    "STATIONS N": ["{indexer.geometry.stations}"],
+    "INDEX ANGLE BETA": ["{indexer.geometry.index_angle_deg}°"],
+    "INDEX START": ["{indexer.geometry.index_start_deg}° OF INPUT"],
+    "CENTRE DISTANCE C": ["{indexer.geometry.centre_distance} {u}"],
+    "TURRET PITCH RADIUS R_p": ["{indexer.geometry.pitch_radius} {u}"],                       # a barrel's
+    "RIB RADII": ["ROOT {indexer.geometry.root_radius} {u}, TOP {indexer.geometry.outer_radius} {u}"],
+    "RIB GLOBOIDS": ["TIP {indexer.geometry.tip_radius} {u}, ROOT {indexer.geometry.root_radius} {u} ABOUT THE "
+                     "TURRET AXIS"],                                                            # a globoid's
+    "ROLLER RADIUS r_r": ["{indexer.geometry.roller_radius} {u}"],
+    "ROLLER LENGTH": ["{_roller_length} {u}, t = {indexer.geometry.roller_start} TO {indexer.geometry.roller_end} {u}"],
+    "CAM WIDTH W": ["{indexer.geometry.cam_width} {u}"],
+    "BORE": ["Ø{body.bore_diameter} {u}"],
+    "PRESSURE ANGLE (DRIVING)": ["{pressure_angle.max_deg}° AT {pressure_angle.at_deg}° OF INPUT (LIMIT "
+                                 "{checks.results.pressure_angle.limit}°)",
+                                 "{pressure_angle.max_deg}° AT {pressure_angle.at_deg}° OF INPUT"],
+    "PRESSURE ANGLE (ANY CONTACT)": ["{pressure_angle.contacts_max_deg}° AT {pressure_angle.contacts_max_at_deg}° OF "
+                                     "INPUT (NOT CHECKED)"],
+    "MIN REGULARITY MARGIN": ["{indexer.geometry.min_regularity_margin.value_1} AT "
+                              "{indexer.geometry.min_regularity_margin.at_deg}° OF INPUT"],
+    "MIN RIB THICKNESS": ["{indexer.geometry.min_rib_thickness.value_mm} {u} AT "
+                          "{indexer.geometry.min_rib_thickness.at_deg}° OF INPUT"],
+    # fitted, NOT exact: the measured error as quoted
+    "FLANK SURFACES": ["FITTED BICUBIC B-SPLINES, NOT EXACT: FIT ERROR {drawing.flank_fit_error.quoted|.3e} "
+                       "{str:body.flank_fit_error.unit} FROM THE EXACT ENVELOPE (MEASURED)"],
+    "FLANK TRACES": ["FITTED CUBIC SPLINES, NOT EXACT: {drawing.drawn_trace_error.quoted|.3e} {u} FROM THE EXACT "
+                     "ENVELOPE (MEASURED, {drawing.drawn_trace_error.points_per_span} POINTS PER SPAN)"],
+    "ROOT TRACES": ["FLANKS CONTINUED BELOW THE ROLLERS' ENDS (t < {indexer.geometry.roller_start} {u})"],
+    "TURRET MOTION FROM FLANKS": ["{indexer.motion_from_geometry.max_error_rad} rad FROM THE LAW "
+                                  "({indexer.motion_from_geometry.samples} INPUT ANGLES)"],
+    "DESIGN CHECKS": ["ALL PASS ({_checked} CHECKED)", "ALL PASS ({_checked} CHECKED, {_skipped} SKIPPED)",
+                      "FAILED: {any}"],
+    "DRAWN AT": ["INPUT ANGLE {drawing.drawn_at.input_angle_deg}°, TURRET ANGLE "
+                 "{drawing.drawn_at.turret_angle_deg}°"],
+    "UNITS / SCALE": ["{u} / 1:1"],
+    "SPEC DIGEST (SHA-256)": ["{str:spec_digest}"],
+    "SOFTWARE": ["cam_workbench {str:_version}"],
+}
+
+
 @requires_ocp
 @pytest.mark.parametrize("name", NAMES)
 def test_dxf_title_block(builds, name):
@@ -696,7 +901,14 @@ def test_dxf_title_block(builds, name):
     if "second_cam" in (r.get("body") or {}):
         r["_FOLLOWER2"] = str(r["body"]["second_cam"]["follower"]["label"]).upper()
     pairs, motion, other = title_block(b.folder / "cam.dxf")
-    rules = TITLE_PLANE if name in PLANE else TITLE_INDEXER if name in INDEXER else TITLE_CYLINDRICAL
+    rules = (TITLE_PLANE if name in PLANE else TITLE_INDEXER if name in INDEXER else TITLE_SPATIAL if name in SPATIAL
+             else TITLE_CYLINDRICAL)
+    if name in SPATIAL:
+        # the flank surfaces fitted, not exact; the traces (a barrel's) too, or said not drawn
+        assert pairs["FLANK SURFACES"].startswith("FITTED") and "NOT EXACT" in pairs["FLANK SURFACES"]
+        traces = r["drawing"]["drawn_trace_error"]["value"]
+        assert (pairs["FLANK TRACES"] == "NOT DRAWN (THE FLANKS ARE SURFACES)" if traces is None
+                else "NOT EXACT" in pairs["FLANK TRACES"]), pairs["FLANK TRACES"]
     if name in INDEXER:
         # each plate's dwell arc in turn; the flanks say they are fitted, not exact
         arcs = " / ".join(f"{{_dwell_arc.{k}}}" for k in range(len(r["_dwell_arc"])))
@@ -740,6 +952,14 @@ DXF_LINES = [
              "walls at the outer radius: max fit error {drawing.developed_fit_error.value} {u} (pitch line "
              "{drawing.developed_fit_error.pitch_line} {u}), not exact (tolerance {drawing.chord_tolerance} {u}, "
              "{str:drawing.file_version})"),
+    # a spatial indexer (dxf_cmd.describe on drawing.drawn_trace_error): a barrel's traces, a globoid's none
+    Template("  {str:drawing.kind} indexer's views: circles, arcs and lines exact; {drawing.splines} flank traces as "
+             "cubic SPLINEs within {drawing.drawn_trace_error.value} {u} of the exact envelope (measured, not exact); "
+             "the flank surfaces' fit error {drawing.flank_fit_error.value} {u} quoted in the title block "
+             "({str:drawing.file_version})"),
+    Template("  {str:drawing.kind} indexer's views: circles, arcs and lines exact; no flank traces (the flanks are "
+             "surfaces); the flank surfaces' fit error {drawing.flank_fit_error.value} {u} quoted in the title block "
+             "({str:drawing.file_version})"),
 ]
 
 
@@ -750,6 +970,8 @@ def test_dxf_command(builds, name, tmp_path):
     res = cli("dxf", "--example", name, "-o", str(tmp_path / "cam.dxf"))
     assert res.returncode == 0, res.stderr
     assert_held(held_to(res.stdout, DXF_LINES, derived(b.report), f"dxf {name}"))
+    if name in SPATIAL:          # the describe line is there, its numbers held above
+        assert f"  {b.report['drawing']['kind']} indexer's views: " in res.stdout
 
 
 # ---- check -------------------------------------------------------------------------------------------
@@ -1159,6 +1381,10 @@ REPR_NUMBERS = {
                                 "length 50"],
     "parallel_indexer": ["parallel_indexer cam", "turret of 8 stations × 2 planes", "rollers r = 10 on R_p = 50, C = 120",
                          "index 120°", "2 plates 16 thick"],
+    "barrel_indexer": ["barrel_indexer cam", "turret of 6 stations", "rollers r = 12 over t = 27–45", "C 52",
+                       "index 240°", "R_p 60", "rib radii 25–40", "length 80"],
+    "globoidal_indexer": ["globoidal_indexer cam", "turret of 12 stations", "rollers r = 12 over t = 74–96",
+                          "C 150", "index 120°", "rib globoids 76–100", "width 56"],
 }
 
 
