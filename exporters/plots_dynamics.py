@@ -50,8 +50,11 @@ def dynamics_figure(result: DynamicsResult, section: Mapping[str, Any]) -> Chart
     deg = result.theta_deg
     c = section["contact"]
     scale, unit = small_unit(result.units, result.lift_unit)
-    force = _angle_panel(result, f"contact force [{c['unit']}]", "upper right", last=False, labels=True)
-    force.add(Curve(deg, result.rigid_force, color=_RIGID, width=0.9, dash="--", label="rigid follower"),
+    turret = getattr(result, "turret", False)           # an indexer's output train: the shaft torque
+    force = _angle_panel(result, f"{'shaft torque' if turret else 'contact force'} [{c['unit']}]", "upper right",
+                         last=False, labels=True)
+    force.add(Curve(deg, result.rigid_force, color=_RIGID, width=0.9, dash="--",
+                    label="rigid shaft (J·ψ̈)" if turret else "rigid follower"),
               Curve(deg, result.force, color=COLORS["s"], width=1.1, label=f"dynamic at {section['speed_rpm']:.4g} rpm"),
               Rule("y", 0.0, color=COLORS["limit"], width=0.8, dash=":"),
               Curve(np.array([c["min_force_at_deg"]]), np.array([c["min_force"]]), marker="o", line=False, size=5.0,
@@ -62,8 +65,8 @@ def dynamics_figure(result: DynamicsResult, section: Mapping[str, Any]) -> Chart
     torque.add(Curve(deg, result.rigid_torque, color=_RIGID, width=0.9, dash="--", label="rigid"),
                Curve(deg, result.torque, color=COLORS["a"], width=1.1, label="dynamic"),
                Rule("y", 0.0, color=css_color("0.6"), width=0.6, dash="-"))
-    error = _angle_panel(result, f"displacement error [{unit}]", "lower right", last=True)
-    error.add(Curve(deg, result.error * scale, color=COLORS["v"], width=1.0, label="q − s"),
+    error = _angle_panel(result, f"{'angle' if turret else 'displacement'} error [{unit}]", "lower right", last=True)
+    error.add(Curve(deg, result.error * scale, color=COLORS["v"], width=1.0, label="φ − ψ" if turret else "q − s"),
               Curve(deg, result.vibration * scale, color=COLORS["j"], width=0.8,
                     label="vibration about the quasi-static deflection"))
     return Chart.stack([force, torque, error])

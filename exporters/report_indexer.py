@@ -174,6 +174,34 @@ def _figure(name: str, svgs: Mapping[str, str]) -> str:
     return figure_html(name, svgs, _TITLES)
 
 
+def dynamics_section(report: Mapping[str, Any]) -> str:
+    """report.json's ``dynamics.turret`` (the output train at speed, docs/indexing.md "Dynamics") as a
+    table; "" when the report has no dynamics (``dynamics.enabled`` off)."""
+    if not has(report, "dynamics.turret"):
+        return ""
+    t = "dynamics.turret"
+    rows = [
+        ("analysis speed", "dynamics.speed_rpm", "rpm", None),
+        ("output inertia J", f"{t}.output_inertia", "kg·mm²", None),
+        ("turret shaft's torsional stiffness k_t", f"{t}.torsional_stiffness", "N·mm/rad", None),
+        ("damping ratio ζ", f"{t}.damping_ratio", "", None),
+        ("natural frequency f_n", f"{t}.natural_frequency_hz", "Hz", None),
+        ("index time t_i", f"{t}.index_time_s", "s", None),
+        ("f_n·t_i", f"{t}.fn_ti", "", None),
+        ("largest angle error |φ − ψ|", f"{t}.angle_error.max", "deg", f"{t}.angle_error.at_deg"),
+        ("peak torsional deflection |ψ − φ|", f"{t}.deflection.max_arcmin", "arcmin", f"{t}.deflection.at_deg"),
+        ("peak shaft torque (dynamic)", f"{t}.shaft_torque.max", "N·mm", f"{t}.shaft_torque.at_deg"),
+        ("peak shaft torque (rigid J·ψ̈)", f"{t}.shaft_torque.rigid_max", "N·mm", f"{t}.shaft_torque.rigid_max_at_deg"),
+        ("residual vibration entering the dwell", f"{t}.residual_vibration.amplitude_arcmin", "arcmin", None),
+    ]
+    dwells = lookup(report, f"{t}.residual_vibration.dwells")
+    rows += [(f"dwell {i}: residual vibration at its end", f"{t}.residual_vibration.dwells.{i}.amplitude_at_end_arcmin",
+              "arcmin", None) for i in range(len(dwells) if isinstance(dwells, list) else 0)]
+    return ('<h2 id="dynamics">The output train at speed</h2><p class="note">The output\'s inertia on the turret '
+            "shaft's torsional stiffness, driven by the cam through stiff rollers (docs/indexing.md).</p>"
+            + quantity_table(report, rows) + section_notes(report, t))
+
+
 def section_notes(report: Mapping[str, Any], section: str) -> str:
     """The ``*_note`` strings of a report.json section, each as a note naming its key."""
     node = lookup(report, section) if has(report, section) else None
@@ -336,5 +364,5 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
             + quantity_table(report, _accuracy_rows()) + accuracy_note
             + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows)
             + _figure("plot_motion.png", svgs)
-            + '<h2 id="drive">The drive</h2>' + drive + outputs_sections(report)
+            + '<h2 id="drive">The drive</h2>' + drive + dynamics_section(report) + outputs_sections(report)
             + "</main></body></html>\n")

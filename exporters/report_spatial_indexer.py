@@ -27,7 +27,7 @@ from . import chart_png, chart_svg, plots_spatial_indexer
 from .chart import Chart, Curve, Note, Panel, Rule
 from .report_cells import has, lookup, num_cell, quantity_table
 from .report_html import CSS
-from .report_indexer import drive_chart, drive_section, figure_html, outputs_sections
+from .report_indexer import drive_chart, drive_section, dynamics_section, figure_html, outputs_sections
 from .report_pages import REPORT_PAGES
 from .report_sections import checks_section
 
@@ -253,7 +253,7 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
             + "<h3>The turret angle recovered from the flanks</h3>" + quantity_table(report, recovered_rows)
             + recovered_note + _figure("plot_motion.png", svgs)
             + '<h2 id="drive">The drive</h2>' + drive_section(report, _figure("plot_torque.png", svgs))
-            + outputs_sections(report)
+            + dynamics_section(report) + outputs_sections(report)
             + "</main></body></html>\n")
 
 

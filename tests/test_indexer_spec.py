@@ -112,7 +112,7 @@ BAD = [
     ({"units": "in"}, "units"),
     ({"motion[1].law": "bspline"}, "motion[1]"),
     ({"motion[1].kind": "return"}, "motion[1]"),
-    ({"dynamics.enabled": True}, "dynamics.enabled"),
+    ({"dynamics.enabled": True}, "dynamics.torsional_stiffness"),      # the output train's (docs/indexing.md)
     ({"indexer.cams": 4}, "indexer.cams"),
 ]
 

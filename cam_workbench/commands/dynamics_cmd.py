@@ -118,17 +118,19 @@ def print_tables(d: dict[str, Any], out: Path | None) -> None:
     con = Console(soft_wrap=True)
     c, m, e, tq = d["contact"], d["model"], d["error"], d["torque"]
     lu, fu, tu = e["unit"], c["unit"], tq["unit"]
-    table = Table(title=f"follower dynamics at {fmt(d['speed_rpm'])} rpm")
+    turret = d.get("turret")
+    what = "shaft torque" if turret else "contact force"
+    table = Table(title=f"{'output train' if turret else 'follower'} dynamics at {fmt(d['speed_rpm'])} rpm")
     for col in ("quantity", "value", "unit", "at"):
         table.add_column(col, justify="left" if col == "quantity" else "right")
     rows = [
         ("natural frequency of the train", m["natural_frequency_hz"], "Hz", None),
         ("natural frequency / cam frequency", m["frequency_ratio"], "", None),
-        ("smallest contact force (dynamic)", c["min_force"], fu, c["min_force_at_deg"]),
-        ("largest contact force (dynamic)", c["max_force"], fu, c["max_force_at_deg"]),
-        ("smallest contact force (rigid)", c["rigid_min_force"], fu, c["rigid_min_force_at_deg"]),
-        ("largest contact force (rigid)", c["rigid_max_force"], fu, c["rigid_max_force_at_deg"]),
-        ("largest displacement error |q − s|", e["max"], lu, e["at_deg"]),
+        (f"smallest {what} (dynamic)", c["min_force"], fu, c["min_force_at_deg"]),
+        (f"largest {what} (dynamic)", c["max_force"], fu, c["max_force_at_deg"]),
+        (f"smallest {what} (rigid)", c["rigid_min_force"], fu, c["rigid_min_force_at_deg"]),
+        (f"largest {what} (rigid)", c["rigid_max_force"], fu, c["rigid_max_force_at_deg"]),
+        ("largest angle error |φ − ψ|" if turret else "largest displacement error |q − s|", e["max"], lu, e["at_deg"]),
         ("largest vibration", e["max_vibration"], lu, e["vibration_at_deg"]),
         ("camshaft torque max (rigid)", tq["rigid"]["max"], tu, tq["rigid"]["max_at_deg"]),
         ("camshaft torque max (dynamic)", tq["dynamic"]["max"], tu, tq["dynamic"]["max_at_deg"]),
@@ -141,6 +143,8 @@ def print_tables(d: dict[str, Any], out: Path | None) -> None:
     for label, v, unit, at in rows:
         table.add_row(label, fmt(v), unit, "—" if at is None else f"{fmt(at)}°")
     con.print(table)
+    if turret:
+        _print_turret(con, turret)
     res = d["residual_vibration"]
     if res:
         rt = Table(title="residual vibration")
@@ -167,7 +171,30 @@ def print_tables(d: dict[str, Any], out: Path | None) -> None:
         at = ", ".join(f"{fmt(a)}°" for a in drive["changes_at_deg"]) or "nowhere"
         con.print(escape(f"form closure: the load changes wall at {at} (dynamic force; positive share "
                          f"{fmt(drive['positive_share'])}, negative share {fmt(drive['negative_share'])})"))
-    verdict = ("[green]the follower stays on the cam[/]" if c["kept"] else
+    verdict = ("[green]the rollers hold the turret both ways[/]" if turret else
+               "[green]the follower stays on the cam[/]" if c["kept"] else
                f"[bold red]the follower LEAVES the cam ({escape(fmt(c['off_cam_deg']))}° of the revolution)[/]")
     con.print(verdict + ("" if out is None else f" — written to {escape(str(out))}/: report.json, {CSV_NAME}, "
                                                f"{', '.join(PLOTS[:1 + ('jump_speed' in d)])}"))
+
+
+def _print_turret(con: Console, t: dict[str, Any]) -> None:
+    """report.json's ``dynamics.turret`` (an indexer's output train) as a table."""
+    table = Table(title="indexer output train (the output's inertia on the turret shaft)")
+    for col in ("quantity", "value", "unit", "at"):
+        table.add_column(col, justify="left" if col == "quantity" else "right")
+    dfl, sq, rv = t["deflection"], t["shaft_torque"], t["residual_vibration"]
+    rows = [
+        ("index time t_i", t["index_time_s"], "s", None),
+        ("natural frequency f_n", t["natural_frequency_hz"], "Hz", None),
+        ("f_n·t_i", t["fn_ti"], "", None),
+        ("peak torsional deflection |ψ − φ|", dfl["max_arcmin"], "arcmin", dfl["at_deg"]),
+        ("peak shaft torque (dynamic)", sq["max"], sq["unit"], sq["at_deg"]),
+        ("peak shaft torque (rigid J·ψ̈)", sq["rigid_max"], sq["unit"], sq["rigid_max_at_deg"]),
+        ("residual vibration entering the dwell", rv["amplitude_arcmin"], "arcmin", None),
+    ]
+    rows += [(f"dwell {fmt(w['from_deg'])}°–{fmt(w['to_deg'])}°: amplitude at its end", w["amplitude_at_end_arcmin"],
+              "arcmin", None) for w in rv["dwells"]]
+    for label, v, unit, at in rows:
+        table.add_row(escape(label), fmt(v), unit, "—" if at is None else f"{fmt(at)}°")
+    con.print(table)

@@ -7,7 +7,9 @@ the cam, for every follower kind through the follower interface.
   the samples and over speeds;
 * :mod:`.contact` — the exact piecewise solution when the follower leaves the cam;
 * :mod:`.jump` — the jump-speed sweep and bisection, the rigid follower's jump speed;
-* :mod:`.analysis` — :func:`analyse_dynamics`: everything at one speed, report.json's section.
+* :mod:`.analysis` — :func:`analyse_dynamics`: everything at one speed, report.json's section;
+* :mod:`.turret` — an indexer's output train (the output's inertia on the turret shaft), the same
+  model in the periodic error of an advancing turret, and report.json's ``dynamics.turret``.
 """
 from .analysis import DynamicsResult, analyse_dynamics
 from .jump import JumpSpeed, find_jump_speed, rigid_jump_speed

@@ -32,6 +32,7 @@ from .contact import SeparatedResponse, separated_response
 from .jump import RPM, SWEEP_MAX_SAMPLES, JumpSpeed, find_jump_speed, rigid_jump_speed, sweep_range
 from .model import TrainModel, analysis_rpm, train_model
 from .periodic import CamInput, PeriodicResponse, cam_input, parabolic_min, periodic_response, sample_count
+from .turret import turret_summary
 
 TWO_PI = 2.0 * math.pi
 
@@ -89,6 +90,9 @@ class DynamicsResult:
     form_closed: bool = False
     #: the body's words for which side drives (``Body.drive_note``)
     drive_note: str = ""
+    #: an indexer's output train (:mod:`.turret`): the "contact force" is the shaft torque, and the
+    #: summary holds the ``turret`` subsection
+    turret: bool = False
 
     @property
     def theta_deg(self) -> np.ndarray:
@@ -124,8 +128,8 @@ class DynamicsResult:
         u = self.units
         angle = self.lift_unit == "angle"
         lift_u = "deg" if angle else u
-        force_u = unit_name("force", u)
         torque_u = unit_name("torque", u)
+        force_u = torque_u if self.turret else unit_name("force", u)
         fmin, fmin_at = _extreme(self.force, self.theta, "min")
         fmax, fmax_at = _extreme(self.force, self.theta, "max")
         rmin, rmin_at = _extreme(self.rigid_force, self.theta, "min")
@@ -173,7 +177,7 @@ class DynamicsResult:
         out: dict[str, Any] = {
             "speed_rpm": self.speed_rpm,
             "model": {
-                "coordinate": "arm angle" if angle else "lift",
+                "coordinate": "turret angle" if self.turret else "arm angle" if angle else "lift",
                 "mass": m.spec_inertia, "mass_unit": unit_name("inertia" if angle else "mass", u),
                 "stiffness": m.stiffness,
                 "stiffness_unit": unit_name("torsional_stiffness" if angle else "stiffness", u),
@@ -193,6 +197,9 @@ class DynamicsResult:
                        "unit": torque_u},
             "steady_state": steady,
         }
+        if self.turret:
+            contact["meaning"] = "the turret shaft's torque k_t(ψ − φ) + c(ψ̇ − φ̇) (lever 1)"
+            out["turret"] = turret_summary(self)
         if self.jump is not None:
             jp = self.jump
             out["jump_speed"] = {
@@ -308,4 +315,4 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         torque=load * inp.du, rigid_torque=rigid_load * inp.du, on_cam=on_cam, periodic=per,
         separated=separated, jump=jump, inp=inp, program=program, units=spec.units,
         lift_unit=fol.lift_unit, form_closed=form_closed,
-        drive_note=body.drive_note)
+        drive_note=body.drive_note, turret=bool(getattr(fol, "turret", False)))

@@ -18,6 +18,10 @@ model is the rigid follower of the design checks: Q → J ü + P + k_s u (thesis
 
 J = mass × ``LoadSpec.mass_force`` (kg·mm/s² = 10⁻³ N), so forces come out in the spec's force
 unit and torques in its torque unit; c = 2ζ·√(J·(k_f + k_s)).
+
+An indexer's output train (:mod:`.turret`) is this train with k_s = P = 0: u the turret angle, k_f
+the turret shaft's ``dynamics.torsional_stiffness``, J ``indexer.output_inertia`` (the
+:class:`~cam_workbench.generators.bodies.indexing.turret_train.TurretFollower`'s ``load.inertia``), Q the shaft torque.
 """
 from __future__ import annotations
 
@@ -91,8 +95,10 @@ def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
     fol = follower or follower_of(spec)
     inertia_field, stiffness_field, follower_field = TRAIN_FIELDS[fol.lift_unit]
     dy = spec.dynamics
-    inertia = getattr(dy, inertia_field) or getattr(spec.follower, follower_field)
     ld = fol.load
+    # an indexer's turret (:mod:`.turret`): the output's inertia, indexer.output_inertia
+    inertia = ld.inertia if getattr(fol, "turret", False) else (getattr(dy, inertia_field)
+                                                               or getattr(spec.follower, follower_field))
     return TrainModel(inertia=inertia * ld.mass_force, stiffness=float(getattr(dy, stiffness_field)),
                       spring_rate=ld.rate, preload=ld.preload, damping_ratio=dy.damping_ratio,
                       lift_scale=fol.lift_scale, coordinate=fol.lift_unit, mass_force=ld.mass_force)

@@ -61,7 +61,8 @@ class CamInput:
         kin: the motion's kinematics there (spec lift units, per rad).
         u, du, d2u: u = lift_scale·s and its θ-derivatives (the follower's coordinate).
         lever: normal contact force per unit generalised load (:meth:`Follower.force_per_load`).
-        spectrum: U_k, k = 0 … N/2: u(θ) = Re Σ w_k U_k e^{ikθ} (w = 1 at 0 and N/2, else 2).
+        spectrum: U_k, k = 0 … N/2: u(θ) = Re Σ w_k U_k e^{ikθ} (w = 1 at 0 and N/2, else 2); of an
+            advancing program (an indexer's turret), of u minus its mean advance (:mod:`.turret`).
         segment: motion segment of each sample.
     """
 
@@ -86,8 +87,12 @@ def cam_input(program: MotionProgram, follower: Follower, n: int) -> CamInput:
     kin = program.evaluate(theta, seg)
     c = follower.lift_scale
     u = c * np.asarray(kin.s, float)
+    # an advancing program (an indexer's turret, s(2π) = s(0) + advance): the spectrum is its periodic
+    # part's, u minus the mean advance — the ramp has no acceleration (with no return spring it moves
+    # the train rigidly: no error, no load; :mod:`.turret`)
+    periodic_u = u - (c * program.advance / TWO_PI) * theta if program.advance else u
     return CamInput(theta, kin, u, c * np.asarray(kin.ds, float), c * np.asarray(kin.d2s, float),
-                    follower.force_per_load(kin), np.fft.rfft(u) / n, seg)
+                    follower.force_per_load(kin), np.fft.rfft(periodic_u) / n, seg)
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import SpecError
-from .laws import END_CONTINUITY, LAW_FUNCTIONS, evaluate_law
+from .laws import LAW_FUNCTIONS, NormalisedLaw, end_continuity, evaluate_law, law_name
 
 Array = np.ndarray
 
@@ -82,7 +82,8 @@ class LawCharacteristics:
     interval) and where they occur (x ∈ [0, 1]).
 
     ``C_j`` is ``math.inf`` for a law whose acceleration jumps at an end against a dwell
-    (``END_CONTINUITY < 2``: the harmonic law), its jerk there being a Dirac impulse; ``x_j`` is
+    (``END_CONTINUITY < 2``: the harmonic law; a :class:`~.laws.NormalisedLaw`'s ``continuity``),
+    its jerk there being a Dirac impulse; ``x_j`` is
     then 0 (the start) and ``jerk_inside`` holds the largest jerk strictly inside the rise.
     Where a maximum is reached at several places (a plateau, a symmetric law) x is the first."""
 
@@ -116,10 +117,11 @@ class LawCharacteristics:
 
 
 @functools.lru_cache(maxsize=None)
-def law_characteristics(name: str) -> LawCharacteristics:
-    """C_v, C_a, C_j, C_v·C_a and Q of law ``name`` (a key of ``LAW_FUNCTIONS``), refined to
-    ~1e-15 relative; cached per name."""
-    if name not in LAW_FUNCTIONS:
+def law_characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
+    """C_v, C_a, C_j, C_v·C_a and Q of law ``name`` (a key of ``LAW_FUNCTIONS``, or a
+    :class:`~.laws.NormalisedLaw`: a motion program's rise), refined to ~1e-15 relative; cached per
+    law (the characteristics' ``name`` is the law's name)."""
+    if not isinstance(name, NormalisedLaw) and name not in LAW_FUNCTIONS:
         raise SpecError("law", f"unknown law {name!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
 
     def order(k: int) -> Callable[[Array], Array]:
@@ -137,9 +139,9 @@ def law_characteristics(name: str) -> LawCharacteristics:
     c_a, x_a = peak_abs(order(2), order(3))
     jerk, x_j = peak_abs(order(3))
     q, x_q = peak_abs(vel_acc, d_vel_acc)
-    if END_CONTINUITY[name] < 2:
+    if end_continuity(name) < 2:
         c_j, x_j = math.inf, 0.0
     else:
         c_j = jerk
-    return LawCharacteristics(name=name, C_v=c_v, x_v=x_v, C_a=c_a, x_a=x_a, C_j=c_j, x_j=x_j,
+    return LawCharacteristics(name=law_name(name), C_v=c_v, x_v=x_v, C_a=c_a, x_a=x_a, C_j=c_j, x_j=x_j,
                               jerk_inside=jerk, torque_index=c_v * c_a, Q=q, x_Q=x_q)

@@ -11,7 +11,8 @@ decimals 0.43990085, 0.0350062, 0.31505577 and 0.28004957.
 """
 from __future__ import annotations
 
-from typing import Callable
+from dataclasses import dataclass, field
+from typing import Any, Callable, Hashable
 
 import numpy as np
 
@@ -156,9 +157,123 @@ END_CONTINUITY: dict[str, int] = {
 }
 
 
-def evaluate_law(name: str, x: Array) -> tuple[Array, Array, Array, Array]:
-    """f, f', f'', f''' of law ``name`` at normalised positions ``x`` ∈ [0, 1]."""
-    fn = LAW_FUNCTIONS[name]
+@dataclass(frozen=True, eq=False)
+class NormalisedLaw:
+    """A normalised rise law f(x), x ∈ [0, 1], f(0) = 0, f(1) = 1, as a value: ``name`` (what the
+    summaries print: "modified_sine", "polynomial", "bspline" …), ``fn`` (x ↦ f and its first three
+    derivatives, vectorised), ``continuity`` (the highest derivative continuous at both ends against
+    dwells, as :data:`END_CONTINUITY`; 0 when f′ ≠ 0 at an end) and ``key`` (what makes two laws
+    equal: hashable, by value).  The closed forms are :data:`CLOSED_FORM_LAWS`; :meth:`from_segment`
+    makes one of a motion program's rise (polynomial, bspline, constant_velocity, table)."""
+
+    name: str
+    fn: LawFn = field(repr=False)
+    continuity: int = 2
+    key: Hashable = None
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, NormalisedLaw) and (self.name, self.key) == (other.name, other.key)
+
+    def __hash__(self) -> int:
+        return hash((NormalisedLaw, self.name, self.key))
+
+    def __str__(self) -> str:
+        return self.name
+
+    def evaluate(self, x: Array) -> tuple[Array, Array, Array, Array]:
+        """f, f′, f″, f‴ at normalised positions ``x`` ∈ [0, 1] (arrays of x's shape)."""
+        return evaluate_law(self, x)
+
+    @classmethod
+    def from_segment(cls, program: Any, k: int) -> "NormalisedLaw":
+        """Rise ``k`` of motion program ``program`` (a :class:`~.program.MotionProgram`) normalised:
+        F(u) = (s(θ_k + β·u) − s(θ_k))/h, F⁽ⁿ⁾ = s⁽ⁿ⁾·βⁿ/h, evaluated by the program's own segment
+        evaluation (one-sided at the ends); a closed-form segment gives its closed form.  Equal
+        programs give equal laws (the key is the segment's solved curve, by value); the end
+        continuity is measured (:func:`_measured_continuity`)."""
+        law = program.laws[k]
+        if law in LAW_FUNCTIONS:
+            return CLOSED_FORM_LAWS[law]
+        beta, h = float(program.spans[k]), float(program.lifts[k])
+        if not h:
+            raise ValueError(f"segment {k} of the program is a dwell: no law")
+        fn = _ProgramRise(program, k)
+        curve = program.curves[k] if program.curves else None
+        key: Hashable = (law, beta, h) if curve is None else (
+            law, beta, h, int(curve.order), tuple(np.asarray(curve.x, float).tolist()),
+            tuple(np.asarray(curve.y, float).tolist()), tuple(np.asarray(curve.knots, float).tolist()))
+        return cls(str(law), fn, fn.continuity, key)
+
+
+class _ProgramRise:
+    """x ↦ F, F′, F″, F‴ of segment ``k`` of a motion program (a module-level callable, not a
+    closure: a law made of it pickles with its program)."""
+
+    def __init__(self, program: Any, k: int) -> None:
+        self.program, self.k = program, int(k)
+        self.continuity = 3
+        self.continuity = _measured_continuity(self._raw)
+
+    def _raw(self, x: Array) -> tuple[Array, Array, Array, Array]:
+        prog, k = self.program, self.k
+        start, beta, h, level = (float(prog.starts[k]), float(prog.spans[k]), float(prog.lifts[k]),
+                                 float(prog.levels[k]))
+        x = np.asarray(x, dtype=float)
+        u = np.minimum(np.maximum(x, 0.0), 1.0).ravel()        # the program evaluates arrays (not 0-d)
+        kin = prog.evaluate(start + beta * u, np.full(u.shape, k))
+        return tuple(np.reshape(v, x.shape) for v in ((kin.s - level) / h, kin.ds * beta / h,  # type: ignore[return-value]
+                                                         kin.d2s * beta**2 / h, kin.d3s * beta**3 / h))
+
+    def __call__(self, x: Array) -> tuple[Array, Array, Array, Array]:
+        # at the ends exactly: f = 0, 1 and the derivatives the law takes to rest exactly 0 (the
+        # solved or fitted law's rounding there, ~1e-14, would otherwise read as motion)
+        x = np.asarray(x, dtype=float)
+        vals = [np.array(v, dtype=float) for v in self._raw(x)]
+        lo, hi = x <= 0.0, x >= 1.0
+        vals[0][lo], vals[0][hi] = 0.0, 1.0
+        for n in range(1, self.continuity + 1):
+            vals[n][lo | hi] = 0.0
+        return tuple(vals)  # type: ignore[return-value]
+
+
+def _measured_continuity(fn: LawFn) -> int:
+    """The highest n ≤ 3 with f′ … f⁽ⁿ⁾ zero at both ends (within 1e-8 of their peak over the
+    rise, at least 1e-8 absolute): 0 when f′ is not."""
+    x = np.linspace(0.0, 1.0, 1025)
+    vals = fn(x)
+    order = 0
+    for n in (1, 2, 3):
+        d = np.asarray(vals[n], dtype=float)
+        if max(abs(d[0]), abs(d[-1])) > 1e-8 * max(1.0, float(np.max(np.abs(d)))):
+            break
+        order = n
+    return order
+
+
+#: the closed-form laws as :class:`NormalisedLaw` values
+CLOSED_FORM_LAWS: dict[str, NormalisedLaw] = {name: NormalisedLaw(name, fn, END_CONTINUITY[name], name)
+                                              for name, fn in LAW_FUNCTIONS.items()}
+
+
+def is_law(law: Any) -> bool:
+    """Whether the geometry takes ``law``: a key of ``LAW_FUNCTIONS`` or a :class:`NormalisedLaw`."""
+    return isinstance(law, NormalisedLaw) or (isinstance(law, str) and law in LAW_FUNCTIONS)
+
+
+def law_name(law: "str | NormalisedLaw") -> str:
+    """The law's name ("modified_sine", "polynomial", …): what summaries and titles print."""
+    return law.name if isinstance(law, NormalisedLaw) else str(law)
+
+
+def end_continuity(law: "str | NormalisedLaw") -> int:
+    """:data:`END_CONTINUITY` of a closed form by name, a :class:`NormalisedLaw`'s own."""
+    return law.continuity if isinstance(law, NormalisedLaw) else END_CONTINUITY[law]
+
+
+def evaluate_law(name: "str | NormalisedLaw", x: Array) -> tuple[Array, Array, Array, Array]:
+    """f, f', f'', f''' of law ``name`` (a key of ``LAW_FUNCTIONS`` or a :class:`NormalisedLaw`)
+    at normalised positions ``x`` ∈ [0, 1]."""
+    fn = name.fn if isinstance(name, NormalisedLaw) else LAW_FUNCTIONS[name]
     x = np.asarray(x, dtype=float)
     # a law's terms are arrays of x's shape, or constants (a polynomial's last derivative) to spread
     return tuple(v if isinstance(v, np.ndarray) and v.shape == x.shape and v.dtype == float

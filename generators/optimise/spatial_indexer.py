@@ -76,10 +76,10 @@ BODIES = {BarrelIndexerBody.kind: BarrelIndexerBody, GloboidalIndexerBody.kind: 
 VARIABLES = ("centre_distance", "turret", "roller_radius")
 BOUND_FACTORS = (DEFAULT_BOUNDS["centre_distance"], DEFAULT_BOUNDS["pitch_radius"], DEFAULT_BOUNDS["roller_radius"])
 #: the geometry field that is the turret's size, per body
-TURRET = {"barrel_indexer": "pitch_radius", "globoidal_indexer": "roller_end"}
+TURRET = {BarrelIndexerBody.kind: "pitch_radius", GloboidalIndexerBody.kind: "roller_end"}
 #: the geometry's lengths that follow the turret's size (fixed fractions of it), per body
-FOLLOWERS = {"barrel_indexer": ("roller_start", "roller_end", "root_radius", "outer_radius", "cam_width"),
-             "globoidal_indexer": ("roller_start", "tip_radius", "root_radius", "cam_width")}
+FOLLOWERS = {BarrelIndexerBody.kind: ("roller_start", "roller_end", "root_radius", "outer_radius", "cam_width"),
+             GloboidalIndexerBody.kind: ("roller_start", "tip_radius", "root_radius", "cam_width")}
 #: the solver's constraints, in the order of a trial's g
 CONSTRAINTS = ("geometry", "pressure_angle", "undercut", "rib_thickness", "locking", "contact_stress", "bore")
 #: input angles and points along each roller per solver trial: the body's own (its drive's peak contact stress
@@ -93,10 +93,10 @@ MIN_MARGIN, MIN_RIB = 0.05, 1.0
 STRESS_FRACTION = 0.99
 #: what "size" is, per body (report.json's objective_label / _description / _key of the result)
 SIZE_WORDS = {
-    "barrel_indexer": ("outer radius of the barrel (the rib's top cylinder)",
+    BarrelIndexerBody.kind: ("outer radius of the barrel (the rib's top cylinder)",
                        "the barrel cam's outer radius: the rib's top cylinder indexer.outer_radius",
                        "indexer.geometry.outer_radius"),
-    "globoidal_indexer": ("outer radius of the globoidal cam (its tip globoid at the end faces)",
+    GloboidalIndexerBody.kind: ("outer radius of the globoidal cam (its tip globoid at the end faces)",
                           "the globoidal cam's outer radius: C - sqrt(tip_radius^2 - (W/2)^2), the tip globoid "
                           "at the end faces |z| = W/2 (W = cam.thickness)", None),
 }

@@ -34,7 +34,9 @@ class DynamicsSection:
         unit="stiffness", gt=0, optional=True, group="Dynamics")
     torsional_stiffness: float | None = param(
         "Oscillating: torsional stiffness of the arm train about the pivot between the cam contact and the lumped "
-        "inertia; required for the dynamics of an oscillating follower",
+        "inertia; required for the dynamics of an oscillating follower. Indexer: the turret shaft's torsional "
+        "stiffness between the cam-driven turret and the output's inertia (indexer.output_inertia); required for "
+        "its dynamics",
         unit="torsional_stiffness", gt=0, optional=True, group="Dynamics")
     damping_ratio: float = param(
         "Damping ratio ζ of the follower train: a damper c = 2ζ·√(m·(k_f + k)) beside the train's spring",

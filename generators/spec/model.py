@@ -282,8 +282,13 @@ def _indexer_defaults(data: Mapping[str, Any]) -> Mapping[str, Any]:
         if name not in table:
             raise SpecError(f"indexer.{name}", f'is required for cam.body = "{cam["body"]}"')
     size = indexer_size(cam["body"], table)
-    if size is None or not size > 0:
+    if size is None:
         return data                 # the [indexer] rules name what is wrong
+    if not size > 0:
+        # e.g. a globoid whose root globoid reaches past the cam axis (waist C − root_radius ≤ 0)
+        fields = INDEXER_SIZE_FIELDS[cam["body"]]
+        raise SpecError(f"indexer.{fields[-1]}", f"leaves no cam: the size cam.base_radius derives from "
+                        f"{', '.join('indexer.' + f for f in fields)} is {size:.6g} mm, must be > 0")
     fol = data.get("follower")
     rr = fol.get("roller_radius") if isinstance(fol, Mapping) else None
     words = INDEXER_ROLLER_BOUND.get(cam["body"])

@@ -1,6 +1,8 @@
 """The rules of ``[dynamics]``: the follower train's fields for the follower's coordinate (a
 length or an arm's angle, ``Follower.lift_unit``) and, when the dynamics run, its data.  The
-body decides whether its dynamics can drive the spec's follower (``Body.dynamics_follower``)."""
+body decides whether its dynamics can drive the spec's follower (``Body.dynamics_follower``); an
+indexer's body (``Body.dynamics_train = "turret"``) drives its output train instead: the output's
+inertia on the turret shaft's torsional stiffness (:func:`_validate_turret`)."""
 from __future__ import annotations
 
 from typing import Any
@@ -23,10 +25,14 @@ def validate_dynamics(spec: Any, required: bool = False) -> None:
         SpecError: naming the field and the rule.
     """
     dy = spec.dynamics
+    body = body_of(spec)
     if dy.enabled or required:
         # first: the body's refusal of a follower its dynamics cannot drive (naming the option);
         # no field of [dynamics] would make that work
-        body_of(spec).dynamics_follower(spec)
+        body.dynamics_follower(spec)
+    if getattr(body, "dynamics_train", "follower") == "turret":
+        _validate_turret(spec, dy.enabled or required)
+        return
     coordinate = follower_class_of(spec).lift_unit
     mine = TRAIN_FIELDS[coordinate]
     other = TRAIN_FIELDS["length" if coordinate == "angle" else "angle"]
@@ -51,3 +57,30 @@ def validate_dynamics(spec: Any, required: bool = False) -> None:
         raise SpecError(f"dynamics.{inertia_field}",
                         f"the follower train needs a {inertia_field.replace('_', ' ')} > 0 for the dynamics: give "
                         f"dynamics.{inertia_field} or follower.{follower_field}")
+
+
+#: an indexer's output train (generators/dynamics/turret.py): the [dynamics] fields that do not apply
+TURRET_FOREIGN = ("mass", "stiffness", "arm_inertia")
+
+
+def _validate_turret(spec: Any, running: bool) -> None:
+    """The rules of ``[dynamics]`` for an indexer's output train (the output's inertia
+    ``indexer.output_inertia`` on the turret shaft's ``dynamics.torsional_stiffness``)."""
+    dy = spec.dynamics
+    for name in TURRET_FOREIGN:
+        if getattr(dy, name) is not None:
+            raise SpecError(f"dynamics.{name}", "does not apply to an indexer: its output train is the output's "
+                            "inertia (indexer.output_inertia) on the turret shaft's torsional stiffness "
+                            "(dynamics.torsional_stiffness)")
+    lo, hi = dy.sweep_min_rpm, dy.sweep_max_rpm
+    if lo is not None and hi is not None and not lo < hi:
+        raise SpecError("dynamics.sweep_max_rpm", f"must be > dynamics.sweep_min_rpm ({fmt_apart(lo, hi)}), got "
+                        f"{fmt_apart(hi, lo)}")
+    if not running:
+        return
+    if dy.torsional_stiffness is None:
+        raise SpecError("dynamics.torsional_stiffness", "is required for the dynamics of an indexer (the turret "
+                        "shaft's torsional stiffness between the cam-driven turret and the output's inertia)")
+    if not spec.indexer.output_inertia:
+        raise SpecError("indexer.output_inertia", "the output train needs an inertia > 0 for the dynamics (the "
+                        "turret and its load about the turret axis)")

@@ -12,6 +12,10 @@ turret by 360°/N during the input's index angle β and holds it still for the r
   regularity, rib thickness, the turret angle recovered from the flank points;
 * :mod:`.spatial_surfaces` — the spatial flanks as bicubic B-spline surfaces within a tolerance of
   the exact envelope (measured);
+* :mod:`.spatial_sheets` — the spatial flanks' sheets for the cam's solid: each fitted surface
+  continued along the exact envelope until it cuts through the rib's band, with its skirt beyond
+  the root (plain B-spline data, which the kernel and the FreeCAD workbench make into faces), and
+  the seam angle of the band and the core;
 * :mod:`.parallel_drive` — the parallel indexer's drive sized from its built geometry;
 * :mod:`.spatial_drive` — the barrel and globoidal indexers' drive sized from their contact lines
   (a uniform line load, the cam radius from the envelope's regularity margin);

@@ -3,8 +3,10 @@ into the geometry's parameter classes, and the rules the three bodies share (doc
 "The spec"; :mod:`cam_workbench.generators.spec.indexer` declares the ``[indexer]`` fields).
 
 * ``[[motion]]`` is the turret's motion over one input turn in degrees of turret rotation: exactly
-  one ``rise`` of ``lift`` = 360/N (the index: its ``angle`` is β, its start θ_s, its ``law`` one of
-  the closed-form laws of the geometry) between dwells; the program advances by 360°/N per turn.
+  one ``rise`` of ``lift`` = 360/N (the index: its ``angle`` is β, its start θ_s, its ``law`` any
+  rise law that runs rest to rest — a closed form, or "polynomial", "bspline", "constant_velocity"
+  (blended), "table" normalised from the motion program: :func:`index_law`) between dwells; the
+  program advances by 360°/N per turn.
 * ``follower.kind = "roller"``: the rollers (``roller_radius``; ``roller_width`` their contact length,
   default ``cam.thickness``); the turret's own geometry is in ``[indexer]`` (the follower's other
   fields do not apply).
@@ -16,9 +18,11 @@ from __future__ import annotations
 import math
 from typing import Any, Callable
 
+import numpy as np
+
 from ...errors import SpecError, fmt_apart
 from ...kinds import follower_class_of
-from ...motion.laws import LAW_FUNCTIONS
+from ...motion.laws import LAW_FUNCTIONS, NormalisedLaw
 from ...spec.indexer import DEFAULTS, INDEXER_FIELDS, LOAD_FIELDS, IndexerSection, indexer_size, indexer_value
 
 INDEXER_BODIES = tuple(INDEXER_FIELDS)
@@ -68,9 +72,10 @@ def refuse_foreign(spec: Any) -> None:
                             + " or ".join(f'"{b}"' for b in INDEXER_BODIES) + ")")
 
 
-def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
+def validate_common(spec: Any, make: Callable[[Any], Any], program: Any) -> Any:
     """The rules every indexer shares, then its parameter class built by ``make(spec)`` (its own
-    rules, SpecError naming the spec field); returns it."""
+    rules, SpecError naming the spec field); returns it.  ``program``: the spec's motion program
+    (the index's law, :func:`index_law`)."""
     body = spec.cam.body
     if spec.units != "mm":
         raise SpecError("units", f'an indexer is designed in millimetres: units = "mm", got "{spec.units}"')
@@ -102,14 +107,11 @@ def validate_common(spec: Any, make: Callable[[Any], Any]) -> Any:
     if gap is not None and 0 < gap < MIN_GAP:
         raise SpecError("indexer.gap", f"must be 0 (the plates face to face) or at least {MIN_GAP:g} mm (a thinner "
                         f"spacer is no part), got {gap!r}")
-    _validate_motion(spec)
+    _validate_motion(spec, program)
     size = indexer_size(body, {k: getattr(spec.indexer, k) for k in own})
     if size is not None and not math.isclose(spec.cam.base_radius, size, rel_tol=1e-9, abs_tol=1e-12):
         raise SpecError("cam.base_radius", f"is derived for an indexer ({size_words(body)} = {size:.10g} mm): "
                         f"leave it out, got {fmt_apart(spec.cam.base_radius, size)}")
-    if spec.dynamics.enabled:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet (its drive "
-                        "is sized from [indexer]'s load: report.json's indexer.drive)")
     try:
         return make(spec)
     except SpecError as exc:
@@ -131,8 +133,8 @@ def size_words(body: str) -> str:
             "globoidal_indexer": "the waist radius indexer.centre_distance − indexer.root_radius"}[body]
 
 
-def _validate_motion(spec: Any) -> None:
-    """One rise (the index) with a closed-form law and lift 360/N, no return."""
+def _validate_motion(spec: Any, program: Any) -> None:
+    """One rise (the index) with lift 360/N running rest to rest (:func:`index_law`), no return."""
     rises = [i for i, seg in enumerate(spec.motion) if seg.kind == "rise"]
     for i, seg in enumerate(spec.motion):
         if seg.kind == "return":
@@ -143,20 +145,61 @@ def _validate_motion(spec: Any) -> None:
                         f"an indexer indexes once per input turn: exactly one rise, got {len(rises)}")
     i = rises[0]
     seg = spec.motion[i]
-    if seg.law not in LAW_FUNCTIONS:
-        raise SpecError(f"motion[{i}].law", f"an indexer's geometry takes the closed-form laws "
-                        f"({', '.join(sorted(LAW_FUNCTIONS))}), got {seg.law!r}")
     step = 360.0 / spec.indexer.stations
     if not math.isclose(seg.lift, step, rel_tol=1e-9):
         raise SpecError(f"motion[{i}].lift", f"the index turns the turret by 360°/indexer.stations = {step:.10g}°, "
                         f"got {fmt_apart(seg.lift, step)}")
+    index_law(spec, program)
 
 
-def geometry_fields(spec: Any) -> dict[str, Any]:
-    """The fields every indexer's parameter class takes from the spec (mm, rad)."""
-    _, start, span = index_segment(spec)
+#: |F′| at an end of the normalised index above which it does not start or end at rest
+_REST_TOL = 1e-9
+
+
+def index_law(spec: Any, program: Any) -> str | NormalisedLaw:
+    """The index's law for the geometry: a closed form's name, else the rise normalised from the
+    spec's motion program (:meth:`NormalisedLaw.from_segment`: F(u) = s(θ_s + β·u)/(360/N)).
+
+    Raises:
+        SpecError: a law that does not run rest to rest (F′ ≠ 0 at an end), naming the field that
+            sets that velocity (``motion[i].start_velocity`` …, a continuity below 1, a constant
+            velocity's missing blend, else the law)."""
     i = index_segment(spec)[0]
-    return {"stations": int(spec.indexer.stations), "index_angle": span, "law": spec.motion[i].law,
+    seg = spec.motion[i]
+    if seg.law in LAW_FUNCTIONS:
+        return seg.law
+    law = NormalisedLaw.from_segment(program, i)
+    f1 = law.evaluate(np.array([0.0, 1.0]))[1]
+    for e, end in enumerate(("start", "end")):
+        if abs(f1[e]) <= _REST_TOL:
+            continue
+        given, cont = getattr(seg, f"{end}_velocity", None), getattr(seg, f"{end}_continuity", None)
+        if given is not None and given != 0:
+            name = f"{end}_velocity"
+        elif cont is not None and cont < 1:
+            name = f"{end}_continuity"
+        elif seg.law == "constant_velocity" and not getattr(seg, f"{end}_blend", None):
+            name = f"{end}_blend"
+        else:
+            name = "law"
+        raise SpecError(f"motion[{i}].{name}", f"an indexer's index runs rest to rest: the turret's velocity at "
+                        f"the index's {end} must be 0 (the dwell's), got {f1[e] * law_scale(spec):.6g}°/rad "
+                        f"(law {seg.law!r})")
+    return law
+
+
+def law_scale(spec: Any) -> float:
+    """h/β [° of turret per rad of input]: a normalised law's F′ in the spec's units."""
+    _, _, span = index_segment(spec)
+    return 360.0 / spec.indexer.stations / span
+
+
+def geometry_fields(spec: Any, program: Any) -> dict[str, Any]:
+    """The fields every indexer's parameter class takes from the spec (mm, rad); ``program`` is the
+    spec's :class:`~cam_workbench.generators.motion.program.MotionProgram` (the index's law when it
+    is not a closed form: :func:`index_law`)."""
+    _, start, span = index_segment(spec)
+    return {"stations": int(spec.indexer.stations), "index_angle": span, "law": index_law(spec, program),
             "centre_distance": float(spec.indexer.centre_distance), "roller_radius": float(spec.follower.roller_radius),
             "index_start": start}
 

@@ -59,7 +59,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import SpecError
-from ...motion.laws import LAW_FUNCTIONS, evaluate_law
+from ...motion.laws import LAW_FUNCTIONS, NormalisedLaw, evaluate_law, is_law, law_name
 from .fields import integer, number
 
 Array = np.ndarray
@@ -80,7 +80,8 @@ class ParallelIndexer:
     Attributes:
         stations: N, the turret's stops per turn (integer ≥ 2); it turns by 2π/N per index.
         index_angle: β [rad], the input angle of the index, 0 < β < 2π.
-        law: the index's motion law, a key of ``LAW_FUNCTIONS``.
+        law: the index's motion law, a key of ``LAW_FUNCTIONS`` or a
+            :class:`~cam_workbench.generators.motion.laws.NormalisedLaw` (a motion program's rise).
         centre_distance: C [mm], input axis to turret axis.
         pitch_radius: R_p [mm], the turret's roller pitch radius, < C.
         roller_radius: r_r [mm], < R_p·sin(π/N) (neighbouring rollers of a plane apart).
@@ -90,7 +91,7 @@ class ParallelIndexer:
 
     stations: int = 8
     index_angle: float = 2.0 * math.pi / 3.0
-    law: str = "modified_sine"
+    law: str | NormalisedLaw = "modified_sine"
     centre_distance: float = 120.0
     pitch_radius: float = 50.0
     roller_radius: float = 10.0
@@ -122,8 +123,9 @@ def _validate(ix: ParallelIndexer) -> None:
     beta = number("index_angle", ix.index_angle)
     if not 0 < beta < TWO_PI:
         raise SpecError("indexer.index_angle", f"must be in (0, 2π) rad (a dwell must remain), got {beta!r}")
-    if not isinstance(ix.law, str) or ix.law not in LAW_FUNCTIONS:
-        raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
+    if not is_law(ix.law):
+        raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))} "
+                        "or a NormalisedLaw (a motion program's rise)")
     c = number("centre_distance", ix.centre_distance)
     rp = number("pitch_radius", ix.pitch_radius)
     rr = number("roller_radius", ix.roller_radius)
@@ -356,7 +358,7 @@ class ParallelDesign:
             "units": {"length": "mm", "angle": "deg"},
             "stations": int(ix.stations),
             "cams": int(ix.cams),
-            "law": ix.law,
+            "law": law_name(ix.law),
             "index_angle_deg": math.degrees(beta),
             "index_start_deg": math.degrees(float(ix.index_start)),
             "centre_distance_mm": float(ix.centre_distance),

@@ -43,6 +43,7 @@ from .parallel_body import IndexerBody, indexer_body
 from .parallel_drive import output_torque, parallel_drive
 from .kind_common import drive_summary, in_spec_words, result, turn_error
 from .sizing import DriveSizing
+from .turret_train import turret_follower
 
 #: input angles the design samples over the turn, and the output angle's check from the profiles
 SAMPLES, RECOVERY_SAMPLES = 721, 721
@@ -54,7 +55,8 @@ LOAD_FRACTION = 0.05
 
 def indexer_of(spec: Any) -> ParallelIndexer:
     """The :class:`.parallel.ParallelIndexer` of a spec (SpecError naming the spec's field)."""
-    return ParallelIndexer(**from_spec.geometry_fields(spec), pitch_radius=float(spec.indexer.pitch_radius),
+    fields = from_spec.geometry_fields(spec, MotionProgram.from_spec(spec))
+    return ParallelIndexer(**fields, pitch_radius=float(spec.indexer.pitch_radius),
                            cams=int(indexer_value(spec, "cams")))
 
 
@@ -91,8 +93,8 @@ class ParallelIndexerDesign:
 
     @property
     def follower(self) -> Any:
-        """The follower the dynamics drive: none (SpecError naming ``dynamics.enabled``)."""
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+        """The train the dynamics drive: the turret (:class:`.turret_train.TurretFollower`)."""
+        return turret_follower(self.spec)
 
     @property
     def volume(self) -> float:
@@ -266,6 +268,8 @@ class ParallelIndexerBody:
     plane = False
     roller_within_base = True
     closure = "form"
+    #: the dynamics drive the output train (generators/dynamics/turret.py), not a follower
+    dynamics_train = "turret"
     drive_note = ("the plates hold the turret both ways: one roller drives it on while another holds it back "
                   "(the contact that carries the torque changes where the output starts to decelerate)")
     own_fields = ()
@@ -278,7 +282,7 @@ class ParallelIndexerBody:
 
     @staticmethod
     def validate(spec: Any) -> None:
-        from_spec.validate_common(spec, indexer_of)
+        from_spec.validate_common(spec, indexer_of, MotionProgram.from_spec(spec))
 
     @staticmethod
     def design(spec: Any, progress: Any = None) -> ParallelIndexerDesign:
@@ -309,7 +313,8 @@ class ParallelIndexerBody:
 
     @staticmethod
     def dynamics_follower(spec: Any) -> Any:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+        """The turret: the output's inertia on the turret shaft's torsional stiffness (docs/indexing.md)."""
+        return turret_follower(spec)
 
     @staticmethod
     def refuse_foreign(spec: Any) -> None:

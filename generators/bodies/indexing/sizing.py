@@ -19,7 +19,7 @@ import numpy as np
 from ...errors import SpecError, fmt_apart
 from ...followers.load import hertz_stress
 from ...motion.characteristics import LawCharacteristics, law_characteristics, peak_abs
-from ...motion.laws import LAW_FUNCTIONS, evaluate_law
+from ...motion.laws import LAW_FUNCTIONS, NormalisedLaw, evaluate_law, is_law, law_name
 
 Array = np.ndarray
 TWO_PI = 2.0 * math.pi
@@ -40,7 +40,8 @@ class IndexLoad:
         input_speed: n_in [rev/min], the input shaft's constant speed.
         inertia: J [kg·m²], the output's (turret and load) inertia about its axis.
         friction_torque: T_f [N·m] ≥ 0, against the output's motion, only while it moves.
-        law: the index's motion law, a key of ``LAW_FUNCTIONS``.
+        law: the index's motion law, a key of ``LAW_FUNCTIONS`` or a
+            :class:`~cam_workbench.generators.motion.laws.NormalisedLaw` (a motion program's rise).
         pitch_radius: R_p [m], the turret's roller pitch radius.
         roller_radius: r_r [m], the roller's radius.
         roller_width: L [m], the roller's contact length.
@@ -55,7 +56,7 @@ class IndexLoad:
     input_speed: float
     inertia: float
     friction_torque: float
-    law: str
+    law: str | NormalisedLaw
     pitch_radius: float
     roller_radius: float
     roller_width: float
@@ -103,8 +104,9 @@ def _validate(load: IndexLoad) -> None:
     for field in ("nu_cam", "nu_roller"):
         if not -1 < _real(field, getattr(load, field)) <= 0.5:
             raise SpecError(f"indexer.{field}", f"must be a Poisson ratio in (−1, 0.5], got {getattr(load, field)!r}")
-    if not isinstance(load.law, str) or load.law not in LAW_FUNCTIONS:
-        raise SpecError("indexer.law", f"unknown law {load.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
+    if not is_law(load.law):
+        raise SpecError("indexer.law", f"unknown law {load.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))} "
+                        "or a NormalisedLaw (a motion program's rise)")
 
 
 def equivalent_load(loads: Array, revolutions: Array, exponent: float) -> float:
@@ -178,7 +180,7 @@ class DriveSizing:
         ``<key>_note``."""
         ld = self.load
         out: dict[str, Any] = {
-            "law": ld.law,
+            "law": law_name(ld.law),
             "stations": int(ld.stations),
             "index_step_deg": 360.0 / int(ld.stations),
             "index_angle_deg": math.degrees(ld.index_angle),

@@ -84,7 +84,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import SpecError
-from ...motion.laws import LAW_FUNCTIONS, evaluate_law
+from ...motion.laws import LAW_FUNCTIONS, NormalisedLaw, evaluate_law, is_law, law_name
 from .fields import integer, number
 
 Array = np.ndarray
@@ -115,8 +115,9 @@ def _common(ix: Any) -> None:
     beta = number("index_angle", ix.index_angle)
     if not 0 < beta < TWO_PI:
         raise SpecError("indexer.index_angle", f"must be in (0, 2π) rad (a dwell must remain), got {beta!r}")
-    if not isinstance(ix.law, str) or ix.law not in LAW_FUNCTIONS:
-        raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
+    if not is_law(ix.law):
+        raise SpecError("indexer.law", f"unknown law {ix.law!r}; one of {', '.join(sorted(LAW_FUNCTIONS))} "
+                        "or a NormalisedLaw (a motion program's rise)")
     number("index_start", ix.index_start)
 
 
@@ -133,7 +134,8 @@ class BarrelIndexer:
 
     Attributes:
         stations: N (integer 2–64); the turret turns by 2π/N per index.
-        index_angle: β [rad], 0 < β < 2π.  law: a key of ``LAW_FUNCTIONS``.
+        index_angle: β [rad], 0 < β < 2π.  law: a key of ``LAW_FUNCTIONS`` or a
+            :class:`~cam_workbench.generators.motion.laws.NormalisedLaw` (a motion program's rise).
         centre_distance: C [mm], the axes' offset (x of the turret axis).
         pitch_radius: R_p [mm], the rollers' circle about the turret axis.
         roller_radius: r_r [mm].  roller_start, roller_end: t0 < t1 [mm], the roller's working
@@ -146,7 +148,7 @@ class BarrelIndexer:
 
     stations: int = 6
     index_angle: float = 4.0 * math.pi / 3.0
-    law: str = "modified_sine"
+    law: str | NormalisedLaw = "modified_sine"
     centre_distance: float = 52.0
     pitch_radius: float = 60.0
     roller_radius: float = 12.0
@@ -209,7 +211,8 @@ class GloboidalIndexer:
     bad field raises :class:`SpecError` named ``indexer.<field>``).  See the module's conventions.
 
     Attributes:
-        stations: N (integer 2–64).  index_angle: β [rad].  law: a key of ``LAW_FUNCTIONS``.
+        stations: N (integer 2–64).  index_angle: β [rad].  law: a key of ``LAW_FUNCTIONS`` or a
+            :class:`~cam_workbench.generators.motion.laws.NormalisedLaw`.
         centre_distance: C [mm], the common perpendicular of the axes.
         roller_radius: r_r [mm].  roller_start, roller_end: t0 < t1 [mm], the roller's working
             length as distances from P along the roller's axis; √(t1² + r_r²) < root_radius.
@@ -221,7 +224,7 @@ class GloboidalIndexer:
 
     stations: int = 12
     index_angle: float = 2.0 * math.pi / 3.0
-    law: str = "modified_sine"
+    law: str | NormalisedLaw = "modified_sine"
     centre_distance: float = 150.0
     roller_radius: float = 12.0
     roller_start: float = 74.0
@@ -485,7 +488,8 @@ class SpatialDesign:
             return {f"value_{unit}": _plain(scale(e.value)), "at_deg": _plain(math.degrees(e.theta)),
                     "roller_index": e.roller, "side": e.side, "t_mm": _plain(e.t)}
 
-        fields = {k: (v if isinstance(v, (int, str)) else float(v)) for k, v in vars(ix).items()}
+        fields = {k: (v if isinstance(v, (int, str)) else law_name(v) if k == "law" else float(v))
+                  for k, v in vars(ix).items()}
         for k in ("index_angle", "index_start"):
             fields[k + "_deg"] = math.degrees(fields.pop(k))
         return {

@@ -51,6 +51,7 @@ from .spatial import (BarrelIndexer, GloboidalIndexer, SpatialDesign, design_bar
 from .spatial_drive import spatial_drive
 from .spatial_surfaces import FlankSurfaces, flank_surfaces
 from .spatial_volume import VolumeEstimate, cam_volume
+from .turret_train import turret_follower
 
 #: input angles over the turn, points along each roller, and the output angle's check from the flanks
 SAMPLES, LENGTHS, RECOVERY_SAMPLES = 721, 9, 361
@@ -59,7 +60,8 @@ SAMPLES, LENGTHS, RECOVERY_SAMPLES = 721, 9, 361
 def barrel_of(spec: Any) -> BarrelIndexer:
     """The :class:`.spatial.BarrelIndexer` of a spec (SpecError naming the spec's field)."""
     ix = spec.indexer
-    return BarrelIndexer(**from_spec.geometry_fields(spec), pitch_radius=float(ix.pitch_radius),
+    fields = from_spec.geometry_fields(spec, MotionProgram.from_spec(spec))
+    return BarrelIndexer(**fields, pitch_radius=float(ix.pitch_radius),
                          roller_start=float(ix.roller_start), roller_end=float(ix.roller_end),
                          root_radius=float(ix.root_radius), outer_radius=float(ix.outer_radius),
                          cam_width=float(spec.cam.thickness))
@@ -68,7 +70,8 @@ def barrel_of(spec: Any) -> BarrelIndexer:
 def globoidal_of(spec: Any) -> GloboidalIndexer:
     """The :class:`.spatial.GloboidalIndexer` of a spec (SpecError naming the spec's field)."""
     ix = spec.indexer
-    return GloboidalIndexer(**from_spec.geometry_fields(spec), roller_start=float(ix.roller_start),
+    fields = from_spec.geometry_fields(spec, MotionProgram.from_spec(spec))
+    return GloboidalIndexer(**fields, roller_start=float(ix.roller_start),
                             roller_end=float(ix.roller_end), tip_radius=float(ix.tip_radius),
                             root_radius=float(ix.root_radius), cam_width=float(spec.cam.thickness))
 
@@ -103,8 +106,8 @@ class SpatialIndexerDesign:
 
     @property
     def follower(self) -> Any:
-        """The follower the dynamics drive: none (SpecError naming ``dynamics.enabled``)."""
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+        """The train the dynamics drive: the turret (:class:`.turret_train.TurretFollower`)."""
+        return turret_follower(self.spec)
 
     @property
     def fit_error(self) -> float:
@@ -240,6 +243,8 @@ class SpatialIndexerBody:
     """What the barrel and globoidal indexers share; each declares its own capabilities."""
 
     closure = "form"
+    #: the dynamics drive the output train (generators/dynamics/turret.py), not a follower
+    dynamics_train = "turret"
     drive_note = ("the rib holds the turret both ways: one roller side drives it on while another holds it back")
     own_fields = ()
     size_field = "indexer.centre_distance"
@@ -268,13 +273,18 @@ class SpatialIndexerBody:
     @classmethod
     def validate(cls, spec: Any) -> None:
         try:
-            from_spec.validate_common(spec, cls.make)
+            from_spec.validate_common(spec, cls.make, MotionProgram.from_spec(spec))
         except SpecError as exc:
             raise _spec_field(exc) from None
         core = float(spec.cam.base_radius)      # the core's least radius: the root cylinder, the globoid's waist
         if not spec.cam.bore_diameter < 2 * core:
             raise SpecError("cam.bore_diameter", f"must be < 2 × the core's least radius ({from_spec.size_words(spec.cam.body)} "
                             f"{core:g}) = {2 * core:g}, got {spec.cam.bore_diameter:g}")
+        tip = spec.indexer.tip_radius
+        if spec.cam.body == "globoidal_indexer" and tip is not None and not spec.cam.thickness < 2 * tip:
+            # the rib's end faces must cut the tip globoid (a sphere of radius tip about the turret's foot)
+            raise SpecError("cam.thickness", f"must be < 2 × indexer.tip_radius = {2 * tip:g} (the globoid's end faces "
+                            f"cut its tip globoid), got {spec.cam.thickness:g}")
 
     @classmethod
     def design(cls, spec: Any, progress: Any = None) -> SpatialIndexerDesign:
@@ -282,8 +292,13 @@ class SpatialIndexerBody:
         g = cls._geometry(spec, strict=True)
         surfaces = flank_surfaces(g)
         drive = _drive(spec, g)
-        return SpatialIndexerDesign(spec, MotionProgram.from_spec(spec), g, surfaces, drive,
-                                    spatial_checks(spec, g, drive))
+        design = SpatialIndexerDesign(spec, MotionProgram.from_spec(spec), g, surfaces, drive,
+                                      spatial_checks(spec, g, drive))
+        try:        # the rib the report's volume and the solid are made of (every report needs it)
+            design.volume_estimate
+        except (RuntimeError, ValueError) as exc:
+            raise _rib_refusal(spec, exc) from None
+        return design
 
     @classmethod
     def own_checks(cls, spec: Any) -> dict[str, Any]:
@@ -301,7 +316,8 @@ class SpatialIndexerBody:
 
     @staticmethod
     def dynamics_follower(spec: Any) -> Any:
-        raise SpecError("dynamics.enabled", "the follower dynamics do not cover an indexer's turret yet")
+        """The turret: the output's inertia on the turret shaft's torsional stiffness (docs/indexing.md)."""
+        return turret_follower(spec)
 
     @staticmethod
     def refuse_foreign(spec: Any) -> None:
@@ -335,6 +351,27 @@ class SpatialIndexerBody:
                "flank_fit_error": summary["body"]["flank_fit_error"]["value"]}
         row.update(checks_row(summary["checks"]))
         return row
+
+
+def _rib_refusal(spec: Any, exc: Exception) -> SpecError:
+    """The volume's refusal (:func:`.spatial_volume.cam_volume`: the flanks, continued below the rollers
+    to the root, do not bound a rib) in the spec's words, naming the field to change: crossings out of
+    order are a rib that closes up between neighbouring rollers (below them, where only the
+    continuation along the root's normal bounds it); a column no flank crosses, or a flank that does
+    not leave the band, is a flank that leaves the cam's end faces before it reaches the root (the
+    globoid's continuation at a constant angle about the turret's foot grows in z: a width at the
+    catalogue's least, 2·(t1·sin(π/N) − r_r·cos(π/N)), or a root far beyond the rollers' ends)."""
+    why = str(exc).strip().replace("\n", " ")
+    if "alternate" in why or "not a graph" in why:
+        return SpecError("follower.roller_radius", f"the rib closes up between neighbouring rollers' flanks ({why}) — "
+                         "reduce follower.roller_radius, bring indexer.roller_start nearer indexer.root_radius, or "
+                         "use fewer indexer.stations")
+    if spec.cam.body == "globoidal_indexer":
+        return SpecError("cam.thickness", f"the rib's flanks, continued beyond the rollers' ends to the root globoid, "
+                         f"leave the cam's end faces ({why}) — widen cam.thickness (the dwell rollers' inner sides held "
+                         "within the end faces down to the root) or bring indexer.root_radius nearer the rollers' ends")
+    return SpecError("cam.thickness", f"the rib's flanks do not bound a rib within the cam's length ({why}) — change "
+                     "cam.thickness or the rib's radii (indexer.root_radius, indexer.outer_radius)")
 
 
 def _drive(spec: Any, g: SpatialDesign) -> DriveSizing | None:
