@@ -184,7 +184,8 @@ class FlankSurface:
     exact points there).  max_error [mm]: the largest parametric error |S − P| over the check
     points, at ``max_error_at`` (τ [rad], t [mm]); max_normal_error [mm], at
     ``max_normal_error_at``: the largest |(S − P)·n|.  passes: fits made.  check_points: how many
-    points the last measurement used.  fit_seconds: the wall time of the fit and its checks."""
+    points the last measurement used.  fit_seconds: the wall time of the fit and its checks (not in
+    :meth:`summary`: report.json holds no timings)."""
 
     side: int
     surface: BSplineSurface
@@ -215,7 +216,7 @@ class FlankSurface:
             "max_normal_error_mm": self.max_normal_error,
             "max_normal_error_at": {"tau_deg": math.degrees(self.max_normal_error_at[0]),
                                     "t_mm": self.max_normal_error_at[1]},
-            "passes": self.passes, "check_points": self.check_points, "fit_seconds": self.fit_seconds,
+            "passes": self.passes, "check_points": self.check_points,
         }
 
 
