@@ -50,7 +50,7 @@ from .spatial import (BarrelIndexer, GloboidalIndexer, SpatialDesign, design_bar
                       output_angle_from_surface, turret_angle)
 from .spatial_drive import spatial_drive
 from .spatial_surfaces import FlankSurfaces, flank_surfaces
-from .spatial_volume import VolumeEstimate, cam_volume
+from .spatial_volume import RibNotBounded, VolumeEstimate, cam_volume
 from .turret_train import turret_follower
 
 #: input angles over the turn, points along each roller, and the output angle's check from the flanks
@@ -242,6 +242,8 @@ def spatial_checks(spec: Any, g: SpatialDesign, drive: DriveSizing | None) -> di
 class SpatialIndexerBody:
     """What the barrel and globoidal indexers share; each declares its own capabilities."""
 
+    #: a flank that leaves the cam before the root: the field to change and how (each body's own)
+    rib_escape: tuple[str, str]
     closure = "form"
     #: the dynamics drive the output train (generators/dynamics/turret.py), not a follower
     dynamics_train = "turret"
@@ -296,8 +298,8 @@ class SpatialIndexerBody:
                                       spatial_checks(spec, g, drive))
         try:        # the rib the report's volume and the solid are made of (every report needs it)
             design.volume_estimate
-        except (RuntimeError, ValueError) as exc:
-            raise _rib_refusal(spec, exc) from None
+        except RibNotBounded as exc:
+            raise _rib_refusal(cls, exc) from None
         return design
 
     @classmethod
@@ -353,25 +355,20 @@ class SpatialIndexerBody:
         return row
 
 
-def _rib_refusal(spec: Any, exc: Exception) -> SpecError:
+def _rib_refusal(body: type["SpatialIndexerBody"], exc: RibNotBounded) -> SpecError:
     """The volume's refusal (:func:`.spatial_volume.cam_volume`: the flanks, continued below the rollers
-    to the root, do not bound a rib) in the spec's words, naming the field to change: crossings out of
-    order are a rib that closes up between neighbouring rollers (below them, where only the
-    continuation along the root's normal bounds it); a column no flank crosses, or a flank that does
-    not leave the band, is a flank that leaves the cam's end faces before it reaches the root (the
-    globoid's continuation at a constant angle about the turret's foot grows in z: a width at the
-    catalogue's least, 2·(t1·sin(π/N) − r_r·cos(π/N)), or a root far beyond the rollers' ends)."""
+    to the root, do not bound a rib) in the spec's words, naming the field to change: flanks crossing
+    out of order are a rib that closes up between neighbouring rollers (below them, where only the
+    continuation along the root's normal bounds it); otherwise a flank leaves the cam before it
+    reaches the root (the body's ``rib_escape``)."""
     why = str(exc).strip().replace("\n", " ")
-    if "alternate" in why or "not a graph" in why:
+    if exc.closes:
         return SpecError("follower.roller_radius", f"the rib closes up between neighbouring rollers' flanks ({why}) — "
                          "reduce follower.roller_radius, bring indexer.roller_start nearer indexer.root_radius, or "
                          "use fewer indexer.stations")
-    if spec.cam.body == "globoidal_indexer":
-        return SpecError("cam.thickness", f"the rib's flanks, continued beyond the rollers' ends to the root globoid, "
-                         f"leave the cam's end faces ({why}) — widen cam.thickness (the dwell rollers' inner sides held "
-                         "within the end faces down to the root) or bring indexer.root_radius nearer the rollers' ends")
-    return SpecError("cam.thickness", f"the rib's flanks do not bound a rib within the cam's length ({why}) — change "
-                     "cam.thickness or the rib's radii (indexer.root_radius, indexer.outer_radius)")
+    field, remedy = body.rib_escape
+    return SpecError(field, f"the rib's flanks, continued beyond the rollers' ends to the root, leave the cam ({why}) "
+                     f"— {remedy}")
 
 
 def _drive(spec: Any, g: SpatialDesign) -> DriveSizing | None:
@@ -386,6 +383,9 @@ class BarrelIndexerBody(SpatialIndexerBody):
 
     kind = "barrel_indexer"
     title = "Barrel indexer"
+    #: a flank that leaves the cam before the root: the field to change and how
+    rib_escape = ("cam.thickness", "change cam.thickness or the rib's radii (indexer.root_radius, "
+                  "indexer.outer_radius)")
     plane = False
     roller_within_base = False
     closure = "form"
@@ -422,6 +422,11 @@ class GloboidalIndexerBody(SpatialIndexerBody):
 
     kind = "globoidal_indexer"
     title = "Globoidal indexer"
+    #: a flank that leaves the cam's end faces before the root globoid (its continuation at a constant
+    #: angle about the turret's foot grows in z: a width at the catalogue's least,
+    #: 2·(t1·sin(π/N) − r_r·cos(π/N)), or a root far beyond the rollers' ends)
+    rib_escape = ("cam.thickness", "widen cam.thickness (the dwell rollers' inner sides held within the end faces "
+                  "down to the root) or bring indexer.root_radius nearer the rollers' ends")
     plane = False
     roller_within_base = False
     closure = "form"

@@ -73,6 +73,16 @@ MAX_WIDEN = math.radians(120.0)
 ERROR_FLOOR = 2e-8
 
 
+class RibNotBounded(RuntimeError):
+    """The flanks, continued below the rollers to the root, do not bound a rib: ``closes`` — they
+    cross out of order (the rib closes up between neighbouring rollers); otherwise a flank leaves the
+    band (or the cam's end faces) before it reaches the root."""
+
+    def __init__(self, message: str, closes: bool) -> None:
+        super().__init__(message)
+        self.closes = closes
+
+
 @dataclass(frozen=True)
 class VolumeEstimate:
     """The cam's volume: ``value`` = ``core`` + ``rib`` [mm³] (the finer grid's), ``error`` [mm³] the
@@ -142,7 +152,7 @@ def _lines(ix, side: int, tau: Array, t: Array, check: bool = True) -> tuple[Arr
     phi = np.unwrap(phi, axis=0)
     phi = phi - TWO_PI * np.round((phi - phi[:, :1]) / TWO_PI)
     if check and not (np.diff(r, axis=1) > 0).all():
-        raise RuntimeError(f"the side {side:+d} contact lines' radial coordinate does not grow along t")
+        raise RibNotBounded(f"the side {side:+d} contact lines' radial coordinate does not grow along t", False)
     return r, phi, a, np.sign(na)
 
 
@@ -205,8 +215,8 @@ def _tau_range(design: SpatialDesign, side: int, t: Array) -> tuple[float, float
         inside = np.flatnonzero(~out)
         first = 0 if inside.size == 0 else int(inside[-1]) + 1
         if first >= steps.size:
-            raise RuntimeError(f"the side {side:+d} flank does not leave the band within "
-                               f"{math.degrees(MAX_WIDEN):g}° of its τ range")
+            raise RibNotBounded(f"the side {side:+d} flank does not leave the band within "
+                                f"{math.degrees(MAX_WIDEN):g}° of its τ range", False)
         ends.append(start + direction * steps[min(first + 2, steps.size - 1)])
     return ends[0], ends[1]
 
@@ -241,7 +251,7 @@ def _crossings(ph: Array, aa: Array, sg: Array, dphi: float) -> tuple[Array, Arr
     dec = (d < 0).all(axis=0)
     if not (inc | dec).all():
         k = int(np.flatnonzero(~(inc | dec))[0])
-        raise RuntimeError(f"a flank's trace on the level {k} of r is not a graph over φ")
+        raise RibNotBounded(f"a flank's trace on the level {k} of r is not a graph over φ", True)
     ph = np.where(dec[None, :], ph[::-1], ph)           # increasing along the rows
     aa = np.where(dec[None, :], aa[::-1], aa)
     sg = np.where(dec[None, :], sg[::-1], sg)
@@ -288,14 +298,14 @@ def _rib(design: SpatialDesign, n_r: int, n_phi: int, ranges: dict[int, tuple[fl
     bad = same & ~(s_sorted[1:] * s_sorted[:-1] < 0)
     if bad.any():
         kk, jj = divmod(int(col_sorted[1:][bad][0]), n_phi)
-        raise RuntimeError(f"the flanks' crossings do not alternate (r = {levels[kk]:.6g} mm, "
-                           f"φ = {math.degrees((jj + 0.5) * dphi):.4g}°)")
+        raise RibNotBounded(f"the flanks' crossings do not alternate (r = {levels[kk]:.6g} mm, "
+                            f"φ = {math.degrees((jj + 0.5) * dphi):.4g}°)", True)
     lowest = np.concatenate([[True], ~same])
     count = np.bincount(column, minlength=n_r * n_phi)
     if (count == 0).any():
         kk, jj = divmod(int(np.flatnonzero(count == 0)[0]), n_phi)
-        raise RuntimeError(f"no flank crosses the column r = {levels[kk]:.6g} mm, "
-                           f"φ = {math.degrees((jj + 0.5) * dphi):.4g}°")
+        raise RibNotBounded(f"no flank crosses the column r = {levels[kk]:.6g} mm, "
+                            f"φ = {math.degrees((jj + 0.5) * dphi):.4g}°", False)
     top = _primitive(ix, levels, a_max)
     full = top - _primitive(ix, levels, -a_max)
     # L = Σ s·(F(a_max) − F(a)) + [the lowest crossing ends the rib]·(F(a_max) − F(−a_max)), per column
