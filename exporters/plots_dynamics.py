@@ -50,7 +50,7 @@ def dynamics_figure(result: DynamicsResult, section: Mapping[str, Any]) -> Chart
     deg = result.theta_deg
     c = section["contact"]
     scale, unit = small_unit(result.units, result.lift_unit)
-    turret = getattr(result, "turret", False)           # an indexer's output train: the shaft torque
+    turret = result.turret                              # an indexer's output train: the shaft torque
     force = _angle_panel(result, f"{'shaft torque' if turret else 'contact force'} [{c['unit']}]", "upper right",
                          last=False, labels=True)
     force.add(Curve(deg, result.rigid_force, color=_RIGID, width=0.9, dash="--",

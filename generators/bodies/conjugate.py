@@ -57,6 +57,7 @@ class ConjugateBody(PlaneCamBody):
     kind = "conjugate"
     plane = True
     roller_within_base = True
+    dynamics_train = "follower"
     #: the field that sizes the cam
     size_field = "cam.base_radius"
     #: the legend of the body's first added region in the cam drawing (None: the profile's)

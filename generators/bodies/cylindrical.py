@@ -653,6 +653,7 @@ class CylindricalBody:
     #: not a plane cam: walls are surfaces, no pitch curve or profile in a plane
     plane = False
     roller_within_base = True
+    dynamics_train = "follower"
     own_fields = ("outer_diameter", "cylinder_radius", "length")
     modules = ("cam_workbench.generators.bodies.cylinder_path", "cam_workbench.generators.machining.cylindrical",
                "cam_workbench.generators.optimise.cylindrical")

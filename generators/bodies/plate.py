@@ -22,6 +22,7 @@ class PlateBody(PlaneCamBody):
     #: a stack of prisms of plane loops, with a pitch curve and a profile
     plane = True
     roller_within_base = True
+    dynamics_train = "follower"
     #: the field that sizes the cam
     size_field = "cam.base_radius"
     #: the legend of the body's first added region in the cam drawing (None: the profile's)

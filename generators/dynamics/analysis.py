@@ -315,4 +315,4 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
         torque=load * inp.du, rigid_torque=rigid_load * inp.du, on_cam=on_cam, periodic=per,
         separated=separated, jump=jump, inp=inp, program=program, units=spec.units,
         lift_unit=fol.lift_unit, form_closed=form_closed,
-        drive_note=body.drive_note, turret=bool(getattr(fol, "turret", False)))
+        drive_note=body.drive_note, turret=fol.turret)

@@ -97,8 +97,7 @@ def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
     dy = spec.dynamics
     ld = fol.load
     # an indexer's turret (:mod:`.turret`): the output's inertia, indexer.output_inertia
-    inertia = ld.inertia if getattr(fol, "turret", False) else (getattr(dy, inertia_field)
-                                                               or getattr(spec.follower, follower_field))
+    inertia = ld.inertia if fol.turret else (getattr(dy, inertia_field) or getattr(spec.follower, follower_field))
     return TrainModel(inertia=inertia * ld.mass_force, stiffness=float(getattr(dy, stiffness_field)),
                       spring_rate=ld.rate, preload=ld.preload, damping_ratio=dy.damping_ratio,
                       lift_scale=fol.lift_scale, coordinate=fol.lift_unit, mass_force=ld.mass_force)

@@ -115,6 +115,8 @@ class Follower(ABC):
     lift_unit: str = "length"
     design_curve: str = "pitch"
     load: LoadSpec = LoadSpec()
+    #: the dynamics drive an indexer's output train (its inertia is ``load.inertia``), not a follower
+    turret: bool = False
 
     @classmethod
     def validate(cls, spec: Any) -> None:

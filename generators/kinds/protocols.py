@@ -41,6 +41,9 @@ class Body(Protocol):
     #: radius hold (the roller's centre keeps cam.base_radius from the cam axis); a spatial
     #: indexer's rollers do not stand on its core, its bore rule is its own
     roller_within_base: ClassVar[bool]
+    #: what the follower dynamics drive: "follower" (the follower train, [dynamics]) or "turret" (an
+    #: indexer's output train on the turret shaft: dynamics.torsional_stiffness, indexer.output_inertia)
+    dynamics_train: ClassVar[str]
     #: the [cam] fields only this body reads (an error on any other body)
     own_fields: ClassVar[tuple[str, ...]]
     #: the field that sizes the cam (cam.base_radius; a cylindrical cam's pitch radius)

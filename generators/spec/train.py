@@ -30,7 +30,7 @@ def validate_dynamics(spec: Any, required: bool = False) -> None:
         # first: the body's refusal of a follower its dynamics cannot drive (naming the option);
         # no field of [dynamics] would make that work
         body.dynamics_follower(spec)
-    if getattr(body, "dynamics_train", "follower") == "turret":
+    if body.dynamics_train == "turret":
         _validate_turret(spec, dy.enabled or required)
         return
     coordinate = follower_class_of(spec).lift_unit

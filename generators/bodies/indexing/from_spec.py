@@ -173,12 +173,12 @@ def index_law(spec: Any, program: Any) -> str | NormalisedLaw:
     for e, end in enumerate(("start", "end")):
         if abs(f1[e]) <= _REST_TOL:
             continue
-        given, cont = getattr(seg, f"{end}_velocity", None), getattr(seg, f"{end}_continuity", None)
+        given, cont = getattr(seg, f"{end}_velocity"), getattr(seg, f"{end}_continuity")
         if given is not None and given != 0:
             name = f"{end}_velocity"
         elif cont is not None and cont < 1:
             name = f"{end}_continuity"
-        elif seg.law == "constant_velocity" and not getattr(seg, f"{end}_blend", None):
+        elif seg.law == "constant_velocity" and not getattr(seg, f"{end}_blend"):
             name = f"{end}_blend"
         else:
             name = "law"
