@@ -290,7 +290,8 @@ def test_title_block_has_parameters_and_motion_table(tmp_path):
 
 #: each body's name, the title of a drawing whose spec gives none
 BODY_TITLES = {"plate": "PLATE CAM", "groove": "GROOVE CAM", "conjugate": "CONJUGATE CAM PAIR",
-               "cylindrical": "CYLINDRICAL CAM", "parallel_indexer": "PARALLEL INDEXER"}
+               "cylindrical": "CYLINDRICAL CAM", "parallel_indexer": "PARALLEL INDEXER", "barrel_indexer": "BARREL INDEXER",
+               "globoidal_indexer": "GLOBOIDAL INDEXER"}
 
 
 def _title_block_rows(msp):
