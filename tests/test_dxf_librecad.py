@@ -26,6 +26,15 @@ not ezdxf: LibreCAD 2.2 (Debian's ``librecad``, ``librecad dxf2pdf``), read back
   offset Q(τ) of the roller locus over the whole profile, the stated error the larger of
   report.json ``drawing.drawn_flank_error`` and ``drawing.flank_fit_error`` (the arcs are exact).
   ``curves`` "arcs" and "polyline" its drawing refuses: SpecError naming ``drawing.curves``.
+* A barrel indexer's developed views (TRACE_TOP_P, TRACE_TOP_M, TRACE_ROOT_P, TRACE_ROOT_M: the flank
+  traces as cubic SPLINEs in τ, ``curves`` "cubic" only — the others it refuses, naming
+  ``drawing.curves``, before anything is written): held against the exact traces of
+  tests/test_dxf_spatial_indexer.py's independent construction (``exact_trace``) over each drawn
+  piece's τ range, in the developed coordinates X = x0 + ρ·(φ − φ_m) (the turn that puts the piece
+  in its window), Y = y0 + z, φ_m recomputed here (roller 0's side −1 contact at mid-index), the
+  stated error report.json ``drawing.drawn_trace_error``.  Its exact circles, arcs and lines (and a
+  globoidal indexer's, which draws no trace and takes every ``curves`` value) are registration
+  marks or unchecked here: no curve layer of theirs is compared.
 * Every title-block text LibreCAD drew lies inside its cell (the rectangle of the title block's
   lines round its insertion point).
 """
@@ -51,14 +60,30 @@ CURVES = ("cubic", "spline", "arcs", "polyline")
 #: the end view's)
 MARK_LAYERS = ("BASE_CIRCLE", "PRIME_CIRCLE", "BORE", "OUTLINE", "GROOVE_BOTTOM")
 CURVE_LAYERS = ("PROFILE", "PITCH", "PROFILE_OUTER", "PROFILE_2", "PITCH_2", "WALL_LOWER", "WALL_UPPER",
-                "CAM_0", "CAM_1", "CAM_2")
+                "CAM_0", "CAM_1", "CAM_2", "TRACE_TOP_P", "TRACE_TOP_M", "TRACE_ROOT_P", "TRACE_ROOT_M")
 #: the ``drawing.curves`` values a parallel indexer's drawing draws (its flanks are the body's own
 #: cubic B-splines); the others it refuses, naming the field
 INDEXER_CURVES = ("cubic", "spline")
+#: the spatial indexers' bodies; the barrel's drawing draws its flank traces as cubic SPLINEs and
+#: refuses every other ``drawing.curves`` value, the globoid's draws no trace (any value)
+SPATIAL_BODIES = ("barrel_indexer", "globoidal_indexer")
+BARREL_CURVES = ("cubic",)
+TRACE_LAYERS = ("TRACE_TOP_P", "TRACE_TOP_M", "TRACE_ROOT_P", "TRACE_ROOT_M")
 
 
 def _is_indexer(spec) -> bool:
     return spec.cam.body == "parallel_indexer"
+
+
+def _is_spatial(spec) -> bool:
+    return spec.cam.body in SPATIAL_BODIES
+
+
+def _refused(spec, curves: str) -> bool:
+    """Whether the drawing refuses ``drawing.curves = curves`` (SpecError naming the field)."""
+    if _is_indexer(spec):
+        return curves not in INDEXER_CURVES
+    return spec.cam.body == "barrel_indexer" and curves not in BARREL_CURVES
 
 
 def _librecad_version() -> str:
@@ -186,12 +211,15 @@ def _strokes(page, reg, tag):
     return [reg.to_drawing(s.points) for s in page.strokes if tuple(round(c * 255) for c in s.colour) == tag]
 
 
-def _exact_curves(design) -> dict[str, list[np.ndarray]]:
+def _exact_curves(design, section=None, info=None) -> dict[str, list[np.ndarray]]:
     """Dense points of the exact curves of each layer (complex): the NURBS of a plate drawing
     (the exact rational offsets and PH curves, tests/test_dxf.py holds them against the closed
-    forms), the developed walls' exact points of a cylindrical one."""
+    forms), the developed walls' exact points of a cylindrical one, a barrel indexer's exact flank
+    traces in its developed views (:func:`_barrel_exact_traces`; a globoid's: none)."""
     from cam_workbench.generators.bodies.cylindrical import CylindricalDesign
 
+    if _is_spatial(design.spec):
+        return _barrel_exact_traces(design, section, info) if design.spec.cam.body == "barrel_indexer" else {}
     if _is_indexer(design.spec):
         return _indexer_exact_curves(design)
     if isinstance(design, CylindricalDesign):
@@ -245,7 +273,56 @@ def _indexer_exact_curves(design) -> dict[str, list[np.ndarray]]:
     return out
 
 
+#: a barrel trace's exact samples: at most this far apart along τ [rad] (their chords' sag is added
+#: to the margins: :func:`_sample_sag`)
+TRACE_STEP = 2e-4
+
+
+def _barrel_exact_traces(design, section, info) -> dict[str, list[np.ndarray]]:
+    """A barrel indexer's exact flank traces (layers TRACE_TOP_P, …) in the drawing: over each drawn
+    piece's τ range (the pieces are cut at the law's ends and the windows' seams), the exact trace
+    points of tests/test_dxf_spatial_indexer.py (``exact_trace``: the conventions recomputed, the
+    contact found by bisection) at X = x0 + ρ·(φ − φ_m − 2πk), Y = y0 + z, φ continuous along the
+    piece and k the turn that puts the piece's middle in the window |X − x0| ≤ πρ; φ_m (roller 0's
+    side −1 contact at mid-index, mid-roller) recomputed here and held to report.json's; (x0, y0)
+    report.json ``drawing.view_origins``."""
+    from .test_dxf_spatial_indexer import contact, exact_trace
+
+    ix = design.geometry.indexer
+    q = contact(ix, -1, np.array([ix.index_start + ix.index_angle / 2]),
+                np.array([(ix.roller_start + ix.roller_end) / 2]))
+    phi_m = float(np.arctan2(q[0, 1], q[0, 0]))
+    assert abs(np.degrees(phi_m) - section["phi_mid_deg"]) < 1e-6, (np.degrees(phi_m), section["phi_mid_deg"])
+    views = {"TOP": ("developed_top", float(ix.outer_radius)), "ROOT": ("developed_root", float(ix.root_radius))}
+    out: dict[str, list[np.ndarray]] = {}
+    for tr in info.drawn.traces:
+        _, where, sign = tr.layer.split("_")
+        view, rho = views[where]
+        assert tr.radius == rho and tr.side == {"P": 1, "M": -1}[sign], tr
+        x0, y0 = section["view_origins"][view]
+        lo, hi = tr.tau_range
+        tau = np.linspace(lo, hi, max(3, int(np.ceil((hi - lo) / TRACE_STEP)) + 1))
+        phi, z = exact_trace(ix, tr.side, rho, tau)
+        x = rho * (np.unwrap(phi) - phi_m)
+        mid = x[x.size // 2]
+        x = x - 2 * np.pi * rho * np.round(mid / (2 * np.pi * rho))
+        out.setdefault(tr.layer, []).append((x0 + x) + 1j * (y0 + z))
+    assert set(out) == set(TRACE_LAYERS), sorted(out)
+    assert sum(map(len, out.values())) == section["splines"]     # every SPLINE the file has is a piece
+    return out
+
+
+def _sample_sag(pieces: list[np.ndarray]) -> float:
+    """The exact samples' own chords' sag: largest curvature × longest step² / 8."""
+    step = max(float(np.max(np.abs(np.diff(p)))) for p in pieces)
+    return _curvature_bound(pieces) * step**2 / 8
+
+
 def _stated_errors(section, info) -> dict[str, float]:
+    if section.get("kind") in ("barrel", "globoidal"):
+        # a spatial indexer: the barrel's flank traces, cubic SPLINEs within their measured error
+        err = (section["drawn_trace_error"] or {}).get("value")
+        return {layer: err for layer in TRACE_LAYERS} if err is not None else {}
     if "drawn_flank_error" in section:
         # an indexer's plates: exact dwell arcs, the flanks the body's B-splines as they are
         err = max(section["drawn_flank_error"]["value"], section["flank_fit_error"]["value"])
@@ -275,17 +352,26 @@ CASES = [(n, c) for n in EXAMPLES for c in CURVES]
 
 @pytest.mark.parametrize("name,curves", CASES, ids=[f"{n}-{c}" for n, c in CASES])
 def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_path, artifacts):
-    if _is_indexer(example_spec(name)) and curves not in INDEXER_CURVES:
+    spec = example_spec(name)
+    if _refused(spec, curves):
         # refused, naming the field, before anything is drawn
         with pytest.raises(SpecError) as refusal:
             _drawing(name, curves, tmp_path)
         assert refusal.value.field == "drawing.curves", refusal.value
-        assert f'"{curves}" is not available for a parallel indexer' in refusal.value.rule, refusal.value
-        assert all(f'"{c}"' in refusal.value.rule for c in INDEXER_CURVES), refusal.value
+        if _is_indexer(spec):
+            assert f'"{curves}" is not available for a parallel indexer' in refusal.value.rule, refusal.value
+            assert all(f'"{c}"' in refusal.value.rule for c in INDEXER_CURVES), refusal.value
         assert not list(tmp_path.glob("*.dxf"))
         return
     design, section, info, path = _drawing(name, curves, tmp_path)
     circles = _known_circles(design)
+    if _is_spatial(spec) and spec.cam.body != "barrel_indexer":
+        # a globoid: exact circles, arcs and lines only, whatever ``curves`` says — no trace, no
+        # SPLINE, nothing to hold against an exact curve; its title block below
+        assert section["kind"] == "globoidal" and section["curves"] is None and section["splines"] == 0, section
+        assert not ezdxf.readfile(path).modelspace().query("SPLINE")
+        _check_title_block(path, tmp_path, circles)
+        return
     tol = design.spec.drawing.chord_tolerance
     # LibreCAD strokes an ARC finer the larger it is drawn: arcs on a sheet resolving tol/6, the
     # rest tol/20 (a few seconds each)
@@ -293,9 +379,11 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
     page, reg, layer_tags = _render_tagged(path, tmp_path, "curves", _paper(design, goal), circles)
     res = reg.resolution
     assert res < 1.5 * goal, (res, goal)           # the page resolves the tolerance
-    exact = _exact_curves(design)
+    exact = _exact_curves(design, section, info)
     stated = _stated_errors(section, info)
     assert set(exact) <= set(layer_tags)
+    if _is_spatial(design.spec):                     # the barrel: its four trace layers, all compared
+        assert set(exact) == set(TRACE_LAYERS) == set(stated), (sorted(exact), sorted(stated))
     # (an indexer's "spline" is the body's cubic B-splines, as its "cubic": LibreCAD draws them)
     dropped_by_librecad = curves == "spline" and not hasattr(design, "layout") and not _is_indexer(design.spec)
     for layer, pieces in exact.items():
@@ -310,6 +398,8 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
         pts = np.concatenate(drawn)
         size = max(float(np.max(np.abs(p))) for p in pieces)
         dense = 1e-8 * size                          # the exact samples' own chords
+        if _is_spatial(design.spec):                 # (a barrel's traces: sampled less densely)
+            dense = max(dense, _sample_sag(pieces))
         # every drawn point on the exact curve, within the stated error
         to_exact = float(np.max(distance_to_segments(pts, pieces)))
         assert to_exact <= err + res + dense, (layer, to_exact, err, res)
@@ -319,8 +409,14 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
         samples = np.concatenate(pieces)
         to_drawn = float(np.max(distance_to_segments(samples, drawn)))
         assert to_drawn <= err + res + sag + dense, (layer, to_drawn, err, res, sag)
-    # the title block's texts inside their cells, as LibreCAD draws them
-    page, reg, text_tags = _render_tagged(path, tmp_path, "texts", circles=circles)
+    page = _check_title_block(path, tmp_path, circles)
+    if name in ("default", "cylindrical", "parallel_indexer"):
+        _save_png(page, artifacts / f"librecad_{name}_{curves}.png")
+
+
+def _check_title_block(path, folder, circles):
+    """The title block's texts inside their cells, as LibreCAD draws them; LibreCAD's page."""
+    page, reg, text_tags = _render_tagged(path, folder, "texts", circles=circles)
     res = reg.resolution
     for handle, (text, box) in title_cells(ezdxf.readfile(path)).items():
         drawn = _strokes(page, reg, text_tags[handle])
@@ -332,8 +428,7 @@ def test_librecad_draws_the_curves_within_the_stated_error(name, curves, tmp_pat
         assert (x0 - res <= pts.real.min() and pts.real.max() <= x1 + res
                 and y0 - res <= pts.imag.min() and pts.imag.max() <= y1 + res), (text, box, pts.real.min(),
                                                                                 pts.real.max())
-    if name in ("default", "cylindrical", "parallel_indexer"):
-        _save_png(page, artifacts / f"librecad_{name}_{curves}.png")
+    return page
 
 
 def _save_png(page, target) -> None:
