@@ -21,6 +21,7 @@ import json
 
 import pytest
 
+from cam_workbench.freecad.part_spatial_indexer import GAUSS_ALLOWANCE
 from cam_workbench.generators import design_cam, load_spec
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.optimise import spatial_indexer
@@ -260,13 +261,13 @@ def test_apply_writes_the_optimum_and_recomputes_in_one_undo_step(runs, designs)
     assert after["outer_radius"] == pytest.approx(res["value"], rel=REL)
     assert after["check_design"]["ok"] and after["check_design"]["failed"] == []
     assert all(status in ("pass", "skipped") for _, status in after["check_design"]["checks"])
-    # the solid: the design's volume (FreeCAD's Gauss rule on the B-spline flanks: 5e-4, as
-    # test_freecad_spatial_indexer takes it); its largest radius about the cam axis the rib's top
+    # the solid: the design's volume (FreeCAD's Gauss rule on the B-spline flanks: the feature's
+    # allowance, part_spatial_indexer.GAUSS_ALLOWANCE); its largest radius about the cam axis the rib's top
     _, final = designs
     print(f"solid vs design: volume {after['volume'] / final['volume'] - 1:.2e} relative, largest radius "
           f"{after['solid_radius'] - res['value']:+.2e} mm; outer radius {res['initial']:.6g} → "
           f"{res['value']:.6g} mm")
-    assert after["volume"] == pytest.approx(final["volume"], rel=5e-4)
+    assert after["volume"] == pytest.approx(final["volume"], rel=GAUSS_ALLOWANCE)
     assert after["solid_radius"] == pytest.approx(res["value"], abs=1e-3)
     assert before["solid_radius"] == pytest.approx(res["initial"], abs=1e-3)
     # one Undo restores the start

@@ -508,9 +508,10 @@ def spatial_rows(s: dict[str, Any]) -> Rows:
 
 #: what FreeCAD's fixed Gauss volume rule may be off on the cam's trimmed B-spline faces (relative;
 #: measured against OCP's adaptive rule, the seams at seam_angle: the examples' barrel +5.4e-5, globoid
-#: −3.1e-4, the barrel at index starts 0° and 300° +4.9e-6 and +2.4e-4; it depends on where the faces
-#: are trimmed: −1.3e-4 for the globoid with the seams at φ = 0)
-GAUSS_ALLOWANCE = 5e-4
+#: −3.1e-4, the barrel at index starts 0° and 300° +4.9e-6 and +2.4e-4, the optimiser's half-size barrel
+#: +5.0e-4; it depends on where the faces are trimmed, and OCP's own fixed rule reaches 1.2e-2 on the
+#: kernel's barrel): the check still tells a wrong solid (+9.7 %, a rib missing) from the cam
+GAUSS_ALLOWANCE = 5e-3
 
 
 @FREECAD_BODIES.register(SpatialIndexerDesign)
@@ -534,7 +535,7 @@ class SpatialIndexerPart:
 
     @staticmethod
     def verify(design: Any, built: PartSolid, scale: float) -> None:
-        """FreeCAD's volume of the solid (its fixed Gauss rule: ≤ 3.1e-4 off on these trimmed B-spline
+        """FreeCAD's volume of the solid (its fixed Gauss rule: up to 5e-4 off on these trimmed B-spline
         faces, measured against OCP's adaptive rule) against ``design.volume_estimate`` (the core in
         closed form plus the rib integrated on a grid of the exact envelope), allowed the estimate's
         error and :data:`GAUSS_ALLOWANCE`; no top face (the end faces cut the fitted flanks).
