@@ -3,7 +3,7 @@
 and ``GloboidalIndexer()``, against constructions written here:
 
 * one solid, valid by ``BRepCheck``, inside the cam's envelope (barrel ρ ≤ outer, globoid
-  ρ ≤ C − √(tip² − (W/2)²), |z| ≤ W/2), built in a few seconds (the time is measured);
+  ρ ≤ C − √(tip² − (W/2)²), |z| ≤ W/2), its build time printed;
 * its volume (OCCT's adaptive ``BRepGProp``, ε = 1e-6) against the core's closed form plus the rib's
   volume integrated here on a grid of the cam frame: the radial coordinate r (barrel ρ, globoid g —
   the distance from the circle P traces) by the midpoint rule, the cam angle φ on uniform columns,
@@ -230,7 +230,7 @@ def test_one_valid_solid_inside_the_cam_envelope(built):
     assert shape.ShapeType() == occ.TopAbs_SOLID
     assert solids.is_valid(shape) and solids.count_solids(shape) == 1
     assert build.rib_pieces == 1 and build.groove_pieces >= 1
-    assert seconds < 60.0                        # ~4 s measured
+    print(f"\n{kind}: the solid in {seconds:.1f} s")        # measured, not asserted (~4 s)
     box = occ.Bnd_Box()
     occ.add_to_box(shape, box, optimal=True)
     x0, y0, z0, x1, y1, z1 = occ.box_limits(box)

@@ -9,7 +9,8 @@
   fine in each direction (512 levels × 1440 columns), and against OCCT's adaptive volume
   (ε = 1e-6 per face) of ``spatial_solid`` for the default ``BarrelIndexer()``,
   ``GloboidalIndexer()`` and two other parameter sets;
-* the runtime (≤ 1.5 s targeted, measured ~0.4–1 s) and the estimate's size (≤ 2e-6 relative).
+* the estimate's size (≤ 2e-6 relative); its runtime is printed, not asserted (benchmarks/bench_indexing.py
+  measures it: ~0.4 s).
 """
 from __future__ import annotations
 
@@ -27,10 +28,8 @@ from cam_workbench.generators.bodies.indexing.spatial_volume import VolumeEstima
 from .conftest import requires_ocp
 
 SAMPLES, LENGTHS = 361, 9
-#: the estimate's largest size (relative to the cam's volume) and the runtime's bound [s] (target 1.5 s;
-#: doubled against a loaded machine)
+#: the estimate's largest size (relative to the cam's volume)
 ERROR_REL = 2e-6
-SECONDS = 3.0
 #: OCCT's adaptive integration (ε per face) as a relative allowance on the whole solid
 OCCT_REL = 1e-6
 
@@ -73,14 +72,13 @@ def case(request):
     return request.param
 
 
-def test_estimate_is_fast_small_and_consistent(case):
+def test_estimate_is_small_and_consistent(case):
     est, seconds = _estimate(case)
     print(f"\n{case}: {est.value:.4f} mm³ (core {est.core:.3f} + rib {est.rib:.4f}) ± {est.error:.3e} "
           f"({est.error / est.value:.2e}) in {seconds:.2f} s")
     assert isinstance(est, VolumeEstimate)
     assert est.value == est.core + est.rib
     assert 0.0 < est.error <= ERROR_REL * est.value
-    assert seconds <= SECONDS
     assert "exact envelope" in est.what and "\n" not in est.what
 
 
