@@ -17,6 +17,11 @@ is drawn (``drawing.drawn_at``: the input angle and the turret's angle there).
 themselves (polynomial cubics: what "cubic" asks for, and the NURBS itself); what the indexer's
 drawing cannot do yet is refused naming the field (``curves`` "arcs"/"polyline", a
 ``dxf_version`` other than R2010, a ``text_height``).
+
+The steps every indexer's drawing takes alike are public here for the barrel and globoidal
+indexers' (:mod:`.drawing_spatial_indexer`): the library's annotations dropped
+(:func:`drop_library_annotations`), the title block's first and last rows (:func:`title_head`,
+:func:`pressure_limit`, :func:`title_tail`) and the title block placed (:func:`finish_drawing`).
 """
 from __future__ import annotations
 
@@ -120,6 +125,34 @@ def drawn_turret_angle(design: ParallelIndexerDesign) -> float:
     return math.degrees(float(turret_angle(design.geometry.indexer, np.array([0.0]))[0][0]))
 
 
+def title_head(dr: Any) -> list[tuple[str, str]]:
+    """The title block's first rows: ``[drawing]``'s part number, material and author ("-" when not
+    given)."""
+    return [("PART NO.", dr.part_number or "-"), ("MATERIAL", dr.material or "-"), ("DRAWN BY", dr.author or "-")]
+
+
+def pressure_limit(checks: Any) -> str:
+    """The pressure angle's limit as the title block quotes it, ' (LIMIT φ°)', from report.json's
+    ``checks`` (their ``pressure_angle`` row's limit [deg]); "" without that check or its limit."""
+    if isinstance(checks, dict) and "pressure_angle" in (checks.get("results") or {}):
+        lim = checks["results"]["pressure_angle"].get("limit")
+        return "" if lim is None else f" (LIMIT {lim:g}°)"
+    return ""
+
+
+def title_tail(summary: dict[str, Any], drawn_at: str) -> list[tuple[str, str]]:
+    """The title block's last rows: the checks' verdict (when ``summary``, report.json's dict, has
+    them), DRAWN AT ``drawn_at``, the units and scale (mm, 1:1), the spec digest and the software."""
+    checks = summary.get("checks")
+    rows = [("DESIGN CHECKS", checks_cell(checks))] if isinstance(checks, dict) and "passed" in checks else []
+    return rows + [
+        ("DRAWN AT", drawn_at),
+        ("UNITS / SCALE", "mm / 1:1"),
+        ("SPEC DIGEST (SHA-256)", str(summary.get("spec_digest", "-"))),
+        ("SOFTWARE", f"cam_workbench {__version__}"),
+    ]
+
+
 def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_error: float,
                turret_angle_deg: float | None = None) -> list[tuple[str, str]]:
     """(label, value) rows of the title block: the numbers of ``summary`` (report.json's dict),
@@ -134,17 +167,12 @@ def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_err
     rr = float(geo["roller_radius_mm"])
     beta = float(geo["index_angle_deg"])
     psi0 = drawn_turret_angle(design) if turret_angle_deg is None else float(turret_angle_deg)
-    limit = ""
-    if isinstance(checks, dict) and "pressure_angle" in (checks.get("results") or {}):
-        lim = checks["results"]["pressure_angle"].get("limit")
-        limit = "" if lim is None else f" (LIMIT {lim:g}°)"
+    limit = pressure_limit(checks)
     bore = float(body["bore_diameter"])
     arcs = " / ".join(_g(c["dwell_radius_mm"] - rr) for c in geo["per_cam"])
     fit = body["flank_fit_error"]
     rows = [
-        ("PART NO.", dr.part_number or "-"),
-        ("MATERIAL", dr.material or "-"),
-        ("DRAWN BY", dr.author or "-"),
+        *title_head(dr),
         ("STATIONS N", str(int(geo["stations"]))),
         ("INDEX ANGLE BETA", f"{_g(beta)}°"),
         ("MOTION LAW", str(geo["law"]).upper()),
@@ -164,20 +192,43 @@ def title_rows(design: ParallelIndexerDesign, summary: dict[str, Any], drawn_err
         ("MAX DRIVING PRESSURE ANGLE", f"{_deg(pa['index_max_deg'])} AT {_deg(pa['index_max_at_deg'])} OF INPUT"),
         ("VOLUME", f"{summary['volume']:.6g} mm3"),
     ]
-    if isinstance(checks, dict) and "passed" in checks:
-        rows.append(("DESIGN CHECKS", checks_cell(checks)))
-    rows += [
-        ("DRAWN AT", f"INPUT ANGLE 0°, TURRET ANGLE {psi0:.4f}°; INPUT TURNS CCW, TURRET CW"),
-        ("UNITS / SCALE", "mm / 1:1"),
-        ("SPEC DIGEST (SHA-256)", str(summary.get("spec_digest", "-"))),
-        ("SOFTWARE", f"cam_workbench {__version__}"),
-    ]
-    return rows
+    return rows + title_tail(summary, f"INPUT ANGLE 0°, TURRET ANGLE {psi0:.4f}°; INPUT TURNS CCW, TURRET CW")
 
 
-def _delete(msp: Any, query: str) -> None:
+def delete_entities(msp: Any, query: str) -> None:
+    """Delete every entity of the layout ``msp`` that the ezdxf entity ``query`` selects."""
     for e in list(msp.query(query)):
         msp.delete_entity(e)
+
+
+def drop_library_annotations(doc: Any, dimensions: bool) -> None:
+    """Delete the library drawing's title block (layer TITLE: it quotes the library's own numbers,
+    replaced by one quoting report.json's) and, without ``dimensions``, every DIMENSION with its
+    block."""
+    msp = doc.modelspace()
+    delete_entities(msp, '*[layer=="TITLE"]')
+    if not dimensions:
+        for dim in list(msp.query("DIMENSION")):
+            block = dim.dxf.get("geometry")
+            msp.delete_entity(dim)
+            if block and block in doc.blocks:
+                doc.blocks.delete_block(block, safe=False)
+
+
+def finish_drawing(msp: Any, title: str, rows: list[tuple[str, str]], reach: float, h: float) -> None:
+    """The title block of ``rows`` under ``title`` (none when ``rows`` is empty) right of everything
+    drawn, a sheet border round it all (:func:`.dxf.extents` with ``reach`` [mm] the radius that
+    bounds the drawing when ezdxf cannot measure; ``h`` the text height [mm]); then the initial view
+    zoomed to the extents."""
+    if rows:
+        box = extents(msp, reach, h)
+        title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
+    try:
+        from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
+
+        zoom.extents(msp, factor=1.05)
+    except Exception:  # noqa: BLE001 - the initial view is a convenience only
+        pass
 
 
 @DRAWINGS.register(ParallelIndexerDesign)
@@ -195,27 +246,8 @@ def build_indexer_dxf(design: ParallelIndexerDesign, summary: dict[str, Any] | N
     s = summary if summary is not None else design.summary()
     title = title_line(design.spec)
     doc, drawn = indexer_drawing(design.geometry, design.cams_body, title)
-    msp = doc.modelspace()
-    h = drawn.text_height
-    # the library's title block quotes its own numbers: replaced by one quoting report.json's
-    _delete(msp, '*[layer=="TITLE"]')
-    if not dr.dimensions:
-        for dim in list(msp.query("DIMENSION")):
-            block = dim.dxf.get("geometry")
-            msp.delete_entity(dim)
-            if block and block in doc.blocks:
-                doc.blocks.delete_block(block, safe=False)
+    drop_library_annotations(doc, bool(dr.dimensions))
     psi0 = drawn_turret_angle(design)
-    rows: list[tuple[str, str]] = []
-    if dr.title_block:
-        rows = title_rows(design, s, drawn.drawn_error, psi0)
-        r_max = float(s["body"]["outer_radius"])
-        box = extents(msp, r_max, h)
-        title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
-    try:
-        from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
-
-        zoom.extents(msp, factor=1.05)
-    except Exception:  # noqa: BLE001 - the initial view is a convenience only
-        pass
+    rows = title_rows(design, s, drawn.drawn_error, psi0) if dr.title_block else []
+    finish_drawing(doc.modelspace(), title, rows, float(s["body"]["outer_radius"]) if rows else 0.0, drawn.text_height)
     return doc, IndexerDrawingInfo(drawn, tuple(rows), title, float(dr.chord_tolerance), bool(dr.dimensions), psi0)

@@ -37,13 +37,13 @@ from typing import Any
 
 import numpy as np
 
-from cam_workbench.generators import __version__
 from cam_workbench.generators.bodies.indexing.spatial import BarrelIndexer, GloboidalIndexer, turret_angle
 from cam_workbench.generators.bodies.indexing.spatial_kind import SpatialIndexerDesign
 from cam_workbench.generators.errors import SpecError
 
-from .dxf import DIMSTYLE, DRAWINGS, LAYERS, checks_cell, extents, title_line
-from .dxf_indexer import dim_values, round_up, title_block
+from .drawing_indexer import drop_library_annotations, finish_drawing, pressure_limit, title_head, title_tail
+from .dxf import DIMSTYLE, DRAWINGS, LAYERS, title_line
+from .dxf_indexer import dim_values, round_up
 from .dxf_spatial_indexer import CHECKS, TRACE_TOLERANCE, SpatialDxfInfo, spatial_drawing
 
 #: the DXF version :func:`~cam_workbench.exporters.dxf_spatial_indexer.spatial_drawing` writes
@@ -213,18 +213,13 @@ def title_rows(design: SpatialIndexerDesign, summary: dict[str, Any], trace_erro
     pa = summary["pressure_angle"]
     checks = summary.get("checks")
     psi0 = drawn_turret_angle(design) if turret_angle_deg is None else float(turret_angle_deg)
-    limit = ""
-    if isinstance(checks, dict) and "pressure_angle" in (checks.get("results") or {}):
-        lim = checks["results"]["pressure_angle"].get("limit")
-        limit = "" if lim is None else f" (LIMIT {lim:g}°)"
+    limit = pressure_limit(checks)
     bore = float(body["bore_diameter"] or 0.0)
     margin, rib = geo["min_regularity_margin"], geo["min_rib_thickness"]
     fit = body["flank_fit_error"]
     motion = summary["indexer"]["motion_from_geometry"]
     rows = [
-        ("PART NO.", dr.part_number or "-"),
-        ("MATERIAL", dr.material or "-"),
-        ("DRAWN BY", dr.author or "-"),
+        *title_head(dr),
         ("TYPE", f"{str(summary['indexer']['type']).upper()} INDEXER"),
         ("STATIONS N", str(int(geo["stations"]))),
         ("INDEX ANGLE BETA", f"{_g(geo['index_angle_deg'])}°"),
@@ -256,20 +251,7 @@ def title_rows(design: SpatialIndexerDesign, summary: dict[str, Any], trace_erro
         ("TURRET MOTION FROM FLANKS", f"{motion['max_error_rad']:.3e} rad FROM THE LAW ({int(motion['samples'])} "
                                       "INPUT ANGLES)"),
     ]
-    if isinstance(checks, dict) and "passed" in checks:
-        rows.append(("DESIGN CHECKS", checks_cell(checks)))
-    rows += [
-        ("DRAWN AT", f"INPUT ANGLE 0°, TURRET ANGLE {psi0:.4f}°"),
-        ("UNITS / SCALE", "mm / 1:1"),
-        ("SPEC DIGEST (SHA-256)", str(summary.get("spec_digest", "-"))),
-        ("SOFTWARE", f"cam_workbench {__version__}"),
-    ]
-    return rows
-
-
-def _delete(msp: Any, query: str) -> None:
-    for e in list(msp.query(query)):
-        msp.delete_entity(e)
+    return rows + title_tail(summary, f"INPUT ANGLE 0°, TURRET ANGLE {psi0:.4f}°")
 
 
 def _add_bore(doc: Any, design: SpatialIndexerDesign, drawn: SpatialDxfInfo, diameter: float, dimensions: bool) -> None:
@@ -310,32 +292,19 @@ def build_spatial_indexer_dxf(design: SpatialIndexerDesign, summary: dict[str, A
     doc, drawn = spatial_drawing(design.geometry, design.surfaces, title)
     _refuse_traces(dr, drawn)
     s = summary if summary is not None else design.summary()
-    msp = doc.modelspace()
-    h = drawn.text_height
-    # the library's title block quotes its own numbers: replaced by one quoting report.json's
-    _delete(msp, '*[layer=="TITLE"]')
-    if not dr.dimensions:
-        for dim in list(msp.query("DIMENSION")):
-            block = dim.dxf.get("geometry")
-            msp.delete_entity(dim)
-            if block and block in doc.blocks:
-                doc.blocks.delete_block(block, safe=False)
+    drop_library_annotations(doc, bool(dr.dimensions))
     bore = float(s["body"]["bore_diameter"] or 0.0)
     if bore > 0:
         _add_bore(doc, design, drawn, bore, bool(dr.dimensions))
     psi0 = drawn_turret_angle(design)
     rows: list[tuple[str, str]] = []
+    reach = 0.0
     if dr.title_block:
         rows = title_rows(design, s, drawn.trace_error if drawn.traces else None, psi0)
         geo = s["indexer"]["geometry"]
-        box = extents(msp, float(geo["centre_distance"]) + float(geo["roller_end"]), h)
-        title_block(msp, title, rows, box.x1 + 2 * h, box.y1 + h, h, (box.x0 - h, box.y0 - h))
-    try:
-        from ezdxf import zoom  # deferred: ezdxf, loaded when a drawing is made
-
-        zoom.extents(msp, factor=1.05)
-    except Exception:  # noqa: BLE001 - the initial view is a convenience only
-        pass
+        reach = float(geo["centre_distance"]) + float(geo["roller_end"])
+    msp = doc.modelspace()
+    finish_drawing(msp, title, rows, reach, drawn.text_height)
     counts = {kind: len(msp.query(kind)) for kind in _COUNTED}
     return doc, SpatialDrawingInfo(drawn, tuple(rows), title, float(dr.chord_tolerance), bool(dr.dimensions), psi0,
                                    bore, counts)

@@ -10,11 +10,12 @@ Barrel indexer
     * **side view** at the origin, X = z, Y = y (the viewer on −x): the root cylinder (ρ ≤ R_root,
       length W, layer ``OUTLINE``), the rib's extent (ρ ≤ R_top over the axial range its flank
       traces reach, ``RIB``), the rollers near the cam at θ = 0 (those whose axis point lies within
-      W/2 + r_r axially and R_top + r_r of the cam axis: the rectangle z_a ± r_r × [t0, t1],
-      ``ROLLERS``), the cam axis (Y = 0) and the turret axis (X = 0);
+      W/2 + r_max axially and R_top + r_max of the cam axis, r_max the roller's largest radius: the
+      outline z_a ± r(t) for t ∈ [t0, t1] (see *Rollers* below), ``ROLLERS``), the cam axis (Y = 0)
+      and the turret axis (X = 0);
     * **end view** (right of it), X = x, Y = y (the viewer on +z), centred on the cam axis at
       (``views["end"]``): the rib's top and root circles (``OUTLINE``, ``ROOT``; circles, exact),
-      the same rollers (x_a ± r_r × [t0, t1], once for rollers that coincide in this view), the
+      the same rollers (x_a ± r(t) for t ∈ [t0, t1], once for rollers that coincide in this view), the
       turret axis (X = C) and the centre distance C
       (a linear DIMENSION);
     * **developed views** (below), one at the rib's top radius R_top and one at its root radius
@@ -32,13 +33,22 @@ Globoidal indexer
       y = 0, X = z, Y = x (the viewer on +y): the root and tip globoids' profiles (ARCs, exact: radii
       R_root, R_tip about (0, ±C), between z = ±W/2; ``OUTLINE`` and ``TIP``), the cam's end faces,
       the turret's hub circle of radius t0 about P = (0, C) (``TURRET``), every roller's section at
-      θ = 0 (the rectangle of its axis P + t·u(α_j), t ∈ [t0, t1], ± r_r: ``ROLLERS``), the cam axis
+      θ = 0 (the outline of its axis P + t·u(α_j), t ∈ [t0, t1], ± r(t): ``ROLLERS``), the cam axis
       and the turret axis' centre mark at P, the centre distance C (a DIMENSION from O to P);
     * **end view** along the cam axis (right of it, X = x, Y = y, viewer on +z, centred at
       ``views["end"]``): the globoids' circles at the end faces (``OUTLINE`` root, ``TIP`` tip)
       and at the waist (dashed: ``HIDDEN``), the turret axis (X = C) and C dimensioned.
     * The flank traces on a pitch globoid are NOT drawn (the indexer defines no pitch globoid;
       the flanks are the surfaces of :mod:`...spatial_surfaces`, whose fit error is quoted).
+
+Rollers.  Every view sees a roller side-on (its axis in the drawing's plane: +y in the barrel's
+views, u(α_j) in the globoid's section), so its outline is exact and straight-sided: the closed
+LWPOLYLINE (axis at t0 − r(t0)·e, t1 − r(t1)·e, t1 + r(t1)·e, t0 + r(t0)·e), e the drawing's unit
+vector square to the axis (+X in the barrel's views) and r(t) = r_r + (t − t_m)·tan γ the roller's
+radius (``ix.radius_at``; γ = ``roller_cone_angle``): a rectangle of half-width r_r for a cylinder
+(γ = 0), a trapezoid for a conical roller.  The views' extents use the largest radius r_max
+(``ix.largest_radius``; r_r for a cylinder).  With γ ≠ 0 the title block adds a ROLLER CONE ANGLE
+row (r_r is then the radius at t_m = (t0 + t1)/2).
 
 The flank traces (barrel).  A trace point of side s at radius ρ is the exact envelope point
 ``contact_lines(ix, 0, τ, t, s)`` (the generator's, in the cam frame) on the cylinder ρ: per τ, t is
@@ -428,6 +438,12 @@ def title_rows(design: SpatialDesign, quoted_fit: float, quoted_trace: float | N
         rows.append(("TURRET PITCH RADIUS R_p", f"{_g(s['pitch_radius'])} mm"))
     rows += [
         ("ROLLER RADIUS r_r", f"{_g(s['roller_radius'])} mm"),
+    ]
+    if float(ix.roller_cone_angle) != 0.0:
+        r0, r1 = (float(r) for r in ix.radius_at(np.array([t0, t1])))
+        rows.append(("ROLLER CONE ANGLE", f"{_g(math.degrees(float(ix.roller_cone_angle)))}°, RADIUS {_g(r0)} mm AT "
+                                          f"t = {_g(t0)} TO {_g(r1)} mm AT t = {_g(t1)} (r_r AT THE MIDDLE)"))
+    rows += [
         ("ROLLER LENGTH", f"{_g(t1 - t0)} mm, t = {_g(t0)} TO {_g(t1)} mm"),
         ("RIB RADII", f"ROOT {_g(s['root_radius'])} mm, TOP {_g(s['outer_radius'])} mm" if barrel else
          f"TIP GLOBOID {_g(s['tip_radius'])} mm, ROOT GLOBOID {_g(s['root_radius'])} mm"),
@@ -455,6 +471,24 @@ def _rect(msp: Any, x0: float, y0: float, x1: float, y1: float, layer: str) -> N
     add_closed_outline(msp, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)], {"layer": layer})
 
 
+def roller_outline(ix: BarrelIndexer | GloboidalIndexer, base: tuple[float, float], axis: tuple[float, float],
+                   across: tuple[float, float]) -> list[tuple[float, float]]:
+    """A roller seen side-on (module docs, *Rollers*): the drawing points base + t·axis ∓ r(t)·across
+    at t0, t1, t1, t0 (``axis``, ``across`` unit vectors of the drawing, square to each other) — a
+    trapezoid r(t0) … r(t1) wide, the rectangle of half-width r_r for a cylinder."""
+    t0, t1 = float(ix.roller_start), float(ix.roller_end)
+    b, u, v = np.asarray(base, dtype=float), np.asarray(axis, dtype=float), np.asarray(across, dtype=float)
+    r0, r1 = (float(r) for r in ix.radius_at(np.array([t0, t1])))
+    pts = [b + t0 * u - r0 * v, b + t1 * u - r1 * v, b + t1 * u + r1 * v, b + t0 * u + r0 * v]
+    return [(float(q[0]), float(q[1])) for q in pts]
+
+
+def _upright(pts: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """A barrel roller's outline from :func:`roller_outline` in the order the side and end views use:
+    (t0, −), (t0, +), (t1, +), (t1, −) (counter-clockwise from the bottom left)."""
+    return [pts[0], pts[3], pts[2], pts[1]]
+
+
 def _line(msp: Any, a: tuple[float, float], b: tuple[float, float], layer: str) -> None:
     msp.add_line(a, b, dxfattribs={"layer": layer})
 
@@ -466,13 +500,14 @@ def _dimension(msp: Any, p1: tuple[float, float], p2: tuple[float, float], base:
 
 
 def near_rollers(ix: BarrelIndexer) -> Array:
-    """The barrel's rollers drawn at θ = 0: (M, 2) axis points (x_a, z_a) of those within W/2 + r_r
-    of the cam's middle axially and R_top + r_r of the cam axis."""
+    """The barrel's rollers drawn at θ = 0: (M, 2) axis points (x_a, z_a) of those within W/2 + r_max
+    of the cam's middle axially and R_top + r_max of the cam axis (r_max the roller's largest radius,
+    r_r for a cylinder)."""
     n = int(ix.stations)
     al = roller_alpha(ix, np.arange(n), turret_angle(ix, np.array([0.0]))[0][0])
     x = float(ix.centre_distance) + float(ix.pitch_radius) * np.cos(al)
     z = float(ix.pitch_radius) * np.sin(al)
-    rr = float(ix.roller_radius)
+    rr = ix.largest_radius
     keep = (np.abs(z) < 0.5 * float(ix.cam_width) + rr) & (np.abs(x) < float(ix.outer_radius) + rr)
     return np.column_stack([x[keep], z[keep]])
 
@@ -480,9 +515,9 @@ def near_rollers(ix: BarrelIndexer) -> Array:
 def _barrel(msp: Any, design: SpatialDesign, surfaces: FlankSurfaces, h: float
             ) -> tuple[dict[str, tuple[float, float]], float, list[DrawnTrace], int, tuple[float, float, float, float]]:
     ix = design.indexer
-    c, rr = float(ix.centre_distance), float(ix.roller_radius)
+    c, rr, r_max = float(ix.centre_distance), float(ix.roller_radius), ix.largest_radius
     r0, r1, half = float(ix.root_radius), float(ix.outer_radius), 0.5 * float(ix.cam_width)
-    t0, t1 = float(ix.roller_start), float(ix.roller_end)
+    t1 = float(ix.roller_end)
     phi_m = phi_mid(ix)
     traces = flank_traces(design, surfaces, r1, phi_m) + flank_traces(design, surfaces, r0, phi_m)
     rollers = near_rollers(ix)
@@ -492,19 +527,20 @@ def _barrel(msp: Any, design: SpatialDesign, surfaces: FlankSurfaces, h: float
     _rect(msp, -half, -r0, half, r0, "OUTLINE")
     _rect(msp, z_lo, -r1, z_hi, r1, "RIB")
     for x, z in rollers.tolist():
-        _rect(msp, z - rr, t0, z + rr, t1, "ROLLERS")
+        add_closed_outline(msp, _upright(roller_outline(ix, (z, 0.0), (0.0, 1.0), (1.0, 0.0))), {"layer": "ROLLERS"})
     ext = 2 * h
     _line(msp, (-half - ext, 0.0), (half + ext, 0.0), "CENTERLINES")
     _line(msp, (0.0, -r1 - ext), (0.0, t1 + ext), "CENTERLINES")
     add_text(msp, "SIDE VIEW (CAM AXIS HORIZONTAL, TURRET ABOVE)", (-half, t1 + 2.5 * h), 0.7 * h, "NOTES")
     # end view: X = x, Y = y about the cam axis
-    x_lo = min(-r1, float(np.min(rollers[:, 0], initial=0.0)) - rr)
+    x_lo = min(-r1, float(np.min(rollers[:, 0], initial=0.0)) - r_max)
     xe = half + 6 * h - x_lo
     msp.add_circle((xe, 0.0), r1, dxfattribs={"layer": "OUTLINE"})
     msp.add_circle((xe, 0.0), r0, dxfattribs={"layer": "ROOT"})
     ends = np.unique(np.round(rollers[:, 0], 9))          # rollers at z and −z coincide seen along z
     for x in ends.tolist():
-        _rect(msp, xe + x - rr, t0, xe + x + rr, t1, "ROLLERS")
+        add_closed_outline(msp, _upright(roller_outline(ix, (xe + x, 0.0), (0.0, 1.0), (1.0, 0.0))),
+                           {"layer": "ROLLERS"})
     add_cross(msp, xe, 0.0, rr, "CENTERLINES")
     _line(msp, (xe - r1 - ext, 0.0), (xe + c + ext, 0.0), "CENTERLINES")
     _line(msp, (xe + c, -r1 - ext), (xe + c, t1 + ext), "CENTERLINES")
@@ -538,7 +574,7 @@ def _globoid(msp: Any, design: SpatialDesign, h: float
              ) -> tuple[dict[str, tuple[float, float]], int, tuple[float, float, float, float]]:
     ix = design.indexer
     n = int(ix.stations)
-    c, rr = float(ix.centre_distance), float(ix.roller_radius)
+    c, rr, r_max = float(ix.centre_distance), float(ix.roller_radius), ix.largest_radius
     r_tip, r_root, half = float(ix.tip_radius), float(ix.root_radius), 0.5 * float(ix.cam_width)
     t0, t1 = float(ix.roller_start), float(ix.roller_end)
     ext = 2 * h
@@ -555,16 +591,14 @@ def _globoid(msp: Any, design: SpatialDesign, h: float
     for a in al.tolist():
         u = np.array([math.sin(a), math.cos(a)])          # (z, x) of u(α)
         v = np.array([u[1], -u[0]])
-        p = np.array([0.0, c])
-        pts = [p + t0 * u - rr * v, p + t1 * u - rr * v, p + t1 * u + rr * v, p + t0 * u + rr * v]
-        add_closed_outline(msp, [tuple(map(float, q)) for q in pts], {"layer": "ROLLERS"})
+        add_closed_outline(msp, roller_outline(ix, (0.0, c), (u[0], u[1]), (v[0], v[1])), {"layer": "ROLLERS"})
     _line(msp, (-half - ext, 0.0), (half + ext, 0.0), "CENTERLINES")
     add_cross(msp, 0.0, c, rr, "CENTERLINES")
     add_cross(msp, 0.0, 0.0, rr, "CENTERLINES")
-    add_text(msp, "CONTOUR VIEW: SECTION IN THE TURRET'S PLANE (X = Z, Y = X)", (-c, c + t1 + rr + 2 * h), 0.7 * h,
+    add_text(msp, "CONTOUR VIEW: SECTION IN THE TURRET'S PLANE (X = Z, Y = X)", (-c, c + t1 + r_max + 2 * h), 0.7 * h,
           "NOTES")
     add_text(msp, "P: TURRET AXIS", (0.4 * h, c + 0.6 * h), 0.7 * h, "CENTERLINES")
-    reach = t1 + rr
+    reach = t1 + r_max
     x_dim = -max(half, reach) - 3 * h
     _dimension(msp, (0.0, 0.0), (0.0, c), (x_dim, 0.5 * c), 90.0, h)
     # end view along the cam axis: X = x, Y = y
@@ -600,7 +634,7 @@ def spatial_drawing(design: SpatialDesign, surfaces: FlankSurfaces, title: str |
     if surfaces.indexer != ix:
         raise ValueError("the flank surfaces are not of this design's indexer")
     if barrel:
-        span = float(ix.cam_width) + 2 * float(ix.outer_radius) + float(ix.centre_distance) + float(ix.roller_radius)
+        span = float(ix.cam_width) + 2 * float(ix.outer_radius) + float(ix.centre_distance) + ix.largest_radius
     else:
         span = 2 * float(ix.roller_end) + 2 * float(ix.centre_distance)
     h = float(f"{span / 60:.2g}")

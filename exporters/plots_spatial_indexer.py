@@ -23,16 +23,24 @@ The solids (the rib's two flanks, the root body, the rollers) are filled quads d
 flanks two-sided, their backs darker), shaded by a light from the viewer's upper left.  Outlines,
 axes and contact lines are drawn over them.
 
+The rollers (:func:`roller_mesh`): the surface of revolution of radius r(t) = r_r + (t − t_m)·tan γ
+(``ix.radius_at``, γ = ``roller_cone_angle``, t_m = (t0 + t1)/2) about the axis c(t) = a + t·d for
+t ∈ [t0, t1] — a cylinder of radius r_r for γ = 0, else a cone — closed by its end discs; the mantle's
+outward normal is n − tan γ·d (n the radial unit vector).  Its silhouette lines are the generators
+where that normal is square to the view direction v: n = ±√(1 − s²)·e1 + s·e2 with s = tan γ·(d·v)/(e2·v),
+e1 = d × v/|d × v|, e2 = d × e1 (±e1 for a cylinder); none where |s| > 1 (a cone seen along its axis,
+one end circle round the other).
+
 SVG ids (a mark's ``gid``): ``rib-p-<r0>-<r1>-<k>`` / ``rib-m-<r0>-<r1>-<k>`` the quad of the side +1
 / side −1 flank sheet between its rows r0 < r1 and columns k, k + 1, corners (r0, k), (r1, k),
 (r1, k + 1), (r0, k + 1) (every corner in the rib's band); ``root-outline`` the root body's end
-circles and silhouette; ``roller-<j>-t0`` / ``roller-<j>-t1`` the end circles (c(t0), c(t1); 96
-points, closed) and ``roller-<j>-sides`` the two silhouette lines of roller j (j as in
-``design.rollers``); ``engaged-<j>-p`` / ``engaged-<j>-m`` the in-band contact line of roller j's
-side +1 / −1, present when that side touches the rib at θ; ``turret-pitch-circle`` (barrel: the
-rollers' circle at their ends' height t1) or ``turret-hub`` (globoid: the circle of radius t0 about P
-in y = 0); ``cam-axis``, ``turret-axis``; ``turret-angle`` (the note); ``psi``, ``dpsi``, ``d2psi``,
-``driving-angle`` the motion chart's curves.
+circles and silhouette; ``roller-<j>-t0`` / ``roller-<j>-t1`` the end circles (about c(t0), c(t1),
+radii r(t0), r(t1); 96 points, closed) and ``roller-<j>-sides`` the two silhouette lines of roller j
+(j as in ``design.rollers``; :func:`roller_silhouettes`); ``engaged-<j>-p`` / ``engaged-<j>-m`` the
+in-band contact line of roller j's side +1 / −1, present when that side touches the rib at θ;
+``turret-pitch-circle`` (barrel: the rollers' circle at their ends' height t1) or ``turret-hub``
+(globoid: the circle of radius t0 about P in y = 0); ``cam-axis``, ``turret-axis``; ``turret-angle``
+(the note); ``psi``, ``dpsi``, ``d2psi``, ``driving-angle`` the motion chart's curves.
 """
 from __future__ import annotations
 
@@ -383,19 +391,57 @@ def _frame(d: np.ndarray, view: tuple[float, float]) -> tuple[np.ndarray, np.nda
     return e1, np.cross(d, e1)
 
 
-def _roller_faces(design: SpatialDesign, a: np.ndarray, d: np.ndarray, engaged: np.ndarray,
-                  view: tuple[float, float], faces: _Faces) -> None:
-    """Every roller's cylinder (mantle and ends) as quads; the engaged ones in their own colour."""
-    ix = design.indexer
-    rr, t0, t1 = float(ix.roller_radius), float(ix.roller_start), float(ix.roller_end)
+def roller_mesh(ix, a: np.ndarray, d: np.ndarray, view: tuple[float, float], rings: int = 3, meridians: int = 24
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rollers' surfaces of revolution (module docs: radius r(t), a cone for γ ≠ 0) about the axes
+    a + t·d (``a``, ``d`` (J, 3), fixed frame): the axis parameters t (T,) = ``rings`` values over
+    [t0, t1] [mm], the grid points (J, T, P, 3) on ``meridians`` + 1 angles φ from the view's e1
+    (the first and last the same) and the quads' outward normals (J, P − 1, 3) (n − tan γ·d at the
+    middle angles; unnormalised)."""
+    t = np.linspace(float(ix.roller_start), float(ix.roller_end), rings)
+    radius = np.asarray(ix.radius_at(t), dtype=float)
     e1, e2 = _frame(d, view)
-    phi = np.linspace(0.0, TWO_PI, 25)
-    t = np.linspace(t0, t1, 3)
+    phi = np.linspace(0.0, TWO_PI, meridians + 1)
     radial = np.cos(phi)[None, :, None] * e1[:, None, :] + np.sin(phi)[None, :, None] * e2[:, None, :]  # (J, P, 3)
     axis_pts = a[:, None, :] + t[None, :, None] * d[:, None, :]                                         # (J, T, 3)
-    pts = axis_pts[:, :, None, :] + rr * radial[:, None, :, :]                                          # (J, T, P, 3)
+    pts = axis_pts[:, :, None, :] + radius[None, :, None, None] * radial[:, None, :, :]                 # (J, T, P, 3)
     pm = 0.5 * (phi[:-1] + phi[1:])
     mid = np.cos(pm)[None, :, None] * e1[:, None, :] + np.sin(pm)[None, :, None] * e2[:, None, :]
+    return t, pts, mid - ix.taper * d[:, None, :]
+
+
+def roller_silhouettes(ix, a: np.ndarray, d: np.ndarray, view: tuple[float, float]) -> np.ndarray:
+    """The rollers' two silhouette lines seen along ``view`` (module docs), fixed frame, (J, 5, 3):
+    from t0 to t1 on one side, a NaN row, the other side — the generators at r(t0), r(t1); NaN for a
+    cone seen so nearly along its axis that it has none."""
+    _, _, v = view_basis(view)
+    e1, e2 = _frame(d, view)
+    k = ix.taper
+    t0, t1 = float(ix.roller_start), float(ix.roller_end)
+    r0, r1 = (float(r) for r in ix.radius_at(np.array([t0, t1])))
+    if k == 0.0:
+        s = np.zeros(d.shape[0])
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = k * (d @ v) / (e2 @ v)
+    with np.errstate(invalid="ignore"):
+        c = np.sqrt(1.0 - s**2)[:, None]
+    out = np.full((d.shape[0], 5, 3), np.nan)
+    for row, sgn in ((0, 1.0), (3, -1.0)):
+        n = sgn * c * e1 + s[:, None] * e2
+        out[:, row] = a + t0 * d + r0 * n
+        out[:, row + 1] = a + t1 * d + r1 * n
+    return out
+
+
+def _roller_faces(design: SpatialDesign, a: np.ndarray, d: np.ndarray, engaged: np.ndarray,
+                  view: tuple[float, float], faces: _Faces) -> None:
+    """Every roller's surface (:func:`roller_mesh`: mantle and ends) as quads; the engaged ones in
+    their own colour."""
+    _, pts, mid = roller_mesh(design.indexer, a, d, view)
+    axis_pts = np.stack([a + t * d for t in (float(design.indexer.roller_start), float(design.indexer.roller_end))],
+                        axis=1)                                                                       # (J, 2, 3)
+    n_phi = pts.shape[2]
     for on, color, kind in ((~engaged, _ROLLER, 3), (engaged, _ROLLER_ENGAGED, 4)):
         if not on.any():
             continue
@@ -406,7 +452,7 @@ def _roller_faces(design: SpatialDesign, a: np.ndarray, d: np.ndarray, engaged: 
             ring = pts[on, end]                                                                        # (J', P, 3)
             centre = np.broadcast_to(axis_pts[on, end][:, None, :], ring[:, :-1].shape)
             caps.append(np.stack([centre, ring[:, :-1], ring[:, 1:], ring[:, 1:]], axis=2).reshape(-1, 4, 3))
-            cap_n.append(np.repeat(sgn * d[on], phi.size - 1, axis=0))
+            cap_n.append(np.repeat(sgn * d[on], n_phi - 1, axis=0))
         faces.add(np.concatenate([q.reshape(-1, 4, 3), *caps]), np.concatenate([n.reshape(-1, 3), *cap_n]),
                   color, kind, True)
 
@@ -468,15 +514,15 @@ def spatial_panel(design: SpatialDesign, theta: float = 0.0, view: tuple[float, 
     # the rollers' outlines: the end circles and the two silhouette lines
     e1, e2 = _frame(d, view)
     circ = np.linspace(0.0, TWO_PI, _RING + 1)
-    offs = rr * (np.cos(circ)[None, :, None] * e1[:, None, :] + np.sin(circ)[None, :, None] * e2[:, None, :])
+    offs = np.cos(circ)[None, :, None] * e1[:, None, :] + np.sin(circ)[None, :, None] * e2[:, None, :]
+    r_ends = [float(r) for r in ix.radius_at(np.array([t0, t1]))]
+    sils = roller_silhouettes(ix, a, d, view)
     for i, j in enumerate(design.rollers.tolist()):
         on = bool(engaged[i])
         style = dict(color=_ENGAGED_EDGE if on else css_color("0.35"), width=1.3 if on else 0.6)
-        for tag, tt in (("t0", t0), ("t1", t1)):
-            marks.append(_curve(project(a[i] + tt * d[i] + offs[i], view), gid=f"roller-{j}-{tag}", **style))
-        sil = np.array([a[i] + t0 * d[i] + rr * e1[i], a[i] + t1 * d[i] + rr * e1[i], [np.nan] * 3,
-                        a[i] + t0 * d[i] - rr * e1[i], a[i] + t1 * d[i] - rr * e1[i]])
-        marks.append(_curve(project(sil, view), gid=f"roller-{j}-sides", **style))
+        for tag, tt, r_end in (("t0", t0, r_ends[0]), ("t1", t1, r_ends[1])):
+            marks.append(_curve(project(a[i] + tt * d[i] + r_end * offs[i], view), gid=f"roller-{j}-{tag}", **style))
+        marks.append(_curve(project(sils[i], view), gid=f"roller-{j}-sides", **style))
     # the contact lines of the engaged sides, in the band
     contact_label: str | None = "contact line (in the rib's band)"
     for si, (side, tag) in enumerate(((1, "p"), (-1, "m"))):
@@ -515,7 +561,9 @@ def spatial_panel(design: SpatialDesign, theta: float = 0.0, view: tuple[float, 
                       f"engaged rollers (sides): {', '.join(held) if held else 'none'}", size=8.0, dx=0.0, dy=0.0,
                       anchor="start", valign="top", boxed=True, gid="turret-angle"))
     kind = "barrel" if barrel else "globoidal"
-    sizes = (f"R_p = {float(ix.pitch_radius):g}, " if barrel else "") + f"r_r = {rr:g}, t = {t0:g}–{t1:g} mm"
+    cone = float(ix.roller_cone_angle)
+    sizes = (f"R_p = {float(ix.pitch_radius):g}, " if barrel else "") + f"r_r = {rr:g}, t = {t0:g}–{t1:g} mm" + (
+        f", cone γ = {math.degrees(cone):g}° (r = {r_ends[0]:.4g}–{r_ends[1]:.4g})" if cone != 0.0 else "")
     title = (f"{kind} indexer: N = {n}, β = {math.degrees(float(ix.index_angle)):g}°, {ix.law}, "
              f"C = {c_dist:g}, {sizes}\n"
              f"fixed frame at input angle θ = {math.degrees(theta):g}°; view azimuth {view[0]:g}°, "
@@ -528,7 +576,8 @@ def spatial_picture(design: SpatialDesign, theta: float = 0.0, view: tuple[float
     """The spatial indexer in the fixed frame at input angle ``theta`` [rad], projected
     orthographically along ``view`` = (azimuth, elevation) [deg] (module docs; None: the type's
     default, :data:`BARREL_VIEW` or :data:`GLOBOIDAL_VIEW`): the rib's two flank sheets turned by θ
-    and the root body (shaded quads, back to front), every roller's cylinder (the engaged ones in
+    and the root body (shaded quads, back to front), every roller (a cylinder or, with a cone angle, a
+    cone: :func:`roller_mesh`; the engaged ones in
     their own colour, outlined thick, with their contact lines in the band), the turret's pitch
     circle (barrel) or hub (globoid), the cam and turret axes and a note with ψ(θ) [deg]."""
     return Chart.stack([spatial_panel(design, theta, view)], width=640.0)
@@ -573,5 +622,6 @@ def spatial_motion_chart(design: SpatialDesign) -> Chart:
     return Chart.stack(panels, width=640.0)
 
 
-__all__ = ["BARREL_VIEW", "GLOBOIDAL_VIEW", "default_view", "engaged_sides", "project", "spatial_design_picture",
-           "spatial_motion_chart", "spatial_panel", "spatial_picture", "turned", "view_basis"]
+__all__ = ["BARREL_VIEW", "GLOBOIDAL_VIEW", "default_view", "engaged_sides", "project", "roller_mesh",
+           "roller_silhouettes", "spatial_design_picture", "spatial_motion_chart", "spatial_panel", "spatial_picture",
+           "turned", "view_basis"]

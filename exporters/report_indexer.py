@@ -136,13 +136,7 @@ def render_indexer_report(design: ParallelIndexerDesign, report: Mapping[str, An
               "plot_pressure_angle.png": lambda: pressure_angle_chart(design, report),
               "plot_motion.png": lambda: plots_indexer.indexer_motion_chart(g),
               "plot_torque.png": lambda: drive_chart(design, report)}
-    svgs, files = {}, {}
-    for name in _figure_names(design):
-        if progress is not None:
-            progress(_TITLES[name])
-        svgs[name] = chart_svg.svg(makers[name](), name[5:-4])
-        if pngs:
-            files[name] = chart_png.png_bytes(svgs[name])
+    svgs, files = render_figures(_figure_names(design), makers, _TITLES, progress, pngs)
     return _page(report, svgs), files
 
 
@@ -161,6 +155,42 @@ class ParallelIndexerPage:
 
 
 # ---- the page -------------------------------------------------------------------------------------
+def render_figures(names: list[str], makers: Mapping[str, Callable[[], Chart]], titles: Mapping[str, str],
+                   progress: Callable[[str], None] | None, pngs: bool) -> tuple[dict[str, str], dict[str, bytes]]:
+    """(SVG text, with ``pngs`` PNG bytes) of each figure of ``names`` (PNG names, the page's order),
+    drawn by ``makers[name]()``; ``progress`` is told each one's title from ``titles`` before it is
+    drawn."""
+    svgs, files = {}, {}
+    for name in names:
+        if progress is not None:
+            progress(titles[name])
+        svgs[name] = chart_svg.svg(makers[name](), name[5:-4])
+        if pngs:
+            files[name] = chart_png.png_bytes(svgs[name])
+    return svgs, files
+
+
+def page_html(title: str, sections: str) -> str:
+    """The report page: an HTML document titled ``title`` (its ``<title>`` and ``<h1>``; the plane
+    cams' report's :data:`~.report_html.CSS`) holding ``sections`` (HTML) after the sub-heading."""
+    return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
+            + f"</title><style>{CSS}</style></head><body><main>"
+            f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
+            + sections + "</main></body></html>\n")
+
+
+def motion_rows(report: Mapping[str, Any]) -> list[tuple[str, str, str, str | None]]:
+    """The turret's motion table: the advance per index and the largest |velocity|, |acceleration|
+    and |jerk|, in report.json's ``motion.lift_unit`` (deg when not given) and its /s, /s², /s³."""
+    lu = (report.get("motion") or {}).get("lift_unit", "deg")
+    return [
+        ("turret advance per index", "motion.advance_deg", lu, None),
+        ("max |turret velocity|", "motion.max_velocity", f"{lu}/s", None),
+        ("max |turret acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
+        ("max |turret jerk|", "motion.max_jerk", f"{lu}/s³", None),
+    ]
+
+
 def figure_html(name: str, svgs: Mapping[str, str], titles: Mapping[str, str]) -> str:
     """The ``<figure>`` of the PNG name ``name`` (id ``fig-<name without plot_ and .png>``) holding
     its SVG from ``svgs`` and its caption from ``titles``; "" when ``svgs`` has none."""
@@ -339,14 +369,7 @@ def drive_section(report: Mapping[str, Any], torque_figure: str) -> str:
 def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
     fol = report.get("follower") or {}
     body = report.get("body") or {}
-    lu = (report.get("motion") or {}).get("lift_unit", "deg")
     title = f"Parallel indexer — {fol.get('label', '')}"
-    motion_rows = [
-        ("turret advance per index", "motion.advance_deg", lu, None),
-        ("max |turret velocity|", "motion.max_velocity", f"{lu}/s", None),
-        ("max |turret acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
-        ("max |turret jerk|", "motion.max_jerk", f"{lu}/s³", None),
-    ]
     mg = report.get("indexer", {}).get("motion_from_geometry") or {}
     fit = body.get("flank_fit_error") or {}
     accuracy_note = (f'<p class="note" id="flank-claim" data-exact="false">The flanks are fitted, not exact '
@@ -354,15 +377,12 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
                      f"{html.escape(str(body.get('approximation', '')))}. The recovered turret angle: "
                      f"{html.escape(str(mg.get('what', '')))}.</p>")
     drive = drive_section(report, _figure("plot_torque.png", svgs))
-    return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
-            + f"</title><style>{CSS}</style></head><body><main>"
-            f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
-            '<h2 id="checks">Design checks</h2>' + checks_section(report) + _figure("plot_pressure_angle.png", svgs)
-            + '<h2 id="indexer">The indexer</h2>' + _figure("plot_indexer.png", svgs)
-            + quantity_table(report, _indexer_rows(report))
-            + '<h2 id="accuracy">How closely the built profiles hold the law</h2>'
-            + quantity_table(report, _accuracy_rows()) + accuracy_note
-            + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows)
-            + _figure("plot_motion.png", svgs)
-            + '<h2 id="drive">The drive</h2>' + drive + dynamics_section(report) + outputs_sections(report)
-            + "</main></body></html>\n")
+    return page_html(title, '<h2 id="checks">Design checks</h2>' + checks_section(report)
+                     + _figure("plot_pressure_angle.png", svgs)
+                     + '<h2 id="indexer">The indexer</h2>' + _figure("plot_indexer.png", svgs)
+                     + quantity_table(report, _indexer_rows(report))
+                     + '<h2 id="accuracy">How closely the built profiles hold the law</h2>'
+                     + quantity_table(report, _accuracy_rows()) + accuracy_note
+                     + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows(report))
+                     + _figure("plot_motion.png", svgs)
+                     + '<h2 id="drive">The drive</h2>' + drive + dynamics_section(report) + outputs_sections(report))

@@ -23,11 +23,11 @@ import numpy as np
 from cam_workbench.generators.bodies.indexing.spatial import SpatialDesign
 from cam_workbench.generators.bodies.indexing.spatial_kind import SpatialIndexerDesign
 
-from . import chart_png, chart_svg, plots_spatial_indexer
+from . import plots_spatial_indexer
 from .chart import Chart, Curve, Note, Panel, Rule
 from .report_cells import has, lookup, num_cell, quantity_table
-from .report_html import CSS
-from .report_indexer import drive_chart, drive_section, dynamics_section, figure_html, outputs_sections
+from .report_indexer import (drive_chart, drive_section, dynamics_section, figure_html, motion_rows, outputs_sections,
+                             page_html, render_figures)
 from .report_pages import REPORT_PAGES
 from .report_sections import checks_section
 
@@ -110,13 +110,7 @@ def render_spatial_indexer_report(design: SpatialIndexerDesign, report: Mapping[
               "plot_pressure_angle.png": lambda: pressure_angle_chart(design, report),
               "plot_motion.png": lambda: plots_spatial_indexer.spatial_motion_chart(g),
               "plot_torque.png": lambda: drive_chart(design, report)}
-    svgs, files = {}, {}
-    for name in _figure_names(design):
-        if progress is not None:
-            progress(_TITLES[name])
-        svgs[name] = chart_svg.svg(makers[name](), name[5:-4])
-        if pngs:
-            files[name] = chart_png.png_bytes(svgs[name])
+    svgs, files = render_figures(_figure_names(design), makers, _TITLES, progress, pngs)
     return _page(report, svgs), files
 
 
@@ -156,6 +150,11 @@ def _geometry_rows(barrel: bool) -> _Rows:
         ("index start θ_s", f"{geo}.index_start_deg", "deg", None),
         ("centre distance C (cam axis to turret axis)", f"{geo}.centre_distance", "mm", None),
         ("roller radius r_r", f"{geo}.roller_radius", "mm", None),
+        ("rollers' half cone angle γ (0: cylindrical; else r_r is the radius at the working length's middle)",
+         f"{geo}.roller_cone_angle_deg", "deg", None),
+        ("conical roller's radius at t₀", f"{geo}.roller_radius_start", "mm", None),
+        ("… at t₁", f"{geo}.roller_radius_end", "mm", None),
+        ("cone's apex on the roller's axis at t", f"{geo}.roller_cone_apex_t", "mm", None),
         ("rollers' working length along their axes: from t₀", f"{geo}.roller_start", "mm", None),
         ("… to t₁", f"{geo}.roller_end", "mm", None),
         *rib,
@@ -221,14 +220,7 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
     body = report.get("body") or {}
     kind = str((report.get("indexer") or {}).get("type", ""))
     barrel = kind == "barrel"
-    lu = (report.get("motion") or {}).get("lift_unit", "deg")
     title = f"{kind.capitalize()} indexer — {fol.get('label', '')}"
-    motion_rows = [
-        ("turret advance per index", "motion.advance_deg", lu, None),
-        ("max |turret velocity|", "motion.max_velocity", f"{lu}/s", None),
-        ("max |turret acceleration|", "motion.max_acceleration", f"{lu}/s²", None),
-        ("max |turret jerk|", "motion.max_jerk", f"{lu}/s³", None),
-    ]
     recovered_rows = [
         ("turret angle recovered from the flank surfaces vs the law: largest error", f"{_MG}.max_error_rad", "rad",
          None),
@@ -241,20 +233,17 @@ def _page(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
                   f"{html.escape(str(body.get('approximation', '')))}.</p>")
     recovered_note = (f'<p class="note" id="recovered">The recovered turret angle: '
                       f"{html.escape(str(mg.get('what', '')))}.</p>")
-    return ("<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + html.escape(title)
-            + f"</title><style>{CSS}</style></head><body><main>"
-            f"<h1>{html.escape(title)}</h1><p class=\"sub\">cam_workbench report (report.json's numbers)</p>"
-            '<h2 id="checks">Design checks</h2>' + checks_section(report) + _figure("plot_pressure_angle.png", svgs)
-            + '<h2 id="indexer">The indexer</h2>' + _figure("plot_indexer.png", svgs)
-            + quantity_table(report, _geometry_rows(barrel)) + _windows_table(report)
-            + '<h2 id="accuracy">How closely the built flanks hold the envelope</h2>'
-            + quantity_table(report, _accuracy_rows(report)) + flank_note
-            + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows)
-            + "<h3>The turret angle recovered from the flanks</h3>" + quantity_table(report, recovered_rows)
-            + recovered_note + _figure("plot_motion.png", svgs)
-            + '<h2 id="drive">The drive</h2>' + drive_section(report, _figure("plot_torque.png", svgs))
-            + dynamics_section(report) + outputs_sections(report)
-            + "</main></body></html>\n")
+    return page_html(title, '<h2 id="checks">Design checks</h2>' + checks_section(report)
+                     + _figure("plot_pressure_angle.png", svgs)
+                     + '<h2 id="indexer">The indexer</h2>' + _figure("plot_indexer.png", svgs)
+                     + quantity_table(report, _geometry_rows(barrel)) + _windows_table(report)
+                     + '<h2 id="accuracy">How closely the built flanks hold the envelope</h2>'
+                     + quantity_table(report, _accuracy_rows(report)) + flank_note
+                     + '<h2 id="motion">The turret\'s motion</h2>' + quantity_table(report, motion_rows(report))
+                     + "<h3>The turret angle recovered from the flanks</h3>" + quantity_table(report, recovered_rows)
+                     + recovered_note + _figure("plot_motion.png", svgs)
+                     + '<h2 id="drive">The drive</h2>' + drive_section(report, _figure("plot_torque.png", svgs))
+                     + dynamics_section(report) + outputs_sections(report))
 
 
 __all__ = ["FIGURES", "SpatialIndexerPage", "contacts_angle", "pressure_angle_chart", "render_spatial_indexer_report"]

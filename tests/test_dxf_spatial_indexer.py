@@ -386,3 +386,96 @@ def test_the_document_is_built_without_writing_and_checks_its_inputs():
     other = flank_surfaces(design_globoidal(GloboidalIndexer(cam_width=54.0)))
     with pytest.raises(ValueError):
         spatial_drawing(d, other)
+
+
+# ---- conical rollers: the outlines are the cone seen side-on --------------------------------------
+# the spec numbers: a barrel with γ = 8° (r_r = 12 at the middle of t = 27 … 45) and a globoid whose
+# cone's apex is at P (γ = atan(12/85), r_r = 12 at the middle of t = 74 … 96: r(t) = 12·t/85)
+CONES = {"barrel": (design_barrel, BarrelIndexer, dict(roller_radius=12.0, roller_start=27.0, roller_end=45.0,
+                                                        roller_cone_angle=math.radians(8.0))),
+         "globoidal": (design_globoidal, GloboidalIndexer, dict(roller_radius=12.0, roller_start=74.0, roller_end=96.0,
+                                                               roller_cone_angle=math.atan(12 / 85)))}
+
+
+def cone_radius(name, t):
+    """r(t) from the spec numbers alone (spatial.py's docs: r_r at the working length's middle)."""
+    if name == "barrel":
+        return 12.0 + (t - (27.0 + 45.0) / 2) * math.tan(math.radians(8.0))
+    return 12.0 * t / 85.0                                 # the globoid's cone: its apex at P
+
+
+@pytest.fixture(scope="module", params=sorted(CONES))
+def conical(request, tmp_path_factory):
+    make, kind, fields = CONES[request.param]
+    d = make(kind(**fields))
+    surfaces = flank_surfaces(d)
+    path = tmp_path_factory.mktemp("dxf_spatial_cone") / f"{request.param}.dxf"
+    info = write_spatial_dxf(d, surfaces, path)
+    return request.param, d, info, ezdxf.readfile(str(path))
+
+
+def same_outline(pts, corners, tol=1e-9):
+    """The closed outline ``pts`` is the polygon ``corners`` (the same cyclic sequence, either way round)."""
+    corners = np.asarray(corners, dtype=float)
+    if pts.shape != corners.shape:
+        return False
+    for seq in (corners, corners[::-1]):
+        for k in range(len(seq)):
+            if np.abs(pts - np.roll(seq, k, axis=0)).max() < tol:
+                return True
+    return False
+
+
+def test_conical_rollers_are_drawn_as_trapezoids(conical):
+    name, d, info, doc = conical
+    ix = d.indexer
+    msp = doc.modelspace()
+    t0, t1 = ix.roller_start, ix.roller_end
+    r0, r1 = cone_radius(name, t0), cone_radius(name, t1)
+    assert r1 - r0 > 2.5                                    # a visible taper: not the cylinder's rectangle
+    outlines = rectangles(msp, "ROLLERS")
+    assert all(o.shape == (4, 2) for o in outlines)
+    if name == "barrel":
+        # side view X = z, Y = y and end view X = x (+ xe), Y = y: the axis along +Y, the cone ± r(t) across it
+        xe, _ = info.views["end"]
+        al = alpha(ix, np.arange(ix.stations), 0.0)
+        x, z = ix.centre_distance + ix.pitch_radius * np.cos(al), ix.pitch_radius * np.sin(al)
+        r_max = max(r0, r1)
+        near = (np.abs(z) < ix.cam_width / 2 + r_max) & (np.abs(x) < ix.outer_radius + r_max)
+        ends = np.unique(np.round(x[near], 9))
+        assert near.sum() >= 1 and len(outlines) == near.sum() + ends.size == info.rollers
+        for xa, za in zip(x[near], z[near]):
+            for c in (za, xe + xa):
+                corners = [(c - r0, t0), (c + r0, t0), (c + r1, t1), (c - r1, t1)]
+                assert sum(same_outline(o, corners) for o in outlines) == 1, (c, corners)
+    else:
+        # contour view X = z, Y = x: P at (0, C), the axis along u(α_j) = (sin α, cos α), across v
+        assert len(outlines) == ix.stations == info.rollers
+        p = np.array([0.0, ix.centre_distance])
+        for al in alpha(ix, np.arange(ix.stations), 0.0):
+            u, v = np.array([math.sin(al), math.cos(al)]), np.array([math.cos(al), -math.sin(al)])
+            corners = [p + t0 * u - r0 * v, p + t1 * u - r1 * v, p + t1 * u + r1 * v, p + t0 * u + r0 * v]
+            assert sum(same_outline(o, corners) for o in outlines) == 1, al
+            # the globoid's cone has its apex at P: its sides run through P
+            for sgn in (-1, 1):
+                a, b = corners[0 if sgn < 0 else 3], corners[1 if sgn < 0 else 2]
+                e, f = b - a, p - a
+                assert abs(e[0] * f[1] - e[1] * f[0]) < 1e-9 * np.linalg.norm(e) * np.linalg.norm(f)
+    # every roller lies inside the sheet's border (the views are sized with the largest radius)
+    border = max(rectangles(msp, "TITLE"), key=lambda o: np.ptp(o[:, 0]) * np.ptp(o[:, 1]))
+    lo, hi = border.min(axis=0), border.max(axis=0)
+    for o in outlines:
+        assert np.all(o >= lo) and np.all(o <= hi)
+    # the title block names the cone: γ and the radii at the ends
+    rows = title_rows(doc)
+    m = re.fullmatch(r"([0-9.]+)°, RADIUS ([0-9.]+) mm AT t = ([0-9.]+) TO ([0-9.]+) mm AT t = ([0-9.]+) "
+                     r"\(r_r AT THE MIDDLE\)", rows["ROLLER CONE ANGLE"])
+    assert m, rows["ROLLER CONE ANGLE"]
+    gamma = 8.0 if name == "barrel" else math.degrees(math.atan(12 / 85))
+    assert [float(g) for g in m.groups()] == pytest.approx([gamma, r0, t0, r1, t1], rel=5e-6)
+    assert float(re.match(r"[0-9.]+", rows["ROLLER RADIUS r_r"]).group()) == 12.0
+
+
+def test_cylindrical_rollers_have_no_cone_row(drawn):
+    d, surfaces, info, path, doc = drawn
+    assert "ROLLER CONE ANGLE" not in title_rows(doc)

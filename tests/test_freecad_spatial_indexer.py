@@ -39,7 +39,10 @@ from .freecad_support import fc_home, requires_freecadcmd, run_freecadcmd  # noq
 pytestmark = requires_freecadcmd
 
 SPECS = {"barrel_indexer": copy.deepcopy(BARREL_INDEXER_SPEC_DICT),
-         "globoidal_indexer": copy.deepcopy(GLOBOIDAL_INDEXER_SPEC_DICT)}
+         "globoidal_indexer": copy.deepcopy(GLOBOIDAL_INDEXER_SPEC_DICT),
+         # conical rollers, their apex on the turret axis (t_m = 85 mm, r_r = 12 mm)
+         "globoidal_cone": copy.deepcopy(GLOBOIDAL_INDEXER_SPEC_DICT)}
+SPECS["globoidal_cone"]["indexer"]["roller_cone_angle"] = math.degrees(math.atan(12.0 / 85.0))
 #: the follower's angles [deg]: a dwell (before the default index at 60°) and inside the index
 ANGLES = (0.0, 100.0)
 #: OCCT's adaptive volume integration: relative error asked per face
@@ -62,7 +65,11 @@ def circles(solid):
 
 def axes(solid):
     return [[f.Surface.Axis.x, f.Surface.Axis.y, f.Surface.Axis.z] for f in solid.Faces
-            if f.Surface.TypeId == "Part::GeomCylinder"]
+            if f.Surface.TypeId in ("Part::GeomCylinder", "Part::GeomCone")]
+
+def end_radii(solid):
+    return [[e.Curve.Center.x, e.Curve.Center.y, e.Curve.Center.z, e.Curve.Radius] for e in solid.Edges
+            if e.Curve.TypeId == "Part::GeomCircle"]
 
 def radii(solid):
     return [f.Surface.Radius for f in solid.Faces if f.Surface.TypeId == "Part::GeomCylinder"]
@@ -88,6 +95,7 @@ for name, text in SPECS.items():
         sh = builder.follower_shape(design, 1.0, angle)
         out["follower"][str(angle)] = dict(solids=len(sh.Solids), circles=[circles(c) for c in sh.Solids],
                                            axes=[axes(c) for c in sh.Solids], radii=[radii(c) for c in sh.Solids],
+                                           ends=[end_radii(c) for c in sh.Solids],
                                            gaps=[s.distToShape(c)[0] for c in sh.Solids])
     pitch = builder.pitch_wire(design, 1.0)
     out["pitch"] = dict(edges=len(pitch.Edges), length=pitch.Length,
@@ -303,6 +311,14 @@ def test_rollers_where_roller_axis_puts_them(run, designs, name, angle):
         for ax_ in f["axes"][k]:
             assert abs(abs(float(np.dot(ax_, axis[k]))) - 1.0) <= 1e-9
         assert f["radii"][k] == pytest.approx([float(ix.roller_radius)] * len(f["radii"][k]), rel=1e-12)
+        # the end circles' radii: r_r + (t − t_m)·tan γ at t0 and t1 (the spec's cone angle)
+        spec_ix = SPECS[name]["indexer"]
+        tan_g = math.tan(math.radians(spec_ix.get("roller_cone_angle", 0.0)))
+        t_m = 0.5 * (spec_ix["roller_start"] + spec_ix["roller_end"])
+        want = [SPECS[name]["follower"]["roller_radius"] + (t - t_m) * tan_g
+                for t in (spec_ix["roller_start"], spec_ix["roller_end"])]
+        ends = sorted(f["ends"][k], key=lambda e: np.linalg.norm(np.array(e[:3]) - start[k]))
+        assert [e[3] for e in ends] == pytest.approx(want, rel=1e-12)
     # the rollers holding the rib at a dwell touch it (within the flank fit), one at least
     if angle == ANGLES[0]:
         assert sum(g <= 1e-2 for g in f["gaps"]) >= 2, f["gaps"]
@@ -342,7 +358,7 @@ def test_feature_recomputes(run, designs, name):
     r = run[name]
     assert r["status"] == "ok", r["status"]
     f = r["feature"]
-    assert name in f["body_choices"]
+    assert SPECS[name]["cam"]["body"] in f["body_choices"]
     assert f["valid"] and f["solids"] == 1
     assert f["volume"] == pytest.approx(r["solid"]["volume"], rel=1e-12)
     assert f["z"] == pytest.approx([0.0, SPECS[name]["cam"]["thickness"]], abs=1e-5)

@@ -15,8 +15,8 @@ import pytest
 
 from cam_workbench.exporters.chart import Area, Curve
 from cam_workbench.exporters.chart_svg import svg
-from cam_workbench.exporters.plots_spatial_indexer import (BARREL_VIEW, GLOBOIDAL_VIEW, spatial_motion_chart,
-                                                          spatial_picture)
+from cam_workbench.exporters.plots_spatial_indexer import (BARREL_VIEW, GLOBOIDAL_VIEW, roller_mesh,
+                                                          spatial_motion_chart, spatial_picture)
 from cam_workbench.generators.bodies.indexing.spatial import (BarrelIndexer, GloboidalIndexer, design_barrel,
                                                               design_globoidal)
 from cam_workbench.generators.motion.laws import evaluate_law
@@ -158,3 +158,122 @@ def test_the_motion_chart_is_the_law(design):
     assert np.allclose(c.y[over], np.degrees(design.driving_angle[over]), equal_nan=True)
     y = c.y[np.isfinite(c.y)]
     assert y.size > 0.9 * over.sum() and np.all((y >= 0) & (y < 90))
+
+
+# ---- conical rollers ------------------------------------------------------------------------------
+# the spec numbers: a barrel with γ = 8° (r_r = 12 at the middle of t = 27 … 45) and a globoid whose
+# cone's apex is at P (γ = atan(12/85), r_r = 12 at the middle of t = 74 … 96: r(t) = 12·t/85)
+CONES = {"barrel-cone": (design_barrel, BarrelIndexer, dict(roller_radius=12.0, roller_start=27.0, roller_end=45.0,
+                                                             roller_cone_angle=math.radians(8.0)),
+                         lambda t: 12.0 + (t - 36.0) * math.tan(math.radians(8.0)), math.tan(math.radians(8.0))),
+         "globoidal-cone": (design_globoidal, GloboidalIndexer, dict(roller_radius=12.0, roller_start=74.0,
+                                                                     roller_end=96.0,
+                                                                     roller_cone_angle=math.atan(12 / 85)),
+                            lambda t: 12.0 * np.asarray(t) / 85.0, 12 / 85)}
+
+
+CYLINDERS = {"barrel": (design_barrel, BarrelIndexer, {}, lambda t: np.full_like(np.asarray(t, dtype=float), 12.0),
+                        0.0),
+             "globoidal": (design_globoidal, GloboidalIndexer, {},
+                           lambda t: np.full_like(np.asarray(t, dtype=float), 12.0), 0.0)}
+
+
+def _rollers_case(name):
+    make, kind, fields, radius, taper = {**CYLINDERS, **CONES}[name]
+    return make(kind(**fields)), radius, taper
+
+
+@pytest.fixture(scope="module", params=sorted(CONES))
+def cone(request):
+    return _rollers_case(request.param)
+
+
+@pytest.fixture(scope="module", params=sorted(CYLINDERS) + sorted(CONES))
+def any_roller(request):
+    """The default designs (cylinders of radius r_r = 12, no taper) and the conical ones."""
+    return _rollers_case(request.param)
+
+
+def test_the_conical_pictures_build_and_their_end_circles_have_the_cones_radii(cone):
+    design, radius, taper = cone
+    ix = design.indexer
+    theta = float(design.theta[design.index_rows // 2])
+    for given in (None, (30.0, 20.0)):
+        chart = spatial_picture(design, theta, given)
+        ET.fromstring(svg(chart, "c"))
+        view = given or (BARREL_VIEW if isinstance(ix, BarrelIndexer) else GLOBOIDAL_VIEW)
+        m = projector(view)
+        for j in design.rollers.tolist():
+            a, d = roller_axis_here(ix, j, theta)
+            for tag, t in (("t0", ix.roller_start), ("t1", ix.roller_end)):
+                (ring,) = chart.marks(f"roller-{j}-{tag}")
+                pts = np.column_stack([ring.x, ring.y])[:-1]
+                assert np.allclose(pts.mean(axis=0), (a + t * d) @ m, atol=1e-9)
+                span = np.linalg.norm(pts - (a + t * d) @ m, axis=1)
+                assert span.max() == pytest.approx(float(radius(t)), rel=1e-9)
+        assert "cone γ" in chart.panels[0].title
+
+
+def test_the_roller_silhouettes_touch_both_end_circles(any_roller):
+    """Each silhouette line's ends lie on the projected end circles (radii r(t0), r(t1)) and the line is
+    tangent to both there; a cone seen within γ of its axis has none."""
+    design, radius, taper = any_roller
+    ix = design.indexer
+    t0, t1 = ix.roller_start, ix.roller_end
+    for theta, _, given, view in cases(design)[:2]:
+        chart = spatial_picture(design, theta, given)
+        m = projector(view)
+        toward = np.cross(m[:, 0], m[:, 1])                         # right × up: towards the viewer
+        drawn = 0
+        for j in design.rollers.tolist():
+            a, d = roller_axis_here(ix, j, theta)
+            (sides,) = chart.marks(f"roller-{j}-sides")
+            xy = np.column_stack([sides.x, sides.y])
+            assert np.isnan(xy[2]).all()
+            along = abs(d @ toward)
+            if taper * along > np.linalg.norm(np.cross(d, toward)):
+                assert np.isnan(xy).all()
+                continue
+            b1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 0.0, 1.0])
+            b1 /= np.linalg.norm(b1)
+            b2 = np.cross(d, b1)
+            basis = np.column_stack([b1 @ m, b2 @ m])               # the circle's (cos, sin) → screen
+            for p0, p1 in (xy[:2], xy[3:]):
+                line = p1 - p0
+                for q, t in ((p0, t0), (p1, t1)):
+                    cs = np.linalg.solve(basis, q - (a + t * d) @ m) / float(radius(t))
+                    assert np.hypot(*cs) == pytest.approx(1.0, abs=1e-9)            # on the end circle
+                    tangent = basis @ np.array([-cs[1], cs[0]])
+                    sin = (line[0] * tangent[1] - line[1] * tangent[0]) / np.linalg.norm(line) \
+                        / np.linalg.norm(tangent)
+                    assert abs(sin) < 1e-9                                            # tangent to it
+                drawn += 1
+        assert drawn >= design.rollers.size
+
+
+def test_the_roller_mesh_is_the_cone(any_roller):
+    """roller_mesh: every grid point at distance r(t) from its roller's axis at axis parameter t, the
+    rings at t0 … t1, and the mantle's normals square to the generators, pointing outwards."""
+    design, radius, taper = any_roller
+    ix = design.indexer
+    theta = float(design.theta[design.index_rows // 3])
+    axes = [roller_axis_here(ix, j, theta) for j in design.rollers.tolist()]
+    a, d = np.array([p for p, _ in axes]), np.array([q for _, q in axes])
+    t, pts, normals = roller_mesh(ix, a, d, (30.0, 20.0))
+    assert t[0] == ix.roller_start and t[-1] == ix.roller_end and pts.shape[:2] == (a.shape[0], t.size)
+    rel = pts - a[:, None, None, :]
+    s = np.einsum("jtpc,jc->jtp", rel, d)
+    assert np.allclose(s, t[None, :, None], rtol=0, atol=1e-9)
+    dist = np.linalg.norm(rel - s[..., None] * d[:, None, None, :], axis=-1)
+    assert np.allclose(dist, radius(t)[None, :, None], rtol=0, atol=1e-9)
+    gen = pts[:, -1] - pts[:, 0]                                    # the generators (J, P, 3)
+    mid_gen = 0.5 * (gen[:, :-1] + gen[:, 1:])
+    nh = normals / np.linalg.norm(normals, axis=-1, keepdims=True)
+    assert np.abs(np.einsum("jpc,jpc->jp", nh, mid_gen / np.linalg.norm(mid_gen, axis=-1, keepdims=True))).max() \
+        < 0.05                                                      # square to the faces (a chord's error)
+    radial = 0.5 * (rel[:, 0, :-1] + rel[:, 0, 1:]) - t[0] * d[:, None, :]
+    assert (np.einsum("jpc,jpc->jp", nh, radial) > 0).all()
+    # the normal's axial part: −tan γ per unit of radial part
+    ax = np.einsum("jpc,jc->jp", normals, d)
+    rad = np.linalg.norm(normals - ax[..., None] * d[:, None, :], axis=-1)
+    assert np.allclose(ax / rad, -taper, atol=1e-12)

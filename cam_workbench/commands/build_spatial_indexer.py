@@ -20,6 +20,16 @@ def _rib_words(geo: dict, u: str) -> str:
     return f"rib between the globoids {geo['tip_radius']:.6g}–{geo['root_radius']:.6g} {u}"
 
 
+def _roller_words(geo: dict, u: str) -> str:
+    """The rollers: "r_r = 12 mm", or for conical rollers (``roller_radius_start`` present, γ ≠ 0)
+    their radii at t0 and t1, the cone angle, the middle's radius and the apex's t."""
+    if geo.get("roller_radius_start") is None:
+        return f"r_r = {geo['roller_radius']:.6g} {u}"
+    return (f"conical rollers r = {geo['roller_radius_start']:.6g}–{geo['roller_radius_end']:.6g} {u} (γ = "
+            f"{geo['roller_cone_angle_deg']:.6g}°, r_r = {geo['roller_radius']:.6g} {u} at mid-length, apex at t = "
+            f"{geo['roller_cone_apex_t']:.6g} {u})")
+
+
 def body_lines(s: dict) -> list[str]:
     """The body and its turret, the pressure angles, the rib, the fitted flanks, the turret angle
     recovered from the flanks, the volume and the drive (when report.json has it)."""
@@ -34,8 +44,8 @@ def body_lines(s: dict) -> list[str]:
     mu = geo["min_regularity_margin"]
     lines = [
         f"  {b['kind']} (lengths in {u}): {s['follower']['label']}",
-        f"  turret: {geo['stations']} stations, C = {geo['centre_distance']:.6g} {u}, r_r = {geo['roller_radius']:.6g} "
-        f"{u} over t = {geo['roller_start']:.6g}–{geo['roller_end']:.6g} {u}; {_rib_words(geo, u)}, cam "
+        f"  turret: {geo['stations']} stations, C = {geo['centre_distance']:.6g} {u}, {_roller_words(geo, u)} over "
+        f"t = {geo['roller_start']:.6g}–{geo['roller_end']:.6g} {u}; {_rib_words(geo, u)}, cam "
         f"{geo['cam_width']:.6g} {u} long; {geo['law']} index over {geo['index_angle_deg']:.6g}° of input from "
         f"{geo['index_start_deg']:.6g}°",
         f"  pressure angle: max {pa['max_deg']:.2f}° at {pa['at_deg']:.2f}° (the driving contact line"

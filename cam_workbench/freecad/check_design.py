@@ -15,7 +15,11 @@ own Python runs them):
   the rows of report.json's ``dynamics`` section (``cam_workbench.generators.dynamics.analyse_dynamics(...).summary()``,
   the function ``cam-workbench dynamics`` and ``build`` call) — whether the follower stays on the cam,
   the jump speed, the contact forces, the displacement error, the camshaft torque and the residual
-  vibration; bad ``[dynamics]`` input shows the library's message naming the field;
+  vibration; for an indexer (``body`` parallel, barrel or globoidal indexer) the same section is its
+  output train's (the output's inertia on the turret shaft: ``dynamics.turret``), and its rows say so —
+  the shaft torque, the angle error |φ − ψ|, the torsional deflection, the residual vibration at the
+  station — in the section's own units; bad ``[dynamics]`` input (or an input the dynamics need,
+  such as ``indexer.output_inertia``) shows the library's message naming the field;
 - the **buildability** checks of ``design_cam`` (undercut or cusp, self-intersection, bore,
   which raise with the cam angle), the design numbers — lifts, their errors and derivatives in
   the follower's lift unit (report.json's ``motion.lift_unit``: the arm's degrees for an
@@ -126,6 +130,9 @@ class DesignReport:
     dynamics: list[DynamicsRow] = field(default_factory=list)
     #: why the dynamics could not be analysed (the library's message, the field named as the property)
     dynamics_error: str | None = None
+    #: the train the dynamics are of: "follower", or an indexer's "output train" (its turret:
+    #: ``Body.dynamics_follower(spec).turret``)
+    train: str = "follower"
     #: what makes each failing check (or the refusal) pass: one line per check (:func:`remedy_texts`)
     remedies: list[str] = field(default_factory=list)
 
@@ -139,15 +146,24 @@ class DesignReport:
         if not self.dynamics_enabled:
             return ""
         if self.dynamics_error is not None:
-            return f"follower dynamics not analysed: {self.dynamics_error}"
+            return f"{self.train} dynamics not analysed: {self.dynamics_error}"
         d = self.dynamics_dict
         if d is None:
             return ""
         rpm = fmt_number(d["speed_rpm"])
+        if is_turret(d):      # form closure: the rollers never leave the cam (docs/indexing.md)
+            return f"the rollers hold the turret both ways at {rpm} rpm (output train: no separation)"
         if d["contact"]["kept"]:
             return f"the follower stays on the cam at {rpm} rpm"
         return (f"the follower LEAVES the cam at {rpm} rpm "
                 f"({fmt_number(d['contact']['off_cam_deg'])}° of the revolution off the cam)")
+
+    @property
+    def dynamics_title(self) -> str:
+        """The dynamics tab's title: "Output train dynamics" for an indexer's turret (report.json's
+        ``dynamics.turret``), "Follower dynamics" otherwise."""
+        turret = is_turret(self.dynamics_dict) if self.dynamics_dict is not None else self.train == "output train"
+        return "Output train dynamics" if turret else "Follower dynamics"
 
     @property
     def follower_text(self) -> str:
@@ -197,7 +213,7 @@ class DesignReport:
             lines.append("  extremes: " + "; ".join(f"{n.replace('_', ' ')} {fmt_value(v, u)} at {a:.3f}°"
                                                     for n, v, a, u in self.extremes))
         if self.dynamics_enabled:
-            lines.append(f"  follower dynamics: {self.dynamics_verdict()}")
+            lines.append(f"  {self.dynamics_title.lower()}: {self.dynamics_verdict()}")
             for r in self.dynamics:
                 c = r.cells()
                 lines.append(f"    {c[0]:<44} {c[1]:>16} {c[2]:<8} at {c[3]:>9}  {c[4]}")
@@ -217,13 +233,15 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
         spec = props.spec_of(obj)
     except SpecError as exc:
         msg = f"{props.describe_field(exc.field)}: {exc.rule}"
-        spec = _spec_without_dynamics(obj) if exc.field.startswith("dynamics.") else None
+        # a rule of [dynamics], or one the dynamics add (an indexer's indexer.output_inertia): the
+        # spec without [dynamics] is valid
+        spec = _spec_without_dynamics(obj)
         if spec is None:
             return DesignReport(False, msg, checks_error=msg)
         dynamics_error = msg   # the cam itself is fine: check it, and say why the dynamics are not analysed
 
     if not body_of(spec).plane:     # a body that designs itself: its own design, checks and rows
-        return _own_body_report(obj, spec, dynamics_error)
+        return _own_body_report(obj, spec, dynamics_error, dynamics_progress)
     report = DesignReport(True, follower=follower_of(spec).describe(), units=spec.units)
     _add_checks(report, spec)
     _add_buildability(report, obj, spec)
@@ -238,11 +256,14 @@ def design_report(obj: Any, dynamics_progress: Any = None) -> DesignReport:
     return report
 
 
-def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignReport:
-    """Check design of a body that is not a plane cam (it designs itself: a cylindrical cam): its
-    design checks are the ``checks`` section of its report.json, its rows the body's numbers
-    (:meth:`cam_workbench.freecad.part_build.FreeCADBody.design_rows`)."""
-    report = DesignReport(True, units=spec.units)
+def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None, dynamics_progress: Any = None
+                     ) -> DesignReport:
+    """Check design of a body that is not a plane cam (it designs itself: a cylindrical cam, the
+    three indexers): its design checks are the ``checks`` section of its report.json, its rows the
+    body's numbers (:meth:`cam_workbench.freecad.part_build.FreeCADBody.design_rows`) and, with
+    ``DynamicsEnabled``, its dynamics section (an indexer's: the output train)."""
+    report = DesignReport(True, units=spec.units, train=train_name(spec))
+    report.dynamics_enabled = bool(getattr(obj, "DynamicsEnabled", False))
     if dynamics_error is not None:
         report.dynamics_enabled, report.dynamics_error = True, dynamics_error
     try:
@@ -273,8 +294,21 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None) -> DesignR
                        for name, e in checks.get("extremes", {}).items()]
     report.rows += builder_for(design).design_rows(s)
     report.rows += _kernel_rows(obj, design)
-    report.ok = not report.failed_checks and report.buildable and report.dynamics_error is None
+    if report.dynamics_enabled and report.dynamics_error is None:
+        _add_dynamics(report, spec, dynamics_progress, design)
+    report.ok = (not report.failed_checks and report.buildable and report.dynamics_error is None
+                 and report.contact_kept is not False)
     return report
+
+
+def train_name(spec: Any) -> str:
+    """What the spec's dynamics are of: an indexer's "output train" (the output's inertia on the
+    turret shaft, ``Body.dynamics_follower(spec).turret``), else the "follower"."""
+    try:
+        turret = bool(getattr(body_of(spec).dynamics_follower(spec), "turret", False))
+    except CamError:
+        turret = False
+    return "output train" if turret else "follower"
 
 
 def _spec_without_dynamics(obj: Any) -> Any:
@@ -288,16 +322,29 @@ def _spec_without_dynamics(obj: Any) -> Any:
         return None
 
 
+def is_turret(d: dict[str, Any]) -> bool:
+    """report.json's ``dynamics`` section is an indexer's output train (it has ``turret``)."""
+    return d.get("turret") is not None
+
+
 def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
     """The rows of the Follower dynamics table from report.json's ``dynamics`` section
     (``DynamicsResult.summary()``): every number is the section's own, with its unit and, where
-    the section gives one, its cam angle.  No FreeCAD needed."""
+    the section gives one, its cam angle.  An indexer's section (:func:`is_turret`) is its output
+    train's: the "contact force" is the turret shaft's torque, the error the output's angle error
+    φ − ψ, and the rows of its ``turret`` subsection follow.  No FreeCAD needed."""
     c, m, e, tq, rpm = d["contact"], d["model"], d["error"], d["torque"], d["speed_rpm"]
     fu, lu, tu = c["unit"], e["unit"], tq["unit"]
     kept = bool(c["kept"])
-    rows = [DynamicsRow(f"follower at {fmt_number(rpm)} rpm (the analysis speed)", rpm, "rpm",
-                        status="pass" if kept else "FAIL", path=("speed_rpm",),
-                        text="stays on the cam" if kept else "LEAVES the cam")]
+    turret = is_turret(d)
+    if turret:      # form closure: the rollers hold the turret both ways (never "on the cam")
+        rows = [DynamicsRow(f"output train at {fmt_number(rpm)} rpm (the analysis speed)", rpm, "rpm",
+                            status="pass" if kept else "FAIL", path=("speed_rpm",),
+                            text="rollers hold the turret both ways" if kept else "LEAVES the cam")]
+    else:
+        rows = [DynamicsRow(f"follower at {fmt_number(rpm)} rpm (the analysis speed)", rpm, "rpm",
+                            status="pass" if kept else "FAIL", path=("speed_rpm",),
+                            text="stays on the cam" if kept else "LEAVES the cam")]
     jp = d.get("jump_speed")
     if jp is not None:
         if jp["rpm"] is not None:
@@ -314,20 +361,23 @@ def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
     rows.append(DynamicsRow("natural frequency of the train", m["natural_frequency_hz"], "Hz",
                             path=("model", "natural_frequency_hz")))
 
-    def at(quantity: str, section: str, key: str, unit: str, at_key: str, *prefix: str) -> DynamicsRow:
+    def at(quantity: str, section: str, key: str, unit: str, at_key: str, *prefix: Any) -> DynamicsRow:
         src = d[section]
         for p in prefix:
             src = src[p]
         return DynamicsRow(quantity, src[key], unit, src[at_key], path=(section, *prefix, key),
                            at_path=(section, *prefix, at_key))
 
+    load = "shaft torque" if turret else "contact force"
     rows += [
-        at("smallest contact force (dynamic)", "contact", "min_force", fu, "min_force_at_deg"),
-        at("largest contact force (dynamic)", "contact", "max_force", fu, "max_force_at_deg"),
-        at("smallest contact force (rigid)", "contact", "rigid_min_force", fu, "rigid_min_force_at_deg"),
-        at("largest contact force (rigid)", "contact", "rigid_max_force", fu, "rigid_max_force_at_deg"),
-        at("largest displacement error |q − s|", "error", "max", lu, "at_deg"),
-        at("largest vibration", "error", "max_vibration", lu, "vibration_at_deg"),
+        at(f"smallest {load} (dynamic)", "contact", "min_force", fu, "min_force_at_deg"),
+        at(f"largest {load} (dynamic)", "contact", "max_force", fu, "max_force_at_deg"),
+        at(f"smallest {load} (rigid)", "contact", "rigid_min_force", fu, "rigid_min_force_at_deg"),
+        at(f"largest {load} (rigid)", "contact", "rigid_max_force", fu, "rigid_max_force_at_deg"),
+        at("largest angle error |φ − ψ| (output − turret)" if turret else "largest displacement error |q − s|",
+           "error", "max", lu, "at_deg"),
+        at("largest vibration of the output" if turret else "largest vibration", "error", "max_vibration", lu,
+           "vibration_at_deg"),
     ]
     if not kept:
         rows.append(DynamicsRow("off the cam", c["off_cam_deg"], "deg", status="FAIL", path=("contact", "off_cam_deg")))
@@ -343,11 +393,62 @@ def dynamics_rows(d: dict[str, Any]) -> list[DynamicsRow]:
         ]
     rows.append(DynamicsRow("work per revolution (dynamic)", tq["dynamic"]["work_per_revolution"], tu,
                             path=("torque", "dynamic", "work_per_revolution")))
+    what = "residual vibration of the output" if turret else "residual vibration"
     for i, r in enumerate(d["residual_vibration"]):
-        rows.append(DynamicsRow(f"residual vibration after motion[{r['after']}] {r['kind']} "
+        rows.append(DynamicsRow(f"{what} after motion[{r['after']}] {r['kind']} "
                                 f"(in motion[{r['next']}] {r['next_kind']})", r["amplitude"], lu, r["at_deg"],
                                 path=("residual_vibration", i, "amplitude"),
                                 at_path=("residual_vibration", i, "at_deg")))
+    if turret:
+        rows += turret_rows(d["turret"])
+    return rows
+
+
+def turret_rows(t: dict[str, Any]) -> list[DynamicsRow]:
+    """The rows of report.json's ``dynamics.turret`` (an indexer's output train, the numbers
+    ``cam-workbench dynamics`` prints under "indexer output train"), each with its path in the
+    ``dynamics`` section and the subsection's own units (s, Hz, deg, arcmin, N·mm)."""
+    ae, dfl, sq, rv = t["angle_error"], t["deflection"], t["shaft_torque"], t["residual_vibration"]
+
+    def row(quantity: str, value: Any, unit: str, path: tuple[Any, ...], at_deg: Any = None,
+            at_path: tuple[Any, ...] | None = None) -> DynamicsRow:
+        return DynamicsRow(quantity, value, unit, at_deg, path=("turret", *path),
+                           at_path=None if at_path is None else ("turret", *at_path))
+
+    rows = [
+        row("output inertia J (indexer.output_inertia)", t["output_inertia"], t["inertia_unit"], ("output_inertia",)),
+        row("turret shaft torsional stiffness k_t", t["torsional_stiffness"], t["stiffness_unit"],
+            ("torsional_stiffness",)),
+        row("index angle of the input", t["index_angle_deg"], "deg", ("index_angle_deg",)),
+        row("index time t_i", t["index_time_s"], "s", ("index_time_s",)),
+        row("f_n·t_i (natural frequency × index time)", t["fn_ti"], "", ("fn_ti",)),
+        row("largest angle error |φ − ψ|", ae["max_arcmin"], "arcmin", ("angle_error", "max_arcmin"),
+            ae["at_deg"], ("angle_error", "at_deg")),
+        row("peak torsional deflection |ψ − φ| of the shaft", dfl["max_arcmin"], "arcmin",
+            ("deflection", "max_arcmin"), dfl["at_deg"], ("deflection", "at_deg")),
+        row("largest twist ψ − φ (turret leads the output)", dfl["max_positive"], dfl["unit"],
+            ("deflection", "max_positive"), dfl["max_positive_at_deg"], ("deflection", "max_positive_at_deg")),
+        row("most negative twist ψ − φ (output leads the turret)", dfl["max_negative"], dfl["unit"],
+            ("deflection", "max_negative"), dfl["max_negative_at_deg"], ("deflection", "max_negative_at_deg")),
+        row("peak shaft torque (dynamic)", sq["max"], sq["unit"], ("shaft_torque", "max"), sq["at_deg"],
+            ("shaft_torque", "at_deg")),
+        row("peak shaft torque (rigid J·ψ̈)", sq["rigid_max"], sq["unit"], ("shaft_torque", "rigid_max"),
+            sq["rigid_max_at_deg"], ("shaft_torque", "rigid_max_at_deg")),
+        row("dynamic factor of the shaft torque", sq["dynamic_factor"], "", ("shaft_torque", "dynamic_factor")),
+        row("residual vibration entering the dwell", rv["amplitude_arcmin"], "arcmin",
+            ("residual_vibration", "amplitude_arcmin")),
+    ]
+    for i, w in enumerate(rv["dwells"]):
+        span = f"dwell {fmt_number(w['from_deg'])}°–{fmt_number(w['to_deg'])}°"
+        rows += [
+            row(f"{span}: vibration amplitude at its start", w["amplitude_at_start_arcmin"], "arcmin",
+                ("residual_vibration", "dwells", i, "amplitude_at_start_arcmin")),
+            row(f"{span}: vibration amplitude at its end", w["amplitude_at_end_arcmin"], "arcmin",
+                ("residual_vibration", "dwells", i, "amplitude_at_end_arcmin")),
+            row(f"{span}: largest angle error", w["max_error"], rv["unit"],
+                ("residual_vibration", "dwells", i, "max_error"), w["max_error_at_deg"],
+                ("residual_vibration", "dwells", i, "max_error_at_deg")),
+        ]
     return rows
 
 
@@ -358,10 +459,13 @@ def steady_state_text(d: dict[str, Any]) -> str:
             + ("" if st["periodic"] else " — NOT periodic yet" + (f" ({st['note']})" if st.get("note") else "")))
 
 
-def _add_dynamics(report: DesignReport, spec: Any, progress: Any) -> None:
+def _add_dynamics(report: DesignReport, spec: Any, progress: Any, design: Any = None) -> None:
+    """report.json's ``dynamics`` section and its rows; with ``design``, from its motion program and
+    dynamics follower (an indexer's turret), as ``cam_workbench.pipeline.dynamics_stage`` (``build``) calls it."""
     try:
         # the function `cam-workbench dynamics` and `build` call: its summary() is report.json's section
-        section = analyse_dynamics(spec, progress=progress).summary()
+        section = analyse_dynamics(spec, getattr(design, "program", None), progress=progress,
+                                   follower=getattr(design, "follower", None)).summary()
     except SpecError as exc:
         report.dynamics_error = f"{props.describe_field(exc.field)}: {exc.rule}"
         return
@@ -551,8 +655,8 @@ def show_report(obj: Any) -> DesignReport:
     from PySide import QtCore, QtGui  # deferred: PySide (the dialog only)
 
     if getattr(obj, "DynamicsEnabled", False):
-        FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the follower dynamics "
-                                     "(with the jump-speed sweep)…\n")
+        FreeCAD.Console.PrintMessage(f"{obj.Label}: check design: analysing the dynamics "
+                                     "(with the jump-speed sweep, where the follower can leave the cam)…\n")
     QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
     try:
         report = design_report(obj)
@@ -616,7 +720,7 @@ def show_report(obj: Any) -> DesignReport:
                         [list(r) for r in report.rows], status_col=3))
     tabs.addTab(build_page, "Buildability and geometry")
     if report.dynamics_enabled:
-        tabs.addTab(_dynamics_page(report), "Follower dynamics")
+        tabs.addTab(_dynamics_page(report), report.dynamics_title)
     layout.addWidget(tabs)
     close = QtGui.QPushButton("Close")
     close.clicked.connect(dlg.accept)
@@ -630,7 +734,8 @@ def show_report(obj: Any) -> DesignReport:
 
 
 def _dynamics_page(report: DesignReport) -> Any:
-    """The Follower dynamics tab: the verdict, then report.json's ``dynamics`` numbers."""
+    """The Follower dynamics tab (an indexer's: Output train dynamics): the verdict, then report.json's
+    ``dynamics`` numbers."""
     from PySide import QtGui  # deferred: PySide (the dialog only)
 
     page = QtGui.QWidget()
@@ -644,12 +749,20 @@ def _dynamics_page(report: DesignReport) -> Any:
     lay.addWidget(head)
     if report.dynamics_dict is not None:
         m = report.dynamics_dict["model"]
-        about = QtGui.QLabel(
-            f"One-degree-of-freedom follower train (docs/dynamics.md): "
-            f"{'arm inertia' if m['coordinate'] == 'arm angle' else 'mass'} {fmt_number(m['mass'])} {m['mass_unit']}, "
-            f"stiffness {fmt_number(m['stiffness'])} {m['stiffness_unit']}, damping ratio "
-            f"{fmt_number(m['damping_ratio'])}, return spring and preload from the Follower load properties; "
-            "the numbers of report.json's dynamics section (cam-workbench dynamics):")
+        if is_turret(report.dynamics_dict):
+            text = (f"The indexer's output train (docs/indexing.md, Dynamics): the output's inertia J "
+                    f"{fmt_number(m['mass'])} {m['mass_unit']} on the turret shaft's torsional stiffness k_t "
+                    f"{fmt_number(m['stiffness'])} {m['stiffness_unit']}, damping ratio "
+                    f"{fmt_number(m['damping_ratio'])}; the rollers hold the turret both ways (no separation, no "
+                    "jump speed); the numbers of report.json's dynamics section (cam-workbench dynamics):")
+        else:
+            text = (f"One-degree-of-freedom follower train (docs/dynamics.md): "
+                    f"{'arm inertia' if m['coordinate'] == 'arm angle' else 'mass'} {fmt_number(m['mass'])} "
+                    f"{m['mass_unit']}, stiffness {fmt_number(m['stiffness'])} {m['stiffness_unit']}, damping ratio "
+                    f"{fmt_number(m['damping_ratio'])}, return spring and preload from the Follower load "
+                    "properties; the numbers of report.json's dynamics section (cam-workbench dynamics):")
+        about = QtGui.QLabel(text)
+        about.setObjectName("dynamics_model")
         about.setWordWrap(True)
         lay.addWidget(about)
         table = _table("dynamics", ["quantity", "value", "unit", "at cam angle", "status"],

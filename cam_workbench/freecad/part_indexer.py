@@ -142,6 +142,31 @@ def indexer_solid(design: ParallelIndexerDesign, scale: float = 1.0) -> PartSoli
     return plane_solid(design, scale)
 
 
+def turret_motion_rows(m: dict[str, Any]) -> Rows:
+    """The turret's largest velocity, acceleration and jerk from report.json's ``motion`` (in its
+    ``lift_unit``/s, /s², /s³): the Check design dialog's Motion rows every indexer has."""
+    return [("Motion", "max turret velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
+            ("Motion", "max turret acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
+            ("Motion", "max turret jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", "")]
+
+
+def drive_rows(d: dict[str, Any] | None) -> Rows:
+    """The drive's peaks (output and input torque [N·m], normal force [N], contact stress [MPa]) and
+    the roller's rating life L10 [h] where report.json's ``indexer.drive`` has it; none without a
+    drive (no load)."""
+    if d is None:
+        return []
+    rows: Rows = [
+        ("Drive", "output torque peak", f"{d['output_torque_peak_Nm']:.6g} N·m", ""),
+        ("Drive", "input torque peak", f"{d['input_torque_peak_Nm']:.6g} N·m", ""),
+        ("Drive", "normal force peak", f"{d['normal_force_peak_N']:.6g} N", ""),
+        ("Drive", "contact stress peak", f"{d['contact_stress_peak_Pa'] / 1e6:.6g} MPa", ""),
+    ]
+    if "l10_hours" in d:
+        rows.append(("Drive", "roller rating life L10", f"{d['l10_hours']:.4g} h", ""))
+    return rows
+
+
 def indexer_rows(s: dict[str, Any]) -> Rows:
     """The design numbers of a parallel indexer from its report.json (``design.summary()``)."""
     u, b, ig = s["units"], s["body"], s["indexer"]
@@ -177,20 +202,7 @@ def indexer_rows(s: dict[str, Any]) -> Rows:
         ("Motion", "turret angle from the built profiles vs the law",
          f"{math.degrees(mg['max_error_rad'] if mg['max_error_rad'] is not None else math.nan):.3g}° "
          f"({mg['samples']} input angles, {mg['undetermined_samples']} where the profiles do not fix it)", ""),
-        ("Motion", "max turret velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
-        ("Motion", "max turret acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
-        ("Motion", "max turret jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
-    ]
-    d = ig["drive"]
-    if d is not None:
-        rows += [
-            ("Drive", "output torque peak", f"{d['output_torque_peak_Nm']:.6g} N·m", ""),
-            ("Drive", "input torque peak", f"{d['input_torque_peak_Nm']:.6g} N·m", ""),
-            ("Drive", "normal force peak", f"{d['normal_force_peak_N']:.6g} N", ""),
-            ("Drive", "contact stress peak", f"{d['contact_stress_peak_Pa'] / 1e6:.6g} MPa", ""),
-        ]
-        if "l10_hours" in d:
-            rows.append(("Drive", "roller rating life L10", f"{d['l10_hours']:.4g} h", ""))
+    ] + turret_motion_rows(m) + drive_rows(ig["drive"])
     rows += [("Body", "top face area", f"{s['area']:.8g} {u}²", ""),
              ("Body", "volume", f"{s['volume']:.8g} {u}³", "")]
     return rows

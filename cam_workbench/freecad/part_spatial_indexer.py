@@ -53,6 +53,7 @@ from cam_workbench.generators.curves.basis import basis_matrix, interpolating_cu
 from cam_workbench.generators.errors import GeometryError
 
 from .part_build import FREECAD_BODIES, PartSolid, Rows, measured_solid
+from .part_indexer import drive_rows, turret_motion_rows
 
 #: sewing tolerance [mm] of each sheet's faces (their common edge is the same pole row), as the kernel's
 SEW_TOLERANCE = 1e-6
@@ -317,7 +318,7 @@ def roller_poses(design: SpatialIndexerDesign, angle_deg: float) -> list[tuple[i
 def spatial_follower_shape(design: SpatialIndexerDesign, scale: float = 1.0, angle_deg: float = 0.0) -> Any:
     """The turret where it stands at ``angle_deg`` of input rotation, in the cam's frame: every roller
     as a cylinder (radius r_r about its axis, over its working length t0 ≤ t ≤ t1; in the order of
-    :func:`roller_poses`), the turret's axis (the line through P along +y of the fixed frame, a
+    :func:`roller_poses`) — a cone of radii r(t0), r(t1) for conical rollers, the turret's axis (the line through P along +y of the fixed frame, a
     segment as long as the turret's reach) and a circle on the turret about it (the barrel's pitch
     circle R_p in the plane of the rollers' outer ends t = t1; the globoid's circle of the rollers'
     inner ends, radius t0, in the rollers' plane).  The turret's hub and roller carriers are not
@@ -332,8 +333,15 @@ def spatial_follower_shape(design: SpatialIndexerDesign, scale: float = 1.0, ang
     def vec(p: Any) -> Any:
         return Vector(*(float(x) * k for x in p))
 
-    rollers = [Part.makeCylinder(rr * k, (t1 - t0) * k, vec(a + t0 * d), Vector(*(float(x) for x in d)))
-               for _j, a, d in roller_poses(design, angle_deg)]
+    r0, r1 = (float(r) for r in ix.radius_at(np.array([t0, t1])))
+
+    def roller(a: Any, d: Any) -> Any:
+        base, direction = vec(a + t0 * d), Vector(*(float(x) for x in d))
+        if ix.taper == 0:
+            return Part.makeCylinder(rr * k, (t1 - t0) * k, base, direction)
+        return Part.makeCone(r0 * k, r1 * k, (t1 - t0) * k, base, direction)
+
+    rollers = [roller(a, d) for _j, a, d in roller_poses(design, angle_deg)]
     th = math.radians(angle_deg)
     cam = np.array([[math.cos(th), math.sin(th), 0.0], [-math.sin(th), math.cos(th), 0.0], [0.0, 0.0, 1.0]])
     p = cam @ np.array([float(ix.centre_distance), 0.0, 0.0]) + np.array([0.0, 0.0, _half_width(design)])
@@ -487,20 +495,7 @@ def spatial_rows(s: dict[str, Any]) -> Rows:
         ("Flanks", "B-spline surfaces vs exact envelope", f"{b['flank_fit_error']['value']:.3g} {u}", ""),
         ("Motion", "turret angle from the flank surfaces vs the law",
          f"{math.degrees(err if err is not None else math.nan):.3g}° ({mg['samples']} input angles)", ""),
-        ("Motion", "max turret velocity", f"{m['max_velocity']:.6g} {m['lift_unit']}/s", ""),
-        ("Motion", "max turret acceleration", f"{m['max_acceleration']:.6g} {m['lift_unit']}/s²", ""),
-        ("Motion", "max turret jerk", f"{m['max_jerk']:.6g} {m['lift_unit']}/s³", ""),
-    ]
-    d = ig["drive"]
-    if d is not None:
-        rows += [
-            ("Drive", "output torque peak", f"{d['output_torque_peak_Nm']:.6g} N·m", ""),
-            ("Drive", "input torque peak", f"{d['input_torque_peak_Nm']:.6g} N·m", ""),
-            ("Drive", "normal force peak", f"{d['normal_force_peak_N']:.6g} N", ""),
-            ("Drive", "contact stress peak", f"{d['contact_stress_peak_Pa'] / 1e6:.6g} MPa", ""),
-        ]
-        if "l10_hours" in d:
-            rows.append(("Drive", "roller rating life L10", f"{d['l10_hours']:.4g} h", ""))
+    ] + turret_motion_rows(m) + drive_rows(ig["drive"])
     if "volume" in s:
         rows.append(("Body", "volume", f"{s['volume']:.8g} {u}³", ""))
     return rows

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any, Callable
+from typing import Any, Callable, Protocol, TypeVar
 
 import numpy as np
 
@@ -143,6 +143,73 @@ def design_checks(report: dict[str, Any], units: str) -> DesignChecks:
     return DesignChecks(tuple(rows), {}, "per_turn", int(report.get("samples_per_turn") or 0), units, None)
 
 
+class Designed(Protocol):
+    """What :func:`pull_back` reads of a design the body built (or why not)."""
+
+    x: np.ndarray          #: the design variables, in the solver's order [mm]
+    value: float           #: the objective's value (NaN without one)
+    failure: str           #: why the body refused the spec ("" when it built)
+    design: Any            #: the body's design (None when refused), its ``checks_report`` read
+
+    @property
+    def passed(self) -> bool: ...
+
+
+_D = TypeVar("_D", bound=Designed)
+
+
+def pull_back(start: _D, x_opt: np.ndarray, candidate: Callable[[np.ndarray], _D],
+              history: list[dict[str, Any]], stop: Callable[[], bool]) -> tuple[_D, float | None, int, list[str]]:
+    """The result of the solver's optimum ``x_opt`` (≠ ``start.x``; the design variables in the
+    solver's order [mm]) by the body's own design and checks, ``candidate(x)`` designing the body at x:
+
+    * the optimum when it passes, unless the start passes too and the optimum's value is not ≤ the
+      start's (the start then);
+    * no checked start: the optimum when the body built it, else the start;
+    * else the pull-back along x(t) = x₀·(x*/x₀)^t (log units), t bisected :data:`PULL_BACK_STEPS`
+      times (to 1/2⁸; lower after a failing design, higher after a passing one): the smallest
+      passing design (the least objective value) when it is below the start's, else the start.  Each of its designs is
+      appended to ``history`` (phase "pull back", max_violation 0 passed / 1 failed); ``stop()``
+      true ends it early.
+
+    Returns (the chosen design, the pull-back's t of it — 0 for the start, None without a
+    pull-back —, the designs built, the messages for the result).
+    """
+    cand = candidate(x_opt)
+    chosen, designs = start, 1
+    pulled: float | None = None
+    messages: list[str] = []
+    if cand.passed:
+        chosen = cand
+        if start.passed and not cand.value <= start.value:
+            chosen = start
+            messages.append("the solver's optimum is no better than the start by the body's own design: the "
+                            "start kept")
+    elif not start.passed:          # no checked design to pull back to: the optimum as it is
+        chosen = cand if cand.design is not None else start
+    else:                           # pull back toward the start until the body's checks pass
+        why = cand.failure or ", ".join(cand.design.checks_report["failed"])
+        lo, hi, t_best = 0.0, 1.0, 0.0
+        for _ in range(PULL_BACK_STEPS):
+            if stop():
+                break
+            t = 0.5 * (lo + hi)
+            trial = candidate(start.x * (x_opt / start.x) ** t)
+            designs += 1
+            history.append({"iteration": len(history) + 1, "objective": trial.value if trial.passed else None,
+                            "max_violation": 0.0 if trial.passed else 1.0, "phase": "pull back"})
+            if trial.passed:
+                lo = t
+                if trial.value < chosen.value:
+                    chosen, t_best = trial, t
+            else:
+                hi = t
+        pulled = t_best
+        messages.append(f"the solver's optimum fails the body's check ({why}): "
+                        + (f"pulled back to {t_best:.4g} of the way from the start (log units)" if t_best > 0
+                           else "no design along the way from the start passes and is smaller: the start kept"))
+    return chosen, pulled, designs, messages
+
 
 class _Candidate:
     """A design the body built (or why not): its spec, design, checks and objective value."""
@@ -221,37 +288,11 @@ def optimise_indexer(spec: CamSpec, progress: Callable[[Any], Any] | None = None
     pulled: float | None = None
     designs = 1
     if not np.allclose(x_opt, start.x, rtol=1e-12, atol=0.0):
-        cand = _Candidate(spec, objective, x_opt)
-        designs += 1
-        if cand.passed:
-            chosen = cand
-            if start.passed and not cand.value <= start.value:
-                chosen = start
-                messages.append("the solver's optimum is no better than the start by the body's own design: the "
-                                "start kept")
-        elif not start.passed:          # no checked design to pull back to: the optimum as it is
-            chosen = cand if cand.design is not None else start
-        else:                           # pull back toward the start until the body's checks pass
-            why = cand.failure or ", ".join(cand.design.checks_report["failed"])  # type: ignore[union-attr]
-            lo, hi, t_best = 0.0, 1.0, 0.0
-            for _ in range(PULL_BACK_STEPS):
-                if stopped[0] or (cancel is not None and cancel.is_set()):
-                    break
-                t = 0.5 * (lo + hi)
-                trial = _Candidate(spec, objective, start.x * (x_opt / start.x) ** t)
-                designs += 1
-                history.append({"iteration": len(history) + 1, "objective": trial.value if trial.passed else None,
-                                "max_violation": 0.0 if trial.passed else 1.0, "phase": "pull back"})
-                if trial.passed:
-                    lo = t
-                    if trial.value < chosen.value:
-                        chosen, t_best = trial, t
-                else:
-                    hi = t
-            pulled = t_best
-            messages.append(f"the solver's optimum fails the body's check ({why}): "
-                            + (f"pulled back to {t_best:.4g} of the way from the start (log units)" if t_best > 0
-                               else "no design along the way from the start passes and is smaller: the start kept"))
+        chosen, pulled, built, notes = pull_back(
+            start, x_opt, lambda x: _Candidate(spec, objective, x), history,
+            lambda: stopped[0] or (cancel is not None and cancel.is_set()))
+        designs += built
+        messages += notes
     final_spec = chosen.spec if chosen.spec is not None else spec
     checks, initial_checks = chosen.checks(spec.units), start.checks(spec.units)
     cancelled = best.verdict == "cancelled" or stopped[0]

@@ -45,7 +45,8 @@ The solver's constraints (g ≤ 0, :data:`CONSTRAINTS`), at :data:`SAMPLES` inpu
 :data:`MIN_MARGIN`; the rib thickness ≥ :data:`MIN_RIB` mm; each way at least one engaged contact
 (positive drive); the peak contact stress ≤ :data:`STRESS_FRACTION` × ``material.allowable_stress`` (with
 a load and a limit); the bore radius below the core's least radius.  The body's own checks then decide: a solver optimum that fails one is pulled
-back toward the start along x(t) = x₀·(x*/x₀)^t (t bisected to 1/2⁸), as the parallel indexer's is.
+back toward the start along x(t) = x₀·(x*/x₀)^t (t bisected to 1/2⁸), as the parallel indexer's is
+(:func:`cam_workbench.generators.optimise.indexer.pull_back`).
 """
 from __future__ import annotations
 
@@ -65,7 +66,7 @@ from ..errors import SpecError
 from ..kinds import register_optimiser
 from ..spec.indexer import indexer_value
 from ..spec.model import CamSpec
-from .indexer import ALGORITHMS, PLANE_BOUNDS, PULL_BACK_STEPS, design_checks
+from .indexer import ALGORITHMS, PLANE_BOUNDS, design_checks, pull_back
 from .parallel_indexer import DEFAULT_BOUNDS, run_restarts
 from .result import OptimiseResult, Progress
 from .settings import NLOPT_CONVERGED
@@ -416,37 +417,11 @@ def optimise_spatial_indexer(spec: CamSpec, progress: Callable[[Any], Any] | Non
     pulled: float | None = None
     designs = 1
     if best["verdict"] != "no feasible point" and not np.allclose(x_opt, start.x, rtol=1e-12, atol=0.0):
-        cand = _Candidate(spec, objective, x_opt)
-        designs += 1
-        if cand.passed:
-            chosen = cand
-            if start.passed and not cand.value <= start.value:
-                chosen = start
-                messages.append("the solver's optimum is no better than the start by the body's own design: the "
-                                "start kept")
-        elif not start.passed:
-            chosen = cand if cand.design is not None else start
-        else:                           # pull back toward the start until the body's checks pass
-            why = cand.failure or ", ".join(cand.design.checks_report["failed"])  # type: ignore[union-attr]
-            lo, hi, t_best = 0.0, 1.0, 0.0
-            for _ in range(PULL_BACK_STEPS):
-                if stopped[0] or (cancel is not None and cancel.is_set()):
-                    break
-                t = 0.5 * (lo + hi)
-                trial = _Candidate(spec, objective, start.x * (x_opt / start.x) ** t)
-                designs += 1
-                history.append({"iteration": len(history) + 1, "objective": trial.value if trial.passed else None,
-                                "max_violation": 0.0 if trial.passed else 1.0, "phase": "pull back"})
-                if trial.passed:
-                    lo = t
-                    if trial.value < chosen.value:
-                        chosen, t_best = trial, t
-                else:
-                    hi = t
-            pulled = t_best
-            messages.append(f"the solver's optimum fails the body's check ({why}): "
-                            + (f"pulled back to {t_best:.4g} of the way from the start (log units)" if t_best > 0
-                               else "no design along the way from the start passes and is smaller: the start kept"))
+        chosen, pulled, built, notes = pull_back(
+            start, x_opt, lambda x: _Candidate(spec, objective, x), history,
+            lambda: stopped[0] or (cancel is not None and cancel.is_set()))
+        designs += built
+        messages += notes
     final_spec = chosen.spec if chosen.spec is not None else spec
     checks, initial_checks = chosen.checks(spec.units), start.checks(spec.units)
     cancelled = best["verdict"] == "cancelled" or stopped[0]

@@ -59,6 +59,11 @@ class IndexerSection:
                                        gt=0, optional=True, group="Indexer")
     tip_radius: float | None = param("Globoidal: the rib's tip globoid (< root_radius)", unit="length", gt=0,
                                      optional=True, group="Indexer")
+    roller_cone_angle: float | None = param(
+        "Barrel and globoidal: the rollers' half cone angle γ (0, the default: cylindrical rollers; γ > 0 widens "
+        "them away from the turret axis, follower.roller_radius then the radius at the middle of the working "
+        "length; on a globoidal turret atan(roller_radius / middle length) puts the apex on the turret axis)",
+        unit="angle", gt=-45, lt=45, optional=True, group="Indexer")
     max_pressure_angle: float | None = param(
         "Largest allowed pressure angle of the contact that carries the output's torque (an indexer's "
         "checks.max_pressure_angle; default 60°: the normal force twice the torque's tangential force)",
@@ -79,7 +84,7 @@ class IndexerSection:
 
 
 #: the value an absent [indexer] field takes (spec units: mm, degrees, N·mm)
-DEFAULTS: dict[str, float] = {"cams": 2, "gap": 0.0, "max_pressure_angle": 60.0, "friction_torque": 0.0,
+DEFAULTS: dict[str, float] = {"cams": 2, "gap": 0.0, "roller_cone_angle": 0.0, "max_pressure_angle": 60.0, "friction_torque": 0.0,
                               "life_exponent": 10.0 / 3.0, "efficiency": 1.0}
 
 
@@ -93,9 +98,9 @@ def indexer_value(spec: Any, name: str) -> Any:
 INDEXER_FIELDS: dict[str, tuple[str, ...]] = {
     "parallel_indexer": ("stations", "centre_distance", "pitch_radius", "cams", "gap", "spacer_diameter"),
     "barrel_indexer": ("stations", "centre_distance", "pitch_radius", "roller_start", "roller_end",
-                       "root_radius", "outer_radius"),
+                       "root_radius", "outer_radius", "roller_cone_angle"),
     "globoidal_indexer": ("stations", "centre_distance", "roller_start", "roller_end", "root_radius",
-                          "tip_radius"),
+                          "tip_radius", "roller_cone_angle"),
 }
 #: the fields :func:`indexer_size` reads, per body
 INDEXER_SIZE_FIELDS: dict[str, tuple[str, ...]] = {"parallel_indexer": ("stations", "centre_distance", "pitch_radius"),

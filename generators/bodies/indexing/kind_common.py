@@ -1,6 +1,7 @@
 """What the indexer bodies' kinds share (:mod:`.parallel_kind`, :mod:`.spatial_kind`): a check's
 entry of report.json, a geometry refusal in the spec's words, the turret-angle error modulo a
-station, the drive's summary as report.json holds it."""
+station, the drive's summary as report.json holds it, and the body members that do not depend on
+the indexer's shape (:class:`IndexerBodyCommon`)."""
 from __future__ import annotations
 
 from typing import Any
@@ -11,6 +12,7 @@ from ...checks.status import limited_status
 from ...errors import SpecError
 from . import from_spec
 from .sizing import DriveSizing
+from .turret_train import turret_follower
 
 
 def result(description: str, kind: str, value: float, at: float | None, limit: float | None, unit: str,
@@ -46,3 +48,40 @@ def drive_summary(spec: Any, drive: DriveSizing) -> dict[str, Any]:
             out.pop(key, None)
         out["l10_note"] = "no indexer.roller_rating given: the roller's rating life is not computed"
     return out
+
+
+class IndexerBodyCommon:
+    """The members every indexer body (parallel, barrel, globoidal) has alike: a turret driven by
+    rollers, the turret's angle the lift (the turret train the dynamics' follower), no profile
+    inset, no further followers, no searched remedies.  Each body still declares its capabilities
+    in its own class (tests/test_kinds.py)."""
+
+    @staticmethod
+    def profile_inset(spec: Any) -> float:
+        return 0.0
+
+    @staticmethod
+    def further_followers(spec: Any) -> tuple:
+        return ()
+
+    @staticmethod
+    def dynamics_follower(spec: Any) -> Any:
+        """The turret: the output's inertia on the turret shaft's torsional stiffness (docs/indexing.md)."""
+        return turret_follower(spec)
+
+    @staticmethod
+    def refuse_foreign(spec: Any) -> None:
+        from_spec.refuse_foreign(spec)
+
+    @staticmethod
+    def lift_unit(spec: Any) -> str:
+        """The turret's angle."""
+        return "angle"
+
+    @staticmethod
+    def motion_advance(spec: Any) -> float:
+        return from_spec.motion_advance(spec)
+
+    @staticmethod
+    def remedy_plans(spec: Any, check: str) -> list:
+        return []

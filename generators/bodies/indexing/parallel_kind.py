@@ -41,7 +41,7 @@ from . import from_spec
 from .parallel import ParallelDesign, ParallelIndexer, design_parallel, output_angle_from_profile, turret_angle
 from .parallel_body import IndexerBody, indexer_body
 from .parallel_drive import output_torque, parallel_drive
-from .kind_common import drive_summary, in_spec_words, result, turn_error
+from .kind_common import IndexerBodyCommon, drive_summary, in_spec_words, result, turn_error
 from .sizing import DriveSizing
 from .turret_train import turret_follower
 
@@ -260,7 +260,7 @@ def _drive(spec: Any, g: ParallelDesign) -> DriveSizing | None:
 
 
 @register_body
-class ParallelIndexerBody:
+class ParallelIndexerBody(IndexerBodyCommon):
     """A parallel indexer: two or three plate cams on the input shaft driving a turret."""
 
     kind = "parallel_indexer"
@@ -304,40 +304,10 @@ class ParallelIndexerBody:
                 f"{ix.pitch_radius:g}, {ix.cams} plates {spec.cam.thickness:g} thick")
 
     @staticmethod
-    def profile_inset(spec: Any) -> float:
-        return 0.0
-
-    @staticmethod
-    def further_followers(spec: Any) -> tuple:
-        return ()
-
-    @staticmethod
-    def dynamics_follower(spec: Any) -> Any:
-        """The turret: the output's inertia on the turret shaft's torsional stiffness (docs/indexing.md)."""
-        return turret_follower(spec)
-
-    @staticmethod
-    def refuse_foreign(spec: Any) -> None:
-        from_spec.refuse_foreign(spec)
-
-    @staticmethod
-    def lift_unit(spec: Any) -> str:
-        """The turret's angle."""
-        return "angle"
-
-    @staticmethod
-    def motion_advance(spec: Any) -> float:
-        return from_spec.motion_advance(spec)
-
-    @staticmethod
     def own_checks(spec: Any) -> dict[str, Any]:
         """The checks without refusing a turret that is not held or a roller that hits a cam (they fail)."""
         g = _design_geometry(spec, strict=False)
         return parallel_checks(spec, g, _drive(spec, g))
-
-    @staticmethod
-    def remedy_plans(spec: Any, check: str) -> list:
-        return []
 
     @staticmethod
     def remedy_words(spec: Any, check: str) -> str | None:

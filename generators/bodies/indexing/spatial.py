@@ -24,24 +24,32 @@ Frames and signs (enough to recompute everything from these lines):
   Since ψ(θ + 2π) = ψ(θ) + T, roller j at θ has the pose of roller 0 at θ + 2πj: one locus,
   τ ↦ pose of roller 0 at input angle τ, carries every roller ("τ = θ + 2πj").
 * Roller axis (fixed frame) c(t) = a + t·d, the roller the cylinder of radius r_r about it for
-  t ∈ [t0, t1] (``roller_start``, ``roller_end``):
+  t ∈ [t0, t1] (``roller_start``, ``roller_end``) — or, with a cone angle γ ≠ 0
+  (``roller_cone_angle``), the cone of radius r(t) = r_r + (t − t_m)·k, k = tan γ, t_m = (t0 + t1)/2
+  (r_r the radius at the working length's middle; γ > 0 widens the roller away from the turret
+  axis — apex at t_m − r_r/k; on the globoidal turret γ = atan(r_r/t_m) puts it at P):
     barrel:    a = P + R_p·u(α) (on the plane y = 0), d = +y: the roller stands on the turret's face
                (beyond y = t1) and points at the cam; t is the height above the plane y = 0.
     globoidal: a = P, d = u(α): the roller is radial on the turret, t the distance from P.
 * Relative motion in the cam frame: for a fixed-frame vector field q(θ), the cam frame sees
   Rz(−θ)·q, whose θ-derivative is Rz(−θ)·Dq with Dq = q' − k × q (and D²q = q'' − 2k × q' +
   k × (k × q)); the scalars below are rotation invariant and computed in the fixed frame.
-* Meshing: a roller point s = c(t) + r_r·n (n ⟂ d, |n| = 1, the roller's outward normal) is on
-  the cam's surface when n·∂s/∂θ = 0; the roller's spin and the rotation about the axis point drop
-  out, leaving n·w = 0 with w(θ, t) = Da + t·Dd (the axis point's velocity relative to the cam).
-  So n = ±m/|m|, m = d × w: each roller has two contact lines, its two sides.
-* Sides: side s = +1 is the one with n·τ(α_j) > 0 — the side facing roller j + 1 — and side −1 the
+* Relative angular velocity of the turret seen from the cam: Ω = −ψ'·ŷ − k (fixed frame, per rad
+  of input), so Dd = Ω × d, and DΩ = −ψ''·ŷ − ψ'·x̂.
+* Meshing: a roller point s = c(t) + r(t)·n (n ⟂ d, |n| = 1, the roller's radial direction) is on
+  the cam's surface when N·V = 0, N = (n − k·d)/q, q = √(1 + k²), the roller's outward unit
+  normal, and V = w + r·Ω × n its velocity relative to the cam, w(θ, t) = Da + t·Dd the axis
+  point's; the roller's spin drops out (a surface of revolution).  With w̃ = w − k·r·(d × Ω) and
+  m = d × w̃ this reads n·w̃ = k·(d·w), so n = (k·(d·w)/|m|)·(m × d)/|m| ± √(1 − (k·(d·w)/|m|)²)·m/|m|
+  — for a cylinder (k = 0) n = ±m/|m|, m = d × w: each roller has two contact lines, its two sides
+  (a cone none where k·|d·w| > |m|).
+* Sides: side s = +1 is the one with m·τ(α_j) > 0 (n·τ > 0) — the side facing roller j + 1 — and side −1 the
   one facing roller j − 1.  The rib between rollers j and j + 1 has roller j's side +1 and roller
   j + 1's side −1 as its flanks.  On side +1 the rib pushes the roller backwards (α decreasing): it
   holds the turret; on side −1 it drives it forward.  The flank's outward unit normal (from the
-  rib into the roller) is −n.
-* Pressure angle: the angle between the contact normal n and the roller axis point's path in the
-  fixed frame (direction τ(α), for both indexers): arccos |n·τ| ∈ [0, π/2].
+  rib into the roller) is −N.
+* Pressure angle: the angle between the contact normal N and the roller axis point's path in the
+  fixed frame (direction τ(α), for both indexers): arccos |N·τ| ∈ [0, π/2].
 * Band (the rib's material extent; a contact point q of the cam frame, ρ its distance to the cam
   axis, z its axial coordinate): |z| ≤ W/2 (``cam_width``) and
     barrel:    root_radius ≤ ρ ≤ outer_radius (the cylinders of the rib's root and top);
@@ -49,14 +57,17 @@ Frames and signs (enough to recompute everything from these lines):
                globoids: tori about the circle P traces about the cam axis).
   A roller side is ENGAGED at θ while some point of its contact line lies in the band; the flank
   surfaces are the contact lines' points in the band.
-* Regularity: the envelope is singular where the meshing function f = n·v also has
-  Ψ = f_θ − f_t·v_t − f_φ·v_φ = 0 on the contact line (v the relative velocity in the roller's
-  (t, φ) coordinates; Litvin's limit function), which with the cam-frame derivatives reads
-  Ψ = n·(D²a + t·D²d) − 2(d·w)(n·Dd) + r_r(n·Dd)² − |m|²/r_r.  The margin μ = −r_r·Ψ/|m|² is
-  dimensionless, 1 − r_r/ρ for a roller on the concave side of a planar path of radius ρ: μ > 0
-  is a regular envelope, μ ≤ 0 an undercut.
+* Regularity: the envelope Σ(θ, t) (the contact point in the cam frame) is singular where
+  Σ_θ × Σ_t = 0.  With the meshing function f(t, φ, θ) = N·V (φ the angle of n about d) and the
+  roller's surface derivatives s_t = d + k·n, s_φ = r·(d × n), Litvin's determinant
+  Δ = f_φ·(V × s_t)·N − f_θ·(s_φ × s_t)·N − f_t·(V × s_φ)·N, (s_φ × s_t)·N = r·q, equals
+  f_φ·(Σ_θ × Σ_t)·N, where f_t = N·(Dd + k·Ω × n), f_φ = (d × n)·V/q + r·N·(Ω × (d × n)),
+  f_θ = (Ω × N)·V + N·(D²a + t·D²d + r·(DΩ × n + Ω × (Ω × n))).  The margin μ = Δ/(q·f_φ²) is
+  dimensionless; for a cylinder it is −r_r·Ψ/|m|² with Litvin's limit function
+  Ψ = n·(D²a + t·D²d) − 2(d·w)(n·Dd) + r_r(n·Dd)² − |m|²/r_r, and 1 − r_r/ρ for a roller on the
+  concave side of a planar path of radius ρ: μ > 0 is a regular envelope, μ ≤ 0 an undercut.
 * Rib thickness: the distance from a point of a flank (side +1 of the pose τ) to the nearest
-  point, on its rib side (along +n), of the other flank (side −1) among the poses τ + 2π ± π/2.
+  point, on its rib side (along +N), of the other flank (side −1) among the poses τ + 2π ± π/2.
 
 Grid: the input angles θ_s + [0, 2π] (``samples``) hold the index's ends θ_s and θ_s + β; the
 locus is sampled on τ = θ + 2πj for the N rollers j = j_lo … j_lo + N − 1, j_lo = −⌊(N − 1)/2⌋
@@ -127,8 +138,41 @@ def _unit(alpha: Array) -> tuple[Array, Array]:
     return np.stack([c, z, s], axis=-1), np.stack([-s, z, c], axis=-1)
 
 
+class _Rollers:
+    """The rollers' shape, shared by both indexers: a cylinder of radius r_r, or a cone of half
+    angle γ (``roller_cone_angle``) whose radius is r_r at the working length's middle."""
+
+    @property
+    def taper(self) -> float:
+        """k = tan γ: the roller's radius grows by k mm per mm of t (0: a cylinder)."""
+        return math.tan(float(self.roller_cone_angle))  # type: ignore[attr-defined]
+
+    def radius_at(self, t: Array) -> Array:
+        """r(t) = r_r + (t − t_m)·tan γ [mm], the roller's radius at axis parameters ``t`` [mm]."""
+        mid = 0.5 * (float(self.roller_start) + float(self.roller_end))  # type: ignore[attr-defined]
+        return float(self.roller_radius) + (np.asarray(t, dtype=float) - mid) * self.taper  # type: ignore[attr-defined]
+
+    @property
+    def largest_radius(self) -> float:
+        """The roller's largest radius over [t0, t1] [mm]."""
+        return float(np.max(self.radius_at(np.array([float(self.roller_start), float(self.roller_end)]))))  # type: ignore[attr-defined]
+
+
+def _cone(ix: Any, v: dict[str, float]) -> None:
+    """The cone angle's rules: |γ| < 45°, r(t) > 0 over the working length."""
+    g = number("roller_cone_angle", ix.roller_cone_angle)
+    if not abs(g) < 0.25 * math.pi:
+        raise SpecError("indexer.roller_cone_angle", f"must be in (−45°, 45°), got {math.degrees(g)!r}°")
+    ends = ix.radius_at(np.array([v["roller_start"], v["roller_end"]]))
+    if not (ends > 0).all():
+        raise SpecError("indexer.roller_cone_angle",
+                        f"the cone ends at a point within the working length (radii {ends[0]:.6g} / {ends[1]:.6g} "
+                        f"mm at t0 / t1) — use a smaller |indexer.roller_cone_angle| or a larger "
+                        f"follower.roller_radius, got {math.degrees(g)!r}°")
+
+
 @dataclass(frozen=True)
-class BarrelIndexer:
+class BarrelIndexer(_Rollers):
     """A barrel (cylindrical-cam) indexer (validated on construction: a bad field raises
     :class:`SpecError` named ``indexer.<field>``).  See the module's conventions.
 
@@ -144,6 +188,7 @@ class BarrelIndexer:
             root < t0: the roller's end clears the root).
         cam_width: W [mm], the cam's length along its axis, centred on z = 0.
         index_start: θ_s [rad].
+        roller_cone_angle: γ [rad], |γ| < π/4: 0 cylindrical rollers, else conical (module docs).
     """
 
     stations: int = 6
@@ -158,6 +203,7 @@ class BarrelIndexer:
     outer_radius: float = 40.0
     cam_width: float = 80.0
     index_start: float = 0.0
+    roller_cone_angle: float = 0.0
 
     def __post_init__(self) -> None:
         _common(self)
@@ -178,11 +224,12 @@ class BarrelIndexer:
             raise SpecError("indexer.roller_end",
                             f"must be ≥ indexer.outer_radius ({v['outer_radius']!r} mm: the rollers must cover the "
                             f"rib's height), got {v['roller_end']!r}")
+        _cone(self, v)
         gap = v["pitch_radius"] * math.sin(math.pi / n)
-        if not v["roller_radius"] < gap:
+        if not self.largest_radius < gap:
             raise SpecError("indexer.roller_radius",
-                            f"must be < R_p·sin(π/N) = {gap:.6g} mm (neighbouring rollers touch), "
-                            f"got {v['roller_radius']!r}")
+                            f"the roller's largest radius must be < R_p·sin(π/N) = {gap:.6g} mm (neighbouring "
+                            f"rollers touch), got {self.largest_radius!r}")
 
     @property
     def station_angle(self) -> float:
@@ -206,7 +253,7 @@ class BarrelIndexer:
 
 
 @dataclass(frozen=True)
-class GloboidalIndexer:
+class GloboidalIndexer(_Rollers):
     """A globoidal (roller-gear) indexer with cylindrical rollers (validated on construction: a
     bad field raises :class:`SpecError` named ``indexer.<field>``).  See the module's conventions.
 
@@ -220,6 +267,8 @@ class GloboidalIndexer:
             traces about the cam axis), t0 ≤ tip < root < C.
         cam_width: W [mm], the cam's length along its axis, centred on z = 0.
         index_start: θ_s [rad].
+        roller_cone_angle: γ [rad], |γ| < π/4: 0 cylindrical rollers, else conical (module docs);
+            r_r is then the radius at the working length's middle and √(t1² + r(t1)²) < root_radius.
     """
 
     stations: int = 12
@@ -233,6 +282,7 @@ class GloboidalIndexer:
     root_radius: float = 100.0
     cam_width: float = 56.0
     index_start: float = 0.0
+    roller_cone_angle: float = 0.0
 
     def __post_init__(self) -> None:
         _common(self)
@@ -253,15 +303,19 @@ class GloboidalIndexer:
             raise SpecError("indexer.roller_start",
                             f"must be ≤ indexer.tip_radius ({v['tip_radius']!r} mm: the rollers must cover the "
                             f"rib's height), got {v['roller_start']!r}")
-        corner = math.hypot(v["roller_end"], v["roller_radius"])
+        _cone(self, v)
+        corner = math.hypot(v["roller_end"], float(self.radius_at(v["roller_end"])))
         if not corner < v["root_radius"]:
             raise SpecError("indexer.roller_end",
                             f"the roller's end reaches {corner:.6g} mm from P, must be < indexer.root_radius "
                             f"({v['root_radius']!r} mm) — reduce indexer.roller_end, got {v['roller_end']!r}")
-        gap = v["roller_start"] * math.sin(math.pi / n)
-        if not v["roller_radius"] < gap:
+        ends = (v["roller_start"], v["roller_end"])
+        gaps = [t * math.sin(math.pi / n) - float(self.radius_at(t)) for t in ends]
+        if not min(gaps) > 0:
+            t = ends[int(np.argmin(gaps))]
             raise SpecError("indexer.roller_radius",
-                            f"must be < t0·sin(π/N) = {gap:.6g} mm (neighbouring rollers touch), "
+                            f"the roller's radius {float(self.radius_at(t)):.6g} mm at t = {t:g} mm must be < "
+                            f"t·sin(π/N) = {t * math.sin(math.pi / n):.6g} mm (neighbouring rollers touch), "
                             f"got {v['roller_radius']!r}")
 
     @property
@@ -313,7 +367,9 @@ def roller_alpha(ix: SpatialIndexer, roller: Array, psi: Array) -> Array:
 class RollerAxis:
     """A roller's axis c(t) = a + t·d in the FIXED frame at input angles θ, with the θ-derivatives
     [mm, mm/rad, mm/rad²] (d is a unit vector): a, da, d2a, d, dd, d2d, each (..., 3); alpha [rad]
-    and tau = τ(α), the unit direction of the axis points' path."""
+    and tau = τ(α), the unit direction of the axis points' path; omega = Ω = −ψ'·ŷ − k, the turret's
+    angular velocity relative to the cam (fixed-frame components, per rad of input), and its
+    cam-frame derivative domega = DΩ = −ψ''·ŷ − ψ'·x̂."""
 
     alpha: Array
     a: Array
@@ -323,6 +379,8 @@ class RollerAxis:
     dd: Array
     d2d: Array
     tau: Array
+    omega: Array
+    domega: Array
 
 
 def roller_axis(ix: SpatialIndexer, roller: Array, theta: Array) -> RollerAxis:
@@ -332,8 +390,12 @@ def roller_axis(ix: SpatialIndexer, roller: Array, theta: Array) -> RollerAxis:
     a, a_al, a_alal, d, d_al, d_alal = ix.roller_pose(alpha)
     p1, p2 = d1[..., None], d2[..., None]
     _, tau = _unit(alpha)
+    zero, one = np.zeros_like(alpha), np.ones_like(alpha)
+    d1b, d2b = np.broadcast_to(d1, alpha.shape), np.broadcast_to(d2, alpha.shape)
+    omega = np.stack([zero, -d1b, -one], axis=-1)
+    domega = np.stack([-d1b, -d2b, zero], axis=-1)
     return RollerAxis(alpha, a, a_al * p1, a_alal * p1**2 + a_al * p2, d, d_al * p1, d_alal * p1**2 + d_al * p2,
-                      tau)
+                      tau, omega, domega)
 
 
 def _cam_d(q: Array, dq: Array) -> Array:
@@ -360,14 +422,19 @@ def _dot(a: Array, b: Array) -> Array:
 @dataclass(frozen=True)
 class ContactLines:
     """Contact lines of one roller side on a (θ, t) grid, shape (..., K): ``points`` and the
-    roller's outward unit ``normals`` n in the CAM frame [mm]; ``normals_fixed`` in the fixed
-    frame; ``pressure_angle`` [rad]; ``margin`` μ (regularity, > 0 regular); ``speed`` |d × w|
-    [mm/rad]; ``cos_drive`` = n·τ (≥ 0 on side +1, ≤ 0 on side −1 where well defined)."""
+    roller's outward unit surface ``normals`` N (the contact normal; n for a cylinder) in the CAM
+    frame [mm]; ``points_fixed``, ``normals_fixed`` in the fixed frame; ``radial`` the fixed-frame
+    unit n from the roller's axis to the point and ``radius`` r(t) [mm] there; ``pressure_angle``
+    [rad]; ``margin`` μ (regularity, > 0 regular); ``speed`` |m| [mm/rad]; ``cos_drive`` = N·τ (≥ 0
+    on side +1, ≤ 0 on side −1 where well defined).  NaN where a conical roller has no contact."""
 
     side: int
     points: Array
     normals: Array
+    points_fixed: Array
     normals_fixed: Array
+    radial: Array
+    radius: Array
     pressure_angle: Array
     margin: Array
     speed: Array
@@ -377,34 +444,51 @@ class ContactLines:
 def contact_lines(ix: SpatialIndexer, roller: Array, theta: Array, t: Array, side: int) -> ContactLines:
     """Side ``side`` (±1)'s contact lines of roller(s) ``roller`` at input angles ``theta`` (shape
     B after broadcasting) at axis parameters ``t`` [mm], (K,) — the same K for every θ — or
-    (B…, K), its own per θ (it broadcasts over θ's axes): arrays (B…, K)."""
+    (B…, K), its own per θ (it broadcasts over θ's axes): arrays (B…, K).  The meshing, the normal
+    and the margin are the module docs' (cylinder and cone alike)."""
     if side not in (1, -1):
         raise SpecError("indexer.side", f"must be +1 or −1, got {side!r}")
     theta = np.asarray(theta, dtype=float)
     ax = roller_axis(ix, roller, theta)
     th = np.broadcast_to(theta, ax.alpha.shape)
-    rr = float(ix.roller_radius)
     t = np.asarray(t, dtype=float)
+    k = ix.taper
+    q = math.hypot(1.0, k)
     e = (Ellipsis, None, slice(None))                      # broadcast (B…, 3) over t → (B…, K, 3)
     tk = t[:, None]
+    r = np.asarray(ix.radius_at(t), dtype=float)
+    rk = r[..., None]
     Da, Dd = _cam_d(ax.a, ax.da), _cam_d(ax.d, ax.dd)
     D2a, D2d = _cam_d2(ax.a, ax.da, ax.d2a), _cam_d2(ax.d, ax.dd, ax.d2d)
+    om, dom = ax.omega[e], ax.domega[e]
     w = Da[e] + tk * Dd[e]
     d = ax.d[e]
-    m = np.cross(d, w)
+    dw = _dot(d, w)
+    m = np.cross(d, w - k * rk * np.cross(d, om))
     speed = np.linalg.norm(m, axis=-1)
     tau = ax.tau[e]
     with np.errstate(divide="ignore", invalid="ignore"):
         sgn = np.where(_dot(m, tau) >= 0, 1.0, -1.0) * side
-        n = sgn[..., None] * m / speed[..., None]
-        ndd = _dot(n, Dd[e])
-        psi_lim = _dot(n, D2a[e] + tk * D2d[e]) - 2.0 * _dot(d, w) * ndd + rr * ndd**2 - speed**2 / rr
-        margin = -rr * psi_lim / speed**2
-    cos_drive = _dot(n, tau)
+        mh = m / speed[..., None]
+        cphi = k * dw / speed
+        n = cphi[..., None] * np.cross(mh, d) + (sgn * np.sqrt(1.0 - cphi**2))[..., None] * mh
+        big_n = (n - k * d) / q
+        om_n = np.cross(om, n)
+        n_phi = np.cross(d, n)
+        v = w + rk * om_n
+        f_t = _dot(big_n, Dd[e] + k * om_n)
+        f_phi = _dot(n_phi, v) / q + r * _dot(big_n, np.cross(om, n_phi))
+        f_th = _dot(np.cross(om, big_n), v) + _dot(big_n, D2a[e] + tk * D2d[e]
+                                                 + rk * (np.cross(dom, n) + np.cross(om, om_n)))
+        delta = (f_phi * _dot(np.cross(v, d + k * n), big_n) - f_th * r * q
+                 - f_t * r * _dot(np.cross(v, n_phi), big_n))
+        margin = delta / (q * f_phi**2)
+    cos_drive = _dot(big_n, tau)
     pa = np.arccos(np.clip(np.abs(cos_drive), 0.0, 1.0))
-    p = ax.a[e] + tk * d + rr * n
+    p = ax.a[e] + tk * d + rk * n
     thb = th[..., None]
-    return ContactLines(side, to_cam(thb, p), to_cam(thb, n), n, pa, margin, speed, cos_drive)
+    return ContactLines(side, to_cam(thb, p), to_cam(thb, big_n), p, big_n, n, np.broadcast_to(r, pa.shape), pa,
+                        margin, speed, cos_drive)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -490,7 +574,7 @@ class SpatialDesign:
 
         fields = {k: (v if isinstance(v, (int, str)) else law_name(v) if k == "law" else float(v))
                   for k, v in vars(ix).items()}
-        for k in ("index_angle", "index_start"):
+        for k in ("index_angle", "index_start", "roller_cone_angle"):
             fields[k + "_deg"] = math.degrees(fields.pop(k))
         return {
             "units": {"length": "mm", "angle": "deg"},
@@ -757,18 +841,21 @@ def _lagrange(u: Array) -> tuple[Array, Array, Array]:
 
 def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredAngle:
     """The turret angle ψ [rad] at input angles ``theta`` [rad] found from the sampled flank
-    surfaces alone (their points, their normals and r_r; not the law): the ψ at which the roller
-    cylinder is tangent to the flank.
+    surfaces alone (their points, their normals and the roller's shape; not the law): the ψ at
+    which the roller — the cylinder r_r, or the cone r(t) — is tangent to the flank.
 
     Every roller side engaged at θ (rows τ = θ + 2πj of its sheet in the band) and every t column
     gives an estimate: the flank's column near τ is the degree-6 Lagrange curve through 7 sampled
     rows inside one piece (index or dwell: the law's ends are rows, so no stencil straddles a
-    kink).  A first ψ puts the roller's axis through the point pushed back by r_r along the sampled
-    normal; then Newton on D(ψ) = min over the curve of (distance to the axis) − r_r = 0, with
-    dD/dψ from the envelope theorem.  θ outside θ_s + [0, 2π] uses the cam's periodicity."""
+    kink).  A first ψ puts the roller's axis through the point pushed back by r(t) along the sampled
+    normal; then Newton on D(ψ) = min over the curve of (ρ − r(s)) = 0, ρ and s the point's
+    distance from the roller's axis and its axial coordinate (ρ − r(s) = ρ − r_0 − k·s, r_0 = r(0):
+    q times the distance to the cone's side), with dD/dψ from the envelope theorem.  θ outside θ_s + [0, 2π] uses the cam's periodicity."""
     ix = design.indexer
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
-    ts, t_st, rr = float(ix.index_start), ix.station_angle, float(ix.roller_radius)
+    ts, t_st, k = float(ix.index_start), ix.station_angle, ix.taper
+    r0 = float(ix.radius_at(0.0))
+    r_col = ix.radius_at(design.t)                                              # (K,)
     turns = np.floor((theta - ts) / TWO_PI)
     th = theta - TWO_PI * turns
     m_turn = design.theta.size - 1
@@ -801,14 +888,14 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
         lag, _, _ = _lagrange(uq)
         p_at = np.einsum("pkm,pmkc->pkc", lag, pts)
         n_at = np.einsum("pkm,pmkc->pkc", lag, nrm)
-        axis_pt = p_at - rr * n_at / np.linalg.norm(n_at, axis=-1, keepdims=True)
+        axis_pt = p_at - r_col[:, None] * n_at / np.linalg.norm(n_at, axis=-1, keepdims=True)
         c, s = np.cos(thq), np.sin(thq)
         fx = c * axis_pt[..., 0] - s * axis_pt[..., 1]                           # back to the fixed frame
         alpha = np.arctan2(axis_pt[..., 2], fx - float(ix.centre_distance))
         guess = t_st * np.clip((th[qi] - ts) / float(ix.index_angle), 0.0, 1.0)
         psi = alpha - roller_alpha(ix, jq, 0.0)
         psi = psi + TWO_PI * np.round((guess[:, None] - psi) / TWO_PI)
-        # -- tangency: Newton on D(ψ) = min_u |Γ(u) − axis| − r_r
+        # -- tangency: Newton on D(ψ) = min_u ρ(u) − r(s(u))
         u = uq.copy()
         for _ in range(4):
             al = roller_alpha(ix, jq, psi)
@@ -821,9 +908,13 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
                 g2 = np.einsum("pkm,pmkc->pkc", lag2, pts)
                 q = g - a
                 qd, g1d = _dot(q, d), _dot(g1, d)
-                e1 = _dot(q, g1) - qd * g1d
-                e2 = _dot(g1, g1) + _dot(q, g2) - g1d**2 - qd * _dot(g2, d)
+                perp = q - qd[..., None] * d
+                rho = np.linalg.norm(perp, axis=-1)
                 with np.errstate(divide="ignore", invalid="ignore"):
+                    # h = ρ − k·s; h' = perp·Γ'/ρ − k·Γ'·d, h'' = ((|Γ'|² − (Γ'·d)²) + perp·Γ'')/ρ − (perp·Γ')²/ρ³ − k·Γ''·d
+                    pg1 = _dot(perp, g1)
+                    e1 = pg1 / rho - k * g1d
+                    e2 = (_dot(g1, g1) - g1d**2 + _dot(perp, g2)) / rho - pg1**2 / rho**3 - k * _dot(g2, d)
                     step = np.where(e2 > 0, e1 / e2, 0.0)
                 u = np.clip(u - np.nan_to_num(step), 0.0, _STENCIL - 1.0)
             lag, _, _ = _lagrange(u)
@@ -833,8 +924,8 @@ def output_angle_from_surface(design: SpatialDesign, theta: Array) -> RecoveredA
             dist = np.linalg.norm(perp, axis=-1)
             with np.errstate(divide="ignore", invalid="ignore"):
                 nh = perp / dist[..., None]
-                slope = -_dot(nh, a_al + sa[..., None] * d_al)
-                step = np.where(np.abs(slope) > 0, (dist - rr) / slope, 0.0)
+                slope = -_dot(nh, a_al + sa[..., None] * d_al) - k * (_dot(q, d_al) - _dot(a_al, d))
+                step = np.where(np.abs(slope) > 0, (dist - r0 - k * sa) / slope, 0.0)
             psi = psi - np.nan_to_num(step)
         full = np.full((q_n, j_n, k_n), np.nan)
         full[qi, ji] = np.where(ok, psi, np.nan)

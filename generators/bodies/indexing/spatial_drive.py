@@ -9,12 +9,13 @@ Frames and signs are those of :mod:`.spatial`.  The model, per input angle θ of
   the roller's working length [t0, t1] (16× the design's t spacing, so the design's samples are
   among them).  A line is ENGAGED where some sample lies in the rib's band (``in_band`` of the
   cam-frame point); its engaged part is its in-band samples.
-* **Moment arm about the turret axis.**  The cam pushes the roller with a force F_n along −n (n
-  the roller's outward normal, into the rib) at the contact point p (fixed frame).  Its moment
-  about the turret axis (through P along +y) in the turret's turning sense ψ (about −y) is
-  F_n·ŷ·((p − P) × n): positive on side −1, negative on side +1.  The arm of a point is that
-  moment per unit force with the sign that makes it positive on both sides:
-  h = −s·ŷ·((p − P) × n) for side s (barrel: R_p·|n·τ|; globoid: t·|n·τ|) [mm].
+* **Moment arm about the turret axis.**  The cam pushes the roller with a force F_n along −N (N
+  the roller's outward surface normal, into the rib: ``normals_fixed``; the radial n for a
+  cylinder) at the contact point p (``points_fixed``, fixed frame).  Its moment about the turret
+  axis (through P along +y) in the turret's turning sense ψ (about −y) is F_n·ŷ·((p − P) × N):
+  positive on side −1, negative on side +1.  The arm of a point is that moment per unit force with
+  the sign that makes it positive on both sides: h = −s·ŷ·((p − P) × N) for side s (barrel:
+  R_p·|N·τ|; globoid: (t + k·r(t))·|N·τ|, t·|n·τ| for a cylinder) [mm].
 * **Load along the line: uniform.**  A roller on a line contact shares the load along its
   length in proportion to the local approach; to first order (rigid roller and rib, the line
   straight within its Hertz half-width) the approach is the same along the line, so the load
@@ -28,30 +29,53 @@ Frames and signs are those of :mod:`.spatial`.  The model, per input angle θ of
   (:mod:`.parallel_drive`) the whole load is put on the one with the largest effective arm.
   The forward (side −1) line carries it where T_out ≥ 0, the holding (side +1) line where
   T_out < 0.
-* **Hertz: the cam's radius in the plane normal to the roller's axis.**  The flank is the
-  envelope of the roller's cylinders; with g(x, θ) the distance of a cam-frame point x from the
-  roller's axis line, the flank is g = r_r at the minimising θ, and the relative normal
-  curvature of roller and flank in the direction e = d × n (the roller's rolling direction, in
-  the plane normal to its axis) is (e·∂ₓ∂_θ g)²/∂²_θ g = |d × w|² / (r_r·(−r_r·Ψ)) =
-  1/(r_r·μ), μ the design's regularity margin (:mod:`.spatial`'s Ψ and μ; μ = 1 − r_r/ρ for a
-  planar path of radius ρ gives the familiar 1/r_r + 1/(ρ − r_r)).  So the flank's signed radius
-  there (+ convex, − concave, as :func:`..followers.load.hertz_stress` takes it) is
-  r_c = r_r·μ/(1 − μ) (∞ at μ = 1).  Of the engaged part of the loaded line the smallest μ (the
-  largest relative curvature, hence the largest pressure under a uniform line load) is taken.
-  Not modelled: the contact line's obliquity to the roller's axis (the relative curvature across
-  the line is that along e over cos² of the line's angle to the axis, the load per unit line
-  length cos of it times that per unit roller length: the pressure grows by 1/√cos; the
-  obliquity is measured and reported, ``max_obliquity``).
+* **Hertz: the flank's radius across the roller's generator.**  Let G(x, θ) be the signed
+  distance (|∇G| = 1, > 0 outside the roller) of a cam-frame point x from the roller — the cylinder
+  r_r, or the cone r(t) = r_r + (t − t_m)·k, k = tan γ — at input angle θ.  The flank is the
+  envelope G = 0, G_θ = 0, and for a unit tangent v at a contact point the relative normal
+  curvature of roller and flank (the sum of their curvatures, each + convex) is
+  κ_rel(v) = (v·∇G_θ)²/G_θθ.  On the roller G_θ = −N·V = −f (:mod:`.spatial`'s meshing function),
+  so with s_φ = r·e (e = d × n, the roller's rolling direction, across its generator) and
+  s_t = q·g (g = (d + k·n)/q the generator, q = √(1 + k²)): e·∇G_θ = −f_φ/r, g·∇G_θ = −f_t/q; and the
+  cam point, seen from the roller, moves with −V (V = V_e·e + V_g·g at a contact), so
+  G_θθ = −f_θ + V_e·f_φ/r + V_g·f_t/q = Δ/(r·q) — Litvin's Δ, since (V × s_t)·N = q·V_e,
+  (V × s_φ)·N = −r·V_g and (s_φ × s_t)·N = r·q.  Hence, for the cylinder and the cone alike,
+
+      κ_rel(e) = f_φ²·q/(r·Δ) = 1/(r(t)·μ),        μ = Δ/(q·f_φ²) the design's margin.
+
+  The roller's own normal curvature across its generator is cos γ/r(t) (its normal-section radius
+  r/cos γ: Meusnier, n·N = cos γ), so the flank's (+ convex, − concave, as
+  :func:`..followers.load.hertz_stress` takes it) is
+
+      κ_c = 1/(r·μ) − cos γ/r = (1 − μ·cos γ)/(r·μ),    r_c = r·μ/(1 − μ·cos γ)  (∞ where μ·cos γ = 1)
+
+  — r_r·μ/(1 − μ) for a cylinder (μ = 1 − r_r/ρ for a planar path of radius ρ gives the familiar
+  1/r_r + 1/(ρ − r_r)).  For a cone the tempting "roller's curvature/μ", cos γ/(r·μ), is short by
+  the factor 1/cos γ (checked against finite differences of the envelope: tests/test_spatial_cone_drive.py).
+  Of the engaged part of the loaded line the sample with the largest relative curvature 1/(r·μ)
+  (the smallest r·μ — for a cylinder the smallest μ — hence the largest pressure under a uniform
+  line load) is taken, and the Hertz stress is that of two parallel cylinders there: the
+  roller's normal-section radius r(t)/cos γ (``roller_radius``; r_r for a cylinder) against r_c, so
+  that 1/(r/cos γ) + 1/r_c = κ_rel(e).  (Not the roller's radius at the line's load centroid: that
+  would pair the roller of one point with the flank of another.)  Not modelled: the contact line's
+  obliquity to the roller's generator (the relative curvature across the line is κ_rel(e) over cos²
+  of the line's angle to the generator, the load per unit line length cos of it times that per unit
+  roller length: the pressure grows by 1/√cos; the obliquity is measured and reported,
+  ``max_obliquity``).
 * **Contact length.**  The Hertz length is the engaged length of the loaded line (the roller
-  length its engaged samples stand for) where that is shorter than ``roller_width``, else
-  ``roller_width``: a line that is cut by the rib's band carries the load on its engaged part
-  only.  (The sizing's Hertz stress, computed with ``roller_width``, is replaced by this one.)
+  length along its axis its engaged samples stand for) where that is shorter than
+  ``roller_width`` (also along the axis), else ``roller_width``, measured along the roller's
+  generator: times q = 1/cos γ (1 for a cylinder).  A line that is cut by the rib's band carries
+  the load on its engaged part only.  (The sizing's Hertz stress, computed with ``roller_width``
+  and r_r, is replaced by this one.)
 * **Rolling (bearing life).**  The loaded roller rolls without slip at its load's centroid: its
-  spin relative to the turret is ω_s = −e·w/r_r − Ω·d per radian of input (w = Da + t·Dd the axis
-  point's velocity relative to the cam, Ω = −ψ'·ŷ − k the turret's angular velocity relative to
-  the cam; e·(w + (Ω + ω_s·d) × r_r·n) = 0), averaged over the engaged samples with the load's
-  weights; the roller's rolled arc r_r·∫|ω_s| dθ is passed as the sizing's ``contact_arc``.
-  Elsewhere on the line it slips (spin-sliding), which the life does not count.
+  spin relative to the turret is ω_s = −e·w/r(t) − Ω·d per radian of input (e = d × n with n the
+  radial direction at the point, ``radial``; w = Da + t·Dd the axis point's velocity relative to
+  the cam, Ω = −ψ'·ŷ − k the turret's angular velocity relative to the cam;
+  e·(w + (Ω + ω_s·d) × r(t)·n) = 0), averaged over the engaged samples with the load's weights.
+  The sizing is passed ``contact_arc`` = r_r·∫|ω_s| dθ with ``roller_radius`` r_r, so the roller's
+  revolutions are ∫|ω_s| dθ/2π whatever its shape.  Elsewhere on the line it slips (spin-sliding),
+  which the life does not count.
 * **Pitch radius.**  :class:`.sizing.IndexLoad` takes one; it is used by the sizing only for its
   defaults, which are all given here: R_p for the barrel, the middle of the working length
   (t0 + t1)/2 for the globoid.
@@ -85,11 +109,15 @@ class LoadedLines:
     side: −1 (forward, driving) or +1 (holding back).  roller: the roller j carrying the load.
     count: how many of this side's lines are engaged (where 0 — never in a locked design —
     roller means nothing and the other arrays are NaN).  arm [mm]: the effective moment arm about the turret axis
-    per unit normal force (> 0).  cam_radius [mm]: the flank's signed radius in the plane normal
-    to the roller's axis (+ convex).  margin: the smallest regularity margin μ on the engaged part.
-    length [mm]: the engaged length along the roller.  spin [rad/rad]: the roller's spin relative
-    to the turret per radian of input.  obliquity [rad]: the largest angle, on the engaged part,
-    between the contact line and the roller's axis (NaN where fewer than two samples)."""
+    per unit normal force (> 0).  cam_radius [mm]: the flank's signed normal-section radius across
+    the roller's generator (+ convex; in the plane normal to the roller's axis for a cylinder) at
+    the engaged sample of largest relative curvature 1/(r·μ).  margin: the smallest regularity
+    margin μ on the engaged part.  length [mm]: the engaged length along the roller's axis (t).
+    spin [rad/rad]: the roller's spin relative to the turret per radian of input.  obliquity [rad]:
+    the largest angle, on the engaged part, between the contact line and the roller's generator
+    (its axis for a cylinder; NaN where fewer than two samples).  roller_radius [mm]: the roller's
+    normal-section radius r(t)/cos γ across its generator at cam_radius's sample (r_r for a
+    cylinder), the Hertz stress's roller radius."""
 
     side: int
     roller: Array
@@ -100,6 +128,7 @@ class LoadedLines:
     length: Array
     spin: Array
     obliquity: Array
+    roller_radius: Array
 
 
 @dataclass(frozen=True)
@@ -153,24 +182,24 @@ def _dot(a: Array, b: Array) -> Array:
 def _lines(ix: SpatialIndexer, theta: Array, rollers: Array, t: Array, wts: Array, side: int) -> LoadedLines:
     """Side ``side``'s lines of every roller at input angles ``theta`` (absolute, rad), and the
     one that carries the load at each (module docs)."""
-    rr = float(ix.roller_radius)
+    k = ix.taper
+    cos_g = math.cos(math.atan(k))
     th = theta[:, None]
     rj = rollers[None, :]
     cl = contact_lines(ix, rj, th, t, side)                                  # (S, J, K)
     ax = roller_axis(ix, rj, th)                                             # (S, J, 3)
     band = ix.in_band(cl.points)
-    n = cl.normals_fixed
+    p, big_n, n, r = cl.points_fixed, cl.normals_fixed, cl.radial, cl.radius    # fixed frame; r(t) (S, J, K)
     e = (Ellipsis, None, slice(None))
     tk = t[:, None]
-    p = ax.a[e] + tk * ax.d[e] + rr * n                                      # fixed frame
     pc = np.array([float(ix.centre_distance), 0.0, 0.0])
-    arm_pt = -side * _dot(np.cross(p - pc, n), _Y)                           # (S, J, K)
+    arm_pt = -side * _dot(np.cross(p - pc, big_n), _Y)                       # (S, J, K)
     # the roller's no-slip spin at each sample (module docs): Ω·d = −ψ'·d_y − d_z
     _, dpsi, _ = turret_angle(ix, theta)
     omega_d = -dpsi[:, None] * ax.d[..., 1] - ax.d[..., 2]                  # (S, J)
     w = (ax.da - _cross_k(ax.a))[e] + tk * (ax.dd - _cross_k(ax.d))[e]
     ed = np.cross(ax.d[e], n)
-    spin_pt = -_dot(ed, w) / rr - omega_d[..., None]
+    spin_pt = -_dot(ed, w) / r - omega_d[..., None]
     wb = np.where(band, wts, 0.0)
     total = wb.sum(axis=2)                                                   # (S, J) engaged length
     engaged = total > 0
@@ -178,22 +207,30 @@ def _lines(ix: SpatialIndexer, theta: Array, rollers: Array, t: Array, wts: Arra
         arm = np.where(engaged, np.where(band, wb * arm_pt, 0.0).sum(axis=2) / total, np.nan)
         spin = np.where(engaged, np.where(band, wb * spin_pt, 0.0).sum(axis=2) / total, np.nan)
     mu = np.where(band, cl.margin, np.inf).min(axis=2)
-    # obliquity: the angle between the line's tangent (from neighbouring in-band samples) and d
+    # the Hertz sample: the largest relative curvature 1/(r·μ) on the engaged part (module docs)
+    hz = np.argmin(np.where(band, r * cl.margin, np.inf), axis=2)            # (S, J)
+    mu_h = np.take_along_axis(cl.margin, hz[..., None], axis=2)[..., 0]
+    r_h = np.take_along_axis(r, hz[..., None], axis=2)[..., 0]
+    # obliquity: the angle between the line's tangent (from neighbouring in-band samples) and the
+    # roller's generator g = (d + k·n)/q at the first of them (d for a cylinder)
     seg = np.diff(p, axis=2)
+    gen = (ax.d[e] + k * n[..., :-1, :]) / math.hypot(1.0, k)
     both = band[..., 1:] & band[..., :-1]
-    cos_ob = np.abs(_dot(seg, ax.d[e])) / np.linalg.norm(seg, axis=-1)
+    cos_ob = np.abs(_dot(seg, gen)) / np.linalg.norm(seg, axis=-1)
     ob = np.where(both, np.arccos(np.clip(cos_ob, 0.0, 1.0)), -np.inf).max(axis=2)
     ob = np.where(np.isfinite(ob), ob, np.nan)
     pick = np.argmax(np.where(engaged, arm, -np.inf), axis=1)                # (S,)
     rows = np.arange(theta.size)
     has = engaged[rows, pick]
     mu_p = np.where(has, mu[rows, pick], np.nan)
+    mu_c = np.where(has, mu_h[rows, pick], np.nan)
+    r_c = np.where(has, r_h[rows, pick], np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
-        kappa = (1.0 - mu_p) / (rr * mu_p)                                   # the flank's curvature, + convex
-        # a flat section (μ = 1 to rounding) is ∞, not 1/(a rounding error)
-        radius = np.where(np.abs(kappa) * rr <= _FLAT, np.inf, 1.0 / kappa)
+        kappa = (1.0 - mu_c * cos_g) / (r_c * mu_c)                          # the flank's curvature, + convex
+        # a flat section (μ·cos γ = 1 to rounding) is ∞, not 1/(a rounding error)
+        radius = np.where(np.abs(kappa) * r_c <= _FLAT, np.inf, 1.0 / kappa)
     return LoadedLines(side, rollers[pick], engaged.sum(axis=1), arm[rows, pick], radius, mu_p,
-                       np.where(has, total[rows, pick], np.nan), spin[rows, pick], ob[rows, pick])
+                       np.where(has, total[rows, pick], np.nan), spin[rows, pick], ob[rows, pick], r_c / cos_g)
 
 
 def spatial_contacts(design: SpatialDesign) -> SpatialContacts:
@@ -240,8 +277,10 @@ def spatial_drive(design: SpatialDesign, *, input_speed: float, inertia: float, 
     spin = np.abs(np.where(back, h.spin, f.spin))
     arc = rr * np.concatenate([[0.0], np.cumsum(0.5 * (spin[1:] + spin[:-1]) * np.diff(c.theta))])
     sized = drive_sizing(load, contact_arc=arc, **geometry)
-    length = np.minimum(np.where(back, h.length, f.length), float(roller_width)) * MM
-    stress = hertz_stress(sized.normal_force, rr, np.where(back, h.cam_radius, f.cam_radius) * MM, length,
+    # the Hertz line: the loaded part's length along the roller's generator (q × its axial length)
+    length = np.minimum(np.where(back, h.length, f.length), float(roller_width)) * math.hypot(1.0, ix.taper) * MM
+    stress = hertz_stress(sized.normal_force, np.where(back, h.roller_radius, f.roller_radius) * MM,
+                          np.where(back, h.cam_radius, f.cam_radius) * MM, length,
                           float(load.e_cam), float(load.nu_cam), float(load.e_roller), float(load.nu_roller))
     i_s = int(np.argmax(stress))
     return dataclasses.replace(

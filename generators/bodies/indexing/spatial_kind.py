@@ -44,7 +44,7 @@ from ...spec.indexer import indexer_value
 from ...spec.toml_io import spec_digest
 from ...studies.table import checks_row
 from . import from_spec
-from .kind_common import drive_summary, in_spec_words, result, turn_error
+from .kind_common import IndexerBodyCommon, drive_summary, in_spec_words, result, turn_error
 from .sizing import DriveSizing
 from .spatial import (BarrelIndexer, GloboidalIndexer, SpatialDesign, design_barrel, design_globoidal,
                       output_angle_from_surface, turret_angle)
@@ -64,7 +64,8 @@ def barrel_of(spec: Any) -> BarrelIndexer:
     return BarrelIndexer(**fields, pitch_radius=float(ix.pitch_radius),
                          roller_start=float(ix.roller_start), roller_end=float(ix.roller_end),
                          root_radius=float(ix.root_radius), outer_radius=float(ix.outer_radius),
-                         cam_width=float(spec.cam.thickness))
+                         cam_width=float(spec.cam.thickness),
+                         roller_cone_angle=math.radians(float(indexer_value(spec, "roller_cone_angle"))))
 
 
 def globoidal_of(spec: Any) -> GloboidalIndexer:
@@ -73,7 +74,38 @@ def globoidal_of(spec: Any) -> GloboidalIndexer:
     fields = from_spec.geometry_fields(spec, MotionProgram.from_spec(spec))
     return GloboidalIndexer(**fields, roller_start=float(ix.roller_start),
                             roller_end=float(ix.roller_end), tip_radius=float(ix.tip_radius),
-                            root_radius=float(ix.root_radius), cam_width=float(spec.cam.thickness))
+                            root_radius=float(ix.root_radius), cam_width=float(spec.cam.thickness),
+                            roller_cone_angle=math.radians(float(indexer_value(spec, "roller_cone_angle"))))
+
+
+def geometry_summary(g: SpatialDesign) -> dict[str, Any]:
+    """report.json's ``indexer.geometry``: :meth:`.spatial.SpatialDesign.summary` (its
+    ``roller_cone_angle_deg`` γ among the indexer's fields) with :func:`cone_geometry`'s entries."""
+    return {**g.summary(), **cone_geometry(g.indexer)}
+
+
+def cone_geometry(ix: BarrelIndexer | GloboidalIndexer) -> dict[str, Any]:
+    """report.json's ``indexer.geometry`` entries of the rollers' cone: for γ ≠ 0 the roller's radii r(t0), r(t1) (``roller_radius_start``,
+    ``roller_radius_end`` [mm]; ``roller_radius`` r_r is the middle's) and the cone apex's axis
+    parameter ``roller_cone_apex_t`` = t_m − r_r/tan γ [mm] (t_m = (t0 + t1)/2)."""
+    out: dict[str, Any] = {}
+    if ix.taper != 0.0:
+        t0, t1 = float(ix.roller_start), float(ix.roller_end)
+        out["roller_radius_start"] = float(ix.radius_at(t0))
+        out["roller_radius_end"] = float(ix.radius_at(t1))
+        out["roller_cone_apex_t"] = 0.5 * (t0 + t1) - float(ix.roller_radius) / ix.taper
+    return out
+
+
+def roller_words(ix: BarrelIndexer | GloboidalIndexer) -> str:
+    """The rollers in words: "rollers r = 12 over t = 74–96", or for a cone "conical rollers
+    r = 10.59–13.41 (γ 8°) over t = 74–96" (its radii at t0 and t1)."""
+    span = f"over t = {float(ix.roller_start):g}–{float(ix.roller_end):g}"
+    gamma = float(ix.roller_cone_angle)
+    if gamma == 0.0:
+        return f"rollers r = {float(ix.roller_radius):g} {span}"
+    r0, r1 = (float(ix.radius_at(float(t))) for t in (ix.roller_start, ix.roller_end))
+    return f"conical rollers r = {r0:.4g}–{r1:.4g} (γ {math.degrees(gamma):.4g}°) {span}"
 
 
 def _spec_field(exc: SpecError) -> SpecError:
@@ -141,9 +173,8 @@ class SpatialIndexerDesign:
 
     def label(self) -> str:
         ix = self.geometry.indexer
-        return (f"{self.spec.cam.body} cam, lengths in mm: turret of {int(ix.stations)} stations, rollers "
-                f"r = {float(ix.roller_radius):g} over t = {float(ix.roller_start):g}–{float(ix.roller_end):g}; "
-                f"{body_of_design(self).label(self.spec)}")
+        return (f"{self.spec.cam.body} cam, lengths in mm: turret of {int(ix.stations)} stations, "
+                f"{roller_words(ix)}; {body_of_design(self).label(self.spec)}")
 
     def summary(self) -> dict[str, Any]:
         spec, g = self.spec, self.geometry
@@ -174,8 +205,7 @@ class SpatialIndexerDesign:
                                "formula": "cos φ = |n·τ|: the contact normal against the roller axis point's path "
                                           "about the turret axis"},
             "follower": {"kind": "roller", "motion": "turret", "roller_radius": float(ix.roller_radius),
-                         "label": f"turret of {int(ix.stations)} stations, rollers r = {float(ix.roller_radius):g} "
-                                  f"over t = {float(ix.roller_start):g}–{float(ix.roller_end):g}, "
+                         "label": f"turret of {int(ix.stations)} stations, {roller_words(ix)}, "
                                   f"C = {float(ix.centre_distance):g}"},
             "motion": {"lift_unit": "deg", "advance_deg": self.program.advance,
                        "max_lift": self.program.advance, "max_velocity": maxima["velocity"],
@@ -185,12 +215,13 @@ class SpatialIndexerDesign:
             "body": body,
             "indexer": {
                 "type": "barrel" if isinstance(ix, BarrelIndexer) else "globoidal",
-                "geometry": g.summary(),
+                "geometry": geometry_summary(g),
                 "motion_from_geometry": {
                     "max_error_rad": turn_error(rec.psi[ok] - turret_angle(ix, rec.theta[ok])[0], ix.station_angle),
                     "samples": int(np.count_nonzero(ok)),
-                    "what": "the turret angle recovered from the sampled flank surfaces (the roller cylinder "
-                            "tangent to them) against the law"},
+                    "what": "the turret angle recovered from the sampled flank surfaces (the roller "
+                            f"{'cylinder' if float(ix.roller_cone_angle) == 0.0 else 'cone'} tangent to them) "
+                            "against the law"},
                 "drive": None if self.drive is None else drive_summary(spec, self.drive),
             },
         }
@@ -239,7 +270,7 @@ def spatial_checks(spec: Any, g: SpatialDesign, drive: DriveSizing | None) -> di
             "points": SAMPLES * LENGTHS, "results": results, "extremes": {}}
 
 
-class SpatialIndexerBody:
+class SpatialIndexerBody(IndexerBodyCommon):
     """What the barrel and globoidal indexers share; each declares its own capabilities."""
 
     #: a flank that leaves the cam before the root: the field to change and how (each body's own)
@@ -307,36 +338,6 @@ class SpatialIndexerBody:
         """The checks without refusing a flank that is not regular or a turret that is not held."""
         g = cls._geometry(spec, strict=False)
         return spatial_checks(spec, g, _drive(spec, g))
-
-    @staticmethod
-    def profile_inset(spec: Any) -> float:
-        return 0.0
-
-    @staticmethod
-    def further_followers(spec: Any) -> tuple:
-        return ()
-
-    @staticmethod
-    def dynamics_follower(spec: Any) -> Any:
-        """The turret: the output's inertia on the turret shaft's torsional stiffness (docs/indexing.md)."""
-        return turret_follower(spec)
-
-    @staticmethod
-    def refuse_foreign(spec: Any) -> None:
-        from_spec.refuse_foreign(spec)
-
-    @staticmethod
-    def lift_unit(spec: Any) -> str:
-        """The turret's angle."""
-        return "angle"
-
-    @staticmethod
-    def motion_advance(spec: Any) -> float:
-        return from_spec.motion_advance(spec)
-
-    @staticmethod
-    def remedy_plans(spec: Any, check: str) -> list:
-        return []
 
     @staticmethod
     def remedy_words(spec: Any, check: str) -> str | None:

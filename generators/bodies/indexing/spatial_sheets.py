@@ -64,6 +64,9 @@ Array = np.ndarray
 
 #: how far [mm] the flank sheets' τ-end rows (flank and skirt) are taken outside the band
 END_CLEARANCE = 1.0
+#: the least such clearance [mm] accepted where a flank levels off nearer the band (a dwell's
+#: surface of revolution just beyond the band's edge: a conical roller's, e.g.)
+MIN_END_CLEARANCE = 0.25
 #: how far [mm] the skirt continues the flank beyond the rib's root (into the core)
 ROOT_OVERLAP = 1.0
 #: the least clearance [mm] of the flank's top edge from the band before a top skirt is added
@@ -237,11 +240,15 @@ def _row_margin(ix: Any, side: int, tau: Array, t: Array, top_length: float) -> 
 
 def _extension_end(ix: Any, side: int, start: float, direction: int, t: Array, top_length: float) -> float:
     """The τ [rad] beyond ``start`` (towards ``direction``) one search step past the first row
-    that lies, with its continuations, :data:`END_CLEARANCE` outside the band."""
+    that lies, with its continuations, :data:`END_CLEARANCE` outside the band — or, where no row
+    does within :data:`MAX_EXTENSION`, the first row that comes within 0.01 mm of the largest
+    clearance reached if that is at least :data:`MIN_END_CLEARANCE`."""
     steps = np.arange(1, int(MAX_EXTENSION / EXTENSION_STEP) + 1)
     tau = start + direction * EXTENSION_STEP * steps
     margin = _row_margin(ix, side, tau, t, top_length)
     out = np.flatnonzero(margin <= -END_CLEARANCE)
+    if out.size == 0 and -np.nanmin(margin) >= MIN_END_CLEARANCE:
+        out = np.flatnonzero(margin <= np.nanmin(margin) + 0.01)
     if out.size == 0:
         raise RuntimeError(f"the side {side:+d} flank does not leave the rib's band within "
                            f"{math.degrees(MAX_EXTENSION):g}° of τ = {math.degrees(start):.6g}° "
