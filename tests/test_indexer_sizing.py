@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.bodies.indexing import IndexLoad, drive_sizing, equivalent_load, rating_life
@@ -117,6 +117,8 @@ def test_cycloidal_mean_power_with_an_efficiency():
 
 
 @settings(max_examples=60, deadline=None)
+@example(law="cycloidal", stations=2, beta=1.0, rpm=3.0, inertia=3.0, t_f=0.0, r_p=0.5, roller=0.25,
+         width=0.03125, rating=1000.0, eta=1.0, p=3.0)
 @given(law=st.sampled_from(LAWS), stations=st.integers(2, 36), beta=st.floats(0.2, 6.0),
        rpm=st.floats(1.0, 1000.0), inertia=st.floats(1e-4, 100.0), t_f=st.floats(0.0, 50.0),
        r_p=st.floats(0.02, 0.5), roller=st.floats(0.05, 0.3), width=st.floats(0.004, 0.05),
@@ -131,9 +133,12 @@ def test_hypothesis_random_loads(law, stations, beta, rpm, inertia, t_f, r_p, ro
               d.normal_force, d.contact_stress]
     assert all(np.all(np.isfinite(a)) for a in arrays)
     scalars = [d.index_time, d.dwell_time, d.omega_out_peak, d.alpha_out_peak, d.torque_out_peak,
-               d.torque_in_peak, d.power_in_peak, d.power_in_mean, d.normal_force_peak,
+               d.torque_in_peak, d.power_in_peak, d.normal_force_peak,
                d.contact_stress_peak, d.equivalent_load, d.l10, d.l10_hours]
     assert all(math.isfinite(s) and s >= 0 for s in scalars)
+    # the mean input power is the friction's (≥ 0); without friction the kinetic energy given to
+    # the output over the index comes back: 0 to rounding of the peak (found: −7.4e-16 W at a peak of 7.5 W)
+    assert math.isfinite(d.power_in_mean) and d.power_in_mean >= -1e-12 * d.power_in_peak
     h, w, t_i = times(load)
     index, dwell = theta <= beta, theta > beta
     first, second = index & (theta < beta / 2), index & (theta > beta / 2)
