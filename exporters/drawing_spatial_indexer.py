@@ -227,7 +227,11 @@ def title_rows(design: SpatialIndexerDesign, summary: dict[str, Any], trace_erro
         ("INDEX START", f"{_g(geo['index_start_deg'])}° OF INPUT"),
         ("CENTRE DISTANCE C", f"{_g(geo['centre_distance'])} mm"),
         *_OWN_ROWS[type(ix)](geo),
-        ("ROLLER RADIUS r_r", f"{_g(geo['roller_radius'])} mm"),
+        ("ROLLER RADIUS r_r", f"{_g(geo['roller_radius'])} mm" + (" AT THE MIDDLE" if "roller_radius_start" in geo
+                                                                  else "")),
+        *([("ROLLER CONE ANGLE", f"{_g(geo['roller_cone_angle_deg'])}°, RADIUS {_g(geo['roller_radius_start'])} mm AT "
+                                 f"t = {_g(geo['roller_start'])} TO {_g(geo['roller_radius_end'])} mm AT "
+                                 f"t = {_g(geo['roller_end'])}")] if "roller_radius_start" in geo else []),
         ("ROLLER LENGTH", f"{_g(geo['roller_end'] - geo['roller_start'])} mm, t = {_g(geo['roller_start'])} TO "
                           f"{_g(geo['roller_end'])} mm"),
         ("CAM WIDTH W", f"{_g(geo['cam_width'])} mm"),

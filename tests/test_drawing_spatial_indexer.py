@@ -277,3 +277,34 @@ def test_the_barrel_traces_lie_within_the_quoted_error(barrel):
     assert n == info.summary()["splines"] == len(msp.query("SPLINE"))
     print(f"barrel traces: worst {worst:.4e} mm of the exact envelope, quoted {bound:.4e} mm")
     assert worst >= 0.5 * bound                                              # the quoted number is the measured one
+
+
+def test_conical_rollers_in_the_title_block(tmp_path):
+    """A conical roller's rows quote report.json's geometry; r(t0), r(t1) recomputed here from the
+    spec (r_r + (t − t_m)·tan γ)."""
+    import copy
+
+    from cam_workbench.generators.spec import CamSpec
+    from cam_workbench.generators.spec.examples import GLOBOIDAL_INDEXER_SPEC_DICT
+
+    d = copy.deepcopy(GLOBOIDAL_INDEXER_SPEC_DICT)
+    d["indexer"]["roller_cone_angle"] = 8.0
+    design = design_cam(CamSpec.from_dict(d))
+    summary = design.summary()
+    doc, info = cam_drawing(design, summary)
+    doc.saveas(str(tmp_path / "cone.dxf"))
+    rows = read_rows(ezdxf.readfile(str(tmp_path / "cone.dxf")))
+    geo = summary["indexer"]["geometry"]
+    as_printed(*fields(rows, "ROLLER RADIUS r_r", NUM + " mm AT THE MIDDLE"), 12.0)
+    g, r0, t0, r1, t1 = fields(rows, "ROLLER CONE ANGLE", f"{NUM}°, RADIUS {NUM} mm AT t = {NUM} TO {NUM} mm AT t = {NUM}")
+    as_printed(g, 8.0)
+    k = math.tan(math.radians(8.0))
+    as_printed(r0, 12.0 + (74.0 - 85.0) * k)
+    as_printed(r1, 12.0 + (96.0 - 85.0) * k)
+    assert (float(t0), float(t1)) == (74.0, 96.0)
+    assert geo["roller_radius_start"] == pytest.approx(12.0 - 11.0 * k, abs=1e-12)
+
+
+def test_cylinders_have_no_cone_row(drawn):
+    rows = read_rows(drawn[3])
+    assert "ROLLER CONE ANGLE" not in rows and not rows["ROLLER RADIUS r_r"].endswith("AT THE MIDDLE")
