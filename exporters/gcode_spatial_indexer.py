@@ -12,15 +12,22 @@ continuous sweep of roller 0's locus τ ↦ pose(τ) — the cam turning about t
 indexes through the cam — cuts every roller's groove; the cam is what is left.
 
 Machine (5 words X Y Z A C, LinuxCNC ``trivkins`` coordinates XYZAC, mm and degrees)
-    * Machine frame = the indexer's fixed frame renamed: X = z (along the cam axis), Y = x (along
-      the common perpendicular, from the cam axis towards the turret axis), Z = y (parallel to the
-      turret axis, up).  Right-handed.  Origin (G54) O: on the cam axis, in the cam's middle plane
-      (the cam occupies −W/2 ≤ X ≤ W/2).  The cam axis is the machine X axis; the turret axis is
-      the vertical line X = 0, Y = C.
+    * Machine frame = the frame of the cam's STEP solid (``cam.step``,
+      :class:`cam_workbench.kernel.spatial_indexer.SpatialSolids`: the design's frame moved up by
+      W/2 along the cam axis, so the cam spans 0 ≤ z ≤ W = ``cam.thickness`` like every body's
+      solid) at A = 0, renamed: X = z (along the cam axis, from the STEP's z = 0 end face), Y = x
+      (along the common perpendicular, from the cam axis towards the turret axis), Z = y (parallel
+      to the turret axis, up).  Right-handed.  Origin (G54) O = the STEP solid's origin: on the cam
+      axis, in the plane of the cam's end face z = 0 (the cam occupies 0 ≤ X ≤ W) — the one origin
+      of cam.step in a CAM system and of cam.nc on the machine.  In the indexer's fixed frame of
+      spatial.py (centred on the cam's middle plane) a point (x, y, z) is at X = z + W/2, Y = x,
+      Z = y.  The cam axis is the machine X axis; the turret axis is the vertical line X = W/2,
+      Y = C (the turret's plane, the cam's middle plane, is X = W/2).
     * A = the input angle θ in degrees: the cam is turned by A about +X, right-handed
-      (counter-clockwise seen from +X).  A cam-frame point q = (x_c, y_c, z_c) is at
-      X = z_c, Y = x_c·cos A − y_c·sin A, Z = x_c·sin A + y_c·cos A; at A = 0 the cam frame's x
-      axis lies along machine +Y, its y axis along +Z.  A is NOT reduced to a turn: a sweep runs
+      (counter-clockwise seen from +X).  A point q = (x_s, y_s, z_s) of cam.step (the cam frame
+      moved up by W/2) is at X = z_s, Y = x_s·cos A − y_s·sin A, Z = x_s·sin A + y_s·cos A; at
+      A = 0 the program's coordinates are cam.step's renamed (its x axis along machine +Y, its y
+      axis along +Z, its z axis along +X).  A is NOT reduced to a turn: a sweep runs
       A = τ over about two turns, and the rapids between sweeps turn it back by hundreds of
       degrees, so A must be an unwrapped rotary axis (no ``WRAPPED_ROTARY``) with limits beyond
       the range the header quotes (every G1 turns it by ≤ ``step_deg`` ≤ 90°).
@@ -31,20 +38,22 @@ Machine (5 words X Y Z A C, LinuxCNC ``trivkins`` coordinates XYZAC, mm and degr
       continuous over turns (C = ψ(θ) + j·360°/N for roller j at input angle θ = A − 360°·j).
     * X, Y, Z = the TOOL TIP (the controlled point), the tool's axis along the roller's, d(C):
         barrel:    d = +Z: the tool vertical, spindle above, tip down; the tip at height t_k on
-                   roller 0's axis: X = R_p·sin α, Y = C + R_p·cos α, Z = t_k.  The tool's axis is
+                   roller 0's axis: X = W/2 + R_p·sin α, Y = C + R_p·cos α, Z = t_k.  The tool's axis is
                    parallel to the turret axis, so C only turns the tool about its own axis: an
                    X-Y-Z-A vertical mill runs the program with the C words removed (or C a dummy
                    axis).  G43 H<tool> is the usual tool length along Z.
         globoidal: d = (sin α, cos α, 0): the tool horizontal and radial on the turret, the
                    spindle towards the turret axis, the tip pointing away from it at distance t_k
-                   from P: X = t_k·sin α, Y = C + t_k·cos α, Z = 0.  C swivels the head about the
+                   from P: X = W/2 + t_k·sin α, Y = C + t_k·cos α, Z = 0.  C swivels the head about the
                    vertical through the tool tip (a head whose pivot is the tip, or a tool-centre-
                    point kinematics; a head pivoting at a distance L behind the tip needs
                    X −= L·sin α, Y −= L·cos α in a post).  LinuxCNC's G43 offsets Z only, so this
                    program uses no tool-length offset (G49).
-      In the cam frame the cutter's axis at (X, Y, Z, A, C) is the line
+      In cam.step's frame the cutter's axis at (X, Y, Z, A, C) is the line
       Rz(−A)·((Y, Z, X) + s·d_f(C)) with d_f = (0, 1, 0) (barrel) or (cos α, 0, sin α)
-      (globoidal) in the fixed frame — which is what the tests rebuild from rs274's output.
+      (globoidal) in the fixed frame; in the design's cam frame of spatial.py (z centred) it is
+      Rz(−A)·((Y, Z, X − W/2) + s·d_f(C)) — which is what the tests rebuild from rs274's output,
+      and they hold the cutter inside the band 0 ≤ z ≤ W of cam.step read through OCP.
 
 Passes (one tool, radius R_t = r_r by default)
     * Depth levels: the tip's parameter t_k on the roller's axis steps from the rib's top to the
@@ -58,7 +67,7 @@ Passes (one tool, radius R_t = r_r by default)
                    √(R_root² − R_t²) (the corner reaches the root globoid, never beyond it).
       Every level is a ROUGHING sweep over the whole range [τ_in, τ_out] where the cutter (at the
       final depth, down to its tip) meets the blank — the rib's band (barrel ρ ≤ R_top, globoidal
-      g ≥ R_tip, |z| ≤ W/2) grown by 2 mm, tested at points of the cutter's surface ≤ 1.6 mm
+      g ≥ R_tip, 0 ≤ X ≤ W) grown by 2 mm, tested at points of the cutter's surface ≤ 1.6 mm
       apart, τ on a 0.5° grid — so each sweep starts and ends with the cutter clear of the blank,
       where the next level is plunged (zigzag: forward, backward, …).
     * FINISHING: at the final depth one sweep per roller side s (+1, −1) over the input angles
@@ -190,7 +199,9 @@ class SpatialProgram:
     measured over; a_range: (τ_in, τ_out) [deg], the roughing sweeps' A; engaged: {side: (from,
     to)} [deg], roller 0's engaged locus per side (one design row beyond its ends); sweeps; moves
     (G1 moves of the sweeps), plunges, lines (of the text); step_deg: (smallest, largest) A step
-    of the sweeps; c_range: (min, max) C [deg]."""
+    of the sweeps; c_range: (min, max) C [deg]; cam_x_range: (0, W), the cam's extent along
+    machine X (cam.step's z, module docs); turret_axis: (X, Y) of the vertical turret axis [mm],
+    (W/2, C)."""
 
     kind: str
     text: str
@@ -214,11 +225,15 @@ class SpatialProgram:
     c_range: tuple[float, float]
     feed: float
     plunge_feed: float
+    cam_x_range: tuple[float, float]
+    turret_axis: tuple[float, float]
 
     def summary(self) -> dict[str, Any]:
         """Plain numbers (mm, deg)."""
-        return {"kind": self.kind, "machine": "X-Y-Z-A-C trivkins: X = cam axis, Z = turret axis direction, "
+        return {"kind": self.kind, "machine": "X-Y-Z-A-C trivkins in cam.step's frame: X = cam axis [cam.step's z, "
+                "X0 its z = 0 end face], Y = cam.step's x, Z = cam.step's y = turret axis direction, "
                 "A = input angle, C = turret angle, X Y Z = tool tip",
+                "cam_x_range_mm": list(self.cam_x_range), "turret_axis_xy_mm": list(self.turret_axis),
                 "tool_radius_mm": self.tool_radius, "roller_radius_mm": self.roller_radius,
                 "stock_mm": self.stock, "tolerance_mm": self.tolerance, "chord_budget_mm": self.budget,
                 "g64_p_mm": self.blend, "chord_error_mm": self.chord_error, "levels_t_mm": list(self.levels),
@@ -255,22 +270,30 @@ def exact_axis(ix: Any, tau: Array, t: Array) -> Array:
     return a[..., None, :] + t[:, None] * d[..., None, :]
 
 
+def x_origin(ix: Any) -> float:
+    """Machine X [mm] of the design's (fixed frame's) z = 0, the cam's middle plane and the turret's
+    plane: W/2, the shift of the STEP solid (the cam spans 0 ≤ X ≤ W, module docs)."""
+    return 0.5 * float(ix.cam_width)
+
+
 def machine_words(ix: Any, tau: Array, tip_t: float) -> Array:
     """The exact words X, Y, Z, A, C (..., 5) [mm, deg] putting the tool tip at parameter
-    ``tip_t`` of roller 0's axis at input angles ``tau`` [rad] (module docs)."""
+    ``tip_t`` of roller 0's axis at input angles ``tau`` [rad] (module docs: X = z + W/2,
+    Y = x, Z = y of the fixed frame)."""
     tau = np.asarray(tau, dtype=float)
     psi, _, _ = turret_angle(ix, tau)
     a, _, _, d, _, _ = ix.roller_pose(roller_alpha(ix, 0, psi))
     tip = a + tip_t * d
-    return np.stack([tip[..., 2], tip[..., 0], tip[..., 1], np.degrees(tau), np.degrees(psi)], axis=-1)
+    return np.stack([tip[..., 2] + x_origin(ix), tip[..., 0], tip[..., 1], np.degrees(tau), np.degrees(psi)],
+                    axis=-1)
 
 
 def cutter_axis(ix: Any, words: Array, tip_t: float, t: Array) -> Array:
     """The cutter's axis points (fixed frame, (..., K, 3)) at the roller-axis parameters ``t`` for
     machine words X, Y, Z, A, C (..., 5), the tip being at parameter ``tip_t`` (the inverse of the
-    mapping: fixed (x, y, z) = (Y, Z, X), the axis direction d(C))."""
+    mapping: fixed (x, y, z) = (Y, Z, X − W/2), the axis direction d(C))."""
     words = np.asarray(words, dtype=float)
-    tip = np.stack([words[..., 1], words[..., 2], words[..., 0]], axis=-1)
+    tip = np.stack([words[..., 1], words[..., 2], words[..., 0] - x_origin(ix)], axis=-1)
     _, _, _, d, _, _ = ix.roller_pose(_alpha_of_c(ix, words[..., 4]))
     s = np.asarray(t, dtype=float) - tip_t
     return tip[..., None, :] + s[:, None] * np.broadcast_to(d, tip.shape)[..., None, :]
@@ -591,7 +614,8 @@ def spatial_program(design: SpatialDesign, *, tool_radius: float | None = None, 
         a_range=(a_in * A_QUANTUM, a_out * A_QUANTUM),
         engaged={s: (math.degrees(v[0]), math.degrees(v[1])) for s, v in eng.items()}, sweeps=tuple(sweeps),
         moves=moves, plunges=0, lines=0, step_deg=(float(steps.min()), float(steps.max())),
-        c_range=(float(all_words[:, 4].min()), float(all_words[:, 4].max())), feed=feed, plunge_feed=pfeed)
+        c_range=(float(all_words[:, 4].min()), float(all_words[:, 4].max())), feed=feed, plunge_feed=pfeed,
+        cam_x_range=(0.0, 2.0 * x_origin(ix)), turret_axis=(x_origin(ix), float(ix.centre_distance)))
     text, plunges = _program_text(design, prog, cut, travels, spindle_rpm=float(spindle_rpm),
                                   tool_number=int(tool_number))
     return SpatialProgram(**{**prog.__dict__, "text": text, "plunges": plunges, "lines": text.count("\n")})
@@ -647,18 +671,20 @@ def _program_text(design: SpatialDesign, p: SpatialProgram, cut: _Cut, travels: 
                   f"{float(ix.root_radius):.6g}-{float(ix.outer_radius):.6g} mm")
     else:
         w.comment(f"indexer: {common}, tip/root globoids {float(ix.tip_radius):.6g}/{float(ix.root_radius):.6g} mm")
-    w.comment("machine: X along the cam axis [X = z], Y = x towards the turret axis, Z = y up along the turret "
-              f"axis [the vertical X0 Y{fmt(float(ix.centre_distance), DECIMALS)}]; origin on the cam axis in the "
-              "cam's middle plane; trivkins XYZAC, A and C unwrapped")
+    w.comment("machine: cam.step's frame renamed: X along the cam axis [X = z of cam.step], Y = x towards the "
+              f"turret axis, Z = y up along the turret axis [the vertical X{fmt(p.turret_axis[0], DECIMALS)} "
+              f"Y{fmt(p.turret_axis[1], DECIMALS)}]; origin = cam.step's: on the cam axis, X0 on the cam's end face "
+              f"z = 0 [the cam spans X{fmt(p.cam_x_range[0], DECIMALS)} to X{fmt(p.cam_x_range[1], DECIMALS)}]; "
+              "trivkins XYZAC, A and C unwrapped")
     w.comment("A = input angle theta in deg, the cam turned about +X right-handed; C = turret angle psi in deg, "
               f"the cutter swung clockwise seen from +Z, alpha = {180.0 - t_st / 2:.6g} + C deg; A runs over "
               f"{p.a_range[0]:.4f} to {p.a_range[1]:.4f}, C over {p.c_range[0]:.4f} to {p.c_range[1]:.4f}")
     if barrel:
-        w.comment("X Y Z = tool tip; tool vertical, tip down at height t on the roller's axis: X = R_p sin alpha, "
+        w.comment("X Y Z = tool tip; tool vertical, tip down at height t on the roller's axis: X = W/2 + R_p sin alpha, "
                   "Y = C + R_p cos alpha, Z = t; C turns the tool about its own axis only [drop it on an XYZA mill]")
     else:
         w.comment("X Y Z = tool tip; tool horizontal along the roller's axis, spindle towards the turret axis, tip "
-                  "at t from it: X = t sin alpha, Y = C + t cos alpha, Z = 0; C swivels the head about the "
+                  "at t from it: X = W/2 + t sin alpha, Y = C + t cos alpha, Z = 0; C swivels the head about the "
                   "vertical through the tip; no G43: the tool length lies in XY")
     stock = (f", stock {p.stock:.6g} mm left on every flank [roller radius {p.roller_radius:g} mm]"
              if p.stock > 0 else " = the roller's radius")
@@ -735,4 +761,4 @@ def write_spatial_program(design: SpatialDesign, path: str | os.PathLike[str], *
 
 
 __all__ = ["A_QUANTUM", "DECIMALS", "LAMBDAS", "SpatialProgram", "Sweep", "cutter_axis", "exact_axis",
-           "machine_words", "spatial_program", "write_spatial_program"]
+           "machine_words", "spatial_program", "write_spatial_program", "x_origin"]

@@ -6,8 +6,10 @@
 
 The program (gcode_spatial_indexer's module docstring holds the machine, frames and signs): a flat
 end mill in place of roller 0 follows the roller's motion relative to the cam — A the input angle,
-C the turret angle, X Y Z the tool tip in the indexer's fixed frame renamed (X along the cam axis,
-Z up along the turret axis, origin on the cam axis in the cam's middle plane) — in roughing sweeps
+C the turret angle, X Y Z the tool tip in the frame of the cam's STEP solid (``cam.step``) renamed
+(X = its z, along the cam axis, Y = its x, towards the turret axis, Z = its y, up along the turret
+axis; origin = cam.step's: on the cam axis, X0 on the cam's end face z = 0, the cam spanning
+0 ≤ X ≤ W = ``cam.thickness``, the turret axis the vertical X = W/2, Y = C) — in roughing sweeps
 at equal depth levels from the rib's top to its root, then one climb-milled finishing sweep per
 roller side at the final depth.  Four axes move: barrel X Y A and Z between levels (C only turns
 the vertical tool about its own axis), globoidal X Y A C (Z = 0).
@@ -204,10 +206,12 @@ def spatial_indexer_outputs(design: SpatialIndexerDesign, summary: dict[str, Any
                 "to the cam over about two turns of the cam, so one sweep cuts every roller's groove; roughing "
                 "sweeps at equal depth levels from the rib's top to its root, then one finishing sweep per roller "
                 "side at the final depth, each climb-milled for its side",
-        "frames": "machine = the indexer's fixed frame renamed: X along the cam axis, Y from the cam axis towards "
-                  "the turret axis, Z up along the turret axis; origin on the cam axis in the cam's middle plane; "
-                  "A = the input angle [deg, the cam turned about +X], C = the turret angle [deg, clockwise seen "
-                  "from +Z]; X Y Z = the tool tip",
+        "frames": "machine = cam.step's frame renamed [at A = 0]: X = its z along the cam axis, Y = its x from the "
+                  "cam axis towards the turret axis, Z = its y up along the turret axis; origin = cam.step's: on "
+                  "the cam axis, X0 on the cam's end face z = 0 [the cam spans X = 0 to cam.thickness, the turret "
+                  "axis is the vertical X = cam.thickness/2, Y = the centre distance: generating.cam_x_range_mm, "
+                  "generating.turret_axis_xy_mm]; A = the input angle [deg, the cam turned about +X], C = the "
+                  "turret angle [deg, clockwise seen from +Z]; X Y Z = the tool tip",
         "tool_radius": prog.tool_radius,
         "tool_number": opts["tool_number"],
         "roller_radius": prog.roller_radius,

@@ -3,7 +3,9 @@ own interpreter ``rs274`` (tests/rs274.py), and the canonical motions it prints 
 rotary A, C — turned back into the cutter's pose relative to the cam with the machine mapping of
 the exporter's docstring, written again here:
 
-* fixed frame (x, y, z) = machine (Y, Z, X) (X along the cam axis, Z up along the turret axis);
+* the program's origin is the STEP solid's (the cam spans 0 ≤ X ≤ W, W = ``cam_width`` =
+  ``cam.thickness``), the design's frame of spatial.py is centred on the cam's middle plane: fixed
+  frame (x, y, z) = machine (Y, Z, X − W/2) (X along the cam axis, Z up along the turret axis);
 * the cam turned by θ = A [deg → rad] about the cam axis: a fixed-frame point p is the cam-frame
   point Rz(−θ)·p;
 * X, Y, Z the tool tip; the tool's axis along d(C): barrel +y, globoidal u(α) = (cos α, 0, sin α)
@@ -69,6 +71,13 @@ def is_barrel(ix):
     return isinstance(ix, BarrelIndexer)
 
 
+def fixed_tip(ix, w):
+    """The tool tip in the design's fixed frame (centred on the cam's middle plane) for machine words
+    w (..., ≥ 3) = X Y Z …: (x, y, z) = (Y, Z, X − W/2), the program's X0 being the STEP solid's z = 0."""
+    w = np.asarray(w, dtype=float)
+    return np.stack([w[..., 1], w[..., 2], w[..., 0] - 0.5 * ix.cam_width], axis=-1)
+
+
 def tool_direction(ix, c_deg):
     """d(C) in the fixed frame."""
     alpha = math.pi - math.pi / ix.stations + np.radians(c_deg)
@@ -84,7 +93,7 @@ def rz_minus(theta, p):
 
 def cutter_points(ix, w, tip_t, t):
     """Cam-frame points of the cutter's axis at parameters t (K,) for words w (..., 6) = x y z a b c."""
-    tip = np.stack([w[..., 1], w[..., 2], w[..., 0]], axis=-1)
+    tip = fixed_tip(ix, w)
     d = tool_direction(ix, w[..., 5])
     p = tip[..., None, :] + (np.asarray(t) - tip_t)[:, None] * d[..., None, :]
     return rz_minus(np.radians(w[..., 3])[..., None], p)
@@ -108,7 +117,7 @@ def roller_points(ix, a_deg, t):
 def tip_parameter(ix, w):
     """The tool tip's parameter along the exact roller axis, and its distance from that line."""
     _, ax = roller_points(ix, w[..., 3], np.zeros(1))
-    tip = np.stack([w[..., 1], w[..., 2], w[..., 0]], axis=-1)
+    tip = fixed_tip(ix, w)
     q = tip - ax.a
     s = np.einsum("...i,...i->...", q, ax.d)
     return s, np.linalg.norm(q - s[..., None] * ax.d, axis=-1)
@@ -138,7 +147,7 @@ def cutter_solid_points(ix, w, tip_t, rt, length=60.0):
     e1 = np.cross(d, [0.0, 0.0, 1.0]) if not is_barrel(ix) else np.array([1.0, 0.0, 0.0])
     e1 = e1 / np.linalg.norm(e1)
     e2 = np.cross(d, e1)
-    tip = np.array([w[1], w[2], w[0]])
+    tip = fixed_tip(ix, w)
     back = -1.0 if not is_barrel(ix) else 1.0                   # spindle side: barrel +d, globoidal −d
     s, r, phi = np.meshgrid(np.linspace(0.0, length, 241), np.linspace(0.0, rt, 7),
                             np.linspace(0.0, 2 * math.pi, 96, endpoint=False), indexing="ij")
@@ -225,7 +234,7 @@ def test_the_cutter_follows_the_roller_axis_relative_to_the_cam(cut):
         w = w.copy()
         w[..., 3] += shift_a
         w[..., 5] *= c_sign
-        tip = np.stack([w[..., 1], w[..., 2], w[..., 0]], axis=-1)
+        tip = fixed_tip(ix, w)
         got = tip[..., None, :] + (t[None, None, :] - tip_t[:, None, None])[..., None] \
             * tool_direction(ix, w[..., 5])[..., None, :]
         got = rz_minus(np.radians(w[..., 3])[..., None], got)
@@ -278,7 +287,7 @@ def test_depth_levels_finishing_sweeps_and_safety(cut):
     if name == "barrel":
         assert tips[:, 2].min() >= ix.root_radius - 1e-4
     else:
-        reach_p = np.hypot(tips[:, 1] - ix.centre_distance, tips[:, 0])
+        reach_p = np.hypot(tips[:, 1] - ix.centre_distance, tips[:, 0] - 0.5 * ix.cam_width)
         assert np.hypot(reach_p, rt).max() <= ix.root_radius + 1e-4
         assert np.abs(tips[:, 2]).max() == 0
     # the roughing sweeps are entered and left with the cutter clear of the blank (at the final depth)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import json
+import math
 import time
 
 import numpy as np
@@ -26,9 +27,10 @@ from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.kinds import body_of
 from cam_workbench.pipeline import summary_stage
 
+from .conftest import requires_ocp
 from .rs274 import requires_rs274, run_rs274
-from .test_gcode_spatial_indexer import (header, interpreted, roller_points, rz_minus, sweep_moves, tip_parameter,
-                                         tool_direction)
+from .test_gcode_spatial_indexer import (fixed_tip, header, interpreted, is_barrel, roller_points, rz_minus,
+                                         sweep_moves, tip_parameter, tool_direction)
 
 NAMES = ("barrel_indexer", "globoidal_indexer")
 REPORT_LINES = 3           # pressure angle, checks verdict, spec digest
@@ -136,7 +138,7 @@ def axis_errors(ix, moves, levels, reach, n=16):
     lam = np.linspace(0.0, 1.0, n + 1)
     w = start[:, None, :] + lam[None, :, None] * (end - start)[:, None, :]
     want, _ = roller_points(ix, w[..., 3], t)
-    tip = np.stack([w[..., 1], w[..., 2], w[..., 0]], axis=-1)
+    tip = fixed_tip(ix, w)
     got = tip[..., None, :] + (t[None, None, :] - tip_t[:, None, None])[..., None] \
         * tool_direction(ix, w[..., 5])[..., None, :]
     got = rz_minus(np.radians(w[..., 3])[..., None], got)
@@ -194,6 +196,63 @@ def test_the_machining_section_is_respected(name, tmp_path):
         assert word in out.gcode, word
     assert ("G43 H3" in out.gcode) == (name == "barrel_indexer")
     check_in_rs274(design, out, tmp_path, 3, 10.0)
+
+
+@requires_ocp
+@requires_rs274
+def test_the_programs_origin_is_the_step_solids(made, tmp_path):
+    """cam.nc and cam.step have one origin: cam.step (written by the public API, read back through
+    OCP) spans 0 ≤ z ≤ cam.thickness about the cam axis, and the program's words run through rs274,
+    taken as cam.step's coordinates renamed with no shift — the cam-frame point Rz(−A)·(Y, Z, X) —
+    put the finishing cutter (the roller's size) in the solid's groove: at poses inside each
+    finishing sweep, points 0.05 mm inside the cutter along the roller's length are not in the solid,
+    and points 0.3 mm outside it reach the solid (the flank it finishes).  The finishing tips' X range
+    is centred on the solid's z band (X = z: read from the cam's middle plane it is off by W/2)."""
+    from cam_workbench.kernel import ocp as occ
+    from cam_workbench.kernel.step import read_step
+
+    spec = made.design.spec
+    ix = made.design.geometry.indexer
+    shape = read_step(Cam.example(made.name).export_step(tmp_path / "cam.step"))
+    box = occ.Bnd_Box()
+    occ.add_to_box(shape, box, optimal=True)
+    x0, y0, z0, x1, y1, z1 = occ.box_limits(box)
+    assert (z0, z1) == pytest.approx((0.0, spec.cam.thickness), abs=1e-5)                  # the STEP's z band
+    assert x0 < 0 < x1 and y0 < 0 < y1                                                   # about the cam axis
+    rr = ix.roller_radius
+    run = run_rs274(made.out.gcode, tmp_path, 1, 2 * rr)
+    moves = sweep_moves(interpreted(run.stdout))
+    fin = {side: [m for m in moves if m.tag.startswith(f"finishing side {side:+d}")] for side in (1, -1)}
+    tips_x = np.array([m.end[0] for side in fin for m in fin[side]])
+    middle = 0.5 * (z0 + z1)
+    # centred on the band (X0 in the cam's middle plane would put it W/2 = 10 times this bound off)
+    assert abs(0.5 * (tips_x.min() + tips_x.max()) - middle) <= 0.05 * (z1 - z0)
+    assert tips_x.min() < z0 + rr and tips_x.max() > z1 - rr                              # across the band
+    classifier = occ.BRepClass3d_SolidClassifier(shape)
+
+    def in_solid(p):
+        classifier.Perform(occ.gp_Pnt(*map(float, p)), 1e-7)
+        return classifier.State() == occ.TopAbs_IN
+
+    t_tip = ix.root_radius if is_barrel(ix) else math.sqrt(ix.root_radius ** 2 - rr ** 2)  # the final depth
+    t = ix.roller_start + np.array([0.25, 0.75]) * (ix.roller_end - ix.roller_start)      # along the roller
+    om = np.linspace(0.0, 2 * math.pi, 8, endpoint=False)
+    for side, sweep in fin.items():
+        for m in (sweep[int(f * (len(sweep) - 1))] for f in (0.25, 0.5, 0.75)):
+            w = m.end
+            d = tool_direction(ix, w[5])
+            e1 = np.array([1.0, 0.0, 0.0]) if is_barrel(ix) else np.cross(d, [0.0, 0.0, 1.0])
+            e1 /= np.linalg.norm(e1)
+            e2 = np.cross(d, e1)
+            tip = np.array([w[1], w[2], w[0]])                       # cam.step's (x, y, z) at A = 0: no shift
+
+            def ring(r, tip=tip, d=d, e1=e1, e2=e2, a=w[3]):
+                p = tip + (t[:, None, None] - t_tip) * d + r * (np.cos(om)[None, :, None] * e1
+                                                               + np.sin(om)[None, :, None] * e2)
+                return rz_minus(math.radians(a), p.reshape(-1, 3))
+
+            assert not any(in_solid(p) for p in ring(rr - 0.05)), (side, w[3])
+            assert any(in_solid(p) for p in ring(rr + 0.3)), (side, w[3])
 
 
 # ---- refusals ------------------------------------------------------------------------------------

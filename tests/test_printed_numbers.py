@@ -588,15 +588,19 @@ SPATIAL_HEADER = [
              "{machining.roller_radius} {u}, rollers t = {indexer.geometry.roller_start}-{indexer.geometry.roller_end} "
              "{u}, width {indexer.geometry.cam_width} {u}, index start {indexer.geometry.index_start_deg} deg, {rib})",
              True),
-    Template("(machine: X along the cam axis [X = z], Y = x towards the turret axis, Z = y up along the turret axis "
-             "[the vertical X0 Y{indexer.geometry.centre_distance}]; origin on the cam axis in the cam's middle "
-             "plane; trivkins XYZAC, A and C unwrapped)", True),
+    Template("(machine: cam.step's frame renamed: X along the cam axis [X = z of cam.step], Y = x towards the turret "
+             "axis, Z = y up along the turret axis [the vertical X{machining.generating.turret_axis_xy_mm.0} "
+             "Y{machining.generating.turret_axis_xy_mm.1}]; origin = cam.step's: on the cam axis, X0 on the cam's end "
+             "face z = 0 [the cam spans X{machining.generating.cam_x_range_mm.0} to "
+             "X{machining.generating.cam_x_range_mm.1}]; trivkins XYZAC, A and C unwrapped)", True),
     Template("(A = input angle theta in deg, the cam turned about +X right-handed; C = turret angle psi in deg, the "
              f"cutter swung clockwise seen from +Z, alpha = {{_alpha0}} + C deg; A runs over {{{G}a_range_deg.0}} to "
              f"{{{G}a_range_deg.1}}, C over {{{G}c_range_deg.0}} to {{{G}c_range_deg.1}})", True),
-    # the globoid's horizontal tool (Z = 0); the barrel's line holds no number
+    # the barrel's vertical tool and the globoid's horizontal one (Z = 0): "W/2" is a symbol, not a number
+    Template("(X Y Z = tool tip; tool vertical, tip down at height t on the roller's axis: X = W/2 + R_p sin alpha, "
+             "Y = C + R_p cos alpha, Z = t; C turns the tool about its own axis only [drop it on an XYZA mill])"),
     Template("(X Y Z = tool tip; tool horizontal along the roller's axis, spindle towards the turret axis, tip at t "
-             "from it: X = t sin alpha, Y = C + t cos alpha, Z = 0; C swivels the head about the vertical through "
+             "from it: X = W/2 + t sin alpha, Y = C + t cos alpha, Z = 0; C swivels the head about the vertical through "
              "the tip; no G43: the tool length lies in XY)"),
     Template("(tool T{machining.tool_number}: flat end mill radius {machining.tool_radius} {u} = the roller's "
              "radius)"),
