@@ -80,9 +80,16 @@ Passes (one tool, radius R_t = r_r by default)
       touches both sides; the other side is then conventionally milled — the finishing sweeps are
       the roughing's last path again, each for its own side's climb, plunged and retracted along
       the tool axis inside the cut groove.
-    * A tool radius R_t < r_r follows the same axis path: since the meshing condition n·w = 0 does
-      not involve the radius, its envelope is the flanks' exact offset — a uniform stock of
-      r_r − R_t on every flank (for a finishing cutter of r_r, or grinding).  R_t > r_r is refused.
+    * A tool radius R_t < r_r follows the same axis path: the cutter of radius R_t is the roller's
+      surface offset by (r_r − R_t)·cos γ along its normal (a cylinder's by r_r − R_t), and the
+      envelope of an offset surface in a rigid motion is the offset of its envelope — a uniform
+      stock of (r_r − R_t)·cos γ on every flank (for a finishing cutter of r_r, or grinding).
+      R_t > r_r is refused.
+    * Conical rollers (``roller_cone_angle`` γ ≠ 0): the cutter is a tapered end mill of the
+      roller's cone — radius R_t + (t − t_m)·tan γ at the roller's axis parameter t, R_t at the
+      working length's middle t_m (the header gives its radius at the tip of the final depth); a
+      globoid's cutter with γ > 0 widens towards its tip (a dovetail cutter).  The axis path is
+      the roller's, as for a cylinder.
 
 Sampling and what is measured (never exact)
     The G1 moves interpolate X, Y, Z, A and C linearly (trivkins), the exact relative pose is
@@ -191,8 +198,10 @@ class Sweep:
 class SpatialProgram:
     """A spatial indexer's generating program and what was measured (mm, degrees).
 
-    kind: "barrel" or "globoidal"; text: the program; tool_radius R_t, roller_radius r_r,
-    stock = r_r − R_t left on every flank; tolerance, budget = (1 − BLEND_SHARE)·tolerance (the
+    kind: "barrel" or "globoidal"; text: the program; tool_radius R_t, roller_radius r_r (at the
+    working length's middle for a cone), cone_angle γ [deg] (0: a flat end mill; else the tapered
+    cutter's half angle), tip_radius: the cutter's radius at its tip at the final depth [mm],
+    stock = (r_r − R_t)·cos γ left on every flank; tolerance, budget = (1 − BLEND_SHARE)·tolerance (the
     moves' chord-error limit), blend = G64 P; chord_error: the largest measured chord error of
     every cutting move (module docs); levels: the tip's t per depth level (the last the final
     depth); safe_t: the retracted tip's t; reach: (t_lo, t_hi), the axis' reach the error is
@@ -207,6 +216,8 @@ class SpatialProgram:
     text: str
     tool_radius: float
     roller_radius: float
+    cone_angle: float
+    tip_radius: float
     stock: float
     tolerance: float
     budget: float
@@ -235,6 +246,7 @@ class SpatialProgram:
                 "A = input angle, C = turret angle, X Y Z = tool tip",
                 "cam_x_range_mm": list(self.cam_x_range), "turret_axis_xy_mm": list(self.turret_axis),
                 "tool_radius_mm": self.tool_radius, "roller_radius_mm": self.roller_radius,
+                "tool_cone_angle_deg": self.cone_angle, "tool_tip_radius_mm": self.tip_radius,
                 "stock_mm": self.stock, "tolerance_mm": self.tolerance, "chord_budget_mm": self.budget,
                 "g64_p_mm": self.blend, "chord_error_mm": self.chord_error, "levels_t_mm": list(self.levels),
                 "safe_t_mm": self.safe_t, "reach_t_mm": list(self.reach), "a_range_deg": list(self.a_range),
@@ -609,7 +621,9 @@ def spatial_program(design: SpatialDesign, *, tool_radius: float | None = None, 
     all_words = np.concatenate([sw.words for sw in sweeps])
     steps = np.concatenate([np.diff(sw.ticks) for sw in sweeps]) * A_QUANTUM
     prog = SpatialProgram(
-        kind=kind, text="", tool_radius=rt, roller_radius=rr, stock=rr - rt, tolerance=tol, budget=budget,
+        kind=kind, text="", tool_radius=rt, roller_radius=rr, cone_angle=math.degrees(float(ix.roller_cone_angle)),
+        tip_radius=rt - rr + float(ix.radius_at(cut.t_final)),
+        stock=(rr - rt) * math.cos(float(ix.roller_cone_angle)), tolerance=tol, budget=budget,
         blend=BLEND_SHARE * tol, chord_error=chord, levels=levels, safe_t=cut.t_safe, reach=cut.reach,
         a_range=(a_in * A_QUANTUM, a_out * A_QUANTUM),
         engaged={s: (math.degrees(v[0]), math.degrees(v[1])) for s, v in eng.items()}, sweeps=tuple(sweeps),
@@ -688,7 +702,13 @@ def _program_text(design: SpatialDesign, p: SpatialProgram, cut: _Cut, travels: 
                   "vertical through the tip; no G43: the tool length lies in XY")
     stock = (f", stock {p.stock:.6g} mm left on every flank [roller radius {p.roller_radius:g} mm]"
              if p.stock > 0 else " = the roller's radius")
-    w.comment(f"tool T{tool_number}: flat end mill radius {p.tool_radius:g} mm{stock}")
+    if p.cone_angle == 0.0:
+        w.comment(f"tool T{tool_number}: flat end mill radius {p.tool_radius:g} mm{stock}")
+    else:
+        w.comment(f"tool T{tool_number}: tapered end mill, half angle {p.cone_angle:.6g} deg, radius {p.tool_radius:g} "
+                  f"mm at the roller's middle t = {0.5 * (float(ix.roller_start) + float(ix.roller_end)):.6g} mm, "
+                  f"{p.tip_radius:.6g} mm at its tip at the final depth [the roller's cone]"
+                  + (stock if p.stock > 0 else ""))
     lv = ", ".join(f"{t:.4f}" for t in p.levels)
     w.comment(f"depth levels: tip at t = {lv} mm on the roller's axis [{len(p.levels)} roughing sweeps over A "
               f"{p.a_range[0]:.4f} to {p.a_range[1]:.4f}, entered and left clear of the blank]; safe: tip at "

@@ -37,7 +37,9 @@ pytestmark = requires_rs274
 TOL = 5e-3
 BLEND = 0.1                    # share of the tolerance left to G64 P
 QUANTUM_DEG = 0.5e-4           # half a unit of the 4th decimal, deg (rs274 prints 4 decimals)
-CASES = {"barrel": (design_barrel, BarrelIndexer), "globoidal": (design_globoidal, GloboidalIndexer)}
+CASES = {"barrel": (design_barrel, BarrelIndexer), "globoidal": (design_globoidal, GloboidalIndexer),
+         # conical rollers, the apex on the turret axis: the tapered cutter follows the same axis path
+         "globoidal_cone": (design_globoidal, lambda: GloboidalIndexer(roller_cone_angle=math.atan(12.0 / 85.0)))}
 _CALL = re.compile(r"^\s*\d+\s+N\S*\s+([A-Z_0-9]+)\((.*)\)\s*$")
 
 
@@ -264,7 +266,13 @@ def test_the_cutter_follows_the_roller_axis_relative_to_the_cam(cut):
     assert f"tolerance {TOL:g} mm" in head and f"limit {p.budget:.3g} mm" in head
     assert f"over t = {t_lo:.4f}-{t_hi:.4f} mm" in head
     assert "depth levels: tip at t = " + ", ".join(f"{v:.4f}" for v in p.levels) + " mm" in head
-    assert f"radius {rt:g} mm = the roller's radius" in head
+    if ix.roller_cone_angle == 0:
+        assert f"radius {rt:g} mm = the roller's radius" in head
+    else:
+        # the tapered cutter: r(t) = r_r + (t − t_m)·tan γ, its tip at the final depth (here t_final = levels[-1])
+        tip_r = rt + (p.levels[-1] - 85.0) * 12.0 / 85.0
+        assert (f"tapered end mill, half angle {math.degrees(ix.roller_cone_angle):.6g} deg, radius {rt:g} mm at the "
+                f"roller's middle t = 85 mm, {tip_r:.6g} mm at its tip at the final depth [the roller's cone]") in head
     assert f"A runs over {p.a_range[0]:.4f} to {p.a_range[1]:.4f}" in head
     assert f"C over {p.c_range[0]:.4f} to {p.c_range[1]:.4f}" in head
     assert all("not exact" in line for line in header(p.text) if "exact" in line.lower())

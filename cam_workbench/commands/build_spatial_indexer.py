@@ -82,6 +82,9 @@ def program_lines(s: dict) -> list[str]:
         return []
     u = s["units"]
     pe = m["path_error"]
-    return [f"  {m['file']}: {m['program']} program (LinuxCNC XYZAC), tool radius {m['tool_radius']:g} {u}, "
+    cone = m["generating"]["tool_cone_angle_deg"]
+    tool = (f"tool radius {m['tool_radius']:g} {u}" if cone == 0 else
+            f"tapered tool (half angle {cone:g}°) radius {m['tool_radius']:g} {u} at the roller's middle")
+    return [f"  {m['file']}: {m['program']} program (LinuxCNC XYZAC), {tool}, "
             f"{m['passes']} depth levels, {m['gcode_lines']} lines, the cutter's axis within {pe['value']:.3g} {u} "
             "of the roller's exact axis"]
