@@ -30,6 +30,10 @@ def __getattr__(name: str):
         from . import cam  # deferred: the API layer (OCP adaptor, solid builders)
 
         return getattr(cam, name)
+    if name == "Machine":
+        from . import machine  # deferred: the API layer (the pipeline, the machine's outputs)
+
+        return machine.Machine
     if name in _SPEC:
         from . import generators  # deferred: the mathematics (numpy, scipy)
 
@@ -37,6 +41,6 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
 
 
-__all__ = ["Cam", "CamSpec", "GeometryError", "PlateCam", "SpecError", "default_spec", "load_spec",
+__all__ = ["Cam", "CamSpec", "GeometryError", "Machine", "PlateCam", "SpecError", "default_spec", "load_spec",
            "plate_cam", "register"]
 __version__ = "0.1.0"

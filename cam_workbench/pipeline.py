@@ -36,6 +36,7 @@ from cam_workbench.generators.cam_design import CamDesign, design_cam
 from cam_workbench.generators.dynamics import analyse_dynamics
 from cam_workbench.generators.errors import GeometryError
 from cam_workbench.generators.spec import CamSpec
+from cam_workbench.generators.spec.linkage import linkage_report
 from cam_workbench.generators.studies.remedies import add_remedies
 
 from .kernel import ocp, solids
@@ -101,6 +102,9 @@ def summary_stage(design: CamDesign) -> dict[str, Any]:
     and each failing check's remedy (:func:`cam_workbench.generators.studies.remedies.add_remedies`)."""
     summary = design.summary()
     summary["spec"] = design.spec.to_dict()
+    linkage = linkage_report(design.spec, design.program, summary["checks"])
+    if linkage is not None:                  # [linkage]: the tool's motion through it
+        summary["linkage"] = linkage
     add_remedies(summary["checks"], design.spec)
     return summary
 

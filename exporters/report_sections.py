@@ -135,6 +135,32 @@ def _segments_table(report: Mapping[str, Any], lu: str) -> str:
             + "".join(rows) + "</table>")
 
 
+def _laws_table(report: Mapping[str, Any]) -> str:
+    """report.json ``motion.segments[i].characteristics`` and ``.vdi2143``: per rise or return its
+    law's C_v, C_a, C_j, C_v·C_a and its VDI 2143 motion task."""
+    segs = report.get("motion", {}).get("segments")
+    if not isinstance(segs, list):
+        return ""
+    rows = []
+    for i, seg in enumerate(segs):
+        if "characteristics" not in seg:
+            continue
+        pre = f"motion.segments.{i}"
+        cells = "".join(num_cell(report, f"{pre}.characteristics.{k}") for k in ("C_v", "C_a", "C_j", "torque_index"))
+        task = num_cell(report, f"{pre}.vdi2143.task") if has(report, f"{pre}.vdi2143.task") else "<td>—</td>"
+        rows.append(f"<tr><td>{i}</td><td>{html.escape(str(seg.get('kind')))}</td>"
+                    f"<td>{html.escape(str(seg.get('law')))}</td>{cells}{task}</tr>")
+    if not rows:
+        return ""
+    return ("<h3>Motion laws: characteristic values and VDI 2143 tasks</h3>"
+            '<p class="note">Per unit rise over a unit interval: a rise h over duration T peaks at C_v·h/T, '
+            "C_a·h/T², C_j·h/T³; C_v·C_a is the torque index; C_j is blank (infinite) where the acceleration "
+            "jumps at an end. Task: the state at start–end, R rest, V constant velocity, U reversal, "
+            "M motion.</p>"
+            '<table class="laws"><tr><th>#</th><th>kind</th><th>law</th><th>C_v</th><th>C_a</th><th>C_j</th>'
+            "<th>C_v·C_a</th><th>VDI 2143 task</th></tr>" + "".join(rows) + "</table>")
+
+
 def _junctions_table(report: Mapping[str, Any], lu: str) -> str:
     """report.json ``motion.junctions``: one row per segment boundary with the jumps of s′, s″, s‴,
     the order of continuity reached and the order the laws promise."""
@@ -487,7 +513,7 @@ def motion_view(p: PageData) -> Section:
         ("max |jerk|", "motion.max_jerk", f"{lu}/s³", None),
     ]
     return ("motion", "Follower motion", p.fig["kinematics"] + quantity_table(p.report, motion_rows)
-            + _segments_table(p.report, lu) + _junctions_table(p.report, lu))
+            + _laws_table(p.report) + _segments_table(p.report, lu) + _junctions_table(p.report, lu))
 
 
 def pressure_view(p: PageData) -> Section:

@@ -178,7 +178,8 @@ class CamDesign:
             **{k: sections[k] for k in ("pitch", "pressure_angle", "curvature", "follower")},
             "motion": {
                 "lift_unit": "deg" if geo.lift_unit == "angle" else spec.units,
-                "max_lift": spec.max_lift,
+                # the follower's (with [linkage] motion_at = "tool", derived; else spec.max_lift)
+                "max_lift": max(0.0, float(np.max(self.program.levels + self.program.lifts))),
                 "max_velocity": maxima["velocity"],
                 "max_acceleration": maxima["acceleration"],
                 "max_jerk": maxima["jerk"],

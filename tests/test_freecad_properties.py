@@ -68,13 +68,23 @@ def test_absent_values():
         "MotionEndContinuityEnabled", "MotionStartVelocityEnabled", "MotionEndVelocityEnabled",
         "MotionStartAccelerationEnabled", "MotionEndAccelerationEnabled", "MotionStartJerkEnabled",
         "MotionEndJerkEnabled", "MotionTableStartEnabled",
+        # the SCCA family's fractions, a cruise fraction and the triple harmonic's amplitudes (0 is a member)
+        "MotionSccaBEnabled", "MotionSccaCEnabled", "MotionSccaDEnabled", "MotionCruiseFractionEnabled",
+        "MotionHarmonic1Enabled", "MotionHarmonic2Enabled",
         # a groove's clearance and smallest wall (0 = none, absent = the unit's default), a conjugate
         # arm pair's angle (0 is an angle)
         "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled",
         # the optimiser's lower bound of a groove's clearance (0: a groove as wide as the roller)
         "OptimiseClearanceMinEnabled",
         # an indexer's plate gap (0: face to face), output inertia and friction (0: none; absent: the defaults)
-        "IndexerGapEnabled", "IndexerOutputInertiaEnabled", "IndexerFrictionTorqueEnabled"]
+        "IndexerGapEnabled",
+        # the rollers' cone angle (0: cylinders)
+        "IndexerRollerConeAngleEnabled",
+        "IndexerOutputInertiaEnabled", "IndexerFrictionTorqueEnabled",
+        # a lever's signed ratio (negative: a reversing lever; 0 refused by its rule) and the linkage's
+        # coordinates and angles that may be 0 (a pivot at the origin, a frame along x)
+        "LinkageRatioEnabled", "LinkagePivotXEnabled", "LinkagePivotYEnabled", "LinkageDirectionEnabled",
+        "LinkageFrameAngleEnabled", "LinkageCrankOffsetEnabled"]
 
 
 @pytest.mark.parametrize("path, shown", [

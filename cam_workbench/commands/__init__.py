@@ -54,6 +54,7 @@ CATALOGUE: dict[str, tuple[tuple[str, ...], str]] = {
     'optimise': (('optimize',), 'optimise the cam: area, machining time or smoothness under every design check'),
     'batch': ((), 'build many specs, each into its own subfolder, with a summary table (CSV, Parquet)'),
     'sweep': ((), 'evaluate a grid of spec fields, or size the base radius over it (a sizing chart)'),
+    'machine': ((), 'many cams on one camshaft: every cam built, the timing diagram, camshaft torque, flywheel'),
     'spec': ((), 'print the spec reference or the default spec'),
     'freecad': ((), 'install or uninstall the FreeCAD workbench'),
 }

@@ -78,6 +78,12 @@ def _sweep() -> Runner:
     return sweep_cmd.run
 
 
+def _machine() -> Runner:
+    from . import machine_cmd  # deferred: the command's module (the generators, the exporters, the pipeline)
+
+    return machine_cmd.run
+
+
 def _spec() -> Runner:
     from . import spec_cmd  # deferred: the command's module (the spec's declarations)
 
@@ -93,7 +99,8 @@ def _freecad() -> Runner:
 #: command (``command_id``, :mod:`.parsers`) → its runner, loading the command's module when called
 RUNNERS: dict[str, Callable[[], Runner]] = {
     "build": _build, "check": _check, "gcode": _gcode, "dxf": _dxf, "report": _report, "dynamics": _dynamics,
-    "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "spec": _spec, "freecad": _freecad,
+    "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "machine": _machine, "spec": _spec,
+    "freecad": _freecad,
 }
 
 

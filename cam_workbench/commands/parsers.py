@@ -375,6 +375,41 @@ def _sweep(sub: Any) -> None:
     p.set_defaults(command_id="sweep")
 
 
+#: the built-in machines (:data:`cam_workbench.generators.machine.MACHINES`)
+MACHINE_EXAMPLES = ("three_cams",)
+
+
+def _machine(sub: Any) -> None:
+    p = add_command(sub, "machine",
+        description="Build a machine — many cams on one camshaft (a machine file: [machine] name, speed_rpm, "
+                    "speed_fluctuation; [[cam]] entries: name, spec (a file or an inline [cam.spec]), phase, "
+                    "[cam.tool]; [[clearance]] pairs: between, required; docs/machine.md). Every cam is built as `build` builds it into OUT/<name>/; "
+                    "OUT gets machine.json (every number), machine.html (the timing diagram, the torque, the "
+                    "flywheel, one table of every cam's checks), timing.svg/png (displacement, velocity, "
+                    "acceleration of every follower against the machine angle), torque.svg/png (each cam's "
+                    "camshaft torque and their sum) and machine.gif (the mechanism in motion, 72 frames; "
+                    "--animation). Nothing is written if the machine file or a cam is bad.",
+        epilog="exit status: 0 every cam passes its design checks and every [[clearance]] pair keeps its "
+               "clearance, 3 a cam fails a check or a pair its clearance (the files are written), 2 bad input "
+               "(nothing written).",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("machine", nargs="?", metavar="FILE", help="machine file (TOML); omitted: --example")
+    p.add_argument("--example", choices=MACHINE_EXAMPLES, default=None,
+                   help="a built-in machine instead of FILE: 'three_cams' (a pusher, a gripper arm and a lifter "
+                        "at 120 rpm)")
+    p.add_argument("--phase-sweep", metavar="CAM", default=None,
+                   help="also find the phases of cam CAM (the others kept) that keep every [[clearance]] it is in: "
+                        "machine.json's phase_sweep, printed and in machine.html")
+    p.add_argument("--animation", choices=("gif", "mp4", "none"), default=None,
+                   help="the mechanism in motion over one turn (72 frames, 5° apart, 12 per second; "
+                        "docs/animation.md): machine.gif (default), machine.mp4 (needs ffmpeg on the PATH, "
+                        "else exit 2 before anything is written) or none. A machine with a cam that is not "
+                        "drawn (cylindrical, indexing) gets no animation and a note by default, and exit 2 "
+                        "when --animation is given")
+    add_output_arguments(p, "machine", source=False)
+    p.set_defaults(command_id="machine")
+
+
 def _spec(sub: Any) -> None:
     p = add_command(sub, "spec",
                     description="Print every spec field with its unit, default and rule "
@@ -415,7 +450,8 @@ def _freecad(sub: Any) -> None:
 #: command → the function adding its parser, in the order of :data:`cam_workbench.commands.CATALOGUE`
 PARSERS: dict[str, Callable[[Any], None]] = {
     "build": _build, "check": _check, "gcode": _gcode, "dxf": _dxf, "report": _report, "dynamics": _dynamics,
-    "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "spec": _spec, "freecad": _freecad,
+    "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "machine": _machine, "spec": _spec,
+    "freecad": _freecad,
 }
 
 

@@ -100,6 +100,28 @@ class NewCam(Command):
         _fit_view()
 
 
+def _open_toml(title: str, load: Any, transaction: str, lines: Any) -> None:
+    """Ask for a TOML file, check it with the library's ``load`` (its SpecError shown, nothing
+    added), then run ``lines(doc_name, path)`` — the Python lines that add it — in one undo step."""
+    name, _f = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), title, "", f"{title} (*.toml)")
+    if not name:
+        return
+    from cam_workbench.generators.errors import SpecError  # deferred: the generators load numpy, scipy
+
+    try:
+        load(name)
+    except SpecError as exc:
+        FreeCAD.Console.PrintError(f"{name}: {exc}\n")
+        QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), title, str(exc))
+        return
+    doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
+    doc.openTransaction(transaction)
+    for line in lines(doc.Name, name):
+        FreeCADGui.doCommand(line)
+    doc.commitTransaction()
+    _fit_view()
+
+
 class NewCamFromSpec(Command):
     menu_text = "New cam from spec…"
     tooltip = ("Add a cam from a spec file (TOML, as the cam-workbench CLI reads): a plate, groove, "
@@ -108,27 +130,45 @@ class NewCamFromSpec(Command):
     needs_cam = False
 
     def run(self) -> None:
-        name, _f = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Cam spec", "",
-                                                     "Cam spec (*.toml)")
-        if not name:
-            return
-        # deferred: the generators load numpy, scipy
-        from cam_workbench.generators.errors import SpecError
-        from cam_workbench.generators.spec import load_spec  # deferred: as above
+        from cam_workbench.generators.spec import load_spec  # deferred: the generators load numpy, scipy
 
-        try:
-            load_spec(name)
-        except SpecError as exc:
-            FreeCAD.Console.PrintError(f"{name}: {exc}\n")
-            QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), "Cam spec", str(exc))
-            return
-        doc = FreeCAD.ActiveDocument or FreeCAD.newDocument()
-        doc.openTransaction("New cam")
-        FreeCADGui.doCommand("from cam_workbench.freecad.feature import create")
-        FreeCADGui.doCommand(f"create(App.getDocument({doc.Name!r}), {name!r})")
-        FreeCADGui.doCommand(f"App.getDocument({doc.Name!r}).recompute()")
-        doc.commitTransaction()
-        _fit_view()
+        _open_toml("Cam spec", load_spec, "New cam", lambda doc, path: [
+            "from cam_workbench.freecad.feature import create", f"create(App.getDocument({doc!r}), {path!r})",
+            f"App.getDocument({doc!r}).recompute()"])
+
+
+class OpenMachine(Command):
+    menu_text = "Open machine…"
+    tooltip = ("Open a machine file (TOML, as `cam-workbench machine` reads): every cam on one shaft, one "
+               "behind the other, turned by its phase; the group's MachineAngle turns them all")
+    icon = "CamFromSpec.svg"
+    needs_cam = False
+
+    def run(self) -> None:
+        from cam_workbench.generators.machine import load_machine  # deferred: the generators load numpy, scipy
+
+        _open_toml("Machine", load_machine, "Open machine", lambda doc, path: [
+            "from cam_workbench.freecad.machine_doc import open_machine",
+            f"open_machine(App.getDocument({doc!r}), {path!r})"])
+
+
+class PlayMachine(Command):
+    menu_text = "Play machine"
+    tooltip = ("Turn the machine: a task panel with a MachineAngle slider and Play/Stop, which steps the "
+               "camshaft through 0–360° and shows every cam and follower where they stand")
+    icon = "Plots.svg"
+
+    def IsActive(self) -> bool:
+        doc = FreeCAD.ActiveDocument
+        return doc is not None and any(type(getattr(o, "Proxy", None)).__name__ == "MachineGroup"
+                                       for o in doc.Objects)
+
+    def run(self) -> None:
+        from .machine_panel import open_play_panel, target_machine  # deferred: numpy, scipy, the generators
+
+        group = target_machine()
+        if group is not None:
+            open_play_panel(group)
 
 
 class EditMotion(Command):
@@ -289,6 +329,8 @@ class DesignReport(_Export):
 COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_NewCam": NewCam,
     "CamWorkbench_NewCamFromSpec": NewCamFromSpec,
+    "CamWorkbench_OpenMachine": OpenMachine,
+    "CamWorkbench_PlayMachine": PlayMachine,
     "CamWorkbench_EditMotion": EditMotion,
     "CamWorkbench_Optimise": Optimise,
     "CamWorkbench_CheckDesign": CheckDesign,
@@ -303,6 +345,7 @@ COMMANDS: dict[str, type[Command]] = {
 }
 #: Menu layout ("Separator" between groups): create, edit and optimise, check, export.
 LAYOUT = ["CamWorkbench_NewCam", "CamWorkbench_NewCamFromSpec", "Separator",
+          "CamWorkbench_OpenMachine", "CamWorkbench_PlayMachine", "Separator",
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
           "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",

@@ -51,6 +51,7 @@ from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
 from .status import NO_LIMIT, limited_status
+from .transmission import linkage_checks
 
 TWO_PI = 2.0 * np.pi
 THESIS_NODES = 71
@@ -342,6 +343,8 @@ def run_checks(spec: CamSpec, *, sampling: str | None = None, samples: int | Non
     cont = continuity_check(model.program, cfg.min_continuity, lab)
     if cont is not None:
         results.append(cont)
+    # the linkage to the tool ([linkage]): the four-bar's transmission angle
+    results.extend(CheckResult(**r) for r in linkage_checks(spec, model.program, cs.theta, cs.segment))
 
     # contact stress (Eq. 3.6, 5.13)
     if fol.has_contact_stress and model.has_load:

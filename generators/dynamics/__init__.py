@@ -13,9 +13,9 @@ the cam, for every follower kind through the follower interface.
 """
 from .analysis import DynamicsResult, analyse_dynamics
 from .jump import JumpSpeed, find_jump_speed, rigid_jump_speed
-from .model import TrainModel, train_model, validate_dynamics
+from .model import RigidTrain, TrainModel, rigid_load, rigid_train, train_model, validate_dynamics
 from .periodic import CamInput, PeriodicResponse, cam_input, min_force_vs_speed, periodic_response
 
-__all__ = ["CamInput", "DynamicsResult", "JumpSpeed", "PeriodicResponse", "TrainModel", "analyse_dynamics",
-           "cam_input", "find_jump_speed", "min_force_vs_speed", "periodic_response", "rigid_jump_speed",
-           "train_model", "validate_dynamics"]
+__all__ = ["CamInput", "DynamicsResult", "JumpSpeed", "PeriodicResponse", "RigidTrain", "TrainModel",
+           "analyse_dynamics", "cam_input", "find_jump_speed", "min_force_vs_speed", "periodic_response",
+           "rigid_jump_speed", "rigid_load", "rigid_train", "train_model", "validate_dynamics"]

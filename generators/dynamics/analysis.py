@@ -31,6 +31,7 @@ from ..spec.params import unit_name
 from .contact import SeparatedResponse, separated_response
 from .jump import RPM, SWEEP_MAX_SAMPLES, JumpSpeed, find_jump_speed, rigid_jump_speed, sweep_range
 from .model import TrainModel, analysis_rpm, train_model
+from .model import rigid_load as rigid_load_of
 from .periodic import CamInput, PeriodicResponse, cam_input, parabolic_min, periodic_response, sample_count
 from .turret import turret_summary
 
@@ -290,7 +291,7 @@ def analyse_dynamics(spec: CamSpec, program: MotionProgram | None = None, *, spe
     inp = cam_input(program, fol, n)
     per = periodic_response(model, inp, omega)
     c = model.lift_scale
-    rigid_load = model.inertia * inp.d2u * omega**2 + model.preload + model.spring_rate * inp.u
+    rigid_load = rigid_load_of(model, inp.u, inp.d2u, omega)
     fmin = float(np.min(per.load * inp.lever))
     separated = None
     if fmin <= 0 and not form_closed:

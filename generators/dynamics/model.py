@@ -27,6 +27,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from ..followers.base import Follower
 from ..kinds import follower_of
@@ -84,6 +87,46 @@ class TrainModel:
         return self.inertia / self.mass_force
 
 
+@dataclass(frozen=True)
+class RigidTrain:
+    """The rigid follower train (k_f → ∞) in the follower's coordinate u = lift_scale·s.
+
+    Attributes:
+        inertia: J [force·s² per unit of u] (mass or arm inertia × mass_force).
+        preload: P [force, or torque for an arm].
+        spring_rate: k_s [force (torque) per unit of u].
+        lift_scale: spec lift unit → u (1 for lengths, π/180 for arm degrees).
+    """
+
+    inertia: float
+    preload: float
+    spring_rate: float
+    lift_scale: float
+
+
+def rigid_train(spec: CamSpec, follower: Follower | None = None) -> RigidTrain:
+    """The rigid train of ``spec``'s follower (``follower``: the body's dynamics follower, default
+    the spec's): J is ``dynamics.mass`` (``dynamics.arm_inertia``) or else the follower's, an
+    indexer turret's its output inertia, × the load's unit factor; P and k_s the follower's load.
+    Needs no stiffness: valid with or without a ``[dynamics]`` table."""
+    fol = follower or follower_of(spec)
+    ld = fol.load
+    inertia_field, _stiffness, follower_field = TRAIN_FIELDS[fol.lift_unit]
+    # an indexer's turret (:mod:`.turret`): the output's inertia, indexer.output_inertia
+    inertia = ld.inertia if fol.turret else (getattr(spec.dynamics, inertia_field)
+                                             or getattr(spec.follower, follower_field))
+    return RigidTrain(inertia * ld.mass_force, ld.preload, ld.rate, fol.lift_scale)
+
+
+def rigid_load(train: Any, u: Any, d2u: Any, omega: float) -> np.ndarray:
+    """The rigid train's generalised contact load Q = J·ü + P + k_s·u = J·u″·ω² + P + k_s·u
+    [force, or torque for an arm] at the cam input u (units of the follower coordinate) and its
+    second derivative per rad² u″, at camshaft speed ``omega`` [rad/s]; ``train``: a
+    :class:`RigidTrain` or :class:`TrainModel` (anything with ``inertia``, ``preload``,
+    ``spring_rate``).  The camshaft torque is Q·u′ (virtual work), the normal force Q·lever."""
+    return train.inertia * d2u * omega**2 + train.preload + train.spring_rate * u
+
+
 def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
     """The follower train of ``spec``: the follower's load (preload, return spring, its unit
     factor) and ``[dynamics]``'s inertia, stiffness and damping.
@@ -93,12 +136,11 @@ def train_model(spec: CamSpec, follower: Follower | None = None) -> TrainModel:
     """
     validate_dynamics(spec, required=True)
     fol = follower or follower_of(spec)
-    inertia_field, stiffness_field, follower_field = TRAIN_FIELDS[fol.lift_unit]
+    _inertia, stiffness_field, _follower = TRAIN_FIELDS[fol.lift_unit]
     dy = spec.dynamics
     ld = fol.load
-    # an indexer's turret (:mod:`.turret`): the output's inertia, indexer.output_inertia
-    inertia = ld.inertia if fol.turret else (getattr(dy, inertia_field) or getattr(spec.follower, follower_field))
-    return TrainModel(inertia=inertia * ld.mass_force, stiffness=float(getattr(dy, stiffness_field)),
+    rigid = rigid_train(spec, fol)
+    return TrainModel(inertia=rigid.inertia, stiffness=float(getattr(dy, stiffness_field)),
                       spring_rate=ld.rate, preload=ld.preload, damping_ratio=dy.damping_ratio,
                       lift_scale=fol.lift_scale, coordinate=fol.lift_unit, mass_force=ld.mass_force)
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from ..kinds import follower_class, follower_of
-from .base import Follower, LoadSpec
+from .base import Follower, LoadSpec, ToolMount
 from .conjugate import ArmPairRoller, SecondRoller, YokeRoller, second_roller_of
 from .flat import OscillatingFlatFollower, TranslatingFlatFollower
 from .oscillating import OscillatingFollower
@@ -34,5 +34,5 @@ def force_reference(spec) -> float:
 
 
 __all__ = ["ArmPairRoller", "Follower", "FollowerGeometry", "LoadSpec", "OscillatingFlatFollower", "OscillatingFollower",
-           "SecondRoller", "TranslatingFlatFollower", "TranslatingFollower", "YokeRoller", "follower_class", "follower_of",
+           "SecondRoller", "ToolMount", "TranslatingFlatFollower", "TranslatingFollower", "YokeRoller", "follower_class", "follower_of",
            "force_reference", "second_roller_of"]

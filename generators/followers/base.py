@@ -84,6 +84,27 @@ class FollowerSketch:
     pivot: complex | None = None
 
 
+@dataclass(frozen=True)
+class ToolMount:
+    """The follower's own point — where a tool rides by default — in the cam's fixed frame (the cam's
+    axis at the origin, spec lengths): its place at zero lift and how the lift moves it, as a lever
+    p = ``ratio``·q of the follower coordinate q = ``lift_scale``·s (docs/machine.md, "The tool").
+
+    Attributes:
+        origin: (x, y) a translating follower's point at zero lift; an oscillating follower's pivot.
+        direction: [rad, counter-clockwise from +x] a translating follower's direction of motion
+            (positive lift), or the direction from the pivot to the point at zero lift.
+        radius: [length] the point's distance from the pivot (0 for a translating follower).
+        ratio: p per unit q: 1 for a translating follower (the point at origin + q·(cos, sin)(direction));
+            −1 for an arm whose angle is ψ₀ − s (the point at origin + radius·(cos, sin)(direction − q)).
+    """
+
+    origin: tuple[float, float]
+    direction: float
+    radius: float = 0.0
+    ratio: float = 1.0
+
+
 class Follower(ABC):
     """A follower kind (one module each: translating, oscillating, flat).
 
@@ -256,6 +277,14 @@ class Follower(ABC):
     @property
     def has_load(self) -> bool:
         return self.load.any
+
+    # ---- the tool it carries (docs/machine.md, "The tool") ----------------------------------
+    @abstractmethod
+    def tool_mount(self) -> ToolMount:
+        """The follower's own point at zero lift and how the lift moves it (:class:`ToolMount`):
+        where a machine's tool without a ``[linkage]`` and without ``[cam.tool]`` origin/direction
+        rides — the point :meth:`fixed` gives (roller centre, knife tip), or a point of the face's
+        body on a flat face."""
 
     # ---- drawing ---------------------------------------------------------------------------
     @abstractmethod

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..kinds import follower_of
 from ..motion.program import Kinematics
-from .base import Follower, FollowerSketch
+from .base import Follower, FollowerSketch, ToolMount
 from .load import hertz_stress
 
 DEG = math.pi / 180.0
@@ -117,6 +117,15 @@ class SecondRoller(Follower):
     def fixed(self, k: Kinematics, nder: int = 0) -> list[np.ndarray]:
         f = self.first.fixed(k, nder)
         return [self.map(f[0])] + [self.a * d for d in f[1:]]
+
+    def tool_mount(self) -> ToolMount:
+        """The second roller's centre: the first follower's mount carried by the map F₂ = a·F₁ + b (its
+        origin mapped, its direction turned by arg a, its radius scaled by |a|; the yoke's a = 1, the arm
+        pair's pivot a fixed point of the map)."""
+        m = self.first.tool_mount()
+        o = self.a * complex(*m.origin) + self.b
+        return ToolMount((float(o.real), float(o.imag)), float(m.direction + np.angle(self.a)),
+                         float(abs(self.a) * m.radius), m.ratio)
 
     def velocity_direction_at(self, q: np.ndarray) -> np.ndarray:
         # every point of the follower's body moves as the body does: along +Y (yoke), about the pivot (arm)

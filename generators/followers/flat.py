@@ -37,7 +37,7 @@ from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
 from ..studies.plan import Plan
-from .base import Follower, FollowerSketch, LoadSpec, arm_moment, refuse_lift_beyond
+from .base import Follower, FollowerSketch, LoadSpec, ToolMount, arm_moment, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
 DEG = math.pi / 180.0
@@ -164,6 +164,10 @@ class TranslatingFlatFollower(FlatFaceFollower):
     def velocity_direction_at(self, q: np.ndarray) -> np.ndarray:
         return np.full(np.shape(q), 1j)
 
+    def tool_mount(self) -> ToolMount:
+        """The face's centre, its foot on the stem: (e, R_b) at zero lift, sliding along +y."""
+        return ToolMount((float(self.offset), float(self.base_radius)), 0.5 * np.pi)
+
     def pressure_angle(self, k: Kinematics) -> np.ndarray:
         """0: the face's normal is the line of motion."""
         return np.zeros(np.shape(k.s))
@@ -281,6 +285,14 @@ class OscillatingFlatFollower(FlatFaceFollower):
     @property
     def pivot(self) -> complex:
         return complex(self.pivot_distance, 0.0)
+
+    def tool_mount(self) -> ToolMount:
+        """The face's centre, a point of the arm's body: ``arm_length`` along the face from the foot of
+        the pivot (the zero-lift contact's place, d·sin β₀, when not given), the foot at f from the
+        pivot along −n; it turns about the pivot (d, 0) with the face, β = β₀ − s (ratio −1)."""
+        c = self.arm_length if self.arm_length is not None else self.pivot_distance * math.sin(self.beta0)
+        z = complex(-self.face_offset, c)          # in the face's frame: n = 1, along the face i
+        return ToolMount((float(self.pivot_distance), 0.0), float(self.beta0 + np.angle(z)), float(abs(z)), -1.0)
 
     def face(self, s):
         beta = self.beta0 - s

@@ -30,7 +30,7 @@ from ..kinds import body_of, register_follower
 from ..motion.program import Kinematics
 from ..spec.model import CamSpec
 from ..studies.plan import Plan
-from .base import Follower, FollowerSketch, LoadSpec, refuse_lift_beyond
+from .base import Follower, FollowerSketch, LoadSpec, ToolMount, refuse_lift_beyond
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
 DEG = math.pi / 180.0
@@ -126,6 +126,11 @@ class OscillatingFollower(Follower):
     @property
     def profile_offset(self) -> float:  # type: ignore[override]
         return self.roller_radius
+
+    def tool_mount(self) -> ToolMount:
+        """The follower point on its arm: about the pivot (d, 0) at the arm length L, the arm at ψ₀ at
+        zero lift and at ψ₀ − s (ratio −1)."""
+        return ToolMount((float(self.pivot_distance), 0.0), float(self.psi0), float(self.arm_length), -1.0)
 
     def arm_angle(self, s: np.ndarray) -> np.ndarray:
         """ψ [rad] at lift s [deg]."""

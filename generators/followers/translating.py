@@ -23,7 +23,7 @@ from ..motion.program import Kinematics
 from ..pitch.contact import FollowerLineSolver
 from ..spec.model import CamSpec
 from ..studies.plan import Plan
-from .base import Follower, FollowerSketch, LoadSpec
+from .base import Follower, FollowerSketch, LoadSpec, ToolMount
 from .load import MASS_FORCE_FACTOR, hertz_stress
 
 
@@ -90,6 +90,10 @@ class TranslatingFollower(Follower):
 
     def velocity_direction_at(self, q: np.ndarray) -> np.ndarray:
         return np.full(np.shape(q), 1j)
+
+    def tool_mount(self) -> ToolMount:
+        """The follower point (e, s₀) at zero lift, sliding along +y: (e, s₀ + s)."""
+        return ToolMount((float(self.offset), float(self.s0)), 0.5 * np.pi)
 
     def pressure_angle(self, k: Kinematics) -> np.ndarray:
         """Pressure angle φ [rad] = atan((s' − e)/(s₀ + s)) (thesis Eq. 3.4), signed;

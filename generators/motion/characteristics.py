@@ -19,7 +19,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import SpecError
-from .laws import LAW_FUNCTIONS, NormalisedLaw, end_continuity, evaluate_law, law_name
+from .laws import LAW_FUNCTIONS, NormalisedLaw, as_law, end_continuity, evaluate_law, law_name
 
 Array = np.ndarray
 
@@ -116,11 +116,16 @@ class LawCharacteristics:
         return out
 
 
-@functools.lru_cache(maxsize=None)
 def law_characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
-    """C_v, C_a, C_j, C_v·C_a and Q of law ``name`` (a key of ``LAW_FUNCTIONS``, or a
-    :class:`~.laws.NormalisedLaw`: a motion program's rise), refined to ~1e-15 relative; cached per
-    law (the characteristics' ``name`` is the law's name)."""
+    """C_v, C_a, C_j, C_v·C_a and Q of law ``name`` (a key of ``LAW_FUNCTIONS``, a
+    :class:`~.laws.NormalisedLaw`: a motion program's rise, or a :class:`~.laws.LawName`: a
+    parametric closed form), refined to ~1e-15 relative; cached per law (the characteristics'
+    ``name`` is the law's name)."""
+    return _characteristics(as_law(name))
+
+
+@functools.lru_cache(maxsize=None)
+def _characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
     if not isinstance(name, NormalisedLaw) and name not in LAW_FUNCTIONS:
         raise SpecError("law", f"unknown law {name!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
 

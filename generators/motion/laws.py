@@ -192,6 +192,8 @@ class NormalisedLaw:
         programs give equal laws (the key is the segment's solved curve, by value); the end
         continuity is measured (:func:`_measured_continuity`)."""
         law = program.laws[k]
+        if isinstance(law, LawName):                 # a parametric closed form: the law itself
+            return law.law
         if law in LAW_FUNCTIONS:
             return CLOSED_FORM_LAWS[law]
         beta, h = float(program.spans[k]), float(program.lifts[k])
@@ -255,9 +257,45 @@ CLOSED_FORM_LAWS: dict[str, NormalisedLaw] = {name: NormalisedLaw(name, fn, END_
                                               for name, fn in LAW_FUNCTIONS.items()}
 
 
+class LawName(str):
+    """A parametric closed-form law as a motion program carries it in ``MotionProgram.laws``: the
+    law's name as a string (what summaries, messages and report.json print: "scca", …) that also
+    holds the law itself, ``.law`` (a :class:`NormalisedLaw` with the segment's parameters), so
+    every consumer that evaluates a program's law by name evaluates the parametric one.  Two are
+    equal when their laws are (a plain string equals it by name only); it pickles with its law.
+    Made by :func:`~.law_library.segment_law`."""
+
+    law: NormalisedLaw
+
+    def __new__(cls, law: NormalisedLaw) -> "LawName":
+        obj = super().__new__(cls, law.name)
+        obj.law = law
+        return obj
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (LawName, (self.law,))
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, LawName):
+            return self.law == other.law
+        return str.__eq__(self, other)
+
+    def __ne__(self, other: object) -> bool:
+        return not self == other
+
+    def __hash__(self) -> int:
+        return hash(self.law)
+
+
+def as_law(law: "str | NormalisedLaw") -> "str | NormalisedLaw":
+    """``law`` with a :class:`LawName` unwrapped to its :class:`NormalisedLaw` (else unchanged)."""
+    return law.law if isinstance(law, LawName) else law
+
+
 def is_law(law: Any) -> bool:
-    """Whether the geometry takes ``law``: a key of ``LAW_FUNCTIONS`` or a :class:`NormalisedLaw`."""
-    return isinstance(law, NormalisedLaw) or (isinstance(law, str) and law in LAW_FUNCTIONS)
+    """Whether the geometry takes ``law``: a key of ``LAW_FUNCTIONS``, a :class:`NormalisedLaw` or a
+    :class:`LawName`."""
+    return isinstance(law, (NormalisedLaw, LawName)) or (isinstance(law, str) and law in LAW_FUNCTIONS)
 
 
 def law_name(law: "str | NormalisedLaw") -> str:
@@ -266,13 +304,16 @@ def law_name(law: "str | NormalisedLaw") -> str:
 
 
 def end_continuity(law: "str | NormalisedLaw") -> int:
-    """:data:`END_CONTINUITY` of a closed form by name, a :class:`NormalisedLaw`'s own."""
+    """:data:`END_CONTINUITY` of a closed form by name, a :class:`NormalisedLaw`'s (or a
+    :class:`LawName`'s) own."""
+    law = as_law(law)
     return law.continuity if isinstance(law, NormalisedLaw) else END_CONTINUITY[law]
 
 
 def evaluate_law(name: "str | NormalisedLaw", x: Array) -> tuple[Array, Array, Array, Array]:
-    """f, f', f'', f''' of law ``name`` (a key of ``LAW_FUNCTIONS`` or a :class:`NormalisedLaw`)
-    at normalised positions ``x`` ∈ [0, 1]."""
+    """f, f', f'', f''' of law ``name`` (a key of ``LAW_FUNCTIONS``, a :class:`NormalisedLaw` or a
+    :class:`LawName`) at normalised positions ``x`` ∈ [0, 1]."""
+    name = as_law(name)
     fn = name.fn if isinstance(name, NormalisedLaw) else LAW_FUNCTIONS[name]
     x = np.asarray(x, dtype=float)
     # a law's terms are arrays of x's shape, or constants (a polynomial's last derivative) to spread

@@ -15,7 +15,9 @@ import numpy as np
 
 from ..kinds import body_of
 from .bspline_law import BSplineLift
-from .laws import evaluate_law
+from .characteristics import law_characteristics
+from .laws import LAW_FUNCTIONS, LawName, NormalisedLaw, evaluate_law
+from .vdi2143 import classify_program
 from .segments import build_segments, law_promise
 
 if TYPE_CHECKING:  # types only: the spec sits above the motion program
@@ -67,8 +69,9 @@ class MotionProgram:
     @classmethod
     def from_spec(cls, spec: CamSpec) -> "MotionProgram":
         """The program of a validated spec (advancing by what its body declares:
-        ``Body.motion_advance``)."""
-        return cls.from_segments(spec.motion, body_of(spec).motion_advance(spec))
+        ``Body.motion_advance``); with ``[linkage] motion_at = "tool"`` the follower's program the
+        inverse linkage derives from the tool's (``LinkageSection.program_of``)."""
+        return spec.linkage.program_of(spec, cls.from_segments(spec.motion, body_of(spec).motion_advance(spec)))
 
     @classmethod
     def from_segments(cls, segments: tuple[MotionSegment, ...] | list[MotionSegment],
@@ -92,7 +95,7 @@ class MotionProgram:
         ])
         levels = np.concatenate([[0.0], np.cumsum(signed)[:-1]])
         built = build_segments(segments, starts, spans, levels, signed)
-        return cls(starts, spans, levels, signed, tuple(s.law for s in segments),
+        return cls(starts, spans, levels, signed, built.laws,
                    tuple(s.kind for s in segments), built.curves, built.promises, built.infos, advance)
 
     def promise(self, k: int) -> tuple[int, int]:
@@ -191,12 +194,16 @@ class MotionProgram:
         return Kinematics(theta, s, ds, d2s, d3s)
 
     def report(self) -> dict[str, Any]:
-        """report.json's ``motion.segments`` (each segment's span, levels, promised continuity and
-        what a solved law came out as) and ``motion.junctions`` (:meth:`junctions`)."""
+        """report.json's ``motion.segments`` (each segment's span, levels, promised continuity, what
+        a solved law came out as and, for a rise or return, its law's characteristic values
+        ``characteristics`` (:meth:`~.characteristics.LawCharacteristics.summary`) and VDI 2143
+        motion task ``vdi2143`` (:func:`~.vdi2143.classify_program`)) and ``motion.junctions``
+        (:meth:`junctions`)."""
         segs = []
+        tasks = classify_program(self)
         for k in range(len(self.starts)):
             entry: dict[str, Any] = {
-                "index": k, "kind": self.kinds[k], "law": self.laws[k] or "dwell",
+                "index": k, "kind": self.kinds[k], "law": str(self.laws[k] or "dwell"),
                 "start_deg": float(np.rad2deg(self.starts[k])), "span_deg": float(np.rad2deg(self.spans[k])),
                 "start_level": float(self.levels[k]), "end_level": float(self.levels[k] + self.lifts[k]),
                 "promised_continuity": list(self.promise(k)),
@@ -204,8 +211,20 @@ class MotionProgram:
             info = self.infos[k] if self.infos else None
             if info:
                 entry.update({key: v for key, v in info.items() if key != "law"})
+            if self.laws[k] is not None and self.lifts[k]:
+                entry["characteristics"] = law_characteristics(self.segment_law(k)).summary()
+                entry["vdi2143"] = tasks[k]
             segs.append(_plain(entry))
         return {"segments": segs, "junctions": [j.to_dict() for j in self.junctions()]}
+
+    def segment_law(self, k: int) -> "str | NormalisedLaw":
+        """Rise or return ``k``'s normalised law: a closed form's name, a parametric law
+        (:class:`~.laws.LawName`), else the segment normalised from the program
+        (:meth:`~.laws.NormalisedLaw.from_segment`)."""
+        law = self.laws[k]
+        if isinstance(law, LawName) or law in LAW_FUNCTIONS:
+            return law
+        return NormalisedLaw.from_segment(self, k)
 
     def s(self, theta: np.ndarray | float) -> np.ndarray:
         """Follower displacement only."""
@@ -278,7 +297,7 @@ class Junction:
     def to_dict(self) -> dict[str, Any]:
         names = ("s", "velocity", "acceleration", "jerk")
         return {"index": self.index, "at_deg": self.at_deg, "from": self.left, "to": self.right,
-                "from_law": self.law_left or "dwell", "to_law": self.law_right or "dwell",
+                "from_law": str(self.law_left or "dwell"), "to_law": str(self.law_right or "dwell"),
                 "left": dict(zip(names, self.values_left)), "right": dict(zip(names, self.values_right)),
                 "jumps": dict(zip(names, self.jumps)), "order": self.order, "promised": self.promised,
                 "ok": self.ok}

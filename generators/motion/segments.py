@@ -30,7 +30,8 @@ import numpy as np
 
 from ..errors import SpecError, fmt_apart
 from .bspline_law import BSplineLift, lift_from_segment
-from .laws import END_CONTINUITY, evaluate_law
+from .law_library import segment_law
+from .laws import END_CONTINUITY, LawName, evaluate_law
 from .polynomial import (Condition, ConditionError, bezier_lift, cruise_pieces, piecewise_lift,
                          power_coefficients, solve_conditions)
 from .table import DEFAULT_TABLE_ORDER, DEFAULT_TOLERANCE_FRACTION, TableError, fit_table
@@ -58,6 +59,7 @@ class _Plan:
     values: list[list[float]] = field(default_factory=lambda: [[0.0] * 4, [0.0] * 4])
     curve: BSplineLift | None = None
     info: dict[str, Any] | None = None
+    law: Any = None                # the law the program carries (a LawName for a parametric law)
     promise: tuple[int, int] = (3, 3)
 
     @property
@@ -72,6 +74,8 @@ class BuiltSegments:
     curves: tuple[BSplineLift | None, ...]
     promises: tuple[tuple[int, int], ...]
     infos: tuple[dict[str, Any] | None, ...]
+    #: the laws the program carries: the segments' names, a parametric law as a LawName
+    laws: tuple[Any, ...] = ()
 
 
 def continuity_of(seg: Any, end: int) -> int:
@@ -84,6 +88,8 @@ def law_promise(law: str | None, curve: BSplineLift | None = None) -> int:
     limit of its own; a B-spline lift of order k: k − 2; a matching law: its continuity)."""
     if law is None:
         return 3
+    if isinstance(law, LawName):
+        return law.law.continuity
     if law in END_CONTINUITY:
         return END_CONTINUITY[law]
     if law == "bspline" and curve is not None:
@@ -120,13 +126,13 @@ def build_segments(segments: Sequence[Any], starts: np.ndarray, spans: np.ndarra
         if not progress:
             raise _deadlock(pending, plans, n)
     return BuiltSegments(tuple(p.curve for p in plans), tuple(p.promise for p in plans),
-                         tuple(p.info for p in plans))
+                         tuple(p.info for p in plans), tuple(p.law for p in plans))
 
 
 # ---- entries -----------------------------------------------------------------------------------
 def _plan_entries(p: _Plan) -> None:
     seg = p.seg
-    law = seg.law
+    law = p.law = segment_law(seg, p.path)             # a parametric law made of its fields
     if law is None:                                    # dwell
         p.entries = [{n: ("fixed", 0.0) for n in (1, 2, 3)} for _ in _END]
         p.values = [[p.level, 0.0, 0.0, 0.0], [p.level, 0.0, 0.0, 0.0]]

@@ -30,6 +30,7 @@ from .dynamics import DynamicsSection
 from .ecam import EcamSection, validate_ecam
 from .follower import FollowerSection, validate_face, validate_follower_motion
 from .groove import GrooveSection
+from .linkage import LinkageSection, validate_linkage
 from .indexer import INDEXER_FIELDS, INDEXER_ROLLER_BOUND, INDEXER_SIZE_FIELDS, IndexerSection, indexer_size
 from .machining import MachiningSection, validate_machining
 from .material import MaterialSection
@@ -66,6 +67,7 @@ SECTIONS: dict[str, tuple[type, bool, bool]] = {
     "dynamics": (DynamicsSection, False, False),
     "ecam": (EcamSection, False, False),
     "indexer": (IndexerSection, False, False),
+    "linkage": (LinkageSection, False, False),
 }
 
 
@@ -90,6 +92,7 @@ class CamSpec:
     dynamics: DynamicsSection = field(default_factory=DynamicsSection)
     ecam: EcamSection = field(default_factory=EcamSection)
     indexer: IndexerSection = field(default_factory=IndexerSection)
+    linkage: LinkageSection = field(default_factory=LinkageSection)
 
     # ---- construction -------------------------------------------------------------
     @classmethod
@@ -375,6 +378,7 @@ def validate(spec: CamSpec) -> None:
     validate_optimise(spec)
     validate_dynamics(spec)                    # the train's rules (and, when enabled, its data)
     validate_ecam(spec)
+    validate_linkage(spec)                     # the follower-to-tool linkage over the motion
 
 
 __all__ = ["CamSpec", "validate", "SECTIONS", "LIFT_FIELDS"]

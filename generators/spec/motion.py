@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 from ..errors import SpecError, fmt_apart
 from ..kinds import body_of
 from ..motion.bspline_law import lift_from_segment
+from ..motion.law_library import PARAMETRIC_LAWS
 from ..motion.program import MotionProgram
 from ..motion.table import TableError, read_csv
 from .params import param
@@ -22,12 +23,15 @@ if TYPE_CHECKING:  # types only: the spec's root imports this module
 
 
 LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
-        "polynomial", "constant_velocity", "table")
+        "polynomial", "constant_velocity", "table", *PARAMETRIC_LAWS)
 #: The laws implemented by :mod:`cam_workbench.generators.motion.laws` (closed forms); "bspline" is the thesis'
 #: parametric B-spline (:mod:`cam_workbench.generators.motion.bspline_law`), shaped by control points;
 #: "polynomial", "constant_velocity" and "table" are solved from boundary conditions or fitted to
 #: points (:mod:`cam_workbench.generators.motion.segments`).
 CLOSED_FORM_LAWS = LAWS[:6]
+#: The parametric closed forms (:mod:`cam_workbench.generators.motion.law_library`): "scca",
+#: "modified_sine_cv", "modified_trapezoid_cv", "triple_harmonic", "poly345_throw", "poly4567_throw".
+PARAMETRIC_LAW_NAMES = tuple(PARAMETRIC_LAWS)
 #: Motion-segment fields that only a law = "bspline" segment may have.
 BSPLINE_FIELDS = ("order", "control_x", "control_y", "control_frame", "control_start")
 #: Motion-segment fields of the laws solved from boundary conditions, with the laws that take them.
@@ -41,6 +45,8 @@ SEGMENT_LAW_FIELDS: dict[str, tuple[str, ...]] = {
     "start_blend": ("constant_velocity",), "end_blend": ("constant_velocity",),
     "table": ("table",), "table_file": ("table",), "table_start": ("table",), "table_tolerance": ("table",),
     "order": ("bspline", "table"),
+    **{f: tuple(name for name, law in PARAMETRIC_LAWS.items() if f in law.fields)
+       for f in dict.fromkeys(f for law in PARAMETRIC_LAWS.values() for f in law.fields)},
 }
 
 SPAN_TOL_DEG = 1e-9
@@ -64,7 +70,10 @@ class MotionSegment:
     law: str | None = param(
         "Motion law (rise/return only): a closed form, \"bspline\" (control points), \"polynomial\" (the "
         "lowest-degree polynomial meeting the end conditions and points), \"constant_velocity\" (with blended "
-        "ends) or \"table\" (a B-spline fitted to (angle, lift) points)", kind="str", choices=LAWS,
+        "ends), \"table\" (a B-spline fitted to (angle, lift) points), or a parametric closed form: \"scca\" "
+        "(Norton's sine-constant-cosine family), \"modified_sine_cv\" and \"modified_trapezoid_cv\" (with a "
+        "constant-velocity middle), \"triple_harmonic\", \"poly345_throw\" and \"poly4567_throw\" (velocity peak "
+        "moved)", kind="str", choices=LAWS,
         optional=True, group="Motion")
     junctions: int | None = param(
         "Number of PH segments spanning this motion segment (non-uniform junction spacing, "
@@ -169,6 +178,36 @@ class MotionSegment:
         "one table of a whole cycle can serve several segments (absent: angles from the segment start, "
         "and every row must lie inside it)",
         unit="angle", optional=True, group="Motion")
+    # ---- parametric closed forms (cam_workbench.generators.motion.law_library) ----
+    scca_b: float | None = param(
+        "SCCA: fraction of the rise taken by the two sine ramps of the acceleration (b; b + c + d = 1; "
+        "modified trapezoid 0.25, modified sine 0.25, cycloidal 0.5; 0: the acceleration jumps at the ends)",
+        unit="", ge=0, le=1, optional=True, group="Motion")
+    scca_c: float | None = param(
+        "SCCA: fraction of the rise at constant acceleration (c; b + c + d = 1; modified trapezoid 0.5, "
+        "constant acceleration 1)",
+        unit="", ge=0, le=1, optional=True, group="Motion")
+    scca_d: float | None = param(
+        "SCCA: fraction of the rise taken by the cosine part of the acceleration through the crossover "
+        "(d; b + c + d = 1; modified sine 0.75, simple harmonic 1)",
+        unit="", ge=0, le=1, optional=True, group="Motion")
+    cruise_fraction: float | None = param(
+        "SCCA (optional, default 0), modified_sine_cv, modified_trapezoid_cv (required): fraction of the "
+        "segment's angle at constant velocity in its middle; the law's accelerating and decelerating halves "
+        "share the rest",
+        unit="", ge=0, lt=1, optional=True, group="Motion")
+    harmonic_1: float | None = param(
+        "Triple harmonic: amplitude a₁ of f″ = a₁ sin 2πx + a₂ sin 4πx + a₃ sin 6πx (per unit rise over the "
+        "unit interval; a₃ follows from f(1) = 1); default 9π/4 (with a₂ = 0: zero jerk at the ends and the "
+        "crossover), 2π is the cycloidal law",
+        unit="", optional=True, group="Motion")
+    harmonic_2: float | None = param(
+        "Triple harmonic: amplitude a₂ of the second harmonic (default 0)",
+        unit="", optional=True, group="Motion")
+    velocity_peak_at: float | None = param(
+        "poly345_throw, poly4567_throw: where the velocity peaks, as a fraction of the segment's angle "
+        "(0.5: the symmetric 3-4-5 or 4-5-6-7 law; below: a fast start and a slow end)",
+        unit="", gt=0, lt=1, optional=True, group="Motion")
     table_tolerance: float | None = param(
         "Table: largest allowed distance |s_fit − s| of the fit from a table point (default 0.1% of the "
         "lift); the fewest knot spans meeting it are used",
