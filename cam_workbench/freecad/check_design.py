@@ -303,9 +303,9 @@ def _own_body_report(obj: Any, spec: Any, dynamics_error: str | None, dynamics_p
 
 def train_name(spec: Any) -> str:
     """What the spec's dynamics are of: an indexer's "output train" (the output's inertia on the
-    turret shaft, ``Body.dynamics_follower(spec).turret``), else the "follower"."""
+    turret shaft: the body's ``dynamics_train`` is "turret"), else the "follower"."""
     try:
-        turret = bool(getattr(body_of(spec).dynamics_follower(spec), "turret", False))
+        turret = body_of(spec).dynamics_train == "turret"
     except CamError:
         turret = False
     return "output train" if turret else "follower"
@@ -464,8 +464,8 @@ def _add_dynamics(report: DesignReport, spec: Any, progress: Any, design: Any = 
     dynamics follower (an indexer's turret), as ``cam_workbench.pipeline.dynamics_stage`` (``build``) calls it."""
     try:
         # the function `cam-workbench dynamics` and `build` call: its summary() is report.json's section
-        section = analyse_dynamics(spec, getattr(design, "program", None), progress=progress,
-                                   follower=getattr(design, "follower", None)).summary()
+        section = analyse_dynamics(spec, None if design is None else design.program, progress=progress,
+                                   follower=None if design is None else design.follower).summary()
     except SpecError as exc:
         report.dynamics_error = f"{props.describe_field(exc.field)}: {exc.rule}"
         return

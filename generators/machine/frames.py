@@ -224,10 +224,10 @@ def cam_frames(name: str, design: Any, phase: float, tool: ToolOutline | None, m
     Raises:
         SpecError: the design has no plane profile (naming ``cam.body``).
     """
-    if not getattr(design, "plane", False):
+    if not design.plane:
         raise SpecError("cam.body", f"{design.spec.cam.body!r} cams are not drawn in motion: the animation draws "
                                     "plane cams (a profile in the cam's plane) "
-                                    f"{getattr(design, 'instead_of_plane_curves', '')}".rstrip())
+                                    f"{design.instead_of_plane_curves}".rstrip())
     spec = design.spec
     fol = design.follower
     sense = int(fol.sense)
