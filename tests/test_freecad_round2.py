@@ -33,7 +33,8 @@ out = RESULT["props"] = {}
 for n in cam.PropertiesList:
     g = cam.getGroupOfProperty(n)
     if g in ("Cam", "Follower", "Follower arm", "Follower load", "Motion", "Pitch", "Machining", "Checks",
-             "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate", "Indexer", "Indexer load"):
+             "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate", "Indexer", "Indexer load",
+             "Linkage"):
         v = getattr(cam, n)
         unit = v.Unit.Type if hasattr(v, "Unit") else None
         out[n] = [g, cam.getTypeIdOfProperty(n), unit, cam.getDocumentationOfProperty(n)]
@@ -66,7 +67,7 @@ def test_every_section_is_a_property_group_with_units(props_run):
     groups = {g for g, *_ in got.values()}
     assert groups == {"Cam", "Follower", "Follower arm", "Follower load", "Motion", "Pitch", "Machining", "Checks",
                       "Material", "Drawing", "Optimise", "Dynamics", "Ecam", "Groove", "Conjugate", "Indexer",
-                      "Indexer load"}
+                      "Indexer load", "Linkage"}
     units = {n: u for n, (_g, _t, u, _tip) in got.items() if u}
     assert units["FollowerPreload"] == "Force" and units["ChecksMinForce"] == "Force"
     assert units["MaterialAllowableStress"] == "Pressure" and units["MaterialCamModulus"] == "Pressure"

@@ -343,7 +343,7 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_DesignReport": DesignReport,
     "CamWorkbench_ExportSpec": ExportSpec,
 }
-#: Menu layout ("Separator" between groups): create, edit and optimise, check, export.
+#: Menu layout ("Separator" between groups): create, machines, edit and optimise, check, export.
 LAYOUT = ["CamWorkbench_NewCam", "CamWorkbench_NewCamFromSpec", "Separator",
           "CamWorkbench_OpenMachine", "CamWorkbench_PlayMachine", "Separator",
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
