@@ -86,6 +86,17 @@ def _console() -> Any:
     return FreeCAD.Console
 
 
+#: FreeCAD's console cuts one message at about 4 000 characters (ending it "..."): longer text goes
+#: out in pieces of this size, one line all the same
+_CONSOLE_PIECE = 2000
+
+
+def _print_message(text: str) -> None:
+    """``text`` on FreeCAD's console, whole however long (in pieces, see :data:`_CONSOLE_PIECE`)."""
+    for i in range(0, len(text), _CONSOLE_PIECE):
+        _console().PrintMessage(text[i:i + _CONSOLE_PIECE])
+
+
 def _ensure_bookkeeping(obj: Any) -> list[str]:
     added = []
     if "Version" not in obj.PropertiesList:
@@ -128,8 +139,7 @@ def upgrade(obj: Any) -> list[str]:
         what = [f"added {', '.join(added)}"] if added else []
         what += [f"{len(names)} {_MIGRATED[v]} properties now in fixed units, the spec unchanged"
                  for v, names in converted.items() if names]
-        _console().PrintMessage(f"{obj.Label}: upgraded from feature version {version} "
-                                f"({'; '.join(what)})\n")
+        _print_message(f"{obj.Label}: upgraded from feature version {version} ({'; '.join(what)})\n")
     if version < _CAM_VERSION:
         _console().PrintMessage(f"{obj.Label}: a PlateCamFeature is now a CamFeature, the feature of "
                                 f"every body; saved, the document needs feature version {_CAM_VERSION} "
