@@ -18,7 +18,7 @@ export PIP_CACHE_DIR ?= $(CACHE)/pip
 # runs and Parquet tables, which the tests drive with a real scheduler and workers.
 DEV_EXTRAS := cadquery,test,dask
 # Debian packages the test suite drives for real (installed by `make test` when root).
-DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap librecad libcairo2
+DEB_PACKAGES := freecad-python3 freecad linuxcnc-uspace xvfb chromium python3-nlopt mmdebstrap librecad libcairo2 ffmpeg
 # FreeCAD 1.0 (Debian trixie) and 1.1 (Debian unstable): root filesystems made by mmdebstrap
 # from Debian's packages, cached here (reused while their package list is the same; delete
 # the folder to rebuild); `make test` runs the FreeCAD tests once with each, beside the host's.

@@ -33,8 +33,11 @@ EXAMPLE = ROOT / "docs" / "examples" / "machine_three_cams.toml"
 NUMBER = r"[-−+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 
 
-def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+def cli(*args: str, cwd: Path | None = None, path: str | None = None) -> subprocess.CompletedProcess:
+    """The CLI in a subprocess; ``path``: its PATH (e.g. one without ffmpeg)."""
     env = dict(os.environ, PYTHONPATH=str(ROOT), COLUMNS="250")
+    if path is not None:
+        env["PATH"] = path
     return subprocess.run([*CLI, *args], capture_output=True, text=True, env=env, cwd=cwd)
 
 
@@ -493,11 +496,13 @@ def test_cli_animation_none_writes_none(tmp_path):
     assert report["animation"]["note"] in res.stdout
 
 
-@pytest.mark.skipif(__import__("shutil").which("ffmpeg") is not None,
-                    reason="ffmpeg is installed: the refusal is not reached")
 def test_cli_mp4_without_ffmpeg_exits_2_and_writes_nothing(tmp_path):
+    """Run where ffmpeg is not on the PATH (an empty folder is the whole PATH; the CLI is started by
+    its interpreter's full path), whether or not this machine has ffmpeg."""
+    (tmp_path / "empty").mkdir()
     before = snapshot(tmp_path)
-    res = cli("machine", "--example", "three_cams", "-o", str(tmp_path / "out"), "--animation", "mp4")
+    res = cli("machine", "--example", "three_cams", "-o", str(tmp_path / "out"), "--animation", "mp4",
+              path=str(tmp_path / "empty"))
     assert res.returncode == 2 and "--animation" in res.stderr, res.stderr
     assert_unchanged(tmp_path, before)
 

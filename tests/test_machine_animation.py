@@ -258,8 +258,11 @@ def test_mp4(small, tmp_path):
     assert data[4:8] == b"ftyp" and len(data) > 1000
 
 
-@pytest.mark.skipif(shutil.which("ffmpeg") is not None, reason="ffmpeg is installed: the refusal is not reached")
-def test_mp4_without_ffmpeg_names_the_option(small, tmp_path):
+def test_mp4_without_ffmpeg_names_the_option(small, tmp_path, monkeypatch):
+    """Where ffmpeg is not on the PATH (the PATH an empty folder), whether or not this machine has it."""
+    (tmp_path / "empty").mkdir()
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    tmp_path = tmp_path / "empty"
     with pytest.raises(MissingDependency, match="--animation mp4"):
         write_animation(small, tmp_path / "m.mp4")
     assert list(tmp_path.iterdir()) == []
