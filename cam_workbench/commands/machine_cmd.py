@@ -19,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
         raise SpecError("--example", "give a machine FILE or --example, not both")
     if not args.machine and not args.example:
         raise SpecError("FILE", "give a machine file, or --example three_cams")
-    chosen = getattr(args, "animation", None)
+    chosen = args.animation             # None: not given (a cam not drawn then gets a note, not a refusal)
     animation = chosen or "gif"
     check_animation(animation)          # mp4 without ffmpeg: refused before any work
     machine = Machine(args.machine) if args.machine else Machine.example(args.example)
@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
 
     with bar:
         report = machine.build(args.output, replace=args.replace, option="-o", progress=progress,
-                               phase_sweep=getattr(args, "phase_sweep", None), animation=animation,
+                               phase_sweep=args.phase_sweep, animation=animation,
                                require_animation=chosen is not None)
     for line in summary_lines(report, Path(args.output)):
         print(line)

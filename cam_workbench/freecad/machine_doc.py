@@ -215,7 +215,7 @@ def step_machine(group: Any, angle: float) -> None:
     stale = False
     for cam in group.Cams:
         proxy = cam.Proxy
-        if getattr(proxy, "design", None) is None or not str(cam.Status).startswith("ok"):
+        if proxy.design is None or not str(cam.Status).startswith("ok"):
             stale = True
             continue
         for ref in references_of(cam):

@@ -248,7 +248,7 @@ def cam_frames(name: str, design: Any, phase: float, tool: ToolOutline | None, m
     point = _xy(fol.fixed(k, 0)[0])
     lift_len = spec.max_lift * (rb * fol.lift_scale if fol.lift_unit == "angle" else 1.0)
     size = lift_len + 2 * max(fol.profile_offset, 0.1 * rb)
-    face = getattr(spec.follower, "face_width", None)
+    face = spec.follower.face_width
     sketches = [fol.sketch(0.0, _slice(k, i), size, face) for i in range(x.size)]
     roles = tuple(role for _, _, role in sketches[0].segments)
     segments = np.array([[[[a.real, a.imag], [b.real, b.imag]] for a, b, _ in sk.segments] for sk in sketches],
