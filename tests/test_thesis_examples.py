@@ -9,7 +9,8 @@ import pytest
 
 from cam_workbench.generators import design_cam, load_spec
 from cam_workbench.generators.checks.areas import area_summary, pitch_area, profile_area, thesis_area
-from cam_workbench.generators.checks.design import StateModel, check_samples, hertz_stress, run_checks
+from cam_workbench.generators.checks.design import StateModel, check_samples, run_checks
+from cam_workbench.generators.followers.load import hertz_stress
 
 from .conftest import ROOT
 

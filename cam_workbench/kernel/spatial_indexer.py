@@ -373,7 +373,6 @@ class SpatialSolids:
 
         Raises:
             GeometryError: kind "kernel", the volumes beyond the allowance."""
-        spec = design.spec
         est = design.volume_estimate
         got = kernel_volume(shape, SURFACE_VOLUME_EPS)
         ix = design.geometry.indexer

@@ -26,7 +26,7 @@ names the field; :mod:`cam_workbench.generators.checks.status`).
 
 ρ_c = ρ − r_f is the cam surface's signed radius of curvature (+ convex, − concave), so the
 same Eq. 3.6 covers convex and concave contact (the thesis put the pitch radius ρ there;
-:func:`hertz_stress` takes whichever radius it is given; a flat face is a cylinder on a plane).
+:func:`~cam_workbench.generators.followers.load.hertz_stress` takes whichever radius it is given; a flat face is a cylinder on a plane).
 
 Units are the spec's (:mod:`cam_workbench.generators.followers.load`); an oscillating follower's lifts and
 reduced kinematics are in degrees of arm rotation.
@@ -47,7 +47,6 @@ from ..followers.base import Follower
 from ..kinds import body_of, follower_of
 from ..motion.segments import MATCHING_LAWS
 from .buildability import _segments_intersect
-from ..followers.load import MASS_FORCE_FACTOR, hertz_stress  # noqa: F401  (re-exported)
 from ..motion.program import Kinematics, MotionProgram
 from ..spec.model import CamSpec
 from .status import NO_LIMIT, limited_status
