@@ -78,7 +78,8 @@ ROUNDING = 1e-14
 #: Published characteristic values (3 significant digits and more as printed).
 #: C_v and C_a: Norton, *Design of Machinery*, Table 8-3 (the table tests/test_laws.py cites).
 #: Modified sine C_v 1.76, C_a 5.53, C_j 69.47: MechDesigner, "Motion-Law: Modified Sinusoid"
-#: (mechdesigner.support/motion-cam-law-modified-sinusoid.htm).
+#: (http://mechdesigner.support/motion-cam-law-modified-sinusoid.htm), which also gives the jerk at
+#: the crossover, −23.15 (test_modified_sine_crossover_jerk_as_published).
 #: C_j and Q (the (V·A)max column) of the others: the trade's tables as commonly quoted
 #: (Chen, *Mechanics and Design of Cam Mechanisms*, Pergamon 1982; Rothbart, *Cam Design
 #: Handbook*, McGraw-Hill 2004) — these were not re-read from the printed page for this test.
@@ -111,6 +112,37 @@ def test_values_agree_with_the_published_tables(law):
         # within half a unit of the table's third significant digit
         half_unit = 0.5 * 10 ** (math.floor(math.log10(abs(pub))) - 2)
         assert abs(getattr(c, key) - pub) <= half_unit, (law, key, getattr(c, key), pub)
+
+
+def test_modified_sine_crossover_jerk_as_published():
+    """MechDesigner, "Modified-Sinusoid Motion-Law" (Motion-Law: Modified Sinusoid,
+    http://mechdesigner.support/motion-cam-law-modified-sinusoid.htm): "Jerk at Cross-over,
+    Coefficient: Cj(co) -23.15".  Derived here: on [⅛, ⅞] f″ = A cos φ, φ = 4π(x − ⅛)/3, so
+    f‴ = −(4π/3)·A sin φ, at x = ½ (φ = π/2) −4πA/3 with A = 4π²/(π + 4): −23.155, the page's
+    digits truncated; it is the law's most negative jerk (C_j_min)."""
+    a = 4 * PI**2 / (PI + 4)
+    c = law_characteristics("modified_sine")
+    crossover = float(evaluate_law("modified_sine", np.array([0.5]))[3][0])
+    assert crossover == pytest.approx(-4 * PI * a / 3, rel=1e-13)
+    assert c.C_j_min == pytest.approx(crossover, rel=1e-12)
+    assert -23.16 < crossover <= -23.15
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_signed_extremes(law):
+    """C_a_max, C_a_min, C_j_max, C_j_min bound f″ and f‴ on a dense grid and are reached (to
+    the grid's resolution); C_a is the larger of |C_a_max|, |C_a_min|; the rest-to-rest laws are
+    point-symmetric, so C_a_min = −C_a_max."""
+    c = law_characteristics(law)
+    x = np.linspace(0.0, 1.0, 200_001)
+    _, _, a, j = evaluate_law(law, x)
+    tol = ROUNDING * c.C_a
+    assert a.max() <= c.C_a_max + tol and a.min() >= c.C_a_min - tol
+    assert a.max() >= c.C_a_max - 1e-6 * c.C_a and a.min() <= c.C_a_min + 1e-6 * c.C_a
+    assert max(c.C_a_max, -c.C_a_min) == pytest.approx(c.C_a, rel=1e-14)
+    assert c.C_a_min == pytest.approx(-c.C_a_max, rel=1e-12)
+    assert j.max() <= c.C_j_max + ROUNDING * c.jerk_inside and j.min() >= c.C_j_min - ROUNDING * c.jerk_inside
+    assert j.max() >= c.C_j_max - 1e-3 * c.jerk_inside and j.min() <= c.C_j_min + 1e-3 * c.jerk_inside
 
 
 def test_harmonic_jerk_is_infinite_and_its_summary_says_so():

@@ -24,6 +24,7 @@ from cam_workbench.generators.motion.law_library import (PARAMETRIC_LAWS, librar
 from cam_workbench.generators.motion.laws import LAW_FUNCTIONS, LawName, evaluate_law
 from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.motion.scca import SCCA_MEMBERS, SCCALaw
+from cam_workbench.generators.motion.triple_harmonic import third_harmonic
 from cam_workbench.generators.motion.vdi2143 import classify_program
 from cam_workbench.generators.spec.model import CamSpec
 
@@ -61,7 +62,11 @@ def test_scca_constant_acceleration_member():
 # published factors: the trade's tables of C_v, C_a, C_j (Norton, Cam Design and Manufacturing
 # Handbook, 2nd ed. 2009, ch. 3, the comparison of the standard rise laws; Chen, Mechanics and
 # Design of Cam Mechanisms, 1982; Rothbart, Cam Design Handbook, 2004, ch. 3), 3-4 decimals as
-# printed.  Reproduced here from the SCCA members, which the test above ties to laws.py.
+# commonly quoted from them (not re-read from the printed pages for this test).  The modified sine's
+# are also on MechDesigner's help page "Modified-Sinusoid Motion-Law" (Motion-Law: Modified
+# Sinusoid, http://mechdesigner.support/motion-cam-law-modified-sinusoid.htm): Cv = 1.76,
+# Ca = 5.53, Cj = +69.47, which these agree with to the page's digits.  Reproduced here from the
+# SCCA members, which the test above ties to laws.py.
 PUBLISHED = {
     "cycloidal": (2.000, 6.283, 39.48),
     "modified_trapezoid": (2.000, 4.888, 61.43),
@@ -167,6 +172,18 @@ def test_triple_harmonic_default_closed_form():
     assert c.C_j == pytest.approx(4 * math.sqrt(3) * PI**2, rel=1e-12)
     assert law.continuity == 3 and abs(law.evaluate(np.array([0.5]))[3][0]) <= 1e-12
     _check_rise(law, 3)
+
+
+@pytest.mark.parametrize("a1, a2, a3, half_unit", [(9 * PI / 4, 0.0, -3 * PI / 4, 1e-14), (2 * PI, 0.0, 0.0, 1e-14),
+                                                   (6.04, 0.0, 0.73, 0.005), (5.1968, 1.769, 0.6057, 5e-5)])
+def test_triple_harmonic_third_amplitude_as_published(a1, a2, a3, half_unit):
+    """MechDesigner's help page "Triple-Harmonic Motion-Law"
+    (http://mechdesigner.support/motion-cam-law-tripleharmonic.htm) lists first, second and the
+    computed third harmonic: zero jerk at start, end and crossover 9π/4, 0, −3π/4; cycloidal 2π, 0,
+    0; modified trapezoidal 6.04, 0, 0.73; modified sine 5.1968, 1.769, 0.6057 — a₃ from f(1) = 1
+    to the page's digits.  (Its "Polynomial 3-4-5" row 5.9, 0.704, 0.9 is not reproduced: f(1) = 1
+    gives a₃ = 6π − 3·5.9 − 1.5·0.704 = 0.0936.)"""
+    assert abs(third_harmonic(a1, a2) - a3) <= half_unit       # half a unit of the printed last digit
 
 
 def test_triple_harmonic_first_harmonic_alone_is_cycloidal():

@@ -5,7 +5,10 @@ Handbook*, 2004):
 * C_v = max|f'|, C_a = max|f''|, C_j = max|f'''| — a rise of height h over an interval
   of duration T peaks at C_v·h/T, C_a·h/T², C_j·h/T³;
 * the torque index C_v·C_a, and Q = max|f'·f''|: the peak of velocity × acceleration, which
-  sets the peak dynamic torque (and power) that an output inertia reflects onto the input.
+  sets the peak dynamic torque (and power) that an output inertia reflects onto the input;
+* the signed extremes max f'', min f'', max f''', min f''' (``C_a_max``, ``C_a_min``,
+  ``C_j_max``, ``C_j_min``): MechDesigner's "Ca", "Cd" (deceleration), "Cj max", "Cj min", which
+  differ from C_a and C_j for an asymmetric law (a quick return: C_a_max 4.583, C_a_min −6.667).
 
 The maxima are found on a dense grid and refined (:func:`peak_abs`), vectorised.
 """
@@ -19,7 +22,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import SpecError
-from .laws import LAW_FUNCTIONS, NormalisedLaw, as_law, end_continuity, evaluate_law, law_name
+from .laws import CLOSED_FORM_LAWS, NormalisedLaw, as_law, end_continuity, evaluate_law, law_name
 
 Array = np.ndarray
 
@@ -81,11 +84,14 @@ class LawCharacteristics:
     """Characteristic values of a normalised rise law (dimensionless, per unit rise over a unit
     interval) and where they occur (x ∈ [0, 1]).
 
-    ``C_j`` is ``math.inf`` for a law whose acceleration jumps at an end against a dwell
+    ``C_j`` is ``math.inf`` for a law whose acceleration jumps at a rest end against a dwell
     (``END_CONTINUITY < 2``: the harmonic law; a :class:`~.laws.NormalisedLaw`'s ``continuity``),
     its jerk there being a Dirac impulse; ``x_j`` is
-    then 0 (the start) and ``jerk_inside`` holds the largest jerk strictly inside the rise.
-    Where a maximum is reached at several places (a plateau, a symmetric law) x is the first."""
+    then 0 (the start) and ``jerk_inside`` holds the largest jerk strictly inside the rise.  A
+    quick-return law's turning end meets a reversing neighbour, not a dwell: its C_j is finite.
+    Where a maximum is reached at several places (a plateau, a symmetric law) x is the first.
+    ``C_j_max``, ``C_j_min`` are the signed extremes of f‴ over the rise (without the impulses
+    where C_j is infinite)."""
 
     name: str
     C_v: float           #: max |f'|
@@ -98,6 +104,10 @@ class LawCharacteristics:
     torque_index: float  #: C_v·C_a
     Q: float             #: max |f'·f''|, the dynamic-torque characteristic
     x_Q: float
+    C_a_max: float       #: max f'' (signed: the largest acceleration)
+    C_a_min: float       #: min f'' (signed: the largest deceleration, ≤ 0)
+    C_j_max: float       #: max f''' over the rise
+    C_j_min: float       #: min f''' over the rise
 
     def summary(self) -> dict[str, Any]:
         """report.json's characteristic values (plain floats; an infinite C_j is None beside a
@@ -109,6 +119,8 @@ class LawCharacteristics:
             "C_j": self.C_j if math.isfinite(self.C_j) else None, "x_j": self.x_j,
             "torque_index": self.torque_index,
             "Q": self.Q, "x_Q": self.x_Q,
+            "C_a_max": self.C_a_max, "C_a_min": self.C_a_min,
+            "C_j_max": self.C_j_max, "C_j_min": self.C_j_min,
         }
         if not math.isfinite(self.C_j):
             out["C_j_note"] = (f"infinite: the acceleration jumps at the ends "
@@ -126,8 +138,8 @@ def law_characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
 
 @functools.lru_cache(maxsize=None)
 def _characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
-    if not isinstance(name, NormalisedLaw) and name not in LAW_FUNCTIONS:
-        raise SpecError("law", f"unknown law {name!r}; one of {', '.join(sorted(LAW_FUNCTIONS))}")
+    if not isinstance(name, NormalisedLaw) and name not in CLOSED_FORM_LAWS:
+        raise SpecError("law", f"unknown law {name!r}; one of {', '.join(sorted(CLOSED_FORM_LAWS))}")
 
     def order(k: int) -> Callable[[Array], Array]:
         return lambda x: evaluate_law(name, x)[k]
@@ -144,9 +156,21 @@ def _characteristics(name: str | NormalisedLaw) -> LawCharacteristics:
     c_a, x_a = peak_abs(order(2), order(3))
     jerk, x_j = peak_abs(order(3))
     q, x_q = peak_abs(vel_acc, d_vel_acc)
+    a_max, a_min = _signed_peaks(order(2), order(3))
+    j_max, j_min = _signed_peaks(order(3))
     if end_continuity(name) < 2:
         c_j, x_j = math.inf, 0.0
     else:
         c_j = jerk
     return LawCharacteristics(name=law_name(name), C_v=c_v, x_v=x_v, C_a=c_a, x_a=x_a, C_j=c_j, x_j=x_j,
-                              jerk_inside=jerk, torque_index=c_v * c_a, Q=q, x_Q=x_q)
+                              jerk_inside=jerk, torque_index=c_v * c_a, Q=q, x_Q=x_q,
+                              C_a_max=a_max, C_a_min=a_min, C_j_max=j_max, C_j_min=j_min)
+
+
+def _signed_peaks(fun: Callable[[Array], Array], derivative: Callable[[Array], Array] | None = None
+                  ) -> tuple[float, float]:
+    """(max fun, min fun) over x ∈ [0, 1]: :func:`peak_abs` of its positive and negative parts
+    (0 where it has none)."""
+    top, _ = peak_abs(lambda x: np.maximum(fun(x), 0.0), derivative)
+    bottom, _ = peak_abs(lambda x: np.minimum(fun(x), 0.0), derivative)
+    return top, -bottom

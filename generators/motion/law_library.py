@@ -21,7 +21,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import SpecError, fmt_apart
-from .laws import LawName, NormalisedLaw
+from .laws import CLOSED_FORM_LAWS, LawName, NormalisedLaw
 from .scca import SCCA_MEMBERS, SCCALaw
 from .throw_polynomials import ThrowPolynomialLaw
 from .triple_harmonic import DEFAULT_HARMONICS, TripleHarmonicLaw, third_harmonic
@@ -133,10 +133,10 @@ def segment_law(seg: Any, path: str = "motion") -> "str | LawName | None":
 
 def library_laws() -> dict[str, "str | NormalisedLaw"]:
     """Every closed-form law of the library with its default or a representative parameter set, by
-    the label the docs' table prints: the fixed closed forms, the SCCA members, the presets with
-    a third at constant velocity, the triple harmonic and the throw laws peaking at 0.4."""
-    out: dict[str, str | NormalisedLaw] = {n: n for n in ("cycloidal", "harmonic", "modified_sine",
-                                                          "modified_trapezoid", "poly345", "poly4567")}
+    the label the docs' table prints: the fixed closed forms (the rest-to-rest laws and the quick
+    returns), the SCCA members, the presets with a third at constant velocity, the triple harmonic
+    and the throw laws peaking at 0.4."""
+    out: dict[str, str | NormalisedLaw] = {n: n for n in CLOSED_FORM_LAWS}
     for member, (b, c, d) in SCCA_MEMBERS.items():
         out[f"scca b={b:g} c={c:g} d={d:g} ({member})"] = scca_law(b, c, d)
     out["modified_sine_cv cruise_fraction=1/3"] = scca_law(*SCCA_MEMBERS["modified_sine"], 1 / 3,

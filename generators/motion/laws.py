@@ -4,6 +4,11 @@ exact derivatives f', f'', f''' with respect to x (vectorised over x).
 A rise of height h over β radians starting at θ₀ is s = h·f((θ−θ₀)/β); a return is
 s = h·(1 − f(x)).  Derivatives with respect to θ are h·f⁽ⁿ⁾/βⁿ.
 
+Two kinds: the rest-to-rest laws (:data:`LAW_FUNCTIONS`: f′ = 0 at both ends, joined to dwells)
+and the quick-return laws (:data:`QUICK_RETURN_FUNCTIONS`: from rest into a reversal — f′ = 0,
+f″ ≠ 0, the follower turns back — or out of one, for a rise running straight into a return with
+the acceleration carried over the top).
+
 Modified sine and modified trapezoid are built from their acceleration pieces
 (Norton, *Cam Design and Manufacturing Handbook*, §3); the constants here are the
 exact symbolic integrals (A = 4π²/(π+4) and 8π/(π+2)), which reproduce Norton's
@@ -136,6 +141,32 @@ def modified_trapezoid(x: Array) -> tuple[Array, Array, Array, Array]:
     return tuple(out)  # type: ignore[return-value]
 
 
+def quick_return_out(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Quick return, rest → reversal: f = (20x³ − 25x⁴ + 8x⁵)/3, the quintic with f = f′ = f″ = 0
+    at x = 0 and f = 1, f′ = 0, f‴ = 0 at x = 1, where f″ = −20/3 (the turning point; MechDesigner's
+    "Throw: Quick-Return 1" rise).  f′ = 20x²(1 − x)(3 − 2x)/3 ≥ 0, f‴ = 40(1 − x)(1 − 4x)."""
+    x2 = x * x
+    return (
+        x2 * x * (20 - 25 * x + 8 * x2) / 3,
+        x2 * (60 - 100 * x + 40 * x2) / 3,
+        x * (120 - 300 * x + 160 * x2) / 3,
+        40 - 200 * x + 160 * x2,
+    )
+
+
+def quick_return_in(x: Array) -> tuple[Array, Array, Array, Array]:
+    """Quick return, reversal → rest: the mirror g(x) = 1 − f(1 − x) of :func:`quick_return_out`,
+    expanded: g = (10x² − 15x⁴ + 8x⁵)/3 (g′(x) = f′(1 − x), g″(x) = −f″(1 − x), g‴(x) = f‴(1 − x)),
+    so g′(0) = 0, g″(0) = 20/3, g‴(0) = 0 at the turning point and g = 1, g′ = g″ = 0 at x = 1."""
+    x2 = x * x
+    return (
+        x2 * (10 - 15 * x2 + 8 * x2 * x) / 3,
+        x * (20 - 60 * x2 + 40 * x2 * x) / 3,
+        (20 - 180 * x2 + 160 * x2 * x) / 3,
+        x * (160 * x - 120),
+    )
+
+
 LAW_FUNCTIONS: dict[str, LawFn] = {
     "cycloidal": cycloidal,
     "harmonic": harmonic,
@@ -145,8 +176,8 @@ LAW_FUNCTIONS: dict[str, LawFn] = {
     "poly4567": poly4567,
 }
 
-#: Highest derivative that is continuous at the segment ends when joined to dwells
-#: (velocity = 1, acceleration = 2, jerk = 3); used by the tests and the docs.
+#: Highest derivative of a rest-to-rest law that is continuous at the segment ends when joined to
+#: dwells (velocity = 1, acceleration = 2, jerk = 3); used by the tests and the docs.
 END_CONTINUITY: dict[str, int] = {
     "cycloidal": 2,
     "harmonic": 1,
@@ -156,20 +187,40 @@ END_CONTINUITY: dict[str, int] = {
     "poly4567": 3,
 }
 
+#: The quick-return closed forms (VDI 2143 tasks rest → reversal and reversal → rest; MechDesigner's
+#: "Throw: Quick-Return" made of two segments): a rise (or return) ending at its turning point
+#: takes "quick_return_out", the return (or rise) starting there "quick_return_in".  Not in
+#: :data:`LAW_FUNCTIONS`: they are no index laws (an indexer's turret rests after its index).
+QUICK_RETURN_FUNCTIONS: dict[str, LawFn] = {
+    "quick_return_out": quick_return_out,
+    "quick_return_in": quick_return_in,
+}
+#: The end of each quick-return law at the turning point (0 the start, 1 the end)
+TURNING_END: dict[str, int] = {"quick_return_out": 1, "quick_return_in": 0}
+#: Continuity of a quick-return law's rest end against a dwell: f′ = f″ = 0 there, f‴ = ±40
+QUICK_RETURN_REST_CONTINUITY = 2
+#: Continuity a turning end promises: f′ = 0 and f″ = ∓20/3 carried into a neighbour that turns
+#: with the same s″ = ∓(20/3)·h/β² (the mirror law over an equal h/β², or a polynomial taking it);
+#: against a dwell, or the mirror over another h/β², the acceleration jumps there.
+TURNING_CONTINUITY = 2
+
 
 @dataclass(frozen=True, eq=False)
 class NormalisedLaw:
     """A normalised rise law f(x), x ∈ [0, 1], f(0) = 0, f(1) = 1, as a value: ``name`` (what the
     summaries print: "modified_sine", "polynomial", "bspline" …), ``fn`` (x ↦ f and its first three
-    derivatives, vectorised), ``continuity`` (the highest derivative continuous at both ends against
-    dwells, as :data:`END_CONTINUITY`; 0 when f′ ≠ 0 at an end) and ``key`` (what makes two laws
-    equal: hashable, by value).  The closed forms are :data:`CLOSED_FORM_LAWS`; :meth:`from_segment`
+    derivatives, vectorised), ``continuity`` (the highest derivative continuous against dwells at
+    its rest ends — both ends but a quick-return law's turning end —, as :data:`END_CONTINUITY`; 0
+    when f′ ≠ 0 at an end), ``key`` (what makes two laws equal: hashable, by value) and
+    ``turning_end`` (None, or the end, 0 or 1, at a quick-return law's turning point:
+    :data:`TURNING_END`).  The closed forms are :data:`CLOSED_FORM_LAWS`; :meth:`from_segment`
     makes one of a motion program's rise (polynomial, bspline, constant_velocity, table)."""
 
     name: str
     fn: LawFn = field(repr=False)
     continuity: int = 2
     key: Hashable = None
+    turning_end: int | None = None
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, NormalisedLaw) and (self.name, self.key) == (other.name, other.key)
@@ -184,6 +235,13 @@ class NormalisedLaw:
         """f, f′, f″, f‴ at normalised positions ``x`` ∈ [0, 1] (arrays of x's shape)."""
         return evaluate_law(self, x)
 
+    @property
+    def promises(self) -> tuple[int, int]:
+        """(start, end) order of continuity the law promises at its ends: ``continuity`` at a rest
+        end, :data:`TURNING_CONTINUITY` at a turning end."""
+        start, end = (TURNING_CONTINUITY if e == self.turning_end else self.continuity for e in (0, 1))
+        return start, end
+
     @classmethod
     def from_segment(cls, program: Any, k: int) -> "NormalisedLaw":
         """Rise ``k`` of motion program ``program`` (a :class:`~.program.MotionProgram`) normalised:
@@ -194,7 +252,7 @@ class NormalisedLaw:
         law = program.laws[k]
         if isinstance(law, LawName):                 # a parametric closed form: the law itself
             return law.law
-        if law in LAW_FUNCTIONS:
+        if law in CLOSED_FORM_LAWS:
             return CLOSED_FORM_LAWS[law]
         beta, h = float(program.spans[k]), float(program.lifts[k])
         if not h:
@@ -252,9 +310,13 @@ def _measured_continuity(fn: LawFn) -> int:
     return order
 
 
-#: the closed-form laws as :class:`NormalisedLaw` values
-CLOSED_FORM_LAWS: dict[str, NormalisedLaw] = {name: NormalisedLaw(name, fn, END_CONTINUITY[name], name)
-                                              for name, fn in LAW_FUNCTIONS.items()}
+#: every closed-form law by name as a :class:`NormalisedLaw`: the rest-to-rest laws, then the
+#: quick-return laws
+CLOSED_FORM_LAWS: dict[str, NormalisedLaw] = {
+    **{name: NormalisedLaw(name, fn, END_CONTINUITY[name], name) for name, fn in LAW_FUNCTIONS.items()},
+    **{name: NormalisedLaw(name, fn, QUICK_RETURN_REST_CONTINUITY, name, TURNING_END[name])
+       for name, fn in QUICK_RETURN_FUNCTIONS.items()},
+}
 
 
 class LawName(str):
@@ -293,8 +355,8 @@ def as_law(law: "str | NormalisedLaw") -> "str | NormalisedLaw":
 
 
 def is_law(law: Any) -> bool:
-    """Whether the geometry takes ``law``: a key of ``LAW_FUNCTIONS``, a :class:`NormalisedLaw` or a
-    :class:`LawName`."""
+    """Whether an indexer's geometry takes ``law``: a key of ``LAW_FUNCTIONS`` (by name the
+    rest-to-rest laws only), a :class:`NormalisedLaw` or a :class:`LawName`."""
     return isinstance(law, (NormalisedLaw, LawName)) or (isinstance(law, str) and law in LAW_FUNCTIONS)
 
 
@@ -304,17 +366,18 @@ def law_name(law: "str | NormalisedLaw") -> str:
 
 
 def end_continuity(law: "str | NormalisedLaw") -> int:
-    """:data:`END_CONTINUITY` of a closed form by name, a :class:`NormalisedLaw`'s (or a
-    :class:`LawName`'s) own."""
+    """The continuity against dwells at the law's rest ends (:attr:`NormalisedLaw.continuity`) of a
+    closed form by name (:data:`END_CONTINUITY` for the rest-to-rest laws), a
+    :class:`NormalisedLaw`'s (or a :class:`LawName`'s) own."""
     law = as_law(law)
-    return law.continuity if isinstance(law, NormalisedLaw) else END_CONTINUITY[law]
+    return (law if isinstance(law, NormalisedLaw) else CLOSED_FORM_LAWS[law]).continuity
 
 
 def evaluate_law(name: "str | NormalisedLaw", x: Array) -> tuple[Array, Array, Array, Array]:
-    """f, f', f'', f''' of law ``name`` (a key of ``LAW_FUNCTIONS``, a :class:`NormalisedLaw` or a
+    """f, f', f'', f''' of law ``name`` (a key of ``CLOSED_FORM_LAWS``, a :class:`NormalisedLaw` or a
     :class:`LawName`) at normalised positions ``x`` ∈ [0, 1]."""
     name = as_law(name)
-    fn = name.fn if isinstance(name, NormalisedLaw) else LAW_FUNCTIONS[name]
+    fn = (name if isinstance(name, NormalisedLaw) else CLOSED_FORM_LAWS[name]).fn
     x = np.asarray(x, dtype=float)
     # a law's terms are arrays of x's shape, or constants (a polynomial's last derivative) to spread
     return tuple(v if isinstance(v, np.ndarray) and v.shape == x.shape and v.dtype == float

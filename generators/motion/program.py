@@ -16,7 +16,7 @@ import numpy as np
 from ..kinds import body_of
 from .bspline_law import BSplineLift
 from .characteristics import law_characteristics
-from .laws import LAW_FUNCTIONS, LawName, NormalisedLaw, evaluate_law
+from .laws import CLOSED_FORM_LAWS, LawName, NormalisedLaw, evaluate_law
 from .vdi2143 import classify_program
 from .segments import build_segments, law_promise
 
@@ -102,8 +102,7 @@ class MotionProgram:
         """(start, end) order of continuity segment ``k``'s law promises."""
         if self.promises:
             return self.promises[k]
-        p = law_promise(self.laws[k], self.curves[k] if self.curves else None)
-        return (p, p)
+        return law_promise(self.laws[k], self.curves[k] if self.curves else None)
 
     def junctions(self) -> list["Junction"]:
         """Every segment boundary (the last segment's end meets the first's start at 0°, less the
@@ -222,7 +221,7 @@ class MotionProgram:
         (:class:`~.laws.LawName`), else the segment normalised from the program
         (:meth:`~.laws.NormalisedLaw.from_segment`)."""
         law = self.laws[k]
-        if isinstance(law, LawName) or law in LAW_FUNCTIONS:
+        if isinstance(law, LawName) or law in CLOSED_FORM_LAWS:
             return law
         return NormalisedLaw.from_segment(self, k)
 

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import SpecError, fmt_apart
 from .bspline_law import BSplineLift, lift_from_segment
 from .law_library import segment_law
-from .laws import END_CONTINUITY, LawName, evaluate_law
+from .laws import CLOSED_FORM_LAWS, LawName, evaluate_law
 from .polynomial import (Condition, ConditionError, bezier_lift, cruise_pieces, piecewise_lift,
                          power_coefficients, solve_conditions)
 from .table import DEFAULT_TABLE_ORDER, DEFAULT_TOLERANCE_FRACTION, TableError, fit_table
@@ -83,18 +83,21 @@ def continuity_of(seg: Any, end: int) -> int:
     return DEFAULT_CONTINUITY if v is None else int(v)
 
 
-def law_promise(law: str | None, curve: BSplineLift | None = None) -> int:
-    """The order of continuity a law promises at its ends next to a dwell (a dwell: 3, i.e. no
-    limit of its own; a B-spline lift of order k: k − 2; a matching law: its continuity)."""
+def law_promise(law: str | None, curve: BSplineLift | None = None) -> tuple[int, int]:
+    """The (start, end) order of continuity a law promises at its ends (a dwell: 3, i.e. no limit
+    of its own; a closed form: its continuity next to a dwell at a rest end, and at a quick-return
+    law's turning end the acceleration carried into the reversing neighbour,
+    :attr:`~.laws.NormalisedLaw.promises`; a B-spline lift of order k: k − 2; a matching law: its
+    default continuity)."""
     if law is None:
-        return 3
+        return 3, 3
     if isinstance(law, LawName):
-        return law.law.continuity
-    if law in END_CONTINUITY:
-        return END_CONTINUITY[law]
+        return law.law.promises
+    if law in CLOSED_FORM_LAWS:
+        return CLOSED_FORM_LAWS[law].promises
     if law == "bspline" and curve is not None:
-        return min(curve.order - 2, 3)
-    return DEFAULT_CONTINUITY
+        return min(curve.order - 2, 3), min(curve.order - 2, 3)
+    return DEFAULT_CONTINUITY, DEFAULT_CONTINUITY
 
 
 def build_segments(segments: Sequence[Any], starts: np.ndarray, spans: np.ndarray, levels: np.ndarray,
@@ -144,12 +147,12 @@ def _plan_entries(p: _Plan) -> None:
             y = p.curve.evaluate(np.array([0.0, p.span]))
             h = abs(p.lift)
             vals = [[p.low + h * y[0][i]] + [h * y[d][i] for d in (1, 2, 3)] for i in (0, 1)]
-            p.promise = (law_promise(law, p.curve),) * 2
+            p.promise = law_promise(law, p.curve)
         else:
             f = evaluate_law(law, np.array([0.0, 1.0]))
             vals = [[p.level + p.lift * f[0][i]] + [p.lift * f[d][i] / p.span**d for d in (1, 2, 3)]
                     for i in (0, 1)]
-            p.promise = (law_promise(law),) * 2
+            p.promise = law_promise(law)
         p.values = vals
         p.entries = [{n: ("fixed", vals[e][n]) for n in (1, 2, 3)} for e in (0, 1)]
         p.solved = True

@@ -13,6 +13,7 @@ from ..errors import SpecError, fmt_apart
 from ..kinds import body_of
 from ..motion.bspline_law import lift_from_segment
 from ..motion.law_library import PARAMETRIC_LAWS
+from ..motion import laws as motion_laws
 from ..motion.program import MotionProgram
 from ..motion.table import TableError, read_csv
 from .params import param
@@ -22,13 +23,14 @@ if TYPE_CHECKING:  # types only: the spec's root imports this module
     from .model import CamSpec
 
 
-LAWS = ("cycloidal", "harmonic", "modified_sine", "modified_trapezoid", "poly345", "poly4567", "bspline",
-        "polynomial", "constant_velocity", "table", *PARAMETRIC_LAWS)
-#: The laws implemented by :mod:`cam_workbench.generators.motion.laws` (closed forms); "bspline" is the thesis'
-#: parametric B-spline (:mod:`cam_workbench.generators.motion.bspline_law`), shaped by control points;
-#: "polynomial", "constant_velocity" and "table" are solved from boundary conditions or fitted to
-#: points (:mod:`cam_workbench.generators.motion.segments`).
-CLOSED_FORM_LAWS = LAWS[:6]
+#: The laws implemented by :mod:`cam_workbench.generators.motion.laws` (closed forms: the rest-to-rest
+#: laws and the quick-return laws "quick_return_out", "quick_return_in").
+CLOSED_FORM_LAWS = tuple(motion_laws.CLOSED_FORM_LAWS)
+#: Every law a motion segment may name: the closed forms; "bspline", the thesis' parametric B-spline
+#: (:mod:`cam_workbench.generators.motion.bspline_law`), shaped by control points; "polynomial",
+#: "constant_velocity" and "table", solved from boundary conditions or fitted to points
+#: (:mod:`cam_workbench.generators.motion.segments`); the parametric closed forms.
+LAWS = (*CLOSED_FORM_LAWS, "bspline", "polynomial", "constant_velocity", "table", *PARAMETRIC_LAWS)
 #: The parametric closed forms (:mod:`cam_workbench.generators.motion.law_library`): "scca",
 #: "modified_sine_cv", "modified_trapezoid_cv", "triple_harmonic", "poly345_throw", "poly4567_throw".
 PARAMETRIC_LAW_NAMES = tuple(PARAMETRIC_LAWS)
@@ -68,7 +70,9 @@ class MotionSegment:
     lift: float | None = param("Rise or fall height of the segment (rise/return only; > 0)",
                                unit="length", gt=0, optional=True, group="Motion")
     law: str | None = param(
-        "Motion law (rise/return only): a closed form, \"bspline\" (control points), \"polynomial\" (the "
+        "Motion law (rise/return only): a closed form (\"quick_return_out\" runs from rest into a turning "
+        "point with the acceleration carried over the top, \"quick_return_in\" out of one into rest: a rise "
+        "straight into a return), \"bspline\" (control points), \"polynomial\" (the "
         "lowest-degree polynomial meeting the end conditions and points), \"constant_velocity\" (with blended "
         "ends), \"table\" (a B-spline fitted to (angle, lift) points), or a parametric closed form: \"scca\" "
         "(Norton's sine-constant-cosine family), \"modified_sine_cv\" and \"modified_trapezoid_cv\" (with a "
