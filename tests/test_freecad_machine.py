@@ -8,12 +8,16 @@ no two overlapping, a shaft cylinder through the bores that meets no cam.  At ma
 recomputed, or stepped with ``step_machine`` as *Play* does) each cam is turned by δ·(φ − phase) and its
 drawn follower stands where the mechanism puts it in the fixed frame: the follower point written out here
 from docs/followers.md "Conventions" with s(θ), s′(θ) of the library's program (``design_cam`` of the
-same spec, run in this process, not FreeCAD's), the roller touching the turned cam.  A bad machine file
-fails with the library's own message naming the field, and adds nothing.
+same spec, run in this process, not FreeCAD's), the roller touching the turned cam.  What each cam moves
+stands where the mechanism puts it, to 1e-6 mm: the follower part's roller, pivot and face, the linkage's
+pins (the pusher's lever, the gripper's four-bar, both written out here from the spec's numbers) and the tool
+(written out, and where the clearance check's own pose function ``tool_drive(...).at_machine`` puts it).
+A bad machine file fails with the library's own message naming the field, and adds nothing.
 """
 from __future__ import annotations
 
 import cmath
+import json
 import math
 from pathlib import Path
 
@@ -22,7 +26,7 @@ import pytest
 
 from cam_workbench.generators import design_cam
 from cam_workbench.generators.errors import SpecError
-from cam_workbench.generators.machine import load_machine
+from cam_workbench.generators.machine import load_machine, tool_drive
 
 from .conftest import ROOT
 from .freecad_support import (fc_home, requires_freecad_gui, requires_freecadcmd,  # noqa: F401
@@ -52,6 +56,18 @@ from cam_workbench.freecad.machine_doc import open_machine, step_machine, is_mac
 def xyz(v):
     return [v.x, v.y, v.z]
 
+def part_state(p):
+    s = p.Shape
+    rot = p.Placement.Rotation
+    return {"label": p.Label, "type": p.TypeId, "valid": s.isValid(), "null": s.isNull(),
+            "base": xyz(p.Placement.Base), "axis": xyz(rot.Axis), "angle": rot.Angle,
+            "circles": [xyz(e.Curve.Center) + [e.Curve.Radius] for e in s.Edges
+                        if e.Curve.TypeId == "Part::GeomCircle"],
+            "vertices": [xyz(v.Point) for v in s.Vertexes], "zrange": [s.BoundBox.ZMin, s.BoundBox.ZMax]}
+
+def parts_state(g, c):
+    return {p.Role: part_state(p) for p in g.Parts if p.Cam.Name == c.Name}
+
 def cam_state(c):
     f = reference_of(c, "follower")
     s = c.Shape
@@ -74,6 +90,10 @@ g = open_machine(doc, EXAMPLE)
 RESULT["group"] = {"name": g.Name, "label": g.Label, "type": g.TypeId, "phases": list(g.Phases),
                    "group": [o.Name for o in g.Group], "cams": [c.Name for c in g.Cams],
                    "gap": g.CamGap.Value, "angle": g.MachineAngle.Value}
+RESULT["folders"] = [{"type": o.TypeId, "label": o.Label, "children": [x.Name for x in o.Group]}
+                     for o in g.Group if o.TypeId == "App::DocumentObjectGroup"]
+RESULT["parts"] = [{"name": p.Name, "label": p.Label, "type": p.TypeId, "role": p.Role, "cam": p.Cam.Name,
+                    "outline": p.Outline if "Outline" in p.PropertiesList else None} for p in g.Parts]
 RESULT["cams"] = []
 for c in g.Cams:
     s = c.Shape
@@ -97,7 +117,8 @@ for phi, how in ANGLES:
         doc.recompute()
     RESULT["angles"][str(phi)] = {"touched": [o.Name for o in doc.Objects if "Touched" in o.State],
                                   "status": [c.Status for c in g.Cams],
-                                  "cams": [cam_state(c) for c in g.Cams]}
+                                  "cams": [cam_state(c) for c in g.Cams],
+                                  "parts": [parts_state(g, c) for c in g.Cams]}
 
 # saved and reopened: the group still drives its cams (step_machine recomputes the uncached cams)
 path = os.path.join(OUT, "machine.FCStd")
@@ -107,7 +128,8 @@ doc2 = FreeCAD.openDocument(path)
 g2 = doc2.getObject(RESULT["group"]["name"])
 step_machine(g2, REOPENED)
 RESULT["reopened"] = {"is_machine": is_machine(g2), "status": [c.Status for c in g2.Cams],
-                      "cams": [cam_state(c) for c in g2.Cams]}
+                      "cams": [cam_state(c) for c in g2.Cams], "parts": [parts_state(g2, c) for c in g2.Cams],
+                      "touched": [o.Name for o in doc2.Objects if "Touched" in o.State]}
 FreeCAD.closeDocument(doc2.Name)
 
 RESULT["bad"] = {}
@@ -221,6 +243,122 @@ def _check_cams(state: list[dict], m, designs, phi: float) -> None:
             assert got[2] < tol, (c.name, phi, got)
 
 
+# ---- what the cams move, written out here from the example's numbers ---------------------------
+#: each cam's parts in the example: every cam has a follower and a [cam.tool]; the lifter no [linkage]
+ROLES = {"pusher": ["follower", "linkage", "tool"], "gripper": ["follower", "linkage", "tool"],
+         "lifter": ["follower", "tool"]}
+#: pin radius and tool plate thickness as fractions of the cam's thickness (machine_parts.PIN, TOOL_PLATE)
+PIN, TOOL_PLATE = 0.2, 0.25
+#: positions agree with the mechanism to this [mm]
+TOL = 1e-6
+
+
+def _lever(spec, s: float) -> dict[str, complex]:
+    """The pusher's lever (docs/linkages.md; the lever module's docstring): the stem's line x = e along +y
+    pushes the bar at I = (e, P_y) + s·(0, 1) (the foot of the perpendicular from the tool's pivot P); the
+    tool slides along ``direction`` (+y here, parallel to the stem) from P: T = P + r·s·(0, 1); the bar
+    through both turns about the fixed fulcrum F with T − F = r·(I − F): F = (P − r·I₀)/(1 − r)."""
+    link, e = spec.linkage, spec.follower.offset or 0.0
+    assert link.direction == 90.0   # the tool's line parallel to the stem, as written out here
+    r, p = link.ratio, complex(link.pivot_x, link.pivot_y)
+    i0 = complex(e, link.pivot_y)
+    return {"input": i0 + 1j * s, "fulcrum": (p - r * i0) / (1.0 - r), "tool": p + 1j * r * s}
+
+
+def _four_bar(spec, s_deg: float) -> tuple[dict[str, complex], float]:
+    """The gripper's four-bar (Norton §4.5; docs/linkages.md): crank pivot O₂ = (pivot_x, pivot_y), rocker
+    pivot O₄ = O₂ + ground·e^{iγ}, the crank (the arm) at A = O₂ + crank·e^{i(γ + crank_offset − q)}, q the
+    arm's rotation; B the point at coupler from A and rocker from O₄ on the left of O₄→A ("left"), the
+    circle–circle intersection.  Returns the joints and the rocker's rotation from q = 0 [rad]."""
+    link = spec.linkage
+    assert link.branch == "left" and link.tool_radius is None   # B, left, as written out here
+    g = math.radians(link.frame_angle)
+    o2 = complex(link.pivot_x, link.pivot_y)
+    o4 = o2 + link.ground * cmath.exp(1j * g)
+
+    def at(q: float) -> tuple[complex, complex]:
+        a = o2 + link.crank * cmath.exp(1j * (g + math.radians(link.crank_offset) - q))
+        e = abs(a - o4)
+        x = (link.rocker ** 2 + e * e - link.coupler ** 2) / (2 * e)
+        return a, o4 + (a - o4) / e * complex(x, math.sqrt(link.rocker ** 2 - x * x))
+
+    a, b = at(math.radians(s_deg))
+    _, b0 = at(0.0)
+    turn = (cmath.phase(b - o4) - cmath.phase(b0 - o4) + math.pi) % (2 * math.pi) - math.pi
+    return {"crank_pivot": o2, "rocker_pivot": o4, "crank_joint": a, "rocker_joint": b, "tool": b}, turn
+
+
+def _mechanism(c, design, phi: float) -> dict:
+    """The example cam ``c``'s follower point, linkage joints and tool pose at machine angle φ, written out."""
+    theta = _cam_angle(phi, c.phase)
+    s = float(design.program.evaluate(np.array([math.radians(theta)])).s[0])
+    spec = c.spec
+    joints: dict[str, complex] = {}
+    turn = 0.0
+    if spec.linkage.kind == "lever":
+        joints = _lever(spec, s)
+        tool = joints["tool"]
+    elif spec.linkage.kind == "four_bar":
+        joints, turn = _four_bar(spec, s)
+        tool = joints["tool"]
+    else:   # the lifter: [cam.tool] origin + s·(cos, sin)(direction)
+        tool = complex(*c.tool.origin) + s * cmath.exp(1j * math.radians(c.tool.direction))
+    return {"point": _follower_point(spec, design, theta), "s": s, "joints": joints, "tool": tool, "turn": turn}
+
+
+def _has_point(points: list, want: complex, z: float | None = None) -> bool:
+    return any(abs(complex(p[0], p[1]) - want) < TOL and (z is None or abs(p[2] - z) < TOL) for p in points)
+
+
+def _check_parts(parts: list[dict], m, designs, phi: float) -> None:
+    for c, design, got, (z0, t) in zip(m.cams, designs, parts, _layout(m)):
+        assert sorted(got) == sorted(ROLES[c.name]), (c.name, list(got))
+        want = _mechanism(c, design, phi)
+        fol, spec = got["follower"], c.spec
+        for part in got.values():
+            assert part["valid"] and not part["null"], (c.name, part["label"])
+        assert fol["zrange"] == pytest.approx([z0, z0 + t], abs=1e-6)   # in the cam's slot
+        # the follower: the roller about the follower point over the cam's thickness, an arm's pivot pin, a
+        # flat face of face_width centred on the stem at R_b + s over the thickness
+        if spec.follower.kind == "roller":
+            rollers = [cc for cc in fol["circles"] if abs(cc[3] - spec.follower.roller_radius) < 1e-9]
+            assert len(rollers) == 2 and sorted(cc[2] for cc in rollers) == pytest.approx([z0, z0 + t], abs=1e-9)
+            for cc in rollers:
+                assert abs(complex(cc[0], cc[1]) - want["point"]) < TOL, (c.name, phi, cc, want["point"])
+        if spec.follower.motion == "oscillating":
+            assert _has_point([cc for cc in fol["circles"] if abs(cc[3] - PIN * t) < 1e-9],
+                              complex(spec.follower.pivot_distance, 0.0), z0)
+        if spec.follower.kind == "flat":
+            half, y = spec.follower.face_width / 2, spec.cam.base_radius + want["s"]
+            for x in (-half, half):
+                for z in (z0, z0 + t):
+                    assert _has_point(fol["vertices"], complex(x, y), z), (c.name, phi, x, y, z)
+        # the linkage: a pin (radius PIN·t, over the slot) at every joint
+        if "linkage" in got:
+            pins = [cc for cc in got["linkage"]["circles"] if abs(cc[3] - PIN * t) < 1e-9]
+            for name, at in want["joints"].items():
+                assert _has_point(pins, at, z0), (c.name, phi, name, at)
+        # the tool: its frame at the tool point, turned by the tool's rotation — written out, and where the
+        # clearance check's pose function puts it
+        tool = got["tool"]
+        poses = tool_drive(c.name, spec, c.phase, design.program, c.tool).at_machine(np.array([phi]))
+        check = complex(*poses.positions[0])
+        check_turn = 0.0 if poses.angles is None else float(poses.angles[0])
+        assert abs(check - want["tool"]) < TOL and check_turn == pytest.approx(want["turn"], abs=1e-9)
+        h = TOOL_PLATE * t
+        assert abs(complex(*tool["base"][:2]) - want["tool"]) < TOL, (c.name, phi, tool["base"], want["tool"])
+        assert tool["base"][2] == pytest.approx(z0 + (t - h) / 2, abs=1e-9)
+        assert tool["zrange"] == pytest.approx([z0 + (t - h) / 2, z0 + (t + h) / 2], abs=1e-6)
+        turned = tool["angle"] * (1.0 if tool["axis"][2] >= 0 else -1.0)
+        assert (turned - want["turn"] + math.pi) % (2 * math.pi) - math.pi == pytest.approx(0.0, abs=1e-9)
+        if c.tool.radius is not None:
+            assert _has_point([cc for cc in tool["circles"] if abs(cc[3] - c.tool.radius) < 1e-9], want["tool"])
+        else:
+            for vx, vy in c.tool.polygon:
+                corner = want["tool"] + complex(vx, vy) * cmath.exp(1j * want["turn"])
+                assert _has_point(tool["vertices"], corner), (c.name, phi, corner)
+
+
 # ---- the tests ------------------------------------------------------------------------------
 def test_one_valid_cam_per_machine_cam(run, machine):
     r, _bad = run
@@ -229,7 +367,6 @@ def test_one_valid_cam_per_machine_cam(run, machine):
     assert g["type"] == "App::DocumentObjectGroupPython" and g["label"] == m.machine.name
     assert g["phases"] == [c.phase for c in m.cams]
     assert len(g["cams"]) == len(m.cams) == 3 and g["gap"] == GAP
-    assert set(g["cams"]) <= set(g["group"])
     assert [c["label"] for c in r.result["cams"]] == [c.name for c in m.cams]
     for c in r.result["cams"]:
         assert c["status"] == "ok" and c["valid"] and c["solids"] == 1 and c["volume"] > 0
@@ -262,6 +399,38 @@ def test_cams_on_one_shaft_without_overlap(run, machine):
     assert all(v < 1e-9 for v in sh["common"]), sh["common"]
 
 
+def test_each_cam_with_its_parts_in_its_folder(run, machine):
+    """Each cam sits in its folder "<cam> mechanism" (in the machine group) with the parts it moves, named
+    after it and listed in the group's ``Parts``: its follower, its linkage (when it has one) and its tool
+    (when it has a [cam.tool], whose table the tool part keeps)."""
+    r, _bad = run
+    m, _designs = machine
+    g = r.result["group"]
+    folders = r.result["folders"]
+    assert [f["label"] for f in folders] == [f"{c.name} mechanism" for c in m.cams]
+    parts = {p["name"]: p for p in r.result["parts"]}
+    for c, cam, folder in zip(m.cams, g["cams"], folders):
+        assert folder["type"] == "App::DocumentObjectGroup" and folder["children"][0] == cam
+        mine = [parts[n] for n in folder["children"][1:]]
+        assert [p["role"] for p in mine] == ROLES[c.name]
+        assert all(p["cam"] == cam and p["type"] == "Part::Feature" for p in mine)
+        assert [p["label"] for p in mine[:-1]] == [f"{c.name} {p['role']}" for p in mine[:-1]]
+        tool = mine[-1]
+        assert tool["label"] == f"{c.name} tool ({c.tool.label})"
+        assert json.loads(tool["outline"]) == c.tool.to_dict()
+    assert sorted(parts) == sorted(n for f in folders for n in f["children"][1:])
+    assert set(g["group"]) == {f"{n}_Mechanism" for n in g["cams"]} | {g["name"].replace("Machine_", "", 1) + "_Shaft"}
+
+
+@pytest.mark.parametrize("phi,how", ANGLES)
+def test_parts_where_the_mechanism_puts_them(run, machine, phi, how):
+    """At MachineAngle φ — set and recomputed, or stepped as *Play* does — every part stands where the
+    mechanism puts it for s(φ − phase), to 1e-6 mm: roller, pivot, face, linkage pins, tool."""
+    r, _bad = run
+    m, designs = machine
+    _check_parts(r.result["angles"][str(phi)]["parts"], m, designs, phi)
+
+
 @pytest.mark.parametrize("phi,how", ANGLES)
 def test_machine_angle_turns_every_cam(run, machine, phi, how):
     """At MachineAngle φ each cam stands at θ = φ − phase: its placement turned by δθ, its follower where
@@ -279,8 +448,9 @@ def test_reopened_machine_still_drives(run, machine):
     r, _bad = run
     m, designs = machine
     re = r.result["reopened"]
-    assert re["is_machine"] and re["status"] == ["ok"] * len(m.cams)
+    assert re["is_machine"] and re["status"] == ["ok"] * len(m.cams) and re["touched"] == []
     _check_cams(re["cams"], m, designs, REOPENED_ANGLE)
+    _check_parts(re["parts"], m, designs, REOPENED_ANGLE)
 
 
 @pytest.mark.parametrize("key", list(BAD))
@@ -338,7 +508,11 @@ def state_of(g):
     from cam_workbench.freecad.feature import reference_of
     return {{"angle": g.MachineAngle.Value, "phases": list(g.Phases),
             "followers": [reference_of(c, "follower").FollowerAngle.Value for c in g.Cams],
-            "status": [c.Status for c in g.Cams]}}
+            "status": [c.Status for c in g.Cams],
+            "colours": [[p.Role, list(p.ViewObject.ShapeColor[:3])] for p in g.Parts],
+            "tools": {{p.Cam.Label: [p.Placement.Base.x, p.Placement.Base.y,
+                                    p.Placement.Rotation.Angle * (1 if p.Placement.Rotation.Axis.z >= 0 else -1)]
+                      for p in g.Parts if p.Role == "tool"}}}}
 
 def opened():
     g = machine()
@@ -381,26 +555,40 @@ steps = [(activate, 500), (open_file, 1000), (opened, 1000), (play, 200), (playi
 """
 
 
-def _consistent(st: dict) -> None:
-    """Every follower at φ − phase (mod 360) of the group's angle."""
+#: the parts' colours (machine_parts.COLOURS: the animation's follower, link and tool colours), written out
+COLOURS = {"follower": (0.541, 0.384, 0.071), "linkage": (0.180, 0.490, 0.196), "tool": (0.416, 0.106, 0.604)}
+
+
+def _consistent(st: dict, m, designs) -> None:
+    """Every follower at φ − phase (mod 360) of the group's angle, every tool where the clearance check puts
+    it at φ, every part in its colour (FreeCAD keeps colours to 1/255)."""
     for angle, phase in zip(st["followers"], st["phases"]):
         assert angle == pytest.approx(_cam_angle(st["angle"], phase), abs=1e-9), st
     assert st["status"] == ["ok"] * len(st["phases"])
+    assert sorted(st["tools"]) == sorted(c.name for c in m.cams)
+    for c, design in zip(m.cams, designs):
+        poses = tool_drive(c.name, c.spec, c.phase, design.program, c.tool).at_machine(np.array([st["angle"]]))
+        turn = 0.0 if poses.angles is None else float(poses.angles[0])
+        x, y, angle = st["tools"][c.name]
+        assert abs(complex(x, y) - complex(*poses.positions[0])) < TOL and angle == pytest.approx(turn, abs=1e-9)
+    for role, colour in st["colours"]:
+        assert colour == pytest.approx(COLOURS[role], abs=1 / 255), (role, colour)
 
 
 @requires_freecad_gui
 def test_open_and_play_in_the_gui(tmp_path, fc_home, artifacts, machine):  # noqa: F811
     """*Open machine…* through its file dialog opens the example's cams; *Play machine*'s timer turns the
-    camshaft (its followers at φ − phase all along), *Stop* halts it, the slider sets the angle."""
-    m, _designs = machine
+    camshaft (its followers at φ − phase all along, its tools where the clearance check puts them, the parts
+    in their colours), *Stop* halts it, the slider sets the angle."""
+    m, designs = machine
     run = run_freecad_gui(GUI.format(art=str(artifacts), example=str(EXAMPLE)), tmp_path, fc_home)
     (artifacts / "freecad_gui_machine_console.txt").write_text(run.console)
     r = run.check().result
     assert r["file_dialog"] == "QFileDialog" and "file_dialog_refused" not in r
     assert r["opened"]["labels"] == [c.name for c in m.cams] and r["opened"]["angle"] == 0.0
-    _consistent(r["opened"])
+    _consistent(r["opened"], m, designs)
     assert r["played"]["angle"] >= 30.0
-    _consistent(r["played"])
+    _consistent(r["played"], m, designs)
     assert r["slid"]["angle"] == 200.0
-    _consistent(r["slid"])
+    _consistent(r["slid"], m, designs)
     assert "Traceback" not in r["report"] and "Error" not in r["report"], r["report"]

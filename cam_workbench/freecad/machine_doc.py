@@ -18,6 +18,12 @@ in the fixed frame.  Changing ``MachineAngle``, ``Phases`` or ``CamGap`` sets th
 follower angles at once; a recompute rebuilds them.  :func:`step_machine` (what the GUI's *Play* timer
 calls) does the same and redraws the followers from each cam's cached design, without rebuilding its solid.
 
+What each cam moves — its follower, its linkage, its tool (:mod:`.machine_parts`: ``Part::Feature`` objects
+drawn from the animation's frame data at φ, the tool where the clearance check puts it) — sits with the cam
+in the cam's folder (``App::DocumentObjectGroup`` "<cam> mechanism") and is listed in the group's ``Parts``;
+the parts move with ``MachineAngle``: set at once from the cams' cached designs, and after a recompute (the
+group's ``execute`` runs after its cams are built) from the fresh ones.
+
 App side: nothing here imports FreeCADGui or Qt at module level; the *Play* task panel
 (:func:`open_play_panel`) imports them when the GUI opens it.
 """
@@ -30,9 +36,11 @@ from typing import Any, Mapping
 
 import FreeCAD
 
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.machine import MachineSpec, load_machine, machine_from_dict
 
 from .feature import FOLLOWER_ANGLE, create, reference_of, references_of, update_reference
+from .machine_parts import add_part, roles_of, update_parts
 from .stateless import Stateless
 
 #: The group's angle property: the camshaft's angle φ [deg].
@@ -68,6 +76,9 @@ class MachineGroup(Stateless):
                         "Each cam's phase [deg]: the machine angle at which its cam angle is 0 (one per cam)")
         obj.addProperty("App::PropertyLength", "CamGap", "Machine",
                         "Gap between neighbouring cams along the shaft")
+        obj.addProperty("App::PropertyLinkList", "Parts", "Machine",
+                        "What the cams move: each cam's follower, linkage and tool (Part features, each linked "
+                        "to its Cam)")
         obj.addProperty("App::PropertyLink", "Shaft", "Machine", "The shaft cylinder through the bores (or none)")
         obj.addProperty("App::PropertyFloat", "SpeedRpm", "Machine", "Camshaft speed [rpm] (from the file)",
                         _PROP_READONLY)
@@ -76,7 +87,7 @@ class MachineGroup(Stateless):
         obj.CamGap = DEFAULT_GAP_MM
 
     def execute(self, obj: Any) -> None:
-        return None  # the cams build themselves; onChanged places them
+        place_parts(obj)  # the cams build themselves (before this: the group depends on them); onChanged places them
 
     def onChanged(self, obj: Any, prop: str) -> None:
         if prop in _DRIVING and not _restoring(obj) and "Shaft" in obj.PropertiesList:
@@ -134,13 +145,22 @@ def open_machine(doc: Any, path_or_dict: Any, *, gap: float = DEFAULT_GAP_MM, sh
     group.SpeedRpm = float(machine.machine.speed_rpm)
     group.Source = source
     group.CamGap = float(gap)
-    cams = []
+    cams, parts = [], []
     for cam in machine.cams:
-        obj = create(doc, cam.spec, name=f"{base}_{_object_name(cam.name)}")
+        name = f"{base}_{_object_name(cam.name)}"
+        obj = create(doc, cam.spec, name=name)
         obj.Label = cam.name
-        group.addObject(obj)
+        folder = doc.addObject("App::DocumentObjectGroup", f"{name}_Mechanism")
+        folder.Label = f"{cam.name} mechanism"
+        group.addObject(folder)
+        folder.addObject(obj)
+        for role in roles_of(cam):
+            part = add_part(doc, f"{name}_{role.capitalize()}", obj, role, cam.tool if role == "tool" else None)
+            folder.addObject(part)
+            parts.append(part)
         cams.append(obj)
     group.Cams = cams
+    group.Parts = parts
     group.Phases = [float(c.phase) for c in machine.cams]
     if shaft:
         group.Shaft = _add_shaft(doc, group, base)
@@ -180,7 +200,8 @@ def cam_angle(machine_angle: float, phase: float) -> float:
 
 def place_cams(group: Any) -> None:
     """Set every cam's placement (its slot on the shaft, turned by δ·θ) and its follower's angle θ from the
-    group's ``MachineAngle`` and ``Phases``; the shaft's length spans the cams.  The caller recomputes."""
+    group's ``MachineAngle`` and ``Phases``, and the cams' parts (:func:`place_parts`); the shaft's length
+    spans the cams.  The caller recomputes."""
     cams = list(group.Cams)
     phases = list(group.Phases)
     if len(phases) != len(cams):
@@ -206,12 +227,35 @@ def place_cams(group: Any) -> None:
             shaft.Height = end + 2 * margin
         if abs(shaft.Placement.Base.z + margin) > 1e-9:
             shaft.Placement = FreeCAD.Placement(FreeCAD.Vector(0, 0, -margin), FreeCAD.Rotation())
+    place_parts(group)
+
+
+def place_parts(group: Any) -> None:
+    """Set every cam's parts (follower, linkage, tool) for the group's ``MachineAngle``, in the cam's slot,
+    from the cam's cached design: a cam without one (not built yet) keeps them where they are — the
+    recompute that builds it places them (:meth:`MachineGroup.execute`).  The parts are outputs: they are
+    left untouched (nothing to recompute)."""
+    cams, phases, parts = list(group.Cams), list(group.Phases), list(group.Parts)
+    if not parts or len(phases) != len(cams):
+        return  # place_cams reports a Phases list that does not fit
+    phi = value_of(group.MachineAngle)
+    for cam, phase, (z, t) in zip(cams, phases, shaft_layout(group)):
+        mine = [p for p in parts if p.Cam is not None and p.Cam.Name == cam.Name]
+        if not mine or cam.Proxy.design is None:
+            continue
+        try:
+            update_parts(cam, mine, phase, phi, z, t)
+        except SpecError as exc:
+            FreeCAD.Console.PrintError(f"{cam.Label}: its follower, linkage and tool are not drawn: {exc}\n")
+        for part in mine:
+            part.purgeTouched()
 
 
 def step_machine(group: Any, angle: float) -> None:
-    """Turn the machine to ``angle`` [deg] (what the *Play* timer calls): the cams turn and their followers are
-    redrawn from each cam's cached design — a cam without one (not built yet, or in error) is recomputed."""
-    group.MachineAngle = float(angle)  # onChanged places the cams
+    """Turn the machine to ``angle`` [deg] (what the *Play* timer calls): the cams turn, their followers are
+    redrawn and their parts move (:func:`place_parts`) from each cam's cached design — a cam without one (not
+    built yet, or in error) is recomputed."""
+    group.MachineAngle = float(angle)  # onChanged places the cams and their parts
     stale = False
     for cam in group.Cams:
         proxy = cam.Proxy

@@ -11,7 +11,6 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
-from .feature import is_cam
 from .machine_doc import is_machine, machines_of, step_machine, value_of
 from .qt_compat import standard_buttons
 
@@ -90,16 +89,16 @@ def open_play_panel(group: Any) -> Any:
 
 
 def target_machine() -> Any:
-    """The machine the *Play* command acts on: the selected one (or the machine of a selected cam), else the
-    only machine of the active document; None (with a message) otherwise."""
+    """The machine the *Play* command acts on: the selected one (or the machine of a selected cam, cam folder or
+    part — follower, linkage, tool), else the only machine of the active document; None (with a message)
+    otherwise."""
 
     for obj in FreeCADGui.Selection.getSelection():
         if is_machine(obj):
             return obj
-        if is_cam(obj):
-            for parent in obj.InList:
-                if is_machine(parent):
-                    return parent
+        for parent in obj.InList:  # the machine links its cams (Cams), parts (Parts) and folders (Group)
+            if is_machine(parent):
+                return parent
     machines = machines_of(FreeCAD.ActiveDocument)
     if len(machines) == 1:
         return machines[0]
