@@ -181,6 +181,22 @@ def write_frame(frames: MachineFrames, i: int, path: str | os.PathLike[str], *,
     return write_bytes_atomic(path, frame_png_bytes(frames, i, width_px=width_px))
 
 
+def require_matplotlib(option: str = "--animation gif") -> None:
+    """Check that the animation can be drawn: matplotlib and Pillow (which matplotlib brings, and
+    which writes the GIF) import.
+
+    Raises:
+        MissingDependency: either is missing or fails to import (naming ``option`` and
+            ``--animation none``).
+    """
+    try:
+        _mpl()
+    except ImportError as exc:
+        raise MissingDependency(f"animations ({option}) need matplotlib and Pillow, cam-workbench's own "
+                                "dependencies (pip install --force-reinstall cam-workbench); --animation none "
+                                f"writes everything else ({exc})") from exc
+
+
 def require_ffmpeg(option: str = "--animation mp4") -> str:
     """The ffmpeg executable's path.
 
@@ -263,4 +279,4 @@ def write_animation(frames: MachineFrames, path: str | os.PathLike[str], *, fps:
 
 
 __all__ = ["DEFAULT_FPS", "DEFAULT_WIDTH", "FORMATS", "animation_bytes", "frame_png_bytes", "picture_size",
-           "require_ffmpeg", "write_animation", "write_frame"]
+           "require_ffmpeg", "require_matplotlib", "write_animation", "write_frame"]

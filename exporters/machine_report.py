@@ -143,7 +143,52 @@ def phase_sweep_table(report: Mapping[str, Any]) -> str:
                              ("required", "min_clearance", "max_clearance", "error_bound"))
                    + f'<td data-key="{base}.intervals">{html.escape(iv)}</td></tr>')
     out.append("</table>")
-    return "".join(out)
+    return "".join(out) + shortest_cycle_table(report)
+
+
+def shortest_cycle_table(report: Mapping[str, Any]) -> str:
+    """machine.json's ``phase_sweep.shortest_cycle``: how much earlier the swept cam's motion can
+    start keeping every clearance, the overlap it gains on the motion it follows, the clearance
+    there and the cycle time it would give (under the stated assumption), or the note why not."""
+    sc = report["phase_sweep"]["shortest_cycle"]
+    key = "phase_sweep.shortest_cycle"
+    head = "<h3>Shortest cycle</h3>"
+    if sc["note"]:
+        return head + f'<p data-key="{key}.note">{html.escape(str(sc["note"]))}</p>'
+    f, mo = sc["follows"], sc["motion"]
+    unit = html.escape(str(report["phase_sweep"]["unit"]))
+    text = (f'<p><span data-key="{key}.motion.event">{html.escape(mo["event"])}</span> follows '
+            f'<span data-key="{key}.follows.event">{html.escape(f["event"])}</span> (of '
+            f'<span data-key="{key}.follows.cam">{html.escape(f["cam"])}</span>); limited by '
+            f'<span data-key="{key}.limited_by">{html.escape(str(sc["limited_by"]))}</span>'
+            + (f' ({html.escape(", ".join(sc["binding_pairs"]))})' if sc["binding_pairs"] else "") + ". "
+            f'Assumed: <span data-key="{key}.assumption">{html.escape(sc["assumption"])}</span>; it '
+            f'<span data-key="{key}.assumption_holds">{"holds" if sc["assumption_holds"] else "does NOT hold"}</span>'
+            " here.</p>")
+    rows = _rows(report, [
+        ("its motion starts now at", f"{key}.motion.start_deg", "deg"),
+        ("the followed motion starts at", f"{key}.follows.start_deg", "deg"),
+        ("the followed motion ends at", f"{key}.follows.end_deg", "deg"),
+        ("the followed motion's span", f"{key}.follows.span_deg", "deg"),
+        ("earliest phase keeping every clearance", f"{key}.phase_deg", "deg"),
+        ("machine angle saved", f"{key}.saved_deg", "deg"),
+        ("overlap now", f"{key}.current_overlap_deg", "deg"),
+        ("overlap at the earliest phase", f"{key}.overlap_deg", "deg"),
+        ("cycle time now", f"{key}.cycle_time_s", "s"),
+        ("shortest cycle time", f"{key}.shortest_cycle_time_s", "s"),
+        ("cycles per minute then", f"{key}.cycles_per_min", "1/min"),
+        ("whole machine's longest dwell now", f"{key}.machine_dwell_deg", "deg"),
+        ("… at the earliest phase", f"{key}.machine_dwell_at_phase_deg", "deg"),
+        ("dwell gained", f"{key}.dwell_gained_deg", "deg")])
+    out = [f'<table class="q"><tr><th>pair at the earliest phase</th><th>required [{unit}]</th>'
+           f"<th>smallest distance [{unit}]</th><th>margin [{unit}]</th><th>at machine angle [deg]</th>"
+           f"<th>error bound [{unit}]</th></tr>"]
+    for k, c in enumerate(sc["clearance_at_phase"]):
+        out.append(f"<tr><td>{html.escape(c['name'])}</td>" + "".join(
+            num_cell(report, f"{key}.clearance_at_phase.{k}.{q}")
+            for q in ("required", "distance", "margin", "at_deg", "error_bound")) + "</tr>")
+    out.append("</table>")
+    return head + text + rows + "".join(out)
 
 
 def animation_section(report: Mapping[str, Any]) -> str:
@@ -222,4 +267,4 @@ def machine_html(report: Mapping[str, Any], figures: Mapping[str, str]) -> str:
 
 
 __all__ = ["HTML_NAME", "JSON_NAME", "animation_section", "checks_table", "clearance_table", "linkage_table", "machine_html",
-           "machine_json_text", "phase_sweep_table"]
+           "machine_json_text", "phase_sweep_table", "shortest_cycle_table"]

@@ -24,6 +24,7 @@ from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.machine import (MACHINES, analyse_machine, example_machine_dict, flywheel,
                                               follower_timing, load_machine, machine_from_dict, machine_grid)
 from cam_workbench.generators.machine.torque import cam_angles, cam_torque
+from cam_workbench.generators.motion.program import MotionProgram
 from cam_workbench.generators.spec import spec_digest
 
 from .conftest import ROOT, assert_unchanged, has_module, requires_ocp, snapshot
@@ -512,3 +513,188 @@ def test_animation_file_names_are_reserved(name):
     data = machine_dict((name, 0.0, harmonic_spec()), rpm=60.0)
     with pytest.raises(SpecError, match=r"cam\[0\]\.name"):
         machine_from_dict(data)
+
+
+# ---- optional dependencies, simulated missing for real (a package that raises ImportError first on the path) --
+def _blocked(tmp_path: Path, *names: str) -> str:
+    """A folder holding a package for each of ``names`` whose import raises ImportError: put first on
+    PYTHONPATH, the subprocess sees the package missing."""
+    root = tmp_path / "blocked"
+    for name in names:
+        (root / name).mkdir(parents=True)
+        (root / name / "__init__.py").write_text(f"raise ImportError('no {name} here')\n", encoding="utf-8")
+    return str(root)
+
+
+def cli_without(tmp_path: Path, names: tuple[str, ...], *args: str) -> subprocess.CompletedProcess:
+    env = dict(os.environ, PYTHONPATH=f"{_blocked(tmp_path, *names)}{os.pathsep}{ROOT}", COLUMNS="250")
+    return subprocess.run([*CLI, *args], capture_output=True, text=True, env=env)
+
+
+@requires_ocp
+def test_without_cairosvg_the_svg_figures_are_written_and_the_printout_says_so(tmp_path):
+    out = tmp_path / "out"
+    res = cli_without(tmp_path, ("cairosvg",), "machine", "--example", "three_cams", "-o", str(out),
+                      "--animation", "none")
+    assert res.returncode == 0, res.stderr
+    report = json.loads((out / "machine.json").read_text(encoding="utf-8"))
+    names = {p.name for p in out.iterdir()}
+    assert {"timing.svg", "torque.svg", "machine.json", "machine.html"} <= names
+    assert not {"timing.png", "torque.png"} & names
+    assert "timing_png" not in report["files"] and report["files"]["timing_svg"] == "timing.svg"
+    assert report["figures"]["formats"] == ["svg"] and "CairoSVG" in report["figures"]["note"]
+    first = res.stdout.splitlines()[0]
+    assert "timing.svg" in first and ".png" not in first
+    assert f"figures: SVG ({report['figures']['note']})" in res.stdout
+    # the same figures as with CairoSVG: the SVG does not depend on it
+    ET.parse(out / "timing.svg")
+    assert "<svg" in (out / "machine.html").read_text(encoding="utf-8")
+
+
+@requires_ocp
+def test_with_cairosvg_both_formats_are_listed(built):
+    out, stdout, report = built
+    assert report["figures"] == {"formats": ["svg", "png"], "note": None}
+    assert report["files"]["timing_png"] == "timing.png" and "figures: SVG, PNG" in stdout
+
+
+@requires_ocp
+def test_without_matplotlib_the_default_animation_is_a_note_and_an_explicit_one_is_refused(tmp_path):
+    out = tmp_path / "out"
+    res = cli_without(tmp_path, ("matplotlib",), "machine", "--example", "three_cams", "-o", str(out))
+    assert res.returncode == 0, res.stderr
+    report = json.loads((out / "machine.json").read_text(encoding="utf-8"))
+    assert report["animation"]["file"] is None and "matplotlib and Pillow" in report["animation"]["note"]
+    assert not list(out.glob("machine.gif")) and report["animation"]["note"] in res.stdout
+    (tmp_path / "two").mkdir()
+    before = snapshot(tmp_path / "two")
+    res = cli_without(tmp_path / "two", ("matplotlib",), "machine", "--example", "three_cams", "-o",
+                      str(tmp_path / "two" / "out"), "--animation", "gif")
+    assert res.returncode == 2 and "--animation gif" in res.stderr and "matplotlib" in res.stderr, res.stderr
+    assert "Traceback" not in res.stderr
+    after = snapshot(tmp_path / "two")
+    assert set(after) - set(before) == {"blocked", "blocked/matplotlib", "blocked/matplotlib/__init__.py"}
+
+
+# ---- spatial cams in a machine ---------------------------------------------------------------------------
+SPATIAL = ("cylindrical", "parallel_indexer", "barrel_indexer", "globoidal_indexer")
+
+
+def spatial_machine(body: str, phase: float = 130.0, tool: bool = False) -> dict[str, Any]:
+    """A harmonic plate cam and the built-in ``body`` example at 60 rpm, phase ``phase``."""
+    from cam_workbench.generators.spec.examples import example_dict
+
+    spec = example_dict(body)
+    spec["cam"]["speed_rpm"] = 60.0
+    if body == "cylindrical":
+        spec["follower"]["mass"] = 0.4
+    data = machine_dict(("plate", 0.0, harmonic_spec()), (body.replace("_", "-"), phase, spec), rpm=60.0)
+    if tool:
+        data["cam"][0]["tool"] = {"circle": {"radius": 3.0}}
+        data["cam"][1]["tool"] = {"circle": {"radius": 3.0}, "origin": [200.0, 0.0]}
+    return data
+
+
+@pytest.mark.parametrize("body", SPATIAL)
+def test_spatial_cam_timing_and_torque(body):
+    """A cylindrical cam or an indexer on the machine's clock: its s at machine angle θ is its
+    program's s(θ − phase) (an indexer's turret in degrees), and its torque is the rigid train's
+    written out here — m·s″ω² · s′ for the cylindrical cam's roller (no spring), J·ω²·u″·u′ for an
+    indexer's turret (u = s·π/180; kg·mm²/s² → N·mm: 10⁻³)."""
+    mach = machine_from_dict(spatial_machine(body, tool=True))
+    r = analyse_machine(mach)
+    spec = mach.cams[1].spec
+    t = r.timings[1]
+    x = cam_angles(r.theta, 130.0)
+    k = MotionProgram.from_spec(spec).evaluate(x)
+    np.testing.assert_allclose(t.s, k.s, rtol=0, atol=1e-12)
+    w = 2 * math.pi
+    if body == "cylindrical":
+        assert t.lift_unit == "mm"
+        # its tool slides from [cam.tool] origin (200, 0) along direction 90° by s
+        np.testing.assert_allclose(t.tool, np.c_[np.full_like(k.s, 200.0), k.s], rtol=0, atol=1e-12)
+        expected = 0.4 * 1e-3 * k.d2s * w**2 * k.ds
+    else:
+        assert t.lift_unit == "deg"
+        # its tool rides the turret: the frame on the turret's axis at origin, turned by the turret's angle
+        np.testing.assert_allclose(t.tool, np.tile([200.0, 0.0], (k.s.size, 1)), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(t.tool_angle, np.radians(k.s), rtol=0, atol=1e-12)
+        c = math.pi / 180
+        expected = 1e-3 * spec.indexer.output_inertia * w**2 * (c * k.d2s) * (c * k.ds)
+    np.testing.assert_allclose(r.torques[1], expected, rtol=1e-9, atol=1e-9 * np.max(np.abs(expected)))
+    np.testing.assert_allclose(r.total, r.torques[0] + r.torques[1], rtol=0, atol=0)
+    assert [e["kind"] for e in r.summary()["cams"][1]["events"]] == [kd for kd, law in zip(
+        MotionProgram.from_spec(spec).kinds, MotionProgram.from_spec(spec).laws) if law is not None]
+
+
+def test_an_indexer_in_a_clearance_pair_is_refused_naming_the_field():
+    data = spatial_machine("barrel_indexer", tool=True)
+    data["clearance"] = [{"between": ["plate", "barrel-indexer"], "required": 1.0}]
+    with pytest.raises(SpecError) as exc:
+        machine_from_dict(data)
+    assert exc.value.field == "clearance[0].between" and "advances 60° a turn" in exc.value.rule
+    data = spatial_machine("cylindrical", tool=True)           # a cylindrical cam's tool comes back: accepted
+    data["clearance"] = [{"between": ["plate", "cylindrical"], "required": 1.0}]
+    r = analyse_machine(machine_from_dict(data))
+    assert r.clearance is not None and r.clearance["pairs"][0]["status"] == "pass"
+
+
+def test_a_cylindrical_cam_with_an_oscillating_arm_is_refused_naming_the_field():
+    from cam_workbench.generators.spec.examples import example_dict
+
+    spec = example_dict("cylindrical_oscillating")
+    spec["cam"]["speed_rpm"] = 60.0
+    mach = machine_from_dict(machine_dict(("plate", 0.0, harmonic_spec()), ("arm", 0.0, spec), rpm=60.0))
+    with pytest.raises(SpecError) as exc:
+        analyse_machine(mach)
+    assert exc.value.field == "cam[1].spec.follower.motion" and "oscillating" in exc.value.rule
+
+
+def write_machine(folder: Path, data: dict[str, Any]) -> Path:
+    """``data`` (speed, cams with inline specs, no tools) as a machine file in ``folder``, each cam's
+    spec in its own file beside it."""
+    m = data["machine"]
+    text = f'[machine]\nname = "{m["name"]}"\nspeed_rpm = {float(m["speed_rpm"])!r}\n'
+    for c in data["cam"]:
+        (folder / f"{c['name']}.toml").write_text(_toml(c["spec"]), encoding="utf-8")
+        text += f'[[cam]]\nname = "{c["name"]}"\nspec = "{c["name"]}.toml"\nphase = {float(c["phase"])!r}\n'
+    path = folder / "m.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@requires_ocp
+def test_cli_a_spatial_cam_is_left_out_of_the_animation_with_a_note(tmp_path):
+    from PIL import Image
+
+    write_machine(tmp_path, spatial_machine("barrel_indexer"))
+    for explicit in ((), ("--animation", "gif")):
+        out = tmp_path / f"out{len(explicit)}"
+        res = cli("machine", str(tmp_path / "m.toml"), "-o", str(out), *explicit)
+        assert res.returncode == 0, res.stderr
+        report = json.loads((out / "machine.json").read_text(encoding="utf-8"))
+        an = report["animation"]
+        assert an["file"] == "machine.gif" and an["left_out"] == ["barrel-indexer"]
+        assert "cam[1].spec.cam.body is 'barrel_indexer'" in an["note"] and an["note"] in res.stdout
+        with Image.open(out / "machine.gif") as im:
+            assert im.n_frames == 72
+        assert (out / "barrel-indexer" / "report.json").is_file()
+        assert report["cams"][1]["lift_unit"] == "deg" and report["cams"][1]["torque"]["max"] > 0
+
+
+@requires_ocp
+def test_cli_no_cam_drawn_is_a_note_by_default_and_refused_when_asked(tmp_path):
+    from cam_workbench.generators.spec.examples import example_dict
+
+    spec = example_dict("cylindrical")
+    spec["cam"]["speed_rpm"] = 60.0
+    write_machine(tmp_path, machine_dict(("barrel", 0.0, spec), rpm=60.0))
+    res = cli("machine", str(tmp_path / "m.toml"), "-o", str(tmp_path / "out"))
+    assert res.returncode == 0, res.stderr
+    report = json.loads((tmp_path / "out" / "machine.json").read_text(encoding="utf-8"))
+    assert report["animation"]["file"] is None and report["animation"]["left_out"] == ["barrel"]
+    assert "no cam is a plane cam" in report["animation"]["note"]
+    before = snapshot(tmp_path)
+    res = cli("machine", str(tmp_path / "m.toml"), "-o", str(tmp_path / "out2"), "--animation", "gif")
+    assert res.returncode == 2 and "--animation: gif cannot be drawn" in res.stderr, res.stderr
+    assert_unchanged(tmp_path, before)

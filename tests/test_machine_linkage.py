@@ -304,3 +304,150 @@ def test_cli_failing_clearance_exits_3_shows_fail_and_timing_has_tool_rows(tmp_p
         for key in ("s", "v", "a"):
             assert f"timing-{cam}-tool-{key}" in gids or f"timing-{cam}-tool-{key}" in text
     assert "timing-lifter-tool-s" not in text
+
+
+# ---- the shortest cycle (docs/clearance.md, "The shortest cycle of a machine") ---------------------------
+H_SC, D_SC, RA, RB = 10.0, 30.0, 2.0, 3.0        # lift, distance of B's origin, the circles' radii [mm]
+
+
+def full_harmonic() -> dict[str, Any]:
+    """A radial roller rising h over 180° and returning over 180°, both harmonic: s(x) = h/2·(1 − cos x)."""
+    return {"units": "mm", "cam": {"base_radius": 50.0, "thickness": 10.0, "bore_diameter": 12.0},
+            "follower": {"kind": "roller", "roller_radius": 5.0, "mass": 0.2},
+            "motion": [{"kind": "rise", "angle": 180.0, "lift": H_SC, "law": "harmonic"},
+                       {"kind": "return", "angle": 180.0, "lift": H_SC, "law": "harmonic"}]}
+
+
+def opposed(phase_b: float, required: float) -> dict[str, Any]:
+    """Tool A (circle r_a) at (s_A(ψ), 0), tool B (circle r_b) at (D − s_B(ψ − φ), 0): their clearance
+    is c(φ) = D − r_a − r_b − h − h·|cos(φ/2)| (the sum s_A + s_B = h − h·cos(φ/2)·cos(ψ − φ/2))."""
+    return {"machine": {"name": "opposed", "speed_rpm": 60.0},
+            "cam": [{"name": "a", "phase": 0.0, "spec": full_harmonic(),
+                     "tool": {"circle": {"radius": RA}, "origin": [0.0, 0.0], "direction": 0.0}},
+                    {"name": "b", "phase": phase_b, "spec": full_harmonic(),
+                     "tool": {"circle": {"radius": RB}, "origin": [D_SC, 0.0], "direction": 180.0}}],
+            "clearance": [{"between": ["a", "b"], "required": required}]}
+
+
+def c_closed(phi_deg: float) -> float:
+    return D_SC - RA - RB - H_SC - H_SC * abs(math.cos(math.radians(phi_deg) / 2))
+
+
+def test_shortest_cycle_closed_form_limited_by_the_clearance():
+    """B at 170°: its rise follows A's rise (d = 170°); the clearance (8 mm) holds down to
+    φ_lo = 2·acos((D − r_a − r_b − h − 8)/h), so φ* = φ_lo, saved = 170° − φ_lo, overlap = 180° − φ_lo."""
+    req = 8.0
+    lo = math.degrees(2 * math.acos((D_SC - RA - RB - H_SC - req) / H_SC))
+    ps = analyse_machine(machine_from_dict(opposed(170.0, req)), sweep="b").summary()["phase_sweep"]
+    sc = ps["shortest_cycle"]
+    # the phase's error: the sampled clearance's error bound over the slope |dc/dφ| at φ_lo [mm/deg]
+    slope = H_SC / 2 * math.sin(math.radians(lo) / 2) * math.pi / 180
+    tol = ps["pairs"][0]["error_bound"] / slope + 1e-9
+    assert ps["pairs"][0]["error_bound"] < 1e-3
+    assert sc["follows"] == {"cam": "a", "event": "a rise", "start_deg": 0.0, "end_deg": 180.0, "span_deg": 180.0}
+    assert sc["motion"] == {"event": "b rise", "start_deg": 170.0}
+    assert sc["phase_deg"] == pytest.approx(lo, abs=tol)
+    assert sc["saved_deg"] == pytest.approx(170.0 - lo, abs=tol)
+    assert sc["overlap_deg"] == pytest.approx(180.0 - lo, abs=tol)
+    assert sc["current_overlap_deg"] == pytest.approx(10.0, abs=1e-9)
+    assert sc["limited_by"] == "clearance" and sc["binding_pairs"] == ["a/b"]
+    # the refined clearance at φ* is the closed form's there, and required to within the sweep's bound
+    row = sc["clearance_at_phase"][0]
+    assert row["distance"] == pytest.approx(c_closed(sc["phase_deg"]), abs=2e-6)
+    assert row["distance"] >= req - ps["pairs"][0]["error_bound"] and row["distance"] == pytest.approx(req, abs=1e-3)
+    # the cycle at 60 rpm: 1 s, and (360 − saved)/360 s; both cams always move: no whole-machine dwell
+    assert sc["cycle_time_s"] == 1.0
+    assert sc["shortest_cycle_time_s"] == pytest.approx((360.0 - sc["saved_deg"]) / 360.0, rel=1e-12)
+    assert sc["cycles_per_min"] == pytest.approx(60.0 * 360.0 / (360.0 - sc["saved_deg"]), rel=1e-12)
+    assert sc["machine_dwell_deg"] == 0.0 and sc["machine_dwell_at_phase_deg"] == 0.0
+    assert sc["assumption_holds"] is False and "dwell of the whole machine" in sc["assumption"]
+
+
+def test_shortest_cycle_closed_form_limited_by_the_order_and_a_failing_phase():
+    # 4 mm: c(φ) ≥ 5 mm at every phase — B may start with A's rise (φ* = 0), its clearance c(0) = 5
+    sc = analyse_machine(machine_from_dict(opposed(170.0, 4.0)), sweep="b").summary()["phase_sweep"]["shortest_cycle"]
+    assert sc["limited_by"] == "order" and sc["binding_pairs"] == []
+    assert sc["phase_deg"] == 0.0 and sc["saved_deg"] == 170.0 and sc["overlap_deg"] == 180.0
+    assert sc["clearance_at_phase"][0]["distance"] == pytest.approx(c_closed(0.0), abs=2e-6)
+    # B at 250°: its rise follows A's return (180°, d = 70°)
+    sc = analyse_machine(machine_from_dict(opposed(250.0, 4.0)), sweep="b").summary()["phase_sweep"]["shortest_cycle"]
+    assert sc["follows"]["event"] == "a return" and sc["saved_deg"] == pytest.approx(70.0, abs=1e-9)
+    # B at 30° does not keep 8 mm (c(30°) < 8): no answer, and the note says why
+    ps = analyse_machine(machine_from_dict(opposed(30.0, 8.0)), sweep="b").summary()["phase_sweep"]
+    assert not ps["current_phase_passes"]
+    sc = ps["shortest_cycle"]
+    assert sc["phase_deg"] is None and sc["saved_deg"] is None and "does not keep every clearance" in sc["note"]
+
+
+def test_whole_machine_dwell_against_the_followers_velocities(example):
+    """machine_dwell_deg: the longest arc where no follower moves, here from every follower's
+    velocity on a 0.01° grid (zero on a dwell), the gripper at its phase now and at φ*."""
+    from cam_workbench.generators.machine import follower_timing
+
+    machine, _ = example
+    sc = analyse_machine(machine, sweep="gripper").summary()["phase_sweep"]["shortest_cycle"]
+    theta = np.radians(np.arange(36000) * 0.01)
+
+    def dwell(gripper_phase: float) -> float:
+        moving = np.zeros(theta.size, bool)
+        for cam in machine.cams:
+            phase = gripper_phase if cam.name == "gripper" else cam.phase
+            t = follower_timing(cam.name, cam.spec, phase, theta, machine.omega, None, cam.tool)
+            moving |= np.abs(t.v) > 1e-9
+        still = np.concatenate([~moving, ~moving])               # twice round: runs through 0°
+        best = run = 0
+        for flag in still:
+            run = run + 1 if flag else 0
+            best = max(best, run)
+        return min(best, theta.size) * 0.01
+
+    assert sc["machine_dwell_deg"] == pytest.approx(dwell(100.0), abs=0.02)
+    assert sc["machine_dwell_at_phase_deg"] == pytest.approx(dwell(sc["phase_deg"]), abs=0.02)
+    assert sc["dwell_gained_deg"] == sc["machine_dwell_at_phase_deg"] - sc["machine_dwell_deg"]
+    assert sc["assumption_holds"] == (sc["dwell_gained_deg"] >= sc["saved_deg"] - 1e-9)
+
+
+def _leaves(node: Any, prefix: str) -> dict[str, Any]:
+    if isinstance(node, dict):
+        return {k: v for key, val in node.items() for k, v in _leaves(val, f"{prefix}.{key}").items()}
+    if isinstance(node, list):
+        return {k: v for i, val in enumerate(node) for k, v in _leaves(val, f"{prefix}.{i}").items()}
+    return {prefix: node}
+
+
+@requires_ocp
+def test_cli_shortest_cycle_html_and_printout_are_machine_json(tmp_path):
+    """Every number of machine.json's shortest_cycle is a machine.html cell holding its exact value,
+    and every number the printout's shortest-cycle lines show is one of them."""
+    import re
+    from html.parser import HTMLParser
+
+    out = tmp_path / "out"
+    res = cli("machine", "--example", "three_cams", "-o", str(out), "--phase-sweep", "gripper", "--animation", "none")
+    assert res.returncode == 0, res.stderr
+    report = json.loads((out / "machine.json").read_text(encoding="utf-8"))
+    sc = report["phase_sweep"]["shortest_cycle"]
+    assert sc["note"] is None and sc["saved_deg"] > 0
+
+    class Cells(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.cells: dict[str, str] = {}
+
+        def handle_starttag(self, tag, attrs):
+            a = dict(attrs)
+            if "data-key" in a and "data-value" in a:
+                self.cells[a["data-key"]] = a["data-value"]
+
+    p = Cells()
+    p.feed((out / "machine.html").read_text(encoding="utf-8"))
+    numbers = {k: v for k, v in _leaves(sc, "phase_sweep.shortest_cycle").items()
+               if isinstance(v, float) or (isinstance(v, int) and not isinstance(v, bool))}
+    assert len(numbers) > 15
+    for key, value in numbers.items():
+        assert p.cells.get(key) == repr(value), key
+    lines = [ln for ln in res.stdout.splitlines() if "shortest cycle" in ln or ln.startswith("    cycle")]
+    assert len(lines) == 2
+    values = list(numbers.values()) + [report["machine"]["speed_rpm"]]
+    for token in re.findall(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?", " ".join(lines)):
+        assert any(abs(float(token) - v) <= 5e-6 * max(1.0, abs(v)) for v in values), token

@@ -19,9 +19,9 @@ def run(args: argparse.Namespace) -> int:
         raise SpecError("--example", "give a machine FILE or --example, not both")
     if not args.machine and not args.example:
         raise SpecError("FILE", "give a machine file, or --example three_cams")
-    chosen = args.animation             # None: not given (a cam not drawn then gets a note, not a refusal)
+    chosen = args.animation             # None: not given (no cam drawn, or no matplotlib: a note, not a refusal)
     animation = chosen or "gif"
-    check_animation(animation)          # mp4 without ffmpeg: refused before any work
+    check_animation(animation, chosen is not None)   # mp4 without ffmpeg: refused before any work
     machine = Machine(args.machine) if args.machine else Machine.example(args.example)
     require_ocp("machine")
     bar, cb = count_progress(progress_total(machine.spec, animation), "machine", "steps")
@@ -45,9 +45,9 @@ def summary_lines(r: Mapping[str, Any], out: Path) -> list[str]:
     m, tq, fw = r["machine"], r["torque"], r["flywheel"]
     u = tq["unit"]
     f = r["files"]
-    lines = [f"machine {m['name']!r} written to {out}/: " + ", ".join(c["folder"] for c in r["cams"])
-             + f", {f['machine_json']}, {f['machine_html']}, {f['timing_svg']}, {f['timing_png']}, "
-               f"{f['torque_svg']}, {f['torque_png']}" + (f", {f['animation']}" if f.get("animation") else ""),
+    written = [f[k] for k in ("machine_json", "machine_html", "timing_svg", "timing_png", "torque_svg", "torque_png",
+                              "animation") if k in f]
+    lines = [f"machine {m['name']!r} written to {out}/: " + ", ".join([c["folder"] for c in r["cams"]] + written),
              f"  camshaft {_n(m['speed_rpm'])} rpm (ω {_n(m['omega_rad_s'])} rad/s), grid {_n(m['grid_step_deg'])}°",
              f"  torque [{u}]: max {_n(tq['max'])} at {_n(tq['max_at_deg'])}°, min {_n(tq['min'])} at "
              f"{_n(tq['min_at_deg'])}°, mean {_n(tq['mean'])}, RMS {_n(tq['rms'])}",
@@ -68,10 +68,12 @@ def summary_lines(r: Mapping[str, Any], out: Path) -> list[str]:
                          f"{_n(tm['min_displacement'])} to {_n(tm['max_displacement'])} {lk['tool_unit']}, |v| max "
                          f"{_n(tm['max_velocity'])} {lk['tool_unit']}/s, |a| max {_n(tm['max_acceleration'])} "
                          f"{lk['tool_unit']}/s²")
+    fig = r["figures"]
+    lines.append(f"  figures: {', '.join(x.upper() for x in fig['formats'])}" + (f" ({fig['note']})" if fig["note"] else ""))
     an = r.get("animation")
     if an:
         lines.append(f"  animation {an['file']}: {an['frames']} frames, {_n(an['step_deg'])}° apart, {an['fps']} per s"
-                     if an.get("file") else f"  animation: {an['note']}")
+                     + (f"; {an['note']}" if an["note"] else "") if an.get("file") else f"  animation: {an['note']}")
     cl = r.get("clearance")
     if cl:
         for p in cl["pairs"]:
@@ -89,7 +91,29 @@ def summary_lines(r: Mapping[str, Any], out: Path) -> list[str]:
         lines.append(f"  phase sweep of {ps['cam']} (now {_n(ps['phase_deg'])}°, "
                      f"{'passes' if ps['current_phase_passes'] else 'FAILS'}): phases keeping every clearance: "
                      f"{ranges}")
+        lines += shortest_cycle_lines(ps, r["machine"]["speed_rpm"])
     return lines
+
+
+def shortest_cycle_lines(ps: Mapping[str, Any], rpm: float) -> list[str]:
+    """The phase sweep's shortest cycle (machine.json ``phase_sweep.shortest_cycle``), printed."""
+    sc = ps["shortest_cycle"]
+    if sc["note"]:
+        return [f"  shortest cycle: {sc['note']}"]
+    f, mo = sc["follows"], sc["motion"]
+    why = ("clearance " + ", ".join(sc["binding_pairs"])) if sc["limited_by"] == "clearance" else \
+        f"order: it would start before {f['event']}"
+    dwell = (f"the whole machine's longest dwell {_n(sc['machine_dwell_deg'])}° → {_n(sc['machine_dwell_at_phase_deg'])}°"
+             + ("" if sc["assumption_holds"] else f", it grows by {_n(sc['dwell_gained_deg'])}° only: the assumption "
+                                                  "does not hold"))
+    return [f"  shortest cycle: {mo['event']} (now at {_n(mo['start_deg'])}°, following {f['event']} "
+            f"{_n(f['start_deg'])}–{_n(f['end_deg'])}°) can start {_n(sc['saved_deg'])}° earlier, phase "
+            f"{_n(sc['phase_deg'])}° (limited by {why}); overlap {_n(sc['current_overlap_deg'])}° → "
+            f"{_n(sc['overlap_deg'])}°; smallest clearance there "
+            + ", ".join(f"{c['name']} {_n(c['distance'])} {ps['unit']}" for c in sc["clearance_at_phase"]),
+            f"    cycle {_n(sc['cycle_time_s'])} s → {_n(sc['shortest_cycle_time_s'])} s at {_n(rpm)} rpm "
+            f"({_n(sc['cycles_per_min'])} cycles/min) if the saved {_n(sc['saved_deg'])}° go to a dwell of the "
+            f"whole machine ({dwell})"]
 
 
 def _n(v: float) -> str:

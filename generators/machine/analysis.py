@@ -268,7 +268,148 @@ def phase_sweep_section(machine: MachineSpec, result: MachineResult, cam: str, *
     current = any(a <= me.phase <= b or a <= me.phase + 360.0 <= b for a, b in feasible)
     return {"cam": cam, "phase_deg": me.phase, "unit": unit_name("length", machine.units), "phases": int(phases),
             "samples": int(samples), "pairs": rows, "intervals": [[a, b] for a, b in feasible],
-            "current_phase_passes": current}
+            "current_phase_passes": current,
+            "shortest_cycle": shortest_cycle_section(machine, result, cam, feasible,
+                                                     {r["name"]: r["intervals"] for r in rows})}
+
+
+#: machine.json ``phase_sweep.shortest_cycle.assumption``: what the cycle time assumes
+CYCLE_ASSUMPTION = ("the saved machine angle is taken out of a dwell of the whole machine (every cam at rest), each "
+                    "cam's program redrawn over the shorter cycle with its motions' durations kept: cycle time = "
+                    "60/rpm × (360 − saved)/360 s. It holds when the whole machine's longest dwell grows by the "
+                    "saved angle (machine_dwell_deg → machine_dwell_at_phase_deg)")
+
+
+def shortest_cycle_section(machine: MachineSpec, result: MachineResult, cam: str,
+                           feasible: Sequence[tuple[float, float]], pair_intervals: Mapping[str, Sequence[Sequence[float]]]
+                           ) -> dict[str, Any]:
+    """machine.json's ``phase_sweep.shortest_cycle``: how much earlier cam ``cam``'s motion can start
+    keeping every clearance (docs/clearance.md, "The shortest cycle of a machine").
+
+    Its motion starts with its program's first rise or return (machine angle phase + its start).  The
+    motion it *follows* is the rise or return of a cam it shares a ``[[clearance]]`` pair with that
+    started last before it (the least d = its start − that motion's start, mod 360, in [0, 360)).  Moving
+    the phase down from φ_c keeps every clearance down to the lower end of the feasible interval
+    holding φ_c (``feasible``: the sweep's intersection), and keeps the order down to φ_c − d (both
+    starting together): ``saved_deg`` = the smaller, φ* = φ_c − saved (``limited_by`` "clearance",
+    naming ``binding_pairs``, or "order").  ``overlap_deg`` = the followed motion's end − this motion's
+    start at φ* (``current_overlap_deg`` at φ_c; negative: a gap).  ``clearance_at_phase``: each pair's
+    smallest distance at φ*, refined (:func:`.clearance.min_clearance`): φ* is a boundary of the
+    sweep's sampled clearance, so a clearance-limited one sits at ``required`` to within the sweep's
+    error bound.  The cycle times at the machine speed assume :data:`CYCLE_ASSUMPTION`;
+    ``machine_dwell_deg`` and ``machine_dwell_at_phase_deg`` are the whole machine's longest dwell
+    (no cam moving) at φ_c and at φ*, ``assumption_holds`` whether it grew by at least ``saved_deg``.  With the current phase failing, or no motion to follow, the
+    numbers are None and ``note`` says why."""
+    names = [c.name for c in machine.cams]
+    me = machine.cam(cam)
+    mine = result.timings[names.index(cam)]
+    rpm = machine.machine.speed_rpm
+    cycle = 60.0 / rpm
+    partners = [p.b if p.a == cam else p.a for p in machine.clearances if cam in (p.a, p.b)]
+    out: dict[str, Any] = {"follows": None, "motion": None, "phase_deg": None, "saved_deg": None,
+                           "limited_by": None, "binding_pairs": [], "overlap_deg": None, "current_overlap_deg": None,
+                           "clearance_at_phase": [], "cycle_time_s": cycle, "shortest_cycle_time_s": None,
+                           "cycles_per_min": None, "machine_dwell_deg": _machine_dwell(result, cam, 0.0),
+                           "machine_dwell_at_phase_deg": None, "dwell_gained_deg": None, "assumption_holds": None,
+                           "assumption": CYCLE_ASSUMPTION, "note": None}
+    followed = [(e, p) for p in dict.fromkeys(partners) for e in result.timings[names.index(p)].events]
+    if not mine.events or not followed:
+        out["note"] = f"{cam if not mine.events else 'no cam it shares a pair with'} has no rise or return: no motion to follow"
+        return out
+    first = mine.events[0]
+    d_of = [_ccw(first.start_deg - e.start_deg) for e, _p in followed]
+    k = int(np.argmin(d_of))
+    (ev, owner), d_now = followed[k], d_of[k]
+    span = _ccw(ev.end_deg - ev.start_deg) or 360.0
+    out["follows"] = {"cam": owner, "event": ev.label, "start_deg": ev.start_deg, "end_deg": ev.end_deg,
+                      "span_deg": span}
+    out["motion"] = {"event": first.label, "start_deg": first.start_deg}
+    out["current_overlap_deg"] = span - d_now
+    room = _room(feasible, me.phase)
+    if room is None:
+        out["note"] = (f"{cam}'s phase {me.phase:g}° does not keep every clearance: move it into one of the phase "
+                       "ranges first")
+        return out
+    saved = min(room, d_now)
+    phase = (me.phase - saved) % 360.0
+    rooms = {name: _room([tuple(iv) for iv in ivs], me.phase) for name, ivs in pair_intervals.items()}
+    limited = "order" if d_now <= room else "clearance"
+    out.update({"phase_deg": phase, "saved_deg": saved, "limited_by": limited,
+                "binding_pairs": [n for n, r in rooms.items() if limited == "clearance" and r is not None
+                                  and abs(r - room) <= 1e-9],
+                "overlap_deg": span - (d_now - saved),
+                "clearance_at_phase": _clearance_at_phase(machine, result, cam, phase),
+                "shortest_cycle_time_s": cycle * (360.0 - saved) / 360.0,
+                "cycles_per_min": rpm * 360.0 / (360.0 - saved),               # saved ≤ d < 360
+                "machine_dwell_at_phase_deg": _machine_dwell(result, cam, saved)})
+    out["dwell_gained_deg"] = out["machine_dwell_at_phase_deg"] - out["machine_dwell_deg"]
+    out["assumption_holds"] = bool(out["dwell_gained_deg"] >= saved - 1e-9)
+    return out
+
+
+def _ccw(angle: float) -> float:
+    """``angle`` [deg] in [0, 360), a value within 1e-9 below 360 taken as 0."""
+    a = float(angle) % 360.0
+    return 0.0 if a > 360.0 - 1e-9 else a
+
+
+def _room(intervals: Sequence[tuple[float, float]], phase: float) -> float | None:
+    """How far [deg] ``phase`` can move down staying inside the circular interval that holds it
+    (``math.inf`` on the whole circle); None when no interval holds it."""
+    best = None
+    for a, b in intervals:
+        if b - a >= 360.0:
+            return math.inf
+        for p in (phase, phase + 360.0):
+            if a <= p <= b:
+                best = p - a if best is None else max(best, p - a)
+    return best
+
+
+def _machine_dwell(result: MachineResult, cam: str, earlier: float) -> float:
+    """The whole machine's longest dwell [deg of machine angle]: the longest arc where no cam rises or
+    returns, with cam ``cam``'s motions ``earlier`` degrees earlier."""
+    pieces = []
+    for t in result.timings:
+        shift = earlier if t.name == cam else 0.0
+        for e in t.events:
+            start, span = (e.start_deg - shift) % 360.0, _ccw(e.end_deg - e.start_deg) or 360.0
+            if span >= 360.0:
+                return 0.0
+            pieces += [(start, min(start + span, 360.0))] + ([(0.0, start + span - 360.0)] if start + span > 360.0 else [])
+    if not pieces:
+        return 360.0
+    pieces.sort()
+    gaps, reach = [], pieces[0][1]
+    for a, b in pieces[1:]:
+        gaps.append(a - reach)
+        reach = max(reach, b)
+    gaps.append(pieces[0][0] + 360.0 - reach)
+    return float(max(0.0, max(gaps)))
+
+
+def _clearance_at_phase(machine: MachineSpec, result: MachineResult, cam: str, phase: float) -> list[dict[str, Any]]:
+    """Each pair with cam ``cam``, its smallest distance over the turn with the cam at ``phase`` [deg]
+    (:func:`.clearance.min_clearance` on the machine grid, refined with the pose functions)."""
+    names = [c.name for c in machine.cams]
+    deg = np.append(result.theta_deg, 360.0)
+    rows = []
+    for pair in machine.clearances:
+        if cam not in (pair.a, pair.b):
+            continue
+        drives = []
+        for n in (pair.a, pair.b):
+            d = result.timings[names.index(n)].drive
+            assert d is not None
+            drives.append(replace(d, phase=phase) if n == cam else d)
+        ca, cb = machine.cam(pair.a), machine.cam(pair.b)
+        assert ca.tool is not None and cb.tool is not None
+        pa, pb = drives[0].at_machine(deg), drives[1].at_machine(deg)
+        c = min_clearance(outline_of(ca.tool), pa, outline_of(cb.tool), pb, deg, motion_a=drives[0].at_machine,
+                          motion_b=drives[1].at_machine)
+        rows.append({"name": pair.name, "required": pair.required, "distance": c.distance,
+                     "margin": c.distance - pair.required, "at_deg": c.angle_deg % 360.0, "error_bound": c.error_bound})
+    return rows
 
 
 def _pieces(intervals: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
@@ -294,4 +435,5 @@ def _intersect(x: Sequence[tuple[float, float]], y: Sequence[tuple[float, float]
     return got
 
 
-__all__ = ["MachineResult", "analyse_machine", "check_sweep", "clearance_section", "phase_sweep_section"]
+__all__ = ["CYCLE_ASSUMPTION", "MachineResult", "analyse_machine", "check_sweep", "clearance_section",
+           "phase_sweep_section", "shortest_cycle_section"]

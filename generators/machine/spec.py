@@ -41,6 +41,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib  # type: ignore[no-redef]
 
 from ..errors import SpecError, fmt_apart
+from ..kinds import body_of
 from ..spec.model import CamSpec
 from ..spec.params import REQUIRED, param, params_of
 from ..spec.toml_io import MAX_SPEC_BYTES
@@ -270,6 +271,13 @@ def _load_clearances(raw: Any, cams: list[MachineCam]) -> tuple[ClearancePair, .
                                                    f"{', '.join(by_name)})")
             if by_name[n].tool is None:
                 raise SpecError(f"{path}.between", f"cam {n!r} has no [cam.tool] outline to keep clear")
+            spec = by_name[n].spec
+            advance = body_of(spec).motion_advance(spec)
+            if advance != 0.0:
+                raise SpecError(f"{path}.between", f"cam {n!r} is an indexer (cam.body = {spec.cam.body!r}): its "
+                                                   f"turret advances {advance:g}° a turn, so its tool is not back in "
+                                                   "its place after one turn and a clearance over the turn is not "
+                                                   "defined; keep indexers out of [[clearance]] pairs")
         if between[0] == between[1]:
             raise SpecError(f"{path}.between", f"names {between[0]!r} twice: a pair is two different cams")
         key2 = frozenset(between)

@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from ..kinds import follower_class_of
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 from ..spec.params import unit_name
@@ -92,7 +91,6 @@ def follower_timing(name: str, spec: CamSpec, phase: float, theta: np.ndarray, o
     program = program or MotionProgram.from_spec(spec)
     x = cam_angles(theta, phase)
     kin = program.evaluate(x)
-    angle = follower_class_of(spec).lift_unit == "angle"
     drive = tool_drive(name, spec, phase, program, tool)
     poses = drive.poses(x)
     tool_s = tool_v = tool_a = None
@@ -102,7 +100,7 @@ def follower_timing(name: str, spec: CamSpec, phase: float, theta: np.ndarray, o
         tool_s, tool_v, tool_a = p[0] / c, p[1] * omega / c, p[2] * omega**2 / c
     return FollowerTiming(name, phase, np.asarray(theta, float), np.asarray(kin.s, float),
                           np.asarray(kin.ds, float) * omega, np.asarray(kin.d2s, float) * omega**2,
-                          "deg" if angle else unit_name("length", spec.units), segment_events(name, program, phase),
+                          "deg" if drive.angular else unit_name("length", spec.units), segment_events(name, program, phase),
                           poses.positions, poses.angles, tool_s, tool_v, tool_a, drive)
 
 

@@ -17,7 +17,9 @@ each cam's *fixed frame* (docs/followers.md), lengths in the spec's unit.  A cam
   oscillating follower's point on its arm (at the load lever, the arm length of a roller arm) turns
   about ``origin``: ``origin + L·(cos, sin)(direction + s·π/180)``;
 * a cam whose body is not a plane cam (cylindrical, indexing) has no follower point in the machine
-  plane: without origin/direction it is placed as if ``origin`` (0, 0), ``direction`` 90°.
+  plane: without origin/direction it is placed as if ``origin`` (0, 0), ``direction`` 90°; an
+  indexer's tool rides its turret, the tool frame's origin on the turret's axis at ``origin``,
+  turning by the turret's angle s.
 
 Each placement is a :class:`~cam_workbench.generators.linkage.Lever` (ratio 1, or −1 for an arm's
 ψ₀ − s), which is how it is computed.
@@ -122,8 +124,10 @@ def tool_drive(name: str, spec: CamSpec, phase: float = 0.0, program: MotionProg
     else:
         origin = tool.origin if tool is not None and tool.origin is not None else (0.0, 0.0)
         direction = tool.direction if tool is not None and tool.direction is not None else DEFAULT_TOOL_DIRECTION
+        # an arm's tool point sits at its load lever; a spatial cam's turning output (an indexer's
+        # turret) carries its tool frame on its axis at ``origin``
         own = Lever(1.0, angular, (float(origin[0]), float(origin[1])), float(np.radians(direction)),
-                    float(fol.load_lever) if angular else 0.0)
+                    float(fol.load_lever) if angular and body.plane else 0.0)
     return ToolDrive(name, phase, program, own, fol.lift_scale, angular, False, None)
 
 
