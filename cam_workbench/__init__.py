@@ -19,6 +19,7 @@ if not _os.path.isdir(_os.path.join(_here, "generators")):
 
 _API = ("Cam", "PlateCam", "plate_cam", "register")
 _SPEC = ("CamSpec", "GeometryError", "SpecError", "default_spec", "load_spec")
+_INSPECTION = ("inspect_part",)
 
 
 def __getattr__(name: str):
@@ -34,6 +35,10 @@ def __getattr__(name: str):
         from . import machine  # deferred: the API layer (the pipeline, the machine's outputs)
 
         return machine.Machine
+    if name in _INSPECTION:
+        from . import inspection  # deferred: the API layer (the inspection, its files)
+
+        return getattr(inspection, name)
     if name in _SPEC:
         from . import generators  # deferred: the mathematics (numpy, scipy)
 
@@ -41,6 +46,6 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'cam_workbench' has no attribute {name!r}")
 
 
-__all__ = ["Cam", "CamSpec", "GeometryError", "Machine", "PlateCam", "SpecError", "default_spec", "load_spec",
-           "plate_cam", "register"]
+__all__ = ["Cam", "CamSpec", "GeometryError", "Machine", "PlateCam", "SpecError", "default_spec", "inspect_part",
+           "load_spec", "plate_cam", "register"]
 __version__ = "0.1.0"

@@ -1,53 +1,57 @@
-"""G-code programs for a designed cam (RS274/NGC as LinuxCNC reads it).
+"""G-code programs for a designed cam, in the dialect of ``machining.dialect`` (LinuxCNC's RS274/NGC,
+Fanuc-style or Siemens Sinumerik: :mod:`cam_workbench.exporters.gcode_dialects` holds every word that
+differs; a writer made for a :class:`~cam_workbench.exporters.gcode_dialects.Dialect` writes them).
 
-Two programs, both from the tool-centre geometry made in ``cam_workbench.generators.machining.toolpath`` (the exact
+Programs from the geometry made in ``cam_workbench.generators.machining.toolpath`` (the exact
 offset of the pitch curve for a PH pitch curve):
 
-* ``xy`` — contour milling: the tool-centre path (pitch curve offset by tool radius −
-  roller radius) as G02/G03 biarcs or G01 chords, tangent lead arcs, depth passes;
+* ``xy`` — contour milling, ``machining.compensation = "centre"``: the tool-centre path (pitch
+  curve offset by tool radius − roller radius) as G02/G03 biarcs or G01 chords, tangent lead
+  arcs, depth passes;
+* ``xy`` with ``"controller"``: the part's own contour (the profile) as biarcs or chords under the
+  control's cutter compensation G41/G42 (D = tool number; the tool table holds the radius),
+  switched on along a straight approach line before a tangent lead arc and off along a straight
+  line after the lead-out arc;
 * ``xc`` — rotary: the cam on a C axis, one G93 inverse-time block per interpolator
-  command, so each block takes the sample period Δt (F = 1/Δt in 1/min).
+  command, so each block takes the sample period Δt (F = 1/Δt in 1/min);
+* a groove's passes (tool-centre paths only).
 
 Every program starts with comments — the cam's parameters and, given the summary dict that
 becomes report.json (``summary=``), its spec digest, pitch deviation, profile error, largest
 pressure angle and the design-checks verdict with the failed checks' names; without it only
 what the design itself says, and no verdict — then a header (units G21/G20, G90, G17, G40,
-G49, G80, G94, work offset, G64 P path-blending tolerance = 10 % of the chord tolerance, tool
-change, tool-length offset, spindle), and ends with M5/M30.  Coordinates are tool-centre coordinates (no
-cutter compensation): 4 decimals in mm, 5 in inches; C in degrees with 4 decimals.
-
-Dialect "linuxcnc" only.  A Fanuc program would differ in: an ``O`` program number after
-the leading ``%``; no ``G64 P`` (Fanuc's G64 takes no tolerance; use G05.1/AI contour
-control instead); ``G91.1`` does not exist (I/J are always incremental); comments limited
-to upper case; G93 is an option on many Fanuc controls.
+G49, G80, G94, work offset, path blending (LinuxCNC's G64 P tolerance = 10 % of the chord
+tolerance), tool change, tool-length offset, spindle), and ends with M5/M30.  Coordinates: 4
+decimals in mm, 5 in inches; C in degrees with 4 decimals.
 """
 from __future__ import annotations
 
-from typing import Any, Iterable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 from cam_workbench.generators import __version__
 from cam_workbench.generators.curves.approx import Path2D
 from cam_workbench.generators.cam_design import CamDesign
 from cam_workbench.generators.checks.claims import checks_verdict, pitch_text, profile_claim
+from cam_workbench.generators.errors import SpecError
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
-from cam_workbench.generators.machining.toolpath import BLEND_SHARE, ContourPath, RotaryPath, contour_path, rotary_path
+from cam_workbench.generators.machining.toolpath import (BLEND_SHARE, ContourPath, PartContourPath, RotaryPath,
+                                                         contour_path, part_contour_path, rotary_path)
+
+from .gcode_dialects import LINUXCNC, Dialect, dialect_of, fmt
 
 MODES = ("xy", "xc")
 _DECIMALS = {"mm": 4, "in": 5}
-_UNITS_WORD = {"mm": "G21", "in": "G20"}
-
-
-def fmt(value: float, decimals: int) -> str:
-    """A G-code number: fixed decimals, trailing zeros and a negative zero removed."""
-    text = f"{value:.{decimals}f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+_UNITS_WORD = LINUXCNC.units
 
 
 class _Writer:
-    """Collects blocks; numbers them when asked (N10, N20, …)."""
+    """Collects blocks in ``dialect`` (its opening and closing lines, comments and numbers);
+    numbers them when asked (N10, N20, …); ``program_number``: the O word of a dialect that has one."""
 
-    def __init__(self, numbered: bool):
-        self.lines: list[str] = ["%"]
+    def __init__(self, numbered: bool, dialect: Dialect = LINUXCNC, program_number: int = 1000):
+        self.dialect = dialect
+        self.lines: list[str] = (["%"] if dialect.tape_marks else []) + (
+            [f"O{program_number:04d}"] if dialect.program_number else [])
         self.numbered = numbered
         self.n = 0
 
@@ -58,23 +62,19 @@ class _Writer:
         self.lines.append(text)
 
     def comment(self, text: str) -> None:
-        self.block(f"({_comment_text(text)})")
+        self.block(self.dialect.comment(text))
+
+    def num(self, value: float, decimals: int) -> str:
+        """A coordinate or feed word's number in the dialect."""
+        return self.dialect.number(value, decimals)
 
     def text(self) -> str:
-        return "\n".join(self.lines + ["%"]) + "\n"
+        return "\n".join(self.lines + (["%"] if self.dialect.tape_marks else [])) + "\n"
 
 
-def _comment_text(text: str) -> str:
-    """ASCII without parentheses (LinuxCNC ends a comment at the first ')')."""
-    repl = {"°": " deg", "≤": "<=", "≥": ">=", "−": "-", "×": "x", "Δ": "d", "θ": "theta", "µ": "u",
-            "(": "[", ")": "]", "–": "-", "²": "^2", "³": "^3"}
-    out = "".join(repl.get(ch, ch) for ch in text)
-    out = out.encode("ascii", "replace").decode("ascii")
-    # (MSG, (DEBUG, (PRINT, (LOG, (PROBE… are LinuxCNC commands, not comments
-    if out.split(",")[0].strip().upper() in ("MSG", "DEBUG", "PRINT", "LOG", "LOGOPEN", "LOGAPPEND",
-                                             "LOGCLOSE", "PROBEOPEN", "PROBECLOSE", "ABORT"):
-        out = "- " + out
-    return out
+def writer_for(plan: MachiningPlan) -> _Writer:
+    """A writer in ``plan``'s dialect (its line numbers and program number)."""
+    return _Writer(plan.line_numbers, dialect_of(plan.dialect), plan.program_number)
 
 
 def _exact_word(design: CamDesign) -> str:
@@ -84,11 +84,13 @@ def _exact_word(design: CamDesign) -> str:
 
 def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
                   summary: Mapping[str, Any] | None = None, tool_text: str | None = None,
-                  which: str | None = None) -> None:
+                  which: str | None = None, compensation_text: str = "no cutter compensation") -> None:
     spec = design.spec
     u = spec.units
     lu = "deg" if design.follower.lift_unit == "angle" else u
     w.comment(f"cam_workbench {__version__}: {design.spec.cam.body} cam, {mode_text}")
+    for note in w.dialect.notes:
+        w.comment(note)
     if which:
         w.comment(which)
     w.comment(f"cam: {_radius_text(spec, summary)}, thickness {spec.cam.thickness:g} {u}, {spec.cam.direction}, "
@@ -120,7 +122,7 @@ def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text:
     curve = "pitch curve" if design.follower.design_curve == "pitch" else "profile"
     w.comment(f"tool T{plan.tool_number}: radius {plan.tool_radius:g} {u}; "
               + (tool_text or f"tool centre = {curve} offset outward by {plan.centre_offset:g} {u}")
-              + "; no cutter compensation")
+              + f"; {compensation_text}")
     w.comment(f"work offset {plan.work_offset}: origin on the cam axis, Z0 on the top face")
 
 
@@ -140,12 +142,15 @@ def _radius_text(spec: Any, summary: Mapping[str, Any] | None) -> str:
 
 
 def _header(w: _Writer, plan: MachiningPlan) -> None:
-    w.block(f"{_UNITS_WORD[plan.units]} G90 G17 G40 G49 G80 G94 G91.1")
+    dia = w.dialect
+    w.block(f"{dia.units[plan.units]} {dia.modal}")
     w.block(plan.work_offset)
-    w.block(f"G64 P{fmt(BLEND_SHARE * plan.chord_tolerance, _DECIMALS[plan.units] + 1)}")
-    w.block(f"T{plan.tool_number} M6")
-    w.block(f"G43 H{plan.tool_number}")
-    w.block(f"S{fmt(plan.spindle_rpm, 1)} M3")
+    blend = dia.blending(BLEND_SHARE * plan.chord_tolerance, _DECIMALS[plan.units] + 1)
+    if blend is not None:
+        w.block(blend)
+    for block in dia.tool(plan.tool_number):
+        w.block(block)
+    w.block(f"S{dia.spindle(plan.spindle_rpm)} M3")
     if plan.coolant:
         w.block("M8")
 
@@ -158,19 +163,23 @@ def _footer(w: _Writer, plan: MachiningPlan) -> None:
     w.block("M30")
 
 
-def _move(path: Path2D, i: int, d: int) -> str:
-    """One G1/G2/G3 block for element ``i`` (I, J incremental from its start)."""
-    end = path.end[i]
-    xy = f"X{fmt(end.real, d)} Y{fmt(end.imag, d)}"
+def _xy(w: _Writer, p: complex, d: int) -> str:
+    return f"X{w.num(p.real, d)} Y{w.num(p.imag, d)}"
+
+
+def _move(w: _Writer, path: Path2D, i: int, d: int) -> str:
+    """One G1/G2/G3 block for element ``i`` (I, J incremental from its start, as every dialect
+    here takes them: LinuxCNC under G91.1, Fanuc and Sinumerik by default)."""
+    xy = _xy(w, path.end[i], d)
     if not path.is_arc[i]:
         return f"G1 {xy}"
     ij = path.center[i] - path.start[i]
-    return f"{'G3' if path.ccw[i] else 'G2'} {xy} I{fmt(ij.real, d)} J{fmt(ij.imag, d)}"
+    return f"{'G3' if path.ccw[i] else 'G2'} {xy} I{w.num(ij.real, d)} J{w.num(ij.imag, d)}"
 
 
-def _moves(path: Path2D, d: int) -> Iterable[str]:
+def _moves(w: _Writer, path: Path2D, d: int) -> Iterable[str]:
     for i in range(path.n):
-        yield _move(path, i, d)
+        yield _move(w, path, i, d)
 
 
 def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *,
@@ -180,7 +189,7 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
     comment saying which cam of a body this is (a conjugate pair's)."""
     u = plan.units
     d = _DECIMALS[u]
-    w = _Writer(plan.line_numbers)
+    w = writer_for(plan)
     _cam_comments(w, design, plan, "XY contour milling", summary, which=which)
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], "
@@ -190,33 +199,103 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
               f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
               f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
     _header(w, plan)
-    safe = fmt(plan.safe_height, d)
+    safe = w.num(plan.safe_height, d)
     start = path.lead_in.start[0]
     w.block(f"G0 Z{safe}")
     for p, z in enumerate(path.z_levels, start=1):
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G0 X{fmt(start.real, d)} Y{fmt(start.imag, d)}")
-        w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.block(f"G0 {_xy(w, start, d)}")
+        w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("lead-in")
-        w.block(_move(path.lead_in, 0, d) + f" F{fmt(plan.feed_rate, 3)}")
+        w.block(_move(w, path.lead_in, 0, d) + f" F{w.num(plan.feed_rate, 3)}")
         w.comment("contour")
-        for line in _moves(path.loop, d):
+        for line in _moves(w, path.loop, d):
             w.block(line)
         w.comment("lead-out")
-        w.block(_move(path.lead_out, 0, d))
+        w.block(_move(w, path.lead_out, 0, d))
         w.block(f"G0 Z{safe}")
     _footer(w, plan)
     return w.text()
+
+
+def compensated_contour_program(design: CamDesign, plan: MachiningPlan, path: PartContourPath, *,
+                                summary: Mapping[str, Any] | None = None, which: str | None = None) -> str:
+    """The XY contour-milling program on the part's own contour under the control's cutter
+    compensation (text): per pass, a plunge outside, G41/G42 switched on along the straight
+    approach line, the tangent lead-in arc, the contour, the lead-out arc, G40 along the exit
+    line; ``summary`` and ``which`` as for :func:`contour_program`."""
+    u = plan.units
+    d = _DECIMALS[u]
+    w = writer_for(plan)
+    dia = w.dialect
+    comp = dia.compensation(path.side, plan.tool_number)
+    _cam_comments(w, design, plan, "XY contour milling", summary, which=which,
+                  tool_text="the program runs on the part contour [the cam profile]",
+                  compensation_text=f"cutter compensation {comp} [tool {path.side} of the path]: the control's "
+                                    f"tool table must hold tool {plan.tool_number}'s radius R = "
+                                    f"{plan.tool_radius:g} {u} [adjust it there for wear]")
+    kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
+    centre = path.centre
+    w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], max distance "
+              f"from the exact part contour {path.max_distance:.3g} {u}, tolerance {centre.tolerance:g} {u}")
+    w.comment(f"{plan.milling} milling, {'clockwise' if centre.clockwise else 'counter-clockwise'}, entry at cam "
+              f"angle {centre.entry_angle_deg:.2f} deg: approach line and lead arc of radius "
+              f"{plan.lead_radius + plan.tool_radius:g} {u} on the part [tool centre on radius {plan.lead_radius:g} "
+              f"{u}]; {plan.passes} pass[es] to depth {plan.depth:g} {u}")
+    _header(w, plan)
+    safe = w.num(plan.safe_height, d)
+    w.block(f"G0 Z{safe}")
+    for p, z in enumerate(centre.z_levels, start=1):
+        w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
+        w.block(f"G0 {_xy(w, path.approach.start[0], d)}")
+        w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
+        w.comment("approach, cutter compensation on")
+        w.block(f"{comp} {_move(w, path.approach, 0, d)} F{w.num(plan.feed_rate, 3)}")
+        w.comment("lead-in")
+        w.block(_move(w, path.lead_in, 0, d))
+        w.comment("contour")
+        for line in _moves(w, path.loop, d):
+            w.block(line)
+        w.comment("lead-out")
+        w.block(_move(w, path.lead_out, 0, d))
+        w.comment("exit, cutter compensation off")
+        w.block(f"G40 {_move(w, path.exit, 0, d)}")
+        w.block(f"G0 Z{safe}")
+    _footer(w, plan)
+    return w.text()
+
+
+#: ``machining.compensation`` → (the XY contour's path, the program that writes it)
+CONTOUR_PROGRAMS: dict[str, tuple[Callable[..., Any], Callable[..., str]]] = {
+    "centre": (contour_path, contour_program),
+    "controller": (part_contour_path, compensated_contour_program),
+}
+
+
+def xy_program(design: CamDesign, plan: MachiningPlan, *, summary: Mapping[str, Any] | None = None,
+               which: str | None = None) -> tuple[str, ContourPath | PartContourPath]:
+    """(the XY contour program's text, its path) for ``plan.compensation`` (:data:`CONTOUR_PROGRAMS`);
+    ``summary`` and ``which`` as for :func:`contour_program`."""
+    make_path, write = CONTOUR_PROGRAMS[plan.compensation]
+    path = make_path(design, plan)
+    return write(design, plan, path, summary=summary, which=which), path
 
 
 def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
                    summary: Mapping[str, Any] | None = None) -> str:
     """The XY program that mills a groove cam's groove (text): at every depth level, the passes of
     ``path`` (:class:`cam_workbench.generators.machining.groove.GroovePath`) from the middle out, the two walls
-    last; each pass entered by a plunge at the middle of the longest dwell."""
+    last; each pass entered by a plunge at the middle of the longest dwell.
+
+    Raises:
+        SpecError: ``machining.compensation`` "controller": a groove's passes are tool-centre paths.
+    """
+    if plan.compensation != "centre":
+        raise SpecError("machining.compensation", '"controller" (G41/G42) is for an outside contour; a groove is '
+                        'milled in passes on tool-centre paths between its walls: use "centre"')
     u = plan.units
     d = _DECIMALS[u]
-    w = _Writer(plan.line_numbers)
+    w = writer_for(plan)
     _cam_comments(w, design, plan, "XY groove milling", summary,
                   tool_text="tool centres on exact offsets of the pitch curve [the passes below]")
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
@@ -227,16 +306,16 @@ def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
               f"tolerance {path.tolerance:g} {u}; {plan.milling} milling; plunge (centre-cutting end mill) at "
               f"cam angle {path.entry_angle_deg:.2f} deg; {len(path.z_levels)} level[s] to depth {plan.depth:g} {u}")
     _header(w, plan)
-    safe = fmt(plan.safe_height, d)
+    safe = w.num(plan.safe_height, d)
     w.block(f"G0 Z{safe}")
     for level, z in enumerate(path.z_levels, start=1):
         for k, p in enumerate(path.passes, start=1):
             start = p.loop.start[0]
             w.comment(f"level {level}, pass {k}: {p.role.replace('_', ' ')} [offset {fmt(p.offset, d)}]")
-            w.block(f"G0 X{fmt(start.real, d)} Y{fmt(start.imag, d)}")
-            w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
-            lines = list(_moves(p.loop, d))
-            w.block(lines[0] + f" F{fmt(plan.feed_rate, 3)}")
+            w.block(f"G0 {_xy(w, start, d)}")
+            w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
+            lines = list(_moves(w, p.loop, d))
+            w.block(lines[0] + f" F{w.num(plan.feed_rate, 3)}")
             for line in lines[1:]:
                 w.block(line)
             w.block(f"G0 Z{safe}")
@@ -250,7 +329,7 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
     ``summary`` and ``which`` as for :func:`contour_program`."""
     u = plan.units
     d = _DECIMALS[u]
-    w = _Writer(plan.line_numbers)
+    w = writer_for(plan)
     _cam_comments(w, design, plan, "XC rotary machining", summary, which=which)
     cmds = path.commands
     w.comment(f"interpolator: {cmds.n} commands per revolution, dt = {plan.sample_period:g} s, "
@@ -264,20 +343,20 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
     w.comment(f"G93 inverse time: F = 1/block time [1/min] so each block takes dt; "
               f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
     _header(w, plan)
-    safe = fmt(plan.safe_height, d)
+    safe = w.num(plan.safe_height, d)
     x_out = path.x[0] + plan.lead_radius
     w.block(f"G0 Z{safe}")
-    y_word = f" Y{fmt(path.y, d)}" if plan.rotary_line == "follower" else ""
-    w.block(f"G0 X{fmt(x_out, d)}{y_word} C0")
+    y_word = f" Y{w.num(path.y, d)}" if plan.rotary_line == "follower" else ""
+    w.block(f"G0 X{w.num(x_out, d)}{y_word} C{w.num(0.0, 4)}")
     f_block = 60.0 / path.durations
     sense = 1.0 if cmds.sense > 0 else -1.0
-    xs = [fmt(v, d) for v in path.x]
-    f_words = [fmt(v, 3) for v in f_block]
+    xs = [w.num(v, d) for v in path.x]
+    f_words = [w.num(v, 3) for v in f_block]
     for p, z in enumerate(path.z_levels, start=1):
         c0 = sense * 360.0 * (p - 1)
-        cs = [fmt(c0 + v, 4) for v in path.c_deg]
+        cs = [w.num(c0 + v, 4) for v in path.c_deg]
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G1 Z{fmt(z, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("infeed")
         w.block(f"G1 X{xs[0]}")
         w.comment("revolution")
@@ -286,7 +365,7 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
             w.block(f"G1 X{xs[k + 1]} C{cs[k + 1]} F{f_words[k]}")
         w.block("G94")
         w.comment("retract")
-        w.block(f"G1 X{fmt(x_out, d)} F{fmt(plan.plunge_rate, 3)}")
+        w.block(f"G1 X{w.num(x_out, d)} F{w.num(plan.plunge_rate, 3)}")
         w.block(f"G0 Z{safe}")
     _footer(w, plan)
     return w.text()
@@ -298,7 +377,7 @@ def gcode_text(design: CamDesign, mode: str, plan: MachiningPlan | None = None, 
     omitted; ``summary`` as for :func:`contour_program`)."""
     plan = plan or machining_plan(design)
     if mode == "xy":
-        return contour_program(design, plan, contour_path(design, plan), summary=summary)
+        return xy_program(design, plan, summary=summary)[0]
     if mode == "xc":
         return rotary_program(design, plan, rotary_path(design, plan), summary=summary)
     raise ValueError(f"mode must be one of {MODES}, got {mode!r}")

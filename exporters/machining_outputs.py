@@ -18,11 +18,15 @@ from cam_workbench.generators.kinds.by_class import ByClass
 from cam_workbench.generators.machining.interpolator import InterpolatorAccuracy, interpolator_accuracy
 from cam_workbench.generators.machining import MachiningPlan, machining_plan
 from cam_workbench.generators.machining.plan import check_tool_fits
-from cam_workbench.generators.machining.toolpath import contour_path, rotary_path, tool_centre_fit_error
+from cam_workbench.generators.errors import SpecError
+from cam_workbench.generators.machining.toolpath import rotary_path, tool_centre_fit_error
+from cam_workbench.generators.machining.wire_edm import wire_edm_path
 
 from .atomic import OutputSet
 from .commands_csv import commands_csv_text
-from .gcode import contour_program, groove_program, rotary_program
+from .gcode import groove_program, rotary_program, xy_program
+from .gcode_roughing import roughing_xy_program
+from .gcode_wire_edm import wire_edm_program
 
 FILES = {"gcode": "cam.nc", "commands": "commands.csv"}
 #: a conjugate pair's second cam's program
@@ -88,10 +92,31 @@ def machining_outputs(design: Any, summary: dict[str, Any] | None = None) -> Bod
 
     Raises:
         GeometryError: the tool would gouge the profile, or the XC line misses the tool path.
-        SpecError: a machining setting cannot be met (lead radius, sample period).
+        SpecError: a machining setting cannot be met (lead radius, sample period); a dialect or
+            cutter compensation other than LinuxCNC's tool-centre programs for a body whose
+            programs have no other (:data:`DIALECT_PROGRAMS`).
         NotAvailable: the design's body registers no machining program.
     """
-    return PROGRAMS.of(design)(design, summary=summary)
+    make = PROGRAMS.of(design)
+    if make not in DIALECT_PROGRAMS:
+        _linuxcnc_centre_only(design.spec)
+    return make(design, summary=summary)
+
+
+def _linuxcnc_centre_only(spec: Any) -> None:
+    """Refuse ``machining.dialect`` / ``machining.compensation`` other than the defaults for a body
+    whose programs are written for LinuxCNC on tool-centre paths only.
+
+    Raises:
+        SpecError: naming the field.
+    """
+    mc = spec.machining
+    if mc.dialect != "linuxcnc":
+        raise SpecError("machining.dialect", f'a {spec.cam.body} cam\'s programs are written for LinuxCNC only '
+                        f'("linuxcnc"), got "{mc.dialect}"')
+    if mc.compensation not in (None, "centre"):
+        raise SpecError("machining.compensation", f'a {spec.cam.body} cam\'s programs run on tool-centre paths '
+                        f'only ("centre"), got "{mc.compensation}"')
 
 
 @PROGRAMS.register(CamDesign)
@@ -107,9 +132,13 @@ def plane_outputs(design: CamDesign, summary: dict[str, Any] | None = None
     if own_path is not None:                        # a body milled along its own path (a groove's passes)
         path = own_path(design, plan)
         gcode = groove_program(design, plan, path, summary=summary)
+    elif plan.program == "wire_edm":
+        path = wire_edm_path(design, plan)
+        gcode = wire_edm_program(design, plan, path, summary=summary)
+    elif plan.program == "xy" and spec.machining.blank_diameter is not None:
+        gcode, path = roughing_xy_program(design, plan, summary=summary, which=_first_cam_words(design))
     elif plan.program == "xy":
-        path = contour_path(design, plan)
-        gcode = contour_program(design, plan, path, summary=summary, which=_first_cam_words(design))
+        gcode, path = xy_program(design, plan, summary=summary, which=_first_cam_words(design))
     else:
         path = rotary_path(design, plan, acc.commands)
         gcode = rotary_program(design, plan, path, summary=summary, which=_first_cam_words(design))
@@ -121,6 +150,7 @@ def plane_outputs(design: CamDesign, summary: dict[str, Any] | None = None
     mach: dict[str, Any] = {
         "program": plan.program,
         "dialect": plan.dialect,
+        "compensation": plan.compensation,
         "tool_radius": plan.tool_radius,
         "tool_centre_offset": plan.centre_offset,
         "chord_tolerance": plan.chord_tolerance,
@@ -138,6 +168,10 @@ def plane_outputs(design: CamDesign, summary: dict[str, Any] | None = None
                             commands_csv=commands_csv_text(acc.commands, spec.units),
                             interpolator_summary=interp, machining_summary=mach,
                             second_gcode=None if second is None else second[0])
+
+
+#: the body programs written in every dialect of ``machining.dialect``, with either compensation
+DIALECT_PROGRAMS = (plane_outputs,)
 
 
 def second_cam_of(design: CamDesign) -> CamDesign | None:
@@ -178,8 +212,7 @@ def _second_cam_program(design: CamDesign, plan: MachiningPlan, acc: Interpolato
     which = (f"the second cam of the conjugate pair, {z0:g} <= z <= {z1:g}: cut as its own plate, Z0 on its "
              "top face [the face towards the first cam], the cam frame seen from +Z as for the first cam")
     if plan.program == "xy":
-        path = contour_path(second, plan2)
-        text = contour_program(second, plan2, path, summary=s2, which=which)
+        text, path = xy_program(second, plan2, summary=s2, which=which)
     else:
         path = rotary_path(second, plan2, acc.commands)
         text = rotary_program(second, plan2, path, summary=s2, which=which)

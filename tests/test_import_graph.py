@@ -131,9 +131,9 @@ FREECAD_GUI_SIDE = frozenset(f"cam_workbench.freecad.{m}" for m in (
 #: dialog beside it (``check_design.show_report``) is App side and imports FreeCADGui and PySide
 #: inside that function only.
 FREECAD_APP_SIDE = frozenset(["cam_workbench.freecad"] + [f"cam_workbench.freecad.{m}" for m in (
-    "bodies", "check_design", "exports", "feature", "install", "machine_doc", "optimiser", "part_build", "part_cylindrical",
-    "part_indexer", "part_spatial_indexer", "plots", "properties",
-    "spec_io", "stateless", "step_export", "view_hook", "mod.Init")])
+    "bodies", "check_design", "exports", "feature", "install", "machine_doc", "machine_parts", "optimiser",
+    "part_build", "part_cylindrical", "part_indexer", "part_spatial_indexer", "plots", "properties",
+    "spec_io", "stateless", "step_export", "tolerance_panel", "view_hook", "mod.Init")])
 
 
 @dataclass(frozen=True)

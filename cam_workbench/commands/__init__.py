@@ -57,6 +57,8 @@ CATALOGUE: dict[str, tuple[tuple[str, ...], str]] = {
     'machine': ((), 'many cams on one camshaft: every cam built, the timing diagram, camshaft torque, flywheel'),
     'spec': ((), 'print the spec reference or the default spec'),
     'freecad': ((), 'install or uninstall the FreeCAD workbench'),
+    'tolerance': ((), 'the largest profile tolerance per number of waves that keeps the acceleration error within a limit'),
+    'inspect': ((), 'inspect a made cam: measured points registered to the design, deviations, profile verdict, the follower\'s motion'),
 }
 
 

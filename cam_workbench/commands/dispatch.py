@@ -90,6 +90,18 @@ def _spec() -> Runner:
     return spec_cmd.run
 
 
+def _tolerance() -> Runner:
+    from . import tolerance_cmd  # deferred: the command's module (numpy, scipy, the generators)
+
+    return tolerance_cmd.run
+
+
+def _inspect() -> Runner:
+    from . import inspect_cmd  # deferred: the command's module (numpy, scipy, the generators, the exporters)
+
+    return inspect_cmd.run
+
+
 def _freecad() -> Runner:
     from . import freecad_cmd  # deferred: the command's module (the workbench's installer)
 
@@ -100,7 +112,7 @@ def _freecad() -> Runner:
 RUNNERS: dict[str, Callable[[], Runner]] = {
     "build": _build, "check": _check, "gcode": _gcode, "dxf": _dxf, "report": _report, "dynamics": _dynamics,
     "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "machine": _machine, "spec": _spec,
-    "freecad": _freecad,
+    "freecad": _freecad, "tolerance": _tolerance, "inspect": _inspect,
 }
 
 

@@ -1,5 +1,6 @@
 """``cam-workbench gcode``: one machining program of a cam — XY contour milling, XC rotary
-(G93 inverse time) or the interpolator's raw command table (CSV)."""
+(G93 inverse time) or the interpolator's raw command table (CSV) — in the spec's G-code dialect and
+cutter compensation, or those of ``--dialect`` / ``--compensation``."""
 from __future__ import annotations
 
 import argparse
@@ -17,8 +18,13 @@ from .common import design_for, spec_from_args
 
 def run(args: argparse.Namespace) -> int:
     spec = spec_from_args(args)
-    if args.mode in ("xy", "xc"):
+    if args.mode in ("xy", "xc", "wire_edm"):
         spec = spec.replace(**{"machining.program": args.mode})
+    # the options override the spec's fields, checked by their declarations (a bad one names the field)
+    overrides = {f"machining.{name}": value for name, value in
+                 (("dialect", args.dialect), ("compensation", args.compensation)) if value is not None}
+    if overrides:
+        spec = spec.replace(**overrides)
     if args.output:
         check_output_file(args.output, digest=spec_digest(spec))
     # the same machining stage `build` runs: cam.nc and commands.csv are these texts

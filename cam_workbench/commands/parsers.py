@@ -74,12 +74,16 @@ DRAWING_FIELDS: dict[str, tuple[str, tuple[str, ...] | None, str]] = {
 }
 
 #: ``gcode --mode``: the programs it writes
-GCODE_MODES = ("xy", "xc", "csv")
+GCODE_MODES = ("xy", "xc", "wire_edm", "csv")
 #: the files ``dynamics -o`` writes beside report.json
 DYNAMICS_CSV = "dynamics.csv"
 DYNAMICS_PLOTS = ("plot_dynamics.png", "plot_jump_speed.png")
+#: ``inspect --datum``: :data:`cam_workbench.generators.inspection.DATUMS`
+INSPECTION_DATUMS = ("none", "bore", "bore_and_angle")
 #: the optimised spec ``optimise`` writes
 OPTIMISED_SPEC = "optimised.toml"
+#: the files ``tolerance -o`` writes (the PNG when CairoSVG imports)
+TOLERANCE_FILES = ("tolerance.json", "tolerance.svg", "tolerance.png")
 
 
 def add_spec_arguments(p: argparse.ArgumentParser) -> None:
@@ -141,7 +145,8 @@ def _build(sub: Any) -> None:
     p = add_command(sub, "build",
         description="Design the cam (PH pitch curve, exact profile, design checks) and write "
                     "cam.step (the solid, in the spec's units), cam.dxf (the drawing, see [drawing]), "
-                    "cam.nc (machining.program: xy or xc), commands.csv (the interpolator's commands), "
+                    "cam.nc (machining.program: xy — roughing first with machining.blank_diameter — xc or "
+                    "wire_edm), commands.csv (the interpolator's commands), "
                     "report.json and report.html (its figures inline; as PNG files too with --plots) into the output folder. "
                     "Nothing is written if the spec is bad or the cam cannot be made.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -174,14 +179,23 @@ def _gcode(sub: Any) -> None:
         description="Design the cam and write one machining program for it ([machining] section of the "
                     "spec: tool, feeds, passes, sample period; `cam-workbench spec` lists the fields):\n"
                     "  xy   contour milling: the exact tool-centre path as G02/G03 biarcs or G01 chords\n"
-                    "       within machining.chord_tolerance, tangent lead arcs, depth passes\n"
+                    "       within machining.chord_tolerance, tangent lead arcs, depth passes; with\n"
+                    "       machining.blank_diameter roughing passes from the round blank first\n"
                     "  xc   rotary: C axis + X, one G93 inverse-time block per interpolator command\n"
                     "       (each block takes machining.sample_period)\n"
+                    "  wire_edm  2-axis wire EDM of a plate cam: start hole, main cut leaving a holding\n"
+                    "       tab, skims, the tab cut last (machining.wire_diameter, spark_gap, skim_passes, …)\n"
                     "  csv  the rotational interpolator's raw commands (paper Eq. 15) as CSV\n"
                     "Nothing is written if the spec is bad or the cam cannot be made or cut.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     add_spec_arguments(p)
     p.add_argument("--mode", choices=GCODE_MODES, default="xy", help="program to write (default: xy)")
+    p.add_argument("--dialect", metavar="NAME", default=None,
+                   help="G-code dialect (linuxcnc, fanuc, sinumerik: the choices of machining.dialect, which it "
+                        "overrides; docs/machining.md lists the differences)")
+    p.add_argument("--compensation", metavar="WHERE", default=None,
+                   help="XY program on the tool centre (centre) or on the part under the control's cutter "
+                        "compensation G41/G42 (controller): overrides machining.compensation")
     p.add_argument("--cam", choices=("first", "second"), default="first",
                    help="a conjugate pair (cam.body = \"conjugate\"): the program of the first cam (default) or "
                         "of the second (build writes both: cam.nc and cam2.nc); the command table is the "
@@ -385,9 +399,10 @@ def _machine(sub: Any) -> None:
                     "speed_fluctuation; [[cam]] entries: name, spec (a file or an inline [cam.spec]), phase, "
                     "[cam.tool]; [[clearance]] pairs: between, required; docs/machine.md). Every cam is built as `build` builds it into OUT/<name>/; "
                     "OUT gets machine.json (every number), machine.html (the timing diagram, the torque, the "
-                    "flywheel, one table of every cam's checks), timing.svg/png (displacement, velocity, "
-                    "acceleration of every follower against the machine angle), torque.svg/png (each cam's "
-                    "camshaft torque and their sum) and machine.gif (the mechanism in motion, 72 frames; "
+                    "flywheel, one table of every cam's checks), timing.svg (displacement, velocity, "
+                    "acceleration of every follower against the machine angle), torque.svg (each cam's "
+                    "camshaft torque and their sum) — each also as .png when CairoSVG is installed "
+                    "(pip install 'cam-workbench[png]') — and machine.gif (the mechanism in motion, 72 frames; "
                     "--animation). Nothing is written if the machine file or a cam is bad.",
         epilog="exit status: 0 every cam passes its design checks and every [[clearance]] pair keeps its "
                "clearance, 3 a cam fails a check or a pair its clearance (the files are written), 2 bad input "
@@ -398,16 +413,45 @@ def _machine(sub: Any) -> None:
                    help="a built-in machine instead of FILE: 'three_cams' (a pusher, a gripper arm and a lifter "
                         "at 120 rpm)")
     p.add_argument("--phase-sweep", metavar="CAM", default=None,
-                   help="also find the phases of cam CAM (the others kept) that keep every [[clearance]] it is in: "
-                        "machine.json's phase_sweep, printed and in machine.html")
+                   help="also find the phases of cam CAM (the others kept) that keep every [[clearance]] it is in, "
+                        "and the shortest cycle: how much earlier CAM's motion can start keeping them "
+                        "(docs/clearance.md): machine.json's phase_sweep, printed and in machine.html")
     p.add_argument("--animation", choices=("gif", "mp4", "none"), default=None,
                    help="the mechanism in motion over one turn (72 frames, 5° apart, 12 per second; "
                         "docs/animation.md): machine.gif (default), machine.mp4 (needs ffmpeg on the PATH, "
-                        "else exit 2 before anything is written) or none. A machine with a cam that is not "
-                        "drawn (cylindrical, indexing) gets no animation and a note by default, and exit 2 "
-                        "when --animation is given")
+                        "else exit 2 before anything is written) or none. A cam that is not drawn (cylindrical, "
+                        "indexing) is left out of it with a note; a machine with no cam drawn, or without "
+                        "matplotlib, gets no animation and a note by default, and exit 2 when --animation is given")
     add_output_arguments(p, "machine", source=False)
     p.set_defaults(command_id="machine")
+
+
+def _inspect(sub: Any) -> None:
+    p = add_command(sub, "inspect",
+        description="Inspect a made cam from measured profile points (POINTS: a CSV file of x,y or x,y,z in the "
+                    "spec's units, from a CMM or a scanner, an optional header line x,y[,z]): register them to the "
+                    "exact profile (best fit of the rotation about the cam axis and an in-plane shift, or held by the "
+                    "bore as datum; robust to outliers, which are reported), give every point's normal deviation "
+                    "(+ material outside), the profile-of-a-line verdict (ISO 1101: every point within ±t/2) and what "
+                    "the follower does on this part: its s, v, a through a smoothing fit of the deviation and the "
+                    "design's contact solve, the acceleration error at cam.speed_rpm. Prints a table; with -o, writes "
+                    "inspection.json, inspection.html, deviations.csv, motion.csv and the figures (SVG; PNG too when "
+                    "CairoSVG is installed). Nothing is written on bad input. docs/inspection.md",
+        epilog="exit status: 0 inspected (within tolerance, or no --tolerance), 3 an inlier lies outside the "
+               "tolerance zone (the files are written), 2 bad input (nothing written).",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("points", metavar="POINTS", help="measured profile points: CSV, x,y[,z] per line (spec units)")
+    p.add_argument("--tolerance", type=float, metavar="T",
+                   help="profile tolerance t in the spec's units (zone ±t/2 about the exact profile); omitted: no verdict")
+    p.add_argument("--datum", choices=INSPECTION_DATUMS, default="none",
+                   help="none: best fit of rotation and shift (the points in any frame; default); bore: the points' "
+                        "origin is the bore's axis, the rotation fitted; bore_and_angle: the points are in the part's "
+                        "frame (bore and an angular datum), nothing fitted")
+    p.add_argument("--wavelength", type=float, metavar="DEG", default=6.0,
+                   help="the shortest wave of the deviation the follower's motion follows, in cam degrees (default 6)")
+    add_output_arguments(p, None)
+    p.set_defaults(command_id="inspect")
 
 
 def _spec(sub: Any) -> None:
@@ -420,6 +464,27 @@ def _spec(sub: Any) -> None:
                         f"{', '.join(n for n, _d in EXAMPLES)} (docs/spec.md "
                         "describes each)")
     p.set_defaults(command_id="spec")
+
+
+def _tolerance(sub: Any) -> None:
+    p = add_command(sub, "tolerance",
+        description="For an acceleration error of the follower within --acceleration-limit percent of the designed "
+                    "peak at the cam's speed (cam.speed_rpm, or --speed), the largest profile tolerance t (ISO 1101 "
+                    "profile of a line: a zone ±t/2 along the profile normal; the worst phase of a wave of n waves "
+                    "per turn) for n = 1 … --max-waves: the acceleration limit (first order: δs = g·e, δa = ω²·"
+                    "d²δs/dθ²) and the contact limit (the amplitude at which the follower stops following the "
+                    f"waves). Prints a table; with -o writes {', '.join(TOLERANCE_FILES)} (the PNG when CairoSVG "
+                    "imports). docs/tolerances.md",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_spec_arguments(p)
+    p.add_argument("--acceleration-limit", type=float, default=5.0, metavar="PCT",
+                   help="allowed acceleration error, percent of the designed peak acceleration (default 5)")
+    p.add_argument("--max-waves", type=int, default=200, metavar="N",
+                   help="the chart's largest number of waves per turn (default 200)")
+    p.add_argument("--speed", type=float, metavar="RPM", default=None,
+                   help="cam speed of the study (default: the spec's cam.speed_rpm)")
+    add_output_arguments(p, None)
+    p.set_defaults(command_id="tolerance")
 
 
 def _freecad(sub: Any) -> None:
@@ -451,7 +516,7 @@ def _freecad(sub: Any) -> None:
 PARSERS: dict[str, Callable[[Any], None]] = {
     "build": _build, "check": _check, "gcode": _gcode, "dxf": _dxf, "report": _report, "dynamics": _dynamics,
     "ecam": _ecam, "optimise": _optimise, "batch": _batch, "sweep": _sweep, "machine": _machine, "spec": _spec,
-    "freecad": _freecad,
+    "freecad": _freecad, "tolerance": _tolerance, "inspect": _inspect,
 }
 
 

@@ -215,6 +215,22 @@ class CheckDesign(Command):
             show_report(cam)
 
 
+class ToleranceStudy(Command):
+    menu_text = "Tolerance study…"
+    tooltip = ("The largest profile tolerance (ISO 1101 profile of a line, worst wave phase) per number of "
+               "waves per turn that keeps the follower's acceleration error within 5 % of the designed peak at "
+               "the cam's speed, and where the follower stops following the waves: chart and table "
+               "(cam-workbench tolerance, docs/tolerances.md)")
+    icon = "CheckDesign.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .tolerance_panel import show_tolerance  # deferred: numpy, scipy, the generators
+
+            show_tolerance(cam)
+
+
 class ShowPlots(Command):
     menu_text = "Show kinematics plots"
     tooltip = ("Plot displacement, velocity, acceleration, jerk and pressure angle against cam angle, "
@@ -334,6 +350,7 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_EditMotion": EditMotion,
     "CamWorkbench_Optimise": Optimise,
     "CamWorkbench_CheckDesign": CheckDesign,
+    "CamWorkbench_ToleranceStudy": ToleranceStudy,
     "CamWorkbench_ShowPlots": ShowPlots,
     "CamWorkbench_ExportStep": ExportStep,
     "CamWorkbench_ExportDxf": ExportDxf,
@@ -347,7 +364,7 @@ COMMANDS: dict[str, type[Command]] = {
 LAYOUT = ["CamWorkbench_NewCam", "CamWorkbench_NewCamFromSpec", "Separator",
           "CamWorkbench_OpenMachine", "CamWorkbench_PlayMachine", "Separator",
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
-          "CamWorkbench_CheckDesign", "CamWorkbench_ShowPlots", "Separator",
+          "CamWorkbench_CheckDesign", "CamWorkbench_ToleranceStudy", "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
           "CamWorkbench_ExportCommandTable", "CamWorkbench_ExportEcam", "Separator",
           "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]

@@ -8,7 +8,8 @@ once, so the tool paths and the G-code read plain numbers:
   knife edge min(R_b/10, ½·smallest concave profile radius);
 * feed 300 mm/min (12 in/min), plunge feed/3, safe height 5 mm (0.2 in), chord
   tolerance 0.005 mm (0.0002 in), depth = cam thickness, lead radius = tool radius;
-* rotary speed = cam.speed_rpm.
+* rotary speed = cam.speed_rpm;
+* compensation "centre" (tool-centre coordinates), Fanuc program number 1000.
 """
 from __future__ import annotations
 
@@ -52,6 +53,10 @@ class MachiningPlan:
     program: str
     dialect: str
     roller_radius: float
+    #: "centre" (tool-centre coordinates) or "controller" (the part's contour under G41/G42)
+    compensation: str
+    #: a Fanuc program's O number
+    program_number: int
 
     @property
     def z_levels(self) -> np.ndarray:
@@ -141,4 +146,6 @@ def machining_plan(design: CamDesign) -> MachiningPlan:
         program=mc.program,
         dialect=mc.dialect,
         roller_radius=spec.roller_radius,
+        compensation=mc.compensation or "centre",
+        program_number=mc.program_number if mc.program_number is not None else 1000,
     )

@@ -13,7 +13,9 @@ Two ways to follow it:
   origin on the cam axis, Z = 0 on the top face) and the tool centre runs along the
   path, emitted as biarcs (G02/G03) or chords (G01) within ``chord_tolerance``, entered
   and left on tangent quarter-circle arcs in the middle of the longest dwell, once per
-  depth pass; climb milling (spindle M3) runs an outside contour clockwise.
+  depth pass; climb milling (spindle M3) runs an outside contour clockwise.  Under the
+  control's cutter compensation (:func:`part_contour_path`) the same is programmed on the part's
+  own contour (the profile), entered and left by straight lines on which G41/G42 and G40 act.
 * **XC rotary machining** (:func:`rotary_path`): the cam turns on a C axis at
   ``rotary_speed_rpm`` and the tool centre moves on a straight line — the follower's
   own line x = e (``rotary_line = "follower"``) or a line through the C axis (x = 0,
@@ -30,6 +32,7 @@ the machine frame turned by C).  At C = 0 the cam's +Y axis lies along machine +
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -205,15 +208,12 @@ def _arc(start: complex, end: complex, centre: complex, ccw: bool) -> Path2D:
     return Path2D(np.array([start]), np.array([end]), np.array([centre]), np.array([ccw]), nan, nan)
 
 
-def contour_path(design: CamDesign, plan: MachiningPlan) -> ContourPath:
-    """The XY contour of ``design`` for ``plan`` (see the module docstring).
-
-    Raises:
-        SpecError: ``machining.lead_radius`` — the lead arcs would cross the contour.
-    """
-    curve = tool_centre_curve(design, plan)
-    tol = plan.chord_tolerance
-    path, dist = fit_contour(curve, tol, arcs=plan.contour == "arcs")
+def _entry_loop(design: CamDesign, plan: MachiningPlan, curve: NurbsCurve
+                ) -> tuple[Path2D, float, complex, complex, complex, bool, int]:
+    """``curve`` fitted (:func:`fit_contour`), run in the milling direction and started at the entry
+    junction: (path, measured distance, entry point, unit tangent there in the cutting direction,
+    unit normal away from the cam, ccw sense of the lead arcs, entry junction)."""
+    path, dist = fit_contour(curve, plan.chord_tolerance, arcs=plan.contour == "arcs")
     curve_cw = curve.area() < 0
     clockwise = plan.milling == "climb"
     k = entry_junction(design.pitch)
@@ -227,15 +227,113 @@ def contour_path(design: CamDesign, plan: MachiningPlan) -> ContourPath:
     first = int(np.argmin(np.abs(path.start - entry)))
     path = _roll(path, first)
     outward = 1j * tangent if clockwise else -1j * tangent    # away from the cam
+    ccw = bool((np.conj(-1j * outward) * tangent).real > 0)
+    return path, dist, entry, tangent, outward, ccw, k
+
+
+def contour_path(design: CamDesign, plan: MachiningPlan) -> ContourPath:
+    """The XY contour of ``design`` for ``plan`` (see the module docstring).
+
+    Raises:
+        SpecError: ``machining.lead_radius`` — the lead arcs would cross the contour.
+    """
+    curve = tool_centre_curve(design, plan)
+    path, dist, entry, tangent, outward, ccw, k = _entry_loop(design, plan, curve)
     r = plan.lead_radius
     centre = entry + r * outward
-    ccw = bool((np.conj(-1j * outward) * tangent).real > 0)
     start, end = centre - r * tangent, centre + r * tangent
     lead_in, lead_out = _arc(start, entry, centre, ccw), _arc(entry, end, centre, ccw)
     check_lead_arcs(curve, centre, r, entry, ccw)
     return ContourPath(curve=curve, loop=path, lead_in=lead_in, lead_out=lead_out,
-                       entry_angle_deg=float(np.rad2deg(design.pitch.angles[k])), clockwise=clockwise,
-                       max_distance=dist, tolerance=tol, z_levels=plan.z_levels)
+                       entry_angle_deg=float(np.rad2deg(design.pitch.angles[k])), clockwise=plan.milling == "climb",
+                       max_distance=dist, tolerance=plan.chord_tolerance, z_levels=plan.z_levels)
+
+
+def part_curve(design: CamDesign, plan: MachiningPlan) -> NurbsCurve:
+    """The part's own contour (the cam profile) that a program under cutter compensation follows:
+    :func:`tool_centre_curve` of a tool of radius 0 (the pitch curve offset inward by the roller
+    radius; the pitch curve itself for a knife edge)."""
+    return tool_centre_curve(design, dataclasses.replace(plan, tool_radius=0.0))
+
+
+@dataclass(frozen=True)
+class PartContourPath:
+    """The XY contour programmed on the part for the control's cutter compensation (G41/G42):
+    the profile's biarcs, entered by a straight approach line (on which the control switches
+    compensation on) and a tangent lead arc, left by the symmetric arc and a straight line (on
+    which it switches it off).
+
+    With the tool radius R_t in the control's table, the tool centre runs on the exact offset of
+    these moves by R_t: the lead arcs' centre is that of :class:`ContourPath`'s, their programmed
+    radius lead_radius + R_t, so the tool centre follows the tool-centre program's lead arcs.
+
+    Attributes:
+        curve: the part's exact contour (:func:`part_curve`).
+        loop: its arcs/lines in cutting order, from the entry point back to it.
+        approach, lead_in, lead_out, exit: the line from outside to the lead arc, the lead arcs,
+            the line away from the lead-out arc (each one element).
+        side: "left" (G41, the tool left of the direction of travel) or "right" (G42).
+        tool_radius: R_t, the radius the control's table must hold.
+        centre: the tool-centre contour of the same plan (its lead arcs, entry angle, direction).
+        max_distance: measured two-sided distance of ``loop`` from ``curve``.
+    """
+
+    curve: NurbsCurve
+    loop: Path2D
+    approach: Path2D
+    lead_in: Path2D
+    lead_out: Path2D
+    exit: Path2D
+    side: str
+    tool_radius: float
+    centre: ContourPath
+    max_distance: float
+
+    @property
+    def n_arcs(self) -> int:
+        return int(np.count_nonzero(self.loop.is_arc))
+
+    @property
+    def n_lines(self) -> int:
+        return int(self.loop.n - self.n_arcs)
+
+    def summary(self) -> dict[str, Any]:
+        """Numbers for report.json (spec units, degrees): those of the programmed part contour."""
+        return {"moves": self.loop.n, "arcs": self.n_arcs, "lines": self.n_lines,
+                "max_distance": self.max_distance, "chord_tolerance": self.centre.tolerance,
+                "entry_at_deg": self.centre.entry_angle_deg, "clockwise": self.centre.clockwise,
+                "length": self.loop.length, "passes": int(self.centre.z_levels.shape[0]),
+                "compensation_side": self.side}
+
+
+def _line(start: complex, end: complex) -> Path2D:
+    nan = np.array([np.nan])
+    return Path2D(np.array([start]), np.array([end]), np.array([np.nan + 0j]), np.array([False]), nan, nan)
+
+
+def part_contour_path(design: CamDesign, plan: MachiningPlan) -> PartContourPath:
+    """The part's contour of ``design`` for the control's cutter compensation (see
+    :class:`PartContourPath`); the approach and exit lines are as long as the programmed lead arcs'
+    radius lead_radius + R_t (longer than R_t, as a compensation start-up move must be).
+
+    Raises:
+        SpecError: ``machining.lead_radius`` — the lead arcs would cross the contour.
+    """
+    centre_path = contour_path(design, plan)
+    curve = part_curve(design, plan)
+    path, dist, entry, tangent, outward, ccw, _ = _entry_loop(design, plan, curve)
+    rho = plan.lead_radius + plan.tool_radius
+    centre = entry + rho * outward
+    start, end = centre - rho * tangent, centre + rho * tangent
+    check_lead_arcs(curve, centre, rho, entry, ccw)
+    turn = 1j if ccw else -1j                       # direction of motion on the arc = turn · radius vector
+    into = turn * (start - centre) / rho
+    out_of = turn * (end - centre) / rho
+    side = "left" if (np.conj(tangent) * outward).imag > 0 else "right"
+    return PartContourPath(curve=curve, loop=path, approach=_line(start - rho * into, start),
+                           lead_in=_arc(start, entry, centre, ccw), lead_out=_arc(entry, end, centre, ccw),
+                           exit=_line(end, end + rho * out_of), side=side, tool_radius=plan.tool_radius,
+                           centre=centre_path, max_distance=dist)
 
 
 def check_lead_arcs(curve: NurbsCurve, centre: complex, r: float, entry: complex, ccw: bool) -> None:

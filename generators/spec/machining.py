@@ -14,6 +14,12 @@ if TYPE_CHECKING:  # types only: the spec's root imports this module
 
 
 WORK_OFFSETS = ("G54", "G55", "G56", "G57", "G58", "G59")
+#: G-code dialects of the programs (exporters/gcode_dialects.py holds what each one writes)
+DIALECTS = ("linuxcnc", "fanuc", "sinumerik")
+#: where the XY program's coordinates lie: on the tool centre, or on the part under G41/G42
+COMPENSATIONS = ("centre", "controller")
+#: Sinumerik's G58/G59 are programmable (axial) offsets, not settable work offsets
+SINUMERIK_WORK_OFFSETS = ("G54", "G55", "G56", "G57")
 #: Most interpolator commands per revolution (memory bound).
 MAX_COMMANDS_PER_REV = 10_000_000
 
@@ -68,14 +74,84 @@ class MachiningSection:
     line_numbers: bool = param("Number the blocks (N10, N20, …)", kind="bool", default=False,
                                group="Machining")
     coolant: bool = param("Flood coolant (M8) while cutting", kind="bool", default=False, group="Machining")
-    program: str = param("Program that `build` writes to cam.nc: XY contour milling or XC rotary",
-                         kind="str", choices=("xy", "xc"), default="xy", group="Machining")
-    dialect: str = param("G-code dialect of cam.nc", kind="str", choices=("linuxcnc",),
+    program: str = param("Program that `build` writes to cam.nc: XY contour milling, XC rotary or 2-axis wire EDM "
+                         "(a plate cam)",
+                         kind="str", choices=("xy", "xc", "wire_edm"), default="xy", group="Machining")
+    dialect: str = param("G-code dialect of cam.nc: LinuxCNC (RS274/NGC), Fanuc-style (O number, % tape marks, "
+                         "decimal points on every coordinate) or Siemens Sinumerik (; comments, G71/G70, T D M6); "
+                         "the differences: docs/machining.md", kind="str", choices=DIALECTS,
                          default="linuxcnc", group="Machining")
+    compensation: str | None = param(
+        "XY contour program: \"centre\" the tool-centre path (no cutter compensation), or \"controller\" the "
+        "part's own contour under G41/G42 (D = tool number; the control's tool table holds the radius, so wear "
+        "is adjusted at the machine); default \"centre\"", kind="str", choices=COMPENSATIONS, optional=True,
+        group="Machining")
+    program_number: int | None = param("Program number of a \"fanuc\" program (its O word, O0001–O9999; the other dialects have none); default 1000",
+                                       kind="int", ge=1, le=9999, optional=True, group="Machining")
+    # ---- roughing from a round blank (XY program) ----
+    blank_diameter: float | None = param(
+        "Diameter of the round blank the XY program starts from (centred on the cam axis): when given, the "
+        "program first roughs the stock down to finish_allowance around the profile — concentric passes "
+        "stepover apart at every depth pass — then runs the finishing contour; absent: the finishing contour "
+        "only (a plate cam)", unit="length", gt=0, optional=True, group="Machining")
+    stepover: float | None = param("Roughing step-over: radial distance between concentric roughing passes as "
+                                   "a fraction of the tool diameter; default 0.5", ge=0.05, le=1.0, optional=True,
+                                   group="Machining")
+    finish_allowance: float | None = param(
+        "Stock the roughing passes leave on the profile for the finishing contour; default 0.2 mm (0.008 in)",
+        unit="length", ge=0, optional=True, group="Machining")
+    # ---- 2-axis wire EDM (machining.program = "wire_edm") ----
+    wire_diameter: float | None = param("Wire EDM: wire diameter; default 0.25 mm (0.01 in)", unit="length",
+                                        gt=0, optional=True, group="Machining")
+    spark_gap: float | None = param("Wire EDM: spark gap (overcut) between the wire and the part; default "
+                                    "0.02 mm (0.0008 in)", unit="length", ge=0, optional=True, group="Machining")
+    skim_passes: int | None = param("Wire EDM: skim (trim) passes after the main cut, each in the opposite "
+                                    "direction of the one before; default 0", kind="int", ge=0, le=10, optional=True,
+                                    group="Machining")
+    skim_stock: float | None = param(
+        "Wire EDM: stock each skim pass removes (the main cut runs skim_passes × skim_stock outside the final "
+        "wire path, each skim one skim_stock closer); default 0.03 mm (0.0012 in)", unit="length", gt=0,
+        optional=True, group="Machining")
+    tab_width: float | None = param(
+        "Wire EDM: length of the holding tab (measured along the wire path) left uncut by the main cut and "
+        "the skims and cut last, after a program stop; default 2 mm (0.08 in)", unit="length", gt=0,
+        optional=True, group="Machining")
+    start_hole: float | None = param(
+        "Wire EDM: distance of the start hole (where the wire is threaded) from the wire path, on the "
+        "outward normal at the entry point (the middle of the longest dwell); default lead_radius",
+        unit="length", gt=0, optional=True, group="Machining")
+    wire_compensation: str | None = param(
+        "Wire EDM: \"path\" — the program carries the wire-centre path (the profile offset by wire radius + "
+        "spark gap); \"controller\" — the program carries the part contour and G41.1 D = 2 × (wire "
+        "radius + spark gap) offsets it; default \"path\"", kind="str", choices=("path", "controller"),
+        optional=True, group="Machining")
 
 
 def validate_machining(spec: CamSpec) -> None:
     mc = spec.machining
+    if mc.program == "wire_edm" and spec.cam.body != "plate":
+        raise SpecError("machining.program", f'"wire_edm" cuts a plate cam\'s outside profile; cam.body is '
+                        f'"{spec.cam.body}": use "xy" or "xc"')
+    if mc.blank_diameter is not None and spec.cam.body != "plate":
+        raise SpecError("machining.blank_diameter", f'roughing from a round blank is for a plate cam; cam.body '
+                        f'is "{spec.cam.body}": leave machining.blank_diameter out')
+    if mc.program == "wire_edm" and mc.dialect != "linuxcnc":
+        raise SpecError("machining.dialect", f'the wire EDM program is written for "linuxcnc"; got "{mc.dialect}"')
+    if mc.blank_diameter is not None and mc.compensation == "controller" and mc.program == "xy":
+        raise SpecError("machining.blank_diameter", 'the roughing program runs on tool-centre paths: roughing '
+                        'from a blank needs machining.compensation = "centre"')
+    if mc.program == "wire_edm" and mc.wire_compensation == "controller" and (mc.skim_passes or 0) > 0:
+        raise SpecError("machining.skim_passes", 'skims need machining.wire_compensation = "path" (each skim '
+                        'reverses direction and has its own offset: the program carries each wire path); '
+                        f'got {mc.skim_passes} with "controller"')
+    if mc.compensation == "controller" and mc.program != "xy":
+        raise SpecError("machining.compensation", '"controller" (G41/G42) needs the XY contour program '
+                        '(machining.program = "xy"): cutter compensation along a rotary axis is not standard G-code; '
+                        'use "centre" for the XC program')
+    if mc.dialect == "sinumerik" and mc.work_offset not in SINUMERIK_WORK_OFFSETS:
+        raise SpecError("machining.work_offset", f'must be one of {", ".join(SINUMERIK_WORK_OFFSETS)} for the '
+                        f'"sinumerik" dialect (its {mc.work_offset} is a programmable offset, not a work '
+                        f'coordinate system), got "{mc.work_offset}"')
     if mc.rotary_line == "follower" and spec.follower.motion != "translating":
         raise SpecError("machining.rotary_line", '"follower" needs a translating follower\'s line of motion; an '
                         'oscillating arm has none: use "axis" (the default for an oscillating follower)')

@@ -1,0 +1,62 @@
+"""``cam-workbench inspect SPEC POINTS.csv``: measured profile points against the design — the
+registration, every point's normal deviation, the profile-tolerance verdict and the follower's
+motion on the measured part — printed as a table (inspection.json's numbers) and, with ``-o``,
+written as inspection.json, inspection.html, deviations.csv, motion.csv and the figures.  Exit
+status 3 when the verdict is "fail"."""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any, Mapping
+
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from cam_workbench.exporters.inspection_report import rows
+from cam_workbench.exporters.report_cells import format_number as fmt
+from cam_workbench.exporters.report_cells import lookup
+from cam_workbench.exporters.report_json import report_json_text
+from cam_workbench.generators.inspection import inspect_design
+
+from ..inspection import read_points, write_inspection
+from .common import admit_output, design_for, output_claim, spec_from_args
+
+EXIT_OUT_OF_TOLERANCE = 3
+
+
+def run(args: argparse.Namespace) -> int:
+    spec = spec_from_args(args)
+    points = read_points(args.points)                 # bad file: exit 2 naming file, line and rule
+    if args.output is not None:
+        admit_output(args, spec, "inspect")
+    design = design_for(spec)
+    result = inspect_design(design, points, tolerance=args.tolerance, datum=args.datum,
+                            wavelength_deg=args.wavelength)
+    if args.output is None:
+        report = json.loads(report_json_text(result.summary()))     # the numbers inspection.json would hold
+    else:
+        report = write_inspection(result, args.output, output_claim(args, spec, "inspect"))
+    failed = bool(report.get("tolerance")) and report["tolerance"]["verdict"] == "fail"
+    args.status = EXIT_OUT_OF_TOLERANCE if failed else 0
+    print_table(report, None if args.output is None else Path(args.output))
+    return args.status
+
+
+def print_table(report: Mapping[str, Any], out: Path | None) -> None:
+    """inspection.json's numbers as one table — the values printed are inspection.json's own."""
+    con = Console(soft_wrap=True)
+    table = Table(title=f"inspection: {report['cam']}")
+    for col in ("quantity", "value", "unit", "at cam angle"):
+        table.add_column(col, justify="left" if col == "quantity" else "right")
+    for label, key, unit, at in rows(report):
+        where = "—" if at is None else f"{fmt(lookup(report, at))}°"
+        table.add_row(escape(label), escape(fmt(lookup(report, key))), escape(unit), where)
+    con.print(table)
+    tol = report.get("tolerance")
+    line = ("no profile tolerance given (--tolerance T): no verdict" if not tol else
+            f"profile verdict: {tol['verdict']} (zone ±{fmt(tol['zone'][1])} {report['units']})")
+    if out is not None:
+        line += f" — written to {out}/: {', '.join(sorted(report['files']))}"
+    con.print(escape(line))
