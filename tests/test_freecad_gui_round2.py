@@ -244,7 +244,7 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     assert r["check_head"] == "design checks failed: separation"
     # export dialogs
     g = r["gcode_dialog"]
-    assert g["radios"] == ["gcode_xy", "gcode_xc"] and g["kind"] == "gcode_xy" and g["rows"] > 15
+    assert g["radios"] == ["gcode_xy", "gcode_xc", "gcode_wire_edm"] and g["kind"] == "gcode_xy" and g["rows"] > 15
     assert g["path"].endswith("Ex5_xy.nc") and g["open"] == 1
     assert g["labels"][1] == "XC rotary: C axis + X: one G93 inverse-time block per command of the rotational interpolator"
     assert r["xc"]["kind"] == "gcode_xc" and r["xc"]["exists"] is False

@@ -74,6 +74,8 @@ def test_absent_values():
         # a groove's clearance and smallest wall (0 = none, absent = the unit's default), a conjugate
         # arm pair's angle (0 is an angle)
         "GrooveClearanceEnabled", "GrooveMinWallEnabled", "ConjugateArmAngleEnabled",
+        # the roughing's finish allowance, the wire EDM's spark gap and skim passes (0: none; absent: the defaults)
+        "MachiningFinishAllowanceEnabled", "MachiningSparkGapEnabled", "MachiningSkimPassesEnabled",
         # the optimiser's lower bound of a groove's clearance (0: a groove as wide as the roller)
         "OptimiseClearanceMinEnabled",
         # an indexer's plate gap (0: face to face), output inertia and friction (0: none; absent: the defaults)

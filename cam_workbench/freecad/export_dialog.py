@@ -1,4 +1,4 @@
-"""The export dialog (GUI only): DXF, G-code (XY or XC), command table, e-cam tables, design report.
+"""The export dialog (GUI only): DXF, G-code (XY, XC or wire EDM), command table, e-cam tables, design report.
 
 A small non-modal dialog: what will be written, the feature's properties it uses (the
 ``[drawing]`` or ``[machining]`` values — change them in the property editor), the output
@@ -22,7 +22,7 @@ from . import exports
 #: Command → the export kinds its dialog offers (more than one: radio buttons).
 GROUPS: dict[str, tuple[str, ...]] = {
     "dxf": ("dxf",),
-    "gcode": ("gcode_xy", "gcode_xc"),
+    "gcode": ("gcode_xy", "gcode_xc", "gcode_wire_edm"),
     "csv": ("csv",),
     "report": ("report", "report_plots"),
     "ecam": ("ecam_csv", "ecam_codesys_xyva", "ecam_codesys_poly5", "ecam_beckhoff_motion_function",
@@ -244,7 +244,8 @@ class ExportDialog:
 def _current_kind(obj: Any, kinds: tuple[str, ...]) -> str | None:
     """The kind the feature's properties choose (MachiningProgram; EcamFormat and EcamTable)."""
     if "gcode_xy" in kinds:
-        return {"xy": "gcode_xy", "xc": "gcode_xc"}.get(str(getattr(obj, "MachiningProgram", "xy")))
+        program = str(obj.MachiningProgram)   # the program the kind's --mode writes
+        return next((k for k in kinds if exports.KINDS[k].args[1:] == ("--mode", program)), None)
     fmt, table = str(getattr(obj, "EcamFormat", "")), str(getattr(obj, "EcamTable", "auto"))
     for k in kinds:
         a = exports.KINDS[k].args

@@ -80,6 +80,10 @@ KINDS: dict[str, ExportKind] = {k.key: k for k in (
     ExportKind("gcode_xc", "Export G-code (XC rotary)", ("gcode", "--mode", "xc"), ".nc",
                "G-code (*.nc *.ngc *.tap)", "{label}_xc.nc",
                "C axis + X: one G93 inverse-time block per command of the rotational interpolator"),
+    ExportKind("gcode_wire_edm", "Export G-code (wire EDM)", ("gcode", "--mode", "wire_edm"), ".nc",
+               "G-code (*.nc *.ngc *.tap)", "{label}_wire_edm.nc",
+               "2-axis wire EDM of a plate cam: start hole, main cut leaving a holding tab, skims, the tab "
+               "cut last"),
     ExportKind("csv", "Export command table (CSV)", ("gcode", "--mode", "csv"), ".csv",
                "Command table (*.csv)", "{label}_commands.csv",
                "the rotational interpolator's raw commands (paper Eq. 15), one row per sample period"),
@@ -352,7 +356,7 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     """(property, value) pairs the export dialog shows: the values the command line gets, in
     the spec's units ("default" where the property leaves the field to the spec's default)."""
     sections = {"dxf": ("drawing",), "gcode_xy": ("machining",), "gcode_xc": ("machining",),
-                "csv": ("machining",), "report": ("checks", "material"),
+                "gcode_wire_edm": ("machining",), "csv": ("machining",), "report": ("checks", "material"),
                 "report_plots": ("checks", "material")}.get(kind, ("ecam",))
     only = {"csv": ("rotary_speed_rpm", "sample_period")}.get(kind)
     if is_ecam(kind):   # the format and table are the kind's own
@@ -366,7 +370,7 @@ def summary_rows(obj: Any, kind: str) -> list[tuple[str, str]]:
     for fp in props.field_properties():
         if fp.section not in sections or (only and fp.field not in only):
             continue
-        if fp.section == "machining" and fp.field in ("program", "dialect"):
+        if fp.section == "machining" and fp.field == "program":   # the kind's own (--mode)
             continue
         value = data.get(fp.section, {}).get(fp.field)
         if value is None:

@@ -47,6 +47,7 @@ from ..motion.laws import evaluate_law
 from ..motion.program import MotionProgram
 from ..spec.model import CamSpec
 from .plan import machining_plan
+from .roughing import RoughingPath, roughing_path
 from .toolpath import contour_path
 
 #: The thesis' tolerance (0.01 in) in each unit system.
@@ -302,7 +303,8 @@ class ContourTime:
 def contour_time(design: Any, plan: Any = None, block_time: float | None = None) -> ContourTime:
     """Time of the XY contour G-code of ``design``: per pass, (lead-in + contour + lead-out)/feed
     and the plunge/plunge feed, plus ``block_time`` per motion block (default
-    ``optimise.block_time``); rapid moves are left out (their speed is the machine's)."""
+    ``optimise.block_time``); rapid moves are left out (their speed is the machine's).  With
+    ``machining.blank_diameter`` the program roughs first: :func:`roughing_time` is added."""
     plan = plan or machining_plan(design)
     path = contour_path(design, plan)
     bt = design.spec.optimise.block_time if block_time is None else block_time
@@ -311,4 +313,21 @@ def contour_time(design: Any, plan: Any = None, block_time: float | None = None)
     plunge = float(np.sum(plan.safe_height - path.z_levels))   # each pass plunges from the safe height
     blocks = passes * (path.loop.n + 3)
     t = cut / (plan.feed_rate / 60.0) + plunge / (plan.plunge_rate / 60.0) + blocks * bt
-    return ContourTime(float(t), float(cut), float(plunge), int(blocks), float(bt))
+    finish = ContourTime(float(t), float(cut), float(plunge), int(blocks), float(bt))
+    if design.spec.machining.blank_diameter is None:
+        return finish
+    rough = roughing_time(roughing_path(design, plan), plan, bt)
+    return ContourTime(finish.time + rough.time, finish.cutting_length + rough.cutting_length,
+                       finish.plunge_length + rough.plunge_length, finish.blocks + rough.blocks, float(bt))
+
+
+def roughing_time(rough: RoughingPath, plan: Any, block_time: float) -> ContourTime:
+    """Time of the roughing part of the XY program: per depth level, (in-feed + passes +
+    step-ins)/feed and the plunge from the safe height/plunge feed, plus ``block_time`` per motion
+    block at feed; rapids left out."""
+    levels = int(rough.z_levels.shape[0])
+    cut = levels * rough.level_length
+    plunge = float(np.sum(plan.safe_height - rough.z_levels))
+    blocks = levels * rough.level_blocks
+    t = cut / (plan.feed_rate / 60.0) + plunge / (plan.plunge_rate / 60.0) + blocks * block_time
+    return ContourTime(float(t), float(cut), float(plunge), int(blocks), float(block_time))
