@@ -216,7 +216,7 @@ def test_round_two_in_the_freecad_gui(tmp_path, fc_home, artifacts):
     r = run.check().result
     (artifacts / "freecad_gui_round2_report_view.txt").write_text(r.get("report_view", ""))
     assert r["menu"] == ["New cam", "New cam from spec…", "Open machine…", "Play machine", "Edit motion program",
-                         "Optimise", "Check design",
+                         "Optimise", "Check design", "Tolerance study…", "Inspect part…",
                          "Show kinematics plots", "Export STEP…", "Export DXF…", "Export G-code…",
                          "Export command table (CSV)…", "Export e-cam table…", "Design report (HTML)…",
                          "Export spec (TOML)…"]

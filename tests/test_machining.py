@@ -59,7 +59,7 @@ RULES = [
     ("line_numbers_bool", {"line_numbers": 1}, "machining.line_numbers", "must be true or false"),
     ("coolant_bool", {"coolant": "yes"}, "machining.coolant", "must be true or false"),
     ("program", {"program": "xz"}, "machining.program", "must be one of"),
-    ("dialect", {"dialect": "fanuc"}, "machining.dialect", "must be one of"),
+    ("dialect", {"dialect": "heidenhain"}, "machining.dialect", "must be one of"),
     ("unknown", {"toolradius": 3.0}, "machining.toolradius", "unknown field"),
 ]
 
