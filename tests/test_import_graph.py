@@ -123,16 +123,16 @@ LAYERS = {
 #: module to one of them).  The Gui side runs with the GUI up only: its view providers, commands,
 #: task panels, dialogs, Qt helpers, the GUI's spec importer and ``mod/InitGui.py``.
 FREECAD_GUI_SIDE = frozenset(f"cam_workbench.freecad.{m}" for m in (
-    "commands", "export_dialog", "machine_panel", "motion_editor", "optimiser_panel", "qt_compat", "spec_io_gui",
-    "view_providers", "mod.InitGui"))
+    "commands", "export_dialog", "inspection_panel", "machine_panel", "motion_editor", "optimiser_panel", "qt_compat",
+    "spec_io_gui", "view_providers", "mod.InitGui"))
 #: The App side runs in ``freecadcmd`` too and imports no Gui-side module: the feature, its
 #: properties and Part builders, the spec's files, the exports, the checks, the plots, the
 #: optimiser's model, the install script, ``mod/Init.py``.  A module whose headless function has a
 #: dialog beside it (``check_design.show_report``) is App side and imports FreeCADGui and PySide
 #: inside that function only.
 FREECAD_APP_SIDE = frozenset(["cam_workbench.freecad"] + [f"cam_workbench.freecad.{m}" for m in (
-    "bodies", "check_design", "exports", "feature", "install", "machine_doc", "machine_parts", "optimiser",
-    "part_build", "part_cylindrical", "part_indexer", "part_spatial_indexer", "plots", "properties",
+    "bodies", "check_design", "exports", "feature", "inspection_doc", "install", "machine_doc", "machine_parts",
+    "optimiser", "part_build", "part_cylindrical", "part_indexer", "part_spatial_indexer", "plots", "properties",
     "spec_io", "stateless", "step_export", "tolerance_panel", "view_hook", "mod.Init")])
 
 

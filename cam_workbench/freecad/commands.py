@@ -231,6 +231,22 @@ class ToleranceStudy(Command):
             show_tolerance(cam)
 
 
+class InspectPart(Command):
+    menu_text = "Inspect part…"
+    tooltip = ("Hold a made cam against its design: measured profile points (CSV x,y[,z]) registered to the "
+               "exact profile, every point's normal deviation, the profile-tolerance verdict, the outliers and the "
+               "follower's acceleration error on the part; the points added under the cam, coloured by deviation "
+               "(cam-workbench inspect, docs/inspection.md)")
+    icon = "CheckDesign.svg"
+
+    def run(self) -> None:
+        cam = target_cam()
+        if cam is not None:
+            from .inspection_panel import open_inspection  # deferred: numpy, scipy, the generators
+
+            open_inspection(cam)
+
+
 class ShowPlots(Command):
     menu_text = "Show kinematics plots"
     tooltip = ("Plot displacement, velocity, acceleration, jerk and pressure angle against cam angle, "
@@ -309,8 +325,9 @@ class ExportDxf(_Export):
 
 class ExportGcode(_Export):
     menu_text = "Export G-code…"
-    tooltip = ("Write a machining program: XY contour milling or XC rotary (C axis + X, G93), with the "
-               "Machining properties (tool, feeds, passes, sample period)")
+    tooltip = ("Write a machining program: XY contour milling (roughing from a blank when "
+               "MachiningBlankDiameter is set), XC rotary (C axis + X, G93) or 2-axis wire EDM, in the "
+               "Machining properties' dialect and cutter compensation")
     icon = "ExportGcode.svg"
     group = "gcode"
 
@@ -351,6 +368,7 @@ COMMANDS: dict[str, type[Command]] = {
     "CamWorkbench_Optimise": Optimise,
     "CamWorkbench_CheckDesign": CheckDesign,
     "CamWorkbench_ToleranceStudy": ToleranceStudy,
+    "CamWorkbench_InspectPart": InspectPart,
     "CamWorkbench_ShowPlots": ShowPlots,
     "CamWorkbench_ExportStep": ExportStep,
     "CamWorkbench_ExportDxf": ExportDxf,
@@ -364,7 +382,8 @@ COMMANDS: dict[str, type[Command]] = {
 LAYOUT = ["CamWorkbench_NewCam", "CamWorkbench_NewCamFromSpec", "Separator",
           "CamWorkbench_OpenMachine", "CamWorkbench_PlayMachine", "Separator",
           "CamWorkbench_EditMotion", "CamWorkbench_Optimise", "Separator",
-          "CamWorkbench_CheckDesign", "CamWorkbench_ToleranceStudy", "CamWorkbench_ShowPlots", "Separator",
+          "CamWorkbench_CheckDesign", "CamWorkbench_ToleranceStudy", "CamWorkbench_InspectPart",
+          "CamWorkbench_ShowPlots", "Separator",
           "CamWorkbench_ExportStep", "CamWorkbench_ExportDxf", "CamWorkbench_ExportGcode",
           "CamWorkbench_ExportCommandTable", "CamWorkbench_ExportEcam", "Separator",
           "CamWorkbench_DesignReport", "CamWorkbench_ExportSpec"]

@@ -1,6 +1,6 @@
 """View providers of the ``Cam`` feature and its reference curves (GUI only).
 
-The cam claims its reference curves as children in the tree, opens the motion editor
+The cam claims its reference curves (and its inspections' groups) as children in the tree, opens the motion editor
 on double-click (edit mode 0) and deletes its children with it.  Class names are stored
 in saved documents (``GuiDocument.xml``) and must not change; documents saved before feature
 version 5 store ``ViewProviderPlateCam``, which stays bound to :class:`ViewProviderCam`.
@@ -19,6 +19,7 @@ from PySide import QtGui  # FreeCAD's PySide shim (PySide2 in 0.20, PySide6 in 1
 
 from . import view_hook
 from .feature import CamFeature, CamReference, is_cam, references_of
+from .inspection_doc import inspections_of
 from .motion_editor import MotionEditorPanel
 from .stateless import Stateless
 
@@ -47,7 +48,7 @@ class ViewProviderCam(Stateless):
 
     def claimChildren(self) -> list[Any]:
         obj = getattr(self, "Object", None)
-        return references_of(obj) if obj is not None else []
+        return references_of(obj) + inspections_of(obj) if obj is not None else []
 
     def setEdit(self, vobj: Any, mode: int = 0) -> bool:
         if mode != 0:
