@@ -3,6 +3,7 @@
     from cam_workbench.inspection import inspect_part, read_points, write_inspection
     result = inspect_part("cam.toml", "measured.csv", tolerance=0.02, datum="bore")
     result.summary()["tolerance"]["verdict"]       # "pass", "pass_excluding_outliers" or "fail"
+    result.summary()["harmonics"]["largest"]       # the deviation's largest harmonics and their δa
     write_inspection(result, "inspection")         # inspection.json, .html, CSVs, SVG (PNG) figures
 
 The mathematics is :mod:`cam_workbench.generators.inspection`; the files
@@ -90,7 +91,8 @@ def _numbers(cells: list[str]) -> list[float] | None:
 
 def inspect_part(spec: CamSpec | str | os.PathLike[str], points: np.ndarray | str | os.PathLike[str], *,
                  tolerance: float | None = None, datum: str = "none",
-                 wavelength_deg: float = DEFAULT_WAVELENGTH_DEG) -> InspectionResult:
+                 wavelength_deg: float = DEFAULT_WAVELENGTH_DEG,
+                 acceleration_limit: float | None = None) -> InspectionResult:
     """Inspect a made cam: its spec (a :class:`CamSpec` or a TOML file) and the measured profile
     points (an (N, 2|3) array or a CSV file, spec units).
 
@@ -99,10 +101,12 @@ def inspect_part(spec: CamSpec | str | os.PathLike[str], points: np.ndarray | st
         datum: "none" (best fit: rotation about the cam axis and shift), "bore" (the points' origin
             on the bore's axis: rotation only) or "bore_and_angle" (the points in the part's frame).
         wavelength_deg: the shortest wave of the deviation the follower's motion follows [deg].
+        acceleration_limit: the allowed acceleration error, a fraction of the designed peak (0.05
+            for 5 %): the harmonics section gains the tolerance study's chart at ``cam.speed_rpm``.
 
     Raises:
-        SpecError: a bad spec, points file, datum, tolerance or wavelength (naming it); a cam body
-            without a plane profile.
+        SpecError: a bad spec, points file, datum, tolerance, wavelength or acceleration limit
+            (naming it); a cam body without a plane profile.
         GeometryError: the spec's cam cannot be made.
     """
     if datum not in DATUMS:
@@ -111,7 +115,8 @@ def inspect_part(spec: CamSpec | str | os.PathLike[str], points: np.ndarray | st
         spec = load_spec(spec)
     if not isinstance(points, np.ndarray):
         points = read_points(points)
-    return inspect_design(design_cam(spec), points, tolerance=tolerance, datum=datum, wavelength_deg=wavelength_deg)
+    return inspect_design(design_cam(spec), points, tolerance=tolerance, datum=datum, wavelength_deg=wavelength_deg,
+                          acceleration_limit=acceleration_limit)
 
 
 def inspection_files(result: InspectionResult) -> tuple[dict[str, Any], dict[str, str | bytes]]:

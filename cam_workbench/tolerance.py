@@ -67,11 +67,7 @@ class ToleranceStudy:
         return {"samples": int(m.theta.size), "peak_acceleration_error": m.peak_acceleration_error,
                 "at_deg": m.at_deg, "percent_of_designed_peak": m.percent, "designed_peak_acceleration": m.designed_peak,
                 "max_lift_error": float(np.max(np.abs(m.lift_error))),
-                "harmonics": [{"waves": h.waves, "amplitude": h.amplitude, "phase_deg": h.phase_deg,
-                               "peak_acceleration_error": h.peak_acceleration_error,
-                               "percent_of_designed_peak": 100.0 * h.peak_acceleration_error / m.designed_peak,
-                               "contact_loss_amplitude": _finite(h.contact_loss_amplitude), "followed": h.followed}
-                              for h in m.harmonics]}
+                "harmonics": [h.summary(m.designed_peak) for h in m.harmonics]}
 
     @cached_property
     def _summary(self) -> dict[str, Any]:

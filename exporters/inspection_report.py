@@ -3,8 +3,9 @@ point), motion.csv (the designed and measured s, v, a), the figures — the devi
 map on the profile, the deviation against the cam angle, the measured against the designed
 motion — and inspection.html, whose tables are inspection.json's cells (:mod:`.report_cells`).
 
-:data:`ROWS` are the quantities the HTML tables and the command's printout show, each read from
-inspection.json by its dotted path."""
+:func:`rows` are the quantities the HTML tables and the command's printout show, each read from
+inspection.json by its dotted path; :func:`harmonic_columns` the columns of the table of the
+deviation's largest harmonics (``harmonics.largest``)."""
 from __future__ import annotations
 
 import html
@@ -19,7 +20,7 @@ from cam_workbench.generators.inspection.measured_motion import contact_angles
 from .chart import Chart, Curve, Panel, Rule, angle_panel
 from .chart_svg import svg
 from .plots import COLORS, small_unit
-from .report_cells import has, lookup, quantity_table
+from .report_cells import has, lookup, num_cell, quantity_table
 from .report_html import CSS
 from .report_json import report_json_text
 
@@ -74,8 +75,29 @@ def rows(report: Mapping[str, Any]) -> list[tuple[str, str, str, str | None]]:
         ("designed peak acceleration", "motion.designed_peak.acceleration", mu["acceleration"], None),
         ("measured peak acceleration", "motion.measured_peak.acceleration", mu["acceleration"],
          "motion.measured_peak.acceleration_at_deg"),
+        ("harmonics read (n = 0 … n_max)", "harmonics.max_waves", "", None),
+        ("predicted |δa|, first order from the harmonics", "harmonics.predicted_acceleration_error.max_abs",
+         mu["acceleration"], "harmonics.predicted_acceleration_error.at_deg"),
+        ("predicted |δa| / designed peak", "harmonics.predicted_acceleration_error.percent_of_designed_peak", "%", None),
+        ("acceleration limit (share of the designed peak)", "harmonics.limit.acceleration_limit", "", None),
+        ("predicted |δa| within the limit", "harmonics.limit.within", "", None),
+        ("tightest tolerance t at the limit (n ≤ n_max)", "harmonics.limit.tightest.tolerance", u, None),
+        ("… at waves per turn", "harmonics.limit.tightest.waves", "", None),
     ]
     return [r for r in out if has(report, r[1]) and lookup(report, r[1]) is not None]
+
+
+def harmonic_columns(report: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+    """(header, key within a harmonic of ``harmonics.largest``, unit) of the harmonics table's
+    columns; the tolerance's columns only with an acceleration limit."""
+    u = report["units"]
+    acc = report["motion"]["units"]["acceleration"]
+    cols = [("waves n", "waves", ""), ("amplitude A", "amplitude", u), ("phase φ", "phase_deg", "deg"),
+            ("predicted |δa|", "peak_acceleration_error", acc), ("of designed peak", "percent_of_designed_peak", "%"),
+            ("followed (A < A_max)", "followed", ""), ("tolerance t(n)", "tolerance", u),
+            ("2A ≤ t(n)", "within_tolerance", "")]
+    listed = report["harmonics"]["largest"]
+    return [c for c in cols if any(c[1] in h for h in listed)]
 
 
 def inspection_json_text(summary: Mapping[str, Any], files: Mapping[str, str]) -> str:
@@ -220,6 +242,15 @@ def inspection_html(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
     def section(*keys: str) -> str:
         return quantity_table(report, [r for r in table if r[1].split(".")[0] in keys])
 
+    listed = report["harmonics"]["largest"]
+    columns = harmonic_columns(report)
+    head = "".join(f"<th>{html.escape(h)}{f' [{html.escape(un)}]' if un else ''}</th>" for h, _k, un in columns)
+    cells = "".join("<tr>" + "".join(num_cell(report, f"harmonics.largest.{i}.{k}") if k in h else "<td></td>"
+                                     for _h, k, _u in columns) + "</tr>" for i, h in enumerate(listed))
+    harmonics = (f'<p>The smoothing fit of the deviation at {report["harmonics"]["samples"]} cam angles of contact, '
+                 "split into harmonics; each one's acceleration error to first order (docs/tolerances.md), and "
+                 "the first-order error of their sum beside the measured motion's.</p>"
+                 + section("harmonics") + f'<table class="q" id="harmonics-table"><tr>{head}</tr>{cells}</table>')
     body = [
         ("registration", "Registration", section("points", "registration")),
         ("deviation", "Deviation", f'<figure id="fig-map">{svgs["map"]}<figcaption>The smoothing fit of the normal '
@@ -231,6 +262,7 @@ def inspection_html(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
                                                 "contact solve as the design, on the measured profile; Δa is what "
                                                 "the cam's user feels.</figcaption></figure>"
                                                 + section("motion")),
+        ("harmonics", "Harmonics of the deviation", harmonics),
     ]
     nav = "".join(f'<a href="#{sid}">{html.escape(t)}</a>' for sid, t, _ in body)
     text = "\n".join(f'<section id="{sid}"><h2>{html.escape(t)}</h2>\n{b}\n</section>' for sid, t, b in body)
@@ -243,5 +275,5 @@ def inspection_html(report: Mapping[str, Any], svgs: Mapping[str, str]) -> str:
 
 
 __all__ = ["FIGURES", "HTML_NAME", "JSON_NAME", "MOTION_CSV", "POINTS_CSV", "deviation_angle_figure",
-           "deviation_map_figure", "deviations_csv", "figure_svgs", "figures", "inspection_html",
+           "deviation_map_figure", "deviations_csv", "figure_svgs", "figures", "harmonic_columns", "inspection_html",
            "inspection_json_text", "motion_csv", "motion_figure", "rows"]

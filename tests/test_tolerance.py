@@ -303,3 +303,16 @@ def test_cli_bad_input_exit_2_names_the_option_writes_nothing(tmp_path, args, op
     assert r.returncode == 2, r.stdout + r.stderr
     assert option in r.stderr and "Traceback" not in r.stderr
     assert not out.exists()
+
+
+def test_docs_cli_md_names_every_option_of_tolerance():
+    from cam_workbench.commands import parsers
+
+    sub = next(a for a in parsers.parser()._actions if a.dest == "command").choices["tolerance"]
+    text = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    entry = text[text.index("- `tolerance` "):]
+    entry = entry[:entry.index("\n- ")]
+    for action in sub._actions:
+        for opt in action.option_strings:
+            if opt.startswith("--") and opt not in ("--help", "--example", "--set", "--replace", "--output", "--source"):
+                assert f"`{opt}" in entry, opt

@@ -434,7 +434,9 @@ def _inspect(sub: Any) -> None:
                     "bore as datum; robust to outliers, which are reported), give every point's normal deviation "
                     "(+ material outside), the profile-of-a-line verdict (ISO 1101: every point within ±t/2) and what "
                     "the follower does on this part: its s, v, a through a smoothing fit of the deviation and the "
-                    "design's contact solve, the acceleration error at cam.speed_rpm. Prints a table; with -o, writes "
+                    "design's contact solve, the acceleration error at cam.speed_rpm; and the deviation's harmonics over the "
+                    "cam angle, each one's acceleration error to first order and their sum's (the tolerance study's "
+                    "reverse). Prints tables; with -o, writes "
                     "inspection.json, inspection.html, deviations.csv, motion.csv and the figures (SVG; PNG too when "
                     "CairoSVG is installed). Nothing is written on bad input. docs/inspection.md",
         epilog="exit status: 0 inspected (within tolerance, or no --tolerance), 3 an inlier lies outside the "
@@ -450,6 +452,10 @@ def _inspect(sub: Any) -> None:
                         "frame (bore and an angular datum), nothing fitted")
     p.add_argument("--wavelength", type=float, metavar="DEG", default=6.0,
                    help="the shortest wave of the deviation the follower's motion follows, in cam degrees (default 6)")
+    p.add_argument("--acceleration-limit", type=float, metavar="PCT", default=None,
+                   help="allowed acceleration error, percent of the designed peak: the harmonics section adds the "
+                        "tolerance study's t(n) at cam.speed_rpm for each listed harmonic and the tightest "
+                        "(docs/tolerances.md); omitted: no tolerance")
     add_output_arguments(p, None)
     p.set_defaults(command_id="inspect")
 

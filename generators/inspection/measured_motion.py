@@ -34,6 +34,7 @@ from ..curves.bezier import BezierChain, bernstein_basis, bernstein_from_power, 
 from ..pitch.bspline import PeriodicBSpline
 from ..pitch.contact import power_coeffs
 from ..errors import SpecError
+from ..tolerance.sensitivity import moved_design_curve
 from .registration import ProfileProjector
 
 TWO_PI = 2.0 * np.pi
@@ -185,15 +186,23 @@ class MeasuredMotion:
 
 def contact_angles(design: Any, u: np.ndarray) -> np.ndarray:
     """Cam angles [rad, 0..2π) at which the follower touches the profile's points at parameters
-    ``u`` (profile and design curve share the parameter: span k ↔ segment k)."""
+    ``u`` (profile and design curve share the parameter: span k ↔ segment k); the inverse of
+    :func:`contact_parameters`."""
     seg = np.minimum(np.floor(u).astype(int), design.pitch.M - 1)
     return np.deg2rad(design.pitch.cam_angle_at(seg, u - seg))
+
+
+def contact_parameters(design: Any, theta: np.ndarray) -> np.ndarray:
+    """Profile parameters u of the points the follower touches at cam angles θ [rad]: segment +
+    ξ of the design's own contact solve (paper Eq. 13); the inverse of :func:`contact_angles`."""
+    c = design.pitch.contact(np.asarray(theta, dtype=float))
+    return c.seg + c.xi
 
 
 def design_curve_points(projector: ProfileProjector, u: np.ndarray, inset: float,
                         delta: list[np.ndarray] | None) -> np.ndarray:
     """The follower's design curve over the (measured) profile at parameters ``u``: Q_m + r·N_m
-    (``delta`` = [δ, δ′] at u, None: the exact profile)."""
+    (``delta`` = [δ, δ′] at u, None: the exact profile; :func:`moved_design_curve`)."""
     q, dq, d2q = projector.derivatives(u)
     if delta is None:
         return q + inset * projector.side * 1j * dq / np.abs(dq)
@@ -202,9 +211,7 @@ def design_curve_points(projector: ProfileProjector, u: np.ndarray, inset: float
     kappa = (np.conj(dq) * d2q).imag / speed**3
     n = projector.side * 1j * t
     dn = -projector.side * kappa * speed * t
-    qm = q + delta[0] * n
-    dqm = dq + delta[1] * n + delta[0] * dn
-    return qm + inset * projector.side * 1j * dqm / np.abs(dqm)
+    return moved_design_curve(q, dq, n, dn, delta[0], delta[1], inset, projector.side)
 
 
 def split_segments(ctrl: np.ndarray, pieces: int) -> np.ndarray:

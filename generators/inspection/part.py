@@ -1,6 +1,7 @@
 """The inspection of a made cam: measured profile points registered to the design, their normal
-deviations and profile-tolerance verdict, and the follower's motion on the measured part
-(:func:`inspect_design`; the modules of this package say how each is found).
+deviations and profile-tolerance verdict, the follower's motion on the measured part, and the
+deviation's harmonics with the acceleration error each predicts (:func:`inspect_design`; the
+modules of this package say how each is found).
 
 Which profile: a plane cam's ``design.profile`` — a plate cam's outline; for a groove cam the
 profile NURBS is the groove's inner wall and for a conjugate pair the first cam's profile, and the
@@ -15,7 +16,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import SpecError
+from ..tolerance.study import check_acceleration_limit
 from .deviation import Deviations, check_tolerance, profile_verdict
+from .harmonics import DeviationHarmonics, deviation_harmonics
 from .measured_motion import DEFAULT_WAVELENGTH_DEG, MeasuredMotion, contact_angles, measured_motion, smooth_deviation
 from .registration import ProfileProjector, Registration, register
 
@@ -31,6 +34,8 @@ class InspectionResult:
         registration: the pose and the robust fit.
         deviations: signed normal deviations, contact angles, outlier flags.
         motion: the follower's motion on the measured part.
+        harmonics: the smoothed deviation's harmonics over the cam angle and the acceleration error
+            they predict (the tolerance study's reverse), with its tolerance at the user's limit.
         tolerance: the profile tolerance t, or None (no verdict).
     """
 
@@ -40,6 +45,7 @@ class InspectionResult:
     registration: Registration
     deviations: Deviations
     motion: MeasuredMotion
+    harmonics: DeviationHarmonics
     tolerance: float | None
 
     @property
@@ -73,6 +79,7 @@ class InspectionResult:
             "deviation": self.deviations.summary(),
             "tolerance": self.verdict,
             "motion": self.motion.summary(lift_unit),
+            "harmonics": self.harmonics.summary(),
         }
 
 
@@ -100,7 +107,8 @@ def checked_points(points: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
 
 
 def inspect_design(design: Any, points: np.ndarray, *, tolerance: float | None = None, datum: str = "none",
-                   wavelength_deg: float = DEFAULT_WAVELENGTH_DEG) -> InspectionResult:
+                   wavelength_deg: float = DEFAULT_WAVELENGTH_DEG,
+                   acceleration_limit: float | None = None) -> InspectionResult:
     """Inspect a made cam from measured profile points.
 
     Args:
@@ -111,14 +119,19 @@ def inspect_design(design: Any, points: np.ndarray, *, tolerance: float | None =
         tolerance: the profile tolerance t (zone ±t/2), or None for no verdict.
         datum: "none", "bore" or "bore_and_angle".
         wavelength_deg: the shortest wave of the deviation the motion follows [deg].
+        acceleration_limit: the allowed acceleration error as a fraction of the designed peak
+            (0.05 for 5 %): the tolerance study's chart at ``cam.speed_rpm`` joins the harmonics;
+            None: no chart.
 
     Raises:
-        SpecError: no plane profile, bad points, datum, tolerance or wavelength.
+        SpecError: no plane profile, bad points, datum, tolerance, wavelength or acceleration limit.
     """
     refuse_without_profile(design)
     m, z = checked_points(points)
     if tolerance is not None:
         tolerance = check_tolerance(tolerance)
+    if acceleration_limit is not None:
+        check_acceleration_limit(acceleration_limit)
     projector = ProfileProjector(design.profile)
     reg = register(projector, m, datum)
     pr = reg.projection
@@ -127,4 +140,5 @@ def inspect_design(design: Any, points: np.ndarray, *, tolerance: float | None =
     smooth = smooth_deviation(pr.u[keep], pr.distance[keep], projector.lo, projector.period, design.pitch.M,
                               wavelength_deg)
     motion = measured_motion(design, projector, smooth)
-    return InspectionResult(design, np.column_stack([m.real, m.imag]), z, reg, dev, motion, tolerance)
+    harmonics = deviation_harmonics(design, smooth, acceleration_limit)
+    return InspectionResult(design, np.column_stack([m.real, m.imag]), z, reg, dev, motion, harmonics, tolerance)

@@ -189,6 +189,24 @@ def junctions(program: MotionProgram, segments: int) -> np.ndarray:
     return np.concatenate([a + w * np.arange(m) / m for a, w, m in zip(program.starts, program.spans, counts)])
 
 
+def moved_design_curve(p: np.ndarray, dp: np.ndarray, normal: np.ndarray, dnormal: np.ndarray, e: np.ndarray,
+                       de: np.ndarray, inset: float, side: float) -> np.ndarray:
+    """The follower's design curve over a profile moved by e along its outward normal, exactly:
+    P̃ + r·side·i·P̃′/|P̃′| with P̃ = P + e·N, P̃′ = P′ + e′·N + e·N′ (the offset along the moved
+    profile's own normal).
+
+    Args:
+        p, dp: profile points P and derivatives P′ (complex, any parameter).
+        normal, dnormal: the outward unit normal N = side·i·P′/|P′| and its derivative N′.
+        e, de: the normal deviation e [length, outward +] and e′ in the same parameter.
+        inset: r, the design curve's distance from the profile (roller radius; 0 for a knife or face).
+        side: ±1, N's turn from the tangent.
+    """
+    pm = p + e * normal
+    dpm = dp + de * normal + e * dnormal
+    return pm + inset * side * 1j * dpm / np.abs(dpm)
+
+
 def perturbed_lift(design: Any, error: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
                    theta: np.ndarray, segments: int) -> tuple[np.ndarray, np.ndarray]:
     """(nominal lift, lift on the wavy profile) [spec lift units] at cam angles ``theta``, both
@@ -208,13 +226,12 @@ def perturbed_lift(design: Any, error: Callable[[np.ndarray], tuple[np.ndarray, 
     k = program.evaluate(angles)
     speed = np.abs(fol.derivatives(angles, k, 1)[1])
     e, e1 = error(angles)
-    # the wavy profile P̃ = C − r·N + e·N and its tangent P̃′ = t̂·(|C′| − r·κ|C′| + e·κ|C′|) + e′·N
-    p = c + (e - r) * n
-    dp = t * (speed + (e - r) * dn) + e1 * n
-    q = p + r * 1j * fol.sense * dp / np.abs(dp)
+    # the nominal profile P = C − r·N, P′ = t̂·(|C′| − r·κ|C′|), N′ = κ|C′|·t̂
+    q = moved_design_curve(c - r * n, t * (speed - r * dn), n, dn * t, e, e1, r, fol.sense)
     nominal = PitchCurve(solve_closed_ph_spline(c), angles, program, fol)
     wavy = PitchCurve(solve_closed_ph_spline(q), angles, program, fol)
     return nominal.actual_displacement(theta), wavy.actual_displacement(theta)
 
 
-__all__ = ["Sensitivity", "contact_radius", "design_frame", "junctions", "perturbed_lift", "sensitivity"]
+__all__ = ["Sensitivity", "contact_radius", "design_frame", "junctions", "moved_design_curve", "perturbed_lift",
+           "sensitivity"]

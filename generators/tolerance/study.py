@@ -20,6 +20,7 @@ each harmonic and of their sum found in the time domain by differentiating δs =
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -78,10 +79,15 @@ def check_limits(acceleration_limit: float, max_waves: int) -> None:
     Raises:
         SpecError: naming ``acceleration_limit`` or ``max_waves`` and the rule.
     """
+    check_acceleration_limit(acceleration_limit)
+    check_waves(max_waves)
+
+
+def check_acceleration_limit(acceleration_limit: float) -> None:
+    """Raises SpecError naming ``acceleration_limit`` unless it is a fraction in (0, 1]."""
     if not (np.isfinite(acceleration_limit) and 0.0 < acceleration_limit <= 1.0):
         raise SpecError("acceleration_limit", f"must be a fraction in (0, 1] of the designed peak acceleration, "
                         f"got {acceleration_limit!r}")
-    check_waves(max_waves)
 
 
 def check_waves(max_waves: int) -> None:
@@ -111,6 +117,15 @@ class Harmonic:
     @property
     def followed(self) -> bool:
         return self.amplitude < self.contact_loss_amplitude
+
+    def summary(self, designed_peak: float) -> dict[str, Any]:
+        """Its numbers as plain values, the peak error also as a percentage of ``designed_peak``
+        [lift units/s²]; an infinite contact-loss amplitude as None."""
+        amax = self.contact_loss_amplitude
+        return {"waves": self.waves, "amplitude": self.amplitude, "phase_deg": self.phase_deg,
+                "peak_acceleration_error": self.peak_acceleration_error,
+                "percent_of_designed_peak": 100.0 * self.peak_acceleration_error / designed_peak,
+                "contact_loss_amplitude": float(amax) if np.isfinite(amax) else None, "followed": self.followed}
 
 
 @dataclass(frozen=True)
@@ -210,5 +225,5 @@ def measured_error(sens: Sensitivity, theta_deg: np.ndarray, deviation: np.ndarr
                          sens.peak_acceleration)
 
 
-__all__ = ["Harmonic", "MeasuredError", "ToleranceChart", "check_limits", "check_waves", "measured_error", "resample",
+__all__ = ["Harmonic", "MeasuredError", "ToleranceChart", "check_acceleration_limit", "check_limits", "check_waves", "measured_error", "resample",
            "tolerance_chart"]
