@@ -66,8 +66,10 @@ def parse_value(text: str, field: str = "--set") -> Any:
     return text.strip().strip('"')
 
 
-def spec_from_args(args: argparse.Namespace) -> CamSpec:
-    """The spec named on the command line (or the default) with ``--set`` overrides applied."""
+def spec_from_args(args: argparse.Namespace, options: dict[str, Any] | None = None) -> CamSpec:
+    """The spec named on the command line (or the default) with ``--set`` overrides applied, and
+    then the command's own ``options`` (dotted field → value, e.g. ``gcode --mode``), in one change:
+    the spec's rules see the combination asked for, not a half-made one."""
     if args.spec and args.example:
         raise SpecError("--example", "give a SPEC file or --example, not both")
     spec = load_spec(args.spec) if args.spec else example_spec(args.example or "default")
@@ -78,6 +80,7 @@ def spec_from_args(args: argparse.Namespace) -> CamSpec:
             # the message names --set: there is no field to name (and an odd item is no field name)
             raise SpecError("--set", f"needs FIELD=VALUE, e.g. cam.base_radius=30, got {item!r}")
         changes[key.strip()] = parse_value(value, key.strip())
+    changes.update(options or {})
     return spec.replace(**changes) if changes else spec
 
 

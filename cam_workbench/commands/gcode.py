@@ -17,14 +17,13 @@ from .common import design_for, spec_from_args
 
 
 def run(args: argparse.Namespace) -> int:
-    spec = spec_from_args(args)
-    if args.mode in ("xy", "xc", "wire_edm"):
-        spec = spec.replace(**{"machining.program": args.mode})
-    # the options override the spec's fields, checked by their declarations (a bad one names the field)
-    overrides = {f"machining.{name}": value for name, value in
-                 (("dialect", args.dialect), ("compensation", args.compensation)) if value is not None}
-    if overrides:
-        spec = spec.replace(**overrides)
+    # the options override the spec's fields (and --set's), checked by their declarations (a bad one names
+    # the field) together with the rest: `--mode xy --set machining.compensation=controller` on an XC spec
+    # is an XY program under compensation, not a refused XC one
+    options = {"machining.program": args.mode} if args.mode in ("xy", "xc", "wire_edm") else {}
+    options.update({f"machining.{name}": value for name, value in
+                    (("dialect", args.dialect), ("compensation", args.compensation)) if value is not None})
+    spec = spec_from_args(args, options)
     if args.output:
         check_output_file(args.output, digest=spec_digest(spec))
     # the same machining stage `build` runs: cam.nc and commands.csv are these texts
