@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from cam_workbench.generators.checks.design import (StateModel, check_samples, constraint_arrays, envelope_points,
-                                      hertz_stress, run_checks)
+                                                    run_checks)
+from cam_workbench.generators.followers.load import hertz_stress
 from cam_workbench.generators.spec.examples import PAPER_SPEC_DICT, example_spec
 from cam_workbench.generators.spec import CamSpec, load_spec
 
