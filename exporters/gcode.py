@@ -40,11 +40,11 @@ from cam_workbench.generators.machining.toolpath import (BLEND_SHARE, ContourPat
 from .gcode_dialects import LINUXCNC, Dialect, dialect_of, fmt
 
 MODES = ("xy", "xc")
-_DECIMALS = {"mm": 4, "in": 5}
-_UNITS_WORD = LINUXCNC.units
+GCODE_DECIMALS = {"mm": 4, "in": 5}
+UNITS_WORD = LINUXCNC.units
 
 
-class _Writer:
+class GcodeWriter:
     """Collects blocks in ``dialect`` (its opening and closing lines, comments and numbers);
     numbers them when asked (N10, N20, …); ``program_number``: the O word of a dialect that has one."""
 
@@ -72,17 +72,17 @@ class _Writer:
         return "\n".join(self.lines + (["%"] if self.dialect.tape_marks else [])) + "\n"
 
 
-def writer_for(plan: MachiningPlan) -> _Writer:
+def writer_for(plan: MachiningPlan) -> GcodeWriter:
     """A writer in ``plan``'s dialect (its line numbers and program number)."""
-    return _Writer(plan.line_numbers, dialect_of(plan.dialect), plan.program_number)
+    return GcodeWriter(plan.line_numbers, dialect_of(plan.dialect), plan.program_number)
 
 
-def _exact_word(design: CamDesign) -> str:
+def exact_word(design: CamDesign) -> str:
     """ "exact " where the tool-centre path is the exact offset of a PH pitch curve, else "". """
     return "exact " if design.pitch.exact else ""
 
 
-def _cam_comments(w: _Writer, design: CamDesign, plan: MachiningPlan, mode_text: str,
+def cam_comments(w: GcodeWriter, design: CamDesign, plan: MachiningPlan, mode_text: str,
                   summary: Mapping[str, Any] | None = None, tool_text: str | None = None,
                   which: str | None = None, compensation_text: str = "no cutter compensation") -> None:
     spec = design.spec
@@ -141,11 +141,11 @@ def _radius_text(spec: Any, summary: Mapping[str, Any] | None) -> str:
     return base
 
 
-def _header(w: _Writer, plan: MachiningPlan) -> None:
+def program_header(w: GcodeWriter, plan: MachiningPlan) -> None:
     dia = w.dialect
     w.block(f"{dia.units[plan.units]} {dia.modal}")
     w.block(plan.work_offset)
-    blend = dia.blending(BLEND_SHARE * plan.chord_tolerance, _DECIMALS[plan.units] + 1)
+    blend = dia.blending(BLEND_SHARE * plan.chord_tolerance, GCODE_DECIMALS[plan.units] + 1)
     if blend is not None:
         w.block(blend)
     for block in dia.tool(plan.tool_number):
@@ -155,7 +155,7 @@ def _header(w: _Writer, plan: MachiningPlan) -> None:
         w.block("M8")
 
 
-def _footer(w: _Writer, plan: MachiningPlan) -> None:
+def program_footer(w: GcodeWriter, plan: MachiningPlan) -> None:
     """After the last pass (which ends at the safe height): coolant and spindle off, end."""
     if plan.coolant:
         w.block("M9")
@@ -163,23 +163,23 @@ def _footer(w: _Writer, plan: MachiningPlan) -> None:
     w.block("M30")
 
 
-def _xy(w: _Writer, p: complex, d: int) -> str:
+def xy_words(w: GcodeWriter, p: complex, d: int) -> str:
     return f"X{w.num(p.real, d)} Y{w.num(p.imag, d)}"
 
 
-def _move(w: _Writer, path: Path2D, i: int, d: int) -> str:
+def move_block(w: GcodeWriter, path: Path2D, i: int, d: int) -> str:
     """One G1/G2/G3 block for element ``i`` (I, J incremental from its start, as every dialect
     here takes them: LinuxCNC under G91.1, Fanuc and Sinumerik by default)."""
-    xy = _xy(w, path.end[i], d)
+    xy = xy_words(w, path.end[i], d)
     if not path.is_arc[i]:
         return f"G1 {xy}"
     ij = path.center[i] - path.start[i]
     return f"{'G3' if path.ccw[i] else 'G2'} {xy} I{w.num(ij.real, d)} J{w.num(ij.imag, d)}"
 
 
-def _moves(w: _Writer, path: Path2D, d: int) -> Iterable[str]:
+def move_blocks(w: GcodeWriter, path: Path2D, d: int) -> Iterable[str]:
     for i in range(path.n):
-        yield _move(w, path, i, d)
+        yield move_block(w, path, i, d)
 
 
 def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *,
@@ -188,33 +188,33 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
     report.json) adds its key numbers and checks verdict to the header comments; ``which``: a
     comment saying which cam of a body this is (a conjugate pair's)."""
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
-    _cam_comments(w, design, plan, "XY contour milling", summary, which=which)
+    cam_comments(w, design, plan, "XY contour milling", summary, which=which)
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"path: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], "
-              f"max distance from the {_exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
+              f"max distance from the {exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
               f"{path.tolerance:g} {u}")
     w.comment(f"{plan.milling} milling, {'clockwise' if path.clockwise else 'counter-clockwise'}, "
               f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
               f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
-    _header(w, plan)
+    program_header(w, plan)
     safe = w.num(plan.safe_height, d)
     start = path.lead_in.start[0]
     w.block(f"G0 Z{safe}")
     for p, z in enumerate(path.z_levels, start=1):
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G0 {_xy(w, start, d)}")
+        w.block(f"G0 {xy_words(w, start, d)}")
         w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("lead-in")
-        w.block(_move(w, path.lead_in, 0, d) + f" F{w.num(plan.feed_rate, 3)}")
+        w.block(move_block(w, path.lead_in, 0, d) + f" F{w.num(plan.feed_rate, 3)}")
         w.comment("contour")
-        for line in _moves(w, path.loop, d):
+        for line in move_blocks(w, path.loop, d):
             w.block(line)
         w.comment("lead-out")
-        w.block(_move(w, path.lead_out, 0, d))
+        w.block(move_block(w, path.lead_out, 0, d))
         w.block(f"G0 Z{safe}")
-    _footer(w, plan)
+    program_footer(w, plan)
     return w.text()
 
 
@@ -225,11 +225,11 @@ def compensated_contour_program(design: CamDesign, plan: MachiningPlan, path: Pa
     approach line, the tangent lead-in arc, the contour, the lead-out arc, G40 along the exit
     line; ``summary`` and ``which`` as for :func:`contour_program`."""
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
     dia = w.dialect
     comp = dia.compensation(path.side, plan.tool_number)
-    _cam_comments(w, design, plan, "XY contour milling", summary, which=which,
+    cam_comments(w, design, plan, "XY contour milling", summary, which=which,
                   tool_text="the program runs on the part contour [the cam profile]",
                   compensation_text=f"cutter compensation {comp} [tool {path.side} of the path]: the control's "
                                     f"tool table must hold tool {plan.tool_number}'s radius R = "
@@ -242,26 +242,26 @@ def compensated_contour_program(design: CamDesign, plan: MachiningPlan, path: Pa
               f"angle {centre.entry_angle_deg:.2f} deg: approach line and lead arc of radius "
               f"{plan.lead_radius + plan.tool_radius:g} {u} on the part [tool centre on radius {plan.lead_radius:g} "
               f"{u}]; {plan.passes} pass[es] to depth {plan.depth:g} {u}")
-    _header(w, plan)
+    program_header(w, plan)
     safe = w.num(plan.safe_height, d)
     w.block(f"G0 Z{safe}")
     for p, z in enumerate(centre.z_levels, start=1):
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G0 {_xy(w, path.approach.start[0], d)}")
+        w.block(f"G0 {xy_words(w, path.approach.start[0], d)}")
         w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("approach, cutter compensation on")
-        w.block(f"{comp} {_move(w, path.approach, 0, d)} F{w.num(plan.feed_rate, 3)}")
+        w.block(f"{comp} {move_block(w, path.approach, 0, d)} F{w.num(plan.feed_rate, 3)}")
         w.comment("lead-in")
-        w.block(_move(w, path.lead_in, 0, d))
+        w.block(move_block(w, path.lead_in, 0, d))
         w.comment("contour")
-        for line in _moves(w, path.loop, d):
+        for line in move_blocks(w, path.loop, d):
             w.block(line)
         w.comment("lead-out")
-        w.block(_move(w, path.lead_out, 0, d))
+        w.block(move_block(w, path.lead_out, 0, d))
         w.comment("exit, cutter compensation off")
-        w.block(f"G40 {_move(w, path.exit, 0, d)}")
+        w.block(f"G40 {move_block(w, path.exit, 0, d)}")
         w.block(f"G0 Z{safe}")
-    _footer(w, plan)
+    program_footer(w, plan)
     return w.text()
 
 
@@ -294,32 +294,32 @@ def groove_program(design: CamDesign, plan: MachiningPlan, path: Any, *,
         raise SpecError("machining.compensation", '"controller" (G41/G42) is for an outside contour; a groove is '
                         'milled in passes on tool-centre paths between its walls: use "centre"')
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
-    _cam_comments(w, design, plan, "XY groove milling", summary,
+    cam_comments(w, design, plan, "XY groove milling", summary,
                   tool_text="tool centres on exact offsets of the pitch curve [the passes below]")
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"groove {path.groove_width:g} {u} wide, {path.depth:g} {u} deep; tool radius {plan.tool_radius:g} {u}; "
               f"{len(path.passes)} passes per level at tool-centre offsets "
               + ", ".join(fmt(p.offset, d) for p in path.passes) + f" {u} from the pitch curve")
-    w.comment(f"{kind}, max distance from the {_exact_word(design)}tool-centre paths {path.max_distance:.3g} {u}, "
+    w.comment(f"{kind}, max distance from the {exact_word(design)}tool-centre paths {path.max_distance:.3g} {u}, "
               f"tolerance {path.tolerance:g} {u}; {plan.milling} milling; plunge (centre-cutting end mill) at "
               f"cam angle {path.entry_angle_deg:.2f} deg; {len(path.z_levels)} level[s] to depth {plan.depth:g} {u}")
-    _header(w, plan)
+    program_header(w, plan)
     safe = w.num(plan.safe_height, d)
     w.block(f"G0 Z{safe}")
     for level, z in enumerate(path.z_levels, start=1):
         for k, p in enumerate(path.passes, start=1):
             start = p.loop.start[0]
             w.comment(f"level {level}, pass {k}: {p.role.replace('_', ' ')} [offset {fmt(p.offset, d)}]")
-            w.block(f"G0 {_xy(w, start, d)}")
+            w.block(f"G0 {xy_words(w, start, d)}")
             w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
-            lines = list(_moves(w, p.loop, d))
+            lines = list(move_blocks(w, p.loop, d))
             w.block(lines[0] + f" F{w.num(plan.feed_rate, 3)}")
             for line in lines[1:]:
                 w.block(line)
             w.block(f"G0 Z{safe}")
-    _footer(w, plan)
+    program_footer(w, plan)
     return w.text()
 
 
@@ -328,13 +328,13 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
     """The XC rotary program (text): G93 inverse-time blocks, one per interpolator command;
     ``summary`` and ``which`` as for :func:`contour_program`."""
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
-    _cam_comments(w, design, plan, "XC rotary machining", summary, which=which)
+    cam_comments(w, design, plan, "XC rotary machining", summary, which=which)
     cmds = path.commands
     w.comment(f"interpolator: {cmds.n} commands per revolution, dt = {plan.sample_period:g} s, "
               f"{plan.rotary_speed_rpm:g} rpm, {cmds.step_deg:.4g} deg per block; blocks within "
-              f"{path.max_deviation:.3g} {u} of the {_exact_word(design)}tool-centre path")
+              f"{path.max_deviation:.3g} {u} of the {exact_word(design)}tool-centre path")
     line = "the follower line" if plan.rotary_line == "follower" else "a line through the C axis"
     w.comment(f"machine: X along {line} [away from the C axis], Y = {fmt(path.y, d)}, "
               "C positive = cam counter-clockwise seen from +Z; at C0 the cam's +Y lies along +X")
@@ -342,7 +342,7 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
         w.comment("tool radius = roller radius: X = s0 + s_actual, the follower's own position")
     w.comment(f"G93 inverse time: F = 1/block time [1/min] so each block takes dt; "
               f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
-    _header(w, plan)
+    program_header(w, plan)
     safe = w.num(plan.safe_height, d)
     x_out = path.x[0] + plan.lead_radius
     w.block(f"G0 Z{safe}")
@@ -367,7 +367,7 @@ def rotary_program(design: CamDesign, plan: MachiningPlan, path: RotaryPath, *,
         w.comment("retract")
         w.block(f"G1 X{w.num(x_out, d)} F{w.num(plan.plunge_rate, 3)}")
         w.block(f"G0 Z{safe}")
-    _footer(w, plan)
+    program_footer(w, plan)
     return w.text()
 
 

@@ -48,7 +48,7 @@ from cam_workbench.generators.errors import SolveError, SpecError
 from cam_workbench.generators.machining.toolpath import BLEND_SHARE, FLAT_ARC, reverse_path, straighten_flat_arcs
 
 from .atomic import write_text_atomic
-from .gcode import _Writer, fmt
+from .gcode import GcodeWriter, fmt
 
 Array = np.ndarray
 #: decimals of the written coordinates [mm]
@@ -446,7 +446,7 @@ def _program_text(design: ParallelDesign, body: IndexerBody, p: IndexerProgram, 
     beta = math.degrees(float(ix.index_angle))
     loop = p.loop
     arcs = int(np.count_nonzero(loop.is_arc))
-    w = _Writer(False)
+    w = GcodeWriter(False)
     w.comment(f"cam_workbench {__version__}: parallel indexer cam {p.cam} of {n_c}, XY finishing contour")
     w.comment(f"indexer: N = {int(ix.stations)} stations, beta = {beta:.6g} deg index angle, law {ix.law}, "
               f"C = {float(ix.centre_distance):.6g} mm, R_p = {float(ix.pitch_radius):.6g} mm, r_r = {rr:.6g} mm, "

@@ -21,7 +21,8 @@ from cam_workbench.generators.machining.cutting_time import ContourTime, contour
 from cam_workbench.generators.machining.roughing import RoughingPath, roughing_path
 from cam_workbench.generators.machining.toolpath import ContourPath, contour_path
 
-from .gcode import _DECIMALS, _cam_comments, _exact_word, _footer, _header, _move, _moves, _xy, fmt, writer_for
+from .gcode import (GCODE_DECIMALS, cam_comments, exact_word, fmt, move_block, move_blocks, program_footer,
+                    program_header, writer_for, xy_words)
 
 
 def roughing_program(design: CamDesign, plan: MachiningPlan, rough: RoughingPath, path: ContourPath,
@@ -30,60 +31,60 @@ def roughing_program(design: CamDesign, plan: MachiningPlan, rough: RoughingPath
     """The roughing-then-finishing XY program (text); ``times``: (roughing, whole program) time
     estimates; ``summary`` and ``which`` as for :func:`cam_workbench.exporters.gcode.contour_program`."""
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
-    _cam_comments(w, design, plan, "XY roughing from a round blank, then contour milling", summary, which=which)
+    cam_comments(w, design, plan, "XY roughing from a round blank, then contour milling", summary, which=which)
     rough_t, whole_t = times
     w.comment(f"blank: diameter {2 * rough.blank_radius:g} {u} on the cam axis; roughing "
               f"{len(rough.passes)} concentric pass[es] per level, step-over {rough.stepover:g} {u}, leaving "
               f"{rough.allowance:g} {u} on the profile")
     w.comment(f"roughing tool centre from {fmt(rough.passes[0].offset, d)} to {fmt(rough.passes[-1].offset, d)} {u} "
               "from the profile")
-    w.comment(f"roughing passes: G01 chords within {rough.tolerance:g} {u} of the {_exact_word(design)}offsets, "
+    w.comment(f"roughing passes: G01 chords within {rough.tolerance:g} {u} of the {exact_word(design)}offsets, "
               f"G02/G03 on the circle r = {fmt(rough.blank_radius + plan.tool_radius, d)} {u} where the tool only "
               f"touches the blank; plunge outside the blank at {rough.entry_angle_deg:.2f} deg, step-in along that ray")
     kind = "G02/G03 biarcs" if plan.contour == "arcs" else "G01 chords"
     w.comment(f"finishing contour: {path.loop.n} moves as {kind} [{path.n_arcs} arcs, {path.n_lines} lines], max "
-              f"distance from the {_exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
+              f"distance from the {exact_word(design)}tool-centre path {path.max_distance:.3g} {u}, tolerance "
               f"{path.tolerance:g} {u}")
     w.comment(f"{plan.milling} milling, {'clockwise' if path.clockwise else 'counter-clockwise'}, "
               f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
               f"{plan.passes} level[s] to depth {plan.depth:g} {u}")
     w.comment(f"time estimate: roughing {rough_t.time:.1f} s, whole program {whole_t.time:.1f} s "
               "[feed moves and blocks; rapids excluded]")
-    _header(w, plan)
+    program_header(w, plan)
     safe = w.num(plan.safe_height, d)
     feed = f" F{w.num(plan.feed_rate, 3)}"
     w.block(f"G0 Z{safe}")
     levels = rough.z_levels.shape[0]
     for level, z in enumerate(rough.z_levels, start=1):
         w.comment(f"roughing level {level} of {levels} at Z{fmt(z, d)}")
-        w.block(f"G0 {_xy(w, rough.approach, d)}")
+        w.block(f"G0 {xy_words(w, rough.approach, d)}")
         w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("in-feed")
-        w.block(f"G1 {_xy(w, rough.passes[0].loop.start[0], d)}{feed}")
+        w.block(f"G1 {xy_words(w, rough.passes[0].loop.start[0], d)}{feed}")
         for k, p in enumerate(rough.passes):
             w.comment(f"rough pass {k + 1} of {len(rough.passes)}: {fmt(p.offset, d)} {u} from the profile")
-            for line in _moves(w, p.loop, d):
+            for line in move_blocks(w, p.loop, d):
                 w.block(line)
             if k + 1 < len(rough.passes):
                 w.comment("step-in")
-                w.block(f"G1 {_xy(w, rough.passes[k + 1].loop.start[0], d)}")
+                w.block(f"G1 {xy_words(w, rough.passes[k + 1].loop.start[0], d)}")
         w.block(f"G0 Z{safe}")
     start = path.lead_in.start[0]
     for p, z in enumerate(path.z_levels, start=1):
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G0 {_xy(w, start, d)}")
+        w.block(f"G0 {xy_words(w, start, d)}")
         w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
         w.comment("lead-in")
-        w.block(_move(w, path.lead_in, 0, d) + feed)
+        w.block(move_block(w, path.lead_in, 0, d) + feed)
         w.comment("contour")
-        for line in _moves(w, path.loop, d):
+        for line in move_blocks(w, path.loop, d):
             w.block(line)
         w.comment("lead-out")
-        w.block(_move(w, path.lead_out, 0, d))
+        w.block(move_block(w, path.lead_out, 0, d))
         w.block(f"G0 Z{safe}")
-    _footer(w, plan)
+    program_footer(w, plan)
     return w.text()
 
 

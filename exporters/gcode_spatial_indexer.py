@@ -144,7 +144,7 @@ from cam_workbench.generators.errors import SolveError, SpecError
 from cam_workbench.generators.machining.toolpath import BLEND_SHARE
 
 from .atomic import write_text_atomic
-from .gcode import _Writer, fmt
+from .gcode import GcodeWriter, fmt
 
 Array = np.ndarray
 TWO_PI = 2.0 * math.pi
@@ -635,7 +635,7 @@ def spatial_program(design: SpatialDesign, *, tool_radius: float | None = None, 
     return SpatialProgram(**{**prog.__dict__, "text": text, "plunges": plunges, "lines": text.count("\n")})
 
 
-class _Comments(_Writer):
+class _Comments(GcodeWriter):
     """A writer whose comments longer than _COMMENT_WIDTH continue on further comment lines
     (split between words)."""
 

@@ -20,7 +20,7 @@ from cam_workbench.generators.machining import MachiningPlan
 from cam_workbench.generators.machining.toolpath import BLEND_SHARE
 from cam_workbench.generators.machining.wire_edm import WireEdmPath
 
-from .gcode import _DECIMALS, _cam_comments, _exact_word, _moves, _xy, fmt, writer_for
+from .gcode import GCODE_DECIMALS, cam_comments, exact_word, fmt, move_blocks, writer_for, xy_words
 
 
 def wire_edm_program(design: CamDesign, plan: MachiningPlan, path: WireEdmPath, *,
@@ -28,14 +28,14 @@ def wire_edm_program(design: CamDesign, plan: MachiningPlan, path: WireEdmPath, 
     """The wire EDM program (text); ``summary`` as for
     :func:`cam_workbench.exporters.gcode.contour_program`."""
     u = plan.units
-    d = _DECIMALS[u]
+    d = GCODE_DECIMALS[u]
     w = writer_for(plan)
     controller = path.compensation == "controller"
     final = path.final_offset
     comp_text = (f"G41.1 D{fmt(2 * final, d + 1)}: the control offsets the part contour by the wire radius + "
                  "spark gap" if controller else "no cutter compensation [the program carries the wire path]")
     wire = dataclasses.replace(plan, tool_radius=path.wire_radius)     # the header's "tool" is the wire
-    _cam_comments(w, design, wire, "2-axis wire EDM", summary,
+    cam_comments(w, design, wire, "2-axis wire EDM", summary,
                   tool_text=(f"the wire, spark gap {path.spark_gap:g} {u}: "
                              f"wire centre {fmt(final, d + 1)} {u} from the profile"),
                   compensation_text=comp_text)
@@ -44,7 +44,7 @@ def wire_edm_program(design: CamDesign, plan: MachiningPlan, path: WireEdmPath, 
               f"{path.skim_stock:g} {u} closer and reversing direction, the tab at "
               f"{fmt(path.cuts[-1].offset, d + 1)} {u}")
     w.comment(f"{'part contour' if controller else 'wire path'}: G02/G03 biarcs or G01 chords within "
-              f"{path.max_distance:.3g} {u} of the {_exact_word(design)}offsets, tolerance {path.tolerance:g} {u}")
+              f"{path.max_distance:.3g} {u} of the {exact_word(design)}offsets, tolerance {path.tolerance:g} {u}")
     w.comment(f"start hole at X{fmt(path.start_hole.real, d)} Y{fmt(path.start_hole.imag, d)}; entry at cam angle "
               f"{path.entry_angle_deg:.2f} deg; main cut clockwise; holding tab {path.tab_width:g} {u} along the wire "
               "path, cut last")
@@ -56,11 +56,11 @@ def wire_edm_program(design: CamDesign, plan: MachiningPlan, path: WireEdmPath, 
     if blend is not None:
         w.block(blend)
     w.comment("start hole: thread the wire here")
-    w.block(f"G0 {_xy(w, path.start_hole, d)}")
+    w.block(f"G0 {xy_words(w, path.start_hole, d)}")
     w.block("M8")
     w.block("M3")
     w.comment("lead-in")
-    lead = f"G1 {_xy(w, path.entry, d)} F{w.num(plan.feed_rate, 3)}"
+    lead = f"G1 {xy_words(w, path.entry, d)} F{w.num(plan.feed_rate, 3)}"
     w.block(f"G41.1 D{w.num(2 * final, d + 1)} {lead}" if controller else lead)
     for cut in path.cuts:
         if cut.role == "tab":
@@ -68,9 +68,9 @@ def wire_edm_program(design: CamDesign, plan: MachiningPlan, path: WireEdmPath, 
             w.block("M0")
         if cut.link is not None:
             w.comment(f"onto the {cut.role} path")
-            w.block(f"G1 {_xy(w, cut.link, d)}")
+            w.block(f"G1 {xy_words(w, cut.link, d)}")
         w.comment("tab" if cut.role == "tab" else f"{cut.role} cut" if cut.role == "main" else cut.role)
-        for line in _moves(w, cut.moves, d):
+        for line in move_blocks(w, cut.moves, d):
             w.block(line)
     if controller:
         w.block("G40")

@@ -16,7 +16,7 @@ from cam_workbench.generators.machining.cylindrical import cylindrical_path
 from cam_workbench.generators.machining.toolpath import BLEND_SHARE
 
 from .atomic import OutputSet
-from .gcode import _DECIMALS, _UNITS_WORD, _Writer, fmt
+from .gcode import GCODE_DECIMALS, UNITS_WORD, GcodeWriter, fmt
 from .machining_outputs import FILES, PROGRAMS
 
 
@@ -63,8 +63,8 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
     spec = design.spec
     lay = design.layout
     u = path.units
-    d = _DECIMALS[u]
-    w = _Writer(path.line_numbers)
+    d = GCODE_DECIMALS[u]
+    w = GcodeWriter(path.line_numbers)
     w.comment(f"cam_workbench {__version__}: cylindrical cam, 4-axis X-Z-A groove milling")
     w.comment(f"cylinder: pitch radius {lay.pitch_radius:g} {u}, outer radius {lay.outer_radius:g} {u}, length "
               f"{lay.length:g} {u}, {spec.cam.direction}; groove {path.groove_width:g} {u} wide to radius "
@@ -89,7 +89,7 @@ def cylindrical_program(design: Any, path: Any, *, summary: Mapping[str, Any] | 
         we = summary["body"].get("wall_error")
         if isinstance(we, Mapping):
             w.comment(f"solid: wall faces within {we['value']:.3g} {u} of the exact walls")
-    w.block(f"{_UNITS_WORD[u]} G90 G17 G40 G49 G80 G94")
+    w.block(f"{UNITS_WORD[u]} G90 G17 G40 G49 G80 G94")
     w.block(path.work_offset)
     w.block(f"G64 P{fmt(BLEND_SHARE * path.chord_tolerance, d + 1)}")
     w.block(f"T{path.tool_number} M6")

@@ -57,7 +57,7 @@ from cam_workbench.generators.spec.machining import MachiningSection
 from cam_workbench.generators.spec.params import params_of
 
 from .atomic import OutputSet
-from .gcode import _Writer
+from .gcode import GcodeWriter
 from .gcode_spatial_indexer import LAMBDAS, SpatialProgram, spatial_program
 from .machining_outputs import FILES, PROGRAMS
 
@@ -154,7 +154,7 @@ def report_comments(summary: Mapping[str, Any] | None) -> list[str]:
     """The header's comment lines quoting report.json (``summary``'s numbers only): the pressure
     angle [deg] with its limit, the checks' verdict and the spec digest; without ``summary``, that
     the checks are not stated."""
-    w = _Writer(False)
+    w = GcodeWriter(False)
     if summary is None:
         w.comment("design checks: not stated [program written without the report summary]")
         return w.lines[1:]

@@ -192,7 +192,7 @@ def entry_junction(pitch: PitchCurve) -> int:
     return int(np.argmin(d))
 
 
-def _points_inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+def points_inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     """Crossing-number test of points (K,) against a closed polygon (N,) (complex)."""
     a = polygon[None, :]
     b = np.roll(polygon, -1)[None, :]
@@ -348,7 +348,7 @@ def check_lead_arcs(curve: NurbsCurve, centre: complex, r: float, entry: complex
     phi = np.deg2rad(np.linspace(2.0, 90.0, 45))
     pts = centre + r * np.exp(1j * np.concatenate([a_entry - sgn * phi, a_entry + sgn * phi]))
     _, poly = curve.sample(64)
-    inside = _points_inside(pts, poly[:-1, 0] + 1j * poly[:-1, 1])
+    inside = points_inside(pts, poly[:-1, 0] + 1j * poly[:-1, 1])
     if inside.any():
         raise SpecError("machining.lead_radius",
                         f"the lead-in/lead-out arcs of radius {r:g} cut into the cam contour; use a smaller "

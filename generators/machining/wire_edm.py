@@ -37,7 +37,7 @@ from ..cam_design import CamDesign
 from ..curves.approx import Path2D
 from ..errors import SpecError, fmt_apart
 from .plan import MachiningPlan, smallest_concave_profile_radius
-from .toolpath import _points_inside, entry_junction, fit_contour, reverse_path, tool_centre_curve
+from .toolpath import entry_junction, fit_contour, points_inside, reverse_path, tool_centre_curve
 
 #: defaults per unit system
 WIRE_DEFAULTS = {"mm": {"wire_diameter": 0.25, "spark_gap": 0.02, "skim_stock": 0.03, "tab_width": 2.0},
@@ -219,7 +219,7 @@ def _check_lead_in(loop: Path2D, start: complex, entry: complex) -> None:
     """
     t = np.linspace(0.0, 0.98, 50)
     pts = start + (entry - start) * t
-    inside = _points_inside(pts, loop.sample(8))
+    inside = points_inside(pts, loop.sample(8))
     if inside.any():
         raise SpecError("machining.start_hole", "the straight lead-in from the start hole crosses the cam's wire "
                                                 "path; a smaller machining.start_hole")
