@@ -199,9 +199,17 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
               f"entry at cam angle {path.entry_angle_deg:.2f} deg on lead arcs of radius {plan.lead_radius:g} {u}; "
               f"{plan.passes} pass[es] to depth {plan.depth:g} {u}")
     program_header(w, plan)
+    w.block(f"G0 Z{w.num(plan.safe_height, d)}")
+    finishing_passes(w, plan, path, d)
+    program_footer(w, plan)
+    return w.text()
+
+
+def finishing_passes(w: GcodeWriter, plan: MachiningPlan, path: ContourPath, d: int) -> None:
+    """The tool-centre contour's depth passes: at each Z level a rapid to the lead-in's start, a
+    plunge, the lead-in arc, the contour, the lead-out arc and a rapid up to the safe height."""
     safe = w.num(plan.safe_height, d)
     start = path.lead_in.start[0]
-    w.block(f"G0 Z{safe}")
     for p, z in enumerate(path.z_levels, start=1):
         w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
         w.block(f"G0 {xy_words(w, start, d)}")
@@ -214,8 +222,6 @@ def contour_program(design: CamDesign, plan: MachiningPlan, path: ContourPath, *
         w.comment("lead-out")
         w.block(move_block(w, path.lead_out, 0, d))
         w.block(f"G0 Z{safe}")
-    program_footer(w, plan)
-    return w.text()
 
 
 def compensated_contour_program(design: CamDesign, plan: MachiningPlan, path: PartContourPath, *,

@@ -21,7 +21,7 @@ from cam_workbench.generators.machining.cutting_time import ContourTime, contour
 from cam_workbench.generators.machining.roughing import RoughingPath, roughing_path
 from cam_workbench.generators.machining.toolpath import ContourPath, contour_path
 
-from .gcode import (GCODE_DECIMALS, cam_comments, exact_word, fmt, move_block, move_blocks, program_footer,
+from .gcode import (GCODE_DECIMALS, cam_comments, exact_word, finishing_passes, fmt, move_blocks, program_footer,
                     program_header, writer_for, xy_words)
 
 
@@ -71,19 +71,7 @@ def roughing_program(design: CamDesign, plan: MachiningPlan, rough: RoughingPath
                 w.comment("step-in")
                 w.block(f"G1 {xy_words(w, rough.passes[k + 1].loop.start[0], d)}")
         w.block(f"G0 Z{safe}")
-    start = path.lead_in.start[0]
-    for p, z in enumerate(path.z_levels, start=1):
-        w.comment(f"pass {p} of {plan.passes} at Z{fmt(z, d)}")
-        w.block(f"G0 {xy_words(w, start, d)}")
-        w.block(f"G1 Z{w.num(z, d)} F{w.num(plan.plunge_rate, 3)}")
-        w.comment("lead-in")
-        w.block(move_block(w, path.lead_in, 0, d) + feed)
-        w.comment("contour")
-        for line in move_blocks(w, path.loop, d):
-            w.block(line)
-        w.comment("lead-out")
-        w.block(move_block(w, path.lead_out, 0, d))
-        w.block(f"G0 Z{safe}")
+    finishing_passes(w, plan, path, d)
     program_footer(w, plan)
     return w.text()
 

@@ -37,6 +37,23 @@ def paper_case_dict(case: int, knife: bool = True) -> dict:
     return d
 
 
+def paper_inch_dict(machining: dict) -> dict:
+    """The paper's Table 1 case-2 roller cam in inches (base radius, offset and lifts ÷ 25.4, a 0.4 in
+    thick cam, a 0.2 in roller) with the ``[machining]`` table ``machining``."""
+    d = paper_case_dict(2, knife=False)
+    scale = 1 / 25.4
+    d["units"] = "in"
+    d["cam"]["base_radius"] *= scale
+    d["cam"]["thickness"] = 0.4
+    d["follower"]["offset"] *= scale
+    d["follower"]["roller_radius"] = 0.2
+    for m in d["motion"]:
+        if "lift" in m:
+            m["lift"] *= scale
+    d["machining"] = dict(machining)
+    return d
+
+
 def paper_case(case: int, knife: bool = True) -> CamSpec:
     return CamSpec.from_dict(paper_case_dict(case, knife))
 

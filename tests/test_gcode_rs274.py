@@ -183,20 +183,10 @@ def test_xc_program_through_rs274(tmp_path, case):
 
 def test_inch_program_prints_inches(tmp_path):
     """A G20 program: rs274 works (and prints) in inches; the path matches the inch cam."""
-    from .conftest import paper_case_dict
+    from .conftest import paper_inch_dict
     from cam_workbench.generators.spec import CamSpec
 
-    d = paper_case_dict(2, knife=False)
-    scale = 1 / 25.4
-    d["units"] = "in"
-    d["cam"]["base_radius"] *= scale
-    d["cam"]["thickness"] = 0.4
-    d["follower"]["offset"] *= scale
-    d["follower"]["roller_radius"] = 0.2
-    for m in d["motion"]:
-        if "lift" in m:
-            m["lift"] *= scale
-    d["machining"] = {"chord_tolerance": 0.002, "contour": "lines"}
+    d = paper_inch_dict({"chord_tolerance": 0.002, "contour": "lines"})
     design = design_cam(CamSpec.from_dict(d))
     plan = machining_plan(design)
     assert plan.safe_height == 0.2 and plan.feed_rate == 12.0

@@ -38,7 +38,7 @@ from cam_workbench.generators.errors import GeometryError, SpecError
 from cam_workbench.generators.spec import CamSpec, dict_to_toml
 from cam_workbench.generators.spec.examples import example_spec
 
-from .conftest import paper_case_dict, requires_ocp
+from .conftest import paper_inch_dict, requires_ocp
 from .gcode_words import read_program
 from .rs274 import RS274, run_rs274
 
@@ -56,17 +56,7 @@ WORD = re.compile(r"^[A-Z](-?(\d+\.?\d*|\.\d+))$")
 
 def inch_dict() -> dict:
     """The paper's Table 1 case-2 roller cam in inches (as tests/test_roughing.py's inch cam)."""
-    d = paper_case_dict(2, knife=False)
-    d["units"] = "in"
-    d["cam"]["base_radius"] *= INCH
-    d["cam"]["thickness"] = 0.4
-    d["follower"]["offset"] *= INCH
-    d["follower"]["roller_radius"] = 0.2
-    for m in d["motion"]:
-        if "lift" in m:
-            m["lift"] *= INCH
-    d["machining"] = {"chord_tolerance": 0.0002}
-    return d
+    return paper_inch_dict({"chord_tolerance": 0.0002})
 
 
 @lru_cache(maxsize=None)

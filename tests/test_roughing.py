@@ -235,20 +235,10 @@ def test_bad_blank_exits_2_and_writes_nothing(tmp_path):
 
 def test_inch_cam_roughs_in_inches(tmp_path):
     """A G20 program: the allowance default is 0.008 in, and everything is held in inches."""
-    from .conftest import paper_case_dict
+    from .conftest import paper_inch_dict
     from cam_workbench.generators.spec import CamSpec
 
-    d = paper_case_dict(2, knife=False)
-    scale = 1 / 25.4
-    d["units"] = "in"
-    d["cam"]["base_radius"] *= scale
-    d["cam"]["thickness"] = 0.4
-    d["follower"]["offset"] *= scale
-    d["follower"]["roller_radius"] = 0.2
-    for m in d["motion"]:
-        if "lift" in m:
-            m["lift"] *= scale
-    d["machining"] = {"chord_tolerance": 0.0002}
+    d = paper_inch_dict({"chord_tolerance": 0.0002})
     spec = with_blank(CamSpec.from_dict(d), 0.3, **{"machining.finish_allowance": None})
     design = design_cam(spec)
     text, both = roughing_xy_program(design, machining_plan(design))

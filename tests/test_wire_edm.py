@@ -138,21 +138,11 @@ def test_controller_compensation_applied_by_rs274(tmp_path, name):
 
 
 def test_inch_wire_program(tmp_path):
-    from .conftest import paper_case_dict
+    from .conftest import paper_inch_dict
     from cam_workbench.generators.spec import CamSpec
 
-    d = paper_case_dict(2, knife=False)
-    scale = 1 / 25.4
-    d["units"] = "in"
-    d["cam"]["base_radius"] *= scale
-    d["cam"]["thickness"] = 0.4
-    d["follower"]["offset"] *= scale
-    d["follower"]["roller_radius"] = 0.2
-    for m in d["motion"]:
-        if "lift" in m:
-            m["lift"] *= scale
-    d["machining"] = {"program": "wire_edm", "chord_tolerance": 0.0002, "wire_diameter": 0.01, "spark_gap": 0.0008,
-                      "skim_passes": 1, "skim_stock": 0.0012, "tab_width": 0.08}
+    d = paper_inch_dict({"program": "wire_edm", "chord_tolerance": 0.0002, "wire_diameter": 0.01, "spark_gap": 0.0008,
+                             "skim_passes": 1, "skim_stock": 0.0012, "tab_width": 0.08})
     spec = CamSpec.from_dict(d)
     check_program(spec, tmp_path)
 
